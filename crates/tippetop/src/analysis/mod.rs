@@ -1,0 +1,1 @@
+//! Analyses built on runs: stability, asymptotics, sweeps. (work in progress)

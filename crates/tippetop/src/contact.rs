@@ -1,0 +1,138 @@
+//! The surface: gravity, friction law and what a negative normal force means.
+//!
+//! Every friction law here is written as `F_f = −N f(v_P)` (or `−|N| f(v_P)`
+//! under [`ContactMode::Bilateral`]), where `v_P` is the horizontal slip
+//! velocity of the contact point and `f` is a vector with `|f| <= μ`:
+//!
+//! | law | `f(v)` |
+//! |---|---|
+//! | [`FrictionLaw::CoulombSliding`] | `μ v/|v|`, and `0` at exactly `v = 0` |
+//! | [`FrictionLaw::Regularized`] | `μ v/sqrt(|v|² + ε²)` |
+//! | [`FrictionLaw::Viscous`] | `μ v/ε` (the small-slip limit of the regularised law; unbounded) |
+//! | [`FrictionLaw::Coulomb`] | exact set-valued Coulomb: sliding as above, rolling when the needed friction is within the cone |
+
+use crate::Error;
+
+/// Friction law at the contact point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FrictionLaw {
+    /// Exact (set-valued) Coulomb friction with stick/slip switching.
+    Coulomb,
+    /// The paper's `μ N v/|v|`, sliding only; `f = 0` at exactly zero slip.
+    CoulombSliding,
+    /// `μ N v/sqrt(|v|² + ε²)`, `eps` in m/s.
+    Regularized {
+        /// Regularisation speed ε \[m/s\].
+        eps: f64,
+    },
+    /// `μ N v/ε`, `eps` in m/s.
+    Viscous {
+        /// Slip speed ε \[m/s\] at which the force reaches `μ N`.
+        eps: f64,
+    },
+}
+
+impl FrictionLaw {
+    /// Scenario name of the law.
+    pub fn name(&self) -> &'static str {
+        match self {
+            FrictionLaw::Coulomb => "coulomb",
+            FrictionLaw::CoulombSliding => "coulomb_sliding",
+            FrictionLaw::Regularized { .. } => "regularized",
+            FrictionLaw::Viscous { .. } => "viscous",
+        }
+    }
+
+    /// The regularisation speed, if the law has one \[m/s\].
+    pub fn eps(&self) -> Option<f64> {
+        match self {
+            FrictionLaw::Regularized { eps } | FrictionLaw::Viscous { eps } => Some(*eps),
+            _ => None,
+        }
+    }
+}
+
+/// What the model does when the normal force `N` would become negative.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactMode {
+    /// The top is held on the plane; friction has magnitude `μ|N|` and always
+    /// opposes the slip. The default.
+    Bilateral,
+    /// Held on the plane, and the paper's formula `−μ N v/|v|` is used with
+    /// `N`'s sign (pushes along the slip when `N < 0`).
+    Paper,
+    /// The top may leave the plane: the reduced model stops with an error at
+    /// lift-off; the rigid model flies.
+    Unilateral,
+}
+
+impl ContactMode {
+    /// Scenario name of the mode.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ContactMode::Bilateral => "bilateral",
+            ContactMode::Paper => "paper",
+            ContactMode::Unilateral => "unilateral",
+        }
+    }
+}
+
+/// The plane the top spins on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Surface {
+    /// Gravitational acceleration `g` \[m/s²\], `>= 0`.
+    pub gravity: f64,
+    /// Friction coefficient `μ` (dimensionless), `>= 0`.
+    pub friction: f64,
+    /// Friction law.
+    pub law: FrictionLaw,
+    /// Contact mode.
+    pub contact: ContactMode,
+    /// Normal coefficient of restitution at touchdown (rigid model, unilateral contact), in \[0, 1\].
+    pub restitution: f64,
+}
+
+impl Surface {
+    /// Check physical ranges; the error names the scenario key.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !self.gravity.is_finite() || self.gravity < 0.0 {
+            return Err(Error::invalid(
+                "surface.gravity",
+                format!("{} is not allowed", self.gravity),
+                "a finite number >= 0".into(),
+            ));
+        }
+        if !self.friction.is_finite() || self.friction < 0.0 {
+            return Err(Error::invalid(
+                "surface.friction",
+                format!("{} is not allowed", self.friction),
+                "a finite number >= 0".into(),
+            ));
+        }
+        if let Some(eps) = self.law.eps() {
+            if !eps.is_finite() || eps <= 0.0 {
+                return Err(Error::invalid(
+                    "surface.friction_eps",
+                    format!("{eps} is not allowed"),
+                    "a finite speed > 0 [m/s]".into(),
+                ));
+            }
+        }
+        if !(0.0..=1.0).contains(&self.restitution) {
+            return Err(Error::invalid(
+                "surface.restitution",
+                format!("{} is not allowed", self.restitution),
+                "0 <= restitution <= 1".into(),
+            ));
+        }
+        if self.law == FrictionLaw::Coulomb && self.contact == ContactMode::Paper {
+            return Err(Error::invalid(
+                "surface.friction_law",
+                "\"coulomb\" (exact stick/slip) cannot be combined with contact = \"paper\"".into(),
+                "use \"coulomb_sliding\", \"regularized\" or \"viscous\" with contact = \"paper\""
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
+}

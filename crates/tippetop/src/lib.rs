@@ -1,0 +1,35 @@
+//! # tippetop
+//!
+//! Tippe-top dynamics from the 15 g toy to the C60 "nano tippe top" of
+//! Chan, Thamwattana & Hill (the paper in `shared/paper`). The physics,
+//! derivations and every modelling choice are in `docs/physics.md`.
+//!
+//! ```no_run
+//! let sc = tippetop::Scenario::classical();
+//! let traj = tippetop::simulate(&sc).unwrap();
+//! println!("theta at 10 s: {}", traj.summary.theta_final);
+//! ```
+
+#![warn(missing_docs)]
+
+pub mod analysis;
+pub mod contact;
+pub mod error;
+pub mod forcing;
+pub mod integrate;
+pub mod model;
+pub mod observe;
+pub mod scenario;
+pub mod simulate;
+pub mod state;
+pub mod top;
+pub mod trajectory;
+
+pub use contact::{ContactMode, FrictionLaw, Surface};
+pub use error::Error;
+pub use forcing::{ForceWindow, Forcing};
+pub use scenario::Scenario;
+pub use simulate::simulate;
+pub use state::{Initial, Method, ModelKind, SolverSettings};
+pub use top::Top;
+pub use trajectory::{EventRecord, Sample, Summary, Trajectory};

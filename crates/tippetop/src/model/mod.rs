@@ -1,0 +1,3 @@
+//! Equations of motion, one file per formulation.
+
+pub mod reduced;

@@ -1,0 +1,1 @@
+//! The paper's Euler-angle model (App. A). (work in progress)

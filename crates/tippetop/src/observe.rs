@@ -1,0 +1,1 @@
+//! Derived quantities: N, slip, Jellett's J, energy, work. (work in progress)

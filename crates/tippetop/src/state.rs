@@ -1,0 +1,165 @@
+//! Initial state and solver settings.
+
+use crate::Error;
+
+/// Initial state of the reduced model (SI units, radians).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Initial {
+    /// Nutation angle θ \[rad\], the tilt of the symmetry axis from the vertical.
+    pub theta: f64,
+    /// θ̇ \[rad/s\].
+    pub theta_dot: f64,
+    /// Precession rate Ω = φ̇ \[rad/s\].
+    pub precession: f64,
+    /// Spin ω = n·k, the angular-velocity component along the symmetry axis \[rad/s\].
+    pub spin: f64,
+    /// Centre-of-mass velocity along the precessing x axis \[m/s\].
+    pub ux: f64,
+    /// Centre-of-mass velocity along the precessing y axis \[m/s\].
+    pub uy: f64,
+}
+
+impl Initial {
+    /// The paper's initial state: θ = 0.1, θ̇ = 0, Ω = 0, ω = 100 rad/s, u = 0.
+    pub fn paper() -> Self {
+        Initial {
+            theta: 0.1,
+            theta_dot: 0.0,
+            precession: 0.0,
+            spin: 100.0,
+            ux: 0.0,
+            uy: 0.0,
+        }
+    }
+
+    /// Check finiteness (and θ in (0, π) if `reduced`).
+    pub fn validate(&self, reduced: bool) -> Result<(), Error> {
+        for (k, v) in [
+            ("initial.theta", self.theta),
+            ("initial.theta_dot", self.theta_dot),
+            ("initial.precession", self.precession),
+            ("initial.spin", self.spin),
+            ("initial.ux", self.ux),
+            ("initial.uy", self.uy),
+        ] {
+            if !v.is_finite() {
+                return Err(Error::invalid(
+                    k,
+                    format!("{v} is not allowed"),
+                    "a finite number".into(),
+                ));
+            }
+        }
+        if reduced && !(self.theta > 0.0 && self.theta < std::f64::consts::PI) {
+            return Err(Error::invalid(
+                "initial.theta",
+                format!("{} is outside the reduced model's range", self.theta),
+                "0 < theta < pi [rad]; use model = \"rigid\" for theta = 0 or pi".into(),
+            ));
+        }
+        if !reduced && !(0.0..=std::f64::consts::PI).contains(&self.theta) {
+            return Err(Error::invalid(
+                "initial.theta",
+                format!("{} is out of range", self.theta),
+                "0 <= theta <= pi [rad]".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Integration method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Adaptive Dormand–Prince 8(5,3) with 7th-order dense output.
+    Adaptive,
+    /// Classical fixed-step RK4 (the paper's method).
+    Rk4,
+}
+
+/// Which equations of motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelKind {
+    /// The paper's Euler-angle model (App. A).
+    Reduced,
+    /// Full 3D rigid body with a unit quaternion.
+    Rigid,
+}
+
+/// Solver settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverSettings {
+    /// Integration method.
+    pub method: Method,
+    /// End time \[s\].
+    pub t_end: f64,
+    /// Number of RK4 steps over `[0, t_end]` (RK4 only).
+    pub steps: usize,
+    /// Relative tolerance (adaptive only); the absolute tolerance is the same
+    /// number in the scaled units (lengths by R, masses by m, see docs/physics.md).
+    pub rtol: f64,
+    /// Output rows, evenly spaced on `[0, t_end]`.
+    pub samples: usize,
+    /// Which model.
+    pub model: ModelKind,
+}
+
+impl SolverSettings {
+    /// Defaults: adaptive, rtol 1e-10, 500 steps, 1001 samples, reduced model.
+    pub fn new(t_end: f64) -> Self {
+        SolverSettings {
+            method: Method::Adaptive,
+            t_end,
+            steps: 500,
+            rtol: 1e-10,
+            samples: 1001,
+            model: ModelKind::Reduced,
+        }
+    }
+
+    /// Check ranges.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !self.t_end.is_finite() || self.t_end <= 0.0 {
+            return Err(Error::invalid(
+                "solver.t_end",
+                format!("{} is not allowed", self.t_end),
+                "a finite time > 0 [s]".into(),
+            ));
+        }
+        if self.samples < 2 {
+            return Err(Error::invalid(
+                "solver.samples",
+                format!("{} is too few", self.samples),
+                "an integer >= 2".into(),
+            ));
+        }
+        if !self.rtol.is_finite() || self.rtol < 1e-14 || self.rtol > 1e-2 {
+            return Err(Error::invalid(
+                "solver.rtol",
+                format!("{} is not allowed", self.rtol),
+                "1e-14 <= rtol <= 1e-2".into(),
+            ));
+        }
+        if self.method == Method::Rk4 {
+            if self.steps == 0 {
+                return Err(Error::invalid(
+                    "solver.steps",
+                    "0 steps".into(),
+                    "an integer >= 1, a multiple of samples - 1".into(),
+                ));
+            }
+            if self.steps % (self.samples - 1) != 0 {
+                return Err(Error::invalid(
+                    "solver.steps",
+                    format!(
+                        "{} is not a multiple of samples - 1 = {}",
+                        self.steps,
+                        self.samples - 1
+                    ),
+                    "a multiple of samples - 1 (method = \"rk4\")".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+}

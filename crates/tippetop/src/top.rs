@@ -1,0 +1,100 @@
+//! The body: an axisymmetric sphere whose centre of mass is offset from its
+//! geometric centre along the symmetry axis.
+//!
+//! Conventions (see `docs/physics.md`): the symmetry axis `k` points from the
+//! centre of mass `O` towards the geometric centre `C`, so `C = O + a k`, and
+//! the height of the centre of mass above the plane is `h(θ) = R − a cos θ`.
+//! `θ = 0` is "standing up" (centre of mass lowest), `θ = π` is inverted.
+
+use crate::Error;
+
+/// Geometry and mass properties of the top. SI units throughout.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Top {
+    /// Sphere radius `R` \[m\].
+    pub radius: f64,
+    /// Distance `a` from the geometric centre to the centre of mass \[m\], `0 <= a < R`.
+    pub offset: f64,
+    /// Mass `m` \[kg\].
+    pub mass: f64,
+    /// Transverse principal moment `A` about the centre of mass \[kg m²\].
+    pub inertia_transverse: f64,
+    /// Axial principal moment `C` about the centre of mass \[kg m²\].
+    pub inertia_axial: f64,
+}
+
+impl Top {
+    /// The paper's C60 nano top (Sec. 3): R = 3.55 Å, a = 0.1 R,
+    /// m = 1.196e-24 kg, A = (2/3) m R², C = A/2.
+    pub fn nano() -> Self {
+        let radius = 3.55e-10;
+        let mass = 1.196e-24;
+        let a = 2.0 / 3.0 * mass * radius * radius;
+        Top {
+            radius,
+            offset: 0.1 * radius,
+            mass,
+            inertia_transverse: a,
+            inertia_axial: 0.5 * a,
+        }
+    }
+
+    /// The paper's classical benchmark (end of App. A): R = 0.015 m,
+    /// a = 0.1 R, m = 0.015 kg, A = C = (2/5) m R².
+    pub fn classical() -> Self {
+        let radius = 0.015;
+        let mass = 0.015;
+        let i = 0.4 * mass * radius * radius;
+        Top {
+            radius,
+            offset: 0.1 * radius,
+            mass,
+            inertia_transverse: i,
+            inertia_axial: i,
+        }
+    }
+
+    /// Height of the centre of mass above the plane, `h(θ) = R − a cos θ` \[m\].
+    pub fn height(&self, theta: f64) -> f64 {
+        self.radius - self.offset * theta.cos()
+    }
+
+    /// Check the physical ranges; the error names the scenario key.
+    pub fn validate(&self) -> Result<(), Error> {
+        let t = self;
+        finite_positive("top.radius", t.radius)?;
+        finite_positive("top.mass", t.mass)?;
+        finite_positive("top.inertia_transverse", t.inertia_transverse)?;
+        finite_positive("top.inertia_axial", t.inertia_axial)?;
+        if !t.offset.is_finite() || t.offset < 0.0 || t.offset >= t.radius {
+            return Err(Error::invalid(
+                "top.offset",
+                format!("{} is out of range", t.offset),
+                format!("0 <= offset < radius = {}", t.radius),
+            ));
+        }
+        if t.inertia_axial > 2.0 * t.inertia_transverse {
+            return Err(Error::invalid(
+                "top.inertia_axial",
+                format!(
+                    "C = {} exceeds 2A = {} (no rigid body has that)",
+                    t.inertia_axial,
+                    2.0 * t.inertia_transverse
+                ),
+                "0 < inertia_axial <= 2 * inertia_transverse".to_string(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+pub(crate) fn finite_positive(key: &str, v: f64) -> Result<(), Error> {
+    if !v.is_finite() || v <= 0.0 {
+        return Err(Error::invalid(
+            key,
+            format!("{v} is not allowed"),
+            "a finite number > 0".to_string(),
+        ));
+    }
+    Ok(())
+}

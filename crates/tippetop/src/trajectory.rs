@@ -1,0 +1,161 @@
+//! The result of a run: samples, diagnostics, events, counters. Every output
+//! (CSV, JSON, plots, reports) reads from a [`Trajectory`].
+
+use serde::Serialize;
+
+/// One output row (SI units, radians).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Sample {
+    /// Time \[s\].
+    pub t: f64,
+    /// Nutation angle θ \[rad\].
+    pub theta: f64,
+    /// θ̇ \[rad/s\].
+    pub theta_dot: f64,
+    /// Precession rate Ω \[rad/s\].
+    #[serde(rename = "Omega")]
+    pub precession: f64,
+    /// Spin ω = n·k \[rad/s\].
+    #[serde(rename = "omega")]
+    pub spin: f64,
+    /// Centre-of-mass velocity, precessing x \[m/s\].
+    pub ux: f64,
+    /// Centre-of-mass velocity, precessing y \[m/s\].
+    pub uy: f64,
+    /// Centre-of-mass velocity, vertical \[m/s\].
+    pub uz: f64,
+    /// Normal force N \[N\].
+    #[serde(rename = "N")]
+    pub normal: f64,
+    /// Slip speed |v_P| \[m/s\].
+    pub slip: f64,
+    /// Jellett's J = A Ω R sin²θ + C ω (R cos θ − a) \[kg m³/s\].
+    #[serde(rename = "J")]
+    pub jellett: f64,
+    /// Total energy (translational + rotational + potential m g h) \[J\].
+    pub energy: f64,
+    /// Work done so far by friction \[J\] (<= 0).
+    pub work_friction: f64,
+    /// Work done so far by the applied force \[J\].
+    pub work_applied: f64,
+    /// Applied force H_x in effect \[N\].
+    pub hx: f64,
+    /// Applied force H_y in effect \[N\].
+    pub hy: f64,
+    /// 1 while rolling (exact Coulomb law, slip held at zero), 0 while sliding.
+    pub rolling: u8,
+}
+
+/// The CSV column names, in order; the first twelve are fixed by the
+/// scenario-file contract.
+pub const COLUMNS: [&str; 17] = [
+    "t",
+    "theta",
+    "theta_dot",
+    "Omega",
+    "omega",
+    "ux",
+    "uy",
+    "uz",
+    "N",
+    "slip",
+    "J",
+    "energy",
+    "work_friction",
+    "work_applied",
+    "hx",
+    "hy",
+    "rolling",
+];
+
+impl Sample {
+    /// The row's values in [`COLUMNS`] order.
+    pub fn values(&self) -> [f64; 17] {
+        [
+            self.t,
+            self.theta,
+            self.theta_dot,
+            self.precession,
+            self.spin,
+            self.ux,
+            self.uy,
+            self.uz,
+            self.normal,
+            self.slip,
+            self.jellett,
+            self.energy,
+            self.work_friction,
+            self.work_applied,
+            self.hx,
+            self.hy,
+            self.rolling as f64,
+        ]
+    }
+}
+
+/// Something that happened during the run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EventRecord {
+    /// Time \[s\].
+    pub t: f64,
+    /// What: "force_switch", "contact_lost", "contact_regained", "stick", "slip",
+    /// "theta_above_half_pi", "lift_off", "touchdown", ...
+    pub kind: String,
+}
+
+/// Scalar summary of a run (the `summary.json` of the CLI, minus wall time).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    /// Time reached \[s\] (the requested end unless the run failed).
+    pub t_end: f64,
+    /// θ at the end \[rad\].
+    pub theta_final: f64,
+    /// Largest θ over the run, from the continuous solution \[rad\].
+    pub theta_max: f64,
+    /// ω at the end \[rad/s\].
+    pub omega_final: f64,
+    /// Ω at the end \[rad/s\].
+    #[serde(rename = "Omega_final")]
+    pub precession_final: f64,
+    /// Jellett's J at t = 0 \[kg m³/s\].
+    #[serde(rename = "J_initial")]
+    pub jellett_initial: f64,
+    /// max |J − J0| / (C max|ω| R) over all steps and samples.
+    #[serde(rename = "J_max_rel_drift")]
+    pub jellett_max_rel_drift: f64,
+    /// Energy at t = 0 \[J\].
+    pub energy_initial: f64,
+    /// Energy at the end \[J\].
+    pub energy_final: f64,
+    /// max |E − E0 − W_friction − W_applied| / max|E| over steps and samples.
+    pub energy_balance_max_rel_error: f64,
+    /// First time θ exceeds π/2 \[s\] (event), if ever.
+    pub first_time_theta_above_half_pi: Option<f64>,
+    /// First time N < 0 \[s\] (event), if ever.
+    pub contact_lost_at: Option<f64>,
+    /// Fraction of the simulated time with N < 0.
+    pub negative_normal_fraction: f64,
+    /// Fraction of the simulated time spent rolling (exact Coulomb law).
+    pub rolling_fraction: f64,
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected steps.
+    pub rejected_steps: u64,
+    /// Right-hand-side evaluations.
+    pub rhs_evaluations: u64,
+    /// "ok" or the error message.
+    pub status: String,
+}
+
+/// A run: samples, events, summary, and the run-time error if it failed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trajectory {
+    /// Output rows, evenly spaced (up to the failure if the run failed).
+    pub samples: Vec<Sample>,
+    /// Events in time order.
+    pub events: Vec<EventRecord>,
+    /// Scalar summary.
+    pub summary: Summary,
+    /// The run-time failure, if any.
+    pub error: Option<crate::Error>,
+}
