@@ -1,11 +1,501 @@
 //! Run a scenario: the driver that turns a [`Scenario`] into a [`Trajectory`].
+//!
+//! The driver owns what the integrator does not know about: the switch
+//! times of the force schedule (passed as `tstops`), the events that
+//! diagnostics need (θ crossing π/2, local maxima of θ, N crossing zero)
+//! and, for the exact Coulomb law, the stick/slip switches (terminal events
+//! after which the model changes mode and the integration restarts).
 
-use crate::{Error, Scenario, Trajectory};
+use crate::{
+    ContactMode, Error, EventRecord, Method, ModelKind, Sample, Scenario, Summary, Trajectory,
+    integrate::{self, Direction, Event, IntegrateError, Options, Stepper, StopReason},
+    model::reduced::{self, DIM, Mode, ModelError, OM, Reduced, TH, THD, UX, UY, W, WA, WF},
+    observe,
+};
+
+/// Largest number of accepted steps of one run before it is stopped.
+pub const MAX_STEPS: u64 = 20_000_000;
+/// Largest number of stick/slip switches of one run before it is stopped.
+pub const MAX_SWITCHES: usize = 200_000;
 
 /// Run `scenario`. `Err` only for bad input; a run that fails while
 /// integrating returns `Ok` with `trajectory.error` set and the samples up to
 /// the failure.
 pub fn simulate(scenario: &Scenario) -> Result<Trajectory, Error> {
     scenario.validate()?;
-    todo!("simulate")
+    match scenario.solver.model {
+        ModelKind::Reduced => Ok(run_reduced(scenario)),
+        ModelKind::Rigid => Err(Error::invalid(
+            "solver.model",
+            "\"rigid\" is not implemented yet".into(),
+            "\"reduced\"".into(),
+        )),
+    }
+}
+
+// Event indices.
+const EV_HALF_PI: usize = 0;
+const EV_THETA_MAX: usize = 1;
+const EV_NORMAL: usize = 2;
+const EV_SWITCH: usize = 3;
+
+fn events_for(m: &Reduced) -> Vec<Event<Reduced, DIM>> {
+    let mut ev: Vec<Event<Reduced, DIM>> = vec![
+        Event {
+            g: Box::new(|_, _, y| y[TH] - std::f64::consts::FRAC_PI_2),
+            direction: Direction::Rising,
+            terminal: false,
+        },
+        Event {
+            g: Box::new(|_, _, y| y[THD]),
+            direction: Direction::Falling,
+            terminal: false,
+        },
+        Event {
+            g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
+            direction: Direction::Either,
+            terminal: m_contact(m) == ContactMode::Unilateral,
+        },
+    ];
+    if m.is_exact() {
+        match m.mode {
+            Mode::Sliding => ev.push(Event {
+                g: Box::new(|m, _, y| {
+                    let v = m.slip_of(y);
+                    let r = m.slip_ref.get();
+                    v[0] * r[0] + v[1] * r[1]
+                }),
+                direction: Direction::Falling,
+                terminal: true,
+            }),
+            Mode::Rolling => ev.push(Event {
+                g: Box::new(|m, _, y| m.eval(y).map(|e| m.stick_margin(&e)).unwrap_or(f64::NAN)),
+                direction: Direction::Falling,
+                terminal: true,
+            }),
+        }
+    }
+    ev
+}
+
+fn m_contact(m: &Reduced) -> ContactMode {
+    m.contact_mode()
+}
+
+fn unit(v: [f64; 2]) -> [f64; 2] {
+    let n = v[0].hypot(v[1]);
+    if n > 0.0 {
+        [v[0] / n, v[1] / n]
+    } else {
+        [0.0, 0.0]
+    }
+}
+
+/// Running diagnostics, updated at every accepted step, sample and event.
+struct Track {
+    j0: f64,
+    j_dev_max: f64,
+    omega_abs_max: f64,
+    e0: f64,
+    e_abs_max: f64,
+    balance_max: f64,
+    theta_max: f64,
+}
+
+impl Track {
+    fn visit(&mut self, m: &Reduced, y: &[f64; DIM]) {
+        self.theta_max = self.theta_max.max(y[TH]);
+        self.omega_abs_max = self.omega_abs_max.max(y[W].abs());
+        self.j_dev_max = self.j_dev_max.max((m.jellett_scaled(y) - self.j0).abs());
+        if let Ok(e) = m.eval(y) {
+            let en = m.energy_scaled(y, &e);
+            self.e_abs_max = self.e_abs_max.max(en.abs());
+            self.balance_max = self.balance_max.max((en - self.e0 - y[WF] - y[WA]).abs());
+        }
+    }
+}
+
+fn sample_of(m: &Reduced, t: f64, y: &[f64; DIM]) -> Sample {
+    let sc = m.scales;
+    let (tu, vu) = (sc.time, sc.velocity());
+    let e = m.eval(y).ok();
+    let (u, normal, slip) = match &e {
+        Some(e) => (e.u, e.normal, e.slip),
+        None => ([y[UX], y[UY], f64::NAN], f64::NAN, m.slip_of(y)),
+    };
+    let u_si = [u[0] * vu, u[1] * vu, u[2] * vu];
+    let (theta, thd, om, w) = (y[TH], y[THD] / tu, y[OM] / tu, y[W] / tu);
+    let h = m.applied();
+    Sample {
+        t: t * tu,
+        theta,
+        theta_dot: thd,
+        precession: om,
+        spin: w,
+        ux: u_si[0],
+        uy: u_si[1],
+        uz: u_si[2],
+        normal: normal * sc.force(),
+        slip: slip[0].hypot(slip[1]) * vu,
+        jellett: observe::jellett(&m.top, theta, om, w),
+        energy: observe::energy(&m.top, m.gravity_si, theta, thd, om, w, u_si),
+        work_friction: y[WF] * sc.energy(),
+        work_applied: y[WA] * sc.energy(),
+        hx: h[0] * sc.force(),
+        hy: h[1] * sc.force(),
+        rolling: (m.mode == Mode::Rolling) as u8,
+    }
+}
+
+fn describe_state(m: &Reduced, y: &[f64]) -> String {
+    let tu = m.scales.time;
+    let vu = m.scales.velocity();
+    format!(
+        "state: theta = {}, theta_dot = {:e} rad/s, Omega = {:e} rad/s, omega = {:e} rad/s, ux = {:e} m/s, uy = {:e} m/s",
+        y[TH],
+        y[THD] / tu,
+        y[OM] / tu,
+        y[W] / tu,
+        y[UX] * vu,
+        y[UY] * vu
+    )
+}
+
+/// Decide stick or slip at zero slip (exact law). Returns the state to
+/// continue from; sets the model's mode and slip hint.
+fn settle_at_zero_slip(m: &mut Reduced, y: &[f64; DIM]) -> ([f64; DIM], bool) {
+    let mut yr = *y;
+    let u = m.rolling_velocity(y);
+    yr[UX] = u[0];
+    yr[UY] = u[1];
+    m.mode = Mode::Rolling;
+    if let Ok(e) = m.eval(&yr) {
+        if m.stick_margin(&e) >= 0.0 {
+            m.slip_hint = [0.0, 0.0];
+            return (yr, true);
+        }
+        // Slide off in the direction the needed friction dictates: friction
+        // keeps its direction (magnitude μN), the slip grows opposite to it.
+        let f = e.friction;
+        m.slip_hint = unit([-f[0], -f[1]]);
+    }
+    m.mode = Mode::Sliding;
+    m.slip_ref.set(m.slip_hint);
+    (yr, false)
+}
+
+fn run_reduced(sc: &Scenario) -> Trajectory {
+    let mut m = Reduced::new(sc);
+    let tu = m.scales.time;
+    let t_end = sc.solver.t_end / tu;
+    let ns = sc.solver.samples;
+    let sample_times: Vec<f64> = (0..ns)
+        .map(|i| {
+            if i + 1 == ns {
+                t_end
+            } else {
+                t_end * i as f64 / (ns - 1) as f64
+            }
+        })
+        .collect();
+    let tstops: Vec<f64> = sc
+        .forcing
+        .switch_times()
+        .into_iter()
+        .map(|t| t / tu)
+        .filter(|&t| t > 0.0 && t < t_end)
+        .collect();
+    let opts = Options {
+        stepper: match sc.solver.method {
+            Method::Adaptive => Stepper::Dop853 {
+                rtol: sc.solver.rtol,
+                atol: sc.solver.rtol,
+            },
+            Method::Rk4 => Stepper::Rk4 {
+                h: t_end / sc.solver.steps as f64,
+            },
+        },
+        max_steps: MAX_STEPS,
+        h0: None,
+        h_max: None,
+    };
+
+    let mut y = m.scale_state(&sc.initial);
+    m.latch_force(0.0);
+    let mut events_out: Vec<EventRecord> = Vec::new();
+    for &ts in &tstops {
+        events_out.push(EventRecord {
+            t: ts * tu,
+            kind: "force_switch".into(),
+        });
+    }
+    if m.is_exact() {
+        let v = m.slip_of(&y);
+        if v[0].hypot(v[1]) == 0.0 {
+            let (yn, stuck) = settle_at_zero_slip(&mut m, &y);
+            y = yn;
+            events_out.push(EventRecord {
+                t: 0.0,
+                kind: if stuck { "stick" } else { "slip" }.into(),
+            });
+        } else {
+            m.slip_ref.set(unit(v));
+        }
+    }
+
+    let mut track = Track {
+        j0: m.jellett_scaled(&y),
+        j_dev_max: 0.0,
+        omega_abs_max: y[W].abs(),
+        e0: 0.0,
+        e_abs_max: 0.0,
+        balance_max: 0.0,
+        theta_max: y[TH],
+    };
+    let e_init = m.eval(&y).ok();
+    if let Some(e) = &e_init {
+        track.e0 = m.energy_scaled(&y, e);
+        track.e_abs_max = track.e0.abs();
+    }
+    let n_initial = e_init.map(|e| e.normal).unwrap_or(f64::NAN);
+
+    let mut samples: Vec<Sample> = Vec::with_capacity(ns);
+    let mut stats = integrate::Stats::default();
+    let mut t = 0.0;
+    let mut error: Option<Error> = None;
+    let mut first_above: Option<f64> = if y[TH] > std::f64::consts::FRAC_PI_2 {
+        Some(0.0)
+    } else {
+        None
+    };
+    let mut normal_crossings: Vec<f64> = Vec::new();
+    let mut rolling_since: Option<f64> = (m.mode == Mode::Rolling).then_some(0.0);
+    let mut rolling_time = 0.0;
+    let mut switches = 0usize;
+
+    loop {
+        let events = events_for(&m);
+        let next = samples.len();
+        let mut on_sample = |s: &Reduced, t: f64, y: &[f64; DIM]| {
+            samples.push(sample_of(s, t, y));
+        };
+        let mut on_step = |s: &Reduced, _t: f64, y: &[f64; DIM]| {
+            track.visit(s, y);
+            if s.mode == Mode::Sliding && s.is_exact() {
+                let v = unit(s.slip_of(y));
+                if v != [0.0, 0.0] {
+                    s.slip_ref.set(v);
+                }
+            }
+        };
+        let res = integrate::solve(
+            &mut m,
+            &opts,
+            t,
+            y,
+            t_end,
+            &tstops,
+            &sample_times[next..],
+            &events,
+            &mut on_sample,
+            &mut on_step,
+        );
+        match res {
+            Err(e) => {
+                let (te, why, ylast) = match e {
+                    IntegrateError::Rhs { t, y_last, err } => {
+                        let why = match err {
+                            ModelError::Singular { .. } | ModelError::Painleve { .. } => {
+                                err.to_string()
+                            }
+                        };
+                        (t, why, y_last)
+                    }
+                    IntegrateError::StepUnderflow { t, h, y_last } => (
+                        t,
+                        format!("step size underflow (h = {:e} s)", h * tu),
+                        y_last,
+                    ),
+                    IntegrateError::NonFinite { t, y_last } => {
+                        (t, "the solution became NaN or infinite".to_string(), y_last)
+                    }
+                    IntegrateError::TooManySteps { t, max_steps } => (
+                        t,
+                        format!(
+                            "more than {max_steps} steps (chattering friction? try friction_law = \"coulomb\")"
+                        ),
+                        y.to_vec(),
+                    ),
+                };
+                error = Some(Error::runtime(
+                    te * tu,
+                    format!("{why}; {}", describe_state(&m, &ylast)),
+                ));
+                if ylast.len() == DIM {
+                    let mut yl = [0.0; DIM];
+                    yl.copy_from_slice(&ylast);
+                    y = yl;
+                }
+                t = te;
+                break;
+            }
+            Ok(o) => {
+                stats.rhs_evals += o.stats.rhs_evals;
+                stats.steps += o.stats.steps;
+                stats.rejected += o.stats.rejected;
+                for f in &o.fired {
+                    match f.index {
+                        EV_HALF_PI => {
+                            if first_above.is_none() {
+                                first_above = Some(f.t * tu);
+                                events_out.push(EventRecord {
+                                    t: f.t * tu,
+                                    kind: "theta_above_half_pi".into(),
+                                });
+                            }
+                        }
+                        EV_THETA_MAX => track.visit(&m, &f.y),
+                        EV_NORMAL => {
+                            let neg_after = normal_crossings.len() % 2 == 0 && n_initial >= 0.0
+                                || normal_crossings.len() % 2 == 1 && n_initial < 0.0;
+                            normal_crossings.push(f.t);
+                            events_out.push(EventRecord {
+                                t: f.t * tu,
+                                kind: if neg_after {
+                                    "contact_lost"
+                                } else {
+                                    "contact_regained"
+                                }
+                                .into(),
+                            });
+                        }
+                        _ => {}
+                    }
+                }
+                t = o.t;
+                y = o.y;
+                match o.stop {
+                    StopReason::End => break,
+                    StopReason::Terminal(EV_NORMAL) => {
+                        error = Some(Error::runtime(
+                            t * tu,
+                            format!(
+                                "lift-off: the normal force N fell to zero (contact = \"unilateral\"); the reduced model cannot follow a flight, use model = \"rigid\"; {}",
+                                describe_state(&m, &y)
+                            ),
+                        ));
+                        break;
+                    }
+                    StopReason::Terminal(EV_SWITCH) => {
+                        switches += 1;
+                        if switches > MAX_SWITCHES {
+                            error = Some(Error::runtime(
+                                t * tu,
+                                format!("more than {MAX_SWITCHES} stick/slip switches"),
+                            ));
+                            break;
+                        }
+                        match m.mode {
+                            Mode::Sliding => {
+                                let (yn, stuck) = settle_at_zero_slip(&mut m, &y);
+                                y = yn;
+                                if stuck {
+                                    rolling_since = Some(t);
+                                    events_out.push(EventRecord {
+                                        t: t * tu,
+                                        kind: "stick".into(),
+                                    });
+                                }
+                            }
+                            Mode::Rolling => {
+                                let e = m.eval(&y).ok();
+                                let u = m.rolling_velocity(&y);
+                                y[UX] = u[0];
+                                y[UY] = u[1];
+                                m.mode = Mode::Sliding;
+                                if let Some(e) = e {
+                                    m.slip_hint = unit([-e.friction[0], -e.friction[1]]);
+                                }
+                                m.slip_ref.set(m.slip_hint);
+                                if let Some(s0) = rolling_since.take() {
+                                    rolling_time += t - s0;
+                                }
+                                events_out.push(EventRecord {
+                                    t: t * tu,
+                                    kind: "slip".into(),
+                                });
+                            }
+                        }
+                    }
+                    StopReason::Terminal(_) => break,
+                }
+            }
+        }
+    }
+    if let Some(s0) = rolling_since {
+        rolling_time += t - s0;
+    }
+    track.visit(&m, &y);
+
+    // Time with N < 0, from the crossings.
+    let mut neg_time = 0.0;
+    let mut neg = n_initial < 0.0;
+    let mut last = 0.0;
+    for &tc in &normal_crossings {
+        if neg {
+            neg_time += tc - last;
+        }
+        neg = !neg;
+        last = tc;
+    }
+    if neg {
+        neg_time += t - last;
+    }
+    let contact_lost_at = if n_initial < 0.0 {
+        Some(0.0)
+    } else {
+        normal_crossings.first().map(|&tc| tc * tu)
+    };
+    events_out.sort_by(|a, b| a.t.total_cmp(&b.t));
+
+    let last = sample_of(&m, t, &y);
+    let jscale = m.ic() * track.omega_abs_max;
+    let summary = Summary {
+        t_end: t * tu,
+        theta_final: y[TH],
+        theta_max: track.theta_max,
+        omega_final: last.spin,
+        precession_final: last.precession,
+        jellett_initial: samples.first().map(|s| s.jellett).unwrap_or(f64::NAN),
+        jellett_max_rel_drift: if jscale > 0.0 {
+            track.j_dev_max / jscale
+        } else {
+            track.j_dev_max
+        },
+        energy_initial: samples.first().map(|s| s.energy).unwrap_or(f64::NAN),
+        energy_final: last.energy,
+        energy_balance_max_rel_error: if track.e_abs_max > 0.0 {
+            track.balance_max / track.e_abs_max
+        } else {
+            track.balance_max
+        },
+        first_time_theta_above_half_pi: first_above,
+        contact_lost_at,
+        negative_normal_fraction: if t > 0.0 { neg_time / t } else { 0.0 },
+        rolling_fraction: if t > 0.0 { rolling_time / t } else { 0.0 },
+        steps: stats.steps,
+        rejected_steps: stats.rejected,
+        rhs_evaluations: stats.rhs_evals,
+        status: match &error {
+            None => "ok".into(),
+            Some(e) => e.to_string(),
+        },
+    };
+    let _ = reduced::SIN_GUARD;
+    Trajectory {
+        samples,
+        events: events_out,
+        summary,
+        error,
+    }
 }

@@ -1,1 +1,473 @@
-//! The paper's Euler-angle model (App. A). (work in progress)
+//! The paper's Euler-angle model (App. A), derived afresh in
+//! `docs/physics.md` §2–§4, with the normal force solved together with θ̈.
+//!
+//! State (scaled units, see [`Scales`]): `[θ, θ̇, Ω, ω, u_x, u_y, W_f, W_a]`
+//! where `W_f`, `W_a` are the work done so far by friction and by the
+//! applied force (integrated alongside so the energy balance can be checked
+//! to the integrator's accuracy).
+//!
+//! Two modes: [`Mode::Sliding`] (friction from the friction law) and
+//! [`Mode::Rolling`] (exact Coulomb law only: slip held at zero, the
+//! friction is the constraint force, §4 of docs/physics.md).
+
+use std::cell::Cell;
+
+use crate::{ContactMode, Forcing, FrictionLaw, Scenario, Top, integrate::OdeSystem};
+
+/// Number of state components.
+pub const DIM: usize = 8;
+/// Index of θ.
+pub const TH: usize = 0;
+/// Index of θ̇.
+pub const THD: usize = 1;
+/// Index of Ω.
+pub const OM: usize = 2;
+/// Index of ω.
+pub const W: usize = 3;
+/// Index of u_x.
+pub const UX: usize = 4;
+/// Index of u_y.
+pub const UY: usize = 5;
+/// Index of the friction work.
+pub const WF: usize = 6;
+/// Index of the applied-force work.
+pub const WA: usize = 7;
+
+/// |sin θ| below which the reduced equations are declared singular.
+pub const SIN_GUARD: f64 = 1e-8;
+
+/// Units of the scaled variables: lengths by R, masses by m, times by
+/// `1/rate` with `rate` the largest of |ω0|, |Ω0|, |θ̇0|, sqrt(g/R),
+/// sqrt(|H|max/(m R)) and 1/t_end, so that the scale exists for g = 0 and
+/// ω0 = 0 and one tolerance means the same for the C60 top and the toy.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scales {
+    /// Length unit \[m\] (= R).
+    pub length: f64,
+    /// Mass unit \[kg\] (= m).
+    pub mass: f64,
+    /// Time unit \[s\].
+    pub time: f64,
+}
+
+impl Scales {
+    /// The scales of a scenario.
+    pub fn of(sc: &Scenario) -> Self {
+        let top = &sc.top;
+        let i = &sc.initial;
+        let rate = [
+            i.spin.abs(),
+            i.precession.abs(),
+            i.theta_dot.abs(),
+            (sc.surface.gravity / top.radius).sqrt(),
+            (sc.forcing.max_magnitude() / (top.mass * top.radius)).sqrt(),
+            1.0 / sc.solver.t_end,
+        ]
+        .into_iter()
+        .fold(0.0, f64::max);
+        Scales {
+            length: top.radius,
+            mass: top.mass,
+            time: 1.0 / rate,
+        }
+    }
+    /// Velocity unit \[m/s\].
+    pub fn velocity(&self) -> f64 {
+        self.length / self.time
+    }
+    /// Force unit \[N\].
+    pub fn force(&self) -> f64 {
+        self.mass * self.length / (self.time * self.time)
+    }
+    /// Energy unit \[J\].
+    pub fn energy(&self) -> f64 {
+        self.mass * self.length * self.length / (self.time * self.time)
+    }
+    /// Moment-of-inertia unit \[kg m²\].
+    pub fn inertia(&self) -> f64 {
+        self.mass * self.length * self.length
+    }
+}
+
+/// Friction law in scaled units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Law {
+    /// μ v/|v| (exact law while sliding, and the paper's sliding-only law).
+    Coulomb,
+    Regularized {
+        eps: f64,
+    },
+    Viscous {
+        eps: f64,
+    },
+}
+
+/// Sliding or rolling (exact Coulomb law only).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Friction from the friction law.
+    Sliding,
+    /// Slip held at zero; friction is the constraint force.
+    Rolling,
+}
+
+/// Why the right-hand side cannot be evaluated.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ModelError {
+    /// |sin θ| < [`SIN_GUARD`]: the Ω equation divides by sin θ.
+    Singular {
+        /// θ \[rad\].
+        theta: f64,
+    },
+    /// The θ̈–N system has no or two consistent solutions.
+    Painleve {
+        /// θ \[rad\].
+        theta: f64,
+        /// Number of consistent solutions found (0 or 2).
+        solutions: usize,
+    },
+}
+
+impl std::fmt::Display for ModelError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ModelError::Singular { theta } => write!(
+                f,
+                "theta = {theta:e} rad reached the pole of the Euler angles (|sin theta| < {SIN_GUARD:e}): the reduced model divides by sin theta there; use model = \"rigid\""
+            ),
+            ModelError::Painleve { theta, solutions } => write!(
+                f,
+                "Painleve paradox at theta = {theta}: the theta_ddot-N system with Coulomb friction has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists"
+            ),
+        }
+    }
+}
+
+/// Everything the right-hand side computes at one state (scaled units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Eval {
+    /// State derivative.
+    pub dy: [f64; DIM],
+    /// Normal force N.
+    pub normal: f64,
+    /// Friction force on the top (x, y), excluding the applied force.
+    pub friction: [f64; 2],
+    /// Slip velocity v_P (x, y) (zero while rolling).
+    pub slip: [f64; 2],
+    /// Centre-of-mass velocity (x, y, z) (constraint values while rolling).
+    pub u: [f64; 3],
+}
+
+/// The reduced model as an ODE system in scaled units.
+#[derive(Debug, Clone)]
+pub struct Reduced {
+    /// Unit system.
+    pub scales: Scales,
+    /// Offset a/R.
+    a: f64,
+    /// A/(m R²).
+    ia: f64,
+    /// C/(m R²).
+    ic: f64,
+    /// g in scaled units.
+    g: f64,
+    /// μ.
+    mu: f64,
+    law: Law,
+    /// True for the exact stick/slip law.
+    exact: bool,
+    contact: ContactMode,
+    forcing: Forcing,
+    /// Latched applied force (H_x, H_y), scaled.
+    h: [f64; 2],
+    /// Current mode.
+    pub mode: Mode,
+    /// Unit direction used for μ v/|v| at exactly v = 0 (set when leaving
+    /// rolling; zero for the sliding-only law, giving no friction at v = 0).
+    pub slip_hint: [f64; 2],
+    /// Reference slip direction for the slip-zero event (updated per step).
+    pub slip_ref: Cell<[f64; 2]>,
+    /// The SI top (for observables).
+    pub top: Top,
+    /// g \[m/s²\].
+    pub gravity_si: f64,
+}
+
+impl Reduced {
+    /// Build the scaled model of a scenario.
+    pub fn new(sc: &Scenario) -> Self {
+        let scales = Scales::of(sc);
+        let v = scales.velocity();
+        let (law, exact) = match sc.surface.law {
+            FrictionLaw::Coulomb => (Law::Coulomb, true),
+            FrictionLaw::CoulombSliding => (Law::Coulomb, false),
+            FrictionLaw::Regularized { eps } => (Law::Regularized { eps: eps / v }, false),
+            FrictionLaw::Viscous { eps } => (Law::Viscous { eps: eps / v }, false),
+        };
+        Reduced {
+            scales,
+            a: sc.top.offset / scales.length,
+            ia: sc.top.inertia_transverse / scales.inertia(),
+            ic: sc.top.inertia_axial / scales.inertia(),
+            g: sc.surface.gravity * scales.time * scales.time / scales.length,
+            mu: sc.surface.friction,
+            law,
+            exact,
+            contact: sc.surface.contact,
+            forcing: sc.forcing.clone(),
+            h: [0.0, 0.0],
+            mode: Mode::Sliding,
+            slip_hint: [0.0, 0.0],
+            slip_ref: Cell::new([0.0, 0.0]),
+            top: sc.top,
+            gravity_si: sc.surface.gravity,
+        }
+    }
+
+    /// Contact mode.
+    pub fn contact_mode(&self) -> ContactMode {
+        self.contact
+    }
+
+    /// True if the friction law is the exact stick/slip law.
+    pub fn is_exact(&self) -> bool {
+        self.exact
+    }
+
+    /// Friction coefficient μ.
+    pub fn mu(&self) -> f64 {
+        self.mu
+    }
+
+    /// Latched applied force (H_x, H_y) in scaled units.
+    pub fn applied(&self) -> [f64; 2] {
+        self.h
+    }
+
+    /// Latch the applied force in effect at scaled time `t`.
+    pub fn latch_force(&mut self, t: f64) {
+        let (hx, hy) = self.forcing.at(t * self.scales.time);
+        let f = self.scales.force();
+        self.h = [hx / f, hy / f];
+    }
+
+    /// Scaled state from SI initial values.
+    pub fn scale_state(&self, i: &crate::Initial) -> [f64; DIM] {
+        let t = self.scales.time;
+        let v = self.scales.velocity();
+        [
+            i.theta,
+            i.theta_dot * t,
+            i.precession * t,
+            i.spin * t,
+            i.ux / v,
+            i.uy / v,
+            0.0,
+            0.0,
+        ]
+    }
+
+    /// Friction coefficient vector `f(v)` with `|f| <= μ` (sliding mode).
+    fn law_f(&self, v: [f64; 2]) -> [f64; 2] {
+        let mu = self.mu;
+        match self.law {
+            Law::Coulomb => {
+                let n = v[0].hypot(v[1]);
+                if n > 0.0 {
+                    [mu * v[0] / n, mu * v[1] / n]
+                } else {
+                    [mu * self.slip_hint[0], mu * self.slip_hint[1]]
+                }
+            }
+            Law::Regularized { eps } => {
+                let d = (v[0] * v[0] + v[1] * v[1] + eps * eps).sqrt();
+                [mu * v[0] / d, mu * v[1] / d]
+            }
+            Law::Viscous { eps } => [mu * v[0] / eps, mu * v[1] / eps],
+        }
+    }
+
+    /// Slip velocity at a state (scaled), from the state's u (sliding).
+    pub fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
+        let (s, c) = y[TH].sin_cos();
+        let h = 1.0 - self.a * c;
+        [
+            y[UX] - h * y[THD],
+            y[UY] + s * (y[W] - y[OM] * c + self.a * y[OM]),
+        ]
+    }
+
+    /// Centre-of-mass horizontal velocity that makes the slip zero (rolling constraint).
+    pub fn rolling_velocity(&self, y: &[f64; DIM]) -> [f64; 2] {
+        let (s, c) = y[TH].sin_cos();
+        let h = 1.0 - self.a * c;
+        [h * y[THD], -s * (y[W] - y[OM] * c + self.a * y[OM])]
+    }
+
+    /// Evaluate the model at a state in the current mode.
+    pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
+        match self.mode {
+            Mode::Sliding => self.eval_sliding(y),
+            Mode::Rolling => Ok(self.eval_rolling(y)),
+        }
+    }
+
+    fn eval_sliding(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
+        let (th, thd, om, w, ux, uy) = (y[TH], y[THD], y[OM], y[W], y[UX], y[UY]);
+        let (s, c) = th.sin_cos();
+        if s.abs() < SIN_GUARD {
+            return Err(ModelError::Singular { theta: th });
+        }
+        let (a, ia, ic) = (self.a, self.ia, self.ic);
+        let h = 1.0 - a * c;
+        let v = [ux - h * thd, uy + s * (w - om * c + a * om)];
+        let f = self.law_f(v);
+        let [hx, hy] = self.h;
+        // Gyroscopic term of A θ̈.
+        let gyro = -om * (ic * w - ia * om * c) * s;
+        let as_ = a * s;
+        let q = self.g + a * c * thd * thd + as_ * (gyro + h * hx) / ia;
+        // N (1 + a s (a s − σ h f_x)/A) = Q, σ the sign of N the friction sees.
+        let normal = match self.contact {
+            ContactMode::Paper => {
+                let d = 1.0 + as_ * (as_ - h * f[0]) / ia;
+                if d <= 0.0 {
+                    return Err(ModelError::Painleve {
+                        theta: th,
+                        solutions: 0,
+                    });
+                }
+                q / d
+            }
+            ContactMode::Bilateral | ContactMode::Unilateral => {
+                let dp = 1.0 + as_ * (as_ - h * f[0]) / ia;
+                let dm = 1.0 + as_ * (as_ + h * f[0]) / ia;
+                let np = q / dp;
+                let nm = q / dm;
+                let okp = dp != 0.0 && np >= 0.0;
+                let okm = dm != 0.0 && nm < 0.0;
+                match (okp, okm) {
+                    (true, false) => np,
+                    (false, true) => nm,
+                    (true, true) => {
+                        return Err(ModelError::Painleve {
+                            theta: th,
+                            solutions: 2,
+                        });
+                    }
+                    (false, false) => {
+                        return Err(ModelError::Painleve {
+                            theta: th,
+                            solutions: 0,
+                        });
+                    }
+                }
+            }
+        };
+        let nf = match self.contact {
+            ContactMode::Paper => normal,
+            _ => normal.abs(),
+        };
+        let ff = [-nf * f[0], -nf * f[1]];
+        let fx = ff[0] - hx;
+        let fy = ff[1] - hy;
+        let thdd = (gyro - as_ * normal - h * fx) / ia;
+        let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) / (ia * s);
+        let wd = s * fy / ic;
+        let dy = [
+            thd,
+            thdd,
+            omd,
+            wd,
+            om * uy + fx,
+            -om * ux + fy,
+            ff[0] * v[0] + ff[1] * v[1],
+            -hx * v[0] - hy * v[1],
+        ];
+        Ok(Eval {
+            dy,
+            normal,
+            friction: ff,
+            slip: v,
+            u: [ux, uy, as_ * thd],
+        })
+    }
+
+    /// Rolling: v_P = 0 held; θ̈, N and the friction solved with the motion
+    /// (docs/physics.md §4). Regular at every θ except through the Ω
+    /// equation's 1/sin θ, which the caller guards.
+    fn eval_rolling(&self, y: &[f64; DIM]) -> Eval {
+        let (th, thd, om, w) = (y[TH], y[THD], y[OM], y[W]);
+        let (s, c) = th.sin_cos();
+        let (a, ia, ic) = (self.a, self.ia, self.ic);
+        let h = 1.0 - a * c;
+        let weff = w - om * c + a * om;
+        let ux = h * thd;
+        let uy = -s * weff;
+        let gyro = -om * (ic * w - ia * om * c) * s;
+        let thdd = (gyro - a * s * self.g - a * s * thd * thd + h * om * uy)
+            / (ia + a * a * s * s + h * h);
+        let normal = self.g + a * c * thd * thd + a * s * thdd;
+        let fx = h * thdd + a * s * thd * thd - om * uy;
+        let fy = (om * ux
+            - c * thd * weff
+            - (a - c) * thd * (ic * w - 2.0 * ia * om * c) / ia
+            - om * s * s * thd)
+            / (1.0 + s * s / ic + (a - c) * (a - c) / ia);
+        let [hx, hy] = self.h;
+        let ff = [fx + hx, fy + hy];
+        let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) / (ia * s);
+        let wd = s * fy / ic;
+        let dy = [thd, thdd, omd, wd, om * uy + fx, -om * ux + fy, 0.0, 0.0];
+        Eval {
+            dy,
+            normal,
+            friction: ff,
+            slip: [0.0, 0.0],
+            u: [ux, uy, a * s * thd],
+        }
+    }
+
+    /// Stick margin while rolling: `μ |N| − |F_f|` (scaled force); rolling
+    /// ends when it falls through zero.
+    pub fn stick_margin(&self, e: &Eval) -> f64 {
+        self.mu * e.normal.abs() - e.friction[0].hypot(e.friction[1])
+    }
+
+    /// Jellett's J in scaled units (J / (m R³ / T)).
+    pub fn jellett_scaled(&self, y: &[f64; DIM]) -> f64 {
+        let (s, c) = y[TH].sin_cos();
+        self.ia * y[OM] * s * s + self.ic * y[W] * (c - self.a)
+    }
+
+    /// Total energy in scaled units, using `u` from `e` (constraint values while rolling).
+    pub fn energy_scaled(&self, y: &[f64; DIM], e: &Eval) -> f64 {
+        let s = y[TH].sin();
+        let u = e.u;
+        0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+            + 0.5 * self.ia * (y[THD] * y[THD] + y[OM] * y[OM] * s * s)
+            + 0.5 * self.ic * y[W] * y[W]
+            + self.g * (1.0 - self.a * y[TH].cos())
+    }
+
+    /// C · R in scaled units times the largest |ω| gives the J scale.
+    pub fn ic(&self) -> f64 {
+        self.ic
+    }
+}
+
+impl OdeSystem<DIM> for Reduced {
+    type Error = ModelError;
+
+    fn begin_segment(&mut self, t: f64, _y: &[f64; DIM]) {
+        self.latch_force(t);
+    }
+
+    fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {
+        if self.mode == Mode::Rolling && y[TH].sin().abs() < SIN_GUARD {
+            return Err(ModelError::Singular { theta: y[TH] });
+        }
+        *dy = self.eval(y)?.dy;
+        Ok(())
+    }
+}
