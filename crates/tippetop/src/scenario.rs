@@ -633,11 +633,18 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
             table_mut(merged, table).insert((*k).to_string(), value);
             Ok(*table == "surface" && *k == "friction_eps")
         }
-        [table, ..] if keys_of(table).is_some() => Err(Error::invalid(
-            key,
-            "not a key".into(),
-            format!("{table}.KEY with KEY one of the [{table}] keys"),
-        )),
+        [table, ..] if keys_of(table).is_some() => {
+            let list: Vec<&str> = keys_of(table)
+                .unwrap_or(&[])
+                .iter()
+                .map(|(k, _)| *k)
+                .collect();
+            Err(Error::invalid(
+                key,
+                format!("not a key: expected {table}.KEY"),
+                format!("valid keys: {}", list.join(", ")),
+            ))
+        }
         [table, ..] => Err(Error::invalid(
             key,
             format!("unknown table \"{table}\""),
