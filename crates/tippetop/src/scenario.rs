@@ -1,9 +1,57 @@
 //! Scenarios: everything that defines one run (top, surface, forcing,
 //! initial state, solver), parsed from TOML with presets and `--set`
 //! overrides, validated with errors that name the key and the valid range.
+//!
+//! # File format
+//!
+//! ```toml
+//! preset = "classical"        # optional: start from a preset, then override
+//! [top]
+//! radius = 0.015              # R [m]
+//! offset = 0.0015             # a [m], geometric centre to centre of mass
+//! mass = 0.015                # m [kg]
+//! inertia_transverse = 1.35e-6  # A [kg m^2], about the centre of mass
+//! inertia_axial = 1.35e-6       # C [kg m^2]
+//! [surface]
+//! gravity = 9.8               # [m/s^2]
+//! friction = 0.1              # mu
+//! friction_law = "coulomb"    # "coulomb", "coulomb_sliding", "regularized", "viscous"
+//! # friction_eps = 1e-3       # [m/s], only (and required) with "regularized"/"viscous"
+//! contact = "bilateral"       # or "paper", "unilateral"
+//! restitution = 0.0           # [0, 1], rigid model touchdown only
+//! [[force]]                   # applied force at the contact point, precessing frame [N]
+//! hx = 0.0                    # default 0
+//! hy = 0.0                    # default 0
+//! start = 0.0                 # [s], default 0
+//! stop = 1e-5                 # [s], default: never
+//! [initial]
+//! theta = 0.1                 # [rad]
+//! theta_dot = 0.0             # [rad/s]
+//! precession = 0.0            # Omega [rad/s]
+//! spin = 100.0                # omega [rad/s]
+//! ux = 0.0                    # [m/s]
+//! uy = 0.0                    # [m/s]
+//! [solver]
+//! method = "adaptive"         # or "rk4"
+//! t_end = 10.0                # [s]
+//! steps = 500                 # rk4 only
+//! rtol = 1e-10
+//! samples = 1001              # output rows, evenly spaced from 0 to t_end
+//! model = "reduced"           # or "rigid"
+//! ```
+//!
+//! Without a preset the required keys are the five `[top]` keys,
+//! `surface.friction`, `initial.theta`, `initial.spin` and `solver.t_end`;
+//! everything else has a default. With a preset every key defaults to the
+//! preset's (literal) value, and a file's `[[force]]` list (even `force = []`)
+//! replaces the preset's list. Precedence: preset < file < `--set`.
+//! Whole numbers are accepted wherever a float is expected.
+
+use serde::Deserialize as _;
+use toml::{Table, Value};
 
 use crate::{
-    ContactMode, Error, Forcing, FrictionLaw, Initial, SolverSettings, Surface, Top,
+    ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial, SolverSettings, Surface, Top,
     state::{Method, ModelKind},
 };
 
@@ -81,7 +129,764 @@ impl Scenario {
         self.initial
             .validate(self.solver.model == ModelKind::Reduced)?;
         self.solver.validate()?;
-        let _ = Method::Adaptive;
         Ok(())
+    }
+
+    /// Build a scenario from an optional preset name (the CLI's `--preset`),
+    /// an optional TOML document (see the [module docs](self) for the keys)
+    /// and `--set` overrides of the form `TABLE.KEY=VALUE` (force windows:
+    /// `force.K.KEY`, 0-based `K`; `K` equal to the number of windows appends
+    /// one). Precedence: preset < file < `--set`, later `--set`s win.
+    ///
+    /// Errors are [`Error::Invalid`] naming the full key (`top.radius`,
+    /// `force.0.stop`, ...): syntax, unknown keys and tables, missing keys and
+    /// wrong types are reported first, then the physical ranges of
+    /// [`Scenario::validate`].
+    pub fn load(
+        preset: Option<&str>,
+        toml_text: Option<&str>,
+        sets: &[String],
+    ) -> Result<Scenario, Error> {
+        let file = match toml_text {
+            Some(text) => parse_document(text)?,
+            None => Table::new(),
+        };
+
+        // The preset: command line and file must agree.
+        let file_preset = match file.get("preset") {
+            None => None,
+            Some(Value::String(s)) => Some(s.as_str()),
+            Some(other) => {
+                return Err(Error::invalid(
+                    "preset",
+                    format!("expected a string, found {}", describe(other)),
+                    PRESET_RANGE.into(),
+                ));
+            }
+        };
+        let preset_name = match (preset, file_preset) {
+            (Some(arg), Some(f)) if arg != f => {
+                return Err(Error::invalid(
+                    "preset",
+                    format!("given both on the command line (\"{arg}\") and in the file (\"{f}\")"),
+                    "give it once, or the same name in both".into(),
+                ));
+            }
+            (Some(arg), _) => Some(arg),
+            (None, f) => f,
+        };
+        let mut merged = match preset_name {
+            Some(name) => Scenario::preset(name)?.to_table(),
+            None => Table::new(),
+        };
+
+        let mut eps_explicit = merge_file(&mut merged, &file)?;
+        for set in sets {
+            eps_explicit |= apply_set(&mut merged, set)?;
+        }
+
+        let sc = from_table(&merged, preset_name.is_some(), eps_explicit)?;
+        sc.validate()?;
+        Ok(sc)
+    }
+
+    /// Parse a TOML scenario document; the same as `load(None, Some(text), &[])`.
+    pub fn from_toml_str(text: &str) -> Result<Scenario, Error> {
+        Scenario::load(None, Some(text), &[])
+    }
+
+    /// A complete TOML document for this scenario: every key explicit, no
+    /// `preset` line, floats written so that they parse back exactly
+    /// (`Scenario::from_toml_str(&s.to_toml_string())` gives `s` back for
+    /// any valid `s`). A force window that never stops has no `stop` key.
+    pub fn to_toml_string(&self) -> String {
+        let table = self.to_table();
+        let mut out = String::from("# tippetop scenario\n");
+        for &(name, keys) in TABLES {
+            match table.get(name) {
+                Some(Value::Table(t)) => {
+                    out.push_str(&format!("\n[{name}]\n"));
+                    render_keys(&mut out, t, keys);
+                }
+                Some(Value::Array(windows)) => {
+                    for w in windows {
+                        if let Value::Table(t) = w {
+                            out.push_str(&format!("\n[[{name}]]\n"));
+                            render_keys(&mut out, t, keys);
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        out
+    }
+
+    /// The scenario as a complete TOML table (the layout of the file format).
+    fn to_table(&self) -> Table {
+        let mut top = Table::new();
+        top.insert("radius".into(), Value::Float(self.top.radius));
+        top.insert("offset".into(), Value::Float(self.top.offset));
+        top.insert("mass".into(), Value::Float(self.top.mass));
+        top.insert(
+            "inertia_transverse".into(),
+            Value::Float(self.top.inertia_transverse),
+        );
+        top.insert("inertia_axial".into(), Value::Float(self.top.inertia_axial));
+
+        let s = &self.surface;
+        let mut surface = Table::new();
+        surface.insert("gravity".into(), Value::Float(s.gravity));
+        surface.insert("friction".into(), Value::Float(s.friction));
+        surface.insert("friction_law".into(), Value::String(s.law.name().into()));
+        if let Some(eps) = s.law.eps() {
+            surface.insert("friction_eps".into(), Value::Float(eps));
+        }
+        surface.insert("contact".into(), Value::String(s.contact.name().into()));
+        surface.insert("restitution".into(), Value::Float(s.restitution));
+
+        let force = self
+            .forcing
+            .windows
+            .iter()
+            .map(|w| {
+                let mut t = Table::new();
+                t.insert("hx".into(), Value::Float(w.hx));
+                t.insert("hy".into(), Value::Float(w.hy));
+                t.insert("start".into(), Value::Float(w.start));
+                if w.stop != f64::INFINITY {
+                    t.insert("stop".into(), Value::Float(w.stop));
+                }
+                Value::Table(t)
+            })
+            .collect();
+
+        let i = &self.initial;
+        let mut initial = Table::new();
+        for (k, v) in [
+            ("theta", i.theta),
+            ("theta_dot", i.theta_dot),
+            ("precession", i.precession),
+            ("spin", i.spin),
+            ("ux", i.ux),
+            ("uy", i.uy),
+        ] {
+            initial.insert(k.into(), Value::Float(v));
+        }
+
+        let so = &self.solver;
+        let mut solver = Table::new();
+        solver.insert(
+            "method".into(),
+            Value::String(name_of(METHODS, so.method).into()),
+        );
+        solver.insert("t_end".into(), Value::Float(so.t_end));
+        solver.insert("steps".into(), Value::Integer(to_i64(so.steps)));
+        solver.insert("rtol".into(), Value::Float(so.rtol));
+        solver.insert("samples".into(), Value::Integer(to_i64(so.samples)));
+        solver.insert(
+            "model".into(),
+            Value::String(name_of(MODELS, so.model).into()),
+        );
+
+        let mut t = Table::new();
+        t.insert("top".into(), Value::Table(top));
+        t.insert("surface".into(), Value::Table(surface));
+        t.insert("force".into(), Value::Array(force));
+        t.insert("initial".into(), Value::Table(initial));
+        t.insert("solver".into(), Value::Table(solver));
+        t
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Key specification: every table, its keys and each key's valid range.
+
+type Keys = &'static [(&'static str, &'static str)];
+
+const PRESET_RANGE: &str = "\"nano\" or \"classical\"";
+
+const TOP_KEYS: Keys = &[
+    ("radius", "a finite length > 0 [m]"),
+    ("offset", "0 <= offset < radius [m]"),
+    ("mass", "a finite mass > 0 [kg]"),
+    ("inertia_transverse", "a finite moment > 0 [kg m^2]"),
+    (
+        "inertia_axial",
+        "0 < inertia_axial <= 2 * inertia_transverse [kg m^2]",
+    ),
+];
+
+const SURFACE_KEYS: Keys = &[
+    ("gravity", "a finite number >= 0 [m/s^2]"),
+    ("friction", "a finite number >= 0"),
+    (
+        "friction_law",
+        "\"coulomb\", \"coulomb_sliding\", \"regularized\" or \"viscous\"",
+    ),
+    (
+        "friction_eps",
+        "a finite speed > 0 [m/s], only with friction_law = \"regularized\" or \"viscous\"",
+    ),
+    ("contact", "\"bilateral\", \"paper\" or \"unilateral\""),
+    ("restitution", "0 <= restitution <= 1"),
+];
+
+const FORCE_KEYS: Keys = &[
+    ("hx", "a finite force [N]"),
+    ("hy", "a finite force [N]"),
+    ("start", "a finite time >= 0 [s]"),
+    ("stop", "a finite time > start [s], or omit stop for never"),
+];
+
+const INITIAL_KEYS: Keys = &[
+    (
+        "theta",
+        "0 < theta < pi [rad]; 0 <= theta <= pi with model = \"rigid\"",
+    ),
+    ("theta_dot", "a finite number [rad/s]"),
+    ("precession", "a finite number [rad/s]"),
+    ("spin", "a finite number [rad/s]"),
+    ("ux", "a finite number [m/s]"),
+    ("uy", "a finite number [m/s]"),
+];
+
+const SOLVER_KEYS: Keys = &[
+    ("method", "\"adaptive\" or \"rk4\""),
+    ("t_end", "a finite time > 0 [s]"),
+    (
+        "steps",
+        "an integer >= 1, a multiple of samples - 1 (method = \"rk4\")",
+    ),
+    ("rtol", "1e-14 <= rtol <= 1e-2"),
+    ("samples", "an integer >= 2"),
+    ("model", "\"reduced\" or \"rigid\""),
+];
+
+/// Tables in document order; `force` is an array of tables.
+const TABLES: &[(&str, Keys)] = &[
+    ("top", TOP_KEYS),
+    ("surface", SURFACE_KEYS),
+    ("force", FORCE_KEYS),
+    ("initial", INITIAL_KEYS),
+    ("solver", SOLVER_KEYS),
+];
+
+const TOP_LEVEL_RANGE: &str =
+    "valid top-level entries: preset, [top], [surface], [[force]], [initial], [solver]";
+
+const LAWS: &[(&str, LawName)] = &[
+    ("coulomb", LawName::Coulomb),
+    ("coulomb_sliding", LawName::CoulombSliding),
+    ("regularized", LawName::Regularized),
+    ("viscous", LawName::Viscous),
+];
+
+const CONTACTS: &[(&str, ContactMode)] = &[
+    ("bilateral", ContactMode::Bilateral),
+    ("paper", ContactMode::Paper),
+    ("unilateral", ContactMode::Unilateral),
+];
+
+const METHODS: &[(&str, Method)] = &[("adaptive", Method::Adaptive), ("rk4", Method::Rk4)];
+
+const MODELS: &[(&str, ModelKind)] =
+    &[("reduced", ModelKind::Reduced), ("rigid", ModelKind::Rigid)];
+
+/// Friction law without its parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum LawName {
+    Coulomb,
+    CoulombSliding,
+    Regularized,
+    Viscous,
+}
+
+fn keys_of(table: &str) -> Option<Keys> {
+    TABLES.iter().find(|(n, _)| *n == table).map(|(_, k)| *k)
+}
+
+fn range_of(keys: Keys, key: &str) -> &'static str {
+    keys.iter()
+        .find(|(k, _)| *k == key)
+        .map(|(_, r)| *r)
+        .unwrap_or("")
+}
+
+fn unknown_key(full_key: &str, keys: Keys) -> Error {
+    let list: Vec<&str> = keys.iter().map(|(k, _)| *k).collect();
+    Error::invalid(
+        full_key,
+        "unknown key".into(),
+        format!("valid keys: {}", list.join(", ")),
+    )
+}
+
+fn name_of<T: PartialEq + Copy>(names: &[(&'static str, T)], v: T) -> &'static str {
+    names
+        .iter()
+        .find(|(_, x)| *x == v)
+        .map(|(n, _)| *n)
+        .unwrap_or("?")
+}
+
+fn to_i64(n: usize) -> i64 {
+    i64::try_from(n).unwrap_or(i64::MAX)
+}
+
+/// A one-line description of a TOML value for error messages.
+fn describe(v: &Value) -> String {
+    match v {
+        Value::String(s) => format!("string {s:?}"),
+        Value::Integer(i) => format!("integer {i}"),
+        Value::Float(f) => format!("float {f}"),
+        Value::Boolean(b) => format!("boolean {b}"),
+        Value::Datetime(d) => format!("datetime {d}"),
+        Value::Array(_) => "an array".into(),
+        Value::Table(_) => "a table".into(),
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Parsing and merging.
+
+/// Parse a TOML document; a syntax error becomes a one-line `scenario` error.
+fn parse_document(text: &str) -> Result<Table, Error> {
+    text.parse::<Table>().map_err(|e| {
+        let shown = e.to_string();
+        let head = shown.lines().next().unwrap_or("TOML parse error").trim();
+        let msg: Vec<&str> = e
+            .message()
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty())
+            .collect();
+        let what = if msg.is_empty() {
+            head.to_string()
+        } else {
+            format!("{head}: {}", msg.join("; "))
+        };
+        Error::invalid("scenario", what, "valid TOML".into())
+    })
+}
+
+/// Check every key of `t` against `keys`; `prefix` is the full table key.
+fn check_keys(t: &Table, prefix: &str, keys: Keys) -> Result<(), Error> {
+    for k in t.keys() {
+        if !keys.iter().any(|(name, _)| name == k) {
+            return Err(unknown_key(&format!("{prefix}.{k}"), keys));
+        }
+    }
+    Ok(())
+}
+
+/// The table `merged[name]`, created empty if absent.
+fn table_mut<'a>(merged: &'a mut Table, name: &str) -> &'a mut Table {
+    let entry = merged
+        .entry(name.to_string())
+        .or_insert_with(|| Value::Table(Table::new()));
+    if !entry.is_table() {
+        *entry = Value::Table(Table::new());
+    }
+    match entry {
+        Value::Table(t) => t,
+        _ => unreachable!("just made a table"),
+    }
+}
+
+/// The force-window list `merged["force"]`, created empty if absent.
+fn windows_mut(merged: &mut Table) -> &mut Vec<Value> {
+    let entry = merged
+        .entry("force".to_string())
+        .or_insert_with(|| Value::Array(Vec::new()));
+    if !entry.is_array() {
+        *entry = Value::Array(Vec::new());
+    }
+    match entry {
+        Value::Array(a) => a,
+        _ => unreachable!("just made an array"),
+    }
+}
+
+/// Merge the file's tables into `merged` key by key (the force list is
+/// replaced as a whole). Returns whether the file gives `surface.friction_eps`.
+fn merge_file(merged: &mut Table, file: &Table) -> Result<bool, Error> {
+    // Unknown top-level entries first.
+    for (name, v) in file {
+        if name != "preset" && keys_of(name).is_none() {
+            let what = if v.is_table() {
+                "unknown table"
+            } else {
+                "unknown key"
+            };
+            return Err(Error::invalid(name, what.into(), TOP_LEVEL_RANGE.into()));
+        }
+    }
+    let mut eps_explicit = false;
+    for &(name, keys) in TABLES {
+        let Some(v) = file.get(name) else { continue };
+        if name == "force" {
+            let Value::Array(windows) = v else {
+                return Err(Error::invalid(
+                    "force",
+                    format!("expected an array of tables, found {}", describe(v)),
+                    "[[force]] sections, one per window".into(),
+                ));
+            };
+            for (k, w) in windows.iter().enumerate() {
+                let Value::Table(t) = w else {
+                    return Err(Error::invalid(
+                        &format!("force.{k}"),
+                        format!("expected a table, found {}", describe(w)),
+                        "[[force]] sections, one per window".into(),
+                    ));
+                };
+                check_keys(t, &format!("force.{k}"), keys)?;
+            }
+            *windows_mut(merged) = windows.clone();
+        } else {
+            let Value::Table(t) = v else {
+                return Err(Error::invalid(
+                    name,
+                    format!("expected a table, found {}", describe(v)),
+                    format!("a [{name}] section"),
+                ));
+            };
+            check_keys(t, name, keys)?;
+            if name == "surface" && t.contains_key("friction_eps") {
+                eps_explicit = true;
+            }
+            let dst = table_mut(merged, name);
+            for (k, v) in t {
+                dst.insert(k.clone(), v.clone());
+            }
+        }
+    }
+    Ok(eps_explicit)
+}
+
+/// A `--set` value: a TOML value if it parses as one, else the raw string.
+fn parse_set_value(s: &str) -> Value {
+    Value::deserialize(toml::de::ValueDeserializer::new(s))
+        .unwrap_or_else(|_| Value::String(s.to_string()))
+}
+
+/// Apply one `--set TABLE.KEY=VALUE`. Returns whether it sets
+/// `surface.friction_eps`.
+fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
+    let Some((key, value)) = set.split_once('=') else {
+        return Err(Error::invalid(
+            "--set",
+            format!("{set:?} is not of the form TABLE.KEY=VALUE"),
+            "e.g. --set surface.friction=0.2 or --set force.0.hx=1e-22".into(),
+        ));
+    };
+    let key = key.trim();
+    let value = parse_set_value(value.trim());
+    let parts: Vec<&str> = key.split('.').collect();
+    match parts.as_slice() {
+        ["preset"] => Err(Error::invalid(
+            "preset",
+            "cannot be given with --set".into(),
+            "use --preset NAME, or preset = \"NAME\" in the file".into(),
+        )),
+        ["force", idx, k] => {
+            let keys = FORCE_KEYS;
+            if !idx.bytes().all(|b| b.is_ascii_digit()) || idx.is_empty() {
+                return Err(Error::invalid(
+                    key,
+                    format!("{idx:?} is not a window index"),
+                    "force.K.KEY with K = 0, 1, ... (0-based)".into(),
+                ));
+            }
+            if !keys.iter().any(|(name, _)| name == k) {
+                return Err(unknown_key(key, keys));
+            }
+            let windows = windows_mut(merged);
+            let n = windows.len();
+            let kk = idx.parse::<usize>().unwrap_or(usize::MAX);
+            if kk > n {
+                return Err(Error::invalid(
+                    key,
+                    format!("there is no force window {idx} ({n} defined)"),
+                    format!("K <= {n}: 0-based, K = {n} appends a new window"),
+                ));
+            }
+            if kk == n {
+                windows.push(Value::Table(Table::new()));
+            }
+            if let Value::Table(t) = &mut windows[kk] {
+                t.insert((*k).to_string(), value);
+            }
+            Ok(false)
+        }
+        ["force", ..] => Err(Error::invalid(
+            key,
+            "force windows are set one key at a time".into(),
+            "force.K.KEY with K = 0, 1, ... and KEY one of hx, hy, start, stop".into(),
+        )),
+        [table, k] if keys_of(table).is_some() => {
+            let keys = keys_of(table).unwrap_or(&[]);
+            if !keys.iter().any(|(name, _)| name == k) {
+                return Err(unknown_key(key, keys));
+            }
+            table_mut(merged, table).insert((*k).to_string(), value);
+            Ok(*table == "surface" && *k == "friction_eps")
+        }
+        [table, ..] if keys_of(table).is_some() => {
+            let list: Vec<&str> = keys_of(table)
+                .unwrap_or(&[])
+                .iter()
+                .map(|(k, _)| *k)
+                .collect();
+            Err(Error::invalid(
+                key,
+                format!("not a key: expected {table}.KEY"),
+                format!("valid keys: {}", list.join(", ")),
+            ))
+        }
+        [table, ..] => Err(Error::invalid(
+            key,
+            format!("unknown table \"{table}\""),
+            "valid tables: top, surface, force, initial, solver".into(),
+        )),
+        [] => unreachable!("split always yields one part"),
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Typed extraction from the merged table.
+
+/// One table of the merged document, with its full key prefix.
+struct Section<'a> {
+    prefix: String,
+    keys: Keys,
+    table: Option<&'a Table>,
+}
+
+impl Section<'_> {
+    fn full(&self, key: &str) -> String {
+        format!("{}.{key}", self.prefix)
+    }
+
+    fn get(&self, key: &str) -> Option<&Value> {
+        self.table.and_then(|t| t.get(key))
+    }
+
+    fn missing(&self, key: &str) -> Error {
+        Error::invalid(
+            &self.full(key),
+            "missing".into(),
+            "required without a preset".into(),
+        )
+    }
+
+    fn wrong_type(&self, key: &str, expected: &str, v: &Value) -> Error {
+        Error::invalid(
+            &self.full(key),
+            format!("expected {expected}, found {}", describe(v)),
+            range_of(self.keys, key).into(),
+        )
+    }
+
+    /// A finite float (whole numbers accepted); `default` `None` = required.
+    fn f64(&self, key: &str, default: Option<f64>) -> Result<f64, Error> {
+        let x = match self.get(key) {
+            None => return default.ok_or_else(|| self.missing(key)),
+            Some(Value::Float(f)) => *f,
+            Some(Value::Integer(i)) => *i as f64,
+            Some(v) => return Err(self.wrong_type(key, "a number", v)),
+        };
+        if !x.is_finite() {
+            return Err(Error::invalid(
+                &self.full(key),
+                format!("{x} is not allowed"),
+                range_of(self.keys, key).into(),
+            ));
+        }
+        Ok(x)
+    }
+
+    /// A non-negative whole number (a whole float is accepted).
+    fn usize(&self, key: &str, default: usize) -> Result<usize, Error> {
+        const MAX_EXACT: f64 = 9_007_199_254_740_992.0; // 2^53
+        let expected = "a non-negative whole number";
+        match self.get(key) {
+            None => Ok(default),
+            Some(v @ Value::Integer(i)) => {
+                usize::try_from(*i).map_err(|_| self.wrong_type(key, expected, v))
+            }
+            Some(v @ Value::Float(f)) => {
+                if f.is_finite() && *f >= 0.0 && f.fract() == 0.0 && *f <= MAX_EXACT {
+                    Ok(*f as usize)
+                } else {
+                    Err(self.wrong_type(key, expected, v))
+                }
+            }
+            Some(v) => Err(self.wrong_type(key, expected, v)),
+        }
+    }
+
+    /// One of `names`; `default` is used when the key is absent.
+    fn name<T: Copy>(&self, key: &str, names: &[(&str, T)], default: T) -> Result<T, Error> {
+        match self.get(key) {
+            None => Ok(default),
+            Some(Value::String(s)) => names
+                .iter()
+                .find(|(n, _)| n == s)
+                .map(|(_, v)| *v)
+                .ok_or_else(|| {
+                    Error::invalid(
+                        &self.full(key),
+                        format!("unknown value {s:?}"),
+                        format!("valid: {}", range_of(self.keys, key)),
+                    )
+                }),
+            Some(v) => Err(self.wrong_type(key, "a string", v)),
+        }
+    }
+}
+
+fn section<'a>(merged: &'a Table, name: &str) -> Section<'a> {
+    Section {
+        prefix: name.to_string(),
+        keys: keys_of(name).unwrap_or(&[]),
+        table: merged.get(name).and_then(Value::as_table),
+    }
+}
+
+/// Convert the merged table to a scenario (types, required keys and
+/// defaults; no range checks). `eps_explicit`: `surface.friction_eps` was
+/// given by the file or a `--set` (not only inherited from the preset).
+fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Scenario, Error> {
+    // Required keys have no default without a preset; with a preset every
+    // key is present in `merged` anyway.
+    let req = |d: f64| if has_preset { Some(d) } else { None };
+
+    let s = section(merged, "top");
+    let top = Top {
+        radius: s.f64("radius", req(0.0))?,
+        offset: s.f64("offset", req(0.0))?,
+        mass: s.f64("mass", req(0.0))?,
+        inertia_transverse: s.f64("inertia_transverse", req(0.0))?,
+        inertia_axial: s.f64("inertia_axial", req(0.0))?,
+    };
+
+    let s = section(merged, "surface");
+    let gravity = s.f64("gravity", Some(9.8))?;
+    let friction = s.f64("friction", req(0.0))?;
+    let law_name = s.name("friction_law", LAWS, LawName::Coulomb)?;
+    let uses_eps = matches!(law_name, LawName::Regularized | LawName::Viscous);
+    let law_str = name_of(LAWS, law_name);
+    let eps = if uses_eps {
+        match s.get("friction_eps") {
+            None => {
+                return Err(Error::invalid(
+                    "surface.friction_eps",
+                    "missing".into(),
+                    format!("required with friction_law = \"{law_str}\": a speed > 0 [m/s]"),
+                ));
+            }
+            Some(_) => s.f64("friction_eps", None)?,
+        }
+    } else {
+        if eps_explicit && s.get("friction_eps").is_some() {
+            return Err(Error::invalid(
+                "surface.friction_eps",
+                format!("given with friction_law = \"{law_str}\", which does not use it"),
+                "only with friction_law = \"regularized\" or \"viscous\"".into(),
+            ));
+        }
+        0.0
+    };
+    let law = match law_name {
+        LawName::Coulomb => FrictionLaw::Coulomb,
+        LawName::CoulombSliding => FrictionLaw::CoulombSliding,
+        LawName::Regularized => FrictionLaw::Regularized { eps },
+        LawName::Viscous => FrictionLaw::Viscous { eps },
+    };
+    let surface = Surface {
+        gravity,
+        friction,
+        law,
+        contact: s.name("contact", CONTACTS, ContactMode::Bilateral)?,
+        restitution: s.f64("restitution", Some(0.0))?,
+    };
+
+    let mut windows = Vec::new();
+    if let Some(Value::Array(list)) = merged.get("force") {
+        for (k, w) in list.iter().enumerate() {
+            let s = Section {
+                prefix: format!("force.{k}"),
+                keys: FORCE_KEYS,
+                table: w.as_table(),
+            };
+            windows.push(ForceWindow {
+                hx: s.f64("hx", Some(0.0))?,
+                hy: s.f64("hy", Some(0.0))?,
+                start: s.f64("start", Some(0.0))?,
+                stop: s.f64("stop", Some(f64::INFINITY))?,
+            });
+        }
+    }
+    let forcing = Forcing { windows };
+
+    let s = section(merged, "initial");
+    let initial = Initial {
+        theta: s.f64("theta", req(0.0))?,
+        theta_dot: s.f64("theta_dot", Some(0.0))?,
+        precession: s.f64("precession", Some(0.0))?,
+        spin: s.f64("spin", req(0.0))?,
+        ux: s.f64("ux", Some(0.0))?,
+        uy: s.f64("uy", Some(0.0))?,
+    };
+
+    let s = section(merged, "solver");
+    let method = s.name("method", METHODS, Method::Adaptive)?;
+    let t_end = s.f64("t_end", req(0.0))?;
+    let d = SolverSettings::new(t_end);
+    let solver = SolverSettings {
+        method,
+        t_end,
+        steps: s.usize("steps", d.steps)?,
+        rtol: s.f64("rtol", Some(d.rtol))?,
+        samples: s.usize("samples", d.samples)?,
+        model: s.name("model", MODELS, d.model)?,
+    };
+
+    Ok(Scenario {
+        top,
+        surface,
+        forcing,
+        initial,
+        solver,
+    })
+}
+
+// ---------------------------------------------------------------------------
+// Rendering.
+
+/// Append `key = value` lines for the keys of `t`, in `keys` order.
+fn render_keys(out: &mut String, t: &Table, keys: Keys) {
+    for (k, _) in keys {
+        if let Some(v) = t.get(*k) {
+            out.push_str(&format!("{k} = {}\n", render_value(v)));
+        }
+    }
+}
+
+/// A scalar as TOML; floats in Rust's shortest round-trip form.
+fn render_value(v: &Value) -> String {
+    match v {
+        Value::Float(f) if f.is_nan() => "nan".into(),
+        Value::Float(f) if f.is_infinite() => {
+            if *f > 0.0 {
+                "inf".into()
+            } else {
+                "-inf".into()
+            }
+        }
+        Value::Float(f) => format!("{f:?}"),
+        other => other.to_string(),
     }
 }

@@ -1,0 +1,689 @@
+//! Scenario files: presets, overrides, `--set`, round-trips and bad input.
+
+use tippetop::{ContactMode, Error, ForceWindow, FrictionLaw, Method, ModelKind, Scenario};
+
+/// A minimal complete file without a preset (classical-like numbers).
+const MINIMAL: &str = r#"
+[top]
+radius = 0.015
+offset = 0.0015
+mass = 0.015
+inertia_transverse = 1.35e-6
+inertia_axial = 1.35e-6
+[surface]
+friction = 0.1
+[initial]
+theta = 0.1
+spin = 100.0
+[solver]
+t_end = 10.0
+"#;
+
+fn sets(s: &[&str]) -> Vec<String> {
+    s.iter().map(|x| x.to_string()).collect()
+}
+
+/// Load and expect an `Error::Invalid` naming `key`; the Display must be one
+/// line of the form `key: what (range)`. Returns the Display.
+fn expect_err(preset: Option<&str>, text: Option<&str>, set: &[&str], key: &str) -> String {
+    let e = match Scenario::load(preset, text, &sets(set)) {
+        Ok(sc) => panic!("expected an error on {key}, got {sc:?}"),
+        Err(e) => e,
+    };
+    let shown = e.to_string();
+    match &e {
+        Error::Invalid { key: k, .. } => assert_eq!(k, key, "wrong key in: {shown}"),
+        other => panic!("expected Error::Invalid, got {other:?}"),
+    }
+    assert!(!shown.contains('\n'), "multi-line error: {shown:?}");
+    assert!(shown.starts_with(&format!("{key}: ")), "{shown}");
+    assert!(shown.ends_with(')'), "{shown}");
+    shown
+}
+
+/// `MINIMAL` with `line` appended to `[section]` (appended as a new section
+/// header, which TOML allows only once: so we replace the header).
+fn minimal_with(section: &str, line: &str) -> String {
+    let header = format!("[{section}]\n");
+    assert!(MINIMAL.contains(&header));
+    MINIMAL.replacen(&header, &format!("{header}{line}\n"), 1)
+}
+
+/// `MINIMAL` with `key = ...` in `[section]` replaced by `key = value`.
+fn minimal_replacing(section: &str, key: &str, value: &str) -> String {
+    let mut out = String::new();
+    let mut cur = String::new();
+    let mut done = false;
+    for l in MINIMAL.lines() {
+        if l.starts_with('[') {
+            cur = l.trim_matches(|c| c == '[' || c == ']').to_string();
+        }
+        if cur == section && l.split('=').next().map(str::trim) == Some(key) {
+            out.push_str(&format!("{key} = {value}\n"));
+            done = true;
+        } else {
+            out.push_str(l);
+            out.push('\n');
+        }
+    }
+    assert!(done, "{section}.{key} not in MINIMAL");
+    out
+}
+
+fn classical_with(set: &[&str]) -> Result<Scenario, Error> {
+    Scenario::load(Some("classical"), None, &sets(set))
+}
+
+// --- round trips -----------------------------------------------------------
+
+#[test]
+fn round_trip_nano() {
+    let s = Scenario::nano();
+    let text = s.to_toml_string();
+    assert!(!text.contains("preset"), "{text}");
+    assert_eq!(Scenario::from_toml_str(&text), Ok(s), "{text}");
+}
+
+#[test]
+fn round_trip_classical() {
+    let s = Scenario::classical();
+    let text = s.to_toml_string();
+    assert_eq!(Scenario::from_toml_str(&text), Ok(s), "{text}");
+}
+
+#[test]
+fn round_trip_several_windows_and_other_enums() {
+    let mut s = Scenario::nano();
+    s.forcing.windows = vec![
+        ForceWindow {
+            hx: 1e-22,
+            hy: -3.3e-23,
+            start: 0.0,
+            stop: 1e-5,
+        },
+        ForceWindow {
+            hx: 0.0,
+            hy: 2.0 / 3.0 * 1e-22,
+            start: 1e-5,
+            stop: f64::INFINITY,
+        },
+        ForceWindow {
+            hx: 5e-23,
+            hy: 0.0,
+            start: 2e-5,
+            stop: 7e-5,
+        },
+    ];
+    s.surface.law = FrictionLaw::Viscous { eps: 1.0 / 3.0 };
+    s.surface.contact = ContactMode::Unilateral;
+    s.surface.restitution = 0.25;
+    s.solver.method = Method::Rk4;
+    s.solver.steps = 2000;
+    s.solver.model = ModelKind::Rigid;
+    s.initial.theta = 0.0;
+    s.initial.ux = -1e-3;
+    s.validate().unwrap();
+    let text = s.to_toml_string();
+    assert_eq!(text.matches("[[force]]").count(), 3, "{text}");
+    assert_eq!(text.matches("stop =").count(), 2, "{text}");
+    assert_eq!(Scenario::from_toml_str(&text), Ok(s), "{text}");
+}
+
+#[test]
+fn round_trip_regularized() {
+    let mut s = Scenario::classical();
+    s.surface.law = FrictionLaw::Regularized { eps: 1e-3 };
+    s.surface.contact = ContactMode::Paper;
+    let text = s.to_toml_string();
+    assert!(text.contains("friction_eps = 0.001"), "{text}");
+    assert_eq!(Scenario::from_toml_str(&text), Ok(s), "{text}");
+}
+
+// --- presets, files, --set -----------------------------------------------
+
+#[test]
+fn presets_load_by_argument_and_by_file() {
+    assert_eq!(
+        Scenario::load(Some("nano"), None, &[]),
+        Ok(Scenario::nano())
+    );
+    assert_eq!(
+        Scenario::from_toml_str("preset = \"classical\""),
+        Ok(Scenario::classical())
+    );
+    // The same name in both places is fine.
+    assert_eq!(
+        Scenario::load(Some("nano"), Some("preset = \"nano\""), &[]),
+        Ok(Scenario::nano())
+    );
+}
+
+#[test]
+fn minimal_file_gets_the_defaults() {
+    let s = Scenario::from_toml_str(MINIMAL).unwrap();
+    assert_eq!(s.surface.gravity, 9.8);
+    assert_eq!(s.surface.law, FrictionLaw::Coulomb);
+    assert_eq!(s.surface.contact, ContactMode::Bilateral);
+    assert_eq!(s.surface.restitution, 0.0);
+    assert!(s.forcing.windows.is_empty());
+    assert_eq!(s.initial.theta_dot, 0.0);
+    assert_eq!(s.initial.precession, 0.0);
+    assert_eq!((s.initial.ux, s.initial.uy), (0.0, 0.0));
+    assert_eq!(s.solver.method, Method::Adaptive);
+    assert_eq!(s.solver.rtol, 1e-10);
+    assert_eq!(s.solver.steps, 500);
+    assert_eq!(s.solver.samples, 1001);
+    assert_eq!(s.solver.model, ModelKind::Reduced);
+}
+
+#[test]
+fn preset_plus_override_in_file() {
+    let text = "preset = \"classical\"\n[top]\nradius = 0.02\n[solver]\nt_end = 5.0\n";
+    let s = Scenario::from_toml_str(text).unwrap();
+    let mut want = Scenario::classical();
+    want.top.radius = 0.02; // literal: a, A and C are not rescaled
+    want.solver.t_end = 5.0;
+    assert_eq!(s, want);
+}
+
+#[test]
+fn file_force_list_replaces_the_presets() {
+    let text = "preset = \"nano\"\n[[force]]\nhx = 3e-22\nstop = 1e-5\n";
+    let s = Scenario::from_toml_str(text).unwrap();
+    assert_eq!(
+        s.forcing.windows,
+        vec![ForceWindow {
+            hx: 3e-22,
+            hy: 0.0,
+            start: 0.0,
+            stop: 1e-5
+        }]
+    );
+    let s = Scenario::from_toml_str("preset = \"nano\"\nforce = []\n").unwrap();
+    assert!(s.forcing.windows.is_empty());
+}
+
+#[test]
+fn set_beats_file_beats_preset() {
+    let text = "preset = \"classical\"\n[surface]\nfriction = 0.2\ngravity = 9.81\n";
+    let s = Scenario::load(None, Some(text), &sets(&["surface.friction=0.3"])).unwrap();
+    assert_eq!(s.surface.friction, 0.3); // --set
+    assert_eq!(s.surface.gravity, 9.81); // file
+    assert_eq!(s.top, Scenario::classical().top); // preset
+    // Later --set wins over earlier.
+    let s = classical_with(&["surface.friction=0.3", "surface.friction=0.4"]).unwrap();
+    assert_eq!(s.surface.friction, 0.4);
+}
+
+#[test]
+fn set_regularized_law_with_eps() {
+    let s = classical_with(&[
+        "surface.friction_law=regularized",
+        "surface.friction_eps=1e-3",
+    ])
+    .unwrap();
+    assert_eq!(s.surface.law, FrictionLaw::Regularized { eps: 1e-3 });
+    // Quoted TOML strings work too, and whitespace around '=' is allowed.
+    let s = classical_with(&[
+        "surface.friction_law = \"viscous\"",
+        "surface.friction_eps = 2e-3",
+    ])
+    .unwrap();
+    assert_eq!(s.surface.law, FrictionLaw::Viscous { eps: 2e-3 });
+}
+
+#[test]
+fn set_modifies_nano_force_window() {
+    let s = Scenario::load(Some("nano"), None, &sets(&["force.0.hy=2e-22"])).unwrap();
+    let mut want = Scenario::nano();
+    want.forcing.windows[0].hy = 2e-22;
+    assert_eq!(s, want);
+}
+
+#[test]
+fn set_appends_force_window() {
+    let s = Scenario::load(
+        Some("nano"),
+        None,
+        &sets(&["force.1.start=1e-5", "force.1.hx=-1e-22"]),
+    )
+    .unwrap();
+    assert_eq!(s.forcing.windows.len(), 2);
+    assert_eq!(
+        s.forcing.windows[1],
+        ForceWindow {
+            hx: -1e-22,
+            hy: 0.0,
+            start: 1e-5,
+            stop: f64::INFINITY
+        }
+    );
+    let s = classical_with(&["force.0.hy=1e-3"]).unwrap();
+    assert_eq!(s.forcing.windows.len(), 1);
+}
+
+#[test]
+fn set_force_index_beyond_the_end() {
+    let e = expect_err(Some("nano"), None, &["force.2.hx=1"], "force.2.hx");
+    assert!(e.contains("force window 2"), "{e}");
+}
+
+#[test]
+fn set_preset_is_rejected() {
+    let e = expect_err(None, Some(MINIMAL), &["preset=nano"], "preset");
+    assert!(e.contains("--preset"), "{e}");
+}
+
+#[test]
+fn set_without_equals_is_rejected() {
+    expect_err(Some("nano"), None, &["surface.friction"], "--set");
+}
+
+#[test]
+fn whole_numbers_for_floats() {
+    let text = "preset = \"classical\"\n[solver]\nt_end = 10\n[surface]\ngravity = 10\n\
+                [initial]\nspin = 150\n";
+    let s = Scenario::from_toml_str(text).unwrap();
+    assert_eq!(s.solver.t_end, 10.0);
+    assert_eq!(s.surface.gravity, 10.0);
+    assert_eq!(s.initial.spin, 150.0);
+    let s = classical_with(&["solver.t_end=3", "top.radius=1"]).unwrap();
+    assert_eq!((s.solver.t_end, s.top.radius), (3.0, 1.0));
+    // ... and whole floats for integers.
+    let s = classical_with(&["solver.samples=11.0"]).unwrap();
+    assert_eq!(s.solver.samples, 11);
+}
+
+#[test]
+fn fractional_integer_is_rejected() {
+    let e = expect_err(
+        Some("classical"),
+        None,
+        &["solver.samples=10.5"],
+        "solver.samples",
+    );
+    assert!(e.contains("whole number"), "{e}");
+    expect_err(
+        Some("classical"),
+        None,
+        &["solver.steps=-4"],
+        "solver.steps",
+    );
+}
+
+#[test]
+fn rigid_model_allows_theta_zero() {
+    let s = classical_with(&["initial.theta=0", "solver.model=rigid"]).unwrap();
+    assert_eq!(s.initial.theta, 0.0);
+    assert_eq!(s.solver.model, ModelKind::Rigid);
+}
+
+#[test]
+fn rk4_with_consistent_steps() {
+    let s = classical_with(&["solver.method=rk4", "solver.steps=2000"]).unwrap();
+    assert_eq!(s.solver.method, Method::Rk4);
+}
+
+// --- bad input: keys, tables, types ----------------------------------------
+
+#[test]
+fn syntax_error_is_one_line() {
+    let e = expect_err(None, Some("[top\nradius = "), &[], "scenario");
+    assert!(e.contains("valid TOML"), "{e}");
+    expect_err(
+        None,
+        Some("[top]\nradius = 1\nradius = 2\n"),
+        &[],
+        "scenario",
+    );
+}
+
+#[test]
+fn unknown_key() {
+    let text = minimal_with("top", "radiuss = 0.015");
+    let e = expect_err(None, Some(&text), &[], "top.radiuss");
+    assert_eq!(
+        e,
+        "top.radiuss: unknown key (valid keys: radius, offset, mass, \
+         inertia_transverse, inertia_axial)"
+    );
+    expect_err(Some("nano"), None, &["solver.tend=1"], "solver.tend");
+    expect_err(
+        Some("nano"),
+        Some("[[force]]\nhx = 1e-22\nduration = 1\n"),
+        &[],
+        "force.0.duration",
+    );
+    expect_err(Some("nano"), None, &["force.0.end=1"], "force.0.end");
+}
+
+#[test]
+fn unknown_table() {
+    let text = format!("{MINIMAL}\n[plane]\nfriction = 0.1\n");
+    let e = expect_err(None, Some(&text), &[], "plane");
+    assert!(e.contains("unknown table"), "{e}");
+    expect_err(
+        Some("nano"),
+        None,
+        &["plane.friction=0.1"],
+        "plane.friction",
+    );
+    // A stray top-level key is an unknown key at the top level.
+    expect_err(None, Some(&format!("radius = 1\n{MINIMAL}")), &[], "radius");
+}
+
+#[test]
+fn table_of_wrong_type() {
+    expect_err(Some("nano"), Some("top = 5"), &[], "top");
+    expect_err(Some("nano"), Some("[force]\nhx = 1.0\n"), &[], "force");
+}
+
+#[test]
+fn missing_required_key() {
+    let text = MINIMAL.replace("t_end = 10.0\n", "");
+    let e = expect_err(None, Some(&text), &[], "solver.t_end");
+    assert_eq!(e, "solver.t_end: missing (required without a preset)");
+    let text = MINIMAL.replace("mass = 0.015\n", "");
+    expect_err(None, Some(&text), &[], "top.mass");
+    let text = MINIMAL.replace("spin = 100.0\n", "");
+    expect_err(None, Some(&text), &[], "initial.spin");
+    expect_err(None, None, &[], "top.radius");
+}
+
+#[test]
+fn wrong_type() {
+    let e = expect_err(
+        Some("classical"),
+        None,
+        &["surface.friction=abc"],
+        "surface.friction",
+    );
+    assert!(
+        e.starts_with("surface.friction: expected a number, found string \"abc\" ("),
+        "{e}"
+    );
+    let text = minimal_replacing("top", "radius", "\"big\"");
+    expect_err(None, Some(&text), &[], "top.radius");
+    expect_err(Some("nano"), None, &["solver.method=3"], "solver.method");
+    expect_err(Some("nano"), None, &["force.0.stop=true"], "force.0.stop");
+    expect_err(Some("nano"), Some("preset = 1"), &[], "preset");
+}
+
+#[test]
+fn nan_is_rejected() {
+    let text = minimal_replacing("surface", "friction", "nan");
+    let e = expect_err(None, Some(&text), &[], "surface.friction");
+    assert!(e.contains("NaN is not allowed"), "{e}");
+    expect_err(Some("nano"), None, &["initial.spin=nan"], "initial.spin");
+}
+
+#[test]
+fn inf_is_rejected() {
+    let text = minimal_replacing("solver", "t_end", "inf");
+    let e = expect_err(None, Some(&text), &[], "solver.t_end");
+    assert!(
+        e.contains("inf is not allowed (a finite time > 0 [s])"),
+        "{e}"
+    );
+    expect_err(Some("nano"), None, &["force.0.stop=+inf"], "force.0.stop");
+    expect_err(Some("nano"), None, &["top.mass=-inf"], "top.mass");
+}
+
+// --- bad input: physical ranges --------------------------------------------
+
+#[test]
+fn radius_not_positive() {
+    expect_err(Some("classical"), None, &["top.radius=0"], "top.radius");
+    expect_err(Some("classical"), None, &["top.radius=-0.01"], "top.radius");
+}
+
+#[test]
+fn mass_not_positive() {
+    expect_err(Some("classical"), None, &["top.mass=0"], "top.mass");
+}
+
+#[test]
+fn offset_negative() {
+    expect_err(Some("classical"), None, &["top.offset=-1e-4"], "top.offset");
+}
+
+#[test]
+fn offset_not_below_radius() {
+    expect_err(Some("classical"), None, &["top.offset=0.015"], "top.offset");
+    expect_err(Some("classical"), None, &["top.offset=0.02"], "top.offset");
+}
+
+#[test]
+fn inertia_transverse_not_positive() {
+    expect_err(
+        Some("classical"),
+        None,
+        &["top.inertia_transverse=0"],
+        "top.inertia_transverse",
+    );
+}
+
+#[test]
+fn inertia_axial_not_positive() {
+    expect_err(
+        Some("classical"),
+        None,
+        &["top.inertia_axial=-1e-6"],
+        "top.inertia_axial",
+    );
+}
+
+#[test]
+fn inertia_axial_above_twice_transverse() {
+    let e = expect_err(
+        Some("classical"),
+        None,
+        &["top.inertia_axial=2.8e-6"],
+        "top.inertia_axial",
+    );
+    assert!(e.contains("exceeds 2A"), "{e}");
+    // C = 2A exactly is allowed (a flat disc).
+    classical_with(&["top.inertia_axial=2.7e-6", "top.inertia_transverse=1.35e-6"]).unwrap();
+}
+
+#[test]
+fn friction_negative() {
+    expect_err(
+        Some("nano"),
+        None,
+        &["surface.friction=-0.1"],
+        "surface.friction",
+    );
+}
+
+#[test]
+fn t_end_not_positive() {
+    expect_err(Some("nano"), None, &["solver.t_end=0"], "solver.t_end");
+    expect_err(Some("nano"), None, &["solver.t_end=-1"], "solver.t_end");
+}
+
+#[test]
+fn too_few_samples() {
+    expect_err(Some("nano"), None, &["solver.samples=1"], "solver.samples");
+    expect_err(Some("nano"), None, &["solver.samples=0"], "solver.samples");
+}
+
+#[test]
+fn force_window_stop_not_after_start() {
+    let text = "preset = \"nano\"\n[[force]]\nhx = 1e-22\n\n[[force]]\nhx = 1e-22\n\
+                start = 2e-5\nstop = 1e-5\n";
+    let e = expect_err(None, Some(text), &[], "force.1.stop");
+    assert!(e.contains("not after start"), "{e}");
+    expect_err(Some("nano"), None, &["force.0.stop=0"], "force.0.stop");
+}
+
+#[test]
+fn force_window_start_negative() {
+    expect_err(
+        Some("nano"),
+        None,
+        &["force.0.start=-1e-6"],
+        "force.0.start",
+    );
+}
+
+#[test]
+fn theta_outside_reduced_range() {
+    expect_err(
+        Some("classical"),
+        None,
+        &["initial.theta=0"],
+        "initial.theta",
+    );
+    expect_err(
+        Some("classical"),
+        None,
+        &["initial.theta=3.2"],
+        "initial.theta",
+    );
+    expect_err(
+        Some("classical"),
+        None,
+        &["initial.theta=-0.1"],
+        "initial.theta",
+    );
+    // The rigid model takes theta = 0 and pi, but not beyond.
+    classical_with(&["initial.theta=0", "solver.model=\"rigid\""]).unwrap();
+    expect_err(
+        Some("classical"),
+        None,
+        &["initial.theta=3.2", "solver.model=rigid"],
+        "initial.theta",
+    );
+}
+
+// --- bad input: names ---------------------------------------------------------
+
+#[test]
+fn unknown_preset() {
+    let e = expect_err(Some("mega"), None, &[], "preset");
+    assert!(e.contains("\"nano\" or \"classical\""), "{e}");
+    expect_err(None, Some("preset = \"mega\""), &[], "preset");
+}
+
+#[test]
+fn preset_given_twice_differently() {
+    let e = expect_err(Some("nano"), Some("preset = \"classical\""), &[], "preset");
+    assert!(
+        e.starts_with(
+            "preset: given both on the command line (\"nano\") and in the file (\"classical\")"
+        ),
+        "{e}"
+    );
+}
+
+#[test]
+fn unknown_friction_law() {
+    let e = expect_err(
+        Some("nano"),
+        None,
+        &["surface.friction_law=stribeck"],
+        "surface.friction_law",
+    );
+    assert!(e.contains("\"coulomb_sliding\""), "{e}");
+}
+
+#[test]
+fn unknown_contact() {
+    let e = expect_err(
+        Some("nano"),
+        None,
+        &["surface.contact=glued"],
+        "surface.contact",
+    );
+    assert!(e.contains("\"unilateral\""), "{e}");
+}
+
+#[test]
+fn unknown_method() {
+    let e = expect_err(
+        Some("nano"),
+        None,
+        &["solver.method=euler"],
+        "solver.method",
+    );
+    assert!(e.contains("\"rk4\""), "{e}");
+}
+
+#[test]
+fn unknown_model() {
+    let e = expect_err(
+        Some("nano"),
+        None,
+        &["solver.model=quantum"],
+        "solver.model",
+    );
+    assert!(e.contains("\"rigid\""), "{e}");
+}
+
+#[test]
+fn missing_friction_eps() {
+    let e = expect_err(
+        Some("nano"),
+        None,
+        &["surface.friction_law=regularized"],
+        "surface.friction_eps",
+    );
+    assert_eq!(
+        e,
+        "surface.friction_eps: missing (required with friction_law = \"regularized\": \
+         a speed > 0 [m/s])"
+    );
+    expect_err(
+        Some("nano"),
+        None,
+        &["surface.friction_law=viscous"],
+        "surface.friction_eps",
+    );
+}
+
+#[test]
+fn friction_eps_with_a_law_that_does_not_use_it() {
+    expect_err(
+        Some("nano"),
+        None,
+        &["surface.friction_eps=1e-3"],
+        "surface.friction_eps",
+    );
+    let text = minimal_with(
+        "surface",
+        "friction_law = \"coulomb_sliding\"\nfriction_eps = 1e-3",
+    );
+    expect_err(None, Some(&text), &[], "surface.friction_eps");
+}
+
+#[test]
+fn friction_eps_not_positive() {
+    expect_err(
+        Some("nano"),
+        None,
+        &["surface.friction_law=regularized", "surface.friction_eps=0"],
+        "surface.friction_eps",
+    );
+}
+
+#[test]
+fn rk4_steps_not_a_multiple_of_samples_minus_one() {
+    let e = expect_err(
+        Some("classical"),
+        None,
+        &["solver.method=rk4", "solver.steps=1500"],
+        "solver.steps",
+    );
+    assert!(e.contains("multiple of samples - 1 = 1000"), "{e}");
+}
+
+#[test]
+fn coulomb_with_paper_contact() {
+    expect_err(
+        Some("classical"),
+        None,
+        &["surface.contact=paper"],
+        "surface.friction_law",
+    );
+}
