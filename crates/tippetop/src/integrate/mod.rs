@@ -28,8 +28,8 @@
 //! - `russell_ode`: heap vectors, no root finding.
 //!
 //! The methods are small and well documented, so they are written here
-//! (about 600 lines) and tested against the properties we rely on
-//! (`tests/integrate_*.rs`).
+//! (about 1 200 lines with the coefficient table) and tested against the
+//! properties we rely on (`tests/integrate_*.rs`).
 //!
 //! # Methods
 //!

@@ -69,3 +69,59 @@ pub(super) fn illinois(
     }
     b
 }
+
+#[cfg(test)]
+mod tests {
+    use super::illinois;
+
+    const TOL: f64 = 4.0 * f64::EPSILON;
+
+    #[test]
+    fn simple_root() {
+        let r = illinois(|t| t * t - 0.5, 0.0, 1.0, -0.5, 0.5, TOL);
+        assert!((r - 0.5f64.sqrt()).abs() <= TOL, "{r}");
+    }
+
+    /// A flat (triple) root stalls plain regula falsi; the bisection
+    /// safeguard still closes the bracket.
+    #[test]
+    fn flat_root() {
+        let mut n = 0;
+        let g = |t: f64| (t - 0.3).powi(3);
+        let r = illinois(
+            |t| {
+                n += 1;
+                g(t)
+            },
+            0.0,
+            1.0,
+            g(0.0),
+            g(1.0),
+            TOL,
+        );
+        assert!((r - 0.3).abs() <= TOL, "{r}");
+        assert!(n < 200, "{n} evaluations");
+    }
+
+    /// A sign jump (no zero): converges to the jump by the safeguard, and
+    /// returns the end past the crossing.
+    #[test]
+    fn jump() {
+        let r = illinois(
+            |t| if t < 0.3 { -1.0 } else { 1.0 },
+            0.0,
+            1.0,
+            -1.0,
+            1.0,
+            TOL,
+        );
+        assert!(r >= 0.3 && r - 0.3 <= TOL, "{r}");
+    }
+
+    /// Decreasing g, root at b exactly.
+    #[test]
+    fn root_at_end() {
+        let r = illinois(|t| 1.0 - t, 0.0, 1.0, 1.0, 0.0, TOL);
+        assert_eq!(r, 1.0);
+    }
+}
