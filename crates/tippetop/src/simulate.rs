@@ -351,14 +351,12 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                 stats.rejected += o.stats.rejected;
                 for f in &o.fired {
                     match f.index {
-                        EV_HALF_PI => {
-                            if first_above.is_none() {
-                                first_above = Some(f.t * tu);
-                                events_out.push(EventRecord {
-                                    t: f.t * tu,
-                                    kind: "theta_above_half_pi".into(),
-                                });
-                            }
+                        EV_HALF_PI if first_above.is_none() => {
+                            first_above = Some(f.t * tu);
+                            events_out.push(EventRecord {
+                                t: f.t * tu,
+                                kind: "theta_above_half_pi".into(),
+                            });
                         }
                         EV_THETA_MAX => track.visit(&m, &f.y),
                         EV_NORMAL => {
