@@ -187,6 +187,8 @@ pub struct Reduced {
     pub slip_hint: [f64; 2],
     /// Reference slip direction for the slip-zero event (updated per step).
     pub slip_ref: Cell<[f64; 2]>,
+    /// Right-hand-side evaluations so far (all segments).
+    pub evaluations: u64,
     /// The SI top (for observables).
     pub top: Top,
     /// g \[m/s²\].
@@ -219,6 +221,7 @@ impl Reduced {
             mode: Mode::Sliding,
             slip_hint: [0.0, 0.0],
             slip_ref: Cell::new([0.0, 0.0]),
+            evaluations: 0,
             top: sc.top,
             gravity_si: sc.surface.gravity,
         }
@@ -273,11 +276,26 @@ impl Reduced {
         match self.law {
             Law::Coulomb => {
                 let n = v[0].hypot(v[1]);
-                if n > 0.0 {
-                    [mu * v[0] / n, mu * v[1] / n]
-                } else {
-                    [mu * self.slip_hint[0], mu * self.slip_hint[1]]
+                if n == 0.0 {
+                    return [mu * self.slip_hint[0], mu * self.slip_hint[1]];
                 }
+                // Exact law, sliding: the slip-zero event is located on the
+                // dense output of the step that crosses zero. Continuing the
+                // friction smoothly through the crossing (keep its direction,
+                // i.e. flip v/|v| once v·d < 0, d the approach direction)
+                // keeps that step smooth, so the event time is as accurate as
+                // the step; the stages past zero are discarded at the event.
+                let sgn = if self.exact {
+                    let d = self.slip_ref.get();
+                    if v[0] * d[0] + v[1] * d[1] < 0.0 {
+                        -1.0
+                    } else {
+                        1.0
+                    }
+                } else {
+                    1.0
+                };
+                [sgn * mu * v[0] / n, sgn * mu * v[1] / n]
             }
             Law::Regularized { eps } => {
                 let d = (v[0] * v[0] + v[1] * v[1] + eps * eps).sqrt();
@@ -464,6 +482,7 @@ impl OdeSystem<DIM> for Reduced {
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {
+        self.evaluations += 1;
         if self.mode == Mode::Rolling && y[TH].sin().abs() < SIN_GUARD {
             return Err(ModelError::Singular { theta: y[TH] });
         }
