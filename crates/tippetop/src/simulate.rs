@@ -271,6 +271,8 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
     // Step count and last accepted state, kept here too so that a failed
     // run still reports them.
     let mut steps_seen: u64 = 0;
+    let mut reversals: u32 = 0;
+    let mut last_slip = m.slip_of(&y);
     let mut last_accepted: (f64, [f64; DIM]) = (0.0, y);
     let mut t = 0.0;
     let mut error: Option<Error> = None;
@@ -294,6 +296,16 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
         let mut on_step = |s: &Reduced, t: f64, y: &[f64; DIM]| {
             last_accepted = (t, *y);
             steps_seen += 1;
+            if s.can_chatter() {
+                let v = s.slip_of(y);
+                if v[0] * last_slip[0] + v[1] * last_slip[1] < 0.0 {
+                    reversals += 1;
+                    if reversals >= reduced::CHATTER_REVERSALS {
+                        s.chattering.set(true);
+                    }
+                }
+                last_slip = v;
+            }
             track.visit(s, y);
             if s.mode == Mode::Sliding && s.is_exact() {
                 let v = unit(s.slip_of(y));
@@ -319,9 +331,9 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                 let (te, why, ylast) = match e {
                     IntegrateError::Rhs { t, y_last, err } => {
                         let why = match err {
-                            ModelError::Singular { .. } | ModelError::Painleve { .. } => {
-                                err.to_string()
-                            }
+                            ModelError::Singular { .. }
+                            | ModelError::Painleve { .. }
+                            | ModelError::Chattering { .. } => err.to_string(),
                         };
                         (t, why, y_last)
                     }

@@ -1,1 +1,3 @@
-//! Analyses built on runs: stability, asymptotics, sweeps. (work in progress)
+//! Analyses built on runs: the paper's claims, stability, asymptotics, sweeps.
+
+pub mod paper;

@@ -33,6 +33,11 @@ pub const WF: usize = 6;
 /// Index of the applied-force work.
 pub const WA: usize = 7;
 
+/// Slip reversals between accepted steps after which the sliding-only law is
+/// declared to chatter (a genuine motion reverses its slip only at isolated
+/// instants).
+pub const CHATTER_REVERSALS: u32 = 1000;
+
 /// |sin θ| below which the reduced equations are declared singular.
 pub const SIN_GUARD: f64 = 1e-8;
 
@@ -126,6 +131,12 @@ pub enum ModelError {
         /// Number of consistent solutions found (0 or 2).
         solutions: usize,
     },
+    /// The sliding-only Coulomb law reversed the slip direction at step
+    /// after step: the slip sits at zero, where that law has no solution.
+    Chattering {
+        /// Slip reversals counted.
+        reversals: u32,
+    },
 }
 
 impl std::fmt::Display for ModelError {
@@ -134,6 +145,10 @@ impl std::fmt::Display for ModelError {
             ModelError::Singular { theta } => write!(
                 f,
                 "theta = {theta:e} rad reached the pole of the Euler angles (|sin theta| < {SIN_GUARD:e}): the reduced model divides by sin theta there; use model = \"rigid\""
+            ),
+            ModelError::Chattering { reversals } => write!(
+                f,
+                "the sliding-only Coulomb law chatters: the slip reversed direction at {reversals} steps (it sits at zero slip, where mu N v/|v| is undefined); use friction_law = \"coulomb\" (exact stick/slip) or \"regularized\""
             ),
             ModelError::Painleve { theta, solutions } => write!(
                 f,
@@ -187,6 +202,9 @@ pub struct Reduced {
     pub slip_hint: [f64; 2],
     /// Reference slip direction for the slip-zero event (updated per step).
     pub slip_ref: Cell<[f64; 2]>,
+    /// Set by the driver when the sliding-only law chatters (see
+    /// [`ModelError::Chattering`]); the next evaluation then fails.
+    pub chattering: Cell<bool>,
     /// Right-hand-side evaluations so far (all segments).
     pub evaluations: u64,
     /// The SI top (for observables).
@@ -221,6 +239,7 @@ impl Reduced {
             mode: Mode::Sliding,
             slip_hint: [0.0, 0.0],
             slip_ref: Cell::new([0.0, 0.0]),
+            chattering: Cell::new(false),
             evaluations: 0,
             top: sc.top,
             gravity_si: sc.surface.gravity,
@@ -235,6 +254,11 @@ impl Reduced {
     /// True if the friction law is the exact stick/slip law.
     pub fn is_exact(&self) -> bool {
         self.exact
+    }
+
+    /// True for the sliding-only Coulomb law, which can chatter.
+    pub fn can_chatter(&self) -> bool {
+        !self.exact && self.law == Law::Coulomb
     }
 
     /// Friction coefficient μ.
@@ -483,6 +507,11 @@ impl OdeSystem<DIM> for Reduced {
 
     fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {
         self.evaluations += 1;
+        if self.chattering.get() {
+            return Err(ModelError::Chattering {
+                reversals: CHATTER_REVERSALS,
+            });
+        }
         if self.mode == Mode::Rolling && y[TH].sin().abs() < SIN_GUARD {
             return Err(ModelError::Singular { theta: y[TH] });
         }
