@@ -1,3 +1,5 @@
-//! Analyses built on runs: the paper's claims, stability, asymptotics, sweeps.
+//! Analyses built on runs: the paper's claims, the friction-law (ε) study,
+//! stability, asymptotics, sweeps.
 
+pub mod friction;
 pub mod paper;
