@@ -279,7 +279,7 @@ pub(crate) mod tests {
             std::f64::consts::PI,
             1.0 / 3.0,
             2.0f64.sqrt() * 1e-10,
-            123456789.123456789,
+            123_456_789.123_456_79,
         ];
         for v in cases {
             let s = fmt_f64(v);

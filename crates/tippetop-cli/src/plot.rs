@@ -517,17 +517,36 @@ fn draw_panel<DB: DrawingBackend>(
     } else {
         area.clone()
     };
-    let x = x_range.0..x_range.1;
+    // plotters' key points break down for spans far from 1 (it compares
+    // with an absolute f64::EPSILON): draw in rescaled coordinates and
+    // label the ticks with the true values.
+    let kx = axis_scale(x_range.0, x_range.1);
+    let x = x_range.0 * kx..x_range.1 * kx;
     if o.log_y {
         let y = (y0..y1).log_scale();
-        draw_panel_in(&area, panel, x, y, (y0, y1), x_label, bitmap, palette_next)
-    } else {
+        let k = (kx, 1.0);
         draw_panel_in(
             &area,
             panel,
             x,
-            y0..y1,
+            y,
             (y0, y1),
+            k,
+            x_label,
+            bitmap,
+            palette_next,
+        )
+    } else {
+        let ky = axis_scale(y0, y1);
+        let y = y0 * ky..y1 * ky;
+        let k = (kx, ky);
+        draw_panel_in(
+            &area,
+            panel,
+            x,
+            y,
+            (y0, y1),
+            k,
             x_label,
             bitmap,
             palette_next,
@@ -542,6 +561,7 @@ fn draw_panel_in<DB, YS>(
     x: Range<f64>,
     y: YS,
     (y0, y1): (f64, f64),
+    (kx, ky): (f64, f64),
     x_label: Option<&str>,
     bitmap: bool,
     palette_next: &mut usize,
@@ -562,15 +582,15 @@ where
         .build_cartesian_2d(x, y)
         .map_err(err)?;
 
-    let x_step = nice_step((xb - xa).abs() / 10.0);
+    let x_step = nice_step((xb - xa).abs() / kx / 10.0);
     let y_step = nice_step((y1 - y0).abs() / 10.0);
     let log_y = o.log_y;
-    let x_fmt = move |v: &f64| format_tick(*v, x_step);
+    let x_fmt = move |v: &f64| format_tick(*v / kx, x_step);
     let y_fmt = move |v: &f64| {
         if log_y {
             format_log_tick(*v)
         } else {
-            format_tick(*v, y_step)
+            format_tick(*v / ky, y_step)
         }
     };
     {
@@ -579,7 +599,7 @@ where
             .y_label_formatter(&y_fmt)
             .label_style(font(14.0))
             .axis_desc_style(font(16.0))
-            .light_line_style(RGBColor(235, 235, 235))
+            .light_line_style(RGBColor(243, 243, 243))
             .bold_line_style(RGBColor(205, 205, 205))
             .x_labels(10)
             .y_labels(if log_y { 12 } else { 8 });
@@ -598,9 +618,10 @@ where
         if !h.y.is_finite() || (log_y && h.y <= 0.0) {
             continue;
         }
+        let hy = h.y * ky;
         chart
             .draw_series(DashedLineSeries::new(
-                vec![(xa, h.y), (xb, h.y)],
+                vec![(xa, hy), (xb, hy)],
                 6,
                 4,
                 grey.stroke_width(1),
@@ -610,7 +631,7 @@ where
             let x_text = xa;
             chart
                 .draw_series(std::iter::once(
-                    EmptyElement::at((x_text, h.y))
+                    EmptyElement::at((x_text, hy))
                         + Text::new(label.clone(), (4, -18), font(14.0).color(&grey)),
                 ))
                 .map_err(err)?;
@@ -629,10 +650,20 @@ where
         };
         let style = RGBColor(rgb.0, rgb.1, rgb.2).stroke_width(s.style.width);
         let mut labelled = false;
-        for seg in segments(&s.xs, &s.ys, log_y) {
+        for seg in segments(&s.xs, &s.ys, log_y, (kx, ky)) {
             let anno = if s.style.dashed {
                 chart
                     .draw_series(DashedLineSeries::new(seg, 10, 6, style))
+                    .map_err(err)?
+            } else if bitmap && s.style.width > 1 {
+                // The bitmap backend joins thick polylines with mitres, which
+                // spike far out at sharp turns (noisy data): draw the
+                // segments separately instead.
+                chart
+                    .draw_series(
+                        seg.windows(2)
+                            .map(|w| PathElement::new(vec![w[0], w[1]], style)),
+                    )
                     .map_err(err)?
             } else {
                 chart
@@ -772,17 +803,18 @@ fn draw_heatmap<DB: DrawingBackend>(
         (b0 - 0.5, b0 + 0.5)
     };
     let bar = bar.margin(8, 58, 4, 16);
+    let kb = axis_scale(b0, b1);
     let mut cb = ChartBuilder::on(&bar)
         .caption(z_label, font(15.0))
         .y_label_area_size(75)
-        .build_cartesian_2d(0.0..1.0, b0..b1)
+        .build_cartesian_2d(0.0..1.0, b0 * kb..b1 * kb)
         .map_err(err)?;
     let step = nice_step((b1 - b0) / 8.0);
     let cb_fmt = move |v: &f64| {
         if log_z {
-            format_log_tick(10f64.powf(*v))
+            format_log_tick(10f64.powf(*v / kb))
         } else {
-            format_tick(*v, step)
+            format_tick(*v / kb, step)
         }
     };
     cb.configure_mesh()
@@ -798,7 +830,7 @@ fn draw_heatmap<DB: DrawingBackend>(
         let a = b0 + (b1 - b0) * k as f64 / n as f64;
         let b = b0 + (b1 - b0) * (k + 1) as f64 / n as f64;
         Rectangle::new(
-            [(0.0, a), (1.0, b)],
+            [(0.0, a * kb), (1.0, b * kb)],
             colormap((k as f64 + 0.5) / n as f64).filled(),
         )
     }))
@@ -834,12 +866,13 @@ pub fn colormap(t: f64) -> RGBColor {
 
 /// Split a curve into drawable runs (gaps at non-finite points, and at
 /// y <= 0 on a log axis).
-fn segments(xs: &[f64], ys: &[f64], log_y: bool) -> Vec<Vec<(f64, f64)>> {
+/// Coordinates are multiplied by `(kx, ky)`.
+fn segments(xs: &[f64], ys: &[f64], log_y: bool, (kx, ky): (f64, f64)) -> Vec<Vec<(f64, f64)>> {
     let mut out = Vec::new();
     let mut cur = Vec::new();
     for (&x, &y) in xs.iter().zip(ys) {
         if x.is_finite() && y.is_finite() && !(log_y && y <= 0.0) {
-            cur.push((x, y));
+            cur.push((x * kx, y * ky));
         } else if !cur.is_empty() {
             out.push(std::mem::take(&mut cur));
         }
@@ -878,6 +911,17 @@ pub fn data_range(values: impl Iterator<Item = f64>, log: bool, pad: f64) -> (f6
         return (lo - d, hi + d);
     }
     (lo - pad * span, hi + pad * span)
+}
+
+/// A power of ten that brings the span `hi − lo` to order 1..10 (1 when it
+/// already is within 1e-2..1e3, so ordinary axes are untouched).
+fn axis_scale(lo: f64, hi: f64) -> f64 {
+    let span = (hi - lo).abs();
+    if !span.is_finite() || span == 0.0 || (1e-2..1e3).contains(&span) {
+        return 1.0;
+    }
+    let k = 10f64.powi(-(span.log10().floor() as i32));
+    if k.is_finite() && k > 0.0 { k } else { 1.0 }
 }
 
 /// The 1-2-5 × 10^k number nearest `raw` from below (for tick precision).
@@ -1002,9 +1046,32 @@ mod tests {
     fn segments_break_at_gaps() {
         let xs = [0.0, 1.0, 2.0, 3.0, 4.0];
         let ys = [1.0, f64::NAN, 2.0, 3.0, -1.0];
-        assert_eq!(segments(&xs, &ys, false).len(), 2);
-        assert_eq!(segments(&xs, &ys, true).len(), 2);
-        assert_eq!(segments(&xs, &ys, true)[1], vec![(2.0, 2.0), (3.0, 3.0)]);
+        assert_eq!(segments(&xs, &ys, false, (1.0, 1.0)).len(), 2);
+        assert_eq!(segments(&xs, &ys, true, (1.0, 1.0)).len(), 2);
+        assert_eq!(
+            segments(&xs, &ys, true, (1.0, 10.0))[1],
+            vec![(2.0, 20.0), (3.0, 30.0)]
+        );
+        assert_eq!(axis_scale(0.0, 5.0), 1.0);
+        assert_eq!(axis_scale(1e-24, 3e-24), 1e24);
+        assert_eq!(axis_scale(0.0, 3e7), 1e-7);
+    }
+
+    /// A temporary directory, or `$TIPPETOP_PLOT_PREVIEW` (kept) to look at
+    /// the figures: `TIPPETOP_PLOT_PREVIEW=/tmp/p cargo test -p tippetop-cli plot`.
+    fn out_dir() -> (Option<tempfile::TempDir>, PathBuf) {
+        match std::env::var_os("TIPPETOP_PLOT_PREVIEW") {
+            Some(p) => {
+                let p = PathBuf::from(p);
+                std::fs::create_dir_all(&p).unwrap();
+                (None, p)
+            }
+            None => {
+                let t = tempfile::tempdir().unwrap();
+                let p = t.path().to_path_buf();
+                (Some(t), p)
+            }
+        }
     }
 
     fn check_png(path: &Path, size: (u32, u32)) {
@@ -1047,7 +1114,7 @@ mod tests {
 
     #[test]
     fn tiny_and_huge_values_and_log_y() {
-        let dir = tempfile::tempdir().unwrap();
+        let (_tmp, dir) = out_dir();
         let t: Vec<f64> = (0..100).map(|i| i as f64 * 1e-6).collect();
         let n: Vec<f64> = t
             .iter()
@@ -1063,7 +1130,7 @@ mod tests {
             log,
         ];
         multi_panel(
-            &dir.path().join("diag"),
+            &dir.join("diag"),
             "Diagnostics",
             "t [s]",
             &panels,
@@ -1073,12 +1140,12 @@ mod tests {
             },
         )
         .unwrap();
-        check_png(&dir.path().join("diag.png"), (1000, 900));
+        check_png(&dir.join("diag.png"), (1000, 900));
     }
 
     #[test]
     fn heatmap_writes_both() {
-        let dir = tempfile::tempdir().unwrap();
+        let (_tmp, dir) = out_dir();
         let xs: Vec<f64> = (0..8).map(|i| 1e-23 * 2f64.powi(i)).collect();
         let ys: Vec<f64> = (0..5).map(|j| 0.05 + 0.05 * j as f64).collect();
         let z: Vec<Vec<f64>> = ys
@@ -1088,7 +1155,7 @@ mod tests {
         let mut z = z;
         z[0][0] = f64::NAN;
         heatmap(
-            &dir.path().join("sweep"),
+            &dir.join("sweep"),
             "Flip time",
             "H [N]",
             "μ",
@@ -1099,11 +1166,11 @@ mod tests {
             &HeatmapOpts::default(),
         )
         .unwrap();
-        check_png(&dir.path().join("sweep.png"), DEFAULT_SIZE);
-        assert!(dir.path().join("sweep.svg").exists());
+        check_png(&dir.join("sweep.png"), DEFAULT_SIZE);
+        assert!(dir.join("sweep.svg").exists());
         assert!(
             heatmap(
-                &dir.path().join("bad"),
+                &dir.join("bad"),
                 "",
                 "",
                 "",
