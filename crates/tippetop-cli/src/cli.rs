@@ -33,8 +33,21 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Run one scenario and write its trajectory, summary and plots.
+    #[command(long_about = "Run one scenario and write into --out:\n  \
+                      trajectory.csv   one row per sample (t, theta, theta_dot, Omega, omega, ...)\n  \
+                      summary.json     scalar results, events, wall time and the scenario\n  \
+                      scenario.toml    the resolved scenario, to run it again\n  \
+                      theta, spin, diagnostics (.png and .svg)   plots, unless --no-plot\n\n\
+                      The scenario is the preset (if given), then the scenario file over it, then \
+                      each --set in order. Bad input exits with code 2 and touches nothing; a run \
+                      that fails part-way writes what it computed and exits with code 3.")]
     Run(RunArgs),
     /// Reproduce the nano tippe-top paper's figures and numbers.
+    #[command(
+        long_about = "Reproduce the nano tippe-top paper's figures and numbers: runs \
+                            the paper's scenarios and writes figures (PNG and SVG), their \
+                            data (CSV) and a report into --out."
+    )]
     Reproduce(ReproduceArgs),
 }
 
@@ -42,14 +55,6 @@ pub enum Command {
 #[derive(Debug, Args)]
 #[command(
     group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
-    long_about = "Run one scenario and write into --out:\n  \
-                  trajectory.csv   one row per sample (t, theta, theta_dot, Omega, omega, ...)\n  \
-                  summary.json     scalar results, events, wall time and the scenario\n  \
-                  scenario.toml    the resolved scenario, to run it again\n  \
-                  theta, spin, diagnostics (.png and .svg)   plots, unless --no-plot\n\n\
-                  The scenario is the preset (if given), then the scenario file over it, then \
-                  each --set in order. Bad input exits with code 2 and touches nothing; a run \
-                  that fails part-way writes what it computed and exits with code 3.",
     after_help = "Examples:\n  \
                   tippetop run --preset nano --out out/nano\n  \
                   tippetop run --preset classical --set solver.t_end=20 --no-plot --out out/long\n  \
