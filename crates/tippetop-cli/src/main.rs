@@ -1,4 +1,74 @@
-//! The `tippetop` command line.
-fn main() {
-    println!("tippetop {}", env!("CARGO_PKG_VERSION"));
+//! The `tippetop` command line: run scenarios and reproduce the nano
+//! tippe-top paper.
+//!
+//! Exit codes: 0 ok; 1 other failures (I/O, plotting); 2 bad input (one
+//! line `error: KEY: WHAT (RANGE)` on stderr, nothing written; clap's usage
+//! errors also exit 2); 3 the run failed part-way (results up to the failure
+//! written, `error: ...` on stderr).
+
+use std::process::ExitCode;
+
+use clap::Parser;
+use tippetop_cli::cli::{Cli, Command};
+use tippetop_cli::{reproduce, run};
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Run(args) => run::run(args, cli.quiet),
+        Command::Reproduce(args) => reproduce::run(args, cli.quiet),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            let (code, msg) = classify(&e);
+            eprintln!("error: {msg}");
+            ExitCode::from(code)
+        }
+    }
+}
+
+/// Exit code and one-line message for an error: 2 for bad input, 3 for a
+/// run-time failure of the simulation, 1 for anything else.
+fn classify(e: &anyhow::Error) -> (u8, String) {
+    let (code, msg) = match e.downcast_ref::<tippetop::Error>() {
+        Some(te) if te.is_input() => (2, te.to_string()),
+        Some(te) => (3, format!("run failed {te}")),
+        None => (1, format!("{e:#}")),
+    };
+    (code, one_line(&msg))
+}
+
+/// Collapse any line breaks so the message is exactly one line.
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use anyhow::Context;
+
+    #[test]
+    fn exit_codes() {
+        let input = tippetop::Error::invalid(
+            "top.radius",
+            "-1 is not allowed".into(),
+            "a finite number > 0".into(),
+        );
+        let (code, msg) = classify(&input.clone().into());
+        assert_eq!(
+            (code, msg.as_str()),
+            (2, "top.radius: -1 is not allowed (a finite number > 0)")
+        );
+        // Context does not hide the library error.
+        let wrapped = Err::<(), _>(input).context("loading").unwrap_err();
+        assert_eq!(classify(&wrapped).0, 2);
+        let rt = tippetop::Error::runtime(1.5e-3, "step size underflow");
+        let (code, msg) = classify(&rt.into());
+        assert_eq!(code, 3);
+        assert!(msg.starts_with("run failed at t = "), "{msg}");
+        let other = anyhow::anyhow!("disk full\nreally");
+        assert_eq!(classify(&other), (1, "disk full really".to_string()));
+    }
 }

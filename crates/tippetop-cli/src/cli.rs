@@ -1,0 +1,185 @@
+//! Command-line arguments (clap derive).
+
+use std::path::PathBuf;
+
+use clap::{ArgGroup, Args, Parser, Subcommand};
+
+/// Top-level command line.
+#[derive(Debug, Parser)]
+#[command(
+    name = "tippetop",
+    version,
+    about = "Simulate tippe tops: the classical toy and the C60 nano tippe top",
+    long_about = "Simulate tippe-top dynamics (a spinning sphere with an offset centre of \
+                  mass that turns itself upside down), from the 15 g toy to the C60 \
+                  \"nano tippe top\", and reproduce the paper's results.",
+    after_help = "Examples:\n  \
+                  tippetop run --preset nano --out out/nano\n  \
+                  tippetop run my-top.toml --set surface.friction=0.2 --out out/mine\n  \
+                  tippetop reproduce --out out\n\n\
+                  Exit codes: 0 ok, 1 other failure (e.g. I/O), 2 bad input, 3 the run failed."
+)]
+pub struct Cli {
+    /// Print nothing but errors (no progress, no summary).
+    #[arg(long, short, global = true)]
+    pub quiet: bool,
+
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run one scenario and write its trajectory, summary and plots.
+    #[command(long_about = "Run one scenario and write into --out:\n  \
+                      trajectory.csv   one row per sample (t, theta, theta_dot, Omega, omega, ...)\n  \
+                      summary.json     scalar results, events, wall time and the scenario\n  \
+                      scenario.toml    the resolved scenario, to run it again\n  \
+                      theta, spin, diagnostics (.png and .svg)   plots, unless --no-plot\n\n\
+                      The scenario is the preset (if given), then the scenario file over it, then \
+                      each --set in order. Bad input exits with code 2 and touches nothing; a run \
+                      that fails part-way writes what it computed and exits with code 3.")]
+    Run(RunArgs),
+    /// Reproduce the nano tippe-top paper's figures and numbers.
+    #[command(
+        long_about = "Reproduce the nano tippe-top paper's figures and numbers: runs \
+                            the paper's scenarios and writes figures (PNG and SVG), their \
+                            data (CSV) and a report into --out."
+    )]
+    Reproduce(ReproduceArgs),
+}
+
+/// `tippetop run`.
+#[derive(Debug, Args)]
+#[command(
+    group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
+    after_help = "Examples:\n  \
+                  tippetop run --preset nano --out out/nano\n  \
+                  tippetop run --preset classical --set solver.t_end=20 --no-plot --out out/long\n  \
+                  tippetop run scenarios/my-top.toml --out out/mine"
+)]
+pub struct RunArgs {
+    /// Scenario file (TOML).
+    #[arg(value_name = "SCENARIO.toml")]
+    pub scenario: Option<PathBuf>,
+
+    /// Start from a built-in scenario: "nano" (C60, the paper's Sec. 3) or
+    /// "classical" (the 15 g toy of the paper's App. A).
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+
+    /// Override one scenario value, e.g. `--set top.offset=0.002`; repeatable,
+    /// applied in order after the file.
+    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
+    pub sets: Vec<String>,
+
+    /// Output directory (created if missing; files in it are replaced).
+    #[arg(long, value_name = "DIR", default_value = "out")]
+    pub out: PathBuf,
+
+    /// Write plots (the default).
+    #[arg(long, overrides_with = "no_plot")]
+    pub plot: bool,
+
+    /// Do not write plots.
+    #[arg(long, overrides_with = "plot")]
+    pub no_plot: bool,
+}
+
+impl RunArgs {
+    /// Whether to write plots (`--plot` unless `--no-plot` came last).
+    pub fn plots(&self) -> bool {
+        !self.no_plot
+    }
+}
+
+/// `tippetop reproduce`.
+#[derive(Debug, Args)]
+#[command(after_help = "Examples:\n  \
+                        tippetop reproduce --out out\n  \
+                        tippetop reproduce --extended --quiet --out out/full")]
+pub struct ReproduceArgs {
+    /// Output directory for figures, data and the report.
+    #[arg(long, value_name = "DIR", default_value = "out")]
+    pub out: PathBuf,
+
+    /// Also run the extended studies beyond the paper (slower).
+    #[arg(long)]
+    pub extended: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn clap_definition_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn plot_flags_last_wins() {
+        let parse = |a: &[&str]| match Cli::try_parse_from(a).unwrap().command {
+            Command::Run(r) => r.plots(),
+            _ => unreachable!(),
+        };
+        assert!(parse(&["tippetop", "run", "--preset", "nano"]));
+        assert!(!parse(&[
+            "tippetop",
+            "run",
+            "--preset",
+            "nano",
+            "--no-plot"
+        ]));
+        assert!(parse(&[
+            "tippetop",
+            "run",
+            "--preset",
+            "nano",
+            "--no-plot",
+            "--plot"
+        ]));
+        assert!(!parse(&[
+            "tippetop",
+            "run",
+            "--preset",
+            "nano",
+            "--plot",
+            "--no-plot"
+        ]));
+    }
+
+    #[test]
+    fn quiet_is_global_and_source_required() {
+        assert!(
+            Cli::try_parse_from(["tippetop", "run", "--preset", "nano", "--quiet"])
+                .unwrap()
+                .quiet
+        );
+        assert!(
+            Cli::try_parse_from(["tippetop", "-q", "reproduce"])
+                .unwrap()
+                .quiet
+        );
+        assert!(
+            Cli::try_parse_from(["tippetop", "reproduce", "--quiet"])
+                .unwrap()
+                .quiet
+        );
+        assert!(Cli::try_parse_from(["tippetop", "run", "--out", "x"]).is_err());
+        let c = Cli::try_parse_from([
+            "tippetop", "run", "a.toml", "--preset", "nano", "--set", "a.b=1", "--set", "c.d=2",
+        ])
+        .unwrap();
+        match c.command {
+            Command::Run(r) => {
+                assert_eq!(r.sets, ["a.b=1", "c.d=2"]);
+                assert_eq!(r.out, PathBuf::from("out"));
+            }
+            _ => unreachable!(),
+        }
+    }
+}

@@ -1,0 +1,15 @@
+//! The `tippetop` command line as a library: argument definitions, the
+//! subcommands, and the output helpers (CSV/JSON writers, plots, progress)
+//! that `reproduce` and sweeps build on. The binary is `src/main.rs`.
+
+#![warn(missing_docs)]
+
+pub mod cli;
+pub mod output;
+pub mod plot;
+pub mod progress;
+pub mod reproduce;
+pub mod run;
+pub mod scenario_load;
+
+pub use cli::{Cli, Command, ReproduceArgs, RunArgs};

@@ -1,0 +1,420 @@
+//! `tippetop run`: resolve a scenario, simulate it, write the results.
+//!
+//! Order matters for the exit-code contract: everything that can be bad
+//! input is checked before `--out` is touched; the directory is created only
+//! once `simulate` has returned a trajectory.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use tippetop::{Error, Scenario, Trajectory};
+
+use crate::cli::RunArgs;
+use crate::output::{
+    SummaryDoc, summary_with_status, write_bytes_atomic, write_json_pretty, write_trajectory_csv,
+};
+use crate::plot::{self, Legend, Panel, PlotOpts, RefLine, Series};
+use crate::{progress, scenario_load};
+
+/// Run `tippetop run`. Errors: a [`tippetop::Error`] that `is_input()` for
+/// bad input (nothing written), a run-time [`tippetop::Error`] if the run
+/// failed part-way (results up to the failure written), anything else for
+/// I/O and plotting failures.
+pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
+    // 1. Everything that can be bad input, before touching --out.
+    let toml_text = match &args.scenario {
+        Some(path) => Some(fs::read_to_string(path).map_err(|e| {
+            Error::invalid(
+                "scenario",
+                format!("cannot read {}: {e}", path.display()),
+                "a readable TOML scenario file".into(),
+            )
+        })?),
+        None => None,
+    };
+    for s in &args.sets {
+        check_set_syntax(s)?;
+    }
+    let scenario = scenario_load::load(args.preset.as_deref(), toml_text.as_deref(), &args.sets)?;
+    scenario.validate()?;
+    check_out_dir(&args.out)?;
+
+    // 2. The run.
+    let spinner = progress::spinner(quiet, "simulating");
+    let start = Instant::now();
+    let result = tippetop::simulate(&scenario);
+    let wall_seconds = start.elapsed().as_secs_f64();
+    spinner.finish_and_clear();
+    let traj = result?;
+
+    // 3. Results (also for a run that failed part-way).
+    fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    let toml = scenario_load::to_toml(&scenario);
+    let written = write_data(&args.out, &toml, &traj, wall_seconds)?;
+    let mut plots = Vec::new();
+    if args.plots() {
+        match write_plots(&args.out, &scenario, &traj) {
+            Ok(p) => plots = p,
+            // A failed run's error is the one that matters; still say why
+            // the plots are missing.
+            Err(e) if traj.error.is_some() => eprintln!("warning: plots not written: {e:#}"),
+            Err(e) => return Err(e),
+        }
+    }
+    if !quiet {
+        print!(
+            "{}",
+            human_summary(&traj, wall_seconds, &args.out, &written, &plots)
+        );
+    }
+    match &traj.error {
+        Some(e) => Err(e.clone().into()),
+        None => Ok(()),
+    }
+}
+
+/// `--set` must look like `KEY=VALUE` (the library checks the key and value).
+fn check_set_syntax(s: &str) -> Result<(), Error> {
+    match s.split_once('=') {
+        Some((k, _)) if !k.trim().is_empty() => Ok(()),
+        _ => Err(Error::invalid(
+            "set",
+            format!("\"{s}\" is not TABLE.KEY=VALUE"),
+            "e.g. --set top.offset=0.002".into(),
+        )),
+    }
+}
+
+/// `--out` must be a directory or not exist yet.
+fn check_out_dir(out: &Path) -> Result<(), Error> {
+    if out.exists() && !out.is_dir() {
+        return Err(Error::invalid(
+            "out",
+            format!("{} exists and is not a directory", out.display()),
+            "a directory, created if missing".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// Write `trajectory.csv`, `scenario.toml` and `summary.json` into `dir`
+/// (which must exist); returns the paths written. `summary.json` is last, so
+/// its presence means the data files are complete.
+pub fn write_data(
+    dir: &Path,
+    scenario_toml: &str,
+    traj: &Trajectory,
+    wall_seconds: f64,
+) -> Result<Vec<PathBuf>> {
+    let csv = dir.join("trajectory.csv");
+    write_trajectory_csv(&csv, traj)?;
+    let toml = dir.join("scenario.toml");
+    write_bytes_atomic(&toml, scenario_toml.as_bytes())?;
+    let summary = summary_with_status(traj);
+    let doc = SummaryDoc::new(&summary, &traj.events, scenario_toml, wall_seconds);
+    let json = dir.join("summary.json");
+    write_json_pretty(&json, &doc)?;
+    Ok(vec![csv, json, toml])
+}
+
+/// A time axis in readable units: the factor to multiply seconds by, and the
+/// unit's name (s, ms, µs, ns).
+pub fn time_unit(t_max: f64) -> (f64, &'static str) {
+    let t = t_max.abs();
+    if t >= 1.0 || !t.is_finite() || t == 0.0 {
+        (1.0, "s")
+    } else if t >= 1e-3 {
+        (1e3, "ms")
+    } else if t >= 1e-6 {
+        (1e6, "µs")
+    } else {
+        (1e9, "ns")
+    }
+}
+
+/// The standard plots of a run, as `STEM.png` + `STEM.svg` in `dir`:
+/// `theta` (θ with π/2 and π marked), `spin` (ω and Ω), `diagnostics`
+/// (N, slip, Jellett drift, energy balance). Returns the stems.
+pub fn write_plots(dir: &Path, scenario: &Scenario, traj: &Trajectory) -> Result<Vec<PathBuf>> {
+    let s = &traj.samples;
+    if s.is_empty() {
+        return Ok(Vec::new());
+    }
+    // The requested span (a failed run stops short of its end, visibly).
+    let t_last = s.last().map_or(0.0, |x| x.t);
+    let t_end = if scenario.solver.t_end.is_finite() && scenario.solver.t_end > t_last {
+        scenario.solver.t_end
+    } else {
+        t_last
+    };
+    let (k, unit) = time_unit(t_end);
+    let t: Vec<f64> = s.iter().map(|x| x.t * k).collect();
+    let col = |f: fn(&tippetop::Sample) -> f64| s.iter().map(f).collect::<Vec<f64>>();
+    let x_label = format!("t [{unit}]");
+    let x_range = Some((0.0, t_end * k));
+    let failed = traj.error.is_some();
+    let suffix = if failed { " (run failed)" } else { "" };
+
+    let mut stems = Vec::new();
+
+    let stem = dir.join("theta");
+    let pi = std::f64::consts::PI;
+    plot::line_plot(
+        &stem,
+        &format!("Nutation angle θ(t){suffix}"),
+        &x_label,
+        "θ [rad]",
+        &[Series::new("θ", t.clone(), col(|x| x.theta))],
+        &PlotOpts {
+            hlines: vec![RefLine::new(pi / 2.0, "π/2"), RefLine::new(pi, "π")],
+            x_range,
+            legend: Legend::LowerRight,
+            ..PlotOpts::default()
+        },
+    )?;
+    stems.push(stem);
+
+    let stem = dir.join("spin");
+    plot::line_plot(
+        &stem,
+        &format!("Spin ω and precession Ω{suffix}"),
+        &x_label,
+        "rate [rad/s]",
+        &[
+            Series::new("spin ω", t.clone(), col(|x| x.spin)),
+            Series::new("precession Ω", t.clone(), col(|x| x.precession)),
+        ],
+        &PlotOpts {
+            hlines: vec![RefLine {
+                y: 0.0,
+                label: None,
+            }],
+            x_range,
+            ..PlotOpts::default()
+        },
+    )?;
+    stems.push(stem);
+
+    // Jellett drift normalised as in the summary: (J − J0) / (C max|ω| R).
+    let j0 = s[0].jellett;
+    let max_spin = s.iter().map(|x| x.spin.abs()).fold(0.0, f64::max);
+    let j_scale = scenario.top.inertia_axial * max_spin * scenario.top.radius;
+    let j_scale = if j_scale > 0.0 && j_scale.is_finite() {
+        j_scale
+    } else {
+        1.0
+    };
+    let e0 = s[0].energy;
+    let e_scale = s.iter().map(|x| x.energy.abs()).fold(0.0, f64::max);
+    let e_scale = if e_scale > 0.0 && e_scale.is_finite() {
+        e_scale
+    } else {
+        1.0
+    };
+    let panels = vec![
+        Panel::new(
+            "normal force N [N]",
+            vec![Series::new("N", t.clone(), col(|x| x.normal))],
+        ),
+        Panel::new(
+            "slip speed |v_P| [m/s]",
+            vec![Series::new("slip", t.clone(), col(|x| x.slip))],
+        ),
+        Panel::new(
+            "(J − J₀)/(C max|ω| R)",
+            vec![Series::new(
+                "Jellett drift",
+                t.clone(),
+                s.iter().map(|x| (x.jellett - j0) / j_scale).collect(),
+            )],
+        ),
+        Panel::new(
+            "(E − E₀ − W)/max|E|",
+            vec![Series::new(
+                "energy balance",
+                t.clone(),
+                s.iter()
+                    .map(|x| (x.energy - e0 - x.work_friction - x.work_applied) / e_scale)
+                    .collect(),
+            )],
+        ),
+    ];
+    let stem = dir.join("diagnostics");
+    plot::multi_panel(
+        &stem,
+        &format!("Contact and conservation diagnostics{suffix}"),
+        &x_label,
+        &panels,
+        &PlotOpts {
+            size: (1000, 1100),
+            x_range,
+            ..PlotOpts::default()
+        },
+    )?;
+    stems.push(stem);
+    Ok(stems)
+}
+
+/// The short human summary printed at the end of a run (without `--quiet`).
+pub fn human_summary(
+    traj: &Trajectory,
+    wall_seconds: f64,
+    out: &Path,
+    written: &[PathBuf],
+    plots: &[PathBuf],
+) -> String {
+    use crate::plot::format_value as v;
+    let s = summary_with_status(traj);
+    let mut o = String::new();
+    let status = if traj.error.is_some() {
+        format!("FAILED: {}", s.status)
+    } else {
+        s.status.clone()
+    };
+    o.push_str(&format!(
+        "status:      {status}\n\
+         time:        0 .. {} s, {} samples, {} steps ({} rejected)\n",
+        v(s.t_end),
+        traj.samples.len(),
+        s.steps,
+        s.rejected_steps
+    ));
+    let theta0 = traj.samples.first().map_or(f64::NAN, |x| x.theta);
+    o.push_str(&format!(
+        "theta:       {} -> {} rad (max {} rad)",
+        v(theta0),
+        v(s.theta_final),
+        v(s.theta_max)
+    ));
+    match s.first_time_theta_above_half_pi {
+        Some(t) => o.push_str(&format!(", above π/2 from t = {} s\n", v(t))),
+        None => o.push_str(", never above π/2\n"),
+    }
+    o.push_str(&format!(
+        "spin:        omega_final {} rad/s, Omega_final {} rad/s\n\
+         Jellett J:   J0 = {} kg m³/s, max relative drift {}\n\
+         energy:      {} -> {} J, max balance error {}\n",
+        v(s.omega_final),
+        v(s.precession_final),
+        v(s.jellett_initial),
+        v(s.jellett_max_rel_drift),
+        v(s.energy_initial),
+        v(s.energy_final),
+        v(s.energy_balance_max_rel_error),
+    ));
+    if let Some(t) = s.contact_lost_at {
+        o.push_str(&format!(
+            "contact:     N < 0 first at t = {} s ({}% of the time)\n",
+            v(t),
+            v(100.0 * s.negative_normal_fraction)
+        ));
+    }
+    o.push_str(&format!("wall time:   {} s\n", v(wall_seconds)));
+    let name = |p: &PathBuf| {
+        p.file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
+    let mut files: Vec<String> = written.iter().map(name).collect();
+    files.extend(plots.iter().map(|p| format!("{}.{{png,svg}}", name(p))));
+    o.push_str(&format!(
+        "wrote:       {}/ {}\n",
+        out.display(),
+        files.join(" ")
+    ));
+    o
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::tests::fake_trajectory;
+
+    #[test]
+    fn time_units() {
+        assert_eq!(time_unit(10.0), (1.0, "s"));
+        assert_eq!(time_unit(0.05), (1e3, "ms"));
+        assert_eq!(time_unit(1e-4), (1e6, "µs"));
+        assert_eq!(time_unit(3e-8), (1e9, "ns"));
+    }
+
+    #[test]
+    fn set_and_out_checks() {
+        assert!(check_set_syntax("top.radius=0.01").is_ok());
+        for bad in ["top.radius", "=3", ""] {
+            let e = check_set_syntax(bad).unwrap_err();
+            assert!(e.is_input());
+            assert!(e.to_string().starts_with("set: "), "{e}");
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let f = dir.path().join("file");
+        fs::write(&f, "x").unwrap();
+        assert!(check_out_dir(&f).unwrap_err().is_input());
+        assert!(check_out_dir(dir.path()).is_ok());
+        assert!(check_out_dir(&dir.path().join("new")).is_ok());
+    }
+
+    /// The whole output of a (fake) nano run: data files, plots, summary.
+    #[test]
+    fn writes_all_outputs_for_fake_runs() {
+        for failed in [false, true] {
+            let dir = tempfile::tempdir().unwrap();
+            let sc = Scenario::nano();
+            let traj = fake_trajectory(1001, 1e-4, failed);
+            let toml = scenario_load::to_toml(&sc);
+            let written = write_data(dir.path(), &toml, &traj, 0.5).unwrap();
+            let plots = write_plots(dir.path(), &sc, &traj).unwrap();
+            let mut names: Vec<String> = fs::read_dir(dir.path())
+                .unwrap()
+                .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .collect();
+            names.sort();
+            assert_eq!(
+                names,
+                [
+                    "diagnostics.png",
+                    "diagnostics.svg",
+                    "scenario.toml",
+                    "spin.png",
+                    "spin.svg",
+                    "summary.json",
+                    "theta.png",
+                    "theta.svg",
+                    "trajectory.csv"
+                ]
+            );
+            let json: serde_json::Value =
+                serde_json::from_str(&fs::read_to_string(dir.path().join("summary.json")).unwrap())
+                    .unwrap();
+            assert_eq!(json["scenario"], toml.as_str());
+            assert_eq!(json["wall_seconds"], 0.5);
+            if failed {
+                assert!(
+                    json["status"]
+                        .as_str()
+                        .unwrap()
+                        .contains("step size underflow")
+                );
+            } else {
+                assert_eq!(json["status"], "ok");
+            }
+            let text = human_summary(&traj, 0.5, dir.path(), &written, &plots);
+            assert!(text.contains("theta:") && text.contains("wall time:"));
+            assert!(text.contains("theta.{png,svg}"));
+            assert_eq!(text.contains("FAILED"), failed);
+        }
+    }
+
+    /// Renders the sample plots into `$TIPPETOP_PLOT_PREVIEW` for a visual
+    /// check: `TIPPETOP_PLOT_PREVIEW=/tmp/p cargo test -p tippetop-cli preview -- --ignored`.
+    #[test]
+    #[ignore = "writes preview images for a human to look at"]
+    fn preview() {
+        let dir = PathBuf::from(std::env::var("TIPPETOP_PLOT_PREVIEW").unwrap());
+        fs::create_dir_all(&dir).unwrap();
+        let sc = Scenario::nano();
+        write_plots(&dir, &sc, &fake_trajectory(1001, 1e-4, false)).unwrap();
+    }
+}
