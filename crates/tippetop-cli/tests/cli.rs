@@ -136,7 +136,6 @@ fn out_that_is_a_file_is_input_error() {
 }
 
 #[test]
-#[ignore = "needs scenario parsing (Scenario::load): the TEMP shim ignores --set"]
 fn out_of_range_set_is_input_error() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
@@ -169,12 +168,11 @@ fn out_of_range_set_is_input_error() {
 }
 
 #[test]
-#[ignore = "needs scenario parsing (Scenario::load): the TEMP shim rejects scenario files"]
 fn bad_scenario_file_is_input_error() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let bad = dir.path().join("bad.toml");
-    fs::write(&bad, "[top]\nradius = -0.01\n").unwrap();
+    fs::write(&bad, "preset = \"classical\"\n[top]\nradius = -0.01\n").unwrap();
     expect_input_error(
         &["run", bad.to_str().unwrap(), "--out", out.to_str().unwrap()],
         &out,
@@ -189,7 +187,6 @@ fn bad_scenario_file_is_input_error() {
 }
 
 #[test]
-#[ignore = "needs scenario parsing (Scenario::load, to_toml_string)"]
 fn written_scenario_reproduces_the_run() {
     let dir = tempfile::tempdir().unwrap();
     let a = dir.path().join("a");
@@ -226,7 +223,6 @@ fn reproduce_is_a_stub_for_now() {
 /// A short classical run: every file, the CSV header and round-trip floats,
 /// the summary's fields, the human summary on stdout.
 #[test]
-#[ignore = "needs simulate"]
 fn run_classical_writes_everything() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run");
@@ -288,7 +284,6 @@ fn run_classical_writes_everything() {
 }
 
 #[test]
-#[ignore = "needs simulate"]
 fn quiet_and_no_plot() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run");
@@ -304,7 +299,6 @@ fn quiet_and_no_plot() {
 }
 
 #[test]
-#[ignore = "needs simulate and scenario parsing (a run that fails part-way)"]
 fn runtime_failure_exits_3_and_writes_partial_results() {
     // An RK4 run with far too few steps for a fast top blows up part-way;
     // the lead may swap in a scenario that fails more reliably.
