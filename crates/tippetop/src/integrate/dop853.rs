@@ -1,0 +1,359 @@
+//! DOP853: Dormand–Prince 8(5,3) with 7th-order dense output, following
+//! Hairer's `dop853.f` (error norm, `hinit`, step-size control).
+
+// Component loops index several arrays at once; iterators would obscure them.
+#![allow(clippy::needless_range_loop)]
+
+use super::dop853_coefficients::{A, BHH, C, D, E5};
+use super::{Engine, Fail, OdeSystem, Stats};
+
+/// Safety factor of the step-size controller.
+const SAFE: f64 = 0.9;
+/// Lower bound of `h_new / h` is `FAC1`, upper bound `FAC2`.
+const FAC1: f64 = 0.333;
+const FAC2: f64 = 6.0;
+/// `1 / FAC1` and `1 / FAC2` as in `dop853.f` (`FACC1`, `FACC2`).
+const FACC1: f64 = 1.0 / FAC1;
+const FACC2: f64 = 1.0 / FAC2;
+/// Exponent `1/8 - 0.2 beta` with `beta = 0` (no PI stabilisation).
+const EXPO1: f64 = 1.0 / 8.0;
+/// Order used by `hinit`.
+const IORD: i32 = 8;
+
+/// Number of stages of the method proper (without FSAL and dense stages).
+const STAGES: usize = 12;
+
+/// The DOP853 stepper state.
+pub(super) struct Dop853<const N: usize> {
+    rtol: f64,
+    atol: f64,
+    h_max: f64,
+    h0: Option<f64>,
+    /// Proposed size of the next step (valid once `initialized`).
+    h: f64,
+    initialized: bool,
+    /// The previous attempt was rejected (`REJECT` in `dop853.f`).
+    rejected: bool,
+    /// Last accepted step `(t0, y0) -> (t1, y1)` of size `h_step`.
+    t0: f64,
+    y0: [f64; N],
+    t1: f64,
+    y1: [f64; N],
+    h_step: f64,
+    /// `f(t1, y1)`.
+    f1: [f64; N],
+    /// Stages of the last accepted step: 0–11 method, 12 = `f(t1, y1)`,
+    /// 13–15 dense output (valid when `dense_ready`).
+    k: [[f64; N]; 16],
+    /// Interpolation coefficients (`rcont2..rcont8` of `dop853.f`).
+    cont: [[f64; N]; 7],
+    dense_ready: bool,
+}
+
+fn eval<S: OdeSystem<N>, const N: usize>(
+    sys: &mut S,
+    t: f64,
+    y: &[f64; N],
+    dy: &mut [f64; N],
+    stats: &mut Stats,
+) -> Result<(), Fail<S::Error>> {
+    stats.rhs_evals += 1;
+    sys.rhs(t, y, dy).map_err(|err| Fail::Rhs { t, err })
+}
+
+/// `sum_j coef[j] * k[j]` over the stages `j < coef.len()` with a non-zero
+/// coefficient.
+#[inline(always)]
+fn combine<const N: usize>(coef: &[f64], k: &[[f64; N]; 16]) -> [f64; N] {
+    let mut acc = [0.0; N];
+    for (j, &a) in coef.iter().enumerate() {
+        if a != 0.0 {
+            for n in 0..N {
+                acc[n] += a * k[j][n];
+            }
+        }
+    }
+    acc
+}
+
+impl<const N: usize> Dop853<N> {
+    /// New stepper; `h_max` is the largest step, `h0` the initial step
+    /// (`None`: Hairer's `hinit`).
+    pub(super) fn new(rtol: f64, atol: f64, h0: Option<f64>, h_max: f64) -> Self {
+        assert!(
+            rtol.is_finite() && atol.is_finite() && rtol >= 0.0 && atol >= 0.0,
+            "DOP853 tolerances must be finite and non-negative (rtol {rtol}, atol {atol})"
+        );
+        assert!(
+            rtol > 0.0 || atol > 0.0,
+            "DOP853 tolerances must not both be zero"
+        );
+        assert!(
+            h_max.is_finite() && h_max > 0.0,
+            "h_max must be finite and positive, got {h_max}"
+        );
+        if let Some(h) = h0 {
+            assert!(
+                h.is_finite() && h > 0.0,
+                "h0 must be finite and positive, got {h}"
+            );
+        }
+        Dop853 {
+            rtol,
+            atol,
+            h_max,
+            h0,
+            h: 0.0,
+            initialized: false,
+            rejected: false,
+            t0: 0.0,
+            y0: [0.0; N],
+            t1: 0.0,
+            y1: [0.0; N],
+            h_step: 0.0,
+            f1: [0.0; N],
+            k: [[0.0; N]; 16],
+            cont: [[0.0; N]; 7],
+            dense_ready: false,
+        }
+    }
+
+    /// Hairer's `hinit` (`dop853.f`): initial step from the sizes of `y`,
+    /// `f` and an estimate of the second derivative (one extra evaluation).
+    fn hinit<S: OdeSystem<N>>(
+        &self,
+        sys: &mut S,
+        t: f64,
+        y: &[f64; N],
+        f0: &[f64; N],
+        h_max: f64,
+        stats: &mut Stats,
+    ) -> Result<f64, Fail<S::Error>> {
+        let mut dnf = 0.0;
+        let mut dny = 0.0;
+        for n in 0..N {
+            let sk = self.atol + self.rtol * y[n].abs();
+            dnf += (f0[n] / sk).powi(2);
+            dny += (y[n] / sk).powi(2);
+        }
+        let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
+            1.0e-6
+        } else {
+            (dny / dnf).sqrt() * 0.01
+        };
+        h = h.min(h_max);
+        let mut y1 = [0.0; N];
+        for n in 0..N {
+            y1[n] = y[n] + h * f0[n];
+        }
+        let mut f1 = [0.0; N];
+        eval(sys, t + h, &y1, &mut f1, stats)?;
+        let mut der2 = 0.0;
+        for n in 0..N {
+            let sk = self.atol + self.rtol * y[n].abs();
+            der2 += ((f1[n] - f0[n]) / sk).powi(2);
+        }
+        let der2 = der2.sqrt() / h;
+        let der12 = der2.abs().max(dnf.sqrt());
+        let h1 = if der12 <= 1e-15 {
+            (h * 1.0e-3).max(1.0e-6)
+        } else {
+            (0.01 / der12).powf(1.0 / f64::from(IORD))
+        };
+        Ok((100.0 * h).min(h1).min(h_max))
+    }
+}
+
+impl<const N: usize> Engine<N> for Dop853<N> {
+    fn restart<S: OdeSystem<N>>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        y: &[f64; N],
+        t_stop: f64,
+        stats: &mut Stats,
+    ) -> Result<(), Fail<S::Error>> {
+        let mut f = [0.0; N];
+        eval(sys, t, y, &mut f, stats)?;
+        self.t0 = t;
+        self.y0 = *y;
+        self.t1 = t;
+        self.y1 = *y;
+        self.f1 = f;
+        self.h_step = 0.0;
+        self.dense_ready = false;
+        self.rejected = false;
+        if !self.initialized {
+            self.h = match self.h0 {
+                Some(h) => h.min(self.h_max),
+                None => {
+                    let h_cap = self.h_max.min(t_stop - t);
+                    self.hinit(sys, t, y, &f, h_cap, stats)?
+                }
+            };
+            self.initialized = true;
+        }
+        Ok(())
+    }
+
+    fn step<S: OdeSystem<N>>(
+        &mut self,
+        sys: &mut S,
+        t_stop: f64,
+        stats: &mut Stats,
+    ) -> Result<(), Fail<S::Error>> {
+        let t = self.t1;
+        let y = self.y1;
+        self.k[0] = self.f1;
+        let mut last_nonfinite = false;
+        let h_min = (16.0 * f64::EPSILON * t.abs()).max(1e-300);
+        loop {
+            if self.h.is_nan() || self.h < h_min {
+                return Err(if last_nonfinite {
+                    Fail::NonFinite { t }
+                } else {
+                    Fail::Underflow { t, h: self.h }
+                });
+            }
+            // Land exactly on the stop; as in dop853.f, stretch the step by up
+            // to 1 % rather than leave a sliver.
+            let (hs, t_new, clipped) = if t + 1.01 * self.h >= t_stop {
+                (t_stop - t, t_stop, true)
+            } else {
+                (self.h, t + self.h, false)
+            };
+            let mut yt = [0.0; N];
+            for s in 1..STAGES {
+                let acc = combine(&A[s][..s], &self.k);
+                for n in 0..N {
+                    yt[n] = y[n] + hs * acc[n];
+                }
+                let ts = if C[s] == 1.0 { t_new } else { t + C[s] * hs };
+                eval(sys, ts, &yt, &mut self.k[s], stats)?;
+            }
+            // 8th-order solution (weights b_j = A[12][j]).
+            let incr = combine(&A[STAGES][..STAGES], &self.k);
+            let bhh = combine(&BHH, &self.k);
+            let e5 = combine(&E5, &self.k);
+            let mut y_new = [0.0; N];
+            let mut err = 0.0;
+            let mut err2 = 0.0;
+            let mut finite = true;
+            for n in 0..N {
+                y_new[n] = y[n] + hs * incr[n];
+                finite &= y_new[n].is_finite();
+                let sk = self.atol + self.rtol * y[n].abs().max(y_new[n].abs());
+                err2 += ((incr[n] - bhh[n]) / sk).powi(2);
+                err += (e5[n] / sk).powi(2);
+            }
+            let mut deno = err + 0.01 * err2;
+            if deno <= 0.0 {
+                deno = 1.0;
+            }
+            let err = hs.abs() * err * (1.0 / (N as f64 * deno)).sqrt();
+            if !finite || !err.is_finite() {
+                stats.rejected += 1;
+                self.rejected = true;
+                last_nonfinite = true;
+                self.h = hs / 10.0;
+                continue;
+            }
+            last_nonfinite = false;
+            let fac11 = err.powf(EXPO1);
+            let fac = (fac11 / SAFE).clamp(FACC2, FACC1);
+            if err <= 1.0 {
+                let mut f_new = [0.0; N];
+                eval(sys, t_new, &y_new, &mut f_new, stats)?;
+                let mut h_new = hs / fac;
+                if self.rejected {
+                    h_new = h_new.min(hs);
+                }
+                if clipped && hs < self.h {
+                    // A step shortened to land on a stop says little about
+                    // the step size: keep the pending proposal if larger.
+                    h_new = h_new.max(self.h);
+                }
+                self.h = h_new.min(self.h_max);
+                self.rejected = false;
+                self.k[12] = f_new;
+                self.f1 = f_new;
+                self.t0 = t;
+                self.y0 = y;
+                self.t1 = t_new;
+                self.y1 = y_new;
+                self.h_step = hs;
+                self.dense_ready = false;
+                return Ok(());
+            }
+            stats.rejected += 1;
+            self.rejected = true;
+            self.h = hs / FACC1.min(fac11 / SAFE);
+        }
+    }
+
+    fn t(&self) -> f64 {
+        self.t1
+    }
+
+    fn y(&self) -> &[f64; N] {
+        &self.y1
+    }
+
+    fn t_prev(&self) -> f64 {
+        self.t0
+    }
+
+    fn prepare_dense<S: OdeSystem<N>>(
+        &mut self,
+        sys: &mut S,
+        stats: &mut Stats,
+    ) -> Result<(), Fail<S::Error>> {
+        if self.dense_ready {
+            return Ok(());
+        }
+        let h = self.h_step;
+        let mut yt = [0.0; N];
+        for s in 13..16 {
+            let acc = combine(&A[s][..s], &self.k);
+            for n in 0..N {
+                yt[n] = self.y0[n] + h * acc[n];
+            }
+            eval(sys, self.t0 + C[s] * h, &yt, &mut self.k[s], stats)?;
+        }
+        let mut d = [[0.0; N]; 4];
+        for (i, row) in D.iter().enumerate() {
+            d[i] = combine(row, &self.k);
+        }
+        for n in 0..N {
+            let dy = self.y1[n] - self.y0[n];
+            let bspl = h * self.k[0][n] - dy;
+            self.cont[0][n] = dy;
+            self.cont[1][n] = bspl;
+            self.cont[2][n] = dy - h * self.k[12][n] - bspl;
+            for i in 0..4 {
+                self.cont[3 + i][n] = h * d[i][n];
+            }
+        }
+        self.dense_ready = true;
+        Ok(())
+    }
+
+    fn dense(&self, t: f64, out: &mut [f64; N]) {
+        debug_assert!(self.dense_ready);
+        if t == self.t1 {
+            *out = self.y1;
+            return;
+        }
+        if t == self.t0 {
+            *out = self.y0;
+            return;
+        }
+        let s = (t - self.t0) / self.h_step;
+        let s1 = 1.0 - s;
+        let c = &self.cont;
+        for n in 0..N {
+            let conpar = c[3][n] + s * (c[4][n] + s1 * (c[5][n] + s * c[6][n]));
+            out[n] = self.y0[n] + s * (c[0][n] + s1 * (c[1][n] + s * (c[2][n] + s1 * conpar)));
+        }
+    }
+}
