@@ -871,7 +871,9 @@ pub fn run_observed(
         },
         max_steps: MAX_STEPS,
         h0: None,
-        h_max: None,
+        // As the reduced driver: no step longer than the sample spacing, so
+        // the dense output (samples, events) stays at the step-error level.
+        h_max: Some(t_end / (ns - 1) as f64),
     };
 
     let mut y = m.scale_state(&sc.initial);
