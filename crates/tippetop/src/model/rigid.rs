@@ -295,6 +295,8 @@ pub struct Rigid {
     h: [f64; 2],
     /// Current phase.
     pub phase: Phase,
+    /// Time the current flight started (scaled).
+    pub flight_start: f64,
     /// The SI top.
     pub top: Top,
     /// g \[m/s²\].
@@ -324,6 +326,7 @@ impl Rigid {
             restitution: sc.surface.restitution,
             h: [0.0, 0.0],
             phase: Phase::Contact,
+            flight_start: 0.0,
             top: sc.top,
             gravity_si: sc.surface.gravity,
         }
@@ -548,6 +551,25 @@ impl Rigid {
         y[POS + 2] + self.a * k[2] - 1.0
     }
 
+    /// Rate of change of the gap, `v_Cz` (scaled).
+    pub fn gap_rate(&self, y: &[f64; DIM]) -> f64 {
+        let kin = self.kin(y);
+        y[VEL + 2] + self.a * cross(kin.n, kin.k)[2]
+    }
+
+    /// The touchdown event function: `gap/(t − t_flight_start)`, and the
+    /// gap rate at the flight's start. Same sign as the gap for `t` after the
+    /// start, but positive at the start of a rebound (where the gap is 0), so
+    /// that a touchdown within the first step is still a sign change.
+    pub fn touchdown_function(&self, t: f64, y: &[f64; DIM]) -> f64 {
+        let dt = t - self.flight_start;
+        if dt > 0.0 {
+            self.gap(y) / dt
+        } else {
+            self.gap_rate(y)
+        }
+    }
+
     /// Project onto the contact constraint: normalise q, `z_C = R`, `v_Cz = 0`.
     pub fn project_contact(&self, y: &mut [f64; DIM]) {
         let q = normalized(quat_of(y));
@@ -687,6 +709,10 @@ impl OdeSystem<DIM> for Rigid {
 const EV_HALF_PI: usize = 0;
 const EV_THETA_MAX: usize = 1;
 const EV_CONTACT: usize = 2;
+const EV_GUARD: usize = 3;
+
+/// Penetration \[R\] at which the guard event declares a touchdown.
+pub const PENETRATION_GUARD: f64 = 1e-10;
 
 fn events_for(m: &Rigid) -> Vec<Event<Rigid, DIM>> {
     let mut ev: Vec<Event<Rigid, DIM>> = vec![
@@ -707,11 +733,21 @@ fn events_for(m: &Rigid) -> Vec<Event<Rigid, DIM>> {
         },
     ];
     match (m.phase, m.contact) {
-        (Phase::Flight, _) => ev.push(Event {
-            g: Box::new(|m, _, y| m.gap(y)),
-            direction: Direction::Falling,
-            terminal: true,
-        }),
+        (Phase::Flight, _) => {
+            ev.push(Event {
+                g: Box::new(|m, t, y| m.touchdown_function(t, y)),
+                direction: Direction::Falling,
+                terminal: true,
+            });
+            // Guard: a touchdown the first event missed (gap back below 0
+            // within the flight's first step) is caught at a penetration of
+            // 1e-10 R.
+            ev.push(Event {
+                g: Box::new(|m, _, y| m.gap(y) + PENETRATION_GUARD),
+                direction: Direction::Falling,
+                terminal: true,
+            });
+        }
         (Phase::Contact, ContactMode::Unilateral) => ev.push(Event {
             g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
             direction: Direction::Falling,
@@ -812,7 +848,7 @@ fn describe_state(m: &Rigid, y: &[f64]) -> String {
 /// Put the top in contact at `y` (projected); for unilateral contact, if
 /// `N < 0` there it flies at once. Returns the phase chosen. The projection's
 /// kinetic-energy change is booked into `W_f`.
-fn enter_contact(m: &mut Rigid, y: &mut [f64; DIM]) -> Phase {
+fn enter_contact(m: &mut Rigid, t: f64, y: &mut [f64; DIM]) -> Phase {
     let before = m.energy_raw(y);
     m.project_contact(y);
     y[WF] += m.energy_raw(y) - before;
@@ -821,6 +857,7 @@ fn enter_contact(m: &mut Rigid, y: &mut [f64; DIM]) -> Phase {
         if let Ok(e) = m.eval(y) {
             if e.normal < 0.0 {
                 m.phase = Phase::Flight;
+                m.flight_start = t;
             }
         }
     }
@@ -899,6 +936,7 @@ pub fn run_observed(
     let mut flight_time = 0.0;
     if unilateral && n_initial < 0.0 {
         m.phase = Phase::Flight;
+        m.flight_start = 0.0;
         flight_since = Some(0.0);
         lift_offs.push(0.0);
         events_out.push(EventRecord {
@@ -937,13 +975,21 @@ pub fn run_observed(
             track.visit(s, y);
             observe(s, t, y);
         };
+        // Integrate to the next force switch (or the end): the driver, not
+        // the integrator, handles the switch, so it can project the state
+        // and let the top lift off if the new force makes N negative.
+        let t_stop = tstops
+            .iter()
+            .copied()
+            .find(|&s| s > t)
+            .unwrap_or(t_end);
         let res = integrate::solve(
             &mut m,
             &opts,
             t,
             y,
-            t_end,
-            &tstops,
+            t_stop,
+            &[],
             &sample_times[next..],
             &events,
             &mut on_sample,
@@ -1013,8 +1059,28 @@ pub fn run_observed(
                 t = o.t;
                 y = o.y;
                 match o.stop {
-                    StopReason::End => break,
-                    StopReason::Terminal(EV_CONTACT) => {
+                    StopReason::End if t >= t_end => break,
+                    StopReason::End => {
+                        // A force switch: latch the new force (solve does it
+                        // again in begin_segment), project onto the contact
+                        // constraint, and fly if N < 0 now (unilateral).
+                        m.latch_force(t);
+                        if m.phase == Phase::Contact {
+                            m.project_contact(&mut y);
+                            let n = m.eval(&y).map(|e| e.normal).unwrap_or(0.0);
+                            if unilateral && n < 0.0 {
+                                m.phase = Phase::Flight;
+                                m.flight_start = t;
+                                flight_since = Some(t);
+                                lift_offs.push(t);
+                                events_out.push(EventRecord {
+                                    t: t * tu,
+                                    kind: "lift_off".into(),
+                                });
+                            }
+                        }
+                    }
+                    StopReason::Terminal(EV_CONTACT | EV_GUARD) => {
                         transitions += 1;
                         if transitions > MAX_TRANSITIONS {
                             error = Some(Error::runtime(
@@ -1031,6 +1097,7 @@ pub fn run_observed(
                                 // Lift-off: N fell through 0.
                                 m.project_contact(&mut y);
                                 m.phase = Phase::Flight;
+                                m.flight_start = t;
                                 flight_since = Some(t);
                                 lift_offs.push(t);
                                 events_out.push(EventRecord {
@@ -1072,12 +1139,13 @@ pub fn run_observed(
                                 let settle = vn_plus <= 0.0
                                     || t_fl < MIN_FLIGHT
                                     || (bounces > MAX_BOUNCES && t_fl < 1e3 * MIN_FLIGHT);
+                                m.flight_start = t;
                                 if settle {
                                     if let Some(s0) = flight_since.take() {
                                         flight_time += t - s0;
                                     }
                                     bounces = 0;
-                                    if enter_contact(&mut m, &mut y) == Phase::Flight {
+                                    if enter_contact(&mut m, t, &mut y) == Phase::Flight {
                                         flight_since = Some(t);
                                         lift_offs.push(t);
                                         events_out.push(EventRecord {
