@@ -86,7 +86,10 @@ fn check(name: &str, sc: &Scenario) {
         .fold(0.0, f64::max)
         / r.samples.iter().map(|s| s.normal.abs()).fold(0.0, f64::max);
     println!("{name}: energy {e:.2e} J {j:.2e} N {n:.2e}");
-    assert!(e <= 1e-6 && j <= 1e-6 && n <= 1e-6, "{name}: E {e:e} J {j:e} N {n:e}");
+    assert!(
+        e <= 1e-6 && j <= 1e-6 && n <= 1e-6,
+        "{name}: E {e:e} J {j:e} N {n:e}"
+    );
 }
 
 /// Nano preset over the paper's 100 µs with the paper's constant force and

@@ -18,7 +18,10 @@ fn run(sc: &Scenario) -> Trajectory {
 }
 
 fn emax(tr: &Trajectory) -> f64 {
-    tr.samples.iter().map(|s| s.energy.abs()).fold(0.0, f64::max)
+    tr.samples
+        .iter()
+        .map(|s| s.energy.abs())
+        .fold(0.0, f64::max)
 }
 
 /// μ = 0, H = 0: nothing does work; E conserved to 1e-10 relative over the
@@ -39,18 +42,31 @@ fn energy_conserved_frictionless_classical() {
     println!("frictionless classical: max |E - E0|/max|E| = {worst:.2e}");
     assert!(worst <= 1e-10, "energy drift {worst:e}");
     assert!(tr.summary.energy_balance_max_rel_error <= 1e-10);
-    assert!(tr.samples.iter().all(|s| s.work_friction == 0.0 && s.work_applied == 0.0));
+    assert!(
+        tr.samples
+            .iter()
+            .all(|s| s.work_friction == 0.0 && s.work_applied == 0.0)
+    );
 }
 
 /// J = −L·r (computed from L and r in 3D) is conserved for any force at P:
-/// to 1e-10 of C max|ω| R, classical (regularised, inverting) and nano
-/// (friction and the paper's force), at the default rtol 1e-10.
+/// to 1e-10 of C max|ω| R, classical (regularised, inverting; default rtol
+/// 1e-10) and nano (friction and the paper's force; rtol 1e-12).
+///
+/// The nano run needs the tighter rtol: its J drift is ≈ 20 rtol (measured
+/// 2.3e-9 at rtol 1e-10, 2.1e-11 at 1e-12), against ≈ 0.15 rtol for the
+/// reduced model. The quaternion and the body-frame angular velocity turn
+/// with the spin (up to 2.7e7 rad/s), so their local errors sit at the
+/// tolerance, while the reduced model's θ, Ω, ω vary slowly and its local
+/// errors are far below it. (Integrating the angular velocity in the space
+/// frame instead does not help: 3.1e-9 at 1e-10; the attitude error dominates.)
 #[test]
 fn jellett_conserved() {
     let mut c = rigid(Scenario::classical());
     c.surface.law = FrictionLaw::Regularized { eps: 1e-2 };
     let mut n = rigid(Scenario::nano());
     n.surface.law = FrictionLaw::CoulombSliding;
+    n.solver.rtol = 1e-12;
     for (name, sc) in [("classical", c), ("nano", n)] {
         let tr = run(&sc);
         let d = tr.summary.jellett_max_rel_drift;
@@ -61,7 +77,11 @@ fn jellett_conserved() {
         let scale = top.inertia_axial * wmax * top.radius;
         let j0 = top.inertia_axial * 100.0 * (top.radius * 0.1f64.cos() - top.offset);
         for s in &tr.samples {
-            assert!((s.jellett - j0).abs() <= 1e-10 * scale, "{name}: t = {}", s.t);
+            assert!(
+                (s.jellett - j0).abs() <= 1e-10 * scale,
+                "{name}: t = {}",
+                s.t
+            );
         }
     }
 }
@@ -123,10 +143,13 @@ fn energy_balance_with_friction_and_forcing() {
 }
 
 /// | |q| − 1 | stays below 1e-9 at every accepted step of the classical 10 s
-/// run (the stabilising term −κ(|q|²−1) q keeps it there).
+/// run (the stabilising term −κ(|q|²−1) q keeps it there). Regularised law:
+/// the preset's "coulomb" is sliding-only in the rigid model and chatters at
+/// the first zero slip (~0.075 s).
 #[test]
 fn quaternion_norm_held() {
-    let sc = rigid(Scenario::classical());
+    let mut sc = rigid(Scenario::classical());
+    sc.surface.law = FrictionLaw::Regularized { eps: 1e-2 };
     let mut worst: f64 = 0.0;
     let mut steps = 0usize;
     let tr = rigid::run_observed(&sc, &mut |_, _, y: &[f64; DIM]| {
@@ -141,9 +164,10 @@ fn quaternion_norm_held() {
     assert!(worst <= 1e-9, "quaternion norm drift {worst:e}");
 }
 
-/// Started at θ = 0 exactly (spinning upright on the heavy end, with a small
-/// nutation rate): the run completes, θ leaves 0 and stays small (it is the
-/// stable end for a fast spin), J and the energy balance hold.
+/// Started at θ = 0 exactly (spinning upright on the heavy end, with a
+/// nutation rate of 1 rad/s): the run completes, θ leaves 0 (with sliding
+/// friction the upright tippe top is unstable and starts to rise), J and the
+/// energy balance hold.
 #[test]
 fn starts_at_theta_zero() {
     let mut sc = rigid(Scenario::classical());
@@ -156,7 +180,10 @@ fn starts_at_theta_zero() {
     assert_eq!(s0.theta, 0.0);
     assert!((s0.theta_dot - 1.0).abs() < 1e-12 && (s0.spin - 100.0).abs() < 1e-12);
     let thmax = tr.samples.iter().map(|s| s.theta).fold(0.0, f64::max);
-    println!("theta = 0 start: theta_max {thmax:.3e}, J drift {:.2e}", tr.summary.jellett_max_rel_drift);
+    println!(
+        "theta = 0 start: theta_max {thmax:.3e}, J drift {:.2e}",
+        tr.summary.jellett_max_rel_drift
+    );
     assert!(thmax > 1e-3, "theta never left 0");
     assert!(tr.summary.jellett_max_rel_drift <= 1e-10);
     assert!(tr.summary.energy_balance_max_rel_error <= 1e-8);
@@ -164,7 +191,11 @@ fn starts_at_theta_zero() {
     let mut up = sc.clone();
     up.initial.theta_dot = 0.0;
     let tr = run(&up);
-    assert!(tr.samples.iter().all(|s| s.theta == 0.0 && (s.spin - 100.0).abs() < 1e-9));
+    assert!(
+        tr.samples
+            .iter()
+            .all(|s| s.theta == 0.0 && (s.spin - 100.0).abs() < 1e-9)
+    );
 }
 
 /// Started at θ = π exactly (inverted): completes.
@@ -180,11 +211,13 @@ fn starts_at_theta_pi() {
     assert!(tr.summary.jellett_max_rel_drift <= 1e-10);
 }
 
-/// A frictionless top passing through θ = π: started at θ = π − 0.01 with a
-/// nutation rate towards π large enough to carry the axis over the pole.
-/// Through the pole the reduced model's precessing frame flips (θ reaches π
-/// and comes back with Ω jumping); the rigid model just continues: θ gets
-/// within 1e-3 of π, energy is conserved.
+/// A frictionless top passing through θ = π: started at θ = π − 0.01,
+/// tilted towards +X, with a nutation rate towards π (no spin, no
+/// precession: a planar rocking about Y) large enough to carry the axis over
+/// the pole. The axis's horizontal projection must come out on the other
+/// side (k_X < 0 with k_Z < 0), θ must get within 1e-6 of π, and the energy is
+/// conserved to 1e-10. The reduced model cannot follow this (its Ω equation
+/// divides by sin θ).
 #[test]
 fn passes_through_theta_pi() {
     let mut sc = rigid(Scenario::classical());
@@ -196,15 +229,53 @@ fn passes_through_theta_pi() {
     sc.initial.spin = 0.0;
     sc.solver.t_end = 0.01;
     sc.solver.samples = 1001;
-    let tr = run(&sc);
-    let thmax = tr.summary.theta_max;
-    let closest = tr
-        .samples
-        .iter()
-        .map(|s| std::f64::consts::PI - s.theta)
-        .fold(f64::INFINITY, f64::min);
-    println!("through pi: theta_max {thmax}, closest sample pi - theta = {closest:.2e}, final {}", tr.summary.theta_final);
+    let mut kx_min = f64::INFINITY;
+    let mut kx_first = f64::NAN;
+    let mut closest = f64::INFINITY;
+    let tr = rigid::run_observed(&sc, &mut |m, _, y| {
+        let k = m.kin(y).k;
+        if kx_first.is_nan() {
+            kx_first = k[0];
+        }
+        if k[2] < 0.0 {
+            kx_min = kx_min.min(k[0]);
+        }
+        closest = closest.min(k[0].hypot(k[1]));
+    });
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    println!(
+        "through pi: first k_X {kx_first:.3e}, min k_X {kx_min:.3e}, closest sin(theta) at a step {closest:.2e}, theta_max {}, final {}",
+        tr.summary.theta_max, tr.summary.theta_final
+    );
+    assert!(
+        kx_first > 0.0 && kx_min < -0.005,
+        "did not pass over the pole"
+    );
+    assert!(std::f64::consts::PI - tr.summary.theta_max <= 1e-6);
     let em = emax(&tr);
     let e0 = tr.summary.energy_initial;
-    assert!(tr.samples.iter().all(|s| (s.energy - e0).abs() <= 1e-10 * em));
+    assert!(
+        tr.samples
+            .iter()
+            .all(|s| (s.energy - e0).abs() <= 1e-10 * em)
+    );
+}
+
+/// The exact "coulomb" law runs as sliding-only in the rigid model, and the
+/// run says so with an event at t = 0 (status stays "ok").
+#[test]
+fn coulomb_is_sliding_only_and_noted() {
+    let mut sc = rigid(Scenario::classical());
+    sc.solver.t_end = 0.04;
+    let tr = run(&sc);
+    assert_eq!(tr.events[0].t, 0.0);
+    assert_eq!(
+        tr.events[0].kind,
+        "note: rigid model uses sliding-only Coulomb"
+    );
+    let mut sliding = sc.clone();
+    sliding.surface.law = FrictionLaw::CoulombSliding;
+    let tr2 = run(&sliding);
+    assert!(tr2.events.iter().all(|e| !e.kind.starts_with("note")));
+    assert_eq!(tr.samples, tr2.samples);
 }

@@ -379,7 +379,10 @@ impl Rigid {
     #[inline]
     fn inv_inertia(&self, k: V3, v: V3) -> V3 {
         let vk = dot(v, k);
-        add(scale(1.0 / self.ia, v), scale((1.0 / self.ic - 1.0 / self.ia) * vk, k))
+        add(
+            scale(1.0 / self.ia, v),
+            scale((1.0 / self.ic - 1.0 / self.ia) * vk, k),
+        )
     }
 
     /// I v in the world frame for the symmetry axis k.
@@ -453,8 +456,7 @@ impl Rigid {
         let w = cross(self.inv_inertia(k, e), r);
         let nn = dot(n, n);
         // Q: −(gap acceleration) with N = 0 and no friction (H = −fa).
-        let q_free =
-            self.g + self.a * (-dot(fa, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
+        let q_free = self.g + self.a * (-dot(fa, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
         let (normal, ff) = match self.phase {
             Phase::Flight => (0.0, [0.0; 3]),
             Phase::Contact => {
@@ -779,9 +781,7 @@ impl Track {
         self.j_dev_max = self.j_dev_max.max((m.jellett_scaled(y) - self.j0).abs());
         let en = m.energy_scaled(y);
         self.e_abs_max = self.e_abs_max.max(en.abs());
-        self.balance_max = self
-            .balance_max
-            .max((en - self.e0 - y[WF] - y[WA]).abs());
+        self.balance_max = self.balance_max.max((en - self.e0 - y[WF] - y[WA]).abs());
     }
 }
 
@@ -978,11 +978,7 @@ pub fn run_observed(
         // Integrate to the next force switch (or the end): the driver, not
         // the integrator, handles the switch, so it can project the state
         // and let the top lift off if the new force makes N negative.
-        let t_stop = tstops
-            .iter()
-            .copied()
-            .find(|&s| s > t)
-            .unwrap_or(t_end);
+        let t_stop = tstops.iter().copied().find(|&s| s > t).unwrap_or(t_end);
         let res = integrate::solve(
             &mut m,
             &opts,
@@ -1007,11 +1003,9 @@ pub fn run_observed(
                     IntegrateError::NonFinite { t, y_last } => {
                         (t, "the solution became NaN or infinite".to_string(), y_last)
                     }
-                    IntegrateError::TooManySteps { t, max_steps } => (
-                        t,
-                        format!("more than {max_steps} steps"),
-                        y.to_vec(),
-                    ),
+                    IntegrateError::TooManySteps { t, max_steps } => {
+                        (t, format!("more than {max_steps} steps"), y.to_vec())
+                    }
                 };
                 error = Some(Error::runtime(
                     te * tu,
@@ -1029,14 +1023,12 @@ pub fn run_observed(
                 stats.rejected += o.stats.rejected;
                 for f in &o.fired {
                     match f.index {
-                        EV_HALF_PI => {
-                            if first_above.is_none() {
-                                first_above = Some(f.t * tu);
-                                events_out.push(EventRecord {
-                                    t: f.t * tu,
-                                    kind: "theta_above_half_pi".into(),
-                                });
-                            }
+                        EV_HALF_PI if first_above.is_none() => {
+                            first_above = Some(f.t * tu);
+                            events_out.push(EventRecord {
+                                t: f.t * tu,
+                                kind: "theta_above_half_pi".into(),
+                            });
                         }
                         EV_THETA_MAX => track.visit(&m, &f.y),
                         EV_CONTACT if !unilateral => {
