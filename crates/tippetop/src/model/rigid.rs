@@ -65,15 +65,33 @@
 //! depend on the attitude, `n` and horizontal `v` only); the energy and the
 //! output `u_z` use the constraint values `z_O = R − a k_Z`,
 //! `v_z = −a (n × k)_Z`. The state is projected back onto `z_C = R`,
-//! `v_Cz = 0` (and `q` normalised) at every mode switch (lift-off,
-//! touchdown); at the force schedule's switch times the integrator restarts
-//! but cannot change the state, which is harmless for the reason above.
+//! `v_Cz = 0` (and `q` normalised) at every restart: lift-off, touchdown,
+//! and the force schedule's switch times. The driver integrates from switch
+//! to switch itself (one `solve` per segment, `begin_segment` latching the
+//! force at the segment's start) instead of passing the switch times as
+//! `tstops`, so that it can project there and, for unilateral contact, let
+//! the top fly at once when the new force makes `N` negative (a jump of `N`
+//! at a switch is not a zero crossing the event finder could see).
+//!
+//! # Outputs
+//!
+//! `θ = atan2(|k_h|, k_Z)`; `θ̇ = n·ŷ`; `Ω = ((k_h × k̇_h)·Z)/|k_h|²` (reported
+//! as 0 where `|k_h| < 1e-12`, where it is undefined); `ω = n·k`;
+//! `u_x, u_y = v·x̂, v·ŷ`; `J = −L·r` from `L = I n` and `r` in 3D; `E` as
+//! above; `rolling` is always 0. Events: as the reduced driver
+//! (`theta_above_half_pi`, `force_switch`, `contact_lost`/`contact_regained`
+//! for bilateral/paper contact), plus `lift_off`/`touchdown`.
 //!
 //! # Flight and touchdown (contact = "unilateral")
 //!
 //! Lift-off is the event `N = 0` (falling). In flight `N = 0`, no friction;
 //! gravity acts, and the applied force acts at the sphere's lowest point `P`.
-//! Touchdown is the event `z_C − R = 0` (falling). There the impact law is:
+//! Touchdown is the event `z_C − R = 0` (falling), written as
+//! `(z_C − R)/(t − t_flight_start)` (and `v_Cz` at the flight's start) so
+//! that it is positive at the start of a rebound, where the gap is 0: a
+//! short bounce inside one step is still a sign change. A guard event at a
+//! penetration of `1e-10 R` catches anything that is missed anyway (e.g. a
+//! top that barely leaves the plane after a lift-off). The impact law:
 //!
 //! - impulse `Π` at `P`; the velocity of the material point at `P` jumps by
 //!   `K Π` with `K Π = Π/m − r × (I⁻¹ (r × Π))` (symmetric positive definite);
