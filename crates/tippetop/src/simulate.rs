@@ -1,7 +1,8 @@
 //! Run a scenario: the driver that turns a [`Scenario`] into a [`Trajectory`].
 //!
 //! The driver owns what the integrator does not know about: the switch
-//! times of the force schedule (passed as `tstops`), the events that
+//! times of the force schedule (each one ends a `solve` call, so the driver
+//! can re-examine stick/slip with the new force there), the events that
 //! diagnostics need (θ crossing π/2, local maxima of θ, N crossing zero)
 //! and, for the exact Coulomb law, the stick/slip switches (terminal events
 //! after which the model changes mode and the integration restarts).
@@ -263,6 +264,12 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
 
     let mut samples: Vec<Sample> = Vec::with_capacity(ns);
     let mut stats = integrate::Stats::default();
+    // Step count and last accepted state, kept here too so that a failed
+    // run still reports them.
+    let mut steps_seen: u64 = 0;
+    let mut reversals: u32 = 0;
+    let mut last_slip = m.slip_of(&y);
+    let mut last_accepted: (f64, [f64; DIM]) = (0.0, y);
     let mut t = 0.0;
     let mut error: Option<Error> = None;
     let mut first_above: Option<f64> = if y[TH] > std::f64::consts::FRAC_PI_2 {
@@ -276,12 +283,25 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
     let mut switches = 0usize;
 
     loop {
+        let seg_end = tstops.iter().copied().find(|&ts| ts > t).unwrap_or(t_end);
         let events = events_for(&m);
         let next = samples.len();
         let mut on_sample = |s: &Reduced, t: f64, y: &[f64; DIM]| {
             samples.push(sample_of(s, t, y));
         };
-        let mut on_step = |s: &Reduced, _t: f64, y: &[f64; DIM]| {
+        let mut on_step = |s: &Reduced, t: f64, y: &[f64; DIM]| {
+            last_accepted = (t, *y);
+            steps_seen += 1;
+            if s.can_chatter() {
+                let v = s.slip_of(y);
+                if v[0] * last_slip[0] + v[1] * last_slip[1] < 0.0 {
+                    reversals += 1;
+                    if reversals >= reduced::CHATTER_REVERSALS {
+                        s.chattering.set(true);
+                    }
+                }
+                last_slip = v;
+            }
             track.visit(s, y);
             if s.mode == Mode::Sliding && s.is_exact() {
                 let v = unit(s.slip_of(y));
@@ -295,8 +315,8 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
             &opts,
             t,
             y,
-            t_end,
-            &tstops,
+            seg_end,
+            &[],
             &sample_times[next..],
             &events,
             &mut on_sample,
@@ -307,9 +327,9 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                 let (te, why, ylast) = match e {
                     IntegrateError::Rhs { t, y_last, err } => {
                         let why = match err {
-                            ModelError::Singular { .. } | ModelError::Painleve { .. } => {
-                                err.to_string()
-                            }
+                            ModelError::Singular { .. }
+                            | ModelError::Painleve { .. }
+                            | ModelError::Chattering { .. } => err.to_string(),
                         };
                         (t, why, y_last)
                     }
@@ -326,13 +346,15 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                         format!(
                             "more than {max_steps} steps (chattering friction? try friction_law = \"coulomb\")"
                         ),
-                        y.to_vec(),
+                        last_accepted.1.to_vec(),
                     ),
                 };
                 error = Some(Error::runtime(
                     te * tu,
                     format!("{why}; {}", describe_state(&m, &ylast)),
                 ));
+                stats.steps = steps_seen;
+                stats.rhs_evals = m.evaluations;
                 if ylast.len() == DIM {
                     let mut yl = [0.0; DIM];
                     yl.copy_from_slice(&ylast);
@@ -344,6 +366,7 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
             Ok(o) => {
                 stats.rhs_evals += o.stats.rhs_evals;
                 stats.steps += o.stats.steps;
+                debug_assert_eq!(stats.steps, steps_seen);
                 stats.rejected += o.stats.rejected;
                 for f in &o.fired {
                     match f.index {
@@ -375,7 +398,29 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                 t = o.t;
                 y = o.y;
                 match o.stop {
-                    StopReason::End => break,
+                    StopReason::End if seg_end >= t_end => break,
+                    StopReason::End => {
+                        // A force switch: the integrator restarts with the new
+                        // force latched; while rolling, check that the contact
+                        // can still hold it.
+                        m.latch_force(t);
+                        if m.is_exact() && m.mode == Mode::Rolling {
+                            if let Ok(e) = m.eval(&y) {
+                                if m.stick_margin(&e) < 0.0 {
+                                    m.mode = Mode::Sliding;
+                                    m.slip_hint = unit([-e.friction[0], -e.friction[1]]);
+                                    m.slip_ref.set(m.slip_hint);
+                                    if let Some(s0) = rolling_since.take() {
+                                        rolling_time += t - s0;
+                                    }
+                                    events_out.push(EventRecord {
+                                        t: t * tu,
+                                        kind: "slip".into(),
+                                    });
+                                }
+                            }
+                        }
+                    }
                     StopReason::Terminal(EV_NORMAL) => {
                         error = Some(Error::runtime(
                             t * tu,

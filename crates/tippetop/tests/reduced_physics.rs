@@ -102,7 +102,11 @@ fn energy_conserved_frictionless_classical() {
     sc.surface.law = FrictionLaw::CoulombSliding;
     let tr = run(&sc);
     let e0 = tr.summary.energy_initial;
-    let emax = tr.samples.iter().map(|s| s.energy.abs()).fold(0.0, f64::max);
+    let emax = tr
+        .samples
+        .iter()
+        .map(|s| s.energy.abs())
+        .fold(0.0, f64::max);
     for s in &tr.samples {
         assert!(
             (s.energy - e0).abs() <= 1e-10 * emax,
@@ -126,7 +130,11 @@ fn energy_balance_with_friction_and_forcing() {
     for sc in cases {
         let tr = run(&sc);
         let e0 = tr.summary.energy_initial;
-        let emax = tr.samples.iter().map(|s| s.energy.abs()).fold(0.0, f64::max);
+        let emax = tr
+            .samples
+            .iter()
+            .map(|s| s.energy.abs())
+            .fold(0.0, f64::max);
         let mut worst: f64 = 0.0;
         for s in &tr.samples {
             let r = (s.energy - e0 - s.work_friction - s.work_applied).abs() / emax;
@@ -135,7 +143,11 @@ fn energy_balance_with_friction_and_forcing() {
         assert!(worst <= 1e-8, "energy balance residual {worst:e}");
         assert!(tr.summary.energy_balance_max_rel_error <= 1e-8);
         // Friction only ever removes energy.
-        assert!(tr.samples.windows(2).all(|w| w[1].work_friction <= w[0].work_friction + 1e-12 * emax));
+        assert!(
+            tr.samples
+                .windows(2)
+                .all(|w| w[1].work_friction <= w[0].work_friction + 1e-12 * emax)
+        );
     }
 }
 
@@ -189,7 +201,10 @@ fn nutation_frequency_matches_routhian() {
     let d = 1e-4;
     let vpp = (v(th0 + d) - 2.0 * v(th0) + v(th0 - d)) / (d * d);
     let vp = (v(th0 + d) - v(th0 - d)) / (2.0 * d);
-    assert!(vp.abs() * d < 1e-6 * vpp.abs() * d * d + 1e-12, "not an equilibrium");
+    assert!(
+        vp.abs() * d < 1e-6 * vpp.abs() * d * d + 1e-12,
+        "not an equilibrium"
+    );
     let nu = (vpp / (ia + m * a * a * th0.sin().powi(2))).sqrt();
 
     let mut sc = Scenario::classical();
@@ -249,7 +264,10 @@ fn rk4_order_four_classical() {
     }
     for w in errs.windows(2) {
         let ratio = w[0] / w[1];
-        assert!((13.0..19.0).contains(&ratio), "RK4 error ratio {ratio} ({errs:?})");
+        assert!(
+            (13.0..19.0).contains(&ratio),
+            "RK4 error ratio {ratio} ({errs:?})"
+        );
     }
 }
 
@@ -303,7 +321,11 @@ fn classical_inverts_regularized_and_nz_limit() {
         top.inertia_transverse,
         top.inertia_axial,
     );
-    assert!(tr.summary.theta_final > 3.0, "theta_final {}", tr.summary.theta_final);
+    assert!(
+        tr.summary.theta_final > 3.0,
+        "theta_final {}",
+        tr.summary.theta_final
+    );
     let j = tr.summary.jellett_initial;
     let target = 100.0 * (r * 0.1f64.cos() - a) / (r + a);
     let last = tr.samples.last().unwrap();
@@ -315,7 +337,11 @@ fn classical_inverts_regularized_and_nz_limit() {
         (nz - target).abs() <= bound + 1e-8 * target.abs(),
         "n_Z {nz} target {target} bound {bound}"
     );
-    assert!(bound < 0.05 * target.abs(), "theta not close enough to pi: {}", last.theta);
+    assert!(
+        bound < 0.05 * target.abs(),
+        "theta not close enough to pi: {}",
+        last.theta
+    );
 }
 
 /// The nano preset runs to 100 µs without tolerance trouble and meets the J bar.
@@ -337,7 +363,11 @@ fn normal_force_closure_matches_vertical_acceleration() {
     sc.solver.samples = 50001;
     let tr = run(&sc);
     let m = sc.top.mass;
-    let nmax = tr.samples.iter().map(|s| s.normal.abs()).fold(0.0, f64::max);
+    let nmax = tr
+        .samples
+        .iter()
+        .map(|s| s.normal.abs())
+        .fold(0.0, f64::max);
     for w in tr.samples.windows(3).step_by(97) {
         let dt = w[2].t - w[0].t;
         let az = (w[2].uz - w[0].uz) / dt;
@@ -380,7 +410,10 @@ fn contact_modes_run_and_report_negative_normal() {
         let s = &tr.summary;
         assert!(s.jellett_max_rel_drift <= 1e-10);
         let any_neg = tr.samples.iter().any(|x| x.normal < 0.0);
-        assert_eq!(any_neg, s.contact_lost_at.is_some() || s.negative_normal_fraction > 0.0);
+        assert_eq!(
+            any_neg,
+            s.contact_lost_at.is_some() || s.negative_normal_fraction > 0.0
+        );
         if let Some(t) = s.contact_lost_at {
             assert!(s.negative_normal_fraction > 0.0 && t < s.t_end);
         }

@@ -1,1 +1,5 @@
-//! Analyses built on runs: stability, asymptotics, sweeps. (work in progress)
+//! Analyses built on runs: the paper's claims, the friction-law (ε) study,
+//! stability, asymptotics, sweeps.
+
+pub mod friction;
+pub mod paper;

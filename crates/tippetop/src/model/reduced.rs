@@ -33,6 +33,11 @@ pub const WF: usize = 6;
 /// Index of the applied-force work.
 pub const WA: usize = 7;
 
+/// Slip reversals between accepted steps after which the sliding-only law is
+/// declared to chatter (a genuine motion reverses its slip only at isolated
+/// instants).
+pub const CHATTER_REVERSALS: u32 = 1000;
+
 /// |sin θ| below which the reduced equations are declared singular.
 pub const SIN_GUARD: f64 = 1e-8;
 
@@ -126,6 +131,12 @@ pub enum ModelError {
         /// Number of consistent solutions found (0 or 2).
         solutions: usize,
     },
+    /// The sliding-only Coulomb law reversed the slip direction at step
+    /// after step: the slip sits at zero, where that law has no solution.
+    Chattering {
+        /// Slip reversals counted.
+        reversals: u32,
+    },
 }
 
 impl std::fmt::Display for ModelError {
@@ -134,6 +145,10 @@ impl std::fmt::Display for ModelError {
             ModelError::Singular { theta } => write!(
                 f,
                 "theta = {theta:e} rad reached the pole of the Euler angles (|sin theta| < {SIN_GUARD:e}): the reduced model divides by sin theta there; use model = \"rigid\""
+            ),
+            ModelError::Chattering { reversals } => write!(
+                f,
+                "the sliding-only Coulomb law chatters: the slip reversed direction at {reversals} steps (it sits at zero slip, where mu N v/|v| is undefined); use friction_law = \"coulomb\" (exact stick/slip) or \"regularized\""
             ),
             ModelError::Painleve { theta, solutions } => write!(
                 f,
@@ -187,6 +202,11 @@ pub struct Reduced {
     pub slip_hint: [f64; 2],
     /// Reference slip direction for the slip-zero event (updated per step).
     pub slip_ref: Cell<[f64; 2]>,
+    /// Set by the driver when the sliding-only law chatters (see
+    /// [`ModelError::Chattering`]); the next evaluation then fails.
+    pub chattering: Cell<bool>,
+    /// Right-hand-side evaluations so far (all segments).
+    pub evaluations: u64,
     /// The SI top (for observables).
     pub top: Top,
     /// g \[m/s²\].
@@ -219,6 +239,8 @@ impl Reduced {
             mode: Mode::Sliding,
             slip_hint: [0.0, 0.0],
             slip_ref: Cell::new([0.0, 0.0]),
+            chattering: Cell::new(false),
+            evaluations: 0,
             top: sc.top,
             gravity_si: sc.surface.gravity,
         }
@@ -232,6 +254,11 @@ impl Reduced {
     /// True if the friction law is the exact stick/slip law.
     pub fn is_exact(&self) -> bool {
         self.exact
+    }
+
+    /// True for the sliding-only Coulomb law, which can chatter.
+    pub fn can_chatter(&self) -> bool {
+        !self.exact && self.law == Law::Coulomb
     }
 
     /// Friction coefficient μ.
@@ -273,11 +300,26 @@ impl Reduced {
         match self.law {
             Law::Coulomb => {
                 let n = v[0].hypot(v[1]);
-                if n > 0.0 {
-                    [mu * v[0] / n, mu * v[1] / n]
-                } else {
-                    [mu * self.slip_hint[0], mu * self.slip_hint[1]]
+                if n == 0.0 {
+                    return [mu * self.slip_hint[0], mu * self.slip_hint[1]];
                 }
+                // Exact law, sliding: the slip-zero event is located on the
+                // dense output of the step that crosses zero. Continuing the
+                // friction smoothly through the crossing (keep its direction,
+                // i.e. flip v/|v| once v·d < 0, d the approach direction)
+                // keeps that step smooth, so the event time is as accurate as
+                // the step; the stages past zero are discarded at the event.
+                let sgn = if self.exact {
+                    let d = self.slip_ref.get();
+                    if v[0] * d[0] + v[1] * d[1] < 0.0 {
+                        -1.0
+                    } else {
+                        1.0
+                    }
+                } else {
+                    1.0
+                };
+                [sgn * mu * v[0] / n, sgn * mu * v[1] / n]
             }
             Law::Regularized { eps } => {
                 let d = (v[0] * v[0] + v[1] * v[1] + eps * eps).sqrt();
@@ -464,6 +506,12 @@ impl OdeSystem<DIM> for Reduced {
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {
+        self.evaluations += 1;
+        if self.chattering.get() {
+            return Err(ModelError::Chattering {
+                reversals: CHATTER_REVERSALS,
+            });
+        }
         if self.mode == Mode::Rolling && y[TH].sin().abs() < SIN_GUARD {
             return Err(ModelError::Singular { theta: y[TH] });
         }
