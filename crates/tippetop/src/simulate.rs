@@ -26,11 +26,7 @@ pub fn simulate(scenario: &Scenario) -> Result<Trajectory, Error> {
     scenario.validate()?;
     match scenario.solver.model {
         ModelKind::Reduced => Ok(run_reduced(scenario)),
-        ModelKind::Rigid => Err(Error::invalid(
-            "solver.model",
-            "\"rigid\" is not implemented yet".into(),
-            "\"reduced\"".into(),
-        )),
+        ModelKind::Rigid => Ok(crate::model::rigid::run(scenario)),
     }
 }
 

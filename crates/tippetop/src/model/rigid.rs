@@ -1,0 +1,1249 @@
+//! Full 3D rigid-body model: centre-of-mass position and velocity, a unit
+//! quaternion for the attitude and the body-frame angular velocity, with the
+//! contact at the sphere's lowest point. It cross-checks the reduced
+//! (Euler-angle) model and handles what that one cannot: `θ = 0` or `π`
+//! exactly, and lift-off (free flight, touchdown).
+//!
+//! # State and units
+//!
+//! Scaled units as the reduced model ([`Scales`]: lengths by R, masses by m,
+//! times by the same `Scales::of`), so tolerances mean the same.
+//! The state (`DIM = 15`) is
+//! `[x_O (3), v_O (3), q (4: w, x, y, z; body → world), n_b (3), W_f, W_a]`:
+//! the centre-of-mass position and velocity in the space frame, the attitude
+//! quaternion, the angular velocity in the body frame (principal axes
+//! `e1, e2, e3 = k`, `I = diag(A, A, C)`), and the work done so far by
+//! friction and by the applied force.
+//!
+//! # Equations
+//!
+//! `k = q e3 q*`, geometric centre `C = O + a k`, lowest point
+//! `P = C − R Z`, `r = P − O = a k − R Z`. With the contact force `F` at `P`:
+//!
+//! - Newton: `m v̇ = F − m g Z`, `ẋ = v`.
+//! - Euler (body frame): `I ṅ_b = τ_b − n_b × I n_b`, `τ_b = q* (r × F) q`.
+//! - Attitude: `q̇ = ½ q ⊗ (0, n_b) − κ (|q|² − 1) q` with `κ = 1` (per
+//!   time unit): the second term makes `|q| = 1` attracting. The
+//!   right-hand side uses the normalised `q` for every rotation.
+//! - `Ẇ_f = F_f · v_P`, `Ẇ_a = (−H) · v_P`, `v_P = v + n × r`.
+//!
+//! `F = N Z + F_f − H`: `H = h_x x̂ + h_y ŷ` is the paper's retarding force
+//! (the force on the top is `−H`), `x̂` the horizontal unit vector along the
+//! horizontal projection of `k`, `ŷ = Z × x̂` (world `X`, `Y` when `k` is
+//! exactly vertical). `(h_x, h_y)` is latched per segment in
+//! `begin_segment`. Friction `F_f = −N_f f(v_P)` with the horizontal slip
+//! `v_P` and `f` from the law (`"coulomb"` is treated as sliding-only
+//! `"coulomb_sliding"` here, `f = 0` at exactly zero slip; every run with
+//! it records an event `"note: rigid model uses sliding-only Coulomb"` at
+//! `t = 0`).
+//!
+//! # Normal force (contact)
+//!
+//! Contact holds the height of `C` at `R`: `z_O + a k_Z = R`. Twice
+//! differentiated, with `k̈ = ṅ × k + n (n·k) − k |n|²` and
+//! `ṅ = ṅ₀ + I⁻¹ (r × F)`, `ṅ₀ = −I⁻¹ (n × I n)` (world frame,
+//! `I⁻¹ v = v/A + (1/C − 1/A)(v·k) k`), the constraint is linear in `N` for a
+//! given friction direction:
+//!
+//! ```text
+//! N D(σ) = Q,   e = k × Z,  w = (I⁻¹ e) × r,
+//! D(σ) = m⁻¹ + a (w_Z − σ f·w),
+//! Q    = g + a (H·w − ṅ₀·e − n_Z (n·k) + k_Z |n|²),
+//! ```
+//!
+//! with `N_f = σ N` (per unit mass; `m = 1` in scaled units). For
+//! `k = (s, 0, c)` this is exactly the reduced model's
+//! `D = 1 + m a s (a s − σ h f_x)/A`. The branches are those of the reduced
+//! model: bilateral takes the self-consistent sign (Painlevé error for 0 or
+//! 2 solutions), paper uses `N` with its sign, unilateral flies when `N`
+//! falls through 0.
+//!
+//! The vertical position and velocity stay in the state: in contact
+//! `v̇_z = N/m − g` is the constraint acceleration, so the constraint
+//! `z_C = R`, `v_Cz = 0` drifts only by the integration error. In contact
+//! they do not enter the dynamics at all (`r`, `v_P`'s horizontal part, `N`
+//! depend on the attitude, `n` and horizontal `v` only); the energy and the
+//! output `u_z` use the constraint values `z_O = R − a k_Z`,
+//! `v_z = −a (n × k)_Z`. The state is projected back onto `z_C = R`,
+//! `v_Cz = 0` (and `q` normalised) at every restart: lift-off, touchdown,
+//! and the force schedule's switch times. The driver integrates from switch
+//! to switch itself (one `solve` per segment, `begin_segment` latching the
+//! force at the segment's start) instead of passing the switch times as
+//! `tstops`, so that it can project there and, for unilateral contact, let
+//! the top fly at once when the new force makes `N` negative (a jump of `N`
+//! at a switch is not a zero crossing the event finder could see).
+//!
+//! # Outputs
+//!
+//! `θ = atan2(|k_h|, k_Z)`; `θ̇ = n·ŷ`; `Ω = ((k_h × k̇_h)·Z)/|k_h|²` (reported
+//! as 0 where `|k_h| < 1e-12`, where it is undefined); `ω = n·k`;
+//! `u_x, u_y = v·x̂, v·ŷ`; `J = −L·r` from `L = I n` and `r` in 3D; `E` as
+//! above; `rolling` is always 0. Events: as the reduced driver
+//! (`theta_above_half_pi`, `force_switch`, `contact_lost`/`contact_regained`
+//! for bilateral/paper contact), plus `lift_off`/`touchdown`.
+//!
+//! # Flight and touchdown (contact = "unilateral")
+//!
+//! Lift-off is the event `N = 0` (falling). In flight `N = 0`, no friction;
+//! gravity acts, and the applied force acts at the sphere's lowest point `P`.
+//! Touchdown is the event `z_C − R = 0` (falling), written as
+//! `(z_C − R)/(t − t_flight_start)` (and `v_Cz` at the flight's start) so
+//! that it is positive at the start of a rebound, where the gap is 0: a
+//! short bounce inside one step is still a sign change. A guard event at a
+//! penetration of `1e-10 R` catches anything that is missed anyway (e.g. a
+//! top that barely leaves the plane after a lift-off). The impact law:
+//!
+//! - impulse `Π` at `P`; the velocity of the material point at `P` jumps by
+//!   `K Π` with `K Π = Π/m − r × (I⁻¹ (r × Π))` (symmetric positive definite);
+//! - try sticking: `Π` such that the tangential velocity of `P` after the
+//!   impact is zero and the normal one is `−e v_n⁻` (Newton restitution,
+//!   `e = surface.restitution`). Accept if `|Π_t| ≤ μ Π_n`;
+//! - otherwise sliding: `Π = Π_n (Z − μ t̂)`, `t̂` the pre-impact tangential
+//!   slip direction (or, with no slip, minus the sticking impulse's
+//!   tangential direction), `Π_n` from the normal restitution condition.
+//!   A non-positive effective mass along that direction stops the run.
+//! - the energy the impact removes is added to `W_f` (so `work_friction`
+//!   includes impact losses and `E − E0 = W_f + W_a` holds across impacts).
+//! - if the rebound would give a flight shorter than `1e-9` time units
+//!   (`2 v_n⁺/Q`, `Q` the gap's downward acceleration), or `v_n⁺ = 0`
+//!   (`e = 0`), the top is put in contact (projected onto the constraint);
+//!   if then `N < 0` it lifts off at once. After [`MAX_BOUNCES`] bounces
+//!   without a contact phase, a bounce whose flight would be shorter than
+//!   1e-6 time units also ends in contact (Zeno guard).
+//!
+//! Every lift-off and touchdown is an [`EventRecord`] (`"lift_off"`,
+//! `"touchdown"`). For unilateral contact, `contact_lost_at` is the first
+//! lift-off and `negative_normal_fraction` the fraction of time in flight.
+
+use std::f64::consts::FRAC_PI_2;
+
+use crate::{
+    ContactMode, Error, EventRecord, Forcing, FrictionLaw, Method, Sample, Scenario, Summary, Top,
+    Trajectory,
+    integrate::{self, Direction, Event, IntegrateError, OdeSystem, Options, Stepper, StopReason},
+    model::reduced::Scales,
+};
+
+/// Number of state components.
+pub const DIM: usize = 15;
+/// Index of the centre-of-mass position (3 components).
+pub const POS: usize = 0;
+/// Index of the centre-of-mass velocity (3 components).
+pub const VEL: usize = 3;
+/// Index of the attitude quaternion (w, x, y, z).
+pub const QUAT: usize = 6;
+/// Index of the body-frame angular velocity (3 components).
+pub const OMB: usize = 10;
+/// Index of the friction work.
+pub const WF: usize = 13;
+/// Index of the applied-force work.
+pub const WA: usize = 14;
+
+/// Quaternion-norm stabilisation rate κ \[1/time unit\].
+pub const KAPPA: f64 = 1.0;
+/// Largest number of accepted steps of one run.
+pub const MAX_STEPS: u64 = 20_000_000;
+/// Bounces without a contact phase after which short bounces end in contact.
+pub const MAX_BOUNCES: usize = 1000;
+/// Largest number of lift-offs plus touchdowns of one run before it stops.
+pub const MAX_TRANSITIONS: usize = 200_000;
+/// Flight time \[time units\] below which a rebound is treated as contact.
+pub const MIN_FLIGHT: f64 = 1e-9;
+
+type V3 = [f64; 3];
+
+#[inline]
+fn add(a: V3, b: V3) -> V3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+#[inline]
+fn sub(a: V3, b: V3) -> V3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+#[inline]
+fn scale(s: f64, a: V3) -> V3 {
+    [s * a[0], s * a[1], s * a[2]]
+}
+#[inline]
+fn dot(a: V3, b: V3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+#[inline]
+fn cross(a: V3, b: V3) -> V3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Rotate `v` by the unit quaternion `q` (body → world).
+#[inline]
+fn rotate(q: [f64; 4], v: V3) -> V3 {
+    let u = [q[1], q[2], q[3]];
+    let t = scale(2.0, cross(u, v));
+    add(add(v, scale(q[0], t)), cross(u, t))
+}
+
+/// Rotate `v` by the inverse of the unit quaternion `q` (world → body).
+#[inline]
+fn rotate_inv(q: [f64; 4], v: V3) -> V3 {
+    rotate([q[0], -q[1], -q[2], -q[3]], v)
+}
+
+fn quat_of(y: &[f64; DIM]) -> [f64; 4] {
+    [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]]
+}
+
+fn normalized(q: [f64; 4]) -> [f64; 4] {
+    let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+    [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
+}
+
+fn v3(y: &[f64; DIM], i: usize) -> V3 {
+    [y[i], y[i + 1], y[i + 2]]
+}
+
+fn set3(y: &mut [f64; DIM], i: usize, v: V3) {
+    y[i..i + 3].copy_from_slice(&v);
+}
+
+const Z: V3 = [0.0, 0.0, 1.0];
+
+/// Contact or flight.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// On the plane: `z_C = R` held, `N` from the constraint.
+    Contact,
+    /// Free flight (unilateral contact only): `N = 0`, no friction.
+    Flight,
+}
+
+/// Friction law in scaled units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Law {
+    Coulomb,
+    Regularized { eps: f64 },
+    Viscous { eps: f64 },
+}
+
+/// Why the right-hand side (or an impact) cannot be evaluated.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RigidError {
+    /// The N equation with friction has 0 or 2 consistent solutions.
+    Painleve {
+        /// θ \[rad\].
+        theta: f64,
+        /// Number of consistent solutions found (0 or 2).
+        solutions: usize,
+    },
+    /// The sliding impact impulse has a non-positive effective mass.
+    ImpactJam {
+        /// θ \[rad\].
+        theta: f64,
+    },
+}
+
+impl std::fmt::Display for RigidError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RigidError::Painleve { theta, solutions } => write!(
+                f,
+                "Painleve paradox at theta = {theta}: the N equation with Coulomb friction has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists"
+            ),
+            RigidError::ImpactJam { theta } => write!(
+                f,
+                "touchdown at theta = {theta}: the sliding friction impulse has a non-positive effective mass (impact Painleve case); no impulse satisfies the impact law"
+            ),
+        }
+    }
+}
+
+/// Kinematic quantities at one state (scaled units, world frame).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Kin {
+    /// Normalised attitude quaternion.
+    pub q: [f64; 4],
+    /// Symmetry axis k.
+    pub k: V3,
+    /// Angular velocity n (world).
+    pub n: V3,
+    /// r = OP = a k − Z.
+    pub r: V3,
+    /// Velocity of the material point at P, v + n × r.
+    pub vp: V3,
+    /// Precessing-frame x̂ (horizontal, along k's projection; X if k vertical).
+    pub xh: V3,
+    /// ŷ = Z × x̂.
+    pub yh: V3,
+    /// |k_h| = sin θ.
+    pub kh: f64,
+}
+
+/// Everything the right-hand side computes at one state (scaled units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Eval {
+    /// State derivative.
+    pub dy: [f64; DIM],
+    /// Normal force N (0 in flight).
+    pub normal: f64,
+    /// Friction force on the top (world, horizontal).
+    pub friction: V3,
+    /// Kinematics.
+    pub kin: Kin,
+    /// `Q`: the normal force per unit `D`; `−Q` is the gap's acceleration in flight.
+    pub q_free: f64,
+}
+
+/// The rigid-body model as an ODE system in scaled units.
+#[derive(Debug, Clone)]
+pub struct Rigid {
+    /// Unit system.
+    pub scales: Scales,
+    a: f64,
+    ia: f64,
+    ic: f64,
+    g: f64,
+    mu: f64,
+    law: Law,
+    contact: ContactMode,
+    forcing: Forcing,
+    restitution: f64,
+    /// Latched (h_x, h_y), scaled.
+    h: [f64; 2],
+    /// Current phase.
+    pub phase: Phase,
+    /// Time the current flight started (scaled).
+    pub flight_start: f64,
+    /// The SI top.
+    pub top: Top,
+    /// g \[m/s²\].
+    pub gravity_si: f64,
+}
+
+impl Rigid {
+    /// Build the scaled model of a scenario.
+    pub fn new(sc: &Scenario) -> Self {
+        let scales = Scales::of(sc);
+        let v = scales.velocity();
+        let law = match sc.surface.law {
+            FrictionLaw::Coulomb | FrictionLaw::CoulombSliding => Law::Coulomb,
+            FrictionLaw::Regularized { eps } => Law::Regularized { eps: eps / v },
+            FrictionLaw::Viscous { eps } => Law::Viscous { eps: eps / v },
+        };
+        Rigid {
+            scales,
+            a: sc.top.offset / scales.length,
+            ia: sc.top.inertia_transverse / scales.inertia(),
+            ic: sc.top.inertia_axial / scales.inertia(),
+            g: sc.surface.gravity * scales.time * scales.time / scales.length,
+            mu: sc.surface.friction,
+            law,
+            contact: sc.surface.contact,
+            forcing: sc.forcing.clone(),
+            restitution: sc.surface.restitution,
+            h: [0.0, 0.0],
+            phase: Phase::Contact,
+            flight_start: 0.0,
+            top: sc.top,
+            gravity_si: sc.surface.gravity,
+        }
+    }
+
+    /// Contact mode.
+    pub fn contact_mode(&self) -> ContactMode {
+        self.contact
+    }
+
+    /// Gravity in scaled units.
+    pub fn gravity(&self) -> f64 {
+        self.g
+    }
+
+    /// Latched applied force (h_x, h_y) in scaled units.
+    pub fn applied(&self) -> [f64; 2] {
+        self.h
+    }
+
+    /// Latch the applied force in effect at scaled time `t`.
+    pub fn latch_force(&mut self, t: f64) {
+        let (hx, hy) = self.forcing.at(t * self.scales.time);
+        let f = self.scales.force();
+        self.h = [hx / f, hy / f];
+    }
+
+    /// Scaled state (in contact) from the SI initial values, with the
+    /// precessing x along world X: `k = (s, 0, c)`,
+    /// `n = ((ω − Ω c) s, θ̇, Ω s² + ω c)`, `v = (u_x, u_y, a s θ̇)`,
+    /// `z_O = R − a c`, `x_O = y_O = 0`.
+    pub fn scale_state(&self, i: &crate::Initial) -> [f64; DIM] {
+        let t = self.scales.time;
+        let vu = self.scales.velocity();
+        let (s, c) = i.theta.sin_cos();
+        let (thd, om, w) = (i.theta_dot * t, i.precession * t, i.spin * t);
+        let (hs, hc) = (0.5 * i.theta).sin_cos();
+        let q = [hc, 0.0, hs, 0.0];
+        let n_w = [(w - om * c) * s, thd, om * s * s + w * c];
+        let n_b = rotate_inv(q, n_w);
+        let mut y = [0.0; DIM];
+        set3(&mut y, POS, [0.0, 0.0, 1.0 - self.a * c]);
+        set3(&mut y, VEL, [i.ux / vu, i.uy / vu, self.a * s * thd]);
+        y[QUAT..QUAT + 4].copy_from_slice(&q);
+        set3(&mut y, OMB, n_b);
+        y
+    }
+
+    /// I⁻¹ v in the world frame for the symmetry axis k.
+    #[inline]
+    fn inv_inertia(&self, k: V3, v: V3) -> V3 {
+        let vk = dot(v, k);
+        add(
+            scale(1.0 / self.ia, v),
+            scale((1.0 / self.ic - 1.0 / self.ia) * vk, k),
+        )
+    }
+
+    /// I v in the world frame for the symmetry axis k.
+    #[inline]
+    fn inertia(&self, k: V3, v: V3) -> V3 {
+        add(scale(self.ia, v), scale((self.ic - self.ia) * dot(v, k), k))
+    }
+
+    /// Kinematics at a state.
+    pub fn kin(&self, y: &[f64; DIM]) -> Kin {
+        let q = normalized(quat_of(y));
+        let k = rotate(q, Z);
+        let n = rotate(q, v3(y, OMB));
+        let r = [self.a * k[0], self.a * k[1], self.a * k[2] - 1.0];
+        let vp = add(v3(y, VEL), cross(n, r));
+        let kh = k[0].hypot(k[1]);
+        let xh = if kh > 0.0 {
+            [k[0] / kh, k[1] / kh, 0.0]
+        } else {
+            [1.0, 0.0, 0.0]
+        };
+        let yh = [-xh[1], xh[0], 0.0];
+        Kin {
+            q,
+            k,
+            n,
+            r,
+            vp,
+            xh,
+            yh,
+            kh,
+        }
+    }
+
+    fn law_f(&self, v: V3) -> V3 {
+        let mu = self.mu;
+        match self.law {
+            Law::Coulomb => {
+                let n = v[0].hypot(v[1]);
+                if n > 0.0 {
+                    [mu * v[0] / n, mu * v[1] / n, 0.0]
+                } else {
+                    [0.0; 3]
+                }
+            }
+            Law::Regularized { eps } => {
+                let d = (v[0] * v[0] + v[1] * v[1] + eps * eps).sqrt();
+                [mu * v[0] / d, mu * v[1] / d, 0.0]
+            }
+            Law::Viscous { eps } => [mu * v[0] / eps, mu * v[1] / eps, 0.0],
+        }
+    }
+
+    /// Applied force on the top (world): −(h_x x̂ + h_y ŷ).
+    fn applied_world(&self, kin: &Kin) -> V3 {
+        scale(
+            -1.0,
+            add(scale(self.h[0], kin.xh), scale(self.h[1], kin.yh)),
+        )
+    }
+
+    /// Evaluate the model at a state in the current phase.
+    pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, RigidError> {
+        let kin = self.kin(y);
+        let (k, n, r) = (kin.k, kin.n, kin.r);
+        let fa = self.applied_world(&kin);
+        let wk = dot(n, k);
+        // Gyroscopic angular acceleration (world): −I⁻¹ (n × I n).
+        let ndot0 = scale(-1.0, self.inv_inertia(k, cross(n, self.inertia(k, n))));
+        let e = cross(k, Z);
+        let w = cross(self.inv_inertia(k, e), r);
+        let nn = dot(n, n);
+        // Q: −(gap acceleration) with N = 0 and no friction (H = −fa).
+        let q_free = self.g + self.a * (-dot(fa, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
+        let (normal, ff) = match self.phase {
+            Phase::Flight => (0.0, [0.0; 3]),
+            Phase::Contact => {
+                let f = self.law_f(kin.vp);
+                let fw = dot(f, w);
+                let dp = 1.0 + self.a * (w[2] - fw);
+                let dm = 1.0 + self.a * (w[2] + fw);
+                let theta = kin.kh.atan2(k[2]);
+                let normal = match self.contact {
+                    ContactMode::Paper => {
+                        if dp <= 0.0 {
+                            return Err(RigidError::Painleve {
+                                theta,
+                                solutions: 0,
+                            });
+                        }
+                        q_free / dp
+                    }
+                    ContactMode::Bilateral | ContactMode::Unilateral => {
+                        let np = q_free / dp;
+                        let nm = q_free / dm;
+                        let okp = dp != 0.0 && np >= 0.0;
+                        let okm = dm != 0.0 && nm < 0.0;
+                        match (okp, okm) {
+                            (true, false) => np,
+                            (false, true) => nm,
+                            (true, true) => {
+                                return Err(RigidError::Painleve {
+                                    theta,
+                                    solutions: 2,
+                                });
+                            }
+                            (false, false) => {
+                                return Err(RigidError::Painleve {
+                                    theta,
+                                    solutions: 0,
+                                });
+                            }
+                        }
+                    }
+                };
+                let nf = match self.contact {
+                    ContactMode::Paper => normal,
+                    _ => normal.abs(),
+                };
+                (normal, scale(-nf, f))
+            }
+        };
+        let force = add(add(scale(normal, Z), ff), fa);
+        let mut dy = [0.0; DIM];
+        // Translation.
+        set3(&mut dy, POS, v3(y, VEL));
+        set3(&mut dy, VEL, sub(force, scale(self.g, Z)));
+        // Euler's equations in the body frame.
+        let nb = v3(y, OMB);
+        let tau_b = rotate_inv(kin.q, cross(r, force));
+        let inb = [self.ia * nb[0], self.ia * nb[1], self.ic * nb[2]];
+        let gb = cross(nb, inb);
+        set3(
+            &mut dy,
+            OMB,
+            [
+                (tau_b[0] - gb[0]) / self.ia,
+                (tau_b[1] - gb[1]) / self.ia,
+                (tau_b[2] - gb[2]) / self.ic,
+            ],
+        );
+        // Attitude: q̇ = ½ q ⊗ (0, n_b) − κ (|q|² − 1) q.
+        let qs = quat_of(y);
+        let q2 = qs[0] * qs[0] + qs[1] * qs[1] + qs[2] * qs[2] + qs[3] * qs[3];
+        let st = KAPPA * (q2 - 1.0);
+        let (qw, qv) = (qs[0], [qs[1], qs[2], qs[3]]);
+        let qdw = -0.5 * dot(qv, nb);
+        let qdv = scale(0.5, add(scale(qw, nb), cross(qv, nb)));
+        dy[QUAT] = qdw - st * qw;
+        dy[QUAT + 1] = qdv[0] - st * qv[0];
+        dy[QUAT + 2] = qdv[1] - st * qv[1];
+        dy[QUAT + 3] = qdv[2] - st * qv[2];
+        // Work.
+        dy[WF] = dot(ff, kin.vp);
+        dy[WA] = dot(fa, kin.vp);
+        Ok(Eval {
+            dy,
+            normal,
+            friction: ff,
+            kin,
+            q_free,
+        })
+    }
+
+    /// Gap between the sphere and the plane, `z_C − R` (scaled).
+    pub fn gap(&self, y: &[f64; DIM]) -> f64 {
+        let k = rotate(normalized(quat_of(y)), Z);
+        y[POS + 2] + self.a * k[2] - 1.0
+    }
+
+    /// Rate of change of the gap, `v_Cz` (scaled).
+    pub fn gap_rate(&self, y: &[f64; DIM]) -> f64 {
+        let kin = self.kin(y);
+        y[VEL + 2] + self.a * cross(kin.n, kin.k)[2]
+    }
+
+    /// The touchdown event function: `gap/(t − t_flight_start)`, and the
+    /// gap rate at the flight's start. Same sign as the gap for `t` after the
+    /// start, but positive at the start of a rebound (where the gap is 0), so
+    /// that a touchdown within the first step is still a sign change.
+    pub fn touchdown_function(&self, t: f64, y: &[f64; DIM]) -> f64 {
+        let dt = t - self.flight_start;
+        if dt > 0.0 {
+            self.gap(y) / dt
+        } else {
+            self.gap_rate(y)
+        }
+    }
+
+    /// Project onto the contact constraint: normalise q, `z_C = R`, `v_Cz = 0`.
+    pub fn project_contact(&self, y: &mut [f64; DIM]) {
+        let q = normalized(quat_of(y));
+        y[QUAT..QUAT + 4].copy_from_slice(&q);
+        let k = rotate(q, Z);
+        let n = rotate(q, v3(y, OMB));
+        y[POS + 2] = 1.0 - self.a * k[2];
+        y[VEL + 2] = -self.a * cross(n, k)[2];
+    }
+
+    /// Angular momentum about the centre of mass (world, scaled).
+    pub fn angular_momentum(&self, y: &[f64; DIM]) -> V3 {
+        let kin = self.kin(y);
+        self.inertia(kin.k, kin.n)
+    }
+
+    /// Jellett's `J = −L·r_OP` computed in 3D (scaled, m R³/T).
+    pub fn jellett_scaled(&self, y: &[f64; DIM]) -> f64 {
+        let kin = self.kin(y);
+        -dot(self.inertia(kin.k, kin.n), kin.r)
+    }
+
+    /// Centre-of-mass height and velocity used for the energy and `u_z`:
+    /// the constraint values in contact, the state in flight.
+    fn vertical(&self, y: &[f64; DIM], kin: &Kin) -> (f64, f64) {
+        match self.phase {
+            Phase::Contact => (1.0 - self.a * kin.k[2], -self.a * cross(kin.n, kin.k)[2]),
+            Phase::Flight => (y[POS + 2], y[VEL + 2]),
+        }
+    }
+
+    /// Total energy `½ m |v|² + ½ n·I n + m g z_O` (scaled).
+    pub fn energy_scaled(&self, y: &[f64; DIM]) -> f64 {
+        let kin = self.kin(y);
+        let (z, vz) = self.vertical(y, &kin);
+        let v = [y[VEL], y[VEL + 1], vz];
+        0.5 * dot(v, v) + 0.5 * dot(kin.n, self.inertia(kin.k, kin.n)) + self.g * z
+    }
+
+    /// Energy from the state as stored (scaled).
+    fn energy_raw(&self, y: &[f64; DIM]) -> f64 {
+        let kin = self.kin(y);
+        let v = v3(y, VEL);
+        0.5 * dot(v, v) + 0.5 * dot(kin.n, self.inertia(kin.k, kin.n)) + self.g * y[POS + 2]
+    }
+
+    /// Spin ω = n·k (scaled).
+    pub fn spin_scaled(&self, y: &[f64; DIM]) -> f64 {
+        let kin = self.kin(y);
+        dot(kin.n, kin.k)
+    }
+
+    /// θ = angle between k and Z \[rad\].
+    pub fn theta(&self, y: &[f64; DIM]) -> f64 {
+        let kin = self.kin(y);
+        kin.kh.atan2(kin.k[2])
+    }
+
+    /// Touchdown impulse (see the module doc). Returns the post-impact state
+    /// and the rebound normal speed of P.
+    pub fn impact(&self, y: &[f64; DIM]) -> Result<([f64; DIM], f64), RigidError> {
+        let kin = self.kin(y);
+        let (k, r) = (kin.k, kin.r);
+        let vp = kin.vp;
+        let vn = vp[2].min(0.0);
+        let e = self.restitution;
+        // Columns of K.
+        let kmul = |p: V3| sub(p, cross(r, self.inv_inertia(k, cross(r, p))));
+        let cols = [
+            kmul([1.0, 0.0, 0.0]),
+            kmul([0.0, 1.0, 0.0]),
+            kmul([0.0, 0.0, 1.0]),
+        ];
+        let target = [-vp[0], -vp[1], -(1.0 + e) * vn];
+        let stick = solve3(cols, target);
+        let pt = stick[0].hypot(stick[1]);
+        let imp = if pt <= self.mu * stick[2] {
+            stick
+        } else {
+            let vt = vp[0].hypot(vp[1]);
+            let d = if vt > 0.0 {
+                [-vp[0] / vt, -vp[1] / vt, 0.0]
+            } else if pt > 0.0 {
+                [stick[0] / pt, stick[1] / pt, 0.0]
+            } else {
+                [0.0; 3]
+            };
+            let dir = add(Z, scale(self.mu, d));
+            let kn = kmul(dir)[2];
+            if kn <= 0.0 {
+                return Err(RigidError::ImpactJam {
+                    theta: kin.kh.atan2(k[2]),
+                });
+            }
+            scale(-(1.0 + e) * vn / kn, dir)
+        };
+        let mut yn = *y;
+        y_normalize(&mut yn, kin.q);
+        set3(&mut yn, VEL, add(v3(y, VEL), imp));
+        let n_new = add(kin.n, self.inv_inertia(k, cross(r, imp)));
+        set3(&mut yn, OMB, rotate_inv(kin.q, n_new));
+        let vpn = add(v3(&yn, VEL), cross(n_new, r))[2];
+        Ok((yn, vpn.max(0.0)))
+    }
+}
+
+fn y_normalize(y: &mut [f64; DIM], q: [f64; 4]) {
+    y[QUAT..QUAT + 4].copy_from_slice(&q);
+}
+
+/// Solve the 3×3 system with columns `c` (Cramer's rule; K is SPD).
+fn solve3(c: [V3; 3], b: V3) -> V3 {
+    let det = dot(c[0], cross(c[1], c[2]));
+    [
+        dot(b, cross(c[1], c[2])) / det,
+        dot(c[0], cross(b, c[2])) / det,
+        dot(c[0], cross(c[1], b)) / det,
+    ]
+}
+
+impl OdeSystem<DIM> for Rigid {
+    type Error = RigidError;
+
+    fn begin_segment(&mut self, t: f64, _y: &[f64; DIM]) {
+        self.latch_force(t);
+    }
+
+    fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), RigidError> {
+        *dy = self.eval(y)?.dy;
+        Ok(())
+    }
+}
+
+// ---------------------------------------------------------------------------
+// The driver.
+
+const EV_HALF_PI: usize = 0;
+const EV_THETA_MAX: usize = 1;
+const EV_CONTACT: usize = 2;
+const EV_GUARD: usize = 3;
+
+/// Penetration \[R\] at which the guard event declares a touchdown.
+pub const PENETRATION_GUARD: f64 = 1e-10;
+
+fn events_for(m: &Rigid) -> Vec<Event<Rigid, DIM>> {
+    let mut ev: Vec<Event<Rigid, DIM>> = vec![
+        // θ rises through π/2 ⇔ k_Z falls through 0.
+        Event {
+            g: Box::new(|m, _, y| -m.kin(y).k[2]),
+            direction: Direction::Rising,
+            terminal: false,
+        },
+        // θ̇ ∝ −(n × k)_Z falls through 0 at a local maximum of θ.
+        Event {
+            g: Box::new(|m, _, y| {
+                let kin = m.kin(y);
+                -cross(kin.n, kin.k)[2]
+            }),
+            direction: Direction::Falling,
+            terminal: false,
+        },
+    ];
+    match (m.phase, m.contact) {
+        (Phase::Flight, _) => {
+            ev.push(Event {
+                g: Box::new(|m, t, y| m.touchdown_function(t, y)),
+                direction: Direction::Falling,
+                terminal: true,
+            });
+            // Guard: a touchdown the first event missed (gap back below 0
+            // within the flight's first step) is caught at a penetration of
+            // 1e-10 R.
+            ev.push(Event {
+                g: Box::new(|m, _, y| m.gap(y) + PENETRATION_GUARD),
+                direction: Direction::Falling,
+                terminal: true,
+            });
+        }
+        (Phase::Contact, ContactMode::Unilateral) => ev.push(Event {
+            g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
+            direction: Direction::Falling,
+            terminal: true,
+        }),
+        (Phase::Contact, _) => ev.push(Event {
+            g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
+            direction: Direction::Either,
+            terminal: false,
+        }),
+    }
+    ev
+}
+
+struct Track {
+    j0: f64,
+    j_dev_max: f64,
+    omega_abs_max: f64,
+    e0: f64,
+    e_abs_max: f64,
+    balance_max: f64,
+    theta_max: f64,
+}
+
+impl Track {
+    fn visit(&mut self, m: &Rigid, y: &[f64; DIM]) {
+        self.theta_max = self.theta_max.max(m.theta(y));
+        self.omega_abs_max = self.omega_abs_max.max(m.spin_scaled(y).abs());
+        self.j_dev_max = self.j_dev_max.max((m.jellett_scaled(y) - self.j0).abs());
+        let en = m.energy_scaled(y);
+        self.e_abs_max = self.e_abs_max.max(en.abs());
+        self.balance_max = self.balance_max.max((en - self.e0 - y[WF] - y[WA]).abs());
+    }
+}
+
+/// One output row from a scaled state.
+pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
+    let sc = m.scales;
+    let (tu, vu) = (sc.time, sc.velocity());
+    let ev = m.eval(y).ok();
+    let kin = m.kin(y);
+    let (k, n) = (kin.k, kin.n);
+    let kdot = cross(n, k);
+    let theta = kin.kh.atan2(k[2]);
+    let om = if kin.kh > 1e-12 {
+        (k[0] * kdot[1] - k[1] * kdot[0]) / (kin.kh * kin.kh)
+    } else {
+        0.0
+    };
+    let (_, vz) = m.vertical(y, &kin);
+    let h = m.applied();
+    let normal = ev.map(|e| e.normal).unwrap_or(f64::NAN);
+    let v = v3(y, VEL);
+    Sample {
+        t: t * tu,
+        theta,
+        theta_dot: dot(n, kin.yh) / tu,
+        precession: om / tu,
+        spin: dot(n, k) / tu,
+        ux: dot(v, kin.xh) * vu,
+        uy: dot(v, kin.yh) * vu,
+        uz: vz * vu,
+        normal: normal * sc.force(),
+        slip: kin.vp[0].hypot(kin.vp[1]) * vu,
+        jellett: m.jellett_scaled(y) * sc.mass * sc.length.powi(3) / tu,
+        energy: m.energy_scaled(y) * sc.energy(),
+        work_friction: y[WF] * sc.energy(),
+        work_applied: y[WA] * sc.energy(),
+        hx: h[0] * sc.force(),
+        hy: h[1] * sc.force(),
+        rolling: 0,
+    }
+}
+
+fn describe_state(m: &Rigid, y: &[f64]) -> String {
+    if y.len() != DIM {
+        return "state unavailable".into();
+    }
+    let mut a = [0.0; DIM];
+    a.copy_from_slice(y);
+    let s = sample_of(m, 0.0, &a);
+    format!(
+        "state: theta = {}, theta_dot = {:e} rad/s, Omega = {:e} rad/s, omega = {:e} rad/s, ux = {:e} m/s, uy = {:e} m/s, uz = {:e} m/s, gap = {:e} m ({:?})",
+        s.theta,
+        s.theta_dot,
+        s.precession,
+        s.spin,
+        s.ux,
+        s.uy,
+        s.uz,
+        m.gap(&a) * m.scales.length,
+        m.phase
+    )
+}
+
+/// Put the top in contact at `y` (projected); for unilateral contact, if
+/// `N < 0` there it flies at once. Returns the phase chosen. The projection's
+/// kinetic-energy change is booked into `W_f`.
+fn enter_contact(m: &mut Rigid, t: f64, y: &mut [f64; DIM]) -> Phase {
+    let before = m.energy_raw(y);
+    m.project_contact(y);
+    y[WF] += m.energy_raw(y) - before;
+    m.phase = Phase::Contact;
+    if m.contact == ContactMode::Unilateral {
+        if let Ok(e) = m.eval(y) {
+            if e.normal < 0.0 {
+                m.phase = Phase::Flight;
+                m.flight_start = t;
+            }
+        }
+    }
+    m.phase
+}
+
+/// Run `sc` with the rigid model (the scenario is assumed validated).
+pub fn run(sc: &Scenario) -> Trajectory {
+    run_observed(sc, &mut |_, _, _| {})
+}
+
+/// As [`run`], calling `observe(model, t, y)` (scaled time and state) after
+/// every accepted step and at every event that ends an integration (lift-off,
+/// touchdown), before the state is changed there.
+pub fn run_observed(
+    sc: &Scenario,
+    observe: &mut dyn FnMut(&Rigid, f64, &[f64; DIM]),
+) -> Trajectory {
+    let mut m = Rigid::new(sc);
+    let tu = m.scales.time;
+    let t_end = sc.solver.t_end / tu;
+    let ns = sc.solver.samples;
+    let sample_times: Vec<f64> = (0..ns)
+        .map(|i| {
+            if i + 1 == ns {
+                t_end
+            } else {
+                t_end * i as f64 / (ns - 1) as f64
+            }
+        })
+        .collect();
+    let tstops: Vec<f64> = sc
+        .forcing
+        .switch_times()
+        .into_iter()
+        .map(|t| t / tu)
+        .filter(|&t| t > 0.0 && t < t_end)
+        .collect();
+    let opts = Options {
+        stepper: match sc.solver.method {
+            Method::Adaptive => Stepper::Dop853 {
+                rtol: sc.solver.rtol,
+                atol: sc.solver.rtol,
+            },
+            Method::Rk4 => Stepper::Rk4 {
+                h: t_end / sc.solver.steps as f64,
+            },
+        },
+        max_steps: MAX_STEPS,
+        h0: None,
+        // As the reduced driver: no step longer than the sample spacing, so
+        // the dense output (samples, events) stays at the step-error level.
+        h_max: Some(t_end / (ns - 1) as f64),
+    };
+
+    let mut y = m.scale_state(&sc.initial);
+    m.latch_force(0.0);
+    let mut events_out: Vec<EventRecord> = Vec::new();
+    if sc.surface.law == FrictionLaw::Coulomb {
+        events_out.push(EventRecord {
+            t: 0.0,
+            kind: "note: rigid model uses sliding-only Coulomb".into(),
+        });
+    }
+    for &ts in &tstops {
+        events_out.push(EventRecord {
+            t: ts * tu,
+            kind: "force_switch".into(),
+        });
+    }
+
+    let unilateral = m.contact == ContactMode::Unilateral;
+    let n_initial = m.eval(&y).map(|e| e.normal).unwrap_or(f64::NAN);
+    let mut lift_offs: Vec<f64> = Vec::new();
+    let mut flight_since: Option<f64> = None;
+    let mut flight_time = 0.0;
+    if unilateral && n_initial < 0.0 {
+        m.phase = Phase::Flight;
+        m.flight_start = 0.0;
+        flight_since = Some(0.0);
+        lift_offs.push(0.0);
+        events_out.push(EventRecord {
+            t: 0.0,
+            kind: "lift_off".into(),
+        });
+    }
+
+    let mut track = Track {
+        j0: m.jellett_scaled(&y),
+        j_dev_max: 0.0,
+        omega_abs_max: m.spin_scaled(&y).abs(),
+        e0: m.energy_scaled(&y),
+        e_abs_max: 0.0,
+        balance_max: 0.0,
+        theta_max: m.theta(&y),
+    };
+    track.e_abs_max = track.e0.abs();
+
+    let mut samples: Vec<Sample> = Vec::with_capacity(ns);
+    let mut stats = integrate::Stats::default();
+    let mut t = 0.0;
+    let mut error: Option<Error> = None;
+    let mut first_above: Option<f64> = (m.theta(&y) > FRAC_PI_2).then_some(0.0);
+    let mut normal_crossings: Vec<f64> = Vec::new();
+    let mut transitions = 0usize;
+    let mut bounces = 0usize;
+
+    loop {
+        let events = events_for(&m);
+        let next = samples.len();
+        let mut on_sample = |s: &Rigid, t: f64, y: &[f64; DIM]| {
+            samples.push(sample_of(s, t, y));
+        };
+        let mut on_step = |s: &Rigid, t: f64, y: &[f64; DIM]| {
+            track.visit(s, y);
+            observe(s, t, y);
+        };
+        // Integrate to the next force switch (or the end): the driver, not
+        // the integrator, handles the switch, so it can project the state
+        // and let the top lift off if the new force makes N negative.
+        let t_stop = tstops.iter().copied().find(|&s| s > t).unwrap_or(t_end);
+        let res = integrate::solve(
+            &mut m,
+            &opts,
+            t,
+            y,
+            t_stop,
+            &[],
+            &sample_times[next..],
+            &events,
+            &mut on_sample,
+            &mut on_step,
+        );
+        match res {
+            Err(e) => {
+                let (te, why, ylast) = match e {
+                    IntegrateError::Rhs { t, y_last, err } => (t, err.to_string(), y_last),
+                    IntegrateError::StepUnderflow { t, h, y_last } => (
+                        t,
+                        format!("step size underflow (h = {:e} s)", h * tu),
+                        y_last,
+                    ),
+                    IntegrateError::NonFinite { t, y_last } => {
+                        (t, "the solution became NaN or infinite".to_string(), y_last)
+                    }
+                    IntegrateError::TooManySteps { t, max_steps } => {
+                        (t, format!("more than {max_steps} steps"), y.to_vec())
+                    }
+                };
+                error = Some(Error::runtime(
+                    te * tu,
+                    format!("{why}; {}", describe_state(&m, &ylast)),
+                ));
+                if ylast.len() == DIM {
+                    y.copy_from_slice(&ylast);
+                }
+                t = te;
+                break;
+            }
+            Ok(o) => {
+                stats.rhs_evals += o.stats.rhs_evals;
+                stats.steps += o.stats.steps;
+                stats.rejected += o.stats.rejected;
+                for f in &o.fired {
+                    match f.index {
+                        EV_HALF_PI if first_above.is_none() => {
+                            first_above = Some(f.t * tu);
+                            events_out.push(EventRecord {
+                                t: f.t * tu,
+                                kind: "theta_above_half_pi".into(),
+                            });
+                        }
+                        EV_THETA_MAX => track.visit(&m, &f.y),
+                        EV_CONTACT if !unilateral => {
+                            let neg_after = normal_crossings.len() % 2 == 0 && n_initial >= 0.0
+                                || normal_crossings.len() % 2 == 1 && n_initial < 0.0;
+                            normal_crossings.push(f.t);
+                            events_out.push(EventRecord {
+                                t: f.t * tu,
+                                kind: if neg_after {
+                                    "contact_lost"
+                                } else {
+                                    "contact_regained"
+                                }
+                                .into(),
+                            });
+                        }
+                        _ => {}
+                    }
+                }
+                t = o.t;
+                y = o.y;
+                match o.stop {
+                    StopReason::End if t >= t_end => break,
+                    StopReason::End => {
+                        // A force switch: latch the new force (solve does it
+                        // again in begin_segment), project onto the contact
+                        // constraint, and fly if N < 0 now (unilateral).
+                        m.latch_force(t);
+                        if m.phase == Phase::Contact {
+                            m.project_contact(&mut y);
+                            let n = m.eval(&y).map(|e| e.normal).unwrap_or(0.0);
+                            if unilateral && n < 0.0 {
+                                m.phase = Phase::Flight;
+                                m.flight_start = t;
+                                flight_since = Some(t);
+                                lift_offs.push(t);
+                                events_out.push(EventRecord {
+                                    t: t * tu,
+                                    kind: "lift_off".into(),
+                                });
+                            }
+                        }
+                    }
+                    StopReason::Terminal(EV_CONTACT | EV_GUARD) => {
+                        transitions += 1;
+                        if transitions > MAX_TRANSITIONS {
+                            error = Some(Error::runtime(
+                                t * tu,
+                                format!(
+                                    "more than {MAX_TRANSITIONS} lift-offs and touchdowns; {}",
+                                    describe_state(&m, &y)
+                                ),
+                            ));
+                            break;
+                        }
+                        match m.phase {
+                            Phase::Contact => {
+                                // Lift-off: N fell through 0.
+                                m.project_contact(&mut y);
+                                m.phase = Phase::Flight;
+                                m.flight_start = t;
+                                flight_since = Some(t);
+                                lift_offs.push(t);
+                                events_out.push(EventRecord {
+                                    t: t * tu,
+                                    kind: "lift_off".into(),
+                                });
+                            }
+                            Phase::Flight => {
+                                events_out.push(EventRecord {
+                                    t: t * tu,
+                                    kind: "touchdown".into(),
+                                });
+                                // Put C exactly on the plane, then the impulse.
+                                let kz = m.kin(&y).k[2];
+                                let before = m.energy_scaled(&y);
+                                y[POS + 2] = 1.0 - m.a * kz;
+                                let (yn, vn_plus) = match m.impact(&y) {
+                                    Ok(v) => v,
+                                    Err(err) => {
+                                        error = Some(Error::runtime(
+                                            t * tu,
+                                            format!("{err}; {}", describe_state(&m, &y)),
+                                        ));
+                                        break;
+                                    }
+                                };
+                                // Book the impact's energy change (position
+                                // unchanged) into W_f.
+                                let after = m.energy_scaled(&yn);
+                                y = yn;
+                                y[WF] += after - before;
+                                bounces += 1;
+                                let qf = m.eval(&y).map(|e| e.q_free).unwrap_or(0.0);
+                                let t_fl = if qf > 0.0 {
+                                    2.0 * vn_plus / qf
+                                } else {
+                                    f64::INFINITY
+                                };
+                                let settle = vn_plus <= 0.0
+                                    || t_fl < MIN_FLIGHT
+                                    || (bounces > MAX_BOUNCES && t_fl < 1e3 * MIN_FLIGHT);
+                                m.flight_start = t;
+                                if settle {
+                                    if let Some(s0) = flight_since.take() {
+                                        flight_time += t - s0;
+                                    }
+                                    bounces = 0;
+                                    if enter_contact(&mut m, t, &mut y) == Phase::Flight {
+                                        flight_since = Some(t);
+                                        lift_offs.push(t);
+                                        events_out.push(EventRecord {
+                                            t: t * tu,
+                                            kind: "lift_off".into(),
+                                        });
+                                    }
+                                }
+                            }
+                        }
+                    }
+                    StopReason::Terminal(_) => break,
+                }
+            }
+        }
+    }
+    if let Some(s0) = flight_since {
+        flight_time += t - s0;
+    }
+    track.visit(&m, &y);
+
+    let (contact_lost_at, negative_normal_fraction) = if unilateral {
+        (
+            lift_offs.first().map(|&t| t * tu),
+            if t > 0.0 { flight_time / t } else { 0.0 },
+        )
+    } else {
+        let mut neg_time = 0.0;
+        let mut neg = n_initial < 0.0;
+        let mut last = 0.0;
+        for &tc in &normal_crossings {
+            if neg {
+                neg_time += tc - last;
+            }
+            neg = !neg;
+            last = tc;
+        }
+        if neg {
+            neg_time += t - last;
+        }
+        (
+            if n_initial < 0.0 {
+                Some(0.0)
+            } else {
+                normal_crossings.first().map(|&tc| tc * tu)
+            },
+            if t > 0.0 { neg_time / t } else { 0.0 },
+        )
+    };
+    events_out.sort_by(|a, b| a.t.total_cmp(&b.t));
+
+    let last = sample_of(&m, t, &y);
+    let jscale = m.ic * track.omega_abs_max;
+    let summary = Summary {
+        t_end: t * tu,
+        theta_final: last.theta,
+        theta_max: track.theta_max,
+        omega_final: last.spin,
+        precession_final: last.precession,
+        jellett_initial: samples.first().map(|s| s.jellett).unwrap_or(f64::NAN),
+        jellett_max_rel_drift: if jscale > 0.0 {
+            track.j_dev_max / jscale
+        } else {
+            track.j_dev_max
+        },
+        energy_initial: samples.first().map(|s| s.energy).unwrap_or(f64::NAN),
+        energy_final: last.energy,
+        energy_balance_max_rel_error: if track.e_abs_max > 0.0 {
+            track.balance_max / track.e_abs_max
+        } else {
+            track.balance_max
+        },
+        first_time_theta_above_half_pi: first_above,
+        contact_lost_at,
+        negative_normal_fraction,
+        rolling_fraction: 0.0,
+        steps: stats.steps,
+        rejected_steps: stats.rejected,
+        rhs_evaluations: stats.rhs_evals,
+        status: match &error {
+            None => "ok".into(),
+            Some(e) => e.to_string(),
+        },
+    };
+    Trajectory {
+        samples,
+        events: events_out,
+        summary,
+        error,
+    }
+}
