@@ -45,8 +45,12 @@ pub enum Command {
     /// Reproduce the nano tippe-top paper's figures and numbers.
     #[command(
         long_about = "Reproduce the nano tippe-top paper's figures and numbers: runs \
-                            the paper's scenarios and writes figures (PNG and SVG), their \
-                            data (CSV) and a report into --out."
+                            the paper's scenarios (scenarios/*.toml, embedded) three ways (accurate \
+                            with bilateral contact and exact Coulomb friction; the paper's literal \
+                            law solved accurately; the paper's RK4 on 500 steps) and writes into \
+                            --out: figNN.png/.svg/.csv for figures 02-15, report.md (every claim \
+                            of the paper beside what we measured, with a verdict and why) and \
+                            claims.json."
     )]
     Reproduce(ReproduceArgs),
 }
@@ -105,9 +109,15 @@ pub struct ReproduceArgs {
     #[arg(long, value_name = "DIR", default_value = "out")]
     pub out: PathBuf,
 
-    /// Also run the extended studies beyond the paper (slower).
+    /// Also run the extended studies beyond the paper (slower): the ε study
+    /// of the friction law over 10 s and 150 s.
     #[arg(long)]
     pub extended: bool,
+
+    /// Shorten every window 10x: a smoke test of the pipeline (the verdicts
+    /// are then meaningless and the report says so).
+    #[arg(long)]
+    pub quick: bool,
 }
 
 #[cfg(test)]

@@ -1,13 +1,200 @@
-//! `tippetop reproduce`: regenerate the figures and numbers of the nano
-//! tippe-top paper into `--out`. Not yet implemented.
+//! `tippetop reproduce`: regenerate every numerical result of the nano
+//! tippe-top paper into `--out`: for each figure NN, `figNN.png`,
+//! `figNN.svg` and `figNN.csv` (first column t in seconds, one column per
+//! curve), plus `report.md` (each claim beside what we measured, with a
+//! verdict) and `claims.json`. The physics and the verdicts are computed by
+//! `tippetop::analysis::paper`; this module only writes them.
 
-use anyhow::{Result, bail};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use tippetop::analysis::paper::{self, Figure, Options, Reproduction};
 
 use crate::ReproduceArgs;
+use crate::output::{write_bytes_atomic, write_json_pretty, write_series_csv};
+use crate::plot::{Legend, PlotOpts, RefLine, Series, line_plot};
+use crate::progress;
 
 /// Reproduce the paper's results into `args.out` (`args.extended` adds the
-/// extra studies). `quiet` silences everything but errors.
+/// ε study of the friction law). `quiet` silences everything but errors.
 pub fn run(args: &ReproduceArgs, quiet: bool) -> Result<()> {
-    let _ = (&args.out, args.extended, quiet);
-    bail!("reproduce: not yet implemented")
+    if args.out.exists() && !args.out.is_dir() {
+        return Err(tippetop::Error::invalid(
+            "--out",
+            format!("{} exists and is not a directory", args.out.display()),
+            "a directory path".into(),
+        )
+        .into());
+    }
+    let t0 = std::time::Instant::now();
+    let pb = progress::spinner(quiet, "running the paper's scenarios");
+    let rep = paper::reproduce(
+        Options {
+            quick: args.quick,
+            extended: args.extended,
+        },
+        &mut |name| pb.set_message(format!("running {name}")),
+    )?;
+    pb.set_message("writing figures");
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    write_all(&args.out, &rep)?;
+    pb.finish_and_clear();
+    if !quiet {
+        let count = |v: paper::Verdict| rep.claims.iter().filter(|c| c.verdict == v).count();
+        println!(
+            "reproduced the paper in {:.2} s: {} figures, {} claims ({} reproduced, {} partly, {} not reproduced)",
+            t0.elapsed().as_secs_f64(),
+            rep.figures.len() + 1,
+            rep.claims.len(),
+            count(paper::Verdict::Reproduced),
+            count(paper::Verdict::Partly),
+            count(paper::Verdict::NotReproduced)
+        );
+        for c in &rep.claims {
+            println!("  {:<16} {}", c.verdict.as_str(), c.id);
+        }
+        println!("report: {}", args.out.join("report.md").display());
+    }
+    Ok(())
+}
+
+/// Write every file of a reproduction into `dir`.
+pub fn write_all(dir: &Path, rep: &Reproduction) -> Result<()> {
+    for f in &rep.figures {
+        write_figure(dir, f)?;
+    }
+    write_fig05(dir, rep)?;
+    write_json_pretty(&dir.join("claims.json"), &rep.claims)?;
+    write_bytes_atomic(
+        &dir.join("report.md"),
+        paper::report_markdown(rep).as_bytes(),
+    )?;
+    Ok(())
+}
+
+/// figNN.csv on the union of the curves' time grids (empty field where a
+/// curve has no value), and the PNG/SVG plot.
+fn write_figure(dir: &Path, f: &Figure) -> Result<()> {
+    let mut grid: BTreeMap<u64, usize> = BTreeMap::new();
+    for c in &f.curves {
+        for &t in &c.t {
+            // t >= 0, so the bit pattern orders like the value.
+            grid.insert(t.to_bits(), 0);
+        }
+    }
+    for (i, v) in grid.values_mut().enumerate() {
+        *v = i;
+    }
+    let ts: Vec<f64> = grid.keys().map(|&b| f64::from_bits(b)).collect();
+    let mut cols: Vec<Vec<f64>> = vec![ts.clone()];
+    for c in &f.curves {
+        let mut col = vec![f64::NAN; ts.len()];
+        for (t, y) in c.t.iter().zip(&c.y) {
+            col[grid[&t.to_bits()]] = *y;
+        }
+        cols.push(col);
+    }
+    let mut headers = vec!["t".to_string()];
+    headers.extend(f.curves.iter().map(|c| c.name.clone()));
+    let h: Vec<&str> = headers.iter().map(|s| s.as_str()).collect();
+    let c: Vec<&[f64]> = cols.iter().map(|v| v.as_slice()).collect();
+    write_series_csv(&dir.join(format!("fig{}.csv", f.id)), &h, &c)?;
+
+    let series: Vec<Series> = f
+        .curves
+        .iter()
+        .map(|c| {
+            let s = Series::new(
+                c.name.clone(),
+                c.t.iter().map(|t| t * f.x_scale).collect(),
+                c.y.clone(),
+            );
+            if c.dashed { s.dashed() } else { s }
+        })
+        .collect();
+    let opts = PlotOpts {
+        hlines: f
+            .hlines
+            .iter()
+            .map(|(y, l)| RefLine::new(*y, l.clone()))
+            .collect(),
+        legend: Legend::LowerRight,
+        ..Default::default()
+    };
+    line_plot(
+        &dir.join(format!("fig{}", f.id)),
+        &f.title,
+        &f.x_label,
+        &f.y_label,
+        &series,
+        &opts,
+    )
+}
+
+/// Fig. 5: the top drawn at several instants (sphere, symmetry axis, centre
+/// of mass), side by side, in units of Å.
+fn write_fig05(dir: &Path, rep: &Reproduction) -> Result<()> {
+    let (r, a) = rep.geometry;
+    let unit = 1e-10; // Å
+    let (rr, aa) = (r / unit, a / unit);
+    let spacing = 3.0 * rr;
+    let mut series = Vec::new();
+    for (i, &(t, theta)) in rep.snapshots.iter().enumerate() {
+        let x0 = i as f64 * spacing;
+        let (s, c) = theta.sin_cos();
+        let centre = (x0, rr);
+        let circle = |rad: f64, cx: f64, cy: f64| -> (Vec<f64>, Vec<f64>) {
+            (0..=120)
+                .map(|j| {
+                    let p = j as f64 / 120.0 * std::f64::consts::TAU;
+                    (cx + rad * p.cos(), cy + rad * p.sin())
+                })
+                .unzip()
+        };
+        let (xs, ys) = circle(rr, centre.0, centre.1);
+        let color = crate::plot::PALETTE[i % crate::plot::PALETTE.len()];
+        series.push(
+            Series::new(format!("t = {:.3} µs, θ = {:.2}", t * 1e6, theta), xs, ys).color(color),
+        );
+        // Symmetry axis k through the centre; the centre of mass O = C − a k.
+        let k = (s, c);
+        series.push(
+            Series::new(
+                "",
+                vec![centre.0 - 1.3 * rr * k.0, centre.0 + 1.3 * rr * k.0],
+                vec![centre.1 - 1.3 * rr * k.1, centre.1 + 1.3 * rr * k.1],
+            )
+            .color(color),
+        );
+        let o = (centre.0 - aa * k.0, centre.1 - aa * k.1);
+        let (xs, ys) = circle(0.12 * rr, o.0, o.1);
+        series.push(Series::new("", xs, ys).color((0, 0, 0)));
+    }
+    let n = rep.snapshots.len() as f64;
+    let x_range = (-1.5 * rr, (n - 1.0) * spacing + 1.5 * rr);
+    let size = (1500u32, 480u32);
+    // Equal scales in x and z (approximately: plot area ≈ size minus margins).
+    let aspect = (size.1 as f64 - 150.0) / (size.0 as f64 - 120.0);
+    let height = (x_range.1 - x_range.0) * aspect;
+    let opts = PlotOpts {
+        size,
+        x_range: Some(x_range),
+        y_range: Some((-0.3 * rr, -0.3 * rr + height)),
+        hlines: vec![RefLine::new(0.0, "plane")],
+        legend: Legend::UpperRight,
+        ..Default::default()
+    };
+    line_plot(
+        &dir.join("fig05"),
+        "Fig. 5: precession of the nano tippe top (accurate run; black circle: centre of mass)",
+        "x [Å] (instants side by side)",
+        "z [Å]",
+        &series,
+        &opts,
+    )?;
+    let ts: Vec<f64> = rep.snapshots.iter().map(|s| s.0).collect();
+    let th: Vec<f64> = rep.snapshots.iter().map(|s| s.1).collect();
+    write_series_csv(&dir.join("fig05.csv"), &["t", "theta"], &[&ts, &th])
 }

@@ -324,3 +324,65 @@ fn runtime_failure_exits_3_and_writes_partial_results() {
     assert_ne!(json["status"], "ok");
     assert!(out.join("trajectory.csv").is_file());
 }
+
+/// `reproduce` on short windows writes every figure (PNG, SVG, CSV), the
+/// report and claims.json.
+#[test]
+fn reproduce_quick_writes_every_figure_and_the_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("repro");
+    tippetop()
+        .args([
+            "reproduce",
+            "--quick",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .assert()
+        .success();
+    for n in [
+        "02", "03", "04", "05", "06", "07", "08", "09", "10", "11", "12", "13", "14", "15",
+    ] {
+        for ext in ["png", "svg", "csv"] {
+            let p = out.join(format!("fig{n}.{ext}"));
+            assert!(p.is_file(), "missing {}", p.display());
+            assert!(fs::metadata(&p).unwrap().len() > 100);
+        }
+        let csv = fs::read_to_string(out.join(format!("fig{n}.csv"))).unwrap();
+        assert!(
+            csv.starts_with("t,"),
+            "fig{n}.csv header: {}",
+            csv.lines().next().unwrap()
+        );
+    }
+    let claims: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join("claims.json")).unwrap()).unwrap();
+    let claims = claims.as_array().unwrap();
+    assert!(claims.len() >= 14);
+    for c in claims {
+        for key in [
+            "id",
+            "claim",
+            "paper_value",
+            "measured",
+            "settings",
+            "verdict",
+            "why",
+        ] {
+            assert!(c.get(key).is_some(), "claim lacks {key}: {c}");
+        }
+        let v = c["verdict"].as_str().unwrap();
+        assert!(["reproduced", "partly", "not reproduced"].contains(&v));
+    }
+    let report = fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("Quick mode"));
+    // No temporary files left behind.
+    assert!(
+        fs::read_dir(&out).unwrap().all(|e| !e
+            .unwrap()
+            .file_name()
+            .to_string_lossy()
+            .ends_with(".tmp"))
+    );
+}

@@ -398,7 +398,7 @@ pub fn reproduce(opts: Options, progress: &mut dyn FnMut(&str)) -> Result<Reprod
         curves: vec![
             curve("bilateral (accurate)", tr(i_b), f, false),
             curve("paper contact (accurate)", tr(i_p), f, false),
-            curve("paper contact, RK4/500 (paper's method)", tr(i_k), f, true),
+            curve("paper contact RK4/500 (paper's method)", tr(i_k), f, true),
         ],
         hlines: hl,
         note: note.into(),
@@ -468,7 +468,7 @@ pub fn reproduce(opts: Options, progress: &mut dyn FnMut(&str)) -> Result<Reprod
                 false,
             ),
             curve(
-                "sliding Coulomb, RK4/500 (paper's method)",
+                "sliding Coulomb RK4/500 (paper's method)",
                 tr(ck),
                 |s| s.theta,
                 true,
@@ -534,8 +534,8 @@ pub fn reproduce(opts: Options, progress: &mut dyn FnMut(&str)) -> Result<Reprod
         curves: vec![
             curve("bilateral (accurate)", tr(b), |s| s.spin, false),
             curve("paper contact (accurate)", tr(p), |s| s.spin, false),
-            cf("(C2), paper's c1 = 3e6", &|t| c2(PAPER_C1, t)),
-            cf("(C2), c1 fitted to paper contact", &|t| c2(c1_p, t)),
+            cf("(C2) paper's c1 = 3e6", &|t| c2(PAPER_C1, t)),
+            cf("(C2) c1 fitted to paper contact", &|t| c2(c1_p, t)),
         ],
         hlines: vec![],
         note: "ω = −R H t/C + c1, fitted over the second half of the window.".into(),
@@ -549,7 +549,7 @@ pub fn reproduce(opts: Options, progress: &mut dyn FnMut(&str)) -> Result<Reprod
         curves: vec![
             curve("bilateral (accurate)", tr(b), |s| s.precession, false),
             curve("paper contact (accurate)", tr(p), |s| s.precession, false),
-            cf("(C3), paper's c1 = 3e6", &|t| c3(PAPER_C1, t)),
+            cf("(C3) paper's c1 = 3e6", &|t| c3(PAPER_C1, t)),
         ],
         hlines: vec![(0.0, String::new())],
         note: "Ω = R H/(c1 C − R H t); with c1 = 3e6 the denominator vanishes at t = 4.2 µs."
@@ -564,7 +564,7 @@ pub fn reproduce(opts: Options, progress: &mut dyn FnMut(&str)) -> Result<Reprod
         curves: vec![
             curve("bilateral (accurate)", tr(b), |s| s.ux, false),
             curve("paper contact (accurate)", tr(p), |s| s.ux, false),
-            cf("closed form, paper's constants", &|t| uxy(t).0),
+            cf("closed form with paper's constants", &|t| uxy(t).0),
         ],
         hlines: vec![],
         note: "Paper's constants: t* = 5e-5 s, u1 = −6e-7 m/s, u2 = −4e-3 m/s, c1 = 3e6.".into(),
@@ -578,7 +578,7 @@ pub fn reproduce(opts: Options, progress: &mut dyn FnMut(&str)) -> Result<Reprod
         curves: vec![
             curve("bilateral (accurate)", tr(b), |s| s.uy, false),
             curve("paper contact (accurate)", tr(p), |s| s.uy, false),
-            cf("closed form, paper's constants", &|t| uxy(t).1),
+            cf("closed form with paper's constants", &|t| uxy(t).1),
         ],
         hlines: vec![],
         note: "Paper's constants: t* = 5e-5 s, u1 = −6e-7 m/s, u2 = −4e-3 m/s, c1 = 3e6.".into(),
