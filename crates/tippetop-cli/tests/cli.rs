@@ -210,14 +210,16 @@ fn written_scenario_reproduces_the_run() {
 }
 
 #[test]
-fn reproduce_is_a_stub_for_now() {
+fn reproduce_out_is_a_file_is_input_error() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
+    fs::write(&out, "not a directory").unwrap();
     tippetop()
         .args(["reproduce", "--quiet", "--out", out.to_str().unwrap()])
         .assert()
-        .failure()
-        .stderr(predicate::str::starts_with("error: "));
+        .code(2)
+        .stderr(predicate::str::starts_with("error: --out: "));
+    assert_eq!(fs::read_to_string(&out).unwrap(), "not a directory");
 }
 
 /// A short classical run: every file, the CSV header and round-trip floats,
