@@ -402,8 +402,35 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                     StopReason::End => {
                         // A force switch: the integrator restarts with the new
                         // force latched; while rolling, check that the contact
-                        // can still hold it.
+                        // can still hold it. N may jump across zero here, which
+                        // no event can see: record the crossing at the switch.
+                        let n_before = m.eval(&y).map(|e| e.normal).ok();
                         m.latch_force(t);
+                        let n_after = m.eval(&y).map(|e| e.normal).ok();
+                        if let (Some(nb), Some(na)) = (n_before, n_after) {
+                            if (nb < 0.0) != (na < 0.0) {
+                                normal_crossings.push(t);
+                                events_out.push(EventRecord {
+                                    t: t * tu,
+                                    kind: if na < 0.0 {
+                                        "contact_lost"
+                                    } else {
+                                        "contact_regained"
+                                    }
+                                    .into(),
+                                });
+                                if na < 0.0 && m.contact_mode() == ContactMode::Unilateral {
+                                    error = Some(Error::runtime(
+                                        t * tu,
+                                        format!(
+                                            "lift-off at a force switch: the normal force N jumped below zero (contact = \"unilateral\"); the reduced model cannot follow a flight, use model = \"rigid\"; {}",
+                                            describe_state(&m, &y)
+                                        ),
+                                    ));
+                                    break;
+                                }
+                            }
+                        }
                         if m.is_exact() && m.mode == Mode::Rolling {
                             if let Ok(e) = m.eval(&y) {
                                 if m.stick_margin(&e) < 0.0 {

@@ -419,3 +419,51 @@ fn contact_modes_run_and_report_negative_normal() {
         }
     }
 }
+
+/// A force switch that makes N jump below zero is reported at the switch
+/// time (no event can see a jump), and ends a unilateral run there. With
+/// μ = 0, θ̇ = 0 and Ω = 0: N (1 + m a² s²/A) = m g + m a s h H_x/A, so
+/// N < 0 exactly when H_x < −g A/(a s h) (≈ −1.35 N for the classical top at
+/// θ = 0.5).
+#[test]
+fn normal_force_jump_at_a_switch_is_reported() {
+    let mut sc = Scenario::classical();
+    sc.surface.friction = 0.0;
+    sc.surface.law = FrictionLaw::CoulombSliding;
+    sc.initial.theta = 0.5;
+    sc.initial.spin = 0.0;
+    sc.solver.t_end = 0.01;
+    let top = sc.top;
+    let s = 0.5f64.sin();
+    let h = top.height(0.5);
+    let threshold = -9.8 * top.inertia_transverse / (top.offset * s * h);
+    for (hx, lost) in [(1.05 * threshold, true), (0.95 * threshold, false)] {
+        sc.forcing = Forcing {
+            windows: vec![ForceWindow {
+                hx,
+                hy: 0.0,
+                start: 0.005,
+                stop: f64::INFINITY,
+            }],
+        };
+        sc.surface.contact = ContactMode::Bilateral;
+        let tr = run(&sc);
+        if lost {
+            assert_eq!(tr.summary.contact_lost_at, Some(0.005), "{:?}", tr.events);
+            assert!(
+                tr.events
+                    .iter()
+                    .any(|e| e.kind == "contact_lost" && e.t == 0.005)
+            );
+        } else {
+            assert_eq!(tr.summary.contact_lost_at, None, "{:?}", tr.events);
+        }
+        sc.surface.contact = ContactMode::Unilateral;
+        let tr = simulate(&sc).unwrap();
+        match (&tr.error, lost) {
+            (Some(tippetop::Error::Runtime { t, .. }), true) => assert_eq!(*t, 0.005),
+            (None, false) => {}
+            other => panic!("unexpected outcome {other:?}"),
+        }
+    }
+}
