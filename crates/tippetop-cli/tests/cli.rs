@@ -388,3 +388,81 @@ fn reproduce_quick_writes_every_figure_and_the_report() {
             .ends_with(".tmp"))
     );
 }
+
+/// Every bad-input class, end to end: exit 2, one line naming the key, and
+/// nothing written under --out.
+#[test]
+fn every_bad_input_class_is_one_line_exit_2_nothing_written() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["--set", "top.radiuss=1"], "top.radiuss: unknown key"),
+        (&["--set", "topp.radius=1"], "topp"),
+        (&["--set", "surface.friction=\"abc\""], "surface.friction: "),
+        (&["--set", "surface.friction=nan"], "surface.friction: "),
+        (&["--set", "surface.gravity=inf"], "surface.gravity: "),
+        (&["--set", "top.radius=0"], "top.radius: "),
+        (&["--set", "top.mass=-1"], "top.mass: "),
+        (&["--set", "top.offset=-0.001"], "top.offset: "),
+        (&["--set", "top.offset=0.015"], "top.offset: "),
+        (
+            &["--set", "top.inertia_transverse=0"],
+            "top.inertia_transverse: ",
+        ),
+        (&["--set", "top.inertia_axial=-1e-6"], "top.inertia_axial: "),
+        (&["--set", "top.inertia_axial=3e-6"], "top.inertia_axial: "),
+        (&["--set", "surface.friction=-0.1"], "surface.friction: "),
+        (&["--set", "solver.t_end=0"], "solver.t_end: "),
+        (&["--set", "solver.samples=1"], "solver.samples: "),
+        (
+            &[
+                "--set",
+                "force.0.hx=1",
+                "--set",
+                "force.0.start=1",
+                "--set",
+                "force.0.stop=0.5",
+            ],
+            "force.0.stop: ",
+        ),
+        (
+            &["--set", "force.0.hx=1", "--set", "force.0.start=-1"],
+            "force.0.start: ",
+        ),
+        (&["--set", "initial.theta=0"], "initial.theta: "),
+        (&["--set", "initial.theta=3.2"], "initial.theta: "),
+        (
+            &["--set", "surface.friction_law=bogus"],
+            "surface.friction_law: ",
+        ),
+        (&["--set", "surface.contact=bogus"], "surface.contact: "),
+        (&["--set", "solver.method=bogus"], "solver.method: "),
+        (&["--set", "solver.model=bogus"], "solver.model: "),
+        (
+            &["--set", "surface.friction_law=regularized"],
+            "surface.friction_eps: ",
+        ),
+        (
+            &["--set", "solver.method=rk4", "--set", "solver.steps=333"],
+            "solver.steps: ",
+        ),
+    ];
+    for (sets, needle) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let mut args = vec![
+            "run",
+            "--preset",
+            "classical",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(sets);
+        expect_input_error(&args, &out, needle);
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    expect_input_error(
+        &["run", "--preset", "bogus", "--out", out.to_str().unwrap()],
+        &out,
+        "preset: ",
+    );
+}

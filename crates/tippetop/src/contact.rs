@@ -52,6 +52,52 @@ impl FrictionLaw {
     }
 }
 
+/// A sliding friction law, the one interface every model uses: the friction
+/// force on the top is `−N f(v)` for slip velocity `v`, with `|f| <= μ`
+/// for the Coulomb laws (the viscous law is unbounded). Stick/slip (the
+/// exact law) is not a function of `v` alone: the models handle it as a
+/// mode on top of this (docs/physics.md §6).
+pub trait SlidingLaw {
+    /// `f(v)` for friction coefficient `mu` and slip `v` (same speed unit as
+    /// the law's ε). The Coulomb laws give `μ v/|v|`, and 0 at exactly `v = 0`.
+    fn coefficient(&self, mu: f64, v: [f64; 2]) -> [f64; 2];
+}
+
+impl SlidingLaw for FrictionLaw {
+    fn coefficient(&self, mu: f64, v: [f64; 2]) -> [f64; 2] {
+        match *self {
+            FrictionLaw::Coulomb | FrictionLaw::CoulombSliding => {
+                let n = v[0].hypot(v[1]);
+                if n > 0.0 {
+                    [mu * v[0] / n, mu * v[1] / n]
+                } else {
+                    [0.0, 0.0]
+                }
+            }
+            FrictionLaw::Regularized { eps } => {
+                let d = (v[0] * v[0] + v[1] * v[1] + eps * eps).sqrt();
+                [mu * v[0] / d, mu * v[1] / d]
+            }
+            FrictionLaw::Viscous { eps } => [mu * v[0] / eps, mu * v[1] / eps],
+        }
+    }
+}
+
+impl FrictionLaw {
+    /// The same law with its ε divided by `speed_unit` (for scaled models).
+    pub fn scaled(&self, speed_unit: f64) -> FrictionLaw {
+        match *self {
+            FrictionLaw::Regularized { eps } => FrictionLaw::Regularized {
+                eps: eps / speed_unit,
+            },
+            FrictionLaw::Viscous { eps } => FrictionLaw::Viscous {
+                eps: eps / speed_unit,
+            },
+            other => other,
+        }
+    }
+}
+
 /// What the model does when the normal force `N` would become negative.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ContactMode {

@@ -467,3 +467,65 @@ fn normal_force_jump_at_a_switch_is_reported() {
         }
     }
 }
+
+/// Painlevé: with slip purely along +x and μ large enough that
+/// m a h μ sin θ / A > 1 + m a² sin²θ / A, the θ̈–N system has no consistent
+/// solution (docs/physics.md §4): the run stops at once and says so.
+#[test]
+fn painleve_case_is_reported() {
+    let mut sc = Scenario::classical();
+    let top = sc.top;
+    let (m, a, ia) = (top.mass, top.offset, top.inertia_transverse);
+    let th: f64 = 0.5;
+    let (s, h) = (th.sin(), top.height(th));
+    let k = m * a * h * s / ia;
+    let mu_crit = (1.0 + m * a * a * s * s / ia) / k;
+    for (mu, fails) in [(1.2 * mu_crit, true), (0.8 * mu_crit, false)] {
+        sc.surface.friction = mu;
+        sc.surface.law = FrictionLaw::CoulombSliding;
+        sc.initial.theta = th;
+        sc.initial.spin = 0.0;
+        sc.initial.ux = 0.5;
+        sc.solver.t_end = 1e-3;
+        let tr = simulate(&sc).unwrap();
+        match (&tr.error, fails) {
+            (Some(tippetop::Error::Runtime { t, why }), true) => {
+                assert_eq!(*t, 0.0);
+                assert!(why.contains("Painleve"), "{why}");
+            }
+            (None, false) => {}
+            other => panic!("mu = {mu}: {other:?}"),
+        }
+    }
+}
+
+/// J is conserved on the classical top under an applied-force schedule too.
+#[test]
+fn jellett_conserved_classical_with_forcing() {
+    let mut sc = classical_smooth(1e-2);
+    sc.solver.t_end = 2.0;
+    sc.forcing = Forcing {
+        windows: vec![
+            ForceWindow {
+                hx: 0.01,
+                hy: -0.02,
+                start: 0.1,
+                stop: 0.7,
+            },
+            ForceWindow {
+                hx: -0.005,
+                hy: 0.01,
+                start: 0.5,
+                stop: f64::INFINITY,
+            },
+        ],
+    };
+    let tr = run(&sc);
+    assert!(
+        tr.summary.jellett_max_rel_drift <= 1e-10,
+        "{:e}",
+        tr.summary.jellett_max_rel_drift
+    );
+    assert!(tr.summary.energy_balance_max_rel_error <= 1e-8);
+    assert!(tr.samples.iter().any(|s| s.work_applied != 0.0));
+}

@@ -12,7 +12,9 @@
 
 use std::cell::Cell;
 
-use crate::{ContactMode, Forcing, FrictionLaw, Scenario, Top, integrate::OdeSystem};
+use crate::{
+    ContactMode, Forcing, FrictionLaw, Scenario, Top, contact::SlidingLaw, integrate::OdeSystem,
+};
 
 /// Number of state components.
 pub const DIM: usize = 8;
@@ -92,19 +94,6 @@ impl Scales {
     pub fn inertia(&self) -> f64 {
         self.mass * self.length * self.length
     }
-}
-
-/// Friction law in scaled units.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Law {
-    /// μ v/|v| (exact law while sliding, and the paper's sliding-only law).
-    Coulomb,
-    Regularized {
-        eps: f64,
-    },
-    Viscous {
-        eps: f64,
-    },
 }
 
 /// Sliding or rolling (exact Coulomb law only).
@@ -188,7 +177,8 @@ pub struct Reduced {
     g: f64,
     /// μ.
     mu: f64,
-    law: Law,
+    /// Friction law, ε in scaled units.
+    law: FrictionLaw,
     /// True for the exact stick/slip law.
     exact: bool,
     contact: ContactMode,
@@ -218,12 +208,8 @@ impl Reduced {
     pub fn new(sc: &Scenario) -> Self {
         let scales = Scales::of(sc);
         let v = scales.velocity();
-        let (law, exact) = match sc.surface.law {
-            FrictionLaw::Coulomb => (Law::Coulomb, true),
-            FrictionLaw::CoulombSliding => (Law::Coulomb, false),
-            FrictionLaw::Regularized { eps } => (Law::Regularized { eps: eps / v }, false),
-            FrictionLaw::Viscous { eps } => (Law::Viscous { eps: eps / v }, false),
-        };
+        let law = sc.surface.law.scaled(v);
+        let exact = law == FrictionLaw::Coulomb;
         Reduced {
             scales,
             a: sc.top.offset / scales.length,
@@ -258,7 +244,7 @@ impl Reduced {
 
     /// True for the sliding-only Coulomb law, which can chatter.
     pub fn can_chatter(&self) -> bool {
-        !self.exact && self.law == Law::Coulomb
+        self.law == FrictionLaw::CoulombSliding
     }
 
     /// Friction coefficient μ.
@@ -294,38 +280,29 @@ impl Reduced {
         ]
     }
 
-    /// Friction coefficient vector `f(v)` with `|f| <= μ` (sliding mode).
+    /// Friction coefficient vector `f(v)` with `|f| <= μ` (sliding mode):
+    /// the law's [`SlidingLaw::coefficient`], plus, for the exact law, the
+    /// slip hint at exactly zero slip and the continuation through zero.
     fn law_f(&self, v: [f64; 2]) -> [f64; 2] {
         let mu = self.mu;
-        match self.law {
-            Law::Coulomb => {
-                let n = v[0].hypot(v[1]);
-                if n == 0.0 {
-                    return [mu * self.slip_hint[0], mu * self.slip_hint[1]];
-                }
-                // Exact law, sliding: the slip-zero event is located on the
-                // dense output of the step that crosses zero. Continuing the
-                // friction smoothly through the crossing (keep its direction,
-                // i.e. flip v/|v| once v·d < 0, d the approach direction)
-                // keeps that step smooth, so the event time is as accurate as
-                // the step; the stages past zero are discarded at the event.
-                let sgn = if self.exact {
-                    let d = self.slip_ref.get();
-                    if v[0] * d[0] + v[1] * d[1] < 0.0 {
-                        -1.0
-                    } else {
-                        1.0
-                    }
-                } else {
-                    1.0
-                };
-                [sgn * mu * v[0] / n, sgn * mu * v[1] / n]
-            }
-            Law::Regularized { eps } => {
-                let d = (v[0] * v[0] + v[1] * v[1] + eps * eps).sqrt();
-                [mu * v[0] / d, mu * v[1] / d]
-            }
-            Law::Viscous { eps } => [mu * v[0] / eps, mu * v[1] / eps],
+        if !self.exact {
+            return self.law.coefficient(mu, v);
+        }
+        if v[0] == 0.0 && v[1] == 0.0 {
+            return [mu * self.slip_hint[0], mu * self.slip_hint[1]];
+        }
+        // Exact law, sliding: the slip-zero event is located on the dense
+        // output of the step that crosses zero. Continuing the friction
+        // smoothly through the crossing (keep its direction, i.e. flip
+        // v/|v| once v·d < 0, d the approach direction) keeps that step
+        // smooth, so the event time is as accurate as the step; the stages
+        // past zero are discarded at the event.
+        let f = self.law.coefficient(mu, v);
+        let d = self.slip_ref.get();
+        if v[0] * d[0] + v[1] * d[1] < 0.0 {
+            [-f[0], -f[1]]
+        } else {
+            f
         }
     }
 
