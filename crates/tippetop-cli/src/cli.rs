@@ -53,6 +53,10 @@ pub enum Command {
                             claims.json."
     )]
     Reproduce(ReproduceArgs),
+    /// Run a parameter sweep (a grid of scenarios) on all cores.
+    Sweep(crate::sweep_cmd::SweepArgs),
+    /// Join the outputs of a sweep's shards into one sweep.csv.
+    Merge(crate::sweep_cmd::MergeArgs),
 }
 
 /// `tippetop run`.

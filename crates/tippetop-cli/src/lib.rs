@@ -11,5 +11,6 @@ pub mod progress;
 pub mod reproduce;
 pub mod run;
 pub mod scenario_load;
+pub mod sweep_cmd;
 
 pub use cli::{Cli, Command, ReproduceArgs, RunArgs};

@@ -10,16 +10,18 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use tippetop_cli::cli::{Cli, Command};
-use tippetop_cli::{reproduce, run};
+use tippetop_cli::{reproduce, run, sweep_cmd};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
-        Command::Run(args) => run::run(args, cli.quiet),
-        Command::Reproduce(args) => reproduce::run(args, cli.quiet),
+        Command::Run(args) => run::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),
+        Command::Reproduce(args) => reproduce::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),
+        Command::Sweep(args) => sweep_cmd::sweep(args, cli.quiet),
+        Command::Merge(args) => sweep_cmd::merge(args, cli.quiet),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             let (code, msg) = classify(&e);
             eprintln!("error: {msg}");

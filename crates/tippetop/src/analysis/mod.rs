@@ -3,3 +3,4 @@
 
 pub mod friction;
 pub mod paper;
+pub mod sweep;

@@ -1,0 +1,387 @@
+//! `tippetop sweep` and `tippetop merge`: parameter sweeps on all cores, cut
+//! into shards that run anywhere (e.g. a Slurm array job, see
+//! `docs/cluster.md`) and merge back into the very bytes of a one-shot run.
+//!
+//! Output directory of both commands:
+//! - `sweep.csv`: one row per case in grid order (the first `--vary` slowest);
+//!   columns: the varied keys, then `theta_final, theta_max, omega_final,
+//!   Omega_final, first_time_theta_above_half_pi, contact_lost_at,
+//!   negative_normal_fraction, rolling_fraction, J_max_rel_drift,
+//!   energy_final, steps, rhs_evaluations, status` (see
+//!   [`tippetop::analysis::sweep`]);
+//! - `shard.json`: which cases the CSV holds and of which sweep (a one-shot
+//!   run and a merge write `k = n = 1`), so `merge` can check a set of shards.
+//!
+//! Exit codes: 0 done (cases that failed are reported in `status`, they do
+//! not fail the sweep); 2 bad input (one line `error: KEY: WHAT (RANGE)` on
+//! stderr, nothing written under `--out`); errors returned as `Err` (I/O)
+//! are for the caller to report (exit 1).
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::{ArgGroup, Args};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use tippetop::analysis::sweep::{self, Axis, Shard, ShardInfo, Sweep, Table};
+
+/// `tippetop sweep`.
+#[derive(Debug, Args)]
+#[command(
+    group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
+    long_about = "Run a grid of scenarios on all cores and write into --out:\n  \
+                  sweep.csv    one row per case: the varied keys, then theta_final, theta_max,\n               \
+                  omega_final, Omega_final, first_time_theta_above_half_pi,\n               \
+                  contact_lost_at, negative_normal_fraction, rolling_fraction,\n               \
+                  J_max_rel_drift, energy_final, steps, rhs_evaluations, status\n  \
+                  shard.json   what the CSV covers, for tippetop merge\n\n\
+                  Each --vary KEY=FROM:TO:N takes N values FROM + (TO - FROM) i/(N - 1), \
+                  i = 0..N-1 (KEY=FROM:TO:N:log: geometric spacing, FROM, TO > 0). The cases \
+                  form a grid, rows in grid order with the first --vary varying slowest. \
+                  Each case is the scenario (preset, then file, then each --set) with \
+                  KEY=VALUE set for every --vary. A case whose scenario is invalid or whose \
+                  run fails gets the error in its status column (\"ok\" otherwise) and the \
+                  sweep goes on. The CSV is byte for byte the same whatever --threads and \
+                  however the sweep is cut with --shard.\n\n\
+                  --shard K/N runs only the K-th of N contiguous blocks of cases (sizes \
+                  differ by at most one; N at most the number of cases); join the shards' \
+                  directories with tippetop merge. Bad input exits with code 2 and writes \
+                  nothing.",
+    after_help = "Examples:\n  \
+                  tippetop sweep --preset classical --vary top.offset=0.0005:0.005:10 --out out/offset\n  \
+                  tippetop sweep scenarios/nano.toml --vary top.inertia_axial=1e-44:1e-42:5:log \\\n      \
+                  --vary surface.gravity=0:100:3 --out out/nano-map\n  \
+                  tippetop sweep --preset classical --set solver.t_end=20 \\\n      \
+                  --vary top.offset=0.0005:0.01:40 --vary top.inertia_axial=6e-7:2.7e-6:40 \\\n      \
+                  --shard 3/8 --threads 4 --out shards/3 --quiet\n  \
+                  tippetop merge shards/* --out result"
+)]
+pub struct SweepArgs {
+    /// Scenario file (TOML); optional with --preset.
+    #[arg(value_name = "SCENARIO.toml")]
+    pub scenario: Option<PathBuf>,
+
+    /// Start from a built-in scenario: "nano" or "classical".
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+
+    /// Override one scenario value for every case, e.g. `--set
+    /// solver.t_end=2`; repeatable, applied in order after the file (a
+    /// --vary of the same key wins).
+    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
+    pub sets: Vec<String>,
+
+    /// Vary one key (as in --set) over N values from FROM to TO, both
+    /// included; `:log` for geometric spacing. Repeatable: the cases form a
+    /// grid, the first --vary varying slowest.
+    #[arg(long = "vary", value_name = "KEY=FROM:TO:N[:log]", required = true)]
+    pub vary: Vec<String>,
+
+    /// Output directory (created if missing; sweep.csv and shard.json in it
+    /// are replaced).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+
+    /// Number of threads (default: one per core).
+    #[arg(long, value_name = "T")]
+    pub threads: Option<usize>,
+
+    /// Run only the K-th of N contiguous blocks of cases (1 <= K <= N);
+    /// join the outputs with `tippetop merge`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+}
+
+/// `tippetop merge`.
+#[derive(Debug, Args)]
+#[command(
+    long_about = "Join the output directories of the shards of one sweep (tippetop sweep \
+                  --shard K/N) into --out: sweep.csv, byte for byte the file a one-shot run \
+                  of the sweep writes, and shard.json. The shards may come in any order and \
+                  from different layouts (e.g. 1/2 with 3/4 and 4/4); merge checks that \
+                  they belong to the same sweep and cover every case exactly once. On any \
+                  mismatch or gap it exits with code 2 and writes nothing.",
+    after_help = "Examples:\n  \
+                  tippetop merge shards/1 shards/2 shards/3 shards/4 --out result\n  \
+                  tippetop merge shards/* --out result"
+)]
+pub struct MergeArgs {
+    /// Shard output directories (each with sweep.csv and shard.json).
+    #[arg(value_name = "DIR", required = true)]
+    pub dirs: Vec<PathBuf>,
+
+    /// Output directory (created if missing; sweep.csv and shard.json in it
+    /// are replaced).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
+
+/// Bad input: `error: ...` on one line, exit code 2.
+fn input_error(e: impl std::fmt::Display) -> ExitCode {
+    let msg = e.to_string();
+    eprintln!(
+        "error: {}",
+        msg.split_whitespace().collect::<Vec<_>>().join(" ")
+    );
+    ExitCode::from(2)
+}
+
+/// Run `tippetop sweep`. Bad input: one line on stderr and exit code 2
+/// (returned as `Ok`); `Err` for I/O failures.
+pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
+    let toml_text = match &args.scenario {
+        Some(path) => match std::fs::read_to_string(path) {
+            Ok(t) => Some(t),
+            Err(e) => {
+                return Ok(input_error(format!(
+                    "{}: cannot read it: {e} (a readable scenario file)",
+                    path.display()
+                )));
+            }
+        },
+        None => None,
+    };
+    let axes = match args
+        .vary
+        .iter()
+        .map(|s| Axis::parse(s))
+        .collect::<Result<Vec<_>, _>>()
+    {
+        Ok(a) => a,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let shard = match args.shard.as_deref().map(Shard::parse).transpose() {
+        Ok(s) => s.unwrap_or(Shard::ALL),
+        Err(e) => return Ok(input_error(e)),
+    };
+    if args.threads == Some(0) {
+        return Ok(input_error("--threads: 0 threads (at least 1)"));
+    }
+    let sw = Sweep {
+        preset: args.preset.clone(),
+        toml_text,
+        sets: args.sets.clone(),
+        axes,
+    };
+    if let Err(e) = sw.validate() {
+        return Ok(input_error(e));
+    }
+    let info = match sw.shard_info(shard) {
+        Ok(i) => i,
+        Err(e) => return Ok(input_error(e)),
+    };
+
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    let range = info.first_index..info.end_index;
+    let pb = progress_bar(quiet, range.len() as u64);
+    let start = std::time::Instant::now();
+    let rows = match sw.run(range.clone(), args.threads, &|| pb.inc(1)) {
+        Ok(r) => r,
+        Err(e) => {
+            pb.finish_and_clear();
+            return Ok(input_error(e));
+        }
+    };
+    pb.finish_and_clear();
+
+    let csv = sweep::csv(&sw.axes, &rows);
+    write_outputs(&args.out, &csv, &info)?;
+    if shard == Shard::ALL {
+        write_plots(&args.out, &Table::from_rows(&sw.axes, &rows))?;
+    }
+    if !quiet {
+        let failed = rows.iter().filter(|r| r.status != "ok").count();
+        let what = if shard == Shard::ALL {
+            format!("{} cases", rows.len())
+        } else {
+            format!(
+                "shard {}/{}: cases {}..{} of {}",
+                shard.k, shard.n, range.start, range.end, info.total_cases
+            )
+        };
+        println!(
+            "{what} ({} ok, {failed} failed) in {:.1} s -> {}",
+            rows.len() - failed,
+            start.elapsed().as_secs_f64(),
+            args.out.join("sweep.csv").display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Run `tippetop merge`. Bad input (a missing or foreign shard, a gap, an
+/// overlap): one line on stderr and exit code 2 (returned as `Ok`),
+/// nothing written; `Err` for I/O failures while writing.
+pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
+    let mut shards: Vec<(ShardInfo, String)> = Vec::new();
+    for dir in &args.dirs {
+        match read_shard(dir) {
+            Ok(s) => shards.push(s),
+            Err(msg) => return Ok(input_error(msg)),
+        }
+    }
+    let csv = match sweep::merge(&shards) {
+        Ok(c) => c,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let first = &shards[0].0;
+    let info = ShardInfo {
+        fingerprint: first.fingerprint.clone(),
+        k: 1,
+        n: 1,
+        total_cases: first.total_cases,
+        first_index: 0,
+        end_index: first.total_cases,
+        axes: first.axes.clone(),
+    };
+    let table = Table::parse_csv(&csv).map_err(anyhow::Error::new)?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    write_outputs(&args.out, &csv, &info)?;
+    write_plots(&args.out, &table)?;
+    if !quiet {
+        let failed = table.status.iter().filter(|s| *s != "ok").count();
+        println!(
+            "merged {} shards: {} cases ({} ok, {failed} failed) -> {}",
+            shards.len(),
+            info.total_cases,
+            info.total_cases - failed,
+            args.out.join("sweep.csv").display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A shard directory's `shard.json` and `sweep.csv`; `Err` is the one-line
+/// message for bad input.
+fn read_shard(dir: &Path) -> std::result::Result<(ShardInfo, String), String> {
+    let what = "a directory written by tippetop sweep, with shard.json and sweep.csv";
+    let read = |name: &str| {
+        let path = dir.join(name);
+        std::fs::read_to_string(&path)
+            .map_err(|e| format!("{}: cannot read it: {e} ({what})", path.display()))
+    };
+    let json = read("shard.json")?;
+    let info: ShardInfo = serde_json::from_str(&json).map_err(|e| {
+        format!(
+            "{}: not a shard description: {e} ({what})",
+            dir.join("shard.json").display()
+        )
+    })?;
+    Ok((info, read("sweep.csv")?))
+}
+
+/// Write `sweep.csv` and `shard.json` into `dir`, each atomically.
+fn write_outputs(dir: &Path, csv: &str, info: &ShardInfo) -> Result<()> {
+    let mut json = serde_json::to_string_pretty(info)?;
+    json.push('\n');
+    write_atomic(&dir.join("sweep.csv"), csv.as_bytes())?;
+    write_atomic(&dir.join("shard.json"), json.as_bytes())?;
+    Ok(())
+}
+
+/// Write `bytes` to a temporary file beside `path`, then rename it over
+/// `path`: readers never see a partial file.
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
+    std::fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| {
+        let _ = std::fs::remove_file(&tmp);
+        format!("cannot write {}", path.display())
+    })
+}
+
+/// Plots of a complete sweep into `dir`: for one axis, curves of the
+/// columns against it (`table.column(key)`, `table.column("theta_final")`,
+/// ...); for two axes, a heat map (`table.grid2("theta_final")` gives the
+/// axes' values and the matrix). NaN marks a failed case.
+fn write_plots(dir: &Path, table: &Table) -> Result<()> {
+    use crate::plot::{HeatmapOpts, Panel, PlotOpts, RefLine, Series, heatmap, multi_panel};
+    match table.keys.len() {
+        1 => {
+            let key = &table.keys[0];
+            let x = table.column(key).unwrap_or_default();
+            let col = |name: &str| table.column(name).unwrap_or_default();
+            let mut theta = Panel::new(
+                "θ [rad]",
+                vec![
+                    Series::new("θ final", x.clone(), col("theta_final")),
+                    Series::new("θ max", x.clone(), col("theta_max")).dashed(),
+                ],
+            );
+            theta.opts.hlines = vec![
+                RefLine::new(std::f64::consts::FRAC_PI_2, "π/2"),
+                RefLine::new(std::f64::consts::PI, "π"),
+            ];
+            let spin = Panel::new(
+                "ω final [rad/s]",
+                vec![Series::new("ω final", x.clone(), col("omega_final"))],
+            );
+            let first = Panel::new(
+                "first θ > π/2 [s]",
+                vec![Series::new(
+                    "first time θ > π/2",
+                    x.clone(),
+                    col("first_time_theta_above_half_pi"),
+                )],
+            );
+            multi_panel(
+                &dir.join("sweep"),
+                &format!("Sweep over {key}"),
+                key,
+                &[theta, spin, first],
+                &PlotOpts {
+                    size: (1000, 900),
+                    ..Default::default()
+                },
+            )
+        }
+        2 => {
+            let Some((xs, ys, z)) = table.grid2("theta_final") else {
+                return Ok(());
+            };
+            // grid2 gives z[i][j] at (xs[i], ys[j]); heatmap wants rows per y.
+            let zt: Vec<Vec<f64>> = (0..ys.len())
+                .map(|j| (0..xs.len()).map(|i| z[i][j]).collect())
+                .collect();
+            heatmap(
+                &dir.join("sweep"),
+                "θ at the end of each run (grey: failed case)",
+                &table.keys[0],
+                &table.keys[1],
+                "θ final [rad]",
+                &xs,
+                &ys,
+                &zt,
+                &HeatmapOpts {
+                    z_range: Some((0.0, std::f64::consts::PI)),
+                    ..Default::default()
+                },
+            )
+        }
+        _ => Ok(()),
+    }
+}
+
+/// A bar over `len` cases on stderr, hidden with `quiet` or when stderr is
+/// not a terminal.
+fn progress_bar(quiet: bool, len: u64) -> ProgressBar {
+    let target = if !quiet && std::io::stderr().is_terminal() {
+        ProgressDrawTarget::stderr()
+    } else {
+        ProgressDrawTarget::hidden()
+    };
+    let pb = ProgressBar::with_draw_target(Some(len), target);
+    if let Ok(style) =
+        ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} cases [{elapsed} < {eta}]")
+    {
+        pb.set_style(style.progress_chars("=> "));
+    }
+    pb
+}

@@ -1,0 +1,208 @@
+//! `tippetop sweep` and `tippetop merge` end to end: files written, shards
+//! merged byte for byte, bad input (exit code 2, one line, nothing written).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_tippetop"))
+}
+
+/// A fresh directory for one test.
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("tippetop-sweep-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+const BASE: &[&str] = &[
+    "sweep",
+    "--preset",
+    "classical",
+    "--set",
+    "solver.t_end=0.2",
+    "--set",
+    "solver.samples=11",
+    "--vary",
+    "top.offset=0.001:0.015:3",
+    "--vary",
+    "initial.spin=60:150:3",
+    "--quiet",
+];
+
+fn sweep(out: &Path, extra: &[&str]) -> Output {
+    bin()
+        .args(BASE)
+        .args(extra)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap()
+}
+
+fn read(p: &Path) -> String {
+    std::fs::read_to_string(p).unwrap()
+}
+
+/// Exit code 2, one line `error: ...` on stderr containing `what`.
+fn assert_input_error(o: &Output, what: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "stderr: {err}");
+    assert!(
+        err.starts_with("error: ") && err.lines().count() == 1,
+        "{err}"
+    );
+    assert!(err.contains(what), "{err}");
+}
+
+#[test]
+fn one_shot_shards_and_merge() {
+    let d = scratch("merge");
+    let one = d.join("one");
+    let o = sweep(&one, &["--threads", "1"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        o.stdout.is_empty() && o.stderr.is_empty(),
+        "--quiet prints nothing"
+    );
+    let csv = read(&one.join("sweep.csv"));
+    assert_eq!(csv.lines().count(), 10);
+    assert!(csv.starts_with("top.offset,initial.spin,theta_final,"));
+    assert_eq!(csv.matches(",ok\n").count(), 6, "{csv}");
+    let json: serde_json::Value = serde_json::from_str(&read(&one.join("shard.json"))).unwrap();
+    assert_eq!(json["k"], 1);
+    assert_eq!(json["n"], 1);
+    assert_eq!(json["total_cases"], 9);
+    assert_eq!(json["end_index"], 9);
+    assert_eq!(json["axes"][1]["key"], "initial.spin");
+
+    // 2 threads: same bytes.
+    let two = d.join("two");
+    assert!(sweep(&two, &["--threads", "2"]).status.success());
+    assert_eq!(read(&two.join("sweep.csv")), csv);
+
+    // 4 shards, merged in a shuffled order: same sweep.csv and shard.json.
+    let mut dirs = Vec::new();
+    for k in 1..=4 {
+        let s = d.join(format!("s{k}"));
+        let o = sweep(&s, &["--shard", &format!("{k}/4")]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        dirs.push(s);
+    }
+    let merged = d.join("merged");
+    let o = bin()
+        .arg("merge")
+        .args([&dirs[2], &dirs[0], &dirs[3], &dirs[1]])
+        .arg("--out")
+        .arg(&merged)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("merged 4 shards: 9 cases"));
+    assert_eq!(read(&merged.join("sweep.csv")), csv);
+    assert_eq!(
+        read(&merged.join("shard.json")),
+        read(&one.join("shard.json"))
+    );
+
+    // A missing shard: error, nothing written.
+    let bad = d.join("bad");
+    let o = bin()
+        .arg("merge")
+        .args([&dirs[0], &dirs[1], &dirs[3]])
+        .arg("--out")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert_input_error(&o, "are missing");
+    assert!(!bad.exists());
+    // A directory that is not a shard.
+    let o = bin()
+        .arg("merge")
+        .arg(&dirs[0])
+        .arg(d.join("nowhere"))
+        .arg("--out")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert_input_error(&o, "shard.json");
+    assert!(!bad.exists());
+    // A shard of another sweep.
+    let other = d.join("other");
+    assert!(
+        sweep(&other, &["--set", "surface.friction=0.2", "--shard", "4/4"])
+            .status
+            .success()
+    );
+    let o = bin()
+        .arg("merge")
+        .args([&dirs[0], &dirs[1], &dirs[2], &other])
+        .arg("--out")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert_input_error(&o, "another sweep");
+    assert!(!bad.exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn bad_input_exits_2_and_writes_nothing() {
+    let d = scratch("bad");
+    let out = d.join("out");
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["--vary", "top.colour=1:2:3"],
+            "error: top.colour: unknown key",
+        ),
+        (&["--vary", "top.mass=1:2:0"], "error: top.mass: N = 0"),
+        (
+            &["--vary", "top.mass=0:2:3:log"],
+            "error: top.mass: log spacing",
+        ),
+        (&["--vary", "top.mass=1:2"], "error: top.mass: "),
+        (&["--vary", "top.mass"], "error: --vary: "),
+        (&["--shard", "5/4"], "error: --shard: "),
+        (
+            &["--shard", "10/10"],
+            "error: --shard: 10 shards for a sweep of 9 cases",
+        ),
+        (&["--threads", "0"], "error: --threads: "),
+        (&["--set", "top.radius=-1"], "error: top.radius: "),
+    ];
+    for (extra, what) in cases {
+        let o = sweep(&out, extra);
+        assert_input_error(&o, what);
+        assert!(!out.exists(), "{extra:?} wrote {}", out.display());
+    }
+    // A missing scenario file.
+    let o = bin()
+        .args([
+            "sweep",
+            "no-such-file.toml",
+            "--vary",
+            "top.mass=1:2:2",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_input_error(&o, "no-such-file.toml");
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn help_has_examples() {
+    for cmd in ["sweep", "merge"] {
+        let o = bin().args([cmd, "--help"]).output().unwrap();
+        assert!(o.status.success());
+        let help = String::from_utf8_lossy(&o.stdout);
+        assert!(help.contains("Examples:"), "{help}");
+        assert!(
+            help.contains("tippetop merge shards/* --out result"),
+            "{help}"
+        );
+    }
+}

@@ -1,0 +1,464 @@
+//! Parameter sweeps: axes, grid order, shards, determinism across thread
+//! counts and shard layouts, merge checks, failing cases.
+
+use tippetop::analysis::sweep::{
+    Axis, FIELDS, Shard, ShardInfo, Sweep, Table, csv, csv_header, csv_row, merge, shard_range,
+};
+use tippetop::{Error, Scenario};
+
+/// Cheap classical runs (~50 ms of simulated time, 11 samples).
+fn cheap(axes: &[&str]) -> Sweep {
+    Sweep {
+        preset: Some("classical".into()),
+        toml_text: None,
+        sets: vec!["solver.t_end=0.05".into(), "solver.samples=11".into()],
+        axes: axes.iter().map(|s| Axis::parse(s).unwrap()).collect(),
+    }
+}
+
+fn key_of(e: Error) -> String {
+    match e {
+        Error::Invalid { key, .. } => key,
+        other => panic!("expected Invalid, got {other:?}"),
+    }
+}
+
+fn run_csv(s: &Sweep, threads: usize) -> String {
+    let rows = s.run(0..s.total(), Some(threads), &|| {}).unwrap();
+    csv(&s.axes, &rows)
+}
+
+/// Each shard's (info, csv) as a run with `--shard K/N` writes them.
+fn shards(s: &Sweep, n: usize) -> Vec<(ShardInfo, String)> {
+    (1..=n)
+        .map(|k| {
+            let sh = Shard { k, n };
+            let info = s.shard_info(sh).unwrap();
+            let rows = s.run(s.shard_range(sh).unwrap(), Some(1), &|| {}).unwrap();
+            (info, csv(&s.axes, &rows))
+        })
+        .collect()
+}
+
+#[test]
+fn axis_parse_and_values() {
+    let a = Axis::parse("top.offset=0:1:11").unwrap();
+    assert_eq!(
+        (a.key.as_str(), a.from, a.to, a.n, a.log),
+        ("top.offset", 0.0, 1.0, 11, false)
+    );
+    let v = a.values();
+    assert_eq!(v.len(), 11);
+    assert_eq!(v[0], 0.0);
+    assert_eq!(v[3], 0.3); // (to - from) * i / (n - 1): no 0.30000000000000004
+    assert_eq!(v[10], 1.0);
+    for (i, x) in v.iter().enumerate() {
+        assert!((x - i as f64 / 10.0).abs() < 1e-15);
+    }
+
+    let l = Axis::parse(" top.inertia_axial = 1e-44:1e-40:5:log").unwrap();
+    assert!(l.log);
+    assert_eq!(l.key, "top.inertia_axial");
+    let v = l.values();
+    assert_eq!((v[0], v[4]), (1e-44, 1e-40)); // ends exact
+    for (i, x) in v.iter().enumerate() {
+        let want = 1e-44 * 10f64.powi(i as i32);
+        assert!((x / want - 1.0).abs() < 1e-14, "{i}: {x} vs {want}");
+    }
+
+    // N = 1: FROM only (also with log); decreasing axes are fine.
+    assert_eq!(
+        Axis::parse("surface.gravity=9.8:100:1").unwrap().values(),
+        vec![9.8]
+    );
+    assert_eq!(Axis::parse("a.b=2:8:1:log").unwrap().values(), vec![2.0]);
+    assert_eq!(
+        Axis::parse("a.b=1:0:3").unwrap().values(),
+        vec![1.0, 0.5, 0.0]
+    );
+
+    // spec() round-trips.
+    for s in [
+        "top.offset=0.001:0.004:4",
+        "top.inertia_axial=1e-44:5e-44:5:log",
+    ] {
+        let a = Axis::parse(s).unwrap();
+        assert_eq!(a.spec(), s);
+        assert_eq!(Axis::parse(&a.spec()).unwrap(), a);
+    }
+}
+
+#[test]
+fn axis_parse_errors() {
+    let cases: &[(&str, &str, &str)] = &[
+        ("top.offset", "--vary", "no '='"),
+        ("=1:2:3", "--vary", "no key"),
+        ("top.offset=1:2", "top.offset", "FROM:TO:N"),
+        ("top.offset=1:2:3:4:5", "top.offset", "FROM:TO:N"),
+        ("top.offset=1:2:3:lin", "top.offset", "unknown spacing"),
+        ("top.offset=x:2:3", "top.offset", "FROM \"x\""),
+        ("top.offset=1:inf:3", "top.offset", "TO = inf"),
+        ("top.offset=1:NaN:3", "top.offset", "TO = NaN"),
+        ("top.offset=1:2:2.5", "top.offset", "not a whole number"),
+        ("top.offset=1:2:-1", "top.offset", "not a whole number"),
+        ("top.offset=1:2:0", "top.offset", "N = 0"),
+        ("top.offset=0:2:3:log", "top.offset", "log spacing"),
+        ("top.offset=-1:-2:3:log", "top.offset", "log spacing"),
+    ];
+    for (spec, key, what) in cases {
+        let e = Axis::parse(spec).unwrap_err();
+        let msg = e.to_string();
+        assert_eq!(key_of(e), *key, "{spec}: {msg}");
+        assert!(msg.contains(what), "{spec}: {msg}");
+        assert!(!msg.contains('\n') && msg.ends_with(')'), "{msg}");
+    }
+}
+
+#[test]
+fn grid_order_first_axis_slowest() {
+    let s = cheap(&["top.offset=1e-3:3e-3:3", "surface.friction=0.1:0.2:2"]);
+    assert_eq!(s.total(), 6);
+    let got: Vec<(usize, Vec<f64>)> = s.cases().into_iter().map(|c| (c.index, c.values)).collect();
+    let want = vec![
+        (0, vec![1e-3, 0.1]),
+        (1, vec![1e-3, 0.2]),
+        (2, vec![2e-3, 0.1]),
+        (3, vec![2e-3, 0.2]),
+        (4, vec![3e-3, 0.1]),
+        (5, vec![3e-3, 0.2]),
+    ];
+    assert_eq!(got, want);
+    // Three axes: the last varies fastest.
+    let t = cheap(&[
+        "top.offset=1:2:2",
+        "top.mass=1:3:3",
+        "surface.friction=1:4:4",
+    ]);
+    assert_eq!(t.total(), 24);
+    assert_eq!(t.case(0).values, vec![1.0, 1.0, 1.0]);
+    assert_eq!(t.case(1).values, vec![1.0, 1.0, 2.0]);
+    assert_eq!(t.case(4).values, vec![1.0, 2.0, 1.0]);
+    assert_eq!(t.case(12).values, vec![2.0, 1.0, 1.0]);
+    assert_eq!(t.case(23).values, vec![2.0, 3.0, 4.0]);
+}
+
+#[test]
+fn swept_values_reach_the_scenario_exactly() {
+    let s = cheap(&[
+        "top.inertia_axial=1e-7:1.3e-6:7:log",
+        "initial.spin=3:179.3:5",
+        "surface.friction=0.0:0.1:4",
+    ]);
+    for case in s.cases() {
+        let sc: Scenario = s.load_case(&case).unwrap();
+        assert_eq!(sc.top.inertia_axial, case.values[0]);
+        assert_eq!(sc.initial.spin, case.values[1]);
+        assert_eq!(sc.surface.friction, case.values[2]);
+        assert_eq!(sc.solver.t_end, 0.05);
+    }
+}
+
+#[test]
+fn shard_ranges_tile() {
+    for total in 1..=40 {
+        for n in 1..=total {
+            let mut cursor = 0;
+            let mut sizes = Vec::new();
+            for k in 1..=n {
+                let r = shard_range(total, Shard { k, n }).unwrap();
+                assert_eq!(r.start, cursor, "total {total}, {k}/{n}");
+                assert!(r.end > r.start, "total {total}, {k}/{n}: empty");
+                sizes.push(r.len());
+                cursor = r.end;
+            }
+            assert_eq!(cursor, total);
+            let (lo, hi) = (sizes.iter().min().unwrap(), sizes.iter().max().unwrap());
+            assert!(hi - lo <= 1, "total {total}, n {n}: {sizes:?}");
+        }
+        // More shards than cases: an error (every shard has a case).
+        let e = shard_range(total, Shard { k: 1, n: total + 1 }).unwrap_err();
+        assert_eq!(key_of(e), "--shard");
+    }
+    assert_eq!(shard_range(10, Shard { k: 1, n: 3 }).unwrap(), 0..4);
+    assert_eq!(shard_range(10, Shard { k: 2, n: 3 }).unwrap(), 4..7);
+    assert_eq!(shard_range(10, Shard { k: 3, n: 3 }).unwrap(), 7..10);
+    assert_eq!(
+        shard_range(1_000_000_000, Shard { k: 7, n: 7 })
+            .unwrap()
+            .end,
+        1_000_000_000
+    );
+
+    assert_eq!(Shard::parse("3/8").unwrap(), Shard { k: 3, n: 8 });
+    assert_eq!(Shard::parse(" 1 / 1 ").unwrap(), Shard::ALL);
+    for bad in ["0/4", "5/4", "1/0", "1", "a/b", "1/2/3", "-1/2", ""] {
+        let e = Shard::parse(bad).unwrap_err();
+        assert!(e.to_string().starts_with("--shard: "), "{bad}: {e}");
+    }
+}
+
+#[test]
+fn validate_rejects_bad_sweeps_before_running() {
+    // Unknown key: named.
+    let e = cheap(&["top.colour=1:2:3"]).validate().unwrap_err();
+    assert_eq!(key_of(e), "top.colour");
+    let e = cheap(&["rotor.speed=1:2:3"]).validate().unwrap_err();
+    assert_eq!(key_of(e), "rotor.speed");
+    // A key of the wrong type for a number.
+    let e = cheap(&["solver.method=1:2:2"]).validate().unwrap_err();
+    assert_eq!(key_of(e), "solver.method");
+    // Varied twice.
+    let e = cheap(&["top.offset=1e-3:2e-3:2", "top.offset=1e-3:2e-3:3"])
+        .validate()
+        .unwrap_err();
+    assert!(e.to_string().contains("varied twice"), "{e}");
+    // Too many cases.
+    let e = cheap(&["top.offset=1e-3:2e-3:100000", "top.mass=1:2:100000"])
+        .validate()
+        .unwrap_err();
+    assert_eq!(key_of(e), "--vary");
+    // No valid case at all: the first case's error.
+    let e = cheap(&["top.offset=0.02:0.03:3"]).validate().unwrap_err();
+    assert_eq!(key_of(e), "top.offset");
+    // A bad base --set.
+    let mut s = cheap(&["top.offset=1e-3:2e-3:2"]);
+    s.sets.push("surface.friction=-1".into());
+    assert_eq!(key_of(s.validate().unwrap_err()), "surface.friction");
+    // Some valid cases, even if the first is not: fine.
+    cheap(&["top.offset=0.02:0.001:3"]).validate().unwrap();
+    cheap(&["top.offset=1e-3:2e-3:2"]).validate().unwrap();
+    // Threads = 0.
+    assert_eq!(
+        key_of(
+            cheap(&["top.offset=1e-3:2e-3:2"])
+                .run(0..2, Some(0), &|| {})
+                .unwrap_err()
+        ),
+        "--threads"
+    );
+}
+
+#[test]
+fn failing_cases_get_their_error_and_the_sweep_goes_on() {
+    // R = 0.015: offsets 0.005, 0.0125 are fine, 0.02 and 0.0275 are not.
+    let s = cheap(&["top.offset=0.005:0.0275:4"]);
+    s.validate().unwrap();
+    let count = std::sync::atomic::AtomicUsize::new(0);
+    let rows = s
+        .run(0..4, Some(2), &|| {
+            count.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        })
+        .unwrap();
+    assert_eq!(count.into_inner(), 4);
+    assert_eq!(
+        rows.iter().map(|r| r.index).collect::<Vec<_>>(),
+        vec![0, 1, 2, 3]
+    );
+    for r in &rows[..2] {
+        assert_eq!(r.status, "ok");
+        assert!(r.summary.is_some());
+    }
+    for r in &rows[2..] {
+        assert!(r.summary.is_none());
+        assert!(r.status.starts_with("top.offset: "), "{}", r.status);
+        assert!(r.status.contains("0 <= offset < radius"), "{}", r.status);
+    }
+    let text = csv(&s.axes, &rows);
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 5);
+    let empties = ",".repeat(FIELDS.len());
+    assert!(
+        lines[3].starts_with(&format!("0.02{empties}")),
+        "{}",
+        lines[3]
+    );
+    let table = Table::parse_csv(&text).unwrap();
+    assert_eq!(
+        table.status,
+        rows.iter().map(|r| r.status.clone()).collect::<Vec<_>>()
+    );
+    assert!(table.column("theta_final").unwrap()[3].is_nan());
+    // Parsed back == built from the rows (NaN != NaN: compare Debug text).
+    assert_eq!(
+        format!("{table:?}"),
+        format!("{:?}", Table::from_rows(&s.axes, &rows))
+    );
+}
+
+#[test]
+fn csv_layout() {
+    let s = cheap(&["top.offset=1e-3:2e-3:2", "initial.spin=100:120:2"]);
+    assert_eq!(
+        csv_header(&s.axes),
+        "top.offset,initial.spin,theta_final,theta_max,omega_final,Omega_final,\
+         first_time_theta_above_half_pi,contact_lost_at,negative_normal_fraction,\
+         rolling_fraction,J_max_rel_drift,energy_final,steps,rhs_evaluations,status\n"
+    );
+    let rows = s.run(0..1, Some(1), &|| {}).unwrap();
+    let line = csv_row(&rows[0]);
+    assert!(line.starts_with("0.001,100.0,"), "{line}");
+    assert!(line.ends_with(",ok\n"), "{line}");
+    let fields: Vec<&str> = line.trim_end().split(',').collect();
+    assert_eq!(fields.len(), 2 + FIELDS.len() + 1);
+    // Never reaches pi/2 in 50 ms, keeps contact: empty event times.
+    assert_eq!((fields[6], fields[7]), ("", ""), "{line}");
+    // Floats round-trip; counts are integers.
+    let sm = rows[0].summary.as_ref().unwrap();
+    assert_eq!(fields[2].parse::<f64>().unwrap(), sm.theta_final);
+    assert_eq!(fields[12], sm.steps.to_string());
+
+    // Status escaping, NaN, one line per case.
+    let mut r = rows[0].clone();
+    r.status = "at t = 1e-3 s: bad, \"very\"\nbad".into();
+    r.summary.as_mut().unwrap().theta_final = f64::NAN;
+    let line = csv_row(&r);
+    assert!(
+        line.ends_with(",\"at t = 1e-3 s: bad, \"\"very\"\" bad\"\n"),
+        "{line}"
+    );
+    assert!(line.contains(",NaN,"), "{line}");
+    assert_eq!(line.matches('\n').count(), 1);
+    let t = Table::parse_csv(&(csv_header(&s.axes) + &line)).unwrap();
+    assert_eq!(t.status[0], "at t = 1e-3 s: bad, \"very\" bad");
+    assert!(t.column("theta_final").unwrap()[0].is_nan());
+    assert_eq!(t.column("initial.spin").unwrap(), vec![100.0]);
+    assert!(t.column("nonsense").is_none());
+}
+
+#[test]
+fn threads_and_shards_give_identical_bytes() {
+    // 3 x 4 = 12 cases, one of them failing (offset >= radius).
+    // Long enough (0.5 s) for stick/slip switches to matter.
+    let mut s = cheap(&["top.offset=0.001:0.015:3", "initial.spin=60:150:4"]);
+    s.sets[0] = "solver.t_end=0.5".into();
+    s.validate().unwrap();
+    let one = run_csv(&s, 1);
+    let two = run_csv(&s, 2);
+    assert_eq!(one, two, "1 vs 2 threads");
+    assert_eq!(one.lines().count(), 13);
+    assert_eq!(one.matches(",ok\n").count(), 8);
+
+    let parts = shards(&s, 4);
+    assert_eq!(merge(&parts).unwrap(), one, "4 shards merged vs one-shot");
+    // Any argument order.
+    let mut rev = parts.clone();
+    rev.reverse();
+    rev.swap(0, 2);
+    assert_eq!(merge(&rev).unwrap(), one);
+    // A mix of layouts: 1/2 and 3/4 + 4/4 (cases 0..6 and 6..9, 9..12).
+    let halves = shards(&s, 2);
+    let mix = vec![halves[0].clone(), parts[2].clone(), parts[3].clone()];
+    assert_eq!(merge(&mix).unwrap(), one);
+    // The one-shot output is itself a mergeable shard 1/1.
+    let all = (s.shard_info(Shard::ALL).unwrap(), one.clone());
+    assert_eq!(
+        (all.0.first_index, all.0.end_index, all.0.total_cases),
+        (0, 12, 12)
+    );
+    assert_eq!(merge(&[all]).unwrap(), one);
+
+    // The nano preset too (applied force, 2 us).
+    let nano = Sweep {
+        preset: Some("nano".into()),
+        toml_text: None,
+        sets: vec!["solver.t_end=2e-6".into(), "solver.samples=11".into()],
+        axes: vec![Axis::parse("force.0.hx=1e-23:1e-21:5:log").unwrap()],
+    };
+    let one_nano = run_csv(&nano, 1);
+    assert_eq!(one_nano, run_csv(&nano, 2));
+    assert_eq!(merge(&shards(&nano, 3)).unwrap(), one_nano);
+    assert_eq!(one_nano.matches(",ok\n").count(), 5, "{one_nano}");
+
+    // 2D columns for a heat map.
+    let t = Table::parse_csv(&one).unwrap();
+    let (xs, ys, z) = t.grid2("theta_final").unwrap();
+    assert_eq!(xs, vec![0.001, 0.008, 0.015]);
+    assert_eq!(ys, vec![60.0, 90.0, 120.0, 150.0]);
+    assert_eq!(z.len(), 3);
+    assert!(z[2].iter().all(|v| v.is_nan()));
+    assert!(z[0].iter().all(|v| v.is_finite()));
+}
+
+#[test]
+fn merge_rejects_incomplete_overlapping_and_foreign_shards() {
+    let s = cheap(&["top.offset=0.001:0.004:8"]);
+    let parts = shards(&s, 4);
+    let msg = |r: Result<String, Error>| {
+        let e = r.unwrap_err();
+        let m = e.to_string();
+        assert_eq!(key_of(e), "merge");
+        assert!(!m.contains('\n'));
+        m
+    };
+    // Missing shard (middle, last, first).
+    let m = msg(merge(&[
+        parts[0].clone(),
+        parts[1].clone(),
+        parts[3].clone(),
+    ]));
+    assert!(m.contains("cases 4..6 of 8 are missing"), "{m}");
+    let m = msg(merge(&parts[..3]));
+    assert!(m.contains("cases 6..8 of 8 are missing"), "{m}");
+    let m = msg(merge(&parts[1..]));
+    assert!(m.contains("cases 0..2 of 8 are missing"), "{m}");
+    assert!(msg(merge(&[])).contains("no shards"));
+    // Overlap: a shard twice, or layouts that overlap.
+    let mut dup = parts.clone();
+    dup.push(parts[1].clone());
+    assert!(msg(merge(&dup)).contains("overlaps"));
+    let thirds = shards(&s, 3); // 0..3, 3..6, 6..8
+    let m = msg(merge(&[
+        parts[0].clone(),
+        thirds[0].clone(),
+        thirds[1].clone(),
+        thirds[2].clone(),
+    ]));
+    assert!(m.contains("overlaps"), "{m}");
+    // Another sweep: different --set, same grid.
+    let mut other = s.clone();
+    other.sets.push("surface.friction=0.2".into());
+    let foreign = shards(&other, 4);
+    let m = msg(merge(&[
+        parts[0].clone(),
+        parts[1].clone(),
+        foreign[2].clone(),
+        parts[3].clone(),
+    ]));
+    assert!(m.contains("another sweep"), "{m}");
+    // Tampered CSV: wrong row count, wrong grid values, wrong header.
+    let mut short = parts.clone();
+    short[1].1 = short[1]
+        .1
+        .lines()
+        .take(2)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    assert!(msg(merge(&short)).contains("has 1 rows, not 2"));
+    let mut swapped = parts.clone();
+    swapped[1].1 = parts[2].1.clone();
+    assert!(msg(merge(&swapped)).contains("is not case 2"));
+    let mut header = parts.clone();
+    header[0].1 = header[0].1.replacen("top.offset", "top.mass", 1);
+    assert!(msg(merge(&header)).contains("header"));
+}
+
+#[test]
+fn fingerprint_is_stable_and_specific() {
+    let s = cheap(&["top.offset=0.001:0.004:8"]);
+    let f = s.fingerprint();
+    assert_eq!(f.len(), 16);
+    assert!(f.bytes().all(|b| b.is_ascii_hexdigit()));
+    assert_eq!(f, s.clone().fingerprint());
+    let mut t = s.clone();
+    t.axes[0].n = 9;
+    assert_ne!(t.fingerprint(), f);
+    let mut t = s.clone();
+    t.toml_text = Some(String::new());
+    assert_ne!(t.fingerprint(), f);
+    let mut t = s.clone();
+    t.preset = Some("nano".into());
+    assert_ne!(t.fingerprint(), f);
+    let mut t = s.clone();
+    t.sets.swap(0, 1);
+    assert_ne!(t.fingerprint(), f);
+}
