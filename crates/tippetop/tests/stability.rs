@@ -103,7 +103,10 @@ impl std::ops::Div for Cx {
     type Output = Cx;
     fn div(self, o: Cx) -> Cx {
         let d = o.0 * o.0 + o.1 * o.1;
-        Cx((self.0 * o.0 + self.1 * o.1) / d, (self.1 * o.0 - self.0 * o.1) / d)
+        Cx(
+            (self.0 * o.0 + self.1 * o.1) / d,
+            (self.1 * o.0 - self.0 * o.1) / d,
+        )
     }
 }
 impl Cx {
@@ -218,7 +221,11 @@ fn pole_eigenvalues_match_the_analytic_characteristic_polynomial() {
             let lin = stability::linearise(&ph, th, 0.0, w, 1e-8).unwrap();
             assert!(lin.residual < 1e-14, "residual {}", lin.residual);
             let poly = pole_polynomial(&top, g, mu, eps, upright, w);
-            assert_matches_polynomial(&lin, &poly, &format!("{top:?} mu {mu} upright {upright} w {w}"));
+            assert_matches_polynomial(
+                &lin,
+                &poly,
+                &format!("{top:?} mu {mu} upright {upright} w {w}"),
+            );
             // Regularised and viscous laws agree at zero slip.
             let ph_r = Physics {
                 law: SmoothLaw::Regularized,
@@ -244,7 +251,10 @@ fn sleeping_top_threshold_on_a_frictionless_plane() {
         let wc = stability::sleeping_threshold(&top, 9.8);
         let unstable = |w: f64| {
             let lin = stability::linearise(&ph, std::f64::consts::PI, 0.0, w, 1e-8).unwrap();
-            assert!(lin.max_re > -lin.tol, "a conservative system is never asymptotically stable");
+            assert!(
+                lin.max_re > -lin.tol,
+                "a conservative system is never asymptotically stable"
+            );
             lin.verdict == Verdict::Unstable
         };
         assert!(unstable(0.5 * wc) && !unstable(2.0 * wc));
@@ -266,7 +276,128 @@ fn sleeping_top_threshold_on_a_frictionless_plane() {
         // Upright (centre of mass lowest): stable for every ω with μ = 0.
         for w in [0.0, 1e-3 * wc, 0.5 * wc, wc, 10.0 * wc, -3.0 * wc] {
             let lin = stability::linearise(&ph, 0.0, 0.0, w, 1e-8).unwrap();
-            assert_eq!(lin.verdict, Verdict::Marginal, "upright at omega {w}: {lin:?}");
+            assert_eq!(
+                lin.verdict,
+                Verdict::Marginal,
+                "upright at omega {w}: {lin:?}"
+            );
         }
+    }
+}
+
+#[test]
+fn classical_top_upright_unstable_inverted_stable_with_friction() {
+    // The tippe top's instability: regularised friction, ω = 100 rad/s.
+    let ph = classical_physics(0.1, 1.5e-3);
+    let up = stability::linearise(&ph, 0.0, 0.0, 100.0, 1e-10).unwrap();
+    assert_eq!(up.verdict, Verdict::Unstable, "{up:?}");
+    // The inverted top with the spin Jellett's J gives it (n_Z = J/(C(R + a))).
+    let sc = Scenario::classical();
+    let rep = stability::analyse(
+        &sc,
+        &stability::Options {
+            run: false,
+            eps: Some(1.5e-3),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(rep.steady[0].with_friction.verdict, Verdict::Unstable);
+    assert_eq!(rep.steady[1].with_friction.verdict, Verdict::Stable);
+    assert!(rep.steady[1].with_friction.spin.abs() > rep.sleeping_threshold);
+    // Frictionless: only marginal.
+    assert_eq!(rep.steady[0].frictionless.verdict, Verdict::Marginal);
+    assert_eq!(rep.steady[1].frictionless.verdict, Verdict::Marginal);
+    // App. B's verdicts for the classical top: B1 (stable upright) is wrong,
+    // B3 (always unstable inverted) is wrong.
+    assert_eq!(rep.paper[0].agree, "no");
+    assert_eq!(rep.paper[2].agree, "no");
+}
+
+#[test]
+fn inversion_window_of_the_literature() {
+    // Upright unstable iff A/C > 1 − a/R, inverted stable iff A/C < 1 + a/R
+    // (a/R = 0.1): both, i.e. inversion, iff 1 − a/R < A/C < 1 + a/R. Checked
+    // for weak friction (ε = 10 m/s) and near rolling (ε = 1.5 mm/s).
+    for eps in [1.5e-3, 10.0] {
+        for (ac, up_unstable, inv_stable) in [
+            (0.85, false, true),
+            (0.95, true, true),
+            (1.05, true, true),
+            (1.15, true, false),
+        ] {
+            let mut top = Top::classical();
+            top.inertia_axial = top.inertia_transverse / ac;
+            let ph = Physics {
+                top,
+                ..classical_physics(0.1, eps)
+            };
+            let up = stability::linearise(&ph, 0.0, 0.0, 100.0, 1e-10).unwrap();
+            let inv = stability::linearise(&ph, std::f64::consts::PI, 0.0, -81.0, 1e-10).unwrap();
+            assert_eq!(
+                up.verdict == Verdict::Unstable,
+                up_unstable,
+                "eps {eps} A/C {ac}"
+            );
+            assert_eq!(
+                inv.verdict == Verdict::Stable,
+                inv_stable,
+                "eps {eps} A/C {ac}"
+            );
+        }
+    }
+}
+
+#[test]
+fn relative_equilibria_are_steady_and_the_nano_lying_state_is_found() {
+    // The zero-slip family: the residual of the equations vanishes.
+    for top in [Top::classical(), Top::nano()] {
+        for th in [0.4, 1.2, std::f64::consts::FRAC_PI_2, 1.65] {
+            let Some(o2) = stability::relative_equilibrium_precession_sq(&top, 9.8, th) else {
+                continue;
+            };
+            let om = o2.sqrt();
+            let w = stability::relative_equilibrium_spin(&top, th, om);
+            let lin = stability::linearise(&classical_like(top), th, om, w, 1e-10).unwrap();
+            assert!(lin.residual < 1e-10, "residual {} at {th}", lin.residual);
+            assert!(lin.jellett_check < 1e-12);
+            assert_eq!(lin.eigenvalues.len(), 5);
+        }
+    }
+    // Frozen-spin at a nano lying state (ω = −2.5e7 rad/s, the H-driven run's
+    // late state): with Ω from J the quasi-equilibrium is near cos θ = a/R, not
+    // π/2, and the oscillation frequency is the nutation frequency C|ω|/A.
+    let sc = Scenario::nano();
+    let top = sc.top;
+    let w = -2.5e7;
+    let j = stability::jellett(&top, 0.1, 0.0, 100.0);
+    let inp = stability::FrozenInput {
+        theta: 1.5,
+        spin: w,
+        precession: -3.7e4,
+        jellett: j,
+        u: [0.0, -3e-3],
+        t_force: 5e-5,
+    };
+    let f = stability::frozen_spin(
+        &sc,
+        SmoothLaw::Regularized,
+        1e-7,
+        &inp,
+        stability::FrozenVariant::PrecessionFromJellett,
+        1e-10,
+    );
+    let tq = f.theta_quasi.unwrap();
+    assert!((tq - 0.1f64.acos()).abs() < 0.01, "theta_q {tq}");
+    let nu = f.eigenvalues[0].im.abs();
+    let nut = top.inertia_axial * w.abs() / top.inertia_transverse;
+    assert!((nu / nut - 1.0).abs() < 0.02, "nu {nu} vs C|w|/A {nut}");
+    assert!(f.label.contains("not a true equilibrium"));
+}
+
+fn classical_like(top: Top) -> Physics {
+    Physics {
+        top,
+        ..classical_physics(0.1, 1e-3 * top.radius * 100.0)
     }
 }
