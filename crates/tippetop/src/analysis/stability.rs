@@ -55,6 +55,9 @@
 //! sin²θ)`, which keeps the gyroscopic coupling). Both are labelled
 //! "frozen-spin (quasi-static), not a true equilibrium".
 
+// Dense linear algebra on small matrices reads best with indices.
+#![allow(clippy::needless_range_loop)]
+
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use serde::Serialize;
