@@ -57,6 +57,8 @@ pub enum Command {
     Sweep(crate::sweep_cmd::SweepArgs),
     /// Join the outputs of a sweep's shards into one sweep.csv.
     Merge(crate::sweep_cmd::MergeArgs),
+    /// Stability of the steady motions (θ = 0, π/2, π) beside the paper's App. B.
+    Stability(crate::stability_cmd::StabilityArgs),
 }
 
 /// `tippetop run`.

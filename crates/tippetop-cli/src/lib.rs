@@ -11,6 +11,7 @@ pub mod progress;
 pub mod reproduce;
 pub mod run;
 pub mod scenario_load;
+pub mod stability_cmd;
 pub mod sweep_cmd;
 
 pub use cli::{Cli, Command, ReproduceArgs, RunArgs};

@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use tippetop_cli::cli::{Cli, Command};
-use tippetop_cli::{reproduce, run, sweep_cmd};
+use tippetop_cli::{reproduce, run, stability_cmd, sweep_cmd};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -19,6 +19,7 @@ fn main() -> ExitCode {
         Command::Reproduce(args) => reproduce::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),
         Command::Sweep(args) => sweep_cmd::sweep(args, cli.quiet),
         Command::Merge(args) => sweep_cmd::merge(args, cli.quiet),
+        Command::Stability(args) => stability_cmd::run(args, cli.quiet),
     };
     match result {
         Ok(code) => code,

@@ -1,6 +1,9 @@
 //! Analyses built on runs: the paper's claims, the friction-law (ε) study,
-//! stability, asymptotics, sweeps.
+//! stability of the steady motions (App. B), the asymptotic laws while
+//! lying (App. C), and parallel sweeps.
 
+pub mod asymptotics;
 pub mod friction;
 pub mod paper;
+pub mod stability;
 pub mod sweep;

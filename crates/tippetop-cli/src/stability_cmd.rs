@@ -1,0 +1,229 @@
+//! `tippetop stability`: the steady motions of a scenario, their eigenvalues
+//! and verdicts, the frozen-spin analysis when a force is applied, and the
+//! paper's App. B (B1–B4) beside them. See `tippetop::analysis::stability`.
+
+use std::{path::PathBuf, process::ExitCode};
+
+use anyhow::Context;
+use tippetop::{
+    Scenario,
+    analysis::stability::{self, Linearisation, Options, SmoothLaw, StabilityReport},
+};
+
+/// Smooth friction law for the linearisation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LawArg {
+    /// μ N v/√(|v|² + ε²)
+    Regularized,
+    /// μ N v/ε
+    Viscous,
+}
+
+/// Arguments of `tippetop stability`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct StabilityArgs {
+    /// Scenario file (TOML); or give --preset.
+    pub scenario: Option<PathBuf>,
+    /// Start from a preset: "nano" or "classical".
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Override a scenario key, e.g. --set surface.friction=0 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Smooth friction law used for the linearisation (Coulomb is not
+    /// differentiable at zero slip).
+    #[arg(long, value_enum, default_value = "regularized")]
+    pub law: LawArg,
+    /// Regularisation speed ε [m/s]; default: the scenario's, else
+    /// 1e-3 R max(|ω0|, √(g/R)).
+    #[arg(long)]
+    pub eps: Option<f64>,
+    /// Spin about the vertical at θ = 0 and π [rad/s]; default: the spin with
+    /// the scenario's Jellett J.
+    #[arg(long)]
+    pub spin: Option<f64>,
+    /// Relative tolerance of the verdicts: tol = TOL · max|λ|.
+    #[arg(long, default_value_t = 1e-10)]
+    pub tol: f64,
+    /// Do not run the scenario (no late-time state).
+    #[arg(long)]
+    pub no_run: bool,
+}
+
+fn load(args: &StabilityArgs) -> Result<Scenario, tippetop::Error> {
+    let text = match &args.scenario {
+        Some(p) => Some(std::fs::read_to_string(p).map_err(|e| {
+            tippetop::Error::invalid(
+                "scenario",
+                format!("cannot read {}: {e}", p.display()),
+                "a readable TOML file".into(),
+            )
+        })?),
+        None => None,
+    };
+    if text.is_none() && args.preset.is_none() {
+        return Err(tippetop::Error::invalid(
+            "scenario",
+            "no scenario given".into(),
+            "a SCENARIO.toml argument or --preset nano|classical".into(),
+        ));
+    }
+    Scenario::load(args.preset.as_deref(), text.as_deref(), &args.set)
+}
+
+/// Run `tippetop stability`. Exit code 0, 2 for bad input, 3 for a failure
+/// while computing.
+pub fn run(args: &StabilityArgs, quiet: bool) -> anyhow::Result<ExitCode> {
+    let sc = match load(args) {
+        Ok(sc) => sc,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Ok(ExitCode::from(2));
+        }
+    };
+    let opts = Options {
+        law: match args.law {
+            LawArg::Regularized => SmoothLaw::Regularized,
+            LawArg::Viscous => SmoothLaw::Viscous,
+        },
+        eps: args.eps,
+        spin: args.spin,
+        tol_rel: args.tol,
+        run: !args.no_run,
+        ..Default::default()
+    };
+    if !quiet && opts.run {
+        eprintln!("running the scenario for its late-time state ...");
+    }
+    let rep = match stability::analyse(&sc, &opts) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Ok(ExitCode::from(if e.is_input() { 2 } else { 3 }));
+        }
+    };
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&rep).context("serialising the report")?
+        );
+    } else {
+        print!("{}", table(&rep));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn eigs(l: &Linearisation) -> String {
+    l.eigenvalues
+        .iter()
+        .map(|e| {
+            if e.im == 0.0 {
+                format!("{:.4e}", e.re)
+            } else {
+                format!("{:.4e}{:+.4e}i", e.re, e.im)
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The human-readable report.
+pub fn table(r: &StabilityReport) -> String {
+    let mut s = String::new();
+    s += &format!(
+        "Steady motions with H = 0, linearised with the {} friction law (ε = {:.4e} m/s, μ = {}), g = {} m/s²\n",
+        r.law.name(),
+        r.eps,
+        r.mu,
+        r.gravity
+    );
+    s += &format!(
+        "Verdict: stable if every Re λ < −tol, unstable if some Re λ > tol, else marginal; tol = {:.0e} · max|λ|. Structural zeros (Jellett's J, rotation about Z) removed.\n",
+        r.tol_rel
+    );
+    s += &format!(
+        "Jellett J (initial) = {:.6e} kg m³/s; sleeping-top threshold ω_c = 2√(A m g a)/C = {:.6e} rad/s\n\n",
+        r.jellett, r.sleeping_threshold
+    );
+    s += &format!(
+        "{:<48} {:>8} {:>12} {:>12} {:>10} {:>12} {:>10}\n",
+        "steady motion", "θ*", "Ω* [rad/s]", "ω* [rad/s]", "friction", "max Re λ", "μ = 0"
+    );
+    for m in &r.steady {
+        let l = &m.with_friction;
+        s += &format!(
+            "{:<48} {:>8.4} {:>12.4e} {:>12.4e} {:>10} {:>12.4e} {:>10}\n",
+            m.name,
+            l.theta,
+            l.precession,
+            l.spin,
+            l.verdict.as_str(),
+            l.max_re,
+            m.frictionless.verdict.as_str()
+        );
+        s += &format!("    ({})\n", m.how);
+        s += &format!("    λ [1/s], friction: {}\n", eigs(l));
+        s += &format!("    λ [1/s], μ = 0:    {}\n", eigs(&m.frictionless));
+    }
+    if let Some(l) = &r.late {
+        s += &format!(
+            "\nLate-time state of the run ({:.4e} s to {:.4e} s, status {}): {} — θ = {:.4} ± {:.4} rad (θ − π/2 = {:+.4}), Ω = {:.4e} rad/s, ω = {:.4e} rad/s (end {:.4e}), u = ({:.3e}, {:.3e}) m/s\n",
+            l.t_from,
+            l.t_to,
+            l.status,
+            l.class,
+            l.theta_mean,
+            l.theta_amplitude,
+            l.theta_mean - std::f64::consts::FRAC_PI_2,
+            l.precession_mean,
+            l.spin_mean,
+            l.spin_final,
+            l.u_mean[0],
+            l.u_mean[1]
+        );
+    }
+    if !r.frozen.is_empty() {
+        s += "\nApplied force H ≠ 0: nothing is steady. Frozen-spin (quasi-static) analysis, not a true equilibrium:\n";
+        for f in &r.frozen {
+            let x = &f.result;
+            match x.theta_quasi {
+                Some(tq) => {
+                    s += &format!(
+                        "  {:<46} {:<24} θ_q = {:.5} Ω = {:.4e} ω = {:.4e}: λ = {} → {}\n",
+                        f.name,
+                        format!("{:?}", x.variant),
+                        tq,
+                        x.precession,
+                        x.spin,
+                        x.eigenvalues
+                            .iter()
+                            .map(|e| format!("{:.4e}{:+.4e}i", e.re, e.im))
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                        x.verdict.map(|v| v.as_str()).unwrap_or("-")
+                    )
+                }
+                None => {
+                    s += &format!(
+                        "  {:<46} {:<24} {}\n",
+                        f.name,
+                        format!("{:?}", x.variant),
+                        x.note
+                    )
+                }
+            }
+        }
+    }
+    s += "\nThe paper's App. B against the full analysis:\n";
+    for p in &r.paper {
+        s += &format!("{}  {}\n", p.id, p.configuration);
+        s += &format!("    paper:   {}\n", p.paper);
+        s += &format!("    full:    {}\n", p.full);
+        s += &format!("    agree:   {}\n", p.agree);
+        s += &format!("    dropped: {}\n", p.dropped);
+    }
+    s
+}
