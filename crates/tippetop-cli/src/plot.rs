@@ -232,6 +232,9 @@ pub struct HeatmapOpts {
     pub log_z: bool,
     /// Fixed colour range; `None`: the finite data's extent.
     pub z_range: Option<(f64, f64)>,
+    /// Curves drawn over the map, in data coordinates (x, y): white lines,
+    /// mapped onto the cell grid by interpolating between grid values.
+    pub lines: Vec<(Vec<f64>, Vec<f64>)>,
 }
 
 impl Default for HeatmapOpts {
@@ -240,6 +243,7 @@ impl Default for HeatmapOpts {
             size: DEFAULT_SIZE,
             log_z: false,
             z_range: None,
+            lines: Vec::new(),
         }
     }
 }
@@ -362,6 +366,7 @@ pub fn heatmap(
         z,
         z_range,
         log_z: opts.log_z,
+        lines: &opts.lines,
     };
     render_both(stem, opts.size, &figure)
 }
@@ -384,6 +389,7 @@ enum Figure<'a> {
         z: &'a [Vec<f64>],
         z_range: (f64, f64),
         log_z: bool,
+        lines: &'a [(Vec<f64>, Vec<f64>)],
     },
 }
 
@@ -481,8 +487,9 @@ fn draw<DB: DrawingBackend>(
             z,
             z_range,
             log_z,
+            lines,
         } => draw_heatmap(
-            root, title, x_label, y_label, z_label, xs, ys, z, *z_range, *log_z, bitmap,
+            root, title, x_label, y_label, z_label, xs, ys, z, *z_range, *log_z, lines, bitmap,
         ),
     }
 }
@@ -717,6 +724,7 @@ fn draw_heatmap<DB: DrawingBackend>(
     z: &[Vec<f64>],
     (z0, z1): (f64, f64),
     log_z: bool,
+    lines: &[(Vec<f64>, Vec<f64>)],
     bitmap: bool,
 ) -> DrawResult {
     let body = root.titled(title, font(24.0)).map_err(err)?;
@@ -790,6 +798,39 @@ fn draw_heatmap<DB: DrawingBackend>(
         })
     });
     chart.draw_series(cells).map_err(err)?;
+    // Overlay curves: data coordinates to cell-index coordinates.
+    let to_index = |vals: &[f64], v: f64| -> Option<f64> {
+        if !v.is_finite() || vals.is_empty() {
+            return None;
+        }
+        if vals.len() == 1 {
+            return Some(0.0);
+        }
+        let n = vals.len();
+        let seg = |i: usize| {
+            let (a, b) = (vals[i], vals[i + 1]);
+            i as f64 + (v - a) / (b - a)
+        };
+        let i = (0..n - 1)
+            .find(|&i| (vals[i] - v) * (vals[i + 1] - v) <= 0.0)
+            .unwrap_or(if (v - vals[0]).abs() < (v - vals[n - 1]).abs() {
+                0
+            } else {
+                n - 2
+            });
+        let idx = seg(i);
+        (-0.5..=n as f64 - 0.5).contains(&idx).then_some(idx)
+    };
+    for (lx, ly) in lines {
+        let pts: Vec<(f64, f64)> = lx
+            .iter()
+            .zip(ly)
+            .filter_map(|(&x, &y)| Some((to_index(xs, x)?, to_index(ys, y)?)))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(pts, WHITE.stroke_width(3)))
+            .map_err(err)?;
+    }
 
     // Colour bar: linear in z, or in log10 z.
     let (b0, b1) = if log_z {

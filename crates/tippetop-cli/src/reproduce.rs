@@ -66,6 +66,24 @@ pub fn write_all(dir: &Path, rep: &Reproduction) -> Result<()> {
         write_figure(dir, f)?;
     }
     write_fig05(dir, rep)?;
+    for m in &rep.maps {
+        write_bytes_atomic(&dir.join(format!("{}.csv", m.id)), m.csv.as_bytes())?;
+        crate::plot::heatmap(
+            &dir.join(&m.id),
+            &m.title,
+            &m.x_label,
+            &m.y_label,
+            &m.z_label,
+            &m.xs,
+            &m.ys,
+            &m.z,
+            &crate::plot::HeatmapOpts {
+                z_range: Some((0.0, std::f64::consts::PI)),
+                lines: m.lines.clone(),
+                ..Default::default()
+            },
+        )?;
+    }
     write_json_pretty(&dir.join("claims.json"), &rep.claims)?;
     write_bytes_atomic(
         &dir.join("report.md"),

@@ -154,6 +154,31 @@ pub struct Run {
     pub trajectory: Trajectory,
 }
 
+/// A 2D map (heat map) with overlay curves, for the CLI to draw.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MapData {
+    /// File stem, e.g. "inversion_map_regularized".
+    pub id: String,
+    /// Title.
+    pub title: String,
+    /// x-axis label.
+    pub x_label: String,
+    /// y-axis label.
+    pub y_label: String,
+    /// Colour-bar label.
+    pub z_label: String,
+    /// Grid values along x.
+    pub xs: Vec<f64>,
+    /// Grid values along y.
+    pub ys: Vec<f64>,
+    /// `z[j][i]` at `(xs[i], ys[j])`; NaN for a failed case.
+    pub z: Vec<Vec<f64>>,
+    /// Overlay curves (x, y) in data coordinates.
+    pub lines: Vec<(Vec<f64>, Vec<f64>)>,
+    /// The sweep's CSV (one row per case).
+    pub csv: String,
+}
+
 /// Everything `reproduce` produces (the CLI writes it to disk).
 #[derive(Debug, Clone)]
 pub struct Reproduction {
@@ -171,6 +196,8 @@ pub struct Reproduction {
     pub quick: bool,
     /// Extra report sections (title, Markdown body).
     pub sections: Vec<(String, String)>,
+    /// Heat maps (extended mode).
+    pub maps: Vec<MapData>,
 }
 
 /// Options of [`reproduce`].
@@ -1060,7 +1087,23 @@ pub fn reproduce(opts: Options, progress: &mut dyn FnMut(&str)) -> Result<Reprod
             b_sliding
         ),
     ));
+    let mut maps = Vec::new();
     if opts.extended {
+        for (law, sets) in [
+            (
+                "regularized",
+                vec![
+                    "surface.friction_law=\"regularized\"".to_string(),
+                    "surface.friction_eps=1e-2".to_string(),
+                ],
+            ),
+            ("exact Coulomb", vec![]),
+        ] {
+            (r.progress)(&format!("inversion map, {law}"));
+            let (map, body) = inversion_map(law, &sets, q)?;
+            sections.push((format!("Classical inversion map, {law} friction"), body));
+            maps.push(map);
+        }
         let mut base = runs[ce].scenario.clone();
         for (label, t_end) in [("10 s", base.solver.t_end), ("150 s", 150.0 * q)] {
             base.solver.t_end = t_end;
@@ -1105,6 +1148,7 @@ pub fn reproduce(opts: Options, progress: &mut dyn FnMut(&str)) -> Result<Reprod
         runs,
         quick: opts.quick,
         sections,
+        maps,
     })
 }
 
@@ -1231,4 +1275,112 @@ fn eps_conclusion(rows: &[super::friction::EpsRow]) -> String {
         }
     ));
     s
+}
+
+/// The classical inversion map over (A/C, a/R): the paper's classical top
+/// with C fixed, A = (A/C)·C and a = (a/R)·R varied, from the paper's
+/// initial state, 10 s, with the given friction-law overrides. The
+/// literature's window 1 − a/R < A/C < 1 + a/R is drawn over it.
+fn inversion_map(law: &str, sets: &[String], q: f64) -> Result<(MapData, String), Error> {
+    use super::sweep::{Axis, Sweep};
+    let top = crate::Top::classical();
+    let (c, r) = (top.inertia_axial, top.radius);
+    let (nx, ny) = if q < 1.0 { (5, 4) } else { (21, 20) };
+    let mut all_sets = sets.to_vec();
+    all_sets.push(format!("solver.t_end={:?}", 10.0 * q));
+    all_sets.push("solver.samples=201".to_string());
+    let sweep = Sweep {
+        preset: Some("classical".into()),
+        toml_text: None,
+        sets: all_sets,
+        axes: vec![
+            Axis {
+                key: "top.inertia_transverse".into(),
+                from: 0.55 * c,
+                to: 1.5 * c,
+                n: nx,
+                log: false,
+            },
+            Axis {
+                key: "top.offset".into(),
+                from: 0.02 * r,
+                to: 0.4 * r,
+                n: ny,
+                log: false,
+            },
+        ],
+    };
+    let rows = sweep.run(0..sweep.total(), None, &|| {})?;
+    let xs: Vec<f64> = (0..nx).map(|i| sweep.axes[0].value(i) / c).collect();
+    let ys: Vec<f64> = (0..ny).map(|j| sweep.axes[1].value(j) / r).collect();
+    let mut z = vec![vec![f64::NAN; nx]; ny];
+    let (mut inside, mut inside_inv, mut outside, mut outside_inv) = (0, 0, 0, 0);
+    for row in &rows {
+        let (i, j) = (row.index / ny, row.index % ny);
+        let th = row
+            .summary
+            .as_ref()
+            .filter(|_| row.status == "ok")
+            .map(|s| s.theta_final)
+            .unwrap_or(f64::NAN);
+        z[j][i] = th;
+        if th.is_finite() {
+            let inverted = th > std::f64::consts::FRAC_PI_2;
+            let win = (1.0 - ys[j]) < xs[i] && xs[i] < (1.0 + ys[j]);
+            if win {
+                inside += 1;
+                inside_inv += inverted as usize;
+            } else {
+                outside += 1;
+                outside_inv += inverted as usize;
+            }
+        }
+    }
+    let failed = rows.iter().filter(|r| r.status != "ok").count();
+    let edge =
+        |sign: f64| -> (Vec<f64>, Vec<f64>) { ys.iter().map(|&y| (1.0 + sign * y, y)).unzip() };
+    let body = format!(
+        "The paper's classical top (R = 15 mm, m = 15 g, C = 2/5 m R², μ = 0.1) from the paper's initial state (θ = 0.1, ω = 100 rad/s, no slip velocity of the centre of mass), {} s, with {law} friction{}, over A/C in [0.55, 1.5] and a/R in [0.02, 0.4] ({} cases, {failed} failed). \
+         Inside the literature's inversion window 1 − a/R < A/C < 1 + a/R (white lines on the map): {inside_inv} of {inside} tops are inverted (θ > π/2) at the end; outside it: {outside_inv} of {outside}. \
+         {}\n",
+        10.0 * q,
+        if sets.is_empty() {
+            " (exact stick/slip)".to_string()
+        } else {
+            format!(" ({})", sets.join(", "))
+        },
+        rows.len(),
+        if inside_inv == 0 {
+            "No top inverts: under this law the tops reach rolling and roll on; the window describes which states are stable, not which are reached from this initial state without sliding dissipation."
+        } else {
+            "The window predicts which tops can invert; within 10 s the tops near its edges may not have finished."
+        }
+    );
+    let id = format!(
+        "inversion_map_{}",
+        if sets.is_empty() {
+            "exact"
+        } else {
+            "regularized"
+        }
+    );
+    let lines = vec![edge(-1.0), edge(1.0)];
+    Ok((
+        MapData {
+            id: id.clone(),
+            title: format!(
+                "Classical tippe top: θ after {} s ({law} friction); white: 1 ∓ a/R",
+                10.0 * q
+            ),
+            x_label: "A/C".into(),
+            y_label: "a/R".into(),
+            z_label: "θ final [rad]".into(),
+            xs,
+            ys,
+            z,
+            lines,
+            csv: super::sweep::csv(&sweep.axes, &rows),
+        },
+        body + &format!("\n![{id}]({id}.png)\n"),
+    ))
 }
