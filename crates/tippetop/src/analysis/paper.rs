@@ -1072,6 +1072,33 @@ pub fn reproduce(opts: Options, progress: &mut dyn FnMut(&str)) -> Result<Reprod
     });
     let _ = (p0, p100, mean_p);
 
+    // App. B: each of B1-B4 against the full linearisation, for both tops.
+    for (top_name, i) in [("nano", b), ("classical", ce)] {
+        let st =
+            super::stability::analyse(&runs[i].scenario, &super::stability::Options::default())?;
+        for c in &st.paper {
+            let agree = c.agree.split_whitespace().next().unwrap_or("");
+            let verdict = match agree {
+                "yes" => Verdict::Reproduced,
+                "partly" => Verdict::Partly,
+                "no" => Verdict::NotReproduced,
+                _ => continue,
+            };
+            claims.push(Claim {
+                id: format!("app_b_{}_{top_name}", c.id.to_lowercase()),
+                claim: format!("App. B ({}), {top_name} top: {}", c.id, c.configuration),
+                paper_value: c.paper.clone(),
+                measured: c.full.clone(),
+                settings: format!(
+                    "{}; linearised with the {:?} law, eps = {:e} m/s (tippetop stability)",
+                    runs[i].settings, st.law, st.eps
+                ),
+                verdict,
+                why: format!("What App. B dropped: {}", c.dropped),
+            });
+        }
+    }
+
     let mut sections = Vec::new();
     let nano_rolling: Vec<String> = [b, rb, s8b, s1b]
         .iter()
