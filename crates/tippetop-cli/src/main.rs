@@ -13,6 +13,14 @@ use tippetop_cli::cli::{Cli, Command};
 use tippetop_cli::{reproduce, run, stability_cmd, sweep_cmd};
 
 fn main() -> ExitCode {
+    // Behave like a Unix filter when the reader goes away (`tippetop ... | head`):
+    // die quietly on SIGPIPE instead of panicking on a failed print.
+    #[cfg(unix)]
+    // SAFETY: setting a signal disposition to the default at start-up, before
+    // any thread exists.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Run(args) => run::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),
