@@ -181,47 +181,82 @@ fn settle_at_zero_slip(m: &mut Reduced, y: &[f64; DIM]) -> ([f64; DIM], bool) {
     (yr, false)
 }
 
+/// What every model's driver needs from a scenario, in scaled time: the
+/// end time, the sample times, the force-switch times inside the run, and
+/// the integrator options.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSetup {
+    /// End time (scaled).
+    pub t_end: f64,
+    /// Evenly spaced sample times on `[0, t_end]`, the last exactly `t_end`.
+    pub sample_times: Vec<f64>,
+    /// Switch times of the force schedule strictly inside `(0, t_end)`.
+    pub tstops: Vec<f64>,
+    /// Integrator options from `[solver]`.
+    pub opts: Options,
+}
+
+impl RunSetup {
+    /// The setup of `sc` with time unit `time_unit` \[s\].
+    pub fn new(sc: &Scenario, time_unit: f64) -> Self {
+        let t_end = sc.solver.t_end / time_unit;
+        let ns = sc.solver.samples;
+        let sample_times = (0..ns)
+            .map(|i| {
+                if i + 1 == ns {
+                    t_end
+                } else {
+                    t_end * i as f64 / (ns - 1) as f64
+                }
+            })
+            .collect();
+        let tstops = sc
+            .forcing
+            .switch_times()
+            .into_iter()
+            .map(|t| t / time_unit)
+            .filter(|&t| t > 0.0 && t < t_end)
+            .collect();
+        let opts = Options {
+            stepper: match sc.solver.method {
+                Method::Adaptive => Stepper::Dop853 {
+                    rtol: sc.solver.rtol,
+                    atol: sc.solver.rtol,
+                },
+                Method::Rk4 => Stepper::Rk4 {
+                    h: t_end / sc.solver.steps as f64,
+                },
+            },
+            max_steps: MAX_STEPS,
+            h0: None,
+            // Samples and events are read from the dense output, whose error
+            // the step-size control does not see: with steps much longer than
+            // the time scale of the motion (a tiny nutation on a steady
+            // precession lets DOP853 take steps of a whole period) the
+            // interpolant is far less accurate than the step ends. No step
+            // longer than the sample spacing keeps the dense output at the
+            // step-error level.
+            h_max: Some(t_end / (ns - 1) as f64),
+        };
+        RunSetup {
+            t_end,
+            sample_times,
+            tstops,
+            opts,
+        }
+    }
+}
+
 fn run_reduced(sc: &Scenario) -> Trajectory {
     let mut m = Reduced::new(sc);
     let tu = m.scales.time;
-    let t_end = sc.solver.t_end / tu;
+    let RunSetup {
+        t_end,
+        sample_times,
+        tstops,
+        opts,
+    } = RunSetup::new(sc, tu);
     let ns = sc.solver.samples;
-    let sample_times: Vec<f64> = (0..ns)
-        .map(|i| {
-            if i + 1 == ns {
-                t_end
-            } else {
-                t_end * i as f64 / (ns - 1) as f64
-            }
-        })
-        .collect();
-    let tstops: Vec<f64> = sc
-        .forcing
-        .switch_times()
-        .into_iter()
-        .map(|t| t / tu)
-        .filter(|&t| t > 0.0 && t < t_end)
-        .collect();
-    let opts = Options {
-        stepper: match sc.solver.method {
-            Method::Adaptive => Stepper::Dop853 {
-                rtol: sc.solver.rtol,
-                atol: sc.solver.rtol,
-            },
-            Method::Rk4 => Stepper::Rk4 {
-                h: t_end / sc.solver.steps as f64,
-            },
-        },
-        max_steps: MAX_STEPS,
-        h0: None,
-        // Samples and events are read from the dense output, whose error the
-        // step-size control does not see: with steps much longer than the
-        // time scale of the motion (a tiny nutation on a steady precession
-        // lets DOP853 take steps of a whole period) the interpolant is far
-        // less accurate than the step ends. No step longer than the sample
-        // spacing keeps the dense output at the step-error level.
-        h_max: Some(t_end / (ns - 1) as f64),
-    };
 
     let mut y = m.scale_state(&sc.initial);
     m.latch_force(0.0);
