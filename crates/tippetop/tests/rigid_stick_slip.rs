@@ -4,6 +4,7 @@
 //! energy conservation while rolling, the stick limit under an applied
 //! force, cost, and chattering detection for the sliding-only law.
 
+use tippetop::model::rigid::{self, Mode, VEL};
 use tippetop::{
     ForceWindow, Forcing, FrictionLaw, ModelKind, Sample, Scenario, Top, Trajectory, simulate,
 };
@@ -65,8 +66,11 @@ fn rigid_sliding_sphere_sticks_at_the_coulomb_time() {
         (ts - t_roll).abs() / t_roll,
         tr.summary.rhs_evaluations
     );
+    // 1e-8 is the requirement; measured 1e-14. Without the smooth
+    // continuation of μ v/|v| through zero slip the event is found only to
+    // ≈ 3e-11, which the 1e-12 bound catches.
     assert!(
-        (ts - t_roll).abs() <= 1e-8 * t_roll,
+        (ts - t_roll).abs() <= 1e-12 * t_roll,
         "stick at {ts}, Coulomb predicts {t_roll}"
     );
     assert!(times(&tr, "slip").is_empty(), "events: {:?}", tr.events);
@@ -95,6 +99,17 @@ fn rigid_sliding_sphere_sticks_at_the_coulomb_time() {
         "rolling speed off by {worst_roll:e} |v0|"
     );
     assert!((tr.summary.rolling_fraction - (0.4 - ts) / 0.4).abs() < 1e-9);
+    // Rolling is straight at constant velocity (world frame): a free
+    // rolling sphere needs no friction. (The speed alone would not catch a
+    // spurious friction perpendicular to the velocity.)
+    let vel = rolling_world_velocities(&sc);
+    let v_stick = vel[0];
+    let worst = vel
+        .iter()
+        .map(|v| (v[0] - v_stick[0]).hypot(v[1] - v_stick[1]) / v0)
+        .fold(0.0, f64::max);
+    println!("rolling: world velocity constant to {worst:.1e} |v0|");
+    assert!(worst <= 1e-8, "rolling velocity changed by {worst:e} |v0|");
     assert!(
         tr.summary.rhs_evaluations < 10_000,
         "{} evaluations",
@@ -137,7 +152,7 @@ fn rigid_sphere_from_theta_zero_sticks_at_the_coulomb_time() {
         "sphere from theta = 0: stick at {ts}, closed form {t_roll}, rel {:.1e}",
         (ts - t_roll).abs() / t_roll
     );
-    assert!((ts - t_roll).abs() <= 1e-8 * t_roll);
+    assert!((ts - t_roll).abs() <= 1e-12 * t_roll);
     // Centre velocity once rolling, in world axes: the outputs u_x, u_y are
     // in the precessing frame (x̂ along the tilt), so compare the speed.
     let u_roll = [ux0 - 2.0 / 7.0 * v0[0], uy0 - 2.0 / 7.0 * v0[1]];
@@ -164,6 +179,31 @@ fn rigid_sphere_from_theta_zero_sticks_at_the_coulomb_time() {
     assert!(worst_nz <= 1e-8, "n_Z changed by {worst_nz:e}");
     // It did leave θ = 0 (the horizontal rotation tips the body axis).
     assert!(tr.samples.last().unwrap().theta > 0.1);
+    // At θ = 0 the precessing x is world X: the rolling velocity (world) is
+    // the vector u0 − (2/7) v_P(0), at every accepted step after the stick.
+    let vel = rolling_world_velocities(&sc);
+    assert!(vel.len() > 10);
+    let worst = vel
+        .iter()
+        .map(|v| (v[0] - u_roll[0]).hypot(v[1] - u_roll[1]) / speed_roll)
+        .fold(0.0, f64::max);
+    println!("  rolling world velocity vs u0 - 2/7 v0: {worst:.1e} (relative)");
+    assert!(worst <= 1e-8, "rolling velocity off by {worst:e}");
+}
+
+/// Centre-of-mass velocity (world, SI) at every accepted step while rolling
+/// (the rolling constraint value −n × r, the state's own v differs only by
+/// the integration error).
+fn rolling_world_velocities(sc: &Scenario) -> Vec<[f64; 2]> {
+    let mut out = Vec::new();
+    let tr = rigid::run_observed(sc, &mut |m, _, y| {
+        if m.mode == Mode::Rolling {
+            let vu = m.scales.velocity();
+            out.push([y[VEL] * vu, y[VEL + 1] * vu]);
+        }
+    });
+    assert!(tr.error.is_none());
+    out
 }
 
 /// Largest deviation of each quantity over the samples, relative to its
@@ -215,8 +255,10 @@ fn rigid_rolling_matches_reduced_classical() {
     assert!(!sr.is_empty());
     assert_eq!(sr.len(), sg.len());
     assert_eq!(times(&red, "slip").len(), times(&rig, "slip").len());
+    // Required 1e-9; measured 1e-12 (7e-12 without the continuation of
+    // the friction through zero slip in the rigid model).
     for (a, b) in sr.iter().zip(&sg) {
-        assert!((a - b).abs() <= 1e-9 * a, "stick {a} vs {b}");
+        assert!((a - b).abs() <= 3e-12 * a, "stick {a} vs {b}");
     }
     let d = deviations(&red.samples, &rig.samples);
     println!(
