@@ -32,10 +32,9 @@
 //! horizontal projection of `k`, `ŷ = Z × x̂` (world `X`, `Y` when `k` is
 //! exactly vertical). `(h_x, h_y)` is latched per segment in
 //! `begin_segment`. Friction `F_f = −N_f f(v_P)` with the horizontal slip
-//! `v_P` and `f` from the law (`"coulomb"` is treated as sliding-only
-//! `"coulomb_sliding"` here, `f = 0` at exactly zero slip; every run with
-//! it records an event `"note: rigid model uses sliding-only Coulomb"` at
-//! `t = 0`).
+//! `v_P` and `f` from the law while sliding; `"coulomb"` is the exact
+//! stick/slip law (below), `"coulomb_sliding"` has `f = 0` at exactly zero
+//! slip and stops with the chattering error when the slip keeps reversing.
 //!
 //! # Normal force (contact)
 //!
@@ -73,14 +72,65 @@
 //! the top fly at once when the new force makes `N` negative (a jump of `N`
 //! at a switch is not a zero crossing the event finder could see).
 //!
+//! # Exact Coulomb friction: rolling and switching
+//!
+//! [`Mode::Rolling`] (contact only) holds the horizontal slip at zero. The
+//! velocity of the material point at the contact, `V(t) = v + n × r(t)`,
+//! must stay zero, with `r = a k − R Z` the *current* contact point: it moves
+//! over the body (`ṙ = a k̇ = a n × k`, not `n × r`). So the constraint is
+//! `dV/dt = v̇ + ṅ × r + n × (a n × k) = 0` in all three components (the
+//! vertical one is the contact closure above, since `(n × Z)_Z = 0`). This
+//! differs from the material acceleration of P,
+//! `v̇ + ṅ × r + n × (n × r)`, by `n × (n × R Z)`, whose horizontal part
+//! `R n_Z n_h` is nonzero for any spinning rolling sphere. With
+//! `m v̇ = F − m g Z` and `ṅ = ṅ₀ + I⁻¹ (r × F)` the total contact force `F`
+//! (normal, friction and the applied `−H`) solves
+//!
+//! ```text
+//! K F = b,  K F = F/m − r × I⁻¹ (r × F),
+//!           b   = g Z − ṅ₀ × r − a n × (n × k)
+//! ```
+//!
+//! (`K` symmetric positive definite: no Painlevé case while rolling). Then
+//! `N = F_Z`, the friction needed is `F_f = F_h + H`, and `H` drops out of
+//! the motion. `Ẇ_f = Ẇ_a = 0`. The rolling right-hand side does not read
+//! the state's `v` (it is integrated, and reset to `−n × r` at every
+//! restart); outputs and the energy use `v = −n × r`, and `slip` is 0.
+//!
+//! While sliding (exact law), `μ v/|v|` is continued smoothly through zero
+//! (its sign flips once `v·d < 0`, `d` the slip direction at the last
+//! accepted step, as in the reduced model), so the step crossing zero slip
+//! is smooth and the event `v_P·d = 0` (falling) is located accurately.
+//! There the state is projected onto rolling (`v = −n × r`; the tiny
+//! kinetic-energy change is booked into `W_f`) and the needed friction
+//! computed: roll if `|F_f| ≤ μ|N|`, else keep sliding with
+//! `f = μ · (−F_f/|F_f|)` at exactly zero slip ([`Rigid::slip_hint`]).
+//! Rolling ends at the event `μ|N| − |F_f| = 0` (falling), sliding off with
+//! the friction continuous in direction; it is also re-checked at every
+//! force switch (the needed friction jumps with `H`). Zero slip at `t = 0`
+//! (to rounding, [`Rigid::slip_is_zero`]) or after a sticking touchdown
+//! impulse is decided the same way. Under unilateral contact the `N = 0`
+//! event also ends rolling (the flight starts from the rolling velocity),
+//! though generically the stick margin reaches zero first, since
+//! `μ|N| → 0` while the needed friction does not.
+//!
+//! # Chattering of the sliding-only law
+//!
+//! As in the reduced driver: for `"coulomb_sliding"`, every accepted step
+//! in contact whose slip reverses direction (`v_P · v_P,prev < 0`) is
+//! counted; after [`CHATTER_REVERSALS`] the next evaluation fails with
+//! [`RigidError::Chattering`], whose message is the reduced model's.
+//!
 //! # Outputs
 //!
 //! `θ = atan2(|k_h|, k_Z)`; `θ̇ = n·ŷ`; `Ω = ((k_h × k̇_h)·Z)/|k_h|²` (reported
 //! as 0 where `|k_h| < 1e-12`, where it is undefined); `ω = n·k`;
 //! `u_x, u_y = v·x̂, v·ŷ`; `J = −L·r` from `L = I n` and `r` in 3D; `E` as
-//! above; `rolling` is always 0. Events: as the reduced driver
-//! (`theta_above_half_pi`, `force_switch`, `contact_lost`/`contact_regained`
-//! for bilateral/paper contact), plus `lift_off`/`touchdown`.
+//! above; `rolling` is 1 while rolling (then `slip` is exactly 0 and `u`
+//! the rolling velocity), and `summary.rolling_fraction` the fraction of
+//! time rolling. Events: as the reduced driver (`theta_above_half_pi`,
+//! `force_switch`, `contact_lost`/`contact_regained` for bilateral/paper
+//! contact, `stick`/`slip`), plus `lift_off`/`touchdown`.
 //!
 //! # Flight and touchdown (contact = "unilateral")
 //!
