@@ -32,10 +32,9 @@
 //! horizontal projection of `k`, `ŷ = Z × x̂` (world `X`, `Y` when `k` is
 //! exactly vertical). `(h_x, h_y)` is latched per segment in
 //! `begin_segment`. Friction `F_f = −N_f f(v_P)` with the horizontal slip
-//! `v_P` and `f` from the law (`"coulomb"` is treated as sliding-only
-//! `"coulomb_sliding"` here, `f = 0` at exactly zero slip; every run with
-//! it records an event `"note: rigid model uses sliding-only Coulomb"` at
-//! `t = 0`).
+//! `v_P` and `f` from the law while sliding; `"coulomb"` is the exact
+//! stick/slip law (below), `"coulomb_sliding"` has `f = 0` at exactly zero
+//! slip and stops with the chattering error when the slip keeps reversing.
 //!
 //! # Normal force (contact)
 //!
@@ -73,14 +72,65 @@
 //! the top fly at once when the new force makes `N` negative (a jump of `N`
 //! at a switch is not a zero crossing the event finder could see).
 //!
+//! # Exact Coulomb friction: rolling and switching
+//!
+//! [`Mode::Rolling`] (contact only) holds the horizontal slip at zero. The
+//! velocity of the material point at the contact, `V(t) = v + n × r(t)`,
+//! must stay zero, with `r = a k − R Z` the *current* contact point: it moves
+//! over the body (`ṙ = a k̇ = a n × k`, not `n × r`). So the constraint is
+//! `dV/dt = v̇ + ṅ × r + n × (a n × k) = 0` in all three components (the
+//! vertical one is the contact closure above, since `(n × Z)_Z = 0`). This
+//! differs from the material acceleration of P,
+//! `v̇ + ṅ × r + n × (n × r)`, by `n × (n × R Z)`, whose horizontal part
+//! `R n_Z n_h` is nonzero for any spinning rolling sphere. With
+//! `m v̇ = F − m g Z` and `ṅ = ṅ₀ + I⁻¹ (r × F)` the total contact force `F`
+//! (normal, friction and the applied `−H`) solves
+//!
+//! ```text
+//! K F = b,  K F = F/m − r × I⁻¹ (r × F),
+//!           b   = g Z − ṅ₀ × r − a n × (n × k)
+//! ```
+//!
+//! (`K` symmetric positive definite: no Painlevé case while rolling). Then
+//! `N = F_Z`, the friction needed is `F_f = F_h + H`, and `H` drops out of
+//! the motion. `Ẇ_f = Ẇ_a = 0`. The rolling right-hand side does not read
+//! the state's `v` (it is integrated, and reset to `−n × r` at every
+//! restart); outputs and the energy use `v = −n × r`, and `slip` is 0.
+//!
+//! While sliding (exact law), `μ v/|v|` is continued smoothly through zero
+//! (its sign flips once `v·d < 0`, `d` the slip direction at the last
+//! accepted step, as in the reduced model), so the step crossing zero slip
+//! is smooth and the event `v_P·d = 0` (falling) is located accurately.
+//! There the state is projected onto rolling (`v = −n × r`; the tiny
+//! kinetic-energy change is booked into `W_f`) and the needed friction
+//! computed: roll if `|F_f| ≤ μ|N|`, else keep sliding with
+//! `f = μ · (−F_f/|F_f|)` at exactly zero slip ([`Rigid::slip_hint`]).
+//! Rolling ends at the event `μ|N| − |F_f| = 0` (falling), sliding off with
+//! the friction continuous in direction; it is also re-checked at every
+//! force switch (the needed friction jumps with `H`). Zero slip at `t = 0`
+//! (to rounding, [`Rigid::slip_is_zero`]) or after a sticking touchdown
+//! impulse is decided the same way. Under unilateral contact the `N = 0`
+//! event also ends rolling (the flight starts from the rolling velocity),
+//! though generically the stick margin reaches zero first, since
+//! `μ|N| → 0` while the needed friction does not.
+//!
+//! # Chattering of the sliding-only law
+//!
+//! As in the reduced driver: for `"coulomb_sliding"`, every accepted step
+//! in contact whose slip reverses direction (`v_P · v_P,prev < 0`) is
+//! counted; after [`CHATTER_REVERSALS`] the next evaluation fails with
+//! [`RigidError::Chattering`], whose message is the reduced model's.
+//!
 //! # Outputs
 //!
 //! `θ = atan2(|k_h|, k_Z)`; `θ̇ = n·ŷ`; `Ω = ((k_h × k̇_h)·Z)/|k_h|²` (reported
 //! as 0 where `|k_h| < 1e-12`, where it is undefined); `ω = n·k`;
 //! `u_x, u_y = v·x̂, v·ŷ`; `J = −L·r` from `L = I n` and `r` in 3D; `E` as
-//! above; `rolling` is always 0. Events: as the reduced driver
-//! (`theta_above_half_pi`, `force_switch`, `contact_lost`/`contact_regained`
-//! for bilateral/paper contact), plus `lift_off`/`touchdown`.
+//! above; `rolling` is 1 while rolling (then `slip` is exactly 0 and `u`
+//! the rolling velocity), and `summary.rolling_fraction` the fraction of
+//! time rolling. Events: as the reduced driver (`theta_above_half_pi`,
+//! `force_switch`, `contact_lost`/`contact_regained` for bilateral/paper
+//! contact, `stick`/`slip`), plus `lift_off`/`touchdown`.
 //!
 //! # Flight and touchdown (contact = "unilateral")
 //!
@@ -115,14 +165,17 @@
 //! `"touchdown"`). For unilateral contact, `contact_lost_at` is the first
 //! lift-off and `negative_normal_fraction` the fraction of time in flight.
 
+use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
 use crate::{
     ContactMode, Error, EventRecord, Forcing, FrictionLaw, Method, Sample, Scenario, Summary, Top,
     Trajectory,
     integrate::{self, Direction, Event, IntegrateError, OdeSystem, Options, Stepper, StopReason},
-    model::reduced::Scales,
+    model::reduced::{CHATTER_REVERSALS, ModelError, Scales},
 };
+
+pub use crate::model::reduced::Mode;
 
 /// Number of state components.
 pub const DIM: usize = 15;
@@ -242,6 +295,13 @@ pub enum RigidError {
         /// θ \[rad\].
         theta: f64,
     },
+    /// The sliding-only Coulomb law reversed the slip direction at step
+    /// after step (same criterion and message as the reduced model's
+    /// [`ModelError::Chattering`]).
+    Chattering {
+        /// Slip reversals counted.
+        reversals: u32,
+    },
 }
 
 impl std::fmt::Display for RigidError {
@@ -254,6 +314,13 @@ impl std::fmt::Display for RigidError {
             RigidError::ImpactJam { theta } => write!(
                 f,
                 "touchdown at theta = {theta}: the sliding friction impulse has a non-positive effective mass (impact Painleve case); no impulse satisfies the impact law"
+            ),
+            RigidError::Chattering { reversals } => write!(
+                f,
+                "{}",
+                ModelError::Chattering {
+                    reversals: *reversals
+                }
             ),
         }
     }
@@ -309,10 +376,27 @@ pub struct Rigid {
     contact: ContactMode,
     forcing: Forcing,
     restitution: f64,
+    /// True for the exact stick/slip law (`"coulomb"`).
+    exact: bool,
     /// Latched (h_x, h_y), scaled.
     h: [f64; 2],
     /// Current phase.
     pub phase: Phase,
+    /// Sliding or rolling (in contact; always sliding in flight).
+    pub mode: Mode,
+    /// Unit horizontal direction (world) used for `μ v/|v|` at exactly
+    /// `v_P = 0` (set when leaving rolling; zero otherwise, giving no
+    /// friction at zero slip).
+    pub slip_hint: V3,
+    /// Reference slip direction (world, unit, horizontal) for the slip-zero
+    /// event and the smooth continuation of the exact law through zero slip
+    /// (updated at every accepted step).
+    pub slip_ref: Cell<V3>,
+    /// Set by the driver when the sliding-only law chatters; the next
+    /// evaluation then fails with [`RigidError::Chattering`].
+    pub chattering: Cell<bool>,
+    /// Right-hand-side evaluations so far (all segments).
+    pub evaluations: u64,
     /// Time the current flight started (scaled).
     pub flight_start: f64,
     /// The SI top.
@@ -326,10 +410,11 @@ impl Rigid {
     pub fn new(sc: &Scenario) -> Self {
         let scales = Scales::of(sc);
         let v = scales.velocity();
-        let law = match sc.surface.law {
-            FrictionLaw::Coulomb | FrictionLaw::CoulombSliding => Law::Coulomb,
-            FrictionLaw::Regularized { eps } => Law::Regularized { eps: eps / v },
-            FrictionLaw::Viscous { eps } => Law::Viscous { eps: eps / v },
+        let (law, exact) = match sc.surface.law {
+            FrictionLaw::Coulomb => (Law::Coulomb, true),
+            FrictionLaw::CoulombSliding => (Law::Coulomb, false),
+            FrictionLaw::Regularized { eps } => (Law::Regularized { eps: eps / v }, false),
+            FrictionLaw::Viscous { eps } => (Law::Viscous { eps: eps / v }, false),
         };
         Rigid {
             scales,
@@ -342,8 +427,14 @@ impl Rigid {
             contact: sc.surface.contact,
             forcing: sc.forcing.clone(),
             restitution: sc.surface.restitution,
+            exact,
             h: [0.0, 0.0],
             phase: Phase::Contact,
+            mode: Mode::Sliding,
+            slip_hint: [0.0; 3],
+            slip_ref: Cell::new([0.0; 3]),
+            chattering: Cell::new(false),
+            evaluations: 0,
             flight_start: 0.0,
             top: sc.top,
             gravity_si: sc.surface.gravity,
@@ -353,6 +444,21 @@ impl Rigid {
     /// Contact mode.
     pub fn contact_mode(&self) -> ContactMode {
         self.contact
+    }
+
+    /// True for the exact stick/slip law (`friction_law = "coulomb"`).
+    pub fn is_exact(&self) -> bool {
+        self.exact
+    }
+
+    /// True for the sliding-only Coulomb law, which can chatter.
+    pub fn can_chatter(&self) -> bool {
+        !self.exact && self.law == Law::Coulomb
+    }
+
+    /// Friction coefficient μ.
+    pub fn mu(&self) -> f64 {
+        self.mu
     }
 
     /// Gravity in scaled units.
@@ -440,11 +546,26 @@ impl Rigid {
         match self.law {
             Law::Coulomb => {
                 let n = v[0].hypot(v[1]);
-                if n > 0.0 {
-                    [mu * v[0] / n, mu * v[1] / n, 0.0]
-                } else {
-                    [0.0; 3]
+                if n == 0.0 {
+                    return scale(mu, self.slip_hint);
                 }
+                // Exact law, sliding: as the reduced model, continue the
+                // friction smoothly through zero slip (keep its direction
+                // once v·d < 0, d the approach direction), so that the step
+                // that crosses zero is smooth and the slip-zero event is
+                // located to the step's accuracy; the stages past zero are
+                // discarded at the event.
+                let sgn = if self.exact {
+                    let d = self.slip_ref.get();
+                    if v[0] * d[0] + v[1] * d[1] < 0.0 {
+                        -1.0
+                    } else {
+                        1.0
+                    }
+                } else {
+                    1.0
+                };
+                [sgn * mu * v[0] / n, sgn * mu * v[1] / n, 0.0]
             }
             Law::Regularized { eps } => {
                 let d = (v[0] * v[0] + v[1] * v[1] + eps * eps).sqrt();
@@ -475,9 +596,21 @@ impl Rigid {
         let nn = dot(n, n);
         // Q: −(gap acceleration) with N = 0 and no friction (H = −fa).
         let q_free = self.g + self.a * (-dot(fa, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
-        let (normal, ff) = match self.phase {
-            Phase::Flight => (0.0, [0.0; 3]),
-            Phase::Contact => {
+        let (normal, ff, rolling_force) = match (self.phase, self.mode) {
+            (Phase::Flight, _) => (0.0, [0.0; 3], None),
+            (Phase::Contact, Mode::Rolling) => {
+                // Rolling: the total contact force F is the constraint force
+                // holding d/dt (v + n × r) = 0, i.e. K F = b (module doc).
+                let b = sub(
+                    sub(scale(self.g, Z), cross(ndot0, r)),
+                    scale(self.a, cross(n, cross(n, k))),
+                );
+                let force = solve3(self.k_columns(k, r), b);
+                // Friction needed: the plane supplies F + H = F − fa.
+                let ff = [force[0] - fa[0], force[1] - fa[1], 0.0];
+                (force[2], ff, Some(force))
+            }
+            (Phase::Contact, Mode::Sliding) => {
                 let f = self.law_f(kin.vp);
                 let fw = dot(f, w);
                 let dp = 1.0 + self.a * (w[2] - fw);
@@ -520,10 +653,12 @@ impl Rigid {
                     ContactMode::Paper => normal,
                     _ => normal.abs(),
                 };
-                (normal, scale(-nf, f))
+                (normal, scale(-nf, f), None)
             }
         };
-        let force = add(add(scale(normal, Z), ff), fa);
+        // While rolling, F is the constraint force itself (its horizontal
+        // part is ff + fa up to rounding; use the solution as is).
+        let force = rolling_force.unwrap_or_else(|| add(add(scale(normal, Z), ff), fa));
         let mut dy = [0.0; DIM];
         // Translation.
         set3(&mut dy, POS, v3(y, VEL));
@@ -553,9 +688,11 @@ impl Rigid {
         dy[QUAT + 1] = qdv[0] - st * qv[0];
         dy[QUAT + 2] = qdv[1] - st * qv[1];
         dy[QUAT + 3] = qdv[2] - st * qv[2];
-        // Work.
-        dy[WF] = dot(ff, kin.vp);
-        dy[WA] = dot(fa, kin.vp);
+        // Work (none while rolling: the contact point does not move).
+        if rolling_force.is_none() {
+            dy[WF] = dot(ff, kin.vp);
+            dy[WA] = dot(fa, kin.vp);
+        }
         Ok(Eval {
             dy,
             normal,
@@ -563,6 +700,68 @@ impl Rigid {
             kin,
             q_free,
         })
+    }
+
+    /// Columns of the contact matrix `K`, `K F = F/m − r × I⁻¹ (r × F)`:
+    /// the change of the contact point's velocity per unit impulse at P
+    /// (symmetric positive definite).
+    fn k_columns(&self, k: V3, r: V3) -> [V3; 3] {
+        let kmul = |p: V3| sub(p, cross(r, self.inv_inertia(k, cross(r, p))));
+        [
+            kmul([1.0, 0.0, 0.0]),
+            kmul([0.0, 1.0, 0.0]),
+            kmul([0.0, 0.0, 1.0]),
+        ]
+    }
+
+    /// Stick margin while rolling, `μ |N| − |F_f|` (scaled force): rolling
+    /// ends when it falls through zero.
+    pub fn stick_margin(&self, e: &Eval) -> f64 {
+        self.mu * e.normal.abs() - e.friction[0].hypot(e.friction[1])
+    }
+
+    /// Horizontal slip velocity `v_P` (world, scaled) from the state's `v`.
+    pub fn slip_of(&self, y: &[f64; DIM]) -> V3 {
+        let vp = self.kin(y).vp;
+        [vp[0], vp[1], 0.0]
+    }
+
+    /// True if the horizontal slip is zero to rounding:
+    /// `|v_P| ≤ 16 ε (|v| + |n| |r|)` (ε the machine epsilon), the accuracy
+    /// to which `v + n × r` can be computed. Initial states given as rolling
+    /// (e.g. `u_y = −R ω sin θ` for a sphere) only reach this, not 0.
+    pub fn slip_is_zero(&self, y: &[f64; DIM]) -> bool {
+        let kin = self.kin(y);
+        let v = v3(y, VEL);
+        let size = dot(v, v).sqrt() + dot(kin.n, kin.n).sqrt() * dot(kin.r, kin.r).sqrt();
+        kin.vp[0].hypot(kin.vp[1]) <= 16.0 * f64::EPSILON * size
+    }
+
+    /// Centre-of-mass velocity of rolling contact at this attitude and
+    /// angular velocity: `v = −n × r` (all three components; its vertical
+    /// part is the contact constraint's `−a (n × k)_Z`).
+    fn rolling_velocity(&self, kin: &Kin) -> V3 {
+        scale(-1.0, cross(kin.n, kin.r))
+    }
+
+    /// Project onto rolling contact: normalise q, `z_C = R`, `v = −n × r`
+    /// (zero slip).
+    pub fn project_rolling(&self, y: &mut [f64; DIM]) {
+        self.project_contact(y);
+        let kin = self.kin(y);
+        set3(y, VEL, self.rolling_velocity(&kin));
+    }
+
+    /// Centre-of-mass velocity used for outputs and the energy: the rolling
+    /// constraint value while rolling, the state's otherwise (with the
+    /// contact constraint's vertical part in contact).
+    fn output_velocity(&self, y: &[f64; DIM], kin: &Kin) -> V3 {
+        if self.phase == Phase::Contact && self.mode == Mode::Rolling {
+            self.rolling_velocity(kin)
+        } else {
+            let (_, vz) = self.vertical(y, kin);
+            [y[VEL], y[VEL + 1], vz]
+        }
     }
 
     /// Gap between the sphere and the plane, `z_C − R` (scaled).
@@ -624,8 +823,8 @@ impl Rigid {
     /// Total energy `½ m |v|² + ½ n·I n + m g z_O` (scaled).
     pub fn energy_scaled(&self, y: &[f64; DIM]) -> f64 {
         let kin = self.kin(y);
-        let (z, vz) = self.vertical(y, &kin);
-        let v = [y[VEL], y[VEL + 1], vz];
+        let (z, _) = self.vertical(y, &kin);
+        let v = self.output_velocity(y, &kin);
         0.5 * dot(v, v) + 0.5 * dot(kin.n, self.inertia(kin.k, kin.n)) + self.g * z
     }
 
@@ -648,9 +847,10 @@ impl Rigid {
         kin.kh.atan2(kin.k[2])
     }
 
-    /// Touchdown impulse (see the module doc). Returns the post-impact state
-    /// and the rebound normal speed of P.
-    pub fn impact(&self, y: &[f64; DIM]) -> Result<([f64; DIM], f64), RigidError> {
+    /// Touchdown impulse (see the module doc). Returns the post-impact state,
+    /// the rebound normal speed of P, and whether the impulse was the
+    /// sticking one (zero tangential velocity of P after the impact).
+    pub fn impact(&self, y: &[f64; DIM]) -> Result<([f64; DIM], f64, bool), RigidError> {
         let kin = self.kin(y);
         let (k, r) = (kin.k, kin.r);
         let vp = kin.vp;
@@ -658,15 +858,12 @@ impl Rigid {
         let e = self.restitution;
         // Columns of K.
         let kmul = |p: V3| sub(p, cross(r, self.inv_inertia(k, cross(r, p))));
-        let cols = [
-            kmul([1.0, 0.0, 0.0]),
-            kmul([0.0, 1.0, 0.0]),
-            kmul([0.0, 0.0, 1.0]),
-        ];
+        let cols = self.k_columns(k, r);
         let target = [-vp[0], -vp[1], -(1.0 + e) * vn];
         let stick = solve3(cols, target);
         let pt = stick[0].hypot(stick[1]);
-        let imp = if pt <= self.mu * stick[2] {
+        let stuck = pt <= self.mu * stick[2];
+        let imp = if stuck {
             stick
         } else {
             let vt = vp[0].hypot(vp[1]);
@@ -692,7 +889,7 @@ impl Rigid {
         let n_new = add(kin.n, self.inv_inertia(k, cross(r, imp)));
         set3(&mut yn, OMB, rotate_inv(kin.q, n_new));
         let vpn = add(v3(&yn, VEL), cross(n_new, r))[2];
-        Ok((yn, vpn.max(0.0)))
+        Ok((yn, vpn.max(0.0), stuck))
     }
 }
 
@@ -718,6 +915,12 @@ impl OdeSystem<DIM> for Rigid {
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), RigidError> {
+        self.evaluations += 1;
+        if self.chattering.get() {
+            return Err(RigidError::Chattering {
+                reversals: CHATTER_REVERSALS,
+            });
+        }
         *dy = self.eval(y)?.dy;
         Ok(())
     }
@@ -729,7 +932,12 @@ impl OdeSystem<DIM> for Rigid {
 const EV_HALF_PI: usize = 0;
 const EV_THETA_MAX: usize = 1;
 const EV_CONTACT: usize = 2;
+/// In flight: the penetration guard.
 const EV_GUARD: usize = 3;
+/// In contact, exact law: the stick/slip switch (slip zero while sliding,
+/// stick margin zero while rolling). Same index as [`EV_GUARD`], which only
+/// exists in flight.
+const EV_SWITCH: usize = 3;
 
 /// Penetration \[R\] at which the guard event declares a touchdown.
 pub const PENETRATION_GUARD: f64 = 1e-10;
@@ -779,7 +987,69 @@ fn events_for(m: &Rigid) -> Vec<Event<Rigid, DIM>> {
             terminal: false,
         }),
     }
+    if m.phase == Phase::Contact && m.exact {
+        debug_assert_eq!(ev.len(), EV_SWITCH);
+        match m.mode {
+            // v_P · d falls through zero, d the slip direction at the last
+            // accepted step: the slip vector passes through zero along d.
+            Mode::Sliding => ev.push(Event {
+                g: Box::new(|m, _, y| dot(m.slip_of(y), m.slip_ref.get())),
+                direction: Direction::Falling,
+                terminal: true,
+            }),
+            Mode::Rolling => ev.push(Event {
+                g: Box::new(|m, _, y| m.eval(y).map(|e| m.stick_margin(&e)).unwrap_or(f64::NAN)),
+                direction: Direction::Falling,
+                terminal: true,
+            }),
+        }
+    }
     ev
+}
+
+fn unit_h(v: V3) -> V3 {
+    let n = v[0].hypot(v[1]);
+    if n > 0.0 {
+        [v[0] / n, v[1] / n, 0.0]
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// Decide stick or slip at zero slip (exact law, in contact): project the
+/// state onto rolling contact (the projection's energy change is booked into
+/// `W_f`), compute the friction rolling needs and roll if `|F_f| ≤ μ|N|`;
+/// otherwise slide off with the friction `μ|N|` along the needed friction's
+/// direction (the slip grows opposite to it). Returns true if it rolls.
+fn settle_at_zero_slip(m: &mut Rigid, y: &mut [f64; DIM]) -> bool {
+    m.mode = Mode::Sliding;
+    let before = m.energy_scaled(y);
+    m.project_rolling(y);
+    y[WF] += m.energy_scaled(y) - before;
+    m.mode = Mode::Rolling;
+    if let Ok(e) = m.eval(y) {
+        if m.stick_margin(&e) >= 0.0 {
+            m.slip_hint = [0.0; 3];
+            return true;
+        }
+        m.slip_hint = unit_h(scale(-1.0, e.friction));
+    }
+    m.mode = Mode::Sliding;
+    m.slip_ref.set(m.slip_hint);
+    false
+}
+
+/// Leave rolling (stick margin through zero, or a force switch the contact
+/// cannot hold, or lift-off): put the state on the rolling constraint and
+/// slide off with the friction continuous in direction.
+fn slide_off(m: &mut Rigid, y: &mut [f64; DIM]) {
+    let e = m.eval(y).ok();
+    m.project_rolling(y);
+    m.mode = Mode::Sliding;
+    if let Some(e) = e {
+        m.slip_hint = unit_h(scale(-1.0, e.friction));
+    }
+    m.slip_ref.set(m.slip_hint);
 }
 
 struct Track {
@@ -817,10 +1087,10 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
     } else {
         0.0
     };
-    let (_, vz) = m.vertical(y, &kin);
+    let v = m.output_velocity(y, &kin);
+    let rolling = m.phase == Phase::Contact && m.mode == Mode::Rolling;
     let h = m.applied();
     let normal = ev.map(|e| e.normal).unwrap_or(f64::NAN);
-    let v = v3(y, VEL);
     Sample {
         t: t * tu,
         theta,
@@ -829,16 +1099,20 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
         spin: dot(n, k) / tu,
         ux: dot(v, kin.xh) * vu,
         uy: dot(v, kin.yh) * vu,
-        uz: vz * vu,
+        uz: v[2] * vu,
         normal: normal * sc.force(),
-        slip: kin.vp[0].hypot(kin.vp[1]) * vu,
+        slip: if rolling {
+            0.0
+        } else {
+            kin.vp[0].hypot(kin.vp[1]) * vu
+        },
         jellett: m.jellett_scaled(y) * sc.mass * sc.length.powi(3) / tu,
         energy: m.energy_scaled(y) * sc.energy(),
         work_friction: y[WF] * sc.energy(),
         work_applied: y[WA] * sc.energy(),
         hx: h[0] * sc.force(),
         hy: h[1] * sc.force(),
-        rolling: 0,
+        rolling: rolling as u8,
     }
 }
 
@@ -934,12 +1208,6 @@ pub fn run_observed(
     let mut y = m.scale_state(&sc.initial);
     m.latch_force(0.0);
     let mut events_out: Vec<EventRecord> = Vec::new();
-    if sc.surface.law == FrictionLaw::Coulomb {
-        events_out.push(EventRecord {
-            t: 0.0,
-            kind: "note: rigid model uses sliding-only Coulomb".into(),
-        });
-    }
     for &ts in &tstops {
         events_out.push(EventRecord {
             t: ts * tu,
@@ -962,6 +1230,23 @@ pub fn run_observed(
             kind: "lift_off".into(),
         });
     }
+    let mut rolling_since: Option<f64> = None;
+    let mut rolling_time = 0.0;
+    if m.exact && m.phase == Phase::Contact {
+        let v = m.slip_of(&y);
+        if m.slip_is_zero(&y) {
+            let stuck = settle_at_zero_slip(&mut m, &mut y);
+            if stuck {
+                rolling_since = Some(0.0);
+            }
+            events_out.push(EventRecord {
+                t: 0.0,
+                kind: if stuck { "stick" } else { "slip" }.into(),
+            });
+        } else {
+            m.slip_ref.set(unit_h(v));
+        }
+    }
 
     let mut track = Track {
         j0: m.jellett_scaled(&y),
@@ -982,6 +1267,13 @@ pub fn run_observed(
     let mut normal_crossings: Vec<f64> = Vec::new();
     let mut transitions = 0usize;
     let mut bounces = 0usize;
+    let mut switches = 0usize;
+    // Accepted steps and the last accepted state, kept here too so that a
+    // failed run still reports them.
+    let mut steps_seen: u64 = 0;
+    let mut last_accepted = y;
+    let mut reversals: u32 = 0;
+    let mut last_slip = m.slip_of(&y);
 
     loop {
         let events = events_for(&m);
@@ -990,6 +1282,28 @@ pub fn run_observed(
             samples.push(sample_of(s, t, y));
         };
         let mut on_step = |s: &Rigid, t: f64, y: &[f64; DIM]| {
+            steps_seen += 1;
+            last_accepted = *y;
+            if s.phase == Phase::Contact {
+                if s.can_chatter() {
+                    // As the reduced driver: a genuine motion reverses its
+                    // slip only at isolated instants.
+                    let v = s.slip_of(y);
+                    if dot(v, last_slip) < 0.0 {
+                        reversals += 1;
+                        if reversals >= CHATTER_REVERSALS {
+                            s.chattering.set(true);
+                        }
+                    }
+                    last_slip = v;
+                }
+                if s.exact && s.mode == Mode::Sliding {
+                    let d = unit_h(s.slip_of(y));
+                    if d != [0.0; 3] {
+                        s.slip_ref.set(d);
+                    }
+                }
+            }
             track.visit(s, y);
             observe(s, t, y);
         };
@@ -1021,14 +1335,18 @@ pub fn run_observed(
                     IntegrateError::NonFinite { t, y_last } => {
                         (t, "the solution became NaN or infinite".to_string(), y_last)
                     }
-                    IntegrateError::TooManySteps { t, max_steps } => {
-                        (t, format!("more than {max_steps} steps"), y.to_vec())
-                    }
+                    IntegrateError::TooManySteps { t, max_steps } => (
+                        t,
+                        format!("more than {max_steps} steps"),
+                        last_accepted.to_vec(),
+                    ),
                 };
                 error = Some(Error::runtime(
                     te * tu,
                     format!("{why}; {}", describe_state(&m, &ylast)),
                 ));
+                stats.steps = steps_seen;
+                stats.rhs_evals = m.evaluations;
                 if ylast.len() == DIM {
                     y.copy_from_slice(&ylast);
                 }
@@ -1075,8 +1393,27 @@ pub fn run_observed(
                         // again in begin_segment), project onto the contact
                         // constraint, and fly if N < 0 now (unilateral).
                         m.latch_force(t);
+                        if m.phase == Phase::Contact && m.mode == Mode::Rolling {
+                            // Re-check stick with the new force (N does not
+                            // depend on H while rolling, the friction does).
+                            m.project_rolling(&mut y);
+                            if let Ok(e) = m.eval(&y) {
+                                if m.stick_margin(&e) < 0.0 {
+                                    slide_off(&mut m, &mut y);
+                                    if let Some(s0) = rolling_since.take() {
+                                        rolling_time += t - s0;
+                                    }
+                                    events_out.push(EventRecord {
+                                        t: t * tu,
+                                        kind: "slip".into(),
+                                    });
+                                }
+                            }
+                        }
                         if m.phase == Phase::Contact {
-                            m.project_contact(&mut y);
+                            if m.mode == Mode::Sliding {
+                                m.project_contact(&mut y);
+                            }
                             let n = m.eval(&y).map(|e| e.normal).unwrap_or(0.0);
                             if unilateral && n < 0.0 {
                                 m.phase = Phase::Flight;
@@ -1090,7 +1427,9 @@ pub fn run_observed(
                             }
                         }
                     }
-                    StopReason::Terminal(EV_CONTACT | EV_GUARD) => {
+                    StopReason::Terminal(i)
+                        if i == EV_CONTACT || (i == EV_GUARD && m.phase == Phase::Flight) =>
+                    {
                         transitions += 1;
                         if transitions > MAX_TRANSITIONS {
                             error = Some(Error::runtime(
@@ -1104,8 +1443,19 @@ pub fn run_observed(
                         }
                         match m.phase {
                             Phase::Contact => {
-                                // Lift-off: N fell through 0.
-                                m.project_contact(&mut y);
+                                // Lift-off: N fell through 0 (from sliding or
+                                // rolling: the flight starts from the
+                                // rolling velocity).
+                                if m.mode == Mode::Rolling {
+                                    m.project_rolling(&mut y);
+                                    m.mode = Mode::Sliding;
+                                    m.slip_hint = [0.0; 3];
+                                    if let Some(s0) = rolling_since.take() {
+                                        rolling_time += t - s0;
+                                    }
+                                } else {
+                                    m.project_contact(&mut y);
+                                }
                                 m.phase = Phase::Flight;
                                 m.flight_start = t;
                                 flight_since = Some(t);
@@ -1124,7 +1474,7 @@ pub fn run_observed(
                                 let kz = m.kin(&y).k[2];
                                 let before = m.energy_scaled(&y);
                                 y[POS + 2] = 1.0 - m.a * kz;
-                                let (yn, vn_plus) = match m.impact(&y) {
+                                let (yn, vn_plus, stuck) = match m.impact(&y) {
                                     Ok(v) => v,
                                     Err(err) => {
                                         error = Some(Error::runtime(
@@ -1162,8 +1512,59 @@ pub fn run_observed(
                                             t: t * tu,
                                             kind: "lift_off".into(),
                                         });
+                                    } else if m.exact {
+                                        // Exact law: a sticking impulse leaves
+                                        // zero slip, where stick/slip is
+                                        // decided as at a slip-zero event.
+                                        m.slip_hint = [0.0; 3];
+                                        let v = m.slip_of(&y);
+                                        if stuck || m.slip_is_zero(&y) {
+                                            if settle_at_zero_slip(&mut m, &mut y) {
+                                                rolling_since = Some(t);
+                                                events_out.push(EventRecord {
+                                                    t: t * tu,
+                                                    kind: "stick".into(),
+                                                });
+                                            }
+                                        } else {
+                                            m.slip_ref.set(unit_h(v));
+                                        }
                                     }
                                 }
+                            }
+                        }
+                    }
+                    StopReason::Terminal(EV_SWITCH) => {
+                        switches += 1;
+                        if switches > crate::simulate::MAX_SWITCHES {
+                            error = Some(Error::runtime(
+                                t * tu,
+                                format!(
+                                    "more than {} stick/slip switches",
+                                    crate::simulate::MAX_SWITCHES
+                                ),
+                            ));
+                            break;
+                        }
+                        match m.mode {
+                            Mode::Sliding => {
+                                if settle_at_zero_slip(&mut m, &mut y) {
+                                    rolling_since = Some(t);
+                                    events_out.push(EventRecord {
+                                        t: t * tu,
+                                        kind: "stick".into(),
+                                    });
+                                }
+                            }
+                            Mode::Rolling => {
+                                slide_off(&mut m, &mut y);
+                                if let Some(s0) = rolling_since.take() {
+                                    rolling_time += t - s0;
+                                }
+                                events_out.push(EventRecord {
+                                    t: t * tu,
+                                    kind: "slip".into(),
+                                });
                             }
                         }
                     }
@@ -1174,6 +1575,9 @@ pub fn run_observed(
     }
     if let Some(s0) = flight_since {
         flight_time += t - s0;
+    }
+    if let Some(s0) = rolling_since {
+        rolling_time += t - s0;
     }
     track.visit(&m, &y);
 
@@ -1231,7 +1635,7 @@ pub fn run_observed(
         first_time_theta_above_half_pi: first_above,
         contact_lost_at,
         negative_normal_fraction,
-        rolling_fraction: 0.0,
+        rolling_fraction: if t > 0.0 { rolling_time / t } else { 0.0 },
         steps: stats.steps,
         rejected_steps: stats.rejected,
         rhs_evaluations: stats.rhs_evals,
