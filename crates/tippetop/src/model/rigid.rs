@@ -169,9 +169,9 @@ use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
 use crate::{
-    ContactMode, Error, EventRecord, Forcing, FrictionLaw, Method, Sample, Scenario, Summary, Top,
+    ContactMode, Error, EventRecord, Forcing, FrictionLaw, Sample, Scenario, Summary, Top,
     Trajectory,
-    integrate::{self, Direction, Event, IntegrateError, OdeSystem, Options, Stepper, StopReason},
+    integrate::{self, Direction, Event, IntegrateError, OdeSystem, StopReason},
     model::reduced::{CHATTER_REVERSALS, ModelError, Scales},
 };
 
@@ -194,8 +194,6 @@ pub const WA: usize = 14;
 
 /// Quaternion-norm stabilisation rate κ \[1/time unit\].
 pub const KAPPA: f64 = 1.0;
-/// Largest number of accepted steps of one run.
-pub const MAX_STEPS: u64 = 20_000_000;
 /// Bounces without a contact phase after which short bounces end in contact.
 pub const MAX_BOUNCES: usize = 1000;
 /// Largest number of lift-offs plus touchdowns of one run before it stops.
@@ -1170,40 +1168,13 @@ pub fn run_observed(
 ) -> Trajectory {
     let mut m = Rigid::new(sc);
     let tu = m.scales.time;
-    let t_end = sc.solver.t_end / tu;
+    let crate::simulate::RunSetup {
+        t_end,
+        sample_times,
+        tstops,
+        opts,
+    } = crate::simulate::RunSetup::new(sc, tu);
     let ns = sc.solver.samples;
-    let sample_times: Vec<f64> = (0..ns)
-        .map(|i| {
-            if i + 1 == ns {
-                t_end
-            } else {
-                t_end * i as f64 / (ns - 1) as f64
-            }
-        })
-        .collect();
-    let tstops: Vec<f64> = sc
-        .forcing
-        .switch_times()
-        .into_iter()
-        .map(|t| t / tu)
-        .filter(|&t| t > 0.0 && t < t_end)
-        .collect();
-    let opts = Options {
-        stepper: match sc.solver.method {
-            Method::Adaptive => Stepper::Dop853 {
-                rtol: sc.solver.rtol,
-                atol: sc.solver.rtol,
-            },
-            Method::Rk4 => Stepper::Rk4 {
-                h: t_end / sc.solver.steps as f64,
-            },
-        },
-        max_steps: MAX_STEPS,
-        h0: None,
-        // As the reduced driver: no step longer than the sample spacing, so
-        // the dense output (samples, events) stays at the step-error level.
-        h_max: Some(t_end / (ns - 1) as f64),
-    };
 
     let mut y = m.scale_state(&sc.initial);
     m.latch_force(0.0);
