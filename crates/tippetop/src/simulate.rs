@@ -181,6 +181,71 @@ fn settle_at_zero_slip(m: &mut Reduced, y: &[f64; DIM]) -> ([f64; DIM], bool) {
     (yr, false)
 }
 
+/// The sign history of the normal force N: its sign at t = 0 and the
+/// (scaled) times it crossed zero, from events or from jumps at force
+/// switches. Shared by the drivers of every model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NormalLog {
+    negative_at_start: bool,
+    crossings: Vec<f64>,
+}
+
+impl NormalLog {
+    /// Start with N(0) = `n_initial` (NaN counts as non-negative).
+    pub fn new(n_initial: f64) -> Self {
+        NormalLog {
+            negative_at_start: n_initial < 0.0,
+            crossings: Vec::new(),
+        }
+    }
+
+    /// Record a crossing at scaled time `t`; returns the event kind,
+    /// "contact_lost" (N now < 0) or "contact_regained".
+    pub fn cross(&mut self, t: f64) -> &'static str {
+        self.crossings.push(t);
+        if self.negative_now() {
+            "contact_lost"
+        } else {
+            "contact_regained"
+        }
+    }
+
+    /// Whether N is negative after the crossings recorded so far.
+    pub fn negative_now(&self) -> bool {
+        self.negative_at_start != (self.crossings.len() % 2 == 1)
+    }
+
+    /// First time N < 0 (scaled), if ever.
+    pub fn first_negative(&self) -> Option<f64> {
+        if self.negative_at_start {
+            Some(0.0)
+        } else {
+            self.crossings.first().copied()
+        }
+    }
+
+    /// Fraction of `[0, t_final]` with N < 0.
+    pub fn negative_fraction(&self, t_final: f64) -> f64 {
+        if t_final <= 0.0 {
+            return 0.0;
+        }
+        let mut neg_time = 0.0;
+        let mut neg = self.negative_at_start;
+        let mut last = 0.0;
+        for &tc in &self.crossings {
+            if neg {
+                neg_time += tc - last;
+            }
+            neg = !neg;
+            last = tc;
+        }
+        if neg {
+            neg_time += t_final - last;
+        }
+        neg_time / t_final
+    }
+}
+
 /// What every model's driver needs from a scenario, in scaled time: the
 /// end time, the sample times, the force-switch times inside the run, and
 /// the integrator options.
@@ -312,7 +377,7 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
     } else {
         None
     };
-    let mut normal_crossings: Vec<f64> = Vec::new();
+    let mut normal_log = NormalLog::new(n_initial);
     let mut rolling_since: Option<f64> = (m.mode == Mode::Rolling).then_some(0.0);
     let mut rolling_time = 0.0;
     let mut switches = 0usize;
@@ -414,17 +479,10 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                         }
                         EV_THETA_MAX => track.visit(&m, &f.y),
                         EV_NORMAL => {
-                            let neg_after = normal_crossings.len() % 2 == 0 && n_initial >= 0.0
-                                || normal_crossings.len() % 2 == 1 && n_initial < 0.0;
-                            normal_crossings.push(f.t);
+                            let kind = normal_log.cross(f.t);
                             events_out.push(EventRecord {
                                 t: f.t * tu,
-                                kind: if neg_after {
-                                    "contact_lost"
-                                } else {
-                                    "contact_regained"
-                                }
-                                .into(),
+                                kind: kind.into(),
                             });
                         }
                         _ => {}
@@ -444,15 +502,10 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                         let n_after = m.eval(&y).map(|e| e.normal).ok();
                         if let (Some(nb), Some(na)) = (n_before, n_after) {
                             if (nb < 0.0) != (na < 0.0) {
-                                normal_crossings.push(t);
+                                let kind = normal_log.cross(t);
                                 events_out.push(EventRecord {
                                     t: t * tu,
-                                    kind: if na < 0.0 {
-                                        "contact_lost"
-                                    } else {
-                                        "contact_regained"
-                                    }
-                                    .into(),
+                                    kind: kind.into(),
                                 });
                                 if na < 0.0 && m.contact_mode() == ContactMode::Unilateral {
                                     error = Some(Error::runtime(
@@ -544,25 +597,7 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
     }
     track.visit(&m, &y);
 
-    // Time with N < 0, from the crossings.
-    let mut neg_time = 0.0;
-    let mut neg = n_initial < 0.0;
-    let mut last = 0.0;
-    for &tc in &normal_crossings {
-        if neg {
-            neg_time += tc - last;
-        }
-        neg = !neg;
-        last = tc;
-    }
-    if neg {
-        neg_time += t - last;
-    }
-    let contact_lost_at = if n_initial < 0.0 {
-        Some(0.0)
-    } else {
-        normal_crossings.first().map(|&tc| tc * tu)
-    };
+    let contact_lost_at = normal_log.first_negative().map(|tc| tc * tu);
     events_out.sort_by(|a, b| a.t.total_cmp(&b.t));
 
     let last = sample_of(&m, t, &y);
@@ -588,7 +623,7 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
         },
         first_time_theta_above_half_pi: first_above,
         contact_lost_at,
-        negative_normal_fraction: if t > 0.0 { neg_time / t } else { 0.0 },
+        negative_normal_fraction: normal_log.negative_fraction(t),
         rolling_fraction: if t > 0.0 { rolling_time / t } else { 0.0 },
         steps: stats.steps,
         rejected_steps: stats.rejected,
@@ -604,5 +639,26 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
         events: events_out,
         summary,
         error,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::NormalLog;
+
+    #[test]
+    fn normal_log_fraction_and_first_time() {
+        let mut l = NormalLog::new(1.0);
+        assert_eq!(l.first_negative(), None);
+        assert_eq!(l.cross(2.0), "contact_lost");
+        assert_eq!(l.cross(3.0), "contact_regained");
+        assert_eq!(l.cross(8.0), "contact_lost");
+        assert_eq!(l.first_negative(), Some(2.0));
+        // Negative on [2, 3) and [8, 10]: 3 of 10.
+        assert_eq!(l.negative_fraction(10.0), 0.3);
+        let mut l = NormalLog::new(-1.0);
+        assert_eq!(l.first_negative(), Some(0.0));
+        assert_eq!(l.cross(4.0), "contact_regained");
+        assert_eq!(l.negative_fraction(8.0), 0.5);
     }
 }

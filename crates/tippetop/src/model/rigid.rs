@@ -1235,7 +1235,7 @@ pub fn run_observed(
     let mut t = 0.0;
     let mut error: Option<Error> = None;
     let mut first_above: Option<f64> = (m.theta(&y) > FRAC_PI_2).then_some(0.0);
-    let mut normal_crossings: Vec<f64> = Vec::new();
+    let mut normal_log = crate::simulate::NormalLog::new(n_initial);
     let mut transitions = 0usize;
     let mut bounces = 0usize;
     let mut switches = 0usize;
@@ -1339,17 +1339,10 @@ pub fn run_observed(
                         }
                         EV_THETA_MAX => track.visit(&m, &f.y),
                         EV_CONTACT if !unilateral => {
-                            let neg_after = normal_crossings.len() % 2 == 0 && n_initial >= 0.0
-                                || normal_crossings.len() % 2 == 1 && n_initial < 0.0;
-                            normal_crossings.push(f.t);
+                            let kind = normal_log.cross(f.t);
                             events_out.push(EventRecord {
                                 t: f.t * tu,
-                                kind: if neg_after {
-                                    "contact_lost"
-                                } else {
-                                    "contact_regained"
-                                }
-                                .into(),
+                                kind: kind.into(),
                             });
                         }
                         _ => {}
@@ -1558,26 +1551,9 @@ pub fn run_observed(
             if t > 0.0 { flight_time / t } else { 0.0 },
         )
     } else {
-        let mut neg_time = 0.0;
-        let mut neg = n_initial < 0.0;
-        let mut last = 0.0;
-        for &tc in &normal_crossings {
-            if neg {
-                neg_time += tc - last;
-            }
-            neg = !neg;
-            last = tc;
-        }
-        if neg {
-            neg_time += t - last;
-        }
         (
-            if n_initial < 0.0 {
-                Some(0.0)
-            } else {
-                normal_crossings.first().map(|&tc| tc * tu)
-            },
-            if t > 0.0 { neg_time / t } else { 0.0 },
+            normal_log.first_negative().map(|tc| tc * tu),
+            normal_log.negative_fraction(t),
         )
     };
     events_out.sort_by(|a, b| a.t.total_cmp(&b.t));
