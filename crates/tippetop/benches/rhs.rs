@@ -1,0 +1,68 @@
+//! One right-hand-side evaluation of the reduced model (`Reduced::eval`) at
+//! typical states: the classical top sliding (regularised law, t = 1 s),
+//! the classical top rolling (exact law, after it sticks) and the nano top
+//! (exact law, sliding, t = 50 µs). The states are taken from real runs.
+//!
+//! `cargo bench -p tippetop --bench rhs`
+
+use std::hint::black_box;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use tippetop::{
+    FrictionLaw, Initial, Scenario,
+    model::reduced::{DIM, Mode, Reduced},
+    simulate,
+};
+
+/// The scaled state and model of `sc` at SI time `t` of a run of `sc`.
+fn state_at(sc: &Scenario, t: f64, mode: Mode) -> (Reduced, [f64; DIM]) {
+    let traj = simulate(sc).expect("valid scenario");
+    let s = traj
+        .samples
+        .iter()
+        .min_by(|a, b| (a.t - t).abs().total_cmp(&(b.t - t).abs()))
+        .expect("samples");
+    let mut m = Reduced::new(sc);
+    m.latch_force(t / m.scales.time);
+    m.mode = mode;
+    let y = m.scale_state(&Initial {
+        theta: s.theta,
+        theta_dot: s.theta_dot,
+        precession: s.precession,
+        spin: s.spin,
+        ux: s.ux,
+        uy: s.uy,
+    });
+    (m, y)
+}
+
+fn bench_rhs(c: &mut Criterion) {
+    let mut classical = Scenario::classical();
+    classical.surface.law = FrictionLaw::Regularized { eps: 1e-3 };
+    classical.solver.rtol = 1e-8;
+    classical.solver.t_end = 1.0;
+    let (m_cl, y_cl) = state_at(&classical, 1.0, Mode::Sliding);
+
+    let mut rolling = Scenario::classical();
+    rolling.solver.t_end = 1.0;
+    let (m_ro, y_ro) = state_at(&rolling, 1.0, Mode::Rolling);
+
+    let nano = Scenario::nano();
+    let (m_na, y_na) = state_at(&nano, 5e-5, Mode::Sliding);
+
+    let mut g = c.benchmark_group("rhs");
+    for (name, m, y) in [
+        ("classical_regularized_sliding", &m_cl, &y_cl),
+        ("classical_exact_rolling", &m_ro, &y_ro),
+        ("nano_exact_sliding", &m_na, &y_na),
+    ] {
+        assert!(m.eval(y).is_ok(), "{name}: state not evaluable");
+        g.bench_function(name, |b| {
+            b.iter(|| black_box(m).eval(black_box(y)).map(|e| e.dy))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_rhs);
+criterion_main!(benches);
