@@ -61,19 +61,27 @@ fn eval<S: OdeSystem<N>, const N: usize>(
     sys.rhs(t, y, dy).map_err(|err| Fail::Rhs { t, err })
 }
 
-/// `sum_j coef[j] * k[j]` over the stages `j < coef.len()` with a non-zero
-/// coefficient.
-#[inline(always)]
-fn combine<const N: usize>(coef: &[f64], k: &[[f64; N]; 16]) -> [f64; N] {
-    let mut acc = [0.0; N];
-    for (j, &a) in coef.iter().enumerate() {
-        if a != 0.0 {
-            for n in 0..N {
-                acc[n] += a * k[j][n];
+/// `sum_j coef[j] * k[j]` over the listed stages `j` (in increasing order)
+/// with a non-zero coefficient, accumulated from zero one stage at a time.
+///
+/// `coef` is a row of the constant tables and the `j` are literals, so each
+/// coefficient and its zero test are known at compile time: the loop over
+/// the stages and the tests disappear and only the non-zero terms remain,
+/// each added in the same order as a loop over `j` would (the same result,
+/// bit for bit).
+macro_rules! combine {
+    ($coef:expr, $k:expr; $($j:literal)*) => {{
+        let mut acc = [0.0; N];
+        $(
+            let a: f64 = $coef[$j];
+            if a != 0.0 {
+                for n in 0..N {
+                    acc[n] += a * $k[$j][n];
+                }
             }
-        }
-    }
-    acc
+        )*
+        acc
+    }};
 }
 
 impl<const N: usize> Dop853<N> {
@@ -223,18 +231,33 @@ impl<const N: usize> Engine<N> for Dop853<N> {
                 (self.h, t + self.h, false)
             };
             let mut yt = [0.0; N];
-            for s in 1..STAGES {
-                let acc = combine(&A[s][..s], &self.k);
-                for n in 0..N {
-                    yt[n] = y[n] + hs * acc[n];
-                }
-                let ts = if C[s] == 1.0 { t_new } else { t + C[s] * hs };
-                eval(sys, ts, &yt, &mut self.k[s], stats)?;
+            // Stage s from the stages j < s (row s of A).
+            macro_rules! stage {
+                ($s:literal; $($j:literal)*) => {{
+                    let acc = combine!(A[$s], self.k; $($j)*);
+                    for n in 0..N {
+                        yt[n] = y[n] + hs * acc[n];
+                    }
+                    let ts = if C[$s] == 1.0 { t_new } else { t + C[$s] * hs };
+                    eval(sys, ts, &yt, &mut self.k[$s], stats)?;
+                }};
             }
+            stage!(1; 0);
+            stage!(2; 0 1);
+            stage!(3; 0 1 2);
+            stage!(4; 0 1 2 3);
+            stage!(5; 0 1 2 3 4);
+            stage!(6; 0 1 2 3 4 5);
+            stage!(7; 0 1 2 3 4 5 6);
+            stage!(8; 0 1 2 3 4 5 6 7);
+            stage!(9; 0 1 2 3 4 5 6 7 8);
+            stage!(10; 0 1 2 3 4 5 6 7 8 9);
+            stage!(11; 0 1 2 3 4 5 6 7 8 9 10);
+            const _: () = assert!(STAGES == 12);
             // 8th-order solution (weights b_j = A[12][j]).
-            let incr = combine(&A[STAGES][..STAGES], &self.k);
-            let bhh = combine(&BHH, &self.k);
-            let e5 = combine(&E5, &self.k);
+            let incr = combine!(A[STAGES], self.k; 0 1 2 3 4 5 6 7 8 9 10 11);
+            let bhh = combine!(BHH, self.k; 0 1 2 3 4 5 6 7 8 9 10 11);
+            let e5 = combine!(E5, self.k; 0 1 2 3 4 5 6 7 8 9 10 11);
             let mut y_new = [0.0; N];
             let mut err = 0.0;
             let mut err2 = 0.0;
@@ -313,17 +336,24 @@ impl<const N: usize> Engine<N> for Dop853<N> {
         }
         let h = self.h_step;
         let mut yt = [0.0; N];
-        for s in 13..16 {
-            let acc = combine(&A[s][..s], &self.k);
-            for n in 0..N {
-                yt[n] = self.y0[n] + h * acc[n];
-            }
-            eval(sys, self.t0 + C[s] * h, &yt, &mut self.k[s], stats)?;
+        macro_rules! stage {
+            ($s:literal; $($j:literal)*) => {{
+                let acc = combine!(A[$s], self.k; $($j)*);
+                for n in 0..N {
+                    yt[n] = self.y0[n] + h * acc[n];
+                }
+                eval(sys, self.t0 + C[$s] * h, &yt, &mut self.k[$s], stats)?;
+            }};
         }
-        let mut d = [[0.0; N]; 4];
-        for (i, row) in D.iter().enumerate() {
-            d[i] = combine(row, &self.k);
-        }
+        stage!(13; 0 1 2 3 4 5 6 7 8 9 10 11 12);
+        stage!(14; 0 1 2 3 4 5 6 7 8 9 10 11 12 13);
+        stage!(15; 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14);
+        let d = [
+            combine!(D[0], self.k; 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15),
+            combine!(D[1], self.k; 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15),
+            combine!(D[2], self.k; 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15),
+            combine!(D[3], self.k; 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15),
+        ];
         for n in 0..N {
             let dy = self.y1[n] - self.y0[n];
             let bspl = h * self.k[0][n] - dy;

@@ -10,7 +10,7 @@
 //! [`Mode::Rolling`] (exact Coulomb law only: slip held at zero, the
 //! friction is the constraint force, §4 of docs/physics.md).
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 use crate::{
     ContactMode, Forcing, FrictionLaw, Scenario, Top, contact::SlidingLaw, integrate::OdeSystem,
@@ -162,6 +162,43 @@ pub struct Eval {
     pub u: [f64; 3],
 }
 
+/// The last successful evaluation made by [`Reduced::eval`] (not by
+/// [`OdeSystem::rhs`], whose stages are never asked for again), with every
+/// input it depended on. At each accepted step the driver evaluates the
+/// model at the step end for the N = 0 event, again for the running
+/// diagnostics (energy), and takes sin θ, cos θ there for Jellett's J and
+/// the slip: the later calls get this copy instead of recomputing it. The
+/// key is compared bit for bit, so the result is the one a fresh evaluation
+/// would give.
+#[derive(Debug, Clone, Copy)]
+struct LastEval {
+    /// The state, as bits.
+    y: [u64; DIM],
+    /// Mode, latched force, slip hint and slip reference at the evaluation.
+    mode: Mode,
+    key: [u64; 6],
+    /// sin θ, cos θ.
+    sc: (f64, f64),
+    eval: Eval,
+}
+
+/// Everything besides the state that an evaluation depends on and that can
+/// change between evaluations (the model constants cannot).
+fn inputs_key(h: [f64; 2], hint: [f64; 2], slip_ref: [f64; 2]) -> [u64; 6] {
+    [
+        h[0].to_bits(),
+        h[1].to_bits(),
+        hint[0].to_bits(),
+        hint[1].to_bits(),
+        slip_ref[0].to_bits(),
+        slip_ref[1].to_bits(),
+    ]
+}
+
+fn bits(y: &[f64; DIM]) -> [u64; DIM] {
+    y.map(f64::to_bits)
+}
+
 /// The reduced model as an ODE system in scaled units.
 #[derive(Debug, Clone)]
 pub struct Reduced {
@@ -201,6 +238,8 @@ pub struct Reduced {
     pub top: Top,
     /// g \[m/s²\].
     pub gravity_si: f64,
+    /// The last evaluation made by `eval` (see [`LastEval`]).
+    last: RefCell<Option<LastEval>>,
 }
 
 impl Reduced {
@@ -229,6 +268,7 @@ impl Reduced {
             evaluations: 0,
             top: sc.top,
             gravity_si: sc.surface.gravity,
+            last: RefCell::new(None),
         }
     }
 
@@ -306,9 +346,19 @@ impl Reduced {
         }
     }
 
+    /// `θ.sin_cos()`, taken from the last `eval` when it was at the same θ
+    /// (the same value either way).
+    #[inline]
+    fn sin_cos(&self, th: f64) -> (f64, f64) {
+        match &*self.last.borrow() {
+            Some(l) if l.y[TH] == th.to_bits() => l.sc,
+            _ => th.sin_cos(),
+        }
+    }
+
     /// Slip velocity at a state (scaled), from the state's u (sliding).
     pub fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
-        let (s, c) = y[TH].sin_cos();
+        let (s, c) = self.sin_cos(y[TH]);
         let h = 1.0 - self.a * c;
         [
             y[UX] - h * y[THD],
@@ -318,22 +368,44 @@ impl Reduced {
 
     /// Centre-of-mass horizontal velocity that makes the slip zero (rolling constraint).
     pub fn rolling_velocity(&self, y: &[f64; DIM]) -> [f64; 2] {
-        let (s, c) = y[TH].sin_cos();
+        let (s, c) = self.sin_cos(y[TH]);
         let h = 1.0 - self.a * c;
         [h * y[THD], -s * (y[W] - y[OM] * c + self.a * y[OM])]
     }
 
     /// Evaluate the model at a state in the current mode.
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
+        let yb = bits(y);
+        let key = inputs_key(self.h, self.slip_hint, self.slip_ref.get());
+        if let Some(l) = &*self.last.borrow() {
+            if l.y == yb && l.mode == self.mode && l.key == key {
+                return Ok(l.eval);
+            }
+        }
+        let (s, c) = y[TH].sin_cos();
+        let e = self.eval_sc(y, s, c)?;
+        *self.last.borrow_mut() = Some(LastEval {
+            y: yb,
+            mode: self.mode,
+            key,
+            sc: (s, c),
+            eval: e,
+        });
+        Ok(e)
+    }
+
+    /// `eval` with `(s, c) = y[TH].sin_cos()` given.
+    #[inline(always)]
+    fn eval_sc(&self, y: &[f64; DIM], s: f64, c: f64) -> Result<Eval, ModelError> {
         match self.mode {
-            Mode::Sliding => self.eval_sliding(y),
-            Mode::Rolling => Ok(self.eval_rolling(y)),
+            Mode::Sliding => self.eval_sliding(y, s, c),
+            Mode::Rolling => Ok(self.eval_rolling(y, s, c)),
         }
     }
 
-    fn eval_sliding(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
+    #[inline(always)]
+    fn eval_sliding(&self, y: &[f64; DIM], s: f64, c: f64) -> Result<Eval, ModelError> {
         let (th, thd, om, w, ux, uy) = (y[TH], y[THD], y[OM], y[W], y[UX], y[UY]);
-        let (s, c) = th.sin_cos();
         if s.abs() < SIN_GUARD {
             return Err(ModelError::Singular { theta: th });
         }
@@ -415,9 +487,9 @@ impl Reduced {
     /// Rolling: v_P = 0 held; θ̈, N and the friction solved with the motion
     /// (docs/physics.md §4). Regular at every θ except through the Ω
     /// equation's 1/sin θ, which the caller guards.
-    fn eval_rolling(&self, y: &[f64; DIM]) -> Eval {
-        let (th, thd, om, w) = (y[TH], y[THD], y[OM], y[W]);
-        let (s, c) = th.sin_cos();
+    #[inline(always)]
+    fn eval_rolling(&self, y: &[f64; DIM], s: f64, c: f64) -> Eval {
+        let (thd, om, w) = (y[THD], y[OM], y[W]);
         let (a, ia, ic) = (self.a, self.ia, self.ic);
         let h = 1.0 - a * c;
         let weff = w - om * c + a * om;
@@ -455,18 +527,18 @@ impl Reduced {
 
     /// Jellett's J in scaled units (J / (m R³ / T)).
     pub fn jellett_scaled(&self, y: &[f64; DIM]) -> f64 {
-        let (s, c) = y[TH].sin_cos();
+        let (s, c) = self.sin_cos(y[TH]);
         self.ia * y[OM] * s * s + self.ic * y[W] * (c - self.a)
     }
 
     /// Total energy in scaled units, using `u` from `e` (constraint values while rolling).
     pub fn energy_scaled(&self, y: &[f64; DIM], e: &Eval) -> f64 {
-        let s = y[TH].sin();
+        let (s, c) = self.sin_cos(y[TH]);
         let u = e.u;
         0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
             + 0.5 * self.ia * (y[THD] * y[THD] + y[OM] * y[OM] * s * s)
             + 0.5 * self.ic * y[W] * y[W]
-            + self.g * (1.0 - self.a * y[TH].cos())
+            + self.g * (1.0 - self.a * c)
     }
 
     /// C · R in scaled units times the largest |ω| gives the J scale.
@@ -489,10 +561,12 @@ impl OdeSystem<DIM> for Reduced {
                 reversals: CHATTER_REVERSALS,
             });
         }
-        if self.mode == Mode::Rolling && y[TH].sin().abs() < SIN_GUARD {
+        // One sin_cos per evaluation (the guard shares it).
+        let (s, c) = y[TH].sin_cos();
+        if self.mode == Mode::Rolling && s.abs() < SIN_GUARD {
             return Err(ModelError::Singular { theta: y[TH] });
         }
-        *dy = self.eval(y)?.dy;
+        *dy = self.eval_sc(y, s, c)?.dy;
         Ok(())
     }
 }
