@@ -311,9 +311,14 @@ fn max_diff(a: &Trajectory, b: &Trajectory, f: impl Fn(&crate::Sample) -> f64) -
         .fold(0.0, f64::max)
 }
 
+/// "completed", or "FAILED at t = … s: why" without the state dump.
 fn status(tr: &Trajectory) -> String {
     match &tr.error {
         None => "completed".into(),
+        Some(crate::Error::Runtime { t, why }) => {
+            let short = why.split("; state:").next().unwrap_or(why);
+            format!("FAILED at t = {t:.4e} s: {short}")
+        }
         Some(e) => format!("FAILED: {e}"),
     }
 }
@@ -1046,7 +1051,7 @@ pub fn reproduce(opts: Options, progress: &mut dyn FnMut(&str)) -> Result<Reprod
     let rk_pairs: Vec<(f64, f64)> = tr(k)
         .samples
         .iter()
-        .filter(|s| s.theta.is_finite())
+        .take_while(|s| s.theta.is_finite() && s.theta.abs() < 10.0)
         .map(|s| (s.theta, at(tr(p), s.t, |x| x.theta)))
         .collect();
     let rk_d = rk_pairs
@@ -1062,7 +1067,7 @@ pub fn reproduce(opts: Options, progress: &mut dyn FnMut(&str)) -> Result<Reprod
         claim: "Classical RK4 on 500 grid points resolves the motion (the paper's method).".into(),
         paper_value: "RK4, 500 points".into(),
         measured: format!(
-            "nano, constant force: max |θ_RK4/500 − θ_accurate| = {rk_d:.3e} rad (same equations, up to the end of the RK4 run: {}); RK4/500 runs that failed: {rk_fail} of 5 (classical: {})",
+            "nano, constant force: max |θ_RK4/500 − θ_accurate| = {rk_d:.3e} rad (same equations, until the RK4 run leaves |θ| < 10: {}); RK4/500 runs that failed: {rk_fail} of 5 (classical: {})",
             status(tr(k)),
             status(tr(ck))
         ),
@@ -1274,11 +1279,11 @@ pub fn report_markdown(rep: &Reproduction) -> String {
         s.push_str(&format!(
             "| **{}**: {} | {} | {} | **{}** | {} |\n",
             c.id,
-            c.claim,
-            c.paper_value,
-            c.measured.replace('|', "/"),
+            c.claim.replace('|', "\\|"),
+            c.paper_value.replace('|', "\\|"),
+            c.measured.replace('|', "\\|"),
             c.verdict.as_str(),
-            c.why.replace('|', "/")
+            c.why.replace('|', "\\|")
         ));
     }
     for (title, body) in &rep.sections {
