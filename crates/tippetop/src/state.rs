@@ -75,7 +75,7 @@ pub enum Method {
     Adaptive,
     /// Classical fixed-step RK4 (the paper's method).
     Rk4,
-    /// Linearly implicit Rosenbrock method Rodas4 (L-stable, order 4,
+    /// Linearly implicit Rosenbrock method Rodas4P (L-stable, order 4,
     /// numerical Jacobian), for the stiff regularised friction law near
     /// rolling (time scale `ε / (μ g)`).
     Stiff,

@@ -3,7 +3,7 @@
 use super::dop853::Dop853;
 use super::rk4::Rk4;
 use super::roots::illinois;
-use super::rosenbrock::Rodas4;
+use super::rosenbrock::Rodas4p;
 use super::{
     Direction, Engine, Event, Fail, Fired, IntegrateError, OdeSystem, Options, Outcome, Stats,
     Stepper, StopReason,
@@ -95,7 +95,7 @@ pub(super) fn run<S: OdeSystem<N>, const N: usize>(
         Stepper::Rosenbrock { rtol, atol } => {
             let h_max = default_h_max(opts, t0, t_end);
             drive(
-                Rodas4::new(rtol, atol, opts.h0, h_max),
+                Rodas4p::new(rtol, atol, opts.h0, h_max),
                 sys,
                 opts,
                 t0,
