@@ -207,8 +207,8 @@ fn rosenbrock_error_follows_tolerance() {
 /// is held to its stability limit (|h λ| <~ 6, so h <~ 6e-3: ~1 600 steps
 /// whatever the tolerance), Rodas4P follows cos t. Observed evaluation
 /// ratios DOP853 / Rodas4P: 227 at tol 1e-3 down to 26.5 at 1e-8; asserted
-/// >= 20. (Rodas4, without Steinebach's correction, fell to 0.7 at 1e-8
-/// by order reduction: 3 984 steps.)
+/// to be at least 20. (Rodas4, without Steinebach's correction, fell to 0.7
+/// at 1e-8 by order reduction: 3 984 steps.)
 #[test]
 fn rosenbrock_stiff_far_fewer_evaluations() {
     for tol in [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8] {

@@ -75,8 +75,8 @@
 //! - Rodas4P: 1 per segment start, 1 for `hinit` (as DOP853), `2 N + 7`
 //!   per accepted step (`2 N` for the Jacobian, 1 for `∂f/∂t`, 5 stages, 1
 //!   for `f(t_new, y_new)`), 5 per rejected attempt (the Jacobian is
-//!   reused): `rhs_evals = segments + [h0 is None] + (2 N + 7) * steps
-//!   + 5 * rejected`.
+//!   reused): `rhs_evals = segments + [h0 is None] + (2 N + 7) * steps +
+//!   5 * rejected`.
 //!
 //! `Stats::rejected` counts every rejected DOP853 or Rodas4P attempt (also
 //! those before the first accepted step, which `dop853.f` does not count).

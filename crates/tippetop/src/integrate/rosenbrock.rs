@@ -86,16 +86,23 @@
 //! segment, only when `Options::h0` is `None`), per accepted step `2 N` for
 //! the Jacobian, 1 for `f_t`, 5 for the stages and 1 for `f(t_new, y_new)`
 //! (the next step's first stage), and 5 per rejected attempt (Jacobian
-//! reused): `rhs_evals = segments + [h0 is None] + (2 N + 7) steps
-//! + 5 rejected`. An attempt abandoned because `E` is singular costs no
-//! evaluation and counts as rejected too (the step is halved).
+//! reused):
+//!
+//! ```text
+//! rhs_evals = segments + [h0 is None] + (2 N + 7) steps + 5 rejected
+//! ```
+//!
+//! An attempt abandoned because `E` is singular costs no evaluation and
+//! counts as rejected too (the step is halved).
 
 // Component loops index several arrays at once; iterators would obscure them.
 #![allow(clippy::needless_range_loop)]
 
 use super::{Engine, Fail, OdeSystem, Stats};
 
-/// Rodas4P coefficients (OrdinaryDiffEq.jl `Rodas4PTableau`).
+/// Rodas4P coefficients (OrdinaryDiffEq.jl `Rodas4PTableau`), digits as
+/// published (trailing zeros kept).
+#[allow(clippy::excessive_precision)]
 mod tableau {
     pub const GAMMA: f64 = 0.25;
 
