@@ -72,3 +72,50 @@ fn stiff_matches_adaptive_regularized() {
         s.energy_balance_max_rel_error
     );
 }
+
+/// Within a segment the models' right-hand sides do not depend on `t` (the
+/// applied force is latched in `begin_segment`), so the stiff solver's
+/// finite difference in `t` is exactly zero for them (module doc of
+/// `integrate/rosenbrock.rs`). Checked with a force window switching at
+/// t = 5 ms: the latched value holds whatever `t` is passed.
+#[test]
+fn model_rhs_is_autonomous_within_a_segment() {
+    use tippetop::integrate::OdeSystem;
+    use tippetop::model::{reduced::Reduced, rigid::Rigid};
+    use tippetop::{ForceWindow, Forcing};
+    let mut sc = Scenario::classical();
+    sc.surface.law = FrictionLaw::Regularized { eps: 1e-3 };
+    sc.initial.ux = 0.01;
+    sc.forcing = Forcing {
+        windows: vec![ForceWindow {
+            hx: 1e-3,
+            hy: -2e-3,
+            start: 0.0,
+            stop: 5e-3,
+        }],
+    };
+    sc.validate().unwrap();
+    let ts = [0.0, 1e-4, 0.3, 7.0, 1e3];
+
+    let mut m = Reduced::new(&sc);
+    let y = m.scale_state(&sc.initial);
+    m.begin_segment(0.0, &y);
+    let mut d0 = [0.0; 8];
+    m.rhs(0.0, &y, &mut d0).unwrap();
+    for t in ts {
+        let mut d = [0.0; 8];
+        m.rhs(t, &y, &mut d).unwrap();
+        assert_eq!(d, d0, "reduced, t = {t}");
+    }
+
+    let mut m = Rigid::new(&sc);
+    let y = m.scale_state(&sc.initial);
+    m.begin_segment(0.0, &y);
+    let mut d0 = [0.0; 15];
+    m.rhs(0.0, &y, &mut d0).unwrap();
+    for t in ts {
+        let mut d = [0.0; 15];
+        m.rhs(t, &y, &mut d).unwrap();
+        assert_eq!(d, d0, "rigid, t = {t}");
+    }
+}
