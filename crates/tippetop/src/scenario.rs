@@ -32,7 +32,7 @@
 //! ux = 0.0                    # [m/s]
 //! uy = 0.0                    # [m/s]
 //! [solver]
-//! method = "adaptive"         # or "rk4"
+//! method = "adaptive"         # or "rk4", "stiff"
 //! t_end = 10.0                # [s]
 //! steps = 500                 # rk4 only
 //! rtol = 1e-10
@@ -352,7 +352,7 @@ const INITIAL_KEYS: Keys = &[
 ];
 
 const SOLVER_KEYS: Keys = &[
-    ("method", "\"adaptive\" or \"rk4\""),
+    ("method", "\"adaptive\", \"rk4\" or \"stiff\""),
     ("t_end", "a finite time > 0 [s]"),
     (
         "steps",
@@ -388,7 +388,11 @@ const CONTACTS: &[(&str, ContactMode)] = &[
     ("unilateral", ContactMode::Unilateral),
 ];
 
-const METHODS: &[(&str, Method)] = &[("adaptive", Method::Adaptive), ("rk4", Method::Rk4)];
+const METHODS: &[(&str, Method)] = &[
+    ("adaptive", Method::Adaptive),
+    ("rk4", Method::Rk4),
+    ("stiff", Method::Stiff),
+];
 
 const MODELS: &[(&str, ModelKind)] =
     &[("reduced", ModelKind::Reduced), ("rigid", ModelKind::Rigid)];

@@ -288,6 +288,10 @@ impl RunSetup {
                     rtol: sc.solver.rtol,
                     atol: sc.solver.rtol,
                 },
+                Method::Stiff => Stepper::Rosenbrock {
+                    rtol: sc.solver.rtol,
+                    atol: sc.solver.rtol,
+                },
                 Method::Rk4 => Stepper::Rk4 {
                     h: t_end / sc.solver.steps as f64,
                 },

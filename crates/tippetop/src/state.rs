@@ -75,6 +75,10 @@ pub enum Method {
     Adaptive,
     /// Classical fixed-step RK4 (the paper's method).
     Rk4,
+    /// Linearly implicit Rosenbrock method Rodas4P (L-stable, order 4,
+    /// numerical Jacobian), for the stiff regularised friction law near
+    /// rolling (time scale `ε / (μ g)`).
+    Stiff,
 }
 
 /// Which equations of motion.
@@ -95,7 +99,7 @@ pub struct SolverSettings {
     pub t_end: f64,
     /// Number of RK4 steps over `[0, t_end]` (RK4 only).
     pub steps: usize,
-    /// Relative tolerance (adaptive only); the absolute tolerance is the same
+    /// Relative tolerance (adaptive and stiff); the absolute tolerance is the same
     /// number in the scaled units (lengths by R, masses by m, see docs/physics.md).
     pub rtol: f64,
     /// Output rows, evenly spaced on `[0, t_end]`.

@@ -139,6 +139,16 @@ fn round_trip_regularized() {
     assert_eq!(Scenario::from_toml_str(&text), Ok(s), "{text}");
 }
 
+#[test]
+fn round_trip_stiff() {
+    let mut s = Scenario::classical();
+    s.surface.law = FrictionLaw::Regularized { eps: 1e-4 };
+    s.solver.method = Method::Stiff;
+    let text = s.to_toml_string();
+    assert!(text.contains("method = \"stiff\""), "{text}");
+    assert_eq!(Scenario::from_toml_str(&text), Ok(s), "{text}");
+}
+
 // --- presets, files, --set -----------------------------------------------
 
 #[test]
@@ -322,6 +332,12 @@ fn rigid_model_allows_theta_zero() {
 fn rk4_with_consistent_steps() {
     let s = classical_with(&["solver.method=rk4", "solver.steps=2000"]).unwrap();
     assert_eq!(s.solver.method, Method::Rk4);
+}
+
+#[test]
+fn stiff_method_by_name() {
+    let s = classical_with(&["solver.method=stiff"]).unwrap();
+    assert_eq!(s.solver.method, Method::Stiff);
 }
 
 // --- bad input: keys, tables, types ----------------------------------------
@@ -608,6 +624,7 @@ fn unknown_method() {
         "solver.method",
     );
     assert!(e.contains("\"rk4\""), "{e}");
+    assert!(e.contains("\"stiff\""), "{e}");
 }
 
 #[test]

@@ -3,6 +3,7 @@
 use super::dop853::Dop853;
 use super::rk4::Rk4;
 use super::roots::illinois;
+use super::rosenbrock::Rodas4p;
 use super::{
     Direction, Engine, Event, Fail, Fired, IntegrateError, OdeSystem, Options, Outcome, Stats,
     Stepper, StopReason,
@@ -76,10 +77,7 @@ pub(super) fn run<S: OdeSystem<N>, const N: usize>(
             on_step,
         ),
         Stepper::Dop853 { rtol, atol } => {
-            // The default largest step is the interval; for t_end == t0 any
-            // positive value does (no step is taken).
-            let span = t_end - t0;
-            let h_max = opts.h_max.unwrap_or(if span > 0.0 { span } else { 1.0 });
+            let h_max = default_h_max(opts, t0, t_end);
             drive(
                 Dop853::new(rtol, atol, opts.h0, h_max),
                 sys,
@@ -94,7 +92,30 @@ pub(super) fn run<S: OdeSystem<N>, const N: usize>(
                 on_step,
             )
         }
+        Stepper::Rosenbrock { rtol, atol } => {
+            let h_max = default_h_max(opts, t0, t_end);
+            drive(
+                Rodas4p::new(rtol, atol, opts.h0, h_max),
+                sys,
+                opts,
+                t0,
+                y0,
+                t_end,
+                tstops,
+                sample_times,
+                events,
+                on_sample,
+                on_step,
+            )
+        }
     }
+}
+
+/// The largest step of the adaptive steppers: `Options::h_max`, by default
+/// the interval; for `t_end == t0` any positive value does (no step is taken).
+fn default_h_max(opts: &Options, t0: f64, t_end: f64) -> f64 {
+    let span = t_end - t0;
+    opts.h_max.unwrap_or(if span > 0.0 { span } else { 1.0 })
 }
 
 #[allow(clippy::too_many_arguments)]

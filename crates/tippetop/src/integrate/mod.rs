@@ -1,5 +1,6 @@
-//! Time stepping: classical fixed-step RK4 (the paper's method) and an
+//! Time stepping: classical fixed-step RK4 (the paper's method), an
 //! adaptive Dormand–Prince 8(5,3) ("DOP853") with 7th-order dense output,
+//! and a linearly implicit Rosenbrock method (Rodas4P) for stiff problems,
 //! stops at prescribed times (`tstops`, for discontinuous forcing) and event
 //! location on the dense output.
 //!
@@ -49,6 +50,12 @@
 //!   coefficients were transcribed from SciPy's
 //!   `scipy/integrate/_ivp/dop853_coefficients.py`, itself from Hairer's
 //!   `dop853.f` (see `dop853_coefficients.rs`).
+//! - Rodas4P (`Stepper::Rosenbrock`): Steinebach's variant of Hairer &
+//!   Wanner's Rodas4, a stiffly accurate, L-stable Rosenbrock method of
+//!   order 4(3) with an order-3 continuous extension, Jacobian by central
+//!   and `∂f/∂t` by forward differences at every step, dense LU with partial pivoting on `[[f64; N]; N]`. For the
+//!   regularised friction law near rolling, whose time scale `ε/(μ g)`
+//!   holds DOP853 to its stability limit. See `rosenbrock.rs`.
 //!
 //! # Counting right-hand-side evaluations (`Stats::rhs_evals`)
 //!
@@ -65,9 +72,14 @@
 //!   inside the step, or an event crossing):
 //!   `rhs_evals = segments + [h0 is None] + 12 * steps + 11 * rejected
 //!   + 3 * dense_steps`.
+//! - Rodas4P: 1 per segment start, 1 for `hinit` (as DOP853), `2 N + 7`
+//!   per accepted step (`2 N` for the Jacobian, 1 for `∂f/∂t`, 5 stages, 1
+//!   for `f(t_new, y_new)`), 5 per rejected attempt (the Jacobian is
+//!   reused): `rhs_evals = segments + [h0 is None] + (2 N + 7) * steps +
+//!   5 * rejected`.
 //!
-//! `Stats::rejected` counts every rejected DOP853 attempt (also those before
-//! the first accepted step, which `dop853.f` does not count).
+//! `Stats::rejected` counts every rejected DOP853 or Rodas4P attempt (also
+//! those before the first accepted step, which `dop853.f` does not count).
 
 /// A first-order ODE system `y' = f(t, y)` on a fixed-size state.
 pub trait OdeSystem<const N: usize> {
@@ -94,6 +106,17 @@ pub enum Stepper {
     },
     /// DOP853 with error control `|err_i| <= atol + rtol * max(|y_i|, |y_new_i|)`.
     Dop853 {
+        /// Relative tolerance.
+        rtol: f64,
+        /// Absolute tolerance.
+        atol: f64,
+    },
+    /// Rodas4P (linearly implicit, L-stable, order 4 with an order-3 error
+    /// estimate and order-3 dense output) with error control
+    /// `RMS(err_i / (atol + rtol * max(|y_i|, |y_new_i|))) <= 1`, for stiff
+    /// problems. Numerical Jacobian (central differences, `2 N + 1`
+    /// evaluations per step with `∂f/∂t`).
+    Rosenbrock {
         /// Relative tolerance.
         rtol: f64,
         /// Absolute tolerance.
@@ -243,6 +266,17 @@ impl Options {
             h_max: None,
         }
     }
+
+    /// Rodas4P with tolerances `rtol`, `atol`; automatic initial step, no
+    /// step limit other than the interval, `max_steps` 10 000 000.
+    pub fn rosenbrock(rtol: f64, atol: f64) -> Self {
+        Options {
+            stepper: Stepper::Rosenbrock { rtol, atol },
+            max_steps: Self::DEFAULT_MAX_STEPS,
+            h0: None,
+            h_max: None,
+        }
+    }
 }
 
 mod dop853;
@@ -250,6 +284,7 @@ mod dop853_coefficients;
 mod driver;
 mod rk4;
 mod roots;
+mod rosenbrock;
 
 /// A stepper failure, before the driver attaches the last accepted state.
 pub(crate) enum Fail<E> {
