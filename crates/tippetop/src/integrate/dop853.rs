@@ -5,7 +5,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::dop853_coefficients::{A, BHH, C, D, E5};
-use super::{Engine, Fail, OdeSystem, Stats};
+use super::{Engine, Fail, OdeSystem, Stats, eval, hinit};
 
 /// Safety factor of the step-size controller.
 const SAFE: f64 = 0.9;
@@ -48,17 +48,6 @@ pub(super) struct Dop853<const N: usize> {
     /// Interpolation coefficients (`rcont2..rcont8` of `dop853.f`).
     cont: [[f64; N]; 7],
     dense_ready: bool,
-}
-
-fn eval<S: OdeSystem<N>, const N: usize>(
-    sys: &mut S,
-    t: f64,
-    y: &[f64; N],
-    dy: &mut [f64; N],
-    stats: &mut Stats,
-) -> Result<(), Fail<S::Error>> {
-    stats.rhs_evals += 1;
-    sys.rhs(t, y, dy).map_err(|err| Fail::Rhs { t, err })
 }
 
 /// `sum_j coef[j] * k[j]` over the listed stages `j` (in increasing order)
@@ -125,51 +114,6 @@ impl<const N: usize> Dop853<N> {
             dense_ready: false,
         }
     }
-
-    /// Hairer's `hinit` (`dop853.f`): initial step from the sizes of `y`,
-    /// `f` and an estimate of the second derivative (one extra evaluation).
-    fn hinit<S: OdeSystem<N>>(
-        &self,
-        sys: &mut S,
-        t: f64,
-        y: &[f64; N],
-        f0: &[f64; N],
-        h_max: f64,
-        stats: &mut Stats,
-    ) -> Result<f64, Fail<S::Error>> {
-        let mut dnf = 0.0;
-        let mut dny = 0.0;
-        for n in 0..N {
-            let sk = self.atol + self.rtol * y[n].abs();
-            dnf += (f0[n] / sk).powi(2);
-            dny += (y[n] / sk).powi(2);
-        }
-        let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
-            1.0e-6
-        } else {
-            (dny / dnf).sqrt() * 0.01
-        };
-        h = h.min(h_max);
-        let mut y1 = [0.0; N];
-        for n in 0..N {
-            y1[n] = y[n] + h * f0[n];
-        }
-        let mut f1 = [0.0; N];
-        eval(sys, t + h, &y1, &mut f1, stats)?;
-        let mut der2 = 0.0;
-        for n in 0..N {
-            let sk = self.atol + self.rtol * y[n].abs();
-            der2 += ((f1[n] - f0[n]) / sk).powi(2);
-        }
-        let der2 = der2.sqrt() / h;
-        let der12 = der2.abs().max(dnf.sqrt());
-        let h1 = if der12 <= 1e-15 {
-            (h * 1.0e-3).max(1.0e-6)
-        } else {
-            (0.01 / der12).powf(1.0 / f64::from(IORD))
-        };
-        Ok((100.0 * h).min(h1).min(h_max))
-    }
 }
 
 impl<const N: usize> Engine<N> for Dop853<N> {
@@ -196,7 +140,7 @@ impl<const N: usize> Engine<N> for Dop853<N> {
                 Some(h) => h.min(self.h_max),
                 None => {
                     let h_cap = self.h_max.min(t_stop - t);
-                    self.hinit(sys, t, y, &f, h_cap, stats)?
+                    hinit(sys, t, y, &f, (self.rtol, self.atol), IORD, h_cap, stats)?
                 }
             };
             self.initialized = true;

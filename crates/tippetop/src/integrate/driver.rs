@@ -62,51 +62,30 @@ pub(super) fn run<S: OdeSystem<N>, const N: usize>(
         sample_times.windows(2).all(|w| w[0] <= w[1]),
         "sample_times must be sorted"
     );
+    // The engines are different types: one `drive` call per engine.
+    macro_rules! drive_with {
+        ($engine:expr) => {
+            drive(
+                $engine,
+                sys,
+                opts,
+                t0,
+                y0,
+                t_end,
+                tstops,
+                sample_times,
+                events,
+                on_sample,
+                on_step,
+            )
+        };
+    }
+    let h_max = default_h_max(opts, t0, t_end);
     match opts.stepper {
-        Stepper::Rk4 { h } => drive(
-            Rk4::new(h),
-            sys,
-            opts,
-            t0,
-            y0,
-            t_end,
-            tstops,
-            sample_times,
-            events,
-            on_sample,
-            on_step,
-        ),
-        Stepper::Dop853 { rtol, atol } => {
-            let h_max = default_h_max(opts, t0, t_end);
-            drive(
-                Dop853::new(rtol, atol, opts.h0, h_max),
-                sys,
-                opts,
-                t0,
-                y0,
-                t_end,
-                tstops,
-                sample_times,
-                events,
-                on_sample,
-                on_step,
-            )
-        }
+        Stepper::Rk4 { h } => drive_with!(Rk4::new(h)),
+        Stepper::Dop853 { rtol, atol } => drive_with!(Dop853::new(rtol, atol, opts.h0, h_max)),
         Stepper::Rosenbrock { rtol, atol } => {
-            let h_max = default_h_max(opts, t0, t_end);
-            drive(
-                Rodas4p::new(rtol, atol, opts.h0, h_max),
-                sys,
-                opts,
-                t0,
-                y0,
-                t_end,
-                tstops,
-                sample_times,
-                events,
-                on_sample,
-                on_step,
-            )
+            drive_with!(Rodas4p::new(rtol, atol, opts.h0, h_max))
         }
     }
 }

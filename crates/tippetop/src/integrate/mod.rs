@@ -286,6 +286,68 @@ mod rk4;
 mod roots;
 mod rosenbrock;
 
+/// One counted right-hand-side evaluation (every stepper counts through here).
+fn eval<S: OdeSystem<N>, const N: usize>(
+    sys: &mut S,
+    t: f64,
+    y: &[f64; N],
+    dy: &mut [f64; N],
+    stats: &mut Stats,
+) -> Result<(), Fail<S::Error>> {
+    stats.rhs_evals += 1;
+    sys.rhs(t, y, dy).map_err(|err| Fail::Rhs { t, err })
+}
+
+/// Hairer's `hinit` (`dop853.f`) for a method of order `order`: an initial
+/// step from the sizes of `y`, `f0 = f(t, y)` and an estimate of the second
+/// derivative (one extra evaluation), capped at `h_max`; 1e-6 if the
+/// estimate is not a finite positive number.
+#[allow(clippy::too_many_arguments)]
+fn hinit<S: OdeSystem<N>, const N: usize>(
+    sys: &mut S,
+    t: f64,
+    y: &[f64; N],
+    f0: &[f64; N],
+    (rtol, atol): (f64, f64),
+    order: i32,
+    h_max: f64,
+    stats: &mut Stats,
+) -> Result<f64, Fail<S::Error>> {
+    let mut dnf = 0.0;
+    let mut dny = 0.0;
+    for n in 0..N {
+        let sk = atol + rtol * y[n].abs();
+        dnf += (f0[n] / sk).powi(2);
+        dny += (y[n] / sk).powi(2);
+    }
+    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
+        1.0e-6
+    } else {
+        (dny / dnf).sqrt() * 0.01
+    };
+    h = h.min(h_max);
+    let mut y1 = [0.0; N];
+    for n in 0..N {
+        y1[n] = y[n] + h * f0[n];
+    }
+    let mut f1 = [0.0; N];
+    eval(sys, t + h, &y1, &mut f1, stats)?;
+    let mut der2 = 0.0;
+    for n in 0..N {
+        let sk = atol + rtol * y[n].abs();
+        der2 += ((f1[n] - f0[n]) / sk).powi(2);
+    }
+    let der2 = der2.sqrt() / h;
+    let der12 = der2.abs().max(dnf.sqrt());
+    let h1 = if der12 <= 1e-15 {
+        (h * 1.0e-3).max(1.0e-6)
+    } else {
+        (0.01 / der12).powf(1.0 / f64::from(order))
+    };
+    let h = (100.0 * h).min(h1).min(h_max);
+    Ok(if h.is_finite() && h > 0.0 { h } else { 1.0e-6 })
+}
+
 /// A stepper failure, before the driver attaches the last accepted state.
 pub(crate) enum Fail<E> {
     /// `rhs` failed at `t`.

@@ -3,7 +3,7 @@
 // Component loops index several arrays at once; iterators would obscure them.
 #![allow(clippy::needless_range_loop)]
 
-use super::{Engine, Fail, OdeSystem, Stats};
+use super::{Engine, Fail, OdeSystem, Stats, eval};
 
 /// Relative slack (in units of `h`) within which the remaining interval is
 /// treated as one grid step, to avoid a sliver step before a stop.
@@ -43,17 +43,6 @@ impl<const N: usize> Rk4<N> {
             f1: [0.0; N],
         }
     }
-}
-
-fn eval<S: OdeSystem<N>, const N: usize>(
-    sys: &mut S,
-    t: f64,
-    y: &[f64; N],
-    dy: &mut [f64; N],
-    stats: &mut Stats,
-) -> Result<(), Fail<S::Error>> {
-    stats.rhs_evals += 1;
-    sys.rhs(t, y, dy).map_err(|err| Fail::Rhs { t, err })
 }
 
 impl<const N: usize> Engine<N> for Rk4<N> {

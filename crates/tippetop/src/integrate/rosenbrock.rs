@@ -98,7 +98,7 @@
 // Component loops index several arrays at once; iterators would obscure them.
 #![allow(clippy::needless_range_loop)]
 
-use super::{Engine, Fail, OdeSystem, Stats};
+use super::{Engine, Fail, OdeSystem, Stats, eval, hinit};
 
 /// Rodas4P coefficients (OrdinaryDiffEq.jl `Rodas4PTableau`), digits as
 /// published (trailing zeros kept).
@@ -227,17 +227,6 @@ pub(crate) fn lu_solve<const N: usize>(lu: &[[f64; N]; N], piv: &[usize; N], b: 
     }
 }
 
-fn eval<S: OdeSystem<N>, const N: usize>(
-    sys: &mut S,
-    t: f64,
-    y: &[f64; N],
-    dy: &mut [f64; N],
-    stats: &mut Stats,
-) -> Result<(), Fail<S::Error>> {
-    stats.rhs_evals += 1;
-    sys.rhs(t, y, dy).map_err(|err| Fail::Rhs { t, err })
-}
-
 /// The Rodas4P stepper state.
 pub(super) struct Rodas4p<const N: usize> {
     rtol: f64,
@@ -299,53 +288,6 @@ impl<const N: usize> Rodas4p<N> {
             f1: [0.0; N],
             cont: [[0.0; N]; 2],
         }
-    }
-
-    /// Hairer's `hinit` (as in `dop853.f`, order 4): initial step from the
-    /// sizes of `y`, `f` and an estimate of the second derivative (one
-    /// extra evaluation).
-    fn hinit<S: OdeSystem<N>>(
-        &self,
-        sys: &mut S,
-        t: f64,
-        y: &[f64; N],
-        f0: &[f64; N],
-        h_max: f64,
-        stats: &mut Stats,
-    ) -> Result<f64, Fail<S::Error>> {
-        let mut dnf = 0.0;
-        let mut dny = 0.0;
-        for n in 0..N {
-            let sk = self.atol + self.rtol * y[n].abs();
-            dnf += (f0[n] / sk).powi(2);
-            dny += (y[n] / sk).powi(2);
-        }
-        let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
-            1.0e-6
-        } else {
-            (dny / dnf).sqrt() * 0.01
-        };
-        h = h.min(h_max);
-        let mut y1 = [0.0; N];
-        for n in 0..N {
-            y1[n] = y[n] + h * f0[n];
-        }
-        let mut f1 = [0.0; N];
-        eval(sys, t + h, &y1, &mut f1, stats)?;
-        let mut der2 = 0.0;
-        for n in 0..N {
-            let sk = self.atol + self.rtol * y[n].abs();
-            der2 += ((f1[n] - f0[n]) / sk).powi(2);
-        }
-        let der2 = der2.sqrt() / h;
-        let der12 = der2.abs().max(dnf.sqrt());
-        let h1 = if der12 <= 1e-15 {
-            (h * 1.0e-3).max(1.0e-6)
-        } else {
-            (0.01 / der12).powf(1.0 / f64::from(IORD))
-        };
-        let h = (100.0 * h).min(h1).min(h_max);
-        Ok(if h.is_finite() && h > 0.0 { h } else { 1.0e-6 })
     }
 
     /// `J = ∂f/∂y` by central and `f_t = ∂f/∂t` by forward differences at
@@ -412,7 +354,7 @@ impl<const N: usize> Engine<N> for Rodas4p<N> {
                 Some(h) => h.min(self.h_max),
                 None => {
                     let h_cap = self.h_max.min(t_stop - t);
-                    self.hinit(sys, t, y, &f, h_cap, stats)?
+                    hinit(sys, t, y, &f, (self.rtol, self.atol), IORD, h_cap, stats)?
                 }
             };
             self.initialized = true;
