@@ -88,8 +88,10 @@ fn unit(v: [f64; 2]) -> [f64; 2] {
     }
 }
 
-/// Running diagnostics, updated at every accepted step, sample and event.
-struct Track {
+/// Running diagnostics of a run (scaled units), updated at every accepted
+/// step, sample and event by the drivers of every model.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Track {
     j0: f64,
     j_dev_max: f64,
     omega_abs_max: f64,
@@ -100,16 +102,97 @@ struct Track {
 }
 
 impl Track {
-    fn visit(&mut self, m: &Reduced, y: &[f64; DIM]) {
-        self.theta_max = self.theta_max.max(y[TH]);
-        self.omega_abs_max = self.omega_abs_max.max(y[W].abs());
-        self.j_dev_max = self.j_dev_max.max((m.jellett_scaled(y) - self.j0).abs());
-        if let Ok(e) = m.eval(y) {
-            let en = m.energy_scaled(y, &e);
-            self.e_abs_max = self.e_abs_max.max(en.abs());
-            self.balance_max = self.balance_max.max((en - self.e0 - y[WF] - y[WA]).abs());
+    /// Start from θ, ω, J and the energy E (if it could be evaluated) at t = 0.
+    pub(crate) fn new(theta: f64, omega: f64, j: f64, energy: Option<f64>) -> Self {
+        let e0 = energy.unwrap_or(0.0);
+        Track {
+            j0: j,
+            j_dev_max: 0.0,
+            omega_abs_max: omega.abs(),
+            e0,
+            e_abs_max: e0.abs(),
+            balance_max: 0.0,
+            theta_max: theta,
         }
     }
+
+    /// Record a state: θ, ω, J, the energy E (if it could be evaluated) and
+    /// the work done so far `W_f + W_a`.
+    pub(crate) fn record(
+        &mut self,
+        theta: f64,
+        omega: f64,
+        j: f64,
+        energy: Option<f64>,
+        work: f64,
+    ) {
+        self.theta_max = self.theta_max.max(theta);
+        self.omega_abs_max = self.omega_abs_max.max(omega.abs());
+        self.j_dev_max = self.j_dev_max.max((j - self.j0).abs());
+        if let Some(en) = energy {
+            self.e_abs_max = self.e_abs_max.max(en.abs());
+            self.balance_max = self.balance_max.max((en - self.e0 - work).abs());
+        }
+    }
+}
+
+/// What a driver knows at the end of a run, besides its [`Track`].
+pub(crate) struct RunEnd<'a> {
+    /// Time reached (scaled).
+    pub t: f64,
+    /// Time unit \[s\].
+    pub time_unit: f64,
+    /// C/(m R²): the J drift is relative to C max|ω| R.
+    pub axial: f64,
+    /// The final output row and θ there.
+    pub last: &'a Sample,
+    /// All output rows.
+    pub samples: &'a [Sample],
+    /// First time θ > π/2 \[s\].
+    pub first_above: Option<f64>,
+    /// First time N < 0 \[s\] and fraction of the time with N < 0.
+    pub contact: (Option<f64>, f64),
+    /// Time spent rolling (scaled).
+    pub rolling_time: f64,
+    /// Work counters.
+    pub stats: integrate::Stats,
+    /// The run-time failure, if any.
+    pub error: Option<&'a Error>,
+}
+
+/// The run's [`Summary`] from its [`Track`] and its end.
+pub(crate) fn summarize(track: &Track, end: RunEnd<'_>) -> Summary {
+    let ratio = |num: f64, den: f64| if den > 0.0 { num / den } else { num };
+    let t = end.t;
+    Summary {
+        t_end: t * end.time_unit,
+        theta_final: end.last.theta,
+        theta_max: track.theta_max,
+        omega_final: end.last.spin,
+        precession_final: end.last.precession,
+        jellett_initial: end.samples.first().map(|s| s.jellett).unwrap_or(f64::NAN),
+        jellett_max_rel_drift: ratio(track.j_dev_max, end.axial * track.omega_abs_max),
+        energy_initial: end.samples.first().map(|s| s.energy).unwrap_or(f64::NAN),
+        energy_final: end.last.energy,
+        energy_balance_max_rel_error: ratio(track.balance_max, track.e_abs_max),
+        first_time_theta_above_half_pi: end.first_above,
+        contact_lost_at: end.contact.0,
+        negative_normal_fraction: end.contact.1,
+        rolling_fraction: if t > 0.0 { end.rolling_time / t } else { 0.0 },
+        steps: end.stats.steps,
+        rejected_steps: end.stats.rejected,
+        rhs_evaluations: end.stats.rhs_evals,
+        status: match end.error {
+            None => "ok".into(),
+            Some(e) => e.to_string(),
+        },
+    }
+}
+
+/// Record a reduced-model state in `track`.
+fn visit(track: &mut Track, m: &Reduced, y: &[f64; DIM]) {
+    let energy = m.eval(y).ok().map(|e| m.energy_scaled(y, &e));
+    track.record(y[TH], y[W], m.jellett_scaled(y), energy, y[WF] + y[WA]);
 }
 
 fn sample_of(m: &Reduced, t: f64, y: &[f64; DIM]) -> Sample {
@@ -350,20 +433,13 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
         }
     }
 
-    let mut track = Track {
-        j0: m.jellett_scaled(&y),
-        j_dev_max: 0.0,
-        omega_abs_max: y[W].abs(),
-        e0: 0.0,
-        e_abs_max: 0.0,
-        balance_max: 0.0,
-        theta_max: y[TH],
-    };
     let e_init = m.eval(&y).ok();
-    if let Some(e) = &e_init {
-        track.e0 = m.energy_scaled(&y, e);
-        track.e_abs_max = track.e0.abs();
-    }
+    let mut track = Track::new(
+        y[TH],
+        y[W],
+        m.jellett_scaled(&y),
+        e_init.map(|e| m.energy_scaled(&y, &e)),
+    );
     let n_initial = e_init.map(|e| e.normal).unwrap_or(f64::NAN);
 
     let mut samples: Vec<Sample> = Vec::with_capacity(ns);
@@ -406,7 +482,7 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                 }
                 last_slip = v;
             }
-            track.visit(s, y);
+            visit(&mut track, s, y);
             if s.mode == Mode::Sliding && s.is_exact() {
                 let v = unit(s.slip_of(y));
                 if v != [0.0, 0.0] {
@@ -481,7 +557,7 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                                 kind: "theta_above_half_pi".into(),
                             });
                         }
-                        EV_THETA_MAX => track.visit(&m, &f.y),
+                        EV_THETA_MAX => visit(&mut track, &m, &f.y),
                         EV_NORMAL => {
                             let kind = normal_log.cross(f.t);
                             events_out.push(EventRecord {
@@ -599,45 +675,27 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
     if let Some(s0) = rolling_since {
         rolling_time += t - s0;
     }
-    track.visit(&m, &y);
+    visit(&mut track, &m, &y);
 
     let contact_lost_at = normal_log.first_negative().map(|tc| tc * tu);
     events_out.sort_by(|a, b| a.t.total_cmp(&b.t));
 
     let last = sample_of(&m, t, &y);
-    let jscale = m.ic() * track.omega_abs_max;
-    let summary = Summary {
-        t_end: t * tu,
-        theta_final: y[TH],
-        theta_max: track.theta_max,
-        omega_final: last.spin,
-        precession_final: last.precession,
-        jellett_initial: samples.first().map(|s| s.jellett).unwrap_or(f64::NAN),
-        jellett_max_rel_drift: if jscale > 0.0 {
-            track.j_dev_max / jscale
-        } else {
-            track.j_dev_max
+    let summary = summarize(
+        &track,
+        RunEnd {
+            t,
+            time_unit: tu,
+            axial: m.ic(),
+            last: &last,
+            samples: &samples,
+            first_above,
+            contact: (contact_lost_at, normal_log.negative_fraction(t)),
+            rolling_time,
+            stats,
+            error: error.as_ref(),
         },
-        energy_initial: samples.first().map(|s| s.energy).unwrap_or(f64::NAN),
-        energy_final: last.energy,
-        energy_balance_max_rel_error: if track.e_abs_max > 0.0 {
-            track.balance_max / track.e_abs_max
-        } else {
-            track.balance_max
-        },
-        first_time_theta_above_half_pi: first_above,
-        contact_lost_at,
-        negative_normal_fraction: normal_log.negative_fraction(t),
-        rolling_fraction: if t > 0.0 { rolling_time / t } else { 0.0 },
-        steps: stats.steps,
-        rejected_steps: stats.rejected,
-        rhs_evaluations: stats.rhs_evals,
-        status: match &error {
-            None => "ok".into(),
-            Some(e) => e.to_string(),
-        },
-    };
-    let _ = reduced::SIN_GUARD;
+    );
     Trajectory {
         samples,
         events: events_out,

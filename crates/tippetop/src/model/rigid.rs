@@ -168,9 +168,9 @@
 use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
+use crate::simulate::{RunEnd, Track, summarize};
 use crate::{
-    ContactMode, Error, EventRecord, Forcing, FrictionLaw, Sample, Scenario, Summary, Top,
-    Trajectory,
+    ContactMode, Error, EventRecord, Forcing, FrictionLaw, Sample, Scenario, Top, Trajectory,
     integrate::{self, Direction, Event, IntegrateError, OdeSystem, StopReason},
     model::reduced::{CHATTER_REVERSALS, ModelError, Scales},
 };
@@ -1050,25 +1050,15 @@ fn slide_off(m: &mut Rigid, y: &mut [f64; DIM]) {
     m.slip_ref.set(m.slip_hint);
 }
 
-struct Track {
-    j0: f64,
-    j_dev_max: f64,
-    omega_abs_max: f64,
-    e0: f64,
-    e_abs_max: f64,
-    balance_max: f64,
-    theta_max: f64,
-}
-
-impl Track {
-    fn visit(&mut self, m: &Rigid, y: &[f64; DIM]) {
-        self.theta_max = self.theta_max.max(m.theta(y));
-        self.omega_abs_max = self.omega_abs_max.max(m.spin_scaled(y).abs());
-        self.j_dev_max = self.j_dev_max.max((m.jellett_scaled(y) - self.j0).abs());
-        let en = m.energy_scaled(y);
-        self.e_abs_max = self.e_abs_max.max(en.abs());
-        self.balance_max = self.balance_max.max((en - self.e0 - y[WF] - y[WA]).abs());
-    }
+/// Record a rigid-model state in `track`.
+fn visit(track: &mut Track, m: &Rigid, y: &[f64; DIM]) {
+    track.record(
+        m.theta(y),
+        m.spin_scaled(y),
+        m.jellett_scaled(y),
+        Some(m.energy_scaled(y)),
+        y[WF] + y[WA],
+    );
 }
 
 /// One output row from a scaled state.
@@ -1219,16 +1209,12 @@ pub fn run_observed(
         }
     }
 
-    let mut track = Track {
-        j0: m.jellett_scaled(&y),
-        j_dev_max: 0.0,
-        omega_abs_max: m.spin_scaled(&y).abs(),
-        e0: m.energy_scaled(&y),
-        e_abs_max: 0.0,
-        balance_max: 0.0,
-        theta_max: m.theta(&y),
-    };
-    track.e_abs_max = track.e0.abs();
+    let mut track = Track::new(
+        m.theta(&y),
+        m.spin_scaled(&y),
+        m.jellett_scaled(&y),
+        Some(m.energy_scaled(&y)),
+    );
 
     let mut samples: Vec<Sample> = Vec::with_capacity(ns);
     let mut stats = integrate::Stats::default();
@@ -1275,7 +1261,7 @@ pub fn run_observed(
                     }
                 }
             }
-            track.visit(s, y);
+            visit(&mut track, s, y);
             observe(s, t, y);
         };
         // Integrate to the next force switch (or the end): the driver, not
@@ -1337,7 +1323,7 @@ pub fn run_observed(
                                 kind: "theta_above_half_pi".into(),
                             });
                         }
-                        EV_THETA_MAX => track.visit(&m, &f.y),
+                        EV_THETA_MAX => visit(&mut track, &m, &f.y),
                         EV_CONTACT if !unilateral => {
                             let kind = normal_log.cross(f.t);
                             events_out.push(EventRecord {
@@ -1543,7 +1529,7 @@ pub fn run_observed(
     if let Some(s0) = rolling_since {
         rolling_time += t - s0;
     }
-    track.visit(&m, &y);
+    visit(&mut track, &m, &y);
 
     let (contact_lost_at, negative_normal_fraction) = if unilateral {
         (
@@ -1559,38 +1545,21 @@ pub fn run_observed(
     events_out.sort_by(|a, b| a.t.total_cmp(&b.t));
 
     let last = sample_of(&m, t, &y);
-    let jscale = m.ic * track.omega_abs_max;
-    let summary = Summary {
-        t_end: t * tu,
-        theta_final: last.theta,
-        theta_max: track.theta_max,
-        omega_final: last.spin,
-        precession_final: last.precession,
-        jellett_initial: samples.first().map(|s| s.jellett).unwrap_or(f64::NAN),
-        jellett_max_rel_drift: if jscale > 0.0 {
-            track.j_dev_max / jscale
-        } else {
-            track.j_dev_max
+    let summary = summarize(
+        &track,
+        RunEnd {
+            t,
+            time_unit: tu,
+            axial: m.ic,
+            last: &last,
+            samples: &samples,
+            first_above,
+            contact: (contact_lost_at, negative_normal_fraction),
+            rolling_time,
+            stats,
+            error: error.as_ref(),
         },
-        energy_initial: samples.first().map(|s| s.energy).unwrap_or(f64::NAN),
-        energy_final: last.energy,
-        energy_balance_max_rel_error: if track.e_abs_max > 0.0 {
-            track.balance_max / track.e_abs_max
-        } else {
-            track.balance_max
-        },
-        first_time_theta_above_half_pi: first_above,
-        contact_lost_at,
-        negative_normal_fraction,
-        rolling_fraction: if t > 0.0 { rolling_time / t } else { 0.0 },
-        steps: stats.steps,
-        rejected_steps: stats.rejected,
-        rhs_evaluations: stats.rhs_evals,
-        status: match &error {
-            None => "ok".into(),
-            Some(e) => e.to_string(),
-        },
-    };
+    );
     Trajectory {
         samples,
         events: events_out,
