@@ -33,12 +33,12 @@ fn run(method: Method, eps: f64, rtol: f64, t_end: f64) -> Trajectory {
 /// two solve the same equations, each to its global error); the energy
 /// balance closes to 1e-8 (observed 1.1e-10).
 ///
-/// Jellett's J is not conserved by the discretisation, so its drift is a
-/// global error like any other: DOP853 holds it to 8.0e-11 of C max|ω| R at
-/// this rtol, Rodas4P (order 4, five times as many steps, see
-/// docs/performance.md) to 1.3e-10, i.e. 1.3 rtol, in line with its global
-/// error of 6.7 tol on y'' = -y in `integrate_rosenbrock`. The bound is
-/// 3e-10 = 3 rtol.
+/// Jellett's J holds to the same bar as for the reduced model's presets,
+/// 1e-10 of C max|ω| R. Its drift is a global error like any other: DOP853
+/// meets the bar at rtol 1e-10 (8.0e-11); Rodas4P, order 4 with a global
+/// error of ~6.7 tol on y'' = -y (`integrate_rosenbrock`), drifts 1.3e-10
+/// there, so the stiff run for the J check uses rtol 1e-11 (the bar is
+/// not widened; the solver is run tighter).
 #[test]
 fn stiff_matches_adaptive_regularized() {
     let ad = run(Method::Adaptive, 1e-3, 1e-10, 10.0);
@@ -60,9 +60,9 @@ fn stiff_matches_adaptive_regularized() {
     );
     assert!(d_th <= 1e-6 * th_max, "theta: {d_th:e} vs {th_max}");
     assert!(d_om <= 1e-6 * om_max, "omega: {d_om:e} vs {om_max}");
-    let s = &st.summary;
+    let s = &run(Method::Stiff, 1e-3, 1e-11, 10.0).summary;
     assert!(
-        s.jellett_max_rel_drift <= 3e-10,
+        s.jellett_max_rel_drift <= 1e-10,
         "J {:e}",
         s.jellett_max_rel_drift
     );
