@@ -4,9 +4,10 @@
 //! energy conservation while rolling, the stick limit under an applied
 //! force, cost, and chattering detection for the sliding-only law.
 
+mod common;
 use tippetop::model::rigid::{self, Mode, VEL};
 use tippetop::{
-    ForceWindow, Forcing, FrictionLaw, ModelKind, Sample, Scenario, Top, Trajectory, simulate,
+    ForceWindow, Forcing, FrictionLaw, ModelKind, Sample, Scenario, Trajectory, simulate,
 };
 
 fn run(sc: &Scenario) -> Trajectory {
@@ -30,22 +31,7 @@ fn times(tr: &Trajectory, kind: &str) -> Vec<f64> {
 
 /// A uniform sphere (a = 0, A = C = 2/5 m R²), rigid model, exact law.
 fn sphere(theta: f64, spin: f64, mu: f64) -> Scenario {
-    let mut sc = rigid(Scenario::classical());
-    let (m, r) = (sc.top.mass, sc.top.radius);
-    sc.top = Top {
-        radius: r,
-        offset: 0.0,
-        mass: m,
-        inertia_transverse: 0.4 * m * r * r,
-        inertia_axial: 0.4 * m * r * r,
-    };
-    sc.surface.friction = mu;
-    sc.surface.law = FrictionLaw::Coulomb;
-    sc.initial.theta = theta;
-    sc.initial.spin = spin;
-    sc.solver.t_end = 0.4;
-    sc.solver.samples = 401;
-    sc
+    rigid(common::uniform_sphere(theta, spin, mu))
 }
 
 /// Sliding sphere (θ0 = 0.5, ω0 = 50 about the tilted axis, μ = 0.2):

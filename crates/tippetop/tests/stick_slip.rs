@@ -1,7 +1,8 @@
 //! Exact (set-valued) Coulomb friction: closed forms for sliding → rolling,
 //! rolling conserves energy, the stick limit, cost, invariants across switches.
 
-use tippetop::{ForceWindow, Forcing, FrictionLaw, Scenario, Top, Trajectory, simulate};
+mod common;
+use tippetop::{ForceWindow, Forcing, FrictionLaw, Scenario, Trajectory, simulate};
 
 fn run(sc: &Scenario) -> Trajectory {
     let tr = simulate(sc).expect("valid scenario");
@@ -9,25 +10,7 @@ fn run(sc: &Scenario) -> Trajectory {
     tr
 }
 
-/// A uniform sphere (a = 0, A = C = 2/5 m R²) with a tilted spin axis.
-fn sphere(theta: f64, spin: f64, mu: f64) -> Scenario {
-    let mut sc = Scenario::classical();
-    let (m, r) = (sc.top.mass, sc.top.radius);
-    sc.top = Top {
-        radius: r,
-        offset: 0.0,
-        mass: m,
-        inertia_transverse: 0.4 * m * r * r,
-        inertia_axial: 0.4 * m * r * r,
-    };
-    sc.surface.friction = mu;
-    sc.surface.law = FrictionLaw::Coulomb;
-    sc.initial.theta = theta;
-    sc.initial.spin = spin;
-    sc.solver.t_end = 0.4;
-    sc.solver.samples = 401;
-    sc
-}
+use common::uniform_sphere as sphere;
 
 /// Sliding sphere: |v_P| falls linearly at (7/2) μ g, so rolling starts at
 /// t_r = 2 |v_P(0)| / (7 μ g) with centre-of-mass speed (2/7)|v_P(0)|.
