@@ -17,13 +17,13 @@
 //! stderr, nothing written under `--out`); errors returned as `Err` (I/O)
 //! are for the caller to report (exit 1).
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
+
+use crate::output::write_bytes_atomic;
 use clap::{ArgGroup, Args};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use tippetop::analysis::sweep::{self, Axis, Shard, ShardInfo, Sweep, Table};
 
 /// `tippetop sweep`.
@@ -175,7 +175,7 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let range = info.first_index..info.end_index;
-    let pb = progress_bar(quiet, range.len() as u64);
+    let pb = crate::progress::bar(quiet, range.len() as u64, "sweep");
     let start = std::time::Instant::now();
     let rows = match sw.run(range.clone(), args.threads, &|| pb.inc(1)) {
         Ok(r) => r,
@@ -277,24 +277,9 @@ fn read_shard(dir: &Path) -> std::result::Result<(ShardInfo, String), String> {
 fn write_outputs(dir: &Path, csv: &str, info: &ShardInfo) -> Result<()> {
     let mut json = serde_json::to_string_pretty(info)?;
     json.push('\n');
-    write_atomic(&dir.join("sweep.csv"), csv.as_bytes())?;
-    write_atomic(&dir.join("shard.json"), json.as_bytes())?;
+    write_bytes_atomic(&dir.join("sweep.csv"), csv.as_bytes())?;
+    write_bytes_atomic(&dir.join("shard.json"), json.as_bytes())?;
     Ok(())
-}
-
-/// Write `bytes` to a temporary file beside `path`, then rename it over
-/// `path`: readers never see a partial file.
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
-    std::fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| {
-        let _ = std::fs::remove_file(&tmp);
-        format!("cannot write {}", path.display())
-    })
 }
 
 /// Plots of a complete sweep into `dir`: for one axis, curves of the
@@ -367,21 +352,4 @@ fn write_plots(dir: &Path, table: &Table) -> Result<()> {
         }
         _ => Ok(()),
     }
-}
-
-/// A bar over `len` cases on stderr, hidden with `quiet` or when stderr is
-/// not a terminal.
-fn progress_bar(quiet: bool, len: u64) -> ProgressBar {
-    let target = if !quiet && std::io::stderr().is_terminal() {
-        ProgressDrawTarget::stderr()
-    } else {
-        ProgressDrawTarget::hidden()
-    };
-    let pb = ProgressBar::with_draw_target(Some(len), target);
-    if let Ok(style) =
-        ProgressStyle::with_template("sweep [{bar:40}] {pos}/{len} cases [{elapsed} < {eta}]")
-    {
-        pb.set_style(style.progress_chars("=> "));
-    }
-    pb
 }

@@ -51,7 +51,7 @@ fn events_for(m: &Reduced) -> Vec<Event<Reduced, DIM>> {
         Event {
             g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
             direction: Direction::Either,
-            terminal: m_contact(m) == ContactMode::Unilateral,
+            terminal: m.contact_mode() == ContactMode::Unilateral,
         },
     ];
     if m.is_exact() {
@@ -73,10 +73,6 @@ fn events_for(m: &Reduced) -> Vec<Event<Reduced, DIM>> {
         }
     }
     ev
-}
-
-fn m_contact(m: &Reduced) -> ContactMode {
-    m.contact_mode()
 }
 
 fn unit(v: [f64; 2]) -> [f64; 2] {

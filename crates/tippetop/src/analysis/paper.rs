@@ -1086,7 +1086,6 @@ pub fn reproduce(opts: Options, progress: &mut dyn FnMut(&str)) -> Result<Reprod
         verdict: Verdict::from_levels(rk_d <= 0.01 && rk_fail == 0, rk_d <= 0.3 && rk_fail == 0),
         why: "Criterion: RK4/500 within 0.01 rad of the accurate solution of the same equations and no blow-up; partly within 0.3 rad.".into(),
     });
-    let _ = (p0, p100, mean_p);
 
     // App. B: each of B1-B4 against the full linearisation, for both tops.
     for (top_name, i) in [("nano", b), ("classical", ce)] {
