@@ -5,7 +5,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::dop853_coefficients::{A, BHH, C, D, E5};
-use super::{Engine, Fail, OdeSystem, Stats, eval, hinit};
+use super::{Engine, Fail, OdeSystem, Stats, check_adaptive, eval, hinit};
 
 /// Safety factor of the step-size controller.
 const SAFE: f64 = 0.9;
@@ -77,24 +77,7 @@ impl<const N: usize> Dop853<N> {
     /// New stepper; `h_max` is the largest step, `h0` the initial step
     /// (`None`: Hairer's `hinit`).
     pub(super) fn new(rtol: f64, atol: f64, h0: Option<f64>, h_max: f64) -> Self {
-        assert!(
-            rtol.is_finite() && atol.is_finite() && rtol >= 0.0 && atol >= 0.0,
-            "DOP853 tolerances must be finite and non-negative (rtol {rtol}, atol {atol})"
-        );
-        assert!(
-            rtol > 0.0 || atol > 0.0,
-            "DOP853 tolerances must not both be zero"
-        );
-        assert!(
-            h_max.is_finite() && h_max > 0.0,
-            "h_max must be finite and positive, got {h_max}"
-        );
-        if let Some(h) = h0 {
-            assert!(
-                h.is_finite() && h > 0.0,
-                "h0 must be finite and positive, got {h}"
-            );
-        }
+        check_adaptive("DOP853", rtol, atol, h0, h_max);
         Dop853 {
             rtol,
             atol,

@@ -298,6 +298,30 @@ fn eval<S: OdeSystem<N>, const N: usize>(
     sys.rhs(t, y, dy).map_err(|err| Fail::Rhs { t, err })
 }
 
+/// Panic unless the settings of an adaptive stepper (`name` in messages)
+/// make sense: tolerances finite, non-negative, not both zero; `h_max` and
+/// `h0` (if given) finite and positive.
+fn check_adaptive(name: &str, rtol: f64, atol: f64, h0: Option<f64>, h_max: f64) {
+    assert!(
+        rtol.is_finite() && atol.is_finite() && rtol >= 0.0 && atol >= 0.0,
+        "{name} tolerances must be finite and non-negative (rtol {rtol}, atol {atol})"
+    );
+    assert!(
+        rtol > 0.0 || atol > 0.0,
+        "{name} tolerances must not both be zero"
+    );
+    assert!(
+        h_max.is_finite() && h_max > 0.0,
+        "h_max must be finite and positive, got {h_max}"
+    );
+    if let Some(h) = h0 {
+        assert!(
+            h.is_finite() && h > 0.0,
+            "h0 must be finite and positive, got {h}"
+        );
+    }
+}
+
 /// Hairer's `hinit` (`dop853.f`) for a method of order `order`: an initial
 /// step from the sizes of `y`, `f0 = f(t, y)` and an estimate of the second
 /// derivative (one extra evaluation), capped at `h_max`; 1e-6 if the

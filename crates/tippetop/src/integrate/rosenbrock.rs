@@ -98,7 +98,7 @@
 // Component loops index several arrays at once; iterators would obscure them.
 #![allow(clippy::needless_range_loop)]
 
-use super::{Engine, Fail, OdeSystem, Stats, eval, hinit};
+use super::{Engine, Fail, OdeSystem, Stats, check_adaptive, eval, hinit};
 
 /// Rodas4P coefficients (OrdinaryDiffEq.jl `Rodas4PTableau`), digits as
 /// published (trailing zeros kept).
@@ -254,24 +254,7 @@ impl<const N: usize> Rodas4p<N> {
     /// New stepper; `h_max` is the largest step, `h0` the initial step
     /// (`None`: Hairer's `hinit` with order 4).
     pub(super) fn new(rtol: f64, atol: f64, h0: Option<f64>, h_max: f64) -> Self {
-        assert!(
-            rtol.is_finite() && atol.is_finite() && rtol >= 0.0 && atol >= 0.0,
-            "Rosenbrock tolerances must be finite and non-negative (rtol {rtol}, atol {atol})"
-        );
-        assert!(
-            rtol > 0.0 || atol > 0.0,
-            "Rosenbrock tolerances must not both be zero"
-        );
-        assert!(
-            h_max.is_finite() && h_max > 0.0,
-            "h_max must be finite and positive, got {h_max}"
-        );
-        if let Some(h) = h0 {
-            assert!(
-                h.is_finite() && h > 0.0,
-                "h0 must be finite and positive, got {h}"
-            );
-        }
+        check_adaptive("Rosenbrock", rtol, atol, h0, h_max);
         Rodas4p {
             rtol,
             atol,
