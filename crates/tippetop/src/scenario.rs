@@ -37,7 +37,7 @@
 //! steps = 500                 # rk4 only
 //! rtol = 1e-10
 //! samples = 1001              # output rows, evenly spaced from 0 to t_end
-//! model = "reduced"           # or "rigid"
+//! model = "reduced"           # or "rigid", "vector"
 //! ```
 //!
 //! Without a preset the required keys are the five `[top]` keys,
@@ -394,8 +394,11 @@ const METHODS: &[(&str, Method)] = &[
     ("stiff", Method::Stiff),
 ];
 
-const MODELS: &[(&str, ModelKind)] =
-    &[("reduced", ModelKind::Reduced), ("rigid", ModelKind::Rigid)];
+const MODELS: &[(&str, ModelKind)] = &[
+    ("reduced", ModelKind::Reduced),
+    ("rigid", ModelKind::Rigid),
+    ("vector", ModelKind::Vector),
+];
 
 /// Friction law without its parameter.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

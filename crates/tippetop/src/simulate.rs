@@ -7,10 +7,16 @@
 //! and, for the exact Coulomb law, the stick/slip switches (terminal events
 //! after which the model changes mode and the integration restarts).
 
+use std::cell::Cell;
+
 use crate::{
-    ContactMode, Error, EventRecord, Method, ModelKind, Sample, Scenario, Summary, Trajectory,
-    integrate::{self, Direction, Event, IntegrateError, Options, Stepper, StopReason},
-    model::reduced::{self, DIM, Mode, ModelError, OM, Reduced, TH, THD, UX, UY, W, WA, WF},
+    ContactMode, Error, EventRecord, Initial, Method, ModelKind, Sample, Scenario, Summary,
+    Trajectory,
+    integrate::{self, Direction, Event, IntegrateError, OdeSystem, Options, Stepper, StopReason},
+    model::{
+        reduced::{self, DIM, Mode, ModelError, OM, Reduced, Scales, TH, THD, UX, UY, W, WA, WF},
+        vector::{self, Vector},
+    },
     observe,
 };
 
@@ -25,7 +31,8 @@ pub const MAX_SWITCHES: usize = 200_000;
 pub fn simulate(scenario: &Scenario) -> Result<Trajectory, Error> {
     scenario.validate()?;
     match scenario.solver.model {
-        ModelKind::Reduced => Ok(run_reduced(scenario)),
+        ModelKind::Reduced => Ok(run_contact::<Reduced, DIM>(scenario)),
+        ModelKind::Vector => Ok(run_contact::<Vector, { vector::DIM }>(scenario)),
         ModelKind::Rigid => Ok(crate::model::rigid::run(scenario)),
     }
 }
@@ -36,37 +43,37 @@ const EV_THETA_MAX: usize = 1;
 const EV_NORMAL: usize = 2;
 const EV_SWITCH: usize = 3;
 
-fn events_for(m: &Reduced) -> Vec<Event<Reduced, DIM>> {
-    let mut ev: Vec<Event<Reduced, DIM>> = vec![
+fn events_for<M: ContactModel<D>, const D: usize>(m: &M) -> Vec<Event<M, D>> {
+    let mut ev: Vec<Event<M, D>> = vec![
         Event {
-            g: Box::new(|_, _, y| y[TH] - std::f64::consts::FRAC_PI_2),
+            g: Box::new(|m: &M, _, y| m.theta(y) - std::f64::consts::FRAC_PI_2),
             direction: Direction::Rising,
             terminal: false,
         },
         Event {
-            g: Box::new(|_, _, y| y[THD]),
+            g: Box::new(|m: &M, _, y| m.theta_rate(y)),
             direction: Direction::Falling,
             terminal: false,
         },
         Event {
-            g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
+            g: Box::new(|m: &M, _, y| m.contact_forces(y).map(|(n, _)| n).unwrap_or(f64::NAN)),
             direction: Direction::Either,
             terminal: m.contact_mode() == ContactMode::Unilateral,
         },
     ];
     if m.is_exact() {
-        match m.mode {
+        match m.mode() {
             Mode::Sliding => ev.push(Event {
-                g: Box::new(|m, _, y| {
+                g: Box::new(|m: &M, _, y| {
                     let v = m.slip_of(y);
-                    let r = m.slip_ref.get();
+                    let r = m.slip_ref().get();
                     v[0] * r[0] + v[1] * r[1]
                 }),
                 direction: Direction::Falling,
                 terminal: true,
             }),
             Mode::Rolling => ev.push(Event {
-                g: Box::new(|m, _, y| m.eval(y).map(|e| m.stick_margin(&e)).unwrap_or(f64::NAN)),
+                g: Box::new(|m: &M, _, y| m.stick_margin(y).unwrap_or(f64::NAN)),
                 direction: Direction::Falling,
                 terminal: true,
             }),
@@ -185,78 +192,233 @@ pub(crate) fn summarize(track: &Track, end: RunEnd<'_>) -> Summary {
     }
 }
 
-/// Record a reduced-model state in `track`.
-fn visit(track: &mut Track, m: &Reduced, y: &[f64; DIM]) {
-    let energy = m.eval(y).ok().map(|e| m.energy_scaled(y, &e));
-    track.record(y[TH], y[W], m.jellett_scaled(y), energy, y[WF] + y[WA]);
+/// What the contact driver ([`run_contact`]) needs from a model whose
+/// sphere stays on the plane: the reduced Euler-angle model ([`Reduced`])
+/// and its vector form ([`Vector`]). Both share the friction laws, the
+/// contact modes and the stick/slip logic; they differ in their state.
+pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> {
+    /// The scaled model of a scenario.
+    fn build(sc: &Scenario) -> Self;
+    /// Unit system.
+    fn scales(&self) -> Scales;
+    /// Scaled state from the SI initial values.
+    fn initial_state(&self, i: &Initial) -> [f64; D];
+    /// Latch the applied force in effect at scaled time `t`.
+    fn latch_force(&mut self, t: f64);
+    /// Contact mode.
+    fn contact_mode(&self) -> ContactMode;
+    /// True for the exact stick/slip law.
+    fn is_exact(&self) -> bool;
+    /// True for the sliding-only Coulomb law, which can chatter.
+    fn can_chatter(&self) -> bool;
+    /// Friction coefficient μ.
+    fn mu(&self) -> f64;
+    /// Sliding or rolling.
+    fn mode(&self) -> Mode;
+    /// Switch between sliding and rolling.
+    fn set_mode(&mut self, mode: Mode);
+    /// Unit friction direction at exactly zero slip (exact law).
+    fn set_slip_hint(&mut self, d: [f64; 2]);
+    /// The current slip hint.
+    fn slip_hint(&self) -> [f64; 2];
+    /// Reference slip direction of the slip-zero event.
+    fn slip_ref(&self) -> &Cell<[f64; 2]>;
+    /// Set when the sliding-only law chatters.
+    fn chattering(&self) -> &Cell<bool>;
+    /// Right-hand-side evaluations so far.
+    fn evaluations(&self) -> u64;
+    /// Horizontal slip velocity at a state (scaled; the model's own frame).
+    fn slip_of(&self, y: &[f64; D]) -> [f64; 2];
+    /// The state with its velocity replaced by the rolling (zero-slip) one.
+    fn to_rolling(&self, y: &[f64; D]) -> [f64; D];
+    /// Normal force and friction (scaled, the model's frame) at a state in
+    /// the current mode.
+    fn contact_forces(&self, y: &[f64; D]) -> Result<(f64, [f64; 2]), ModelError>;
+    /// Stick margin `μ|N| − |F_f|` (scaled force) while rolling.
+    fn stick_margin(&self, y: &[f64; D]) -> Option<f64> {
+        self.contact_forces(y)
+            .ok()
+            .map(|(n, f)| self.mu() * n.abs() - f[0].hypot(f[1]))
+    }
+    /// Nutation angle θ \[rad\].
+    fn theta(&self, y: &[f64; D]) -> f64;
+    /// A function with the sign of θ̇ that is zero where θ̇ is (θ maxima).
+    fn theta_rate(&self, y: &[f64; D]) -> f64;
+    /// Spin ω = n·k (scaled).
+    fn spin(&self, y: &[f64; D]) -> f64;
+    /// Jellett's J (scaled).
+    fn jellett_scaled(&self, y: &[f64; D]) -> f64;
+    /// Total energy (scaled), if the state can be evaluated.
+    fn energy_scaled(&self, y: &[f64; D]) -> Option<f64>;
+    /// Work done so far by friction and the applied force (scaled).
+    fn work_scaled(&self, y: &[f64; D]) -> f64;
+    /// C/(m R²).
+    fn axial(&self) -> f64;
+    /// The output row at scaled time `t`.
+    fn sample(&self, t: f64, y: &[f64; D]) -> Sample;
+    /// The state in SI units, for error messages.
+    fn describe_state(&self, y: &[f64]) -> String;
 }
 
-fn sample_of(m: &Reduced, t: f64, y: &[f64; DIM]) -> Sample {
-    let sc = m.scales;
-    let (tu, vu) = (sc.time, sc.velocity());
-    let e = m.eval(y).ok();
-    let (u, normal, slip) = match &e {
-        Some(e) => (e.u, e.normal, e.slip),
-        None => ([y[UX], y[UY], f64::NAN], f64::NAN, m.slip_of(y)),
-    };
-    let u_si = [u[0] * vu, u[1] * vu, u[2] * vu];
-    let (theta, thd, om, w) = (y[TH], y[THD] / tu, y[OM] / tu, y[W] / tu);
-    let h = m.applied();
-    Sample {
-        t: t * tu,
-        theta,
-        theta_dot: thd,
-        precession: om,
-        spin: w,
-        ux: u_si[0],
-        uy: u_si[1],
-        uz: u_si[2],
-        normal: normal * sc.force(),
-        slip: slip[0].hypot(slip[1]) * vu,
-        jellett: observe::jellett(&m.top, theta, om, w),
-        energy: observe::energy(&m.top, m.gravity_si, theta, thd, om, w, u_si),
-        work_friction: y[WF] * sc.energy(),
-        work_applied: y[WA] * sc.energy(),
-        hx: h[0] * sc.force(),
-        hy: h[1] * sc.force(),
-        rolling: (m.mode == Mode::Rolling) as u8,
+impl ContactModel<DIM> for Reduced {
+    fn build(sc: &Scenario) -> Self {
+        Reduced::new(sc)
+    }
+    fn scales(&self) -> Scales {
+        self.scales
+    }
+    fn initial_state(&self, i: &Initial) -> [f64; DIM] {
+        self.scale_state(i)
+    }
+    fn latch_force(&mut self, t: f64) {
+        Reduced::latch_force(self, t)
+    }
+    fn contact_mode(&self) -> ContactMode {
+        Reduced::contact_mode(self)
+    }
+    fn is_exact(&self) -> bool {
+        Reduced::is_exact(self)
+    }
+    fn can_chatter(&self) -> bool {
+        Reduced::can_chatter(self)
+    }
+    fn mu(&self) -> f64 {
+        Reduced::mu(self)
+    }
+    fn mode(&self) -> Mode {
+        self.mode
+    }
+    fn set_mode(&mut self, mode: Mode) {
+        self.mode = mode;
+    }
+    fn set_slip_hint(&mut self, d: [f64; 2]) {
+        self.slip_hint = d;
+    }
+    fn slip_hint(&self) -> [f64; 2] {
+        self.slip_hint
+    }
+    fn slip_ref(&self) -> &Cell<[f64; 2]> {
+        &self.slip_ref
+    }
+    fn chattering(&self) -> &Cell<bool> {
+        &self.chattering
+    }
+    fn evaluations(&self) -> u64 {
+        self.evaluations
+    }
+    fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
+        Reduced::slip_of(self, y)
+    }
+    fn to_rolling(&self, y: &[f64; DIM]) -> [f64; DIM] {
+        let mut yr = *y;
+        let u = self.rolling_velocity(y);
+        yr[UX] = u[0];
+        yr[UY] = u[1];
+        yr
+    }
+    fn contact_forces(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2]), ModelError> {
+        self.eval(y).map(|e| (e.normal, e.friction))
+    }
+    fn theta(&self, y: &[f64; DIM]) -> f64 {
+        y[TH]
+    }
+    fn theta_rate(&self, y: &[f64; DIM]) -> f64 {
+        y[THD]
+    }
+    fn spin(&self, y: &[f64; DIM]) -> f64 {
+        y[W]
+    }
+    fn jellett_scaled(&self, y: &[f64; DIM]) -> f64 {
+        Reduced::jellett_scaled(self, y)
+    }
+    fn energy_scaled(&self, y: &[f64; DIM]) -> Option<f64> {
+        self.eval(y)
+            .ok()
+            .map(|e| Reduced::energy_scaled(self, y, &e))
+    }
+    fn work_scaled(&self, y: &[f64; DIM]) -> f64 {
+        y[WF] + y[WA]
+    }
+    fn axial(&self) -> f64 {
+        self.ic()
+    }
+    fn sample(&self, t: f64, y: &[f64; DIM]) -> Sample {
+        let m = self;
+        let sc = m.scales;
+        let (tu, vu) = (sc.time, sc.velocity());
+        let e = m.eval(y).ok();
+        let (u, normal, slip) = match &e {
+            Some(e) => (e.u, e.normal, e.slip),
+            None => ([y[UX], y[UY], f64::NAN], f64::NAN, m.slip_of(y)),
+        };
+        let u_si = [u[0] * vu, u[1] * vu, u[2] * vu];
+        let (theta, thd, om, w) = (y[TH], y[THD] / tu, y[OM] / tu, y[W] / tu);
+        let h = m.applied();
+        Sample {
+            t: t * tu,
+            theta,
+            theta_dot: thd,
+            precession: om,
+            spin: w,
+            ux: u_si[0],
+            uy: u_si[1],
+            uz: u_si[2],
+            normal: normal * sc.force(),
+            slip: slip[0].hypot(slip[1]) * vu,
+            jellett: observe::jellett(&m.top, theta, om, w),
+            energy: observe::energy(&m.top, m.gravity_si, theta, thd, om, w, u_si),
+            work_friction: y[WF] * sc.energy(),
+            work_applied: y[WA] * sc.energy(),
+            hx: h[0] * sc.force(),
+            hy: h[1] * sc.force(),
+            rolling: (m.mode == Mode::Rolling) as u8,
+        }
+    }
+    fn describe_state(&self, y: &[f64]) -> String {
+        let tu = self.scales.time;
+        let vu = self.scales.velocity();
+        format!(
+            "state: theta = {}, theta_dot = {:e} rad/s, Omega = {:e} rad/s, omega = {:e} rad/s, ux = {:e} m/s, uy = {:e} m/s",
+            y[TH],
+            y[THD] / tu,
+            y[OM] / tu,
+            y[W] / tu,
+            y[UX] * vu,
+            y[UY] * vu
+        )
     }
 }
 
-fn describe_state(m: &Reduced, y: &[f64]) -> String {
-    let tu = m.scales.time;
-    let vu = m.scales.velocity();
-    format!(
-        "state: theta = {}, theta_dot = {:e} rad/s, Omega = {:e} rad/s, omega = {:e} rad/s, ux = {:e} m/s, uy = {:e} m/s",
-        y[TH],
-        y[THD] / tu,
-        y[OM] / tu,
-        y[W] / tu,
-        y[UX] * vu,
-        y[UY] * vu
-    )
+/// Record a state in `track`.
+fn visit<M: ContactModel<D>, const D: usize>(track: &mut Track, m: &M, y: &[f64; D]) {
+    track.record(
+        m.theta(y),
+        m.spin(y),
+        m.jellett_scaled(y),
+        m.energy_scaled(y),
+        m.work_scaled(y),
+    );
 }
 
 /// Decide stick or slip at zero slip (exact law). Returns the state to
 /// continue from; sets the model's mode and slip hint.
-fn settle_at_zero_slip(m: &mut Reduced, y: &[f64; DIM]) -> ([f64; DIM], bool) {
-    let mut yr = *y;
-    let u = m.rolling_velocity(y);
-    yr[UX] = u[0];
-    yr[UY] = u[1];
-    m.mode = Mode::Rolling;
-    if let Ok(e) = m.eval(&yr) {
-        if m.stick_margin(&e) >= 0.0 {
-            m.slip_hint = [0.0, 0.0];
+fn settle_at_zero_slip<M: ContactModel<D>, const D: usize>(
+    m: &mut M,
+    y: &[f64; D],
+) -> ([f64; D], bool) {
+    let yr = m.to_rolling(y);
+    m.set_mode(Mode::Rolling);
+    if let Ok((_, f)) = m.contact_forces(&yr) {
+        if m.stick_margin(&yr).is_some_and(|s| s >= 0.0) {
+            m.set_slip_hint([0.0, 0.0]);
             return (yr, true);
         }
         // Slide off in the direction the needed friction dictates: friction
         // keeps its direction (magnitude μN), the slip grows opposite to it.
-        let f = e.friction;
-        m.slip_hint = unit([-f[0], -f[1]]);
+        m.set_slip_hint(unit([-f[0], -f[1]]));
     }
-    m.mode = Mode::Sliding;
-    m.slip_ref.set(m.slip_hint);
+    m.set_mode(Mode::Sliding);
+    m.slip_ref().set(m.slip_hint());
     (yr, false)
 }
 
@@ -395,9 +557,11 @@ impl RunSetup {
     }
 }
 
-fn run_reduced(sc: &Scenario) -> Trajectory {
-    let mut m = Reduced::new(sc);
-    let tu = m.scales.time;
+/// The driver of the models that keep the sphere on the plane (see
+/// [`ContactModel`]).
+fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory {
+    let mut m = M::build(sc);
+    let tu = m.scales().time;
     let RunSetup {
         t_end,
         sample_times,
@@ -406,7 +570,7 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
     } = RunSetup::new(sc, tu);
     let ns = sc.solver.samples;
 
-    let mut y = m.scale_state(&sc.initial);
+    let mut y = m.initial_state(&sc.initial);
     m.latch_force(0.0);
     let mut events_out: Vec<EventRecord> = Vec::new();
     for &ts in &tstops {
@@ -425,18 +589,17 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                 kind: if stuck { "stick" } else { "slip" }.into(),
             });
         } else {
-            m.slip_ref.set(unit(v));
+            m.slip_ref().set(unit(v));
         }
     }
 
-    let e_init = m.eval(&y).ok();
     let mut track = Track::new(
-        y[TH],
-        y[W],
+        m.theta(&y),
+        m.spin(&y),
         m.jellett_scaled(&y),
-        e_init.map(|e| m.energy_scaled(&y, &e)),
+        m.energy_scaled(&y),
     );
-    let n_initial = e_init.map(|e| e.normal).unwrap_or(f64::NAN);
+    let n_initial = m.contact_forces(&y).map(|(n, _)| n).unwrap_or(f64::NAN);
 
     let mut samples: Vec<Sample> = Vec::with_capacity(ns);
     let mut stats = integrate::Stats::default();
@@ -445,16 +608,16 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
     let mut steps_seen: u64 = 0;
     let mut reversals: u32 = 0;
     let mut last_slip = m.slip_of(&y);
-    let mut last_accepted: (f64, [f64; DIM]) = (0.0, y);
+    let mut last_accepted: (f64, [f64; D]) = (0.0, y);
     let mut t = 0.0;
     let mut error: Option<Error> = None;
-    let mut first_above: Option<f64> = if y[TH] > std::f64::consts::FRAC_PI_2 {
+    let mut first_above: Option<f64> = if m.theta(&y) > std::f64::consts::FRAC_PI_2 {
         Some(0.0)
     } else {
         None
     };
     let mut normal_log = NormalLog::new(n_initial);
-    let mut rolling_since: Option<f64> = (m.mode == Mode::Rolling).then_some(0.0);
+    let mut rolling_since: Option<f64> = (m.mode() == Mode::Rolling).then_some(0.0);
     let mut rolling_time = 0.0;
     let mut switches = 0usize;
 
@@ -462,10 +625,10 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
         let seg_end = tstops.iter().copied().find(|&ts| ts > t).unwrap_or(t_end);
         let events = events_for(&m);
         let next = samples.len();
-        let mut on_sample = |s: &Reduced, t: f64, y: &[f64; DIM]| {
-            samples.push(sample_of(s, t, y));
+        let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
+            samples.push(s.sample(t, y));
         };
-        let mut on_step = |s: &Reduced, t: f64, y: &[f64; DIM]| {
+        let mut on_step = |s: &M, t: f64, y: &[f64; D]| {
             last_accepted = (t, *y);
             steps_seen += 1;
             if s.can_chatter() {
@@ -473,16 +636,16 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                 if v[0] * last_slip[0] + v[1] * last_slip[1] < 0.0 {
                     reversals += 1;
                     if reversals >= reduced::CHATTER_REVERSALS {
-                        s.chattering.set(true);
+                        s.chattering().set(true);
                     }
                 }
                 last_slip = v;
             }
             visit(&mut track, s, y);
-            if s.mode == Mode::Sliding && s.is_exact() {
+            if s.mode() == Mode::Sliding && s.is_exact() {
                 let v = unit(s.slip_of(y));
                 if v != [0.0, 0.0] {
-                    s.slip_ref.set(v);
+                    s.slip_ref().set(v);
                 }
             }
         };
@@ -527,12 +690,12 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                 };
                 error = Some(Error::runtime(
                     te * tu,
-                    format!("{why}; {}", describe_state(&m, &ylast)),
+                    format!("{why}; {}", m.describe_state(&ylast)),
                 ));
                 stats.steps = steps_seen;
-                stats.rhs_evals = m.evaluations;
-                if ylast.len() == DIM {
-                    let mut yl = [0.0; DIM];
+                stats.rhs_evals = m.evaluations();
+                if ylast.len() == D {
+                    let mut yl = [0.0; D];
                     yl.copy_from_slice(&ylast);
                     y = yl;
                 }
@@ -573,9 +736,9 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                         // force latched; while rolling, check that the contact
                         // can still hold it. N may jump across zero here, which
                         // no event can see: record the crossing at the switch.
-                        let n_before = m.eval(&y).map(|e| e.normal).ok();
+                        let n_before = m.contact_forces(&y).map(|(n, _)| n).ok();
                         m.latch_force(t);
-                        let n_after = m.eval(&y).map(|e| e.normal).ok();
+                        let n_after = m.contact_forces(&y).map(|(n, _)| n).ok();
                         if let (Some(nb), Some(na)) = (n_before, n_after) {
                             if (nb < 0.0) != (na < 0.0) {
                                 let kind = normal_log.cross(t);
@@ -588,19 +751,19 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                                         t * tu,
                                         format!(
                                             "lift-off at a force switch: the normal force N jumped below zero (contact = \"unilateral\"); the reduced model cannot follow a flight, use model = \"rigid\"; {}",
-                                            describe_state(&m, &y)
+                                            m.describe_state(&y)
                                         ),
                                     ));
                                     break;
                                 }
                             }
                         }
-                        if m.is_exact() && m.mode == Mode::Rolling {
-                            if let Ok(e) = m.eval(&y) {
-                                if m.stick_margin(&e) < 0.0 {
-                                    m.mode = Mode::Sliding;
-                                    m.slip_hint = unit([-e.friction[0], -e.friction[1]]);
-                                    m.slip_ref.set(m.slip_hint);
+                        if m.is_exact() && m.mode() == Mode::Rolling {
+                            if let Ok((_, f)) = m.contact_forces(&y) {
+                                if m.stick_margin(&y).is_some_and(|s| s < 0.0) {
+                                    m.set_mode(Mode::Sliding);
+                                    m.set_slip_hint(unit([-f[0], -f[1]]));
+                                    m.slip_ref().set(m.slip_hint());
                                     if let Some(s0) = rolling_since.take() {
                                         rolling_time += t - s0;
                                     }
@@ -617,7 +780,7 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                             t * tu,
                             format!(
                                 "lift-off: the normal force N fell to zero (contact = \"unilateral\"); the reduced model cannot follow a flight, use model = \"rigid\"; {}",
-                                describe_state(&m, &y)
+                                m.describe_state(&y)
                             ),
                         ));
                         break;
@@ -631,7 +794,7 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                             ));
                             break;
                         }
-                        match m.mode {
+                        match m.mode() {
                             Mode::Sliding => {
                                 let (yn, stuck) = settle_at_zero_slip(&mut m, &y);
                                 y = yn;
@@ -644,15 +807,13 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
                                 }
                             }
                             Mode::Rolling => {
-                                let e = m.eval(&y).ok();
-                                let u = m.rolling_velocity(&y);
-                                y[UX] = u[0];
-                                y[UY] = u[1];
-                                m.mode = Mode::Sliding;
-                                if let Some(e) = e {
-                                    m.slip_hint = unit([-e.friction[0], -e.friction[1]]);
+                                let forces = m.contact_forces(&y).ok();
+                                y = m.to_rolling(&y);
+                                m.set_mode(Mode::Sliding);
+                                if let Some((_, f)) = forces {
+                                    m.set_slip_hint(unit([-f[0], -f[1]]));
                                 }
-                                m.slip_ref.set(m.slip_hint);
+                                m.slip_ref().set(m.slip_hint());
                                 if let Some(s0) = rolling_since.take() {
                                     rolling_time += t - s0;
                                 }
@@ -676,13 +837,13 @@ fn run_reduced(sc: &Scenario) -> Trajectory {
     let contact_lost_at = normal_log.first_negative().map(|tc| tc * tu);
     events_out.sort_by(|a, b| a.t.total_cmp(&b.t));
 
-    let last = sample_of(&m, t, &y);
+    let last = m.sample(t, &y);
     let summary = summarize(
         &track,
         RunEnd {
             t,
             time_unit: tu,
-            axial: m.ic(),
+            axial: m.axial(),
             last: &last,
             samples: &samples,
             first_above,

@@ -88,6 +88,11 @@ pub enum ModelKind {
     Reduced,
     /// Full 3D rigid body with a unit quaternion.
     Rigid,
+    /// The reduced model's physics (the sphere stays on the plane) written
+    /// with the symmetry-axis vector, the angular velocity and the
+    /// centre-of-mass velocity in the space frame: no Euler angles, so no
+    /// pole singularity and no trigonometry (docs/physics.md §14).
+    Vector,
 }
 
 /// Solver settings.

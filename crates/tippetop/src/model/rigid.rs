@@ -168,6 +168,7 @@
 use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
+use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
 use crate::simulate::{RunEnd, Track, summarize};
 use crate::{
     ContactMode, Error, EventRecord, Forcing, FrictionLaw, Sample, Scenario, Top, Trajectory,
@@ -201,33 +202,6 @@ pub const MAX_TRANSITIONS: usize = 200_000;
 /// Flight time \[time units\] below which a rebound is treated as contact.
 pub const MIN_FLIGHT: f64 = 1e-9;
 
-type V3 = [f64; 3];
-
-#[inline]
-fn add(a: V3, b: V3) -> V3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-#[inline]
-fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-#[inline]
-fn scale(s: f64, a: V3) -> V3 {
-    [s * a[0], s * a[1], s * a[2]]
-}
-#[inline]
-fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-#[inline]
-fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
 /// Rotate `v` by the unit quaternion `q` (body → world).
 #[inline]
 fn rotate(q: [f64; 4], v: V3) -> V3 {
@@ -258,8 +232,6 @@ fn v3(y: &[f64; DIM], i: usize) -> V3 {
 fn set3(y: &mut [f64; DIM], i: usize, v: V3) {
     y[i..i + 3].copy_from_slice(&v);
 }
-
-const Z: V3 = [0.0, 0.0, 1.0];
 
 /// Contact or flight.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -893,16 +865,6 @@ impl Rigid {
 
 fn y_normalize(y: &mut [f64; DIM], q: [f64; 4]) {
     y[QUAT..QUAT + 4].copy_from_slice(&q);
-}
-
-/// Solve the 3×3 system with columns `c` (Cramer's rule; K is SPD).
-fn solve3(c: [V3; 3], b: V3) -> V3 {
-    let det = dot(c[0], cross(c[1], c[2]));
-    [
-        dot(b, cross(c[1], c[2])) / det,
-        dot(c[0], cross(b, c[2])) / det,
-        dot(c[0], cross(c[1], b)) / det,
-    ]
 }
 
 impl OdeSystem<DIM> for Rigid {

@@ -1,0 +1,592 @@
+//! The reduced model's physics in vector form: the sphere stays on the
+//! plane (bilateral or paper contact; unilateral contact stops at lift-off),
+//! written with the symmetry axis `k`, the angular velocity `w` and the
+//! horizontal centre-of-mass velocity, all in the space frame
+//! (docs/physics.md §14).
+//!
+//! Same physics as [`super::reduced`] (same friction laws, normal-force
+//! closure, exact stick/slip, applied force in the precessing frame), but:
+//!
+//! - no Euler angles: nothing is singular at `θ = 0` or `π`, and the
+//!   precession rate `Ω`, which swings through ±∞-like spikes when the axis
+//!   passes close to the vertical, is an output, not a state variable;
+//! - no trigonometry and fewer divisions per evaluation;
+//! - the centre-of-mass velocity is not in a rotating frame.
+//!
+//! It is the fast formulation: on the classical top the step-size control
+//! of DOP853 needs 2–5x fewer steps than with the Euler angles
+//! (docs/performance.md).
+//!
+//! # State and units
+//!
+//! Scaled units of [`Scales`] (lengths by R, masses by m). State
+//! (`DIM = 10`): `[k (3), w (3), v_x, v_y, W_f, W_a]`.
+//!
+//! # Equations (m = R = 1)
+//!
+//! CM `O`, geometric centre `C = O + a k` at height 1, contact `P = C − Z`,
+//! `r = P − O = a k − Z`. `k̇ = w × k`, `z_O = 1 − a k_Z`,
+//! `v_Z = −a k̇_Z`. With the contact force `F = N Z + F_f − H`
+//! (`H = h_x x̂ + h_y ŷ`, `x̂` along the horizontal projection of `k`,
+//! `ŷ = Z × x̂`; world `X`, `Y` if `k` is vertical):
+//!
+//! - `v̇_h = F_h`;
+//! - `I ẇ = r × F − (C − A)(w·k) k̇`, `I⁻¹ x = x/A + (1/C − 1/A)(x·k) k`;
+//! - the contact closure `v̇_Z = N − g = −a k̈_Z` gives
+//!   `N D(σ) = Q` with `e = k × Z`, `u = (e × r)/A`,
+//!   `D(σ) = 1 + a (u_Z − σ f·u)`,
+//!   `Q = g + a (H·u − ẇ₀·e − (w × k̇)_Z)`, `ẇ₀ = −(C − A)(w·k) k̇ / A`;
+//! - rolling (exact law): the contact force solves
+//!   `F − r × I⁻¹ (r × F) = g Z − ẇ₀ × r − a w × k̇`;
+//! - `Ẇ_f = F_f · v_P`, `Ẇ_a = −H · v_P`, `v_P = v + w × r` (sliding).
+//!
+//! `|k| = 1` is kept attracting by `k̇ = w × k − κ (|k|² − 1) k` with
+//! [`KAPPA`] (zero on the constraint `|k| = 1`).
+
+use std::cell::Cell;
+
+use super::reduced::{CHATTER_REVERSALS, Mode, ModelError, Scales};
+use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
+use super::{normal_force, sliding_coefficient};
+use crate::{
+    ContactMode, Forcing, FrictionLaw, Initial, Sample, Scenario, Top, integrate::OdeSystem,
+};
+
+/// Number of state components.
+pub const DIM: usize = 10;
+/// Index of the symmetry axis `k` (3 components).
+pub const K: usize = 0;
+/// Index of the angular velocity `w` (space frame, 3 components).
+pub const OMEGA: usize = 3;
+/// Index of the horizontal centre-of-mass velocity (2 components).
+pub const VEL: usize = 6;
+/// Index of the friction work.
+pub const WF: usize = 8;
+/// Index of the applied-force work.
+pub const WA: usize = 9;
+/// Rate \[1/time unit\] at which `|k|` is pulled back to 1.
+pub const KAPPA: f64 = 1.0;
+
+/// Everything the right-hand side computes at one state (scaled units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Eval {
+    /// State derivative.
+    pub dy: [f64; DIM],
+    /// Normal force N.
+    pub normal: f64,
+    /// Friction force on the top (space frame x, y), excluding the applied force.
+    pub friction: [f64; 2],
+    /// Slip velocity v_P (space frame x, y) (zero while rolling).
+    pub slip: [f64; 2],
+    /// Centre-of-mass velocity (x, y, z) (constraint values while rolling).
+    pub v: V3,
+}
+
+/// The vector-form model as an ODE system in scaled units.
+#[derive(Debug, Clone)]
+pub struct Vector {
+    /// Unit system.
+    pub scales: Scales,
+    a: f64,
+    ia: f64,
+    ic: f64,
+    g: f64,
+    mu: f64,
+    law: FrictionLaw,
+    exact: bool,
+    contact: ContactMode,
+    forcing: Forcing,
+    /// Latched applied force (h_x, h_y) in the precessing frame, scaled.
+    h: [f64; 2],
+    /// Current mode.
+    pub mode: Mode,
+    /// Unit friction direction at exactly zero slip (space frame).
+    pub slip_hint: [f64; 2],
+    /// Reference slip direction of the slip-zero event (space frame).
+    pub slip_ref: Cell<[f64; 2]>,
+    /// Set by the driver when the sliding-only law chatters.
+    pub chattering: Cell<bool>,
+    /// Right-hand-side evaluations so far.
+    pub evaluations: u64,
+    /// The SI top.
+    pub top: Top,
+}
+
+/// Kinematic quantities shared by both modes.
+struct Kin {
+    k: V3,
+    w: V3,
+    /// k̇ = w × k.
+    kd: V3,
+    /// w · k.
+    wk: f64,
+    r: V3,
+    /// w × r.
+    wr: V3,
+}
+
+impl Vector {
+    /// Build the scaled model of a scenario.
+    pub fn new(sc: &Scenario) -> Self {
+        let scales = Scales::of(sc);
+        let law = sc.surface.law.scaled(scales.velocity());
+        Vector {
+            scales,
+            a: sc.top.offset / scales.length,
+            ia: sc.top.inertia_transverse / scales.inertia(),
+            ic: sc.top.inertia_axial / scales.inertia(),
+            g: sc.surface.gravity * scales.time * scales.time / scales.length,
+            mu: sc.surface.friction,
+            exact: law == FrictionLaw::Coulomb,
+            law,
+            contact: sc.surface.contact,
+            forcing: sc.forcing.clone(),
+            h: [0.0, 0.0],
+            mode: Mode::Sliding,
+            slip_hint: [0.0, 0.0],
+            slip_ref: Cell::new([0.0, 0.0]),
+            chattering: Cell::new(false),
+            evaluations: 0,
+            top: sc.top,
+        }
+    }
+
+    /// Latch the applied force in effect at scaled time `t`.
+    pub fn latch_force(&mut self, t: f64) {
+        let (hx, hy) = self.forcing.at(t * self.scales.time);
+        let f = self.scales.force();
+        self.h = [hx / f, hy / f];
+    }
+
+    /// Latched applied force (h_x, h_y) in the precessing frame, scaled.
+    pub fn applied(&self) -> [f64; 2] {
+        self.h
+    }
+
+    /// Contact mode.
+    pub fn contact_mode(&self) -> ContactMode {
+        self.contact
+    }
+
+    /// True for the exact stick/slip law.
+    pub fn is_exact(&self) -> bool {
+        self.exact
+    }
+
+    /// True for the sliding-only Coulomb law, which can chatter.
+    pub fn can_chatter(&self) -> bool {
+        self.law == FrictionLaw::CoulombSliding
+    }
+
+    /// Friction coefficient μ.
+    pub fn mu(&self) -> f64 {
+        self.mu
+    }
+
+    /// C/(m R²).
+    pub fn ic(&self) -> f64 {
+        self.ic
+    }
+
+    /// Scaled state from SI initial values, with the precessing x along the
+    /// space X: `k = (s, 0, c)`, `w = ((ω − Ω c) s, θ̇, Ω s² + ω c)`,
+    /// `v = (u_x, u_y)`.
+    pub fn scale_state(&self, i: &Initial) -> [f64; DIM] {
+        let t = self.scales.time;
+        let vu = self.scales.velocity();
+        let (s, c) = i.theta.sin_cos();
+        let (thd, om, w) = (i.theta_dot * t, i.precession * t, i.spin * t);
+        [
+            s,
+            0.0,
+            c,
+            (w - om * c) * s,
+            thd,
+            om * s * s + w * c,
+            i.ux / vu,
+            i.uy / vu,
+            0.0,
+            0.0,
+        ]
+    }
+
+    #[inline(always)]
+    fn kin(&self, y: &[f64; DIM]) -> Kin {
+        let k = [y[K], y[K + 1], y[K + 2]];
+        let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
+        let r = [self.a * k[0], self.a * k[1], self.a * k[2] - 1.0];
+        Kin {
+            k,
+            w,
+            kd: cross(w, k),
+            wk: dot(w, k),
+            r,
+            wr: cross(w, r),
+        }
+    }
+
+    /// I⁻¹ x for the symmetry axis k.
+    #[inline(always)]
+    fn inv_inertia(&self, k: V3, x: V3) -> V3 {
+        add(
+            scale(1.0 / self.ia, x),
+            scale((1.0 / self.ic - 1.0 / self.ia) * dot(x, k), k),
+        )
+    }
+
+    /// I x for the symmetry axis k.
+    #[inline(always)]
+    fn inertia(&self, k: V3, x: V3) -> V3 {
+        add(scale(self.ia, x), scale((self.ic - self.ia) * dot(x, k), k))
+    }
+
+    /// The precessing frame's x̂ and ŷ (horizontal; X, Y if k is vertical).
+    #[inline]
+    fn frame(k: V3) -> (V3, V3) {
+        let kh = k[0].hypot(k[1]);
+        let xh = if kh > 0.0 {
+            [k[0] / kh, k[1] / kh, 0.0]
+        } else {
+            [1.0, 0.0, 0.0]
+        };
+        (xh, [-xh[1], xh[0], 0.0])
+    }
+
+    /// The applied force `H` in the space frame (the force on the top is −H).
+    #[inline]
+    fn applied_world(&self, k: V3) -> V3 {
+        if self.h == [0.0, 0.0] {
+            return [0.0; 3];
+        }
+        let (xh, yh) = Self::frame(k);
+        add(scale(self.h[0], xh), scale(self.h[1], yh))
+    }
+
+    /// Horizontal slip velocity `v + w × r` (space frame) from the state's v.
+    pub fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
+        let kn = self.kin(y);
+        [y[VEL] + kn.wr[0], y[VEL + 1] + kn.wr[1]]
+    }
+
+    /// Horizontal centre-of-mass velocity of zero slip, `−(w × r)_h`.
+    pub fn rolling_velocity(&self, y: &[f64; DIM]) -> [f64; 2] {
+        let kn = self.kin(y);
+        [-kn.wr[0], -kn.wr[1]]
+    }
+
+    /// θ = atan2(|k_h|, k_Z) \[rad\].
+    pub fn theta(y: &[f64; DIM]) -> f64 {
+        y[K].hypot(y[K + 1]).atan2(y[K + 2])
+    }
+
+    /// Evaluate the model at a state in the current mode.
+    pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
+        let kn = self.kin(y);
+        match self.mode {
+            Mode::Sliding => self.eval_sliding(y, &kn),
+            Mode::Rolling => Ok(self.eval_rolling(y, &kn)),
+        }
+    }
+
+    /// `k̇` with the pull of `|k|` back to 1.
+    #[inline(always)]
+    fn k_rate(kn: &Kin) -> V3 {
+        let drift = KAPPA * (dot(kn.k, kn.k) - 1.0);
+        sub(kn.kd, scale(drift, kn.k))
+    }
+
+    #[inline(always)]
+    fn eval_sliding(&self, y: &[f64; DIM], kn: &Kin) -> Result<Eval, ModelError> {
+        let (a, ia, ic) = (self.a, self.ia, self.ic);
+        let Kin {
+            k,
+            w,
+            kd,
+            wk,
+            r,
+            wr,
+        } = *kn;
+        let v = [y[VEL], y[VEL + 1]];
+        let vp = [v[0] + wr[0], v[1] + wr[1]];
+        let f = sliding_coefficient(
+            &self.law,
+            self.exact,
+            self.mu,
+            vp,
+            self.slip_hint,
+            self.slip_ref.get(),
+        );
+        let hw = self.applied_world(k);
+        // Torque-free angular acceleration (k̇ ⊥ k, so I⁻¹ k̇ = k̇/A).
+        let w0 = scale(-(ic - ia) * wk / ia, kd);
+        let e = [k[1], -k[0], 0.0];
+        let u = scale(1.0 / ia, cross(e, r));
+        let wkd_z = w[0] * kd[1] - w[1] * kd[0];
+        let q = self.g + a * (hw[0] * u[0] + hw[1] * u[1] - dot(w0, e) - wkd_z);
+        let fu = f[0] * u[0] + f[1] * u[1];
+        let dp = 1.0 + a * (u[2] - fu);
+        let dm = 1.0 + a * (u[2] + fu);
+        let normal =
+            normal_force(self.contact, q, dp, dm).map_err(|solutions| ModelError::Painleve {
+                theta: Self::theta(y),
+                solutions,
+            })?;
+        let nf = match self.contact {
+            ContactMode::Paper => normal,
+            _ => normal.abs(),
+        };
+        let ff = [-nf * f[0], -nf * f[1]];
+        let force = [ff[0] - hw[0], ff[1] - hw[1], normal];
+        let wd = add(w0, self.inv_inertia(k, cross(r, force)));
+        let kr = Self::k_rate(kn);
+        let dy = [
+            kr[0],
+            kr[1],
+            kr[2],
+            wd[0],
+            wd[1],
+            wd[2],
+            force[0],
+            force[1],
+            ff[0] * vp[0] + ff[1] * vp[1],
+            -hw[0] * vp[0] - hw[1] * vp[1],
+        ];
+        Ok(Eval {
+            dy,
+            normal,
+            friction: ff,
+            slip: vp,
+            v: [v[0], v[1], -a * kd[2]],
+        })
+    }
+
+    /// Rolling: the slip held at zero; the whole contact force from one
+    /// 3×3 symmetric positive definite system.
+    #[inline(always)]
+    fn eval_rolling(&self, _y: &[f64; DIM], kn: &Kin) -> Eval {
+        let (a, ia, ic) = (self.a, self.ia, self.ic);
+        let Kin {
+            k,
+            w,
+            kd,
+            wk,
+            r,
+            wr,
+        } = *kn;
+        let w0 = scale(-(ic - ia) * wk / ia, kd);
+        let col = |x: V3| sub(x, cross(r, self.inv_inertia(k, cross(r, x))));
+        let kmat = [col([1.0, 0.0, 0.0]), col([0.0, 1.0, 0.0]), col(Z)];
+        let b = sub(sub(scale(self.g, Z), cross(w0, r)), scale(a, cross(w, kd)));
+        let force = solve3(kmat, b);
+        let hw = self.applied_world(k);
+        let wd = add(w0, self.inv_inertia(k, cross(r, force)));
+        let kr = Self::k_rate(kn);
+        let dy = [
+            kr[0], kr[1], kr[2], wd[0], wd[1], wd[2], force[0], force[1], 0.0, 0.0,
+        ];
+        Eval {
+            dy,
+            normal: force[2],
+            friction: [force[0] + hw[0], force[1] + hw[1]],
+            slip: [0.0, 0.0],
+            v: [-wr[0], -wr[1], -a * kd[2]],
+        }
+    }
+
+    /// Stick margin while rolling: `μ |N| − |F_f|` (scaled force).
+    pub fn stick_margin(&self, e: &Eval) -> f64 {
+        self.mu * e.normal.abs() - e.friction[0].hypot(e.friction[1])
+    }
+
+    /// Jellett's J = −L·r in scaled units (J / (m R³ / T)).
+    pub fn jellett_scaled(&self, y: &[f64; DIM]) -> f64 {
+        let kn = self.kin(y);
+        -dot(self.inertia(kn.k, kn.w), kn.r)
+    }
+
+    /// Total energy in scaled units, with the velocity `e.v`.
+    pub fn energy_scaled(&self, y: &[f64; DIM], e: &Eval) -> f64 {
+        let kn = self.kin(y);
+        0.5 * dot(e.v, e.v)
+            + 0.5 * dot(kn.w, self.inertia(kn.k, kn.w))
+            + self.g * (1.0 - self.a * kn.k[2])
+    }
+
+    /// The Euler-angle quantities `(θ, θ̇, Ω, ω)` (scaled rates) and the
+    /// precessing frame `(x̂, ŷ)` at a state. `Ω` is reported as 0 where
+    /// `|k_h| < 1e-12` (the axis vertical: Ω undefined).
+    pub fn euler(&self, y: &[f64; DIM]) -> ((f64, f64, f64, f64), (V3, V3)) {
+        let kn = self.kin(y);
+        let (xh, yh) = Self::frame(kn.k);
+        let kh2 = kn.k[0] * kn.k[0] + kn.k[1] * kn.k[1];
+        let om = if kh2.sqrt() < 1e-12 {
+            0.0
+        } else {
+            (kn.k[0] * kn.kd[1] - kn.k[1] * kn.kd[0]) / kh2
+        };
+        ((Self::theta(y), dot(kn.w, yh), om, kn.wk), (xh, yh))
+    }
+
+    /// The output row at scaled time `t`.
+    pub fn sample_at(&self, t: f64, y: &[f64; DIM]) -> Sample {
+        let sc = self.scales;
+        let (tu, vu) = (sc.time, sc.velocity());
+        let ((theta, thd, om, w), (xh, yh)) = self.euler(y);
+        let e = self.eval(y).ok();
+        let (v, normal, slip, energy) = match &e {
+            Some(e) => (e.v, e.normal, e.slip, self.energy_scaled(y, e)),
+            None => (
+                [y[VEL], y[VEL + 1], f64::NAN],
+                f64::NAN,
+                self.slip_of(y),
+                f64::NAN,
+            ),
+        };
+        Sample {
+            t: t * tu,
+            theta,
+            theta_dot: thd / tu,
+            precession: om / tu,
+            spin: w / tu,
+            ux: dot(v, xh) * vu,
+            uy: dot(v, yh) * vu,
+            uz: v[2] * vu,
+            normal: normal * sc.force(),
+            slip: slip[0].hypot(slip[1]) * vu,
+            jellett: self.jellett_scaled(y) * sc.inertia() * sc.length / tu,
+            energy: energy * sc.energy(),
+            work_friction: y[WF] * sc.energy(),
+            work_applied: y[WA] * sc.energy(),
+            hx: self.h[0] * sc.force(),
+            hy: self.h[1] * sc.force(),
+            rolling: (self.mode == Mode::Rolling) as u8,
+        }
+    }
+
+    /// The state in SI units, for error messages.
+    pub fn describe(&self, y: &[f64]) -> String {
+        let tu = self.scales.time;
+        let vu = self.scales.velocity();
+        format!(
+            "state: k = ({}, {}, {}), w = ({:e}, {:e}, {:e}) rad/s, v = ({:e}, {:e}) m/s",
+            y[K],
+            y[K + 1],
+            y[K + 2],
+            y[OMEGA] / tu,
+            y[OMEGA + 1] / tu,
+            y[OMEGA + 2] / tu,
+            y[VEL] * vu,
+            y[VEL + 1] * vu
+        )
+    }
+}
+
+impl OdeSystem<DIM> for Vector {
+    type Error = ModelError;
+
+    fn begin_segment(&mut self, t: f64, _y: &[f64; DIM]) {
+        self.latch_force(t);
+    }
+
+    fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {
+        self.evaluations += 1;
+        if self.chattering.get() {
+            return Err(ModelError::Chattering {
+                reversals: CHATTER_REVERSALS,
+            });
+        }
+        *dy = self.eval(y)?.dy;
+        Ok(())
+    }
+}
+
+impl crate::simulate::ContactModel<DIM> for Vector {
+    fn build(sc: &Scenario) -> Self {
+        Vector::new(sc)
+    }
+    fn scales(&self) -> Scales {
+        self.scales
+    }
+    fn initial_state(&self, i: &Initial) -> [f64; DIM] {
+        self.scale_state(i)
+    }
+    fn latch_force(&mut self, t: f64) {
+        Vector::latch_force(self, t)
+    }
+    fn contact_mode(&self) -> ContactMode {
+        self.contact
+    }
+    fn is_exact(&self) -> bool {
+        self.exact
+    }
+    fn can_chatter(&self) -> bool {
+        Vector::can_chatter(self)
+    }
+    fn mu(&self) -> f64 {
+        self.mu
+    }
+    fn mode(&self) -> Mode {
+        self.mode
+    }
+    fn set_mode(&mut self, mode: Mode) {
+        self.mode = mode;
+    }
+    fn set_slip_hint(&mut self, d: [f64; 2]) {
+        self.slip_hint = d;
+    }
+    fn slip_hint(&self) -> [f64; 2] {
+        self.slip_hint
+    }
+    fn slip_ref(&self) -> &Cell<[f64; 2]> {
+        &self.slip_ref
+    }
+    fn chattering(&self) -> &Cell<bool> {
+        &self.chattering
+    }
+    fn evaluations(&self) -> u64 {
+        self.evaluations
+    }
+    fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
+        Vector::slip_of(self, y)
+    }
+    fn to_rolling(&self, y: &[f64; DIM]) -> [f64; DIM] {
+        let mut yr = *y;
+        let v = self.rolling_velocity(y);
+        yr[VEL] = v[0];
+        yr[VEL + 1] = v[1];
+        yr
+    }
+    fn contact_forces(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2]), ModelError> {
+        self.eval(y).map(|e| (e.normal, e.friction))
+    }
+    fn theta(&self, y: &[f64; DIM]) -> f64 {
+        Vector::theta(y)
+    }
+    fn theta_rate(&self, y: &[f64; DIM]) -> f64 {
+        // θ̇ = −k̇_Z / sin θ: the same sign and zeros for 0 < θ < π.
+        -(y[OMEGA] * y[K + 1] - y[OMEGA + 1] * y[K])
+    }
+    fn spin(&self, y: &[f64; DIM]) -> f64 {
+        y[K] * y[OMEGA] + y[K + 1] * y[OMEGA + 1] + y[K + 2] * y[OMEGA + 2]
+    }
+    fn jellett_scaled(&self, y: &[f64; DIM]) -> f64 {
+        Vector::jellett_scaled(self, y)
+    }
+    fn energy_scaled(&self, y: &[f64; DIM]) -> Option<f64> {
+        self.eval(y)
+            .ok()
+            .map(|e| Vector::energy_scaled(self, y, &e))
+    }
+    fn work_scaled(&self, y: &[f64; DIM]) -> f64 {
+        y[WF] + y[WA]
+    }
+    fn axial(&self) -> f64 {
+        self.ic
+    }
+    fn sample(&self, t: f64, y: &[f64; DIM]) -> Sample {
+        self.sample_at(t, y)
+    }
+    fn describe_state(&self, y: &[f64]) -> String {
+        self.describe(y)
+    }
+}
