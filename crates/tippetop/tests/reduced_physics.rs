@@ -1,6 +1,9 @@
 //! Physics validation of the reduced model: invariants, closed forms,
 //! convergence orders. Every tolerance is justified next to its assertion.
 
+mod common;
+
+use common::nano_schedules;
 use tippetop::{
     ContactMode, ForceWindow, Forcing, FrictionLaw, Method, Scenario, Trajectory, simulate,
 };
@@ -15,43 +18,6 @@ fn classical_smooth(eps: f64) -> Scenario {
     let mut sc = Scenario::classical();
     sc.surface.law = FrictionLaw::Regularized { eps };
     sc
-}
-
-fn nano_schedules() -> Vec<(&'static str, Forcing)> {
-    let h = 1e-22;
-    vec![
-        ("constant", Forcing::constant(h, h)),
-        (
-            "step_t0_8us",
-            Forcing {
-                windows: vec![ForceWindow {
-                    hx: 0.0,
-                    hy: h,
-                    start: 0.0,
-                    stop: 8e-6,
-                }],
-            },
-        ),
-        (
-            "reversal_at_60us",
-            Forcing {
-                windows: vec![
-                    ForceWindow {
-                        hx: h,
-                        hy: h,
-                        start: 0.0,
-                        stop: 6e-5,
-                    },
-                    ForceWindow {
-                        hx: -h,
-                        hy: -h,
-                        start: 6e-5,
-                        stop: f64::INFINITY,
-                    },
-                ],
-            },
-        ),
-    ]
 }
 
 /// Jellett's J is conserved for any force at P (docs/physics.md §7): to
