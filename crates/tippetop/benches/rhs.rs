@@ -79,5 +79,53 @@ fn bench_rhs(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_rhs);
+/// The vector-form model's `OdeSystem::rhs` at the same three physical
+/// states (the Euler-angle state converted with the precessing x along X).
+fn bench_rhs_vector(c: &mut Criterion) {
+    use tippetop::model::vector::{self, Vector};
+    let mut classical = Scenario::classical();
+    classical.surface.law = FrictionLaw::Regularized { eps: 1e-3 };
+    classical.solver.rtol = 1e-8;
+    classical.solver.t_end = 1.0;
+    let mut rolling = Scenario::classical();
+    rolling.solver.t_end = 1.0;
+    let nano = Scenario::nano();
+    let mut g = c.benchmark_group("rhs_vector");
+    for (name, sc, t, mode) in [
+        (
+            "classical_regularized_sliding",
+            &classical,
+            1.0,
+            Mode::Sliding,
+        ),
+        ("classical_exact_rolling", &rolling, 1.0, Mode::Rolling),
+        ("nano_exact_sliding", &nano, 5e-5, Mode::Sliding),
+    ] {
+        let (r, yr) = state_at(sc, t, mode);
+        let mut m = Vector::new(sc);
+        m.latch_force(t / m.scales.time);
+        m.mode = mode;
+        let s = r.scales;
+        let y = m.scale_state(&Initial {
+            theta: yr[0],
+            theta_dot: yr[1] / s.time,
+            precession: yr[2] / s.time,
+            spin: yr[3] / s.time,
+            ux: yr[4] * s.velocity(),
+            uy: yr[5] * s.velocity(),
+        });
+        assert!(m.eval(&y).is_ok(), "{name}: state not evaluable");
+        let mut dy = [0.0; vector::DIM];
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                let r = m.rhs(0.0, black_box(&y), &mut dy);
+                black_box(&r);
+                black_box(&dy);
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_rhs, bench_rhs_vector);
 criterion_main!(benches);

@@ -20,7 +20,7 @@ use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use tippetop::{
-    FrictionLaw, Method, Scenario,
+    FrictionLaw, Method, ModelKind, Scenario,
     analysis::paper::{self, Options as PaperOptions},
     integrate::{self, Options, Stepper},
     model::reduced::{DIM, Reduced},
@@ -32,6 +32,12 @@ pub fn classical(law: FrictionLaw) -> Scenario {
     let mut sc = Scenario::classical();
     sc.surface.law = law;
     sc.solver.rtol = 1e-8;
+    sc
+}
+
+/// The same scenario with the vector-form model.
+fn vector(mut sc: Scenario) -> Scenario {
+    sc.solver.model = ModelKind::Vector;
     sc
 }
 
@@ -103,6 +109,15 @@ fn bench_runs(c: &mut Criterion) {
             rk4(regularized(), 1_000_000),
         ),
         ("nano_100us_rtol1e-10", Scenario::nano()),
+        (
+            "classical_10s_regularized_rtol1e-8_vector",
+            vector(classical(regularized())),
+        ),
+        (
+            "classical_10s_coulomb_rtol1e-8_vector",
+            vector(classical(FrictionLaw::Coulomb)),
+        ),
+        ("nano_100us_rtol1e-10_vector", vector(Scenario::nano())),
     ];
     for (name, sc) in &cases {
         check(sc);

@@ -46,7 +46,7 @@ const EV_SWITCH: usize = 3;
 fn events_for<M: ContactModel<D>, const D: usize>(m: &M) -> Vec<Event<M, D>> {
     let mut ev: Vec<Event<M, D>> = vec![
         Event {
-            g: Box::new(|m: &M, _, y| m.theta(y) - std::f64::consts::FRAC_PI_2),
+            g: Box::new(|m: &M, _, y| m.above_half_pi(y)),
             direction: Direction::Rising,
             terminal: false,
         },
@@ -242,6 +242,11 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     }
     /// Nutation angle θ \[rad\].
     fn theta(&self, y: &[f64; D]) -> f64;
+    /// A function with the sign and the zero of θ − π/2 (the inversion
+    /// event).
+    fn above_half_pi(&self, y: &[f64; D]) -> f64 {
+        self.theta(y) - std::f64::consts::FRAC_PI_2
+    }
     /// A function with the sign of θ̇ that is zero where θ̇ is (θ maxima).
     fn theta_rate(&self, y: &[f64; D]) -> f64;
     /// Spin ω = n·k (scaled).

@@ -47,6 +47,12 @@ pub(crate) fn sliding_coefficient(
 /// (no solution if `dp <= 0`); bilateral and unilateral contact take the one
 /// self-consistent branch. `Err(n)`: the Painlevé case, with `n` (0 or 2)
 /// consistent solutions.
+///
+/// The branch is decided from the signs of `q`, `dp`, `dm` and only the
+/// chosen quotient is computed (one division on the right-hand side's
+/// critical path instead of two). The result is the same as testing the
+/// signs of both quotients, except where a quotient is 0 or NaN although
+/// `Q` is a nonzero number (underflow below 1e-308, or an infinite `D`).
 #[inline]
 pub(crate) fn normal_force(contact: ContactMode, q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
     match contact {
@@ -57,8 +63,34 @@ pub(crate) fn normal_force(contact: ContactMode, q: f64, dp: f64, dm: f64) -> Re
             Ok(q / dp)
         }
         ContactMode::Bilateral | ContactMode::Unilateral => {
-            let np = q / dp;
-            let nm = q / dm;
+            // q/dp >= 0 (counting −0) and q/dm < 0, from the signs; a NaN
+            // makes its quotient NaN, which is neither.
+            let okp =
+                !q.is_nan() && !dp.is_nan() && dp != 0.0 && (q == 0.0 || (q > 0.0) == (dp > 0.0));
+            let okm =
+                !q.is_nan() && !dm.is_nan() && dm != 0.0 && q != 0.0 && (q > 0.0) != (dm > 0.0);
+            match (okp, okm) {
+                (true, false) => Ok(q / dp),
+                (false, true) => Ok(q / dm),
+                (true, true) => Err(2),
+                (false, false) => Err(0),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::normal_force;
+    use crate::ContactMode;
+
+    /// The sign rule picks the same branch and value as dividing first and
+    /// testing the quotients' signs (the definition), on every sign
+    /// combination, zeros of both signs, infinities and NaN.
+    #[test]
+    fn normal_force_sign_rule_matches_the_quotient_rule() {
+        let by_quotients = |q: f64, dp: f64, dm: f64| -> Result<f64, usize> {
+            let (np, nm) = (q / dp, q / dm);
             let okp = dp != 0.0 && np >= 0.0;
             let okm = dm != 0.0 && nm < 0.0;
             match (okp, okm) {
@@ -67,6 +99,48 @@ pub(crate) fn normal_force(contact: ContactMode, q: f64, dp: f64, dm: f64) -> Re
                 (true, true) => Err(2),
                 (false, false) => Err(0),
             }
+        };
+        let vals = [
+            -3.0,
+            -1e-300,
+            -0.0,
+            0.0,
+            1e-300,
+            2.5,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        let mut branches = [0usize; 4];
+        for &q in &vals {
+            for &dp in &vals {
+                for &dm in &vals {
+                    let a = normal_force(ContactMode::Bilateral, q, dp, dm);
+                    let b = by_quotients(q, dp, dm);
+                    // The documented exception: a quotient that is 0 or NaN
+                    // while q is a nonzero number (underflow, infinite D).
+                    let degenerate = [dp, dm].iter().any(|&d| {
+                        let x = q / d;
+                        q != 0.0 && !q.is_nan() && !d.is_nan() && (x == 0.0 || x.is_nan())
+                    });
+                    if degenerate {
+                        continue;
+                    }
+                    match (a, b) {
+                        (Ok(x), Ok(y)) => {
+                            assert!(x.to_bits() == y.to_bits(), "{q} {dp} {dm}: {x} vs {y}");
+                            branches[(x < 0.0) as usize] += 1;
+                        }
+                        (Err(x), Err(y)) => {
+                            assert_eq!(x, y, "{q} {dp} {dm}");
+                            branches[2 + (x == 2) as usize] += 1;
+                        }
+                        _ => panic!("{q} {dp} {dm}: {a:?} vs {b:?}"),
+                    }
+                }
+            }
         }
+        // Every outcome was exercised.
+        assert!(branches.iter().all(|&n| n > 0), "{branches:?}");
     }
 }

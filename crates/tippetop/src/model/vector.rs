@@ -43,7 +43,7 @@
 //! `|k| = 1` is kept attracting by `k̇ = w × k − κ (|k|² − 1) k` with
 //! [`KAPPA`] (zero on the constraint `|k| = 1`).
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 use super::reduced::{CHATTER_REVERSALS, Mode, ModelError, Scales};
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
@@ -90,6 +90,11 @@ pub struct Vector {
     a: f64,
     ia: f64,
     ic: f64,
+    /// 1/A, 1/C − 1/A and (C − A)/A (scaled), so the right-hand side
+    /// multiplies instead of dividing.
+    inv_ia: f64,
+    dinv: f64,
+    gyro: f64,
     g: f64,
     mu: f64,
     law: FrictionLaw,
@@ -110,6 +115,11 @@ pub struct Vector {
     pub evaluations: u64,
     /// The SI top.
     pub top: Top,
+    /// The last evaluation made by [`Vector::eval`] and its key (state bits,
+    /// mode and every input), so the driver's repeated evaluations at an
+    /// accepted step (N event, energy, samples) are computed once. The key
+    /// is compared bit for bit: the result is what a fresh evaluation gives.
+    last: RefCell<Option<([u64; DIM + 7], Eval)>>,
 }
 
 /// Kinematic quantities shared by both modes.
@@ -130,11 +140,16 @@ impl Vector {
     pub fn new(sc: &Scenario) -> Self {
         let scales = Scales::of(sc);
         let law = sc.surface.law.scaled(scales.velocity());
+        let ia = sc.top.inertia_transverse / scales.inertia();
+        let ic = sc.top.inertia_axial / scales.inertia();
         Vector {
             scales,
             a: sc.top.offset / scales.length,
-            ia: sc.top.inertia_transverse / scales.inertia(),
-            ic: sc.top.inertia_axial / scales.inertia(),
+            ia,
+            ic,
+            inv_ia: 1.0 / ia,
+            dinv: 1.0 / ic - 1.0 / ia,
+            gyro: (ic - ia) / ia,
             g: sc.surface.gravity * scales.time * scales.time / scales.length,
             mu: sc.surface.friction,
             exact: law == FrictionLaw::Coulomb,
@@ -148,6 +163,7 @@ impl Vector {
             chattering: Cell::new(false),
             evaluations: 0,
             top: sc.top,
+            last: RefCell::new(None),
         }
     }
 
@@ -228,10 +244,7 @@ impl Vector {
     /// I⁻¹ x for the symmetry axis k.
     #[inline(always)]
     fn inv_inertia(&self, k: V3, x: V3) -> V3 {
-        add(
-            scale(1.0 / self.ia, x),
-            scale((1.0 / self.ic - 1.0 / self.ia) * dot(x, k), k),
-        )
+        add(scale(self.inv_ia, x), scale(self.dinv * dot(x, k), k))
     }
 
     /// I x for the symmetry axis k.
@@ -243,9 +256,11 @@ impl Vector {
     /// The precessing frame's x̂ and ŷ (horizontal; X, Y if k is vertical).
     #[inline]
     fn frame(k: V3) -> (V3, V3) {
-        let kh = k[0].hypot(k[1]);
-        let xh = if kh > 0.0 {
-            [k[0] / kh, k[1] / kh, 0.0]
+        // |k_h| is O(1) or 0 here: no overflow, so no need for hypot.
+        let kh2 = k[0] * k[0] + k[1] * k[1];
+        let xh = if kh2 > 0.0 {
+            let inv = 1.0 / kh2.sqrt();
+            [k[0] * inv, k[1] * inv, 0.0]
         } else {
             [1.0, 0.0, 0.0]
         };
@@ -279,8 +294,37 @@ impl Vector {
         y[K].hypot(y[K + 1]).atan2(y[K + 2])
     }
 
-    /// Evaluate the model at a state in the current mode.
+    /// Evaluate the model at a state in the current mode (cached: see
+    /// the `last` field).
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
+        let mut key = [0u64; DIM + 7];
+        for (k, v) in key.iter_mut().zip(y) {
+            *k = v.to_bits();
+        }
+        let r = self.slip_ref.get();
+        let inputs = [
+            self.mode as u64,
+            self.h[0].to_bits(),
+            self.h[1].to_bits(),
+            self.slip_hint[0].to_bits(),
+            self.slip_hint[1].to_bits(),
+            r[0].to_bits(),
+            r[1].to_bits(),
+        ];
+        key[DIM..].copy_from_slice(&inputs);
+        if let Some((k, e)) = &*self.last.borrow() {
+            if *k == key {
+                return Ok(*e);
+            }
+        }
+        let e = self.eval_now(y)?;
+        *self.last.borrow_mut() = Some((key, e));
+        Ok(e)
+    }
+
+    /// Evaluate the model at a state in the current mode, uncached.
+    #[inline(always)]
+    fn eval_now(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
         let kn = self.kin(y);
         match self.mode {
             Mode::Sliding => self.eval_sliding(y, &kn),
@@ -297,7 +341,7 @@ impl Vector {
 
     #[inline(always)]
     fn eval_sliding(&self, y: &[f64; DIM], kn: &Kin) -> Result<Eval, ModelError> {
-        let (a, ia, ic) = (self.a, self.ia, self.ic);
+        let a = self.a;
         let Kin {
             k,
             w,
@@ -318,9 +362,9 @@ impl Vector {
         );
         let hw = self.applied_world(k);
         // Torque-free angular acceleration (k̇ ⊥ k, so I⁻¹ k̇ = k̇/A).
-        let w0 = scale(-(ic - ia) * wk / ia, kd);
+        let w0 = scale(-self.gyro * wk, kd);
         let e = [k[1], -k[0], 0.0];
-        let u = scale(1.0 / ia, cross(e, r));
+        let u = scale(self.inv_ia, cross(e, r));
         let wkd_z = w[0] * kd[1] - w[1] * kd[0];
         let q = self.g + a * (hw[0] * u[0] + hw[1] * u[1] - dot(w0, e) - wkd_z);
         let fu = f[0] * u[0] + f[1] * u[1];
@@ -364,7 +408,7 @@ impl Vector {
     /// 3×3 symmetric positive definite system.
     #[inline(always)]
     fn eval_rolling(&self, _y: &[f64; DIM], kn: &Kin) -> Eval {
-        let (a, ia, ic) = (self.a, self.ia, self.ic);
+        let a = self.a;
         let Kin {
             k,
             w,
@@ -373,8 +417,17 @@ impl Vector {
             r,
             wr,
         } = *kn;
-        let w0 = scale(-(ic - ia) * wk / ia, kd);
-        let col = |x: V3| sub(x, cross(r, self.inv_inertia(k, cross(r, x))));
+        let w0 = scale(-self.gyro * wk, kd);
+        // K x = x − r × I⁻¹ (r × x) = (1 + |r|²/A) x − (r·x) r/A
+        //       + (1/C − 1/A) (c·x) c,  c = k × r  (|k| = 1).
+        let c = cross(k, r);
+        let alpha = 1.0 + self.inv_ia * dot(r, r);
+        let col = |x: V3| {
+            add(
+                sub(scale(alpha, x), scale(self.inv_ia * dot(r, x), r)),
+                scale(self.dinv * dot(c, x), c),
+            )
+        };
         let kmat = [col([1.0, 0.0, 0.0]), col([0.0, 1.0, 0.0]), col(Z)];
         let b = sub(sub(scale(self.g, Z), cross(w0, r)), scale(a, cross(w, kd)));
         let force = solve3(kmat, b);
@@ -495,7 +548,7 @@ impl OdeSystem<DIM> for Vector {
                 reversals: CHATTER_REVERSALS,
             });
         }
-        *dy = self.eval(y)?.dy;
+        *dy = self.eval_now(y)?.dy;
         Ok(())
     }
 }
@@ -561,6 +614,10 @@ impl crate::simulate::ContactModel<DIM> for Vector {
     }
     fn theta(&self, y: &[f64; DIM]) -> f64 {
         Vector::theta(y)
+    }
+    fn above_half_pi(&self, y: &[f64; DIM]) -> f64 {
+        // θ − π/2 has the sign and the zero of −k_Z (no atan2 per step).
+        -y[K + 2]
     }
     fn theta_rate(&self, y: &[f64; DIM]) -> f64 {
         // θ̇ = −k̇_Z / sin θ: the same sign and zeros for 0 < θ < π.
