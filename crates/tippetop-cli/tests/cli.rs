@@ -466,3 +466,52 @@ fn every_bad_input_class_is_one_line_exit_2_nothing_written() {
         "preset: ",
     );
 }
+
+/// `solver.model = "vector"` from the command line: the run writes its
+/// outputs, starts from an upright top (θ = 0, which the Euler angles
+/// refuse) and records the model in the echoed scenario; a bad model name
+/// lists the three valid ones.
+#[test]
+fn vector_model_runs_from_upright_and_bad_model_lists_the_choices() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = out.to_str().unwrap();
+    tippetop()
+        .args([
+            "run",
+            "--preset",
+            "classical",
+            "--set",
+            "solver.model=vector",
+            "--set",
+            "initial.theta=0",
+            "--set",
+            "initial.theta_dot=10",
+            "--set",
+            "solver.t_end=0.2",
+            "--no-plot",
+            "--quiet",
+            "--out",
+            o,
+        ])
+        .assert()
+        .code(0);
+    let scen = std::fs::read_to_string(out.join("scenario.toml")).unwrap();
+    assert!(scen.contains("model = \"vector\""), "{scen}");
+    let csv = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1002, "header + 1001 rows");
+    let bad = dir.path().join("bad");
+    expect_input_error(
+        &[
+            "run",
+            "--preset",
+            "classical",
+            "--set",
+            "solver.model=euler",
+            "--out",
+            bad.to_str().unwrap(),
+        ],
+        &bad,
+        "solver.model: unknown value \"euler\" (valid: \"reduced\", \"vector\" or \"rigid\")",
+    );
+}

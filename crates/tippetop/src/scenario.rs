@@ -360,7 +360,7 @@ const SOLVER_KEYS: Keys = &[
     ),
     ("rtol", "1e-14 <= rtol <= 1e-2"),
     ("samples", "an integer >= 2"),
-    ("model", "\"reduced\" or \"rigid\""),
+    ("model", "\"reduced\", \"vector\" or \"rigid\""),
 ];
 
 /// Tables in document order; `force` is an array of tables.

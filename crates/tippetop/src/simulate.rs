@@ -755,7 +755,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                                     error = Some(Error::runtime(
                                         t * tu,
                                         format!(
-                                            "lift-off at a force switch: the normal force N jumped below zero (contact = \"unilateral\"); the reduced model cannot follow a flight, use model = \"rigid\"; {}",
+                                            "lift-off at a force switch: the normal force N jumped below zero (contact = \"unilateral\"); the reduced and vector models keep the sphere on the plane and cannot follow a flight, use model = \"rigid\"; {}",
                                             m.describe_state(&y)
                                         ),
                                     ));
@@ -784,7 +784,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                         error = Some(Error::runtime(
                             t * tu,
                             format!(
-                                "lift-off: the normal force N fell to zero (contact = \"unilateral\"); the reduced model cannot follow a flight, use model = \"rigid\"; {}",
+                                "lift-off: the normal force N fell to zero (contact = \"unilateral\"); the reduced and vector models keep the sphere on the plane and cannot follow a flight, use model = \"rigid\"; {}",
                                 m.describe_state(&y)
                             ),
                         ));
