@@ -2,3 +2,4 @@
 
 pub mod reduced;
 pub mod rigid;
+pub(crate) mod trig;

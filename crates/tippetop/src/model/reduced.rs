@@ -12,6 +12,7 @@
 
 use std::cell::{Cell, RefCell};
 
+use super::trig;
 use crate::{
     ContactMode, Forcing, FrictionLaw, Scenario, Top, contact::SlidingLaw, integrate::OdeSystem,
 };
@@ -387,13 +388,13 @@ impl Reduced {
         }
     }
 
-    /// `θ.sin_cos()`, taken from the last `eval` when it was at the same θ
-    /// (the same value either way).
+    /// [`trig::sin_cos`]`(θ)`, taken from the last `eval` when it was at the
+    /// same θ (the same value either way).
     #[inline]
     fn sin_cos(&self, th: f64) -> (f64, f64) {
         match &*self.last.borrow() {
             Some(l) if l.y[TH] == th.to_bits() => l.sc,
-            _ => th.sin_cos(),
+            _ => trig::sin_cos(th),
         }
     }
 
@@ -423,7 +424,7 @@ impl Reduced {
                 return Ok(l.eval);
             }
         }
-        let (s, c) = y[TH].sin_cos();
+        let (s, c) = trig::sin_cos(y[TH]);
         let e = self.eval_sc(y, s, c)?;
         *self.last.borrow_mut() = Some(LastEval {
             y: yb,
@@ -435,7 +436,7 @@ impl Reduced {
         Ok(e)
     }
 
-    /// `eval` with `(s, c) = y[TH].sin_cos()` given.
+    /// `eval` with `(s, c) = trig::sin_cos(y[TH])` given.
     #[inline(always)]
     fn eval_sc(&self, y: &[f64; DIM], s: f64, c: f64) -> Result<Eval, ModelError> {
         match self.mode {
@@ -597,7 +598,7 @@ impl OdeSystem<DIM> for Reduced {
             });
         }
         // One sin_cos per evaluation (the guard shares it).
-        let (s, c) = y[TH].sin_cos();
+        let (s, c) = trig::sin_cos(y[TH]);
         if self.mode == Mode::Rolling && s.abs() < SIN_GUARD {
             return Err(ModelError::Singular { theta: y[TH] });
         }
