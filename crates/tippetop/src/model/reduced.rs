@@ -364,7 +364,9 @@ impl Reduced {
     /// Friction coefficient vector `f(v)` with `|f| <= μ` (sliding mode):
     /// the law's [`SlidingLaw::coefficient`], plus, for the exact law, the
     /// slip hint at exactly zero slip and the continuation through zero.
-    #[inline]
+    /// Always inlined: it is on the right-hand side's critical path, and
+    /// the call (which the compiler otherwise keeps) costs more than it.
+    #[inline(always)]
     fn law_f(&self, v: [f64; 2]) -> [f64; 2] {
         let mu = self.mu;
         if !self.exact {

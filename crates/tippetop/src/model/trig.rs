@@ -122,9 +122,16 @@ fn rem_pio2(x: f64) -> (i32, f64, f64) {
     (n, y0, y1)
 }
 
+/// [`f64::sin_cos`], kept out of line (the rare case of [`sin_cos`]).
+#[cold]
+#[inline(never)]
+fn libm_sin_cos(x: f64) -> (f64, f64) {
+    x.sin_cos()
+}
+
 /// `(sin x, cos x)`, each within 1 ulp of the libm's (see the module
 /// documentation); [`f64::sin_cos`] for |x| >= 1e5, ±∞ and NaN.
-#[inline]
+#[inline(always)]
 pub fn sin_cos(x: f64) -> (f64, f64) {
     let ax = x.abs();
     if ax <= std::f64::consts::FRAC_PI_4 {
@@ -136,7 +143,7 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     }
     // Also NaN (the comparison is false).
     if !(ax < MAX_REDUCED) {
-        return x.sin_cos();
+        return libm_sin_cos(x);
     }
     let (n, y0, y1) = rem_pio2(x);
     let s = kernel_sin(y0, y1, true);
