@@ -196,6 +196,13 @@ fn inputs_key(h: [f64; 2], hint: [f64; 2], slip_ref: [f64; 2]) -> [u64; 6] {
     ]
 }
 
+/// `a == b`, as one OR of XORs (no early exit, no `memcmp` call: the
+/// cache is checked at every step end, and the arrays are short).
+#[inline(always)]
+fn same_bits<const K: usize>(a: &[u64; K], b: &[u64; K]) -> bool {
+    a.iter().zip(b).fold(0, |acc, (x, y)| acc | (x ^ y)) == 0
+}
+
 fn bits(y: &[f64; DIM]) -> [u64; DIM] {
     y.map(f64::to_bits)
 }
@@ -422,7 +429,7 @@ impl Reduced {
         let yb = bits(y);
         let key = inputs_key(self.h, self.slip_hint, self.slip_ref.get());
         if let Some(l) = &*self.last.borrow() {
-            if l.y == yb && l.mode == self.mode && l.key == key {
+            if same_bits(&l.y, &yb) && l.mode == self.mode && same_bits(&l.key, &key) {
                 return Ok(l.eval);
             }
         }
