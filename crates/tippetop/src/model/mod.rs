@@ -2,4 +2,3 @@
 
 pub mod reduced;
 pub mod rigid;
-pub(crate) mod trig;

@@ -12,7 +12,6 @@
 
 use std::cell::{Cell, RefCell};
 
-use super::trig;
 use crate::{
     ContactMode, Forcing, FrictionLaw, Scenario, Top, contact::SlidingLaw, integrate::OdeSystem,
 };
@@ -397,13 +396,13 @@ impl Reduced {
         }
     }
 
-    /// [`trig::sin_cos`]`(θ)`, taken from the last `eval` when it was at the
-    /// same θ (the same value either way).
+    /// `θ.sin_cos()`, taken from the last `eval` when it was at the same θ
+    /// (the same value either way).
     #[inline]
     fn sin_cos(&self, th: f64) -> (f64, f64) {
         match &*self.last.borrow() {
             Some(l) if l.y[TH] == th.to_bits() => l.sc,
-            _ => trig::sin_cos(th),
+            _ => th.sin_cos(),
         }
     }
 
@@ -433,7 +432,7 @@ impl Reduced {
                 return Ok(l.eval);
             }
         }
-        let (s, c) = trig::sin_cos(y[TH]);
+        let (s, c) = y[TH].sin_cos();
         let e = self.eval_sc(y, s, c)?;
         *self.last.borrow_mut() = Some(LastEval {
             y: yb,
@@ -445,7 +444,7 @@ impl Reduced {
         Ok(e)
     }
 
-    /// `eval` with `(s, c) = trig::sin_cos(y[TH])` given.
+    /// `eval` with `(s, c) = y[TH].sin_cos()` given.
     #[inline(always)]
     fn eval_sc(&self, y: &[f64; DIM], s: f64, c: f64) -> Result<Eval, ModelError> {
         match self.mode {
@@ -607,7 +606,7 @@ impl OdeSystem<DIM> for Reduced {
             });
         }
         // One sin_cos per evaluation (the guard shares it).
-        let (s, c) = trig::sin_cos(y[TH]);
+        let (s, c) = y[TH].sin_cos();
         if self.mode == Mode::Rolling && s.abs() < SIN_GUARD {
             return Err(ModelError::Singular { theta: y[TH] });
         }
