@@ -64,9 +64,23 @@ pub trait SlidingLaw {
 }
 
 impl SlidingLaw for FrictionLaw {
+    // Inlined into the models' right-hand sides, where it sits on the
+    // critical path: one division per law (`k = μ/|v|`, then products)
+    // instead of one per component.
+    #[inline]
     fn coefficient(&self, mu: f64, v: [f64; 2]) -> [f64; 2] {
         match *self {
             FrictionLaw::Coulomb | FrictionLaw::CoulombSliding => {
+                // |v| as sqrt(v_x² + v_y²) while the sum of squares is a
+                // normal number (no overflow or underflow: within an ulp of
+                // `hypot`) and μ/|v| cannot overflow (|v| >= 1.4e-154 there);
+                // otherwise `hypot` and the division per component, so tiny
+                // slips keep their direction and huge ones do not overflow.
+                let r2 = v[0] * v[0] + v[1] * v[1];
+                if (f64::MIN_POSITIVE..f64::INFINITY).contains(&r2) && mu < 1e150 {
+                    let k = mu / r2.sqrt();
+                    return [k * v[0], k * v[1]];
+                }
                 let n = v[0].hypot(v[1]);
                 if n > 0.0 {
                     [mu * v[0] / n, mu * v[1] / n]
@@ -75,8 +89,8 @@ impl SlidingLaw for FrictionLaw {
                 }
             }
             FrictionLaw::Regularized { eps } => {
-                let d = (v[0] * v[0] + v[1] * v[1] + eps * eps).sqrt();
-                [mu * v[0] / d, mu * v[1] / d]
+                let k = mu / (v[0] * v[0] + v[1] * v[1] + eps * eps).sqrt();
+                [k * v[0], k * v[1]]
             }
             FrictionLaw::Viscous { eps } => [mu * v[0] / eps, mu * v[1] / eps],
         }

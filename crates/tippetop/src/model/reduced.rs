@@ -195,8 +195,46 @@ fn inputs_key(h: [f64; 2], hint: [f64; 2], slip_ref: [f64; 2]) -> [u64; 6] {
     ]
 }
 
+/// `a == b`, as one OR of XORs (no early exit, no `memcmp` call: the
+/// cache is checked at every step end, and the arrays are short).
+#[inline(always)]
+fn same_bits<const K: usize>(a: &[u64; K], b: &[u64; K]) -> bool {
+    a.iter().zip(b).fold(0, |acc, (x, y)| acc | (x ^ y)) == 0
+}
+
 fn bits(y: &[f64; DIM]) -> [u64; DIM] {
     y.map(f64::to_bits)
+}
+
+/// N from `N d_σ = q` with `d_σ = d_+` for N >= 0 and `d_−` for N < 0
+/// (σ the sign of N the friction sees, bilateral and unilateral contact):
+/// the consistent solution, or `Err(number of consistent solutions)`
+/// (0 or 2, a Painlevé paradox).
+///
+/// A solution `q/d_+` is consistent when `d_+ != 0` and it is `>= 0`
+/// (−0 included), `q/d_−` when `d_− != 0` and it is `< 0`; a NaN is
+/// consistent with neither. In the common case (`0 < d_± < 1e100`,
+/// `|q| > 1e-200`) neither quotient can be NaN or underflow to ±0 (an
+/// overflow to ±∞ keeps the sign), so both have the sign of `q`, exactly
+/// one is consistent and one division gives it; everywhere else (NaN, zero,
+/// tiny, huge or negative inputs) both quotients are formed and tested as
+/// written above. The result is the same, bit for bit, either way.
+#[inline(always)]
+fn bilateral_normal(q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
+    // Comparisons are false for NaN, so NaNs take the general path.
+    if dp > 0.0 && dm > 0.0 && dp < 1e100 && dm < 1e100 && q.abs() > 1e-200 {
+        return Ok(if q > 0.0 { q / dp } else { q / dm });
+    }
+    let np = q / dp;
+    let nm = q / dm;
+    let okp = dp != 0.0 && np >= 0.0;
+    let okm = dm != 0.0 && nm < 0.0;
+    match (okp, okm) {
+        (true, false) => Ok(np),
+        (false, true) => Ok(nm),
+        (true, true) => Err(2),
+        (false, false) => Err(0),
+    }
 }
 
 /// The reduced model as an ODE system in scaled units.
@@ -210,6 +248,11 @@ pub struct Reduced {
     ia: f64,
     /// C/(m R²).
     ic: f64,
+    /// 1/ia, 1/ic (the right-hand side multiplies by these instead of
+    /// dividing: rounding-level differences, fewer divisions on its
+    /// latency-bound dependency chain).
+    inv_ia: f64,
+    inv_ic: f64,
     /// g in scaled units.
     g: f64,
     /// μ.
@@ -249,11 +292,15 @@ impl Reduced {
         let v = scales.velocity();
         let law = sc.surface.law.scaled(v);
         let exact = law == FrictionLaw::Coulomb;
+        let ia = sc.top.inertia_transverse / scales.inertia();
+        let ic = sc.top.inertia_axial / scales.inertia();
         Reduced {
             scales,
             a: sc.top.offset / scales.length,
-            ia: sc.top.inertia_transverse / scales.inertia(),
-            ic: sc.top.inertia_axial / scales.inertia(),
+            ia,
+            ic,
+            inv_ia: 1.0 / ia,
+            inv_ic: 1.0 / ic,
             g: sc.surface.gravity * scales.time * scales.time / scales.length,
             mu: sc.surface.friction,
             law,
@@ -323,6 +370,9 @@ impl Reduced {
     /// Friction coefficient vector `f(v)` with `|f| <= μ` (sliding mode):
     /// the law's [`SlidingLaw::coefficient`], plus, for the exact law, the
     /// slip hint at exactly zero slip and the continuation through zero.
+    /// Always inlined: it is on the right-hand side's critical path, and
+    /// the call (which the compiler otherwise keeps) costs more than it.
+    #[inline(always)]
     fn law_f(&self, v: [f64; 2]) -> [f64; 2] {
         let mu = self.mu;
         if !self.exact {
@@ -378,7 +428,7 @@ impl Reduced {
         let yb = bits(y);
         let key = inputs_key(self.h, self.slip_hint, self.slip_ref.get());
         if let Some(l) = &*self.last.borrow() {
-            if l.y == yb && l.mode == self.mode && l.key == key {
+            if same_bits(&l.y, &yb) && l.mode == self.mode && same_bits(&l.key, &key) {
                 return Ok(l.eval);
             }
         }
@@ -410,18 +460,21 @@ impl Reduced {
             return Err(ModelError::Singular { theta: th });
         }
         let (a, ia, ic) = (self.a, self.ia, self.ic);
+        let (inv_ia, inv_ic) = (self.inv_ia, self.inv_ic);
         let h = 1.0 - a * c;
         let v = [ux - h * thd, uy + s * (w - om * c + a * om)];
+        // Off the critical path (independent of the friction): 1/(ia s).
+        let inv_ias = inv_ia / s;
         let f = self.law_f(v);
         let [hx, hy] = self.h;
         // Gyroscopic term of A θ̈.
         let gyro = -om * (ic * w - ia * om * c) * s;
         let as_ = a * s;
-        let q = self.g + a * c * thd * thd + as_ * (gyro + h * hx) / ia;
+        let q = self.g + a * c * thd * thd + as_ * (gyro + h * hx) * inv_ia;
         // N (1 + a s (a s − σ h f_x)/A) = Q, σ the sign of N the friction sees.
         let normal = match self.contact {
             ContactMode::Paper => {
-                let d = 1.0 + as_ * (as_ - h * f[0]) / ia;
+                let d = 1.0 + as_ * (as_ - h * f[0]) * inv_ia;
                 if d <= 0.0 {
                     return Err(ModelError::Painleve {
                         theta: th,
@@ -431,25 +484,14 @@ impl Reduced {
                 q / d
             }
             ContactMode::Bilateral | ContactMode::Unilateral => {
-                let dp = 1.0 + as_ * (as_ - h * f[0]) / ia;
-                let dm = 1.0 + as_ * (as_ + h * f[0]) / ia;
-                let np = q / dp;
-                let nm = q / dm;
-                let okp = dp != 0.0 && np >= 0.0;
-                let okm = dm != 0.0 && nm < 0.0;
-                match (okp, okm) {
-                    (true, false) => np,
-                    (false, true) => nm,
-                    (true, true) => {
+                let dp = 1.0 + as_ * (as_ - h * f[0]) * inv_ia;
+                let dm = 1.0 + as_ * (as_ + h * f[0]) * inv_ia;
+                match bilateral_normal(q, dp, dm) {
+                    Ok(n) => n,
+                    Err(solutions) => {
                         return Err(ModelError::Painleve {
                             theta: th,
-                            solutions: 2,
-                        });
-                    }
-                    (false, false) => {
-                        return Err(ModelError::Painleve {
-                            theta: th,
-                            solutions: 0,
+                            solutions,
                         });
                     }
                 }
@@ -462,9 +504,9 @@ impl Reduced {
         let ff = [-nf * f[0], -nf * f[1]];
         let fx = ff[0] - hx;
         let fy = ff[1] - hy;
-        let thdd = (gyro - as_ * normal - h * fx) / ia;
-        let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) / (ia * s);
-        let wd = s * fy / ic;
+        let thdd = (gyro - as_ * normal - h * fx) * inv_ia;
+        let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
+        let wd = s * fy * inv_ic;
         let dy = [
             thd,
             thdd,
@@ -491,6 +533,8 @@ impl Reduced {
     fn eval_rolling(&self, y: &[f64; DIM], s: f64, c: f64) -> Eval {
         let (thd, om, w) = (y[THD], y[OM], y[W]);
         let (a, ia, ic) = (self.a, self.ia, self.ic);
+        let (inv_ia, inv_ic) = (self.inv_ia, self.inv_ic);
+        let inv_ias = inv_ia / s;
         let h = 1.0 - a * c;
         let weff = w - om * c + a * om;
         let ux = h * thd;
@@ -502,13 +546,13 @@ impl Reduced {
         let fx = h * thdd + a * s * thd * thd - om * uy;
         let fy = (om * ux
             - c * thd * weff
-            - (a - c) * thd * (ic * w - 2.0 * ia * om * c) / ia
+            - (a - c) * thd * (ic * w - 2.0 * ia * om * c) * inv_ia
             - om * s * s * thd)
-            / (1.0 + s * s / ic + (a - c) * (a - c) / ia);
+            / (1.0 + s * s * inv_ic + (a - c) * (a - c) * inv_ia);
         let [hx, hy] = self.h;
         let ff = [fx + hx, fy + hy];
-        let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) / (ia * s);
-        let wd = s * fy / ic;
+        let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
+        let wd = s * fy * inv_ic;
         let dy = [thd, thdd, omd, wd, om * uy + fx, -om * ux + fy, 0.0, 0.0];
         Eval {
             dy,
@@ -568,5 +612,112 @@ impl OdeSystem<DIM> for Reduced {
         }
         *dy = self.eval_sc(y, s, c)?.dy;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `bilateral_normal` as first written: both quotients, then their signs.
+    fn bilateral_normal_reference(q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
+        let np = q / dp;
+        let nm = q / dm;
+        let okp = dp != 0.0 && np >= 0.0;
+        let okm = dm != 0.0 && nm < 0.0;
+        match (okp, okm) {
+            (true, false) => Ok(np),
+            (false, true) => Ok(nm),
+            (true, true) => Err(2),
+            (false, false) => Err(0),
+        }
+    }
+
+    /// Same result, bit for bit (sign of zero and NaN included), as the
+    /// reference.
+    fn same(a: Result<f64, usize>, b: Result<f64, usize>) -> bool {
+        match (a, b) {
+            (Ok(x), Ok(y)) => x.to_bits() == y.to_bits(),
+            (Err(m), Err(n)) => m == n,
+            _ => false,
+        }
+    }
+
+    #[test]
+    fn bilateral_normal_matches_two_division_reference() {
+        let mags = [
+            0.0,
+            5e-324,
+            1e-310,
+            1e-300,
+            1e-200,
+            1.0000000000000002e-200,
+            1e-150,
+            1e-8,
+            0.5,
+            1.0,
+            3.0,
+            1e99,
+            1e100,
+            1e150,
+            1e300,
+            f64::MAX,
+            f64::INFINITY,
+        ];
+        let mut vals: Vec<f64> = mags.iter().flat_map(|&m| [m, -m]).collect();
+        vals.push(f64::NAN);
+        vals.push(-f64::NAN);
+        let mut n = 0;
+        for &q in &vals {
+            for &dp in &vals {
+                for &dm in &vals {
+                    let got = bilateral_normal(q, dp, dm);
+                    let want = bilateral_normal_reference(q, dp, dm);
+                    assert!(
+                        same(got, want),
+                        "q {q:e} dp {dp:e} dm {dm:e}: {got:?} vs {want:?}"
+                    );
+                    n += 1;
+                }
+            }
+        }
+        // Random physical-range triples (a fixed xorshift sequence).
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            // Uniform in [-4, 4).
+            (x >> 11) as f64 / (1u64 << 53) as f64 * 8.0 - 4.0
+        };
+        for _ in 0..100_000 {
+            let (q, dp, dm) = (next(), next(), next());
+            assert!(same(
+                bilateral_normal(q, dp, dm),
+                bilateral_normal_reference(q, dp, dm)
+            ));
+            n += 1;
+        }
+        assert!(n > 100_000);
+    }
+
+    #[test]
+    fn nan_state_is_no_solution_in_bilateral_contact() {
+        let mut sc = Scenario::classical();
+        sc.surface.law = FrictionLaw::Regularized { eps: 1e-3 };
+        sc.surface.contact = ContactMode::Bilateral;
+        let m = Reduced::new(&sc);
+        let y0 = m.scale_state(&sc.initial);
+        assert!(m.eval(&y0).is_ok());
+        for i in 0..UY + 1 {
+            let mut y = y0;
+            y[i] = f64::NAN;
+            // Not turned into a finite-looking normal force: every NaN
+            // reaches q or d_± and leaves no consistent solution.
+            match m.eval(&y) {
+                Err(ModelError::Painleve { solutions: 0, .. }) => {}
+                other => panic!("NaN in component {i}: {other:?}"),
+            }
+        }
     }
 }
