@@ -12,9 +12,8 @@
 
 use std::cell::{Cell, RefCell};
 
-use crate::{
-    ContactMode, Forcing, FrictionLaw, Scenario, Top, contact::SlidingLaw, integrate::OdeSystem,
-};
+use super::{normal_force, sliding_coefficient};
+use crate::{ContactMode, Forcing, FrictionLaw, Scenario, Top, integrate::OdeSystem};
 
 /// Number of state components.
 pub const DIM: usize = 8;
@@ -206,37 +205,6 @@ fn bits(y: &[f64; DIM]) -> [u64; DIM] {
     y.map(f64::to_bits)
 }
 
-/// N from `N d_σ = q` with `d_σ = d_+` for N >= 0 and `d_−` for N < 0
-/// (σ the sign of N the friction sees, bilateral and unilateral contact):
-/// the consistent solution, or `Err(number of consistent solutions)`
-/// (0 or 2, a Painlevé paradox).
-///
-/// A solution `q/d_+` is consistent when `d_+ != 0` and it is `>= 0`
-/// (−0 included), `q/d_−` when `d_− != 0` and it is `< 0`; a NaN is
-/// consistent with neither. In the common case (`0 < d_± < 1e100`,
-/// `|q| > 1e-200`) neither quotient can be NaN or underflow to ±0 (an
-/// overflow to ±∞ keeps the sign), so both have the sign of `q`, exactly
-/// one is consistent and one division gives it; everywhere else (NaN, zero,
-/// tiny, huge or negative inputs) both quotients are formed and tested as
-/// written above. The result is the same, bit for bit, either way.
-#[inline(always)]
-fn bilateral_normal(q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
-    // Comparisons are false for NaN, so NaNs take the general path.
-    if dp > 0.0 && dm > 0.0 && dp < 1e100 && dm < 1e100 && q.abs() > 1e-200 {
-        return Ok(if q > 0.0 { q / dp } else { q / dm });
-    }
-    let np = q / dp;
-    let nm = q / dm;
-    let okp = dp != 0.0 && np >= 0.0;
-    let okm = dm != 0.0 && nm < 0.0;
-    match (okp, okm) {
-        (true, false) => Ok(np),
-        (false, true) => Ok(nm),
-        (true, true) => Err(2),
-        (false, false) => Err(0),
-    }
-}
-
 /// The reduced model as an ODE system in scaled units.
 #[derive(Debug, Clone)]
 pub struct Reduced {
@@ -374,26 +342,14 @@ impl Reduced {
     /// the call (which the compiler otherwise keeps) costs more than it.
     #[inline(always)]
     fn law_f(&self, v: [f64; 2]) -> [f64; 2] {
-        let mu = self.mu;
-        if !self.exact {
-            return self.law.coefficient(mu, v);
-        }
-        if v[0] == 0.0 && v[1] == 0.0 {
-            return [mu * self.slip_hint[0], mu * self.slip_hint[1]];
-        }
-        // Exact law, sliding: the slip-zero event is located on the dense
-        // output of the step that crosses zero. Continuing the friction
-        // smoothly through the crossing (keep its direction, i.e. flip
-        // v/|v| once v·d < 0, d the approach direction) keeps that step
-        // smooth, so the event time is as accurate as the step; the stages
-        // past zero are discarded at the event.
-        let f = self.law.coefficient(mu, v);
-        let d = self.slip_ref.get();
-        if v[0] * d[0] + v[1] * d[1] < 0.0 {
-            [-f[0], -f[1]]
-        } else {
-            f
-        }
+        sliding_coefficient(
+            &self.law,
+            self.exact,
+            self.mu,
+            v,
+            self.slip_hint,
+            self.slip_ref.get(),
+        )
     }
 
     /// `θ.sin_cos()`, taken from the last `eval` when it was at the same θ
@@ -472,31 +428,13 @@ impl Reduced {
         let as_ = a * s;
         let q = self.g + a * c * thd * thd + as_ * (gyro + h * hx) * inv_ia;
         // N (1 + a s (a s − σ h f_x)/A) = Q, σ the sign of N the friction sees.
-        let normal = match self.contact {
-            ContactMode::Paper => {
-                let d = 1.0 + as_ * (as_ - h * f[0]) * inv_ia;
-                if d <= 0.0 {
-                    return Err(ModelError::Painleve {
-                        theta: th,
-                        solutions: 0,
-                    });
-                }
-                q / d
-            }
-            ContactMode::Bilateral | ContactMode::Unilateral => {
-                let dp = 1.0 + as_ * (as_ - h * f[0]) * inv_ia;
-                let dm = 1.0 + as_ * (as_ + h * f[0]) * inv_ia;
-                match bilateral_normal(q, dp, dm) {
-                    Ok(n) => n,
-                    Err(solutions) => {
-                        return Err(ModelError::Painleve {
-                            theta: th,
-                            solutions,
-                        });
-                    }
-                }
-            }
-        };
+        let dp = 1.0 + as_ * (as_ - h * f[0]) * inv_ia;
+        let dm = 1.0 + as_ * (as_ + h * f[0]) * inv_ia;
+        let normal =
+            normal_force(self.contact, q, dp, dm).map_err(|solutions| ModelError::Painleve {
+                theta: th,
+                solutions,
+            })?;
         let nf = match self.contact {
             ContactMode::Paper => normal,
             _ => normal.abs(),
@@ -618,88 +556,6 @@ impl OdeSystem<DIM> for Reduced {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// `bilateral_normal` as first written: both quotients, then their signs.
-    fn bilateral_normal_reference(q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
-        let np = q / dp;
-        let nm = q / dm;
-        let okp = dp != 0.0 && np >= 0.0;
-        let okm = dm != 0.0 && nm < 0.0;
-        match (okp, okm) {
-            (true, false) => Ok(np),
-            (false, true) => Ok(nm),
-            (true, true) => Err(2),
-            (false, false) => Err(0),
-        }
-    }
-
-    /// Same result, bit for bit (sign of zero and NaN included), as the
-    /// reference.
-    fn same(a: Result<f64, usize>, b: Result<f64, usize>) -> bool {
-        match (a, b) {
-            (Ok(x), Ok(y)) => x.to_bits() == y.to_bits(),
-            (Err(m), Err(n)) => m == n,
-            _ => false,
-        }
-    }
-
-    #[test]
-    fn bilateral_normal_matches_two_division_reference() {
-        let mags = [
-            0.0,
-            5e-324,
-            1e-310,
-            1e-300,
-            1e-200,
-            1.0000000000000002e-200,
-            1e-150,
-            1e-8,
-            0.5,
-            1.0,
-            3.0,
-            1e99,
-            1e100,
-            1e150,
-            1e300,
-            f64::MAX,
-            f64::INFINITY,
-        ];
-        let mut vals: Vec<f64> = mags.iter().flat_map(|&m| [m, -m]).collect();
-        vals.push(f64::NAN);
-        vals.push(-f64::NAN);
-        let mut n = 0;
-        for &q in &vals {
-            for &dp in &vals {
-                for &dm in &vals {
-                    let got = bilateral_normal(q, dp, dm);
-                    let want = bilateral_normal_reference(q, dp, dm);
-                    assert!(
-                        same(got, want),
-                        "q {q:e} dp {dp:e} dm {dm:e}: {got:?} vs {want:?}"
-                    );
-                    n += 1;
-                }
-            }
-        }
-        // Random physical-range triples (a fixed xorshift sequence).
-        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            // Uniform in [-4, 4).
-            (x >> 11) as f64 / (1u64 << 53) as f64 * 8.0 - 4.0
-        };
-        for _ in 0..100_000 {
-            let (q, dp, dm) = (next(), next(), next());
-            assert!(same(
-                bilateral_normal(q, dp, dm),
-                bilateral_normal_reference(q, dp, dm)
-            ));
-            n += 1;
-        }
-        assert!(n > 100_000);
-    }
 
     #[test]
     fn nan_state_is_no_solution_in_bilateral_contact() {
