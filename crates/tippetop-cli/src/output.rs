@@ -54,17 +54,19 @@ pub fn write_bytes_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomic(path, |w| w.write_all(bytes))
 }
 
-/// Shortest decimal text that parses back to exactly `v` (via `ryu`):
-/// `0.1`, `1.196e-24`, `-30000000.0`, `5e-324`, `1e300`; `NaN`, `inf`,
-/// `-inf` for non-finite values (all accepted by `str::parse::<f64>`).
+/// Shortest decimal text that parses back to exactly `v` (via `zmij`, a
+/// shortest-round-trip formatter about twice as fast as `ryu` with the same
+/// digits): `0.1`, `1.196e-24`, `-30000000.0`, `5e-324`, `1e+300`; `NaN`,
+/// `inf`, `-inf` for non-finite values (all accepted by `str::parse::<f64>`
+/// and by every CSV reader).
 pub fn fmt_f64(v: f64) -> String {
-    let mut buf = ryu::Buffer::new();
+    let mut buf = zmij::Buffer::new();
     buf.format(v).to_string()
 }
 
 /// Append [`fmt_f64`]`(v)` to `out` without an intermediate allocation.
 fn push_f64(out: &mut String, v: f64) {
-    let mut buf = ryu::Buffer::new();
+    let mut buf = zmij::Buffer::new();
     out.push_str(buf.format(v));
 }
 
@@ -291,7 +293,7 @@ pub(crate) mod tests {
         assert_eq!(fmt_f64(0.1), "0.1");
         assert_eq!(fmt_f64(1.196e-24), "1.196e-24");
         assert_eq!(fmt_f64(5e-324), "5e-324");
-        assert_eq!(fmt_f64(1e300), "1e300");
+        assert_eq!(fmt_f64(1e300), "1e+300");
         for v in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
             let back: f64 = fmt_f64(v).parse().unwrap();
             assert!(back.is_nan() == v.is_nan() && (v.is_nan() || back == v));
