@@ -103,6 +103,7 @@ fn main() {
         stepper: Stepper::Dop853 {
             rtol: 1e-8,
             atol: 1e-8,
+            beta: 0.0,
         },
         max_steps: 20_000_000,
         h0: None,

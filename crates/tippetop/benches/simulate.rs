@@ -65,6 +65,7 @@ fn bare_solve(sc: &Scenario) -> [f64; DIM] {
         stepper: Stepper::Dop853 {
             rtol: sc.solver.rtol,
             atol: sc.solver.rtol,
+            beta: 0.0,
         },
         max_steps: 20_000_000,
         h0: None,

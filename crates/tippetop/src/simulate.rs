@@ -259,6 +259,12 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     fn work_scaled(&self, y: &[f64; D]) -> f64;
     /// C/(m R²).
     fn axial(&self) -> f64;
+    /// `β` of DOP853's stabilised step-size control for this model
+    /// ([`Stepper::Dop853`]); 0 (pure I control, `dop853.f`'s default)
+    /// unless the model says otherwise.
+    fn dop853_beta(&self) -> f64 {
+        0.0
+    }
     /// The output row at scaled time `t`.
     fn sample(&self, t: f64, y: &[f64; D]) -> Sample;
     /// The state in SI units, for error messages.
@@ -533,6 +539,7 @@ impl RunSetup {
                 Method::Adaptive => Stepper::Dop853 {
                     rtol: sc.solver.rtol,
                     atol: sc.solver.rtol,
+                    beta: 0.0,
                 },
                 Method::Stiff => Stepper::Rosenbrock {
                     rtol: sc.solver.rtol,
@@ -571,8 +578,11 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
         t_end,
         sample_times,
         tstops,
-        opts,
+        mut opts,
     } = RunSetup::new(sc, tu);
+    if let Stepper::Dop853 { beta, .. } = &mut opts.stepper {
+        *beta = m.dop853_beta();
+    }
     let ns = sc.solver.samples;
 
     let mut y = m.initial_state(&sc.initial);

@@ -15,8 +15,6 @@ const FAC2: f64 = 6.0;
 /// `1 / FAC1` and `1 / FAC2` as in `dop853.f` (`FACC1`, `FACC2`).
 const FACC1: f64 = 1.0 / FAC1;
 const FACC2: f64 = 1.0 / FAC2;
-/// Exponent `1/8 - 0.2 beta` with `beta = 0` (no PI stabilisation).
-const EXPO1: f64 = 1.0 / 8.0;
 /// Order used by `hinit`.
 const IORD: i32 = 8;
 
@@ -34,6 +32,12 @@ pub(super) struct Dop853<const N: usize> {
     initialized: bool,
     /// The previous attempt was rejected (`REJECT` in `dop853.f`).
     rejected: bool,
+    /// `β` of the stabilised step-size control and the exponent
+    /// `1/8 − 0.2 β` (`EXPO1` of `dop853.f`).
+    beta: f64,
+    expo1: f64,
+    /// Error of the last accepted step, at least 1e-4 (`FACOLD`).
+    facold: f64,
     /// Last accepted step `(t0, y0) -> (t1, y1)` of size `h_step`.
     t0: f64,
     y0: [f64; N],
@@ -76,8 +80,12 @@ macro_rules! combine {
 impl<const N: usize> Dop853<N> {
     /// New stepper; `h_max` is the largest step, `h0` the initial step
     /// (`None`: Hairer's `hinit`).
-    pub(super) fn new(rtol: f64, atol: f64, h0: Option<f64>, h_max: f64) -> Self {
+    pub(super) fn new(rtol: f64, atol: f64, beta: f64, h0: Option<f64>, h_max: f64) -> Self {
         check_adaptive("DOP853", rtol, atol, h0, h_max);
+        assert!(
+            (0.0..=0.2).contains(&beta),
+            "DOP853 beta must be in [0, 0.2], got {beta}"
+        );
         Dop853 {
             rtol,
             atol,
@@ -86,6 +94,9 @@ impl<const N: usize> Dop853<N> {
             h: 0.0,
             initialized: false,
             rejected: false,
+            beta,
+            expo1: 1.0 / 8.0 - 0.2 * beta,
+            facold: 1e-4,
             t0: 0.0,
             y0: [0.0; N],
             t1: 0.0,
@@ -209,8 +220,9 @@ impl<const N: usize> Engine<N> for Dop853<N> {
                 continue;
             }
             last_nonfinite = false;
-            let fac11 = err.powf(EXPO1);
-            let fac = (fac11 / SAFE).clamp(FACC2, FACC1);
+            let fac11 = err.powf(self.expo1);
+            // Lund stabilisation (a no-op for β = 0: x^0 = 1 exactly).
+            let fac = (fac11 / self.facold.powf(self.beta) / SAFE).clamp(FACC2, FACC1);
             if err <= 1.0 {
                 let mut f_new = [0.0; N];
                 eval(sys, t_new, &y_new, &mut f_new, stats)?;
@@ -225,6 +237,7 @@ impl<const N: usize> Engine<N> for Dop853<N> {
                 }
                 self.h = h_new.min(self.h_max);
                 self.rejected = false;
+                self.facold = err.max(1e-4);
                 self.k[12] = f_new;
                 self.f1 = f_new;
                 self.t0 = t;

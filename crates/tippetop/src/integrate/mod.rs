@@ -110,6 +110,13 @@ pub enum Stepper {
         rtol: f64,
         /// Absolute tolerance.
         atol: f64,
+        /// `β` of the stabilised (PI, Lund) step-size control of
+        /// `dop853.f`: `h_new = h / (err^(1/8 − 0.2 β) / err_prev^β / 0.9)`
+        /// (clamped), with `err_prev` the error of the last accepted step.
+        /// `0` is `dop853.f`'s default (pure I control); Hairer recommends
+        /// `0 < β <= 0.04` to damp the accept/reject oscillation of the step
+        /// size where stability, not accuracy, limits it. Range `[0, 0.2]`.
+        beta: f64,
     },
     /// Rodas4P (linearly implicit, L-stable, order 4 with an order-3 error
     /// estimate and order-3 dense output) with error control
@@ -256,11 +263,15 @@ impl Options {
         }
     }
 
-    /// DOP853 with tolerances `rtol`, `atol`; automatic initial step, no
-    /// step limit other than the interval, `max_steps` 10 000 000.
+    /// DOP853 with tolerances `rtol`, `atol` and `β = 0`; automatic initial
+    /// step, no step limit other than the interval, `max_steps` 10 000 000.
     pub fn dop853(rtol: f64, atol: f64) -> Self {
         Options {
-            stepper: Stepper::Dop853 { rtol, atol },
+            stepper: Stepper::Dop853 {
+                rtol,
+                atol,
+                beta: 0.0,
+            },
             max_steps: Self::DEFAULT_MAX_STEPS,
             h0: None,
             h_max: None,
