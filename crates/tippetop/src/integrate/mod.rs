@@ -44,7 +44,9 @@
 //!   estimates (`err = |h| e5² / sqrt(N (e5² + 0.01 e3²))`, with
 //!   `sk_i = atol + rtol max(|y_i|, |y_new_i|)`), automatic initial step
 //!   (`hinit`), step-size control with safety 0.9, `fac1 = 0.333`,
-//!   `fac2 = 6.0` and `beta = 0` (pure I controller, Hairer's default), and
+//!   `fac2 = 6.0` and `dop853.f`'s stabilised (PI) control with a
+//!   configurable `beta` (`Stepper::Dop853::beta`; `0`, Hairer's default, is
+//!   the pure I controller; the vector model uses `0.04`), and
 //!   the 7th-order dense output with 3 extra stages, computed lazily (only in
 //!   steps where a sample or an event needs the interpolant). The
 //!   coefficients were transcribed from SciPy's
