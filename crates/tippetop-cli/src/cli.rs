@@ -54,8 +54,10 @@ pub enum Command {
     )]
     Reproduce(ReproduceArgs),
     /// Run a parameter sweep (a grid of scenarios) on all cores.
+    #[command(long_about = crate::sweep_cmd::SWEEP_LONG_ABOUT)]
     Sweep(crate::sweep_cmd::SweepArgs),
     /// Join the outputs of a sweep's shards into one sweep.csv.
+    #[command(long_about = crate::sweep_cmd::MERGE_LONG_ABOUT)]
     Merge(crate::sweep_cmd::MergeArgs),
     /// Stability of the steady motions (θ = 0, π/2, π) beside the paper's App. B.
     Stability(crate::stability_cmd::StabilityArgs),

@@ -51,6 +51,21 @@ fn help_has_description_and_example() {
         .assert()
         .stdout(predicate::str::contains("--extended"))
         .stdout(predicate::str::contains("--out"));
+    // The long help of sweep and merge (their variants' one-line doc
+    // comments used to hide it): what the files hold, and the fast model.
+    tippetop()
+        .args(["sweep", "--help"])
+        .assert()
+        .stdout(predicate::str::contains("rhs_evaluations, status"))
+        .stdout(predicate::str::contains("solver.model=vector"));
+    tippetop()
+        .args(["merge", "--help"])
+        .assert()
+        .stdout(predicate::str::contains("byte for byte"));
+    tippetop()
+        .args(["run", "--help"])
+        .assert()
+        .stdout(predicate::str::contains("Models (solver.model)"));
 }
 
 #[test]
