@@ -10,6 +10,8 @@
 //!    accepted step 100 (after warm-up) and the last step.
 //! 3. `tippetop::simulate` of the same scenario as a whole (all allocations,
 //!    with the number of steps): the fixed cost of a run.
+//! 4. The vector model: `Vector::eval` and `OdeSystem::rhs` (1 000 000 calls
+//!    each), and whole runs of 10 s and 20 s.
 //!
 //! `cargo bench -p tippetop --bench alloc`
 
@@ -176,6 +178,44 @@ fn main() {
         tr.samples.len(),
         tr.events.len()
     );
+
+    // 4. The vector model: eval and rhs, and whole runs of 10 s and 20 s
+    //    (the fixed cost of a run must not grow with its length).
+    {
+        use tippetop::{ModelKind, model::vector::Vector};
+        let mut sv = sc.clone();
+        sv.solver.model = ModelKind::Vector;
+        let mut m = Vector::new(&sv);
+        let y = m.scale_state(&sv.initial);
+        let mut dy = [0.0; tippetop::model::vector::DIM];
+        let a0 = allocs();
+        for i in 0..n_eval {
+            let mut yi = y;
+            yi[0] += 1e-12 * i as f64;
+            black_box(m.eval(black_box(&yi)).ok());
+            black_box(m.rhs(0.0, black_box(&yi), &mut dy).ok());
+        }
+        let a1 = allocs();
+        println!(
+            "Vector::eval + OdeSystem::rhs: {} allocations in {n_eval} calls each",
+            a1 - a0
+        );
+        failed |= a1 != a0;
+        for t_end in [10.0, 20.0] {
+            let mut s2 = sv.clone();
+            s2.solver.t_end = t_end;
+            s2.solver.samples = 1001;
+            let a0 = allocs();
+            let tr = simulate(&s2).expect("simulate");
+            let a1 = allocs();
+            println!(
+                "simulate (vector model, {t_end} s): {} allocations in total for {} accepted steps, {} events",
+                a1 - a0,
+                tr.summary.steps,
+                tr.events.len()
+            );
+        }
+    }
 
     if failed {
         eprintln!("FAIL: the inner loop allocates");
