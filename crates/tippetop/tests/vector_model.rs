@@ -107,12 +107,11 @@ fn agrees_with_rigid_body_from_the_pole() {
 }
 
 /// Jellett's J is conserved for any force at P (docs/physics.md §7): to
-/// 1e-10 of C max|ω| R on nano with every schedule and two laws at the
-/// preset's rtol 1e-10. On the classical top (regularised, exact) the
-/// vector form's drift is about 2 rtol (2.3e-10 at rtol 1e-10 with
-/// ε = 1e-2 m/s, where the Euler angles give 9e-11): the 1e-10 bar is held
-/// at rtol 1e-11, and the drift must fall with the tolerance (at least 10x
-/// from rtol 1e-10 to 1e-12), which a J-violating model would not do.
+/// 1e-10 of C max|ω| R at the presets' rtol 1e-10 (the Euler-angle model's
+/// bar), on nano with every schedule and two laws and on the classical top
+/// (regularised, exact); on the classical top the drift must also fall with
+/// the tolerance (at least 10x from rtol 1e-10 to 1e-12), which a
+/// J-violating model would not do.
 #[test]
 fn jellett_conserved() {
     for (name, forcing) in nano_schedules() {

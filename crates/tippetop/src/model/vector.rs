@@ -40,8 +40,10 @@
 //!   `F − r × I⁻¹ (r × F) = g Z − ẇ₀ × r − a w × k̇`;
 //! - `Ẇ_f = F_f · v_P`, `Ẇ_a = −H · v_P`, `v_P = v + w × r` (sliding).
 //!
-//! `|k| = 1` is kept attracting by `k̇ = w × k − κ (|k|² − 1) k` with
-//! [`KAPPA`] (zero on the constraint `|k| = 1`).
+//! `k̇ = w × k` keeps `|k|` constant exactly, so `|k| = 1` drifts only by
+//! the integration error; no stabilising term is added (one was tried,
+//! `− κ (|k|² − 1) k`: at κ = 1 per time unit it cost up to 26 % more
+//! evaluations and six times the J drift, docs/physics.md §14).
 
 use std::cell::{Cell, RefCell};
 
@@ -64,14 +66,13 @@ pub const VEL: usize = 6;
 pub const WF: usize = 8;
 /// Index of the applied-force work.
 pub const WA: usize = 9;
-/// Rate \[1/time unit\] at which `|k|` is pulled back to 1.
-pub const KAPPA: f64 = 1.0;
 /// `β` of DOP853's stabilised step-size control for this model. Without
 /// the Euler angles' 1/sin θ the classical top with regularised friction is
 /// stability-bound (the slip relaxes at ≈ 3μg/ε), and pure I control
-/// (`β = 0`) then rejects half the attempts; Hairer's `β = 0.04` cuts the
-/// evaluations by 16 % at rtol 1e-8 and was as or more accurate on the
-/// work-precision runs (docs/performance.md §5).
+/// (`β = 0`) then rejects half the attempts (2 406 of 4 835 at rtol 1e-8);
+/// Hairer's `β = 0.04` damps that: 73 880 evaluations instead of 87 884
+/// (−16 %). Where the run is accuracy-bound it costs a little: +5 % on the
+/// classical exact-law run and on the nano preset (docs/physics.md §14).
 pub const DOP853_BETA: f64 = 0.04;
 
 /// Everything the right-hand side computes at one state (scaled units).
@@ -339,13 +340,6 @@ impl Vector {
         }
     }
 
-    /// `k̇` with the pull of `|k|` back to 1.
-    #[inline(always)]
-    fn k_rate(kn: &Kin) -> V3 {
-        let drift = KAPPA * (dot(kn.k, kn.k) - 1.0);
-        sub(kn.kd, scale(drift, kn.k))
-    }
-
     #[inline(always)]
     fn eval_sliding(&self, y: &[f64; DIM], kn: &Kin) -> Result<Eval, ModelError> {
         let a = self.a;
@@ -389,11 +383,10 @@ impl Vector {
         let ff = [-nf * f[0], -nf * f[1]];
         let force = [ff[0] - hw[0], ff[1] - hw[1], normal];
         let wd = add(w0, self.inv_inertia(k, cross(r, force)));
-        let kr = Self::k_rate(kn);
         let dy = [
-            kr[0],
-            kr[1],
-            kr[2],
+            kd[0],
+            kd[1],
+            kd[2],
             wd[0],
             wd[1],
             wd[2],
@@ -440,9 +433,8 @@ impl Vector {
         let force = solve3(kmat, b);
         let hw = self.applied_world(k);
         let wd = add(w0, self.inv_inertia(k, cross(r, force)));
-        let kr = Self::k_rate(kn);
         let dy = [
-            kr[0], kr[1], kr[2], wd[0], wd[1], wd[2], force[0], force[1], 0.0, 0.0,
+            kd[0], kd[1], kd[2], wd[0], wd[1], wd[2], force[0], force[1], 0.0, 0.0,
         ];
         Eval {
             dy,
