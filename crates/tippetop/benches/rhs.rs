@@ -29,7 +29,7 @@ fn state_at(sc: &Scenario, t: f64, mode: Mode) -> (Reduced, [f64; DIM]) {
         .expect("samples");
     let mut m = Reduced::new(sc);
     m.latch_force(t / m.scales.time);
-    m.mode = mode;
+    m.plane.mode = mode;
     let y = m.scale_state(&Initial {
         theta: s.theta,
         theta_dot: s.theta_dot,
@@ -104,7 +104,7 @@ fn bench_rhs_vector(c: &mut Criterion) {
         let (r, yr) = state_at(sc, t, mode);
         let mut m = Vector::new(sc);
         m.latch_force(t / m.scales.time);
-        m.mode = mode;
+        m.plane.mode = mode;
         let s = r.scales;
         let y = m.scale_state(&Initial {
             theta: yr[0],

@@ -7,13 +7,12 @@
 //! and, for the exact Coulomb law, the stick/slip switches (terminal events
 //! after which the model changes mode and the integration restarts).
 
-use std::cell::Cell;
-
 use crate::{
     ContactMode, Error, EventRecord, Initial, Method, ModelKind, Sample, Scenario, Summary,
     Trajectory,
     integrate::{self, Direction, Event, IntegrateError, OdeSystem, Options, Stepper, StopReason},
     model::{
+        OnPlane,
         reduced::{self, DIM, Mode, ModelError, OM, Reduced, Scales, TH, THD, UX, UY, W, WA, WF},
         vector::{self, Vector},
     },
@@ -58,15 +57,15 @@ fn events_for<M: ContactModel<D>, const D: usize>(m: &M) -> Vec<Event<M, D>> {
         Event {
             g: Box::new(|m: &M, _, y| m.contact_forces(y).map(|(n, _)| n).unwrap_or(f64::NAN)),
             direction: Direction::Either,
-            terminal: m.contact_mode() == ContactMode::Unilateral,
+            terminal: m.plane().contact_mode() == ContactMode::Unilateral,
         },
     ];
-    if m.is_exact() {
-        match m.mode() {
+    if m.plane().is_exact() {
+        match m.plane().mode {
             Mode::Sliding => ev.push(Event {
                 g: Box::new(|m: &M, _, y| {
                     let v = m.slip_of(y);
-                    let r = m.slip_ref().get();
+                    let r = m.plane().slip_ref.get();
                     v[0] * r[0] + v[1] * r[1]
                 }),
                 direction: Direction::Falling,
@@ -203,30 +202,15 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     fn scales(&self) -> Scales;
     /// Scaled state from the SI initial values.
     fn initial_state(&self, i: &Initial) -> [f64; D];
+    /// The friction and contact rules and the sliding/rolling state.
+    fn plane(&self) -> &OnPlane;
+    /// The same, to switch modes and set the slip hint.
+    fn plane_mut(&mut self) -> &mut OnPlane;
     /// Latch the applied force in effect at scaled time `t`.
-    fn latch_force(&mut self, t: f64);
-    /// Contact mode.
-    fn contact_mode(&self) -> ContactMode;
-    /// True for the exact stick/slip law.
-    fn is_exact(&self) -> bool;
-    /// True for the sliding-only Coulomb law, which can chatter.
-    fn can_chatter(&self) -> bool;
-    /// Friction coefficient μ.
-    fn mu(&self) -> f64;
-    /// Sliding or rolling.
-    fn mode(&self) -> Mode;
-    /// Switch between sliding and rolling.
-    fn set_mode(&mut self, mode: Mode);
-    /// Unit friction direction at exactly zero slip (exact law).
-    fn set_slip_hint(&mut self, d: [f64; 2]);
-    /// The current slip hint.
-    fn slip_hint(&self) -> [f64; 2];
-    /// Reference slip direction of the slip-zero event.
-    fn slip_ref(&self) -> &Cell<[f64; 2]>;
-    /// Set when the sliding-only law chatters.
-    fn chattering(&self) -> &Cell<bool>;
-    /// Right-hand-side evaluations so far.
-    fn evaluations(&self) -> u64;
+    fn latch_force(&mut self, t: f64) {
+        let scales = self.scales();
+        self.plane_mut().latch_force(t, &scales);
+    }
     /// Horizontal slip velocity at a state (scaled; the model's own frame).
     fn slip_of(&self, y: &[f64; D]) -> [f64; 2];
     /// The state with its velocity replaced by the rolling (zero-slip) one.
@@ -238,7 +222,7 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     fn stick_margin(&self, y: &[f64; D]) -> Option<f64> {
         self.contact_forces(y)
             .ok()
-            .map(|(n, f)| self.mu() * n.abs() - f[0].hypot(f[1]))
+            .map(|(n, f)| self.plane().stick_margin(n, f))
     }
     /// Nutation angle θ \[rad\].
     fn theta(&self, y: &[f64; D]) -> f64;
@@ -281,41 +265,11 @@ impl ContactModel<DIM> for Reduced {
     fn initial_state(&self, i: &Initial) -> [f64; DIM] {
         self.scale_state(i)
     }
-    fn latch_force(&mut self, t: f64) {
-        Reduced::latch_force(self, t)
+    fn plane(&self) -> &OnPlane {
+        &self.plane
     }
-    fn contact_mode(&self) -> ContactMode {
-        Reduced::contact_mode(self)
-    }
-    fn is_exact(&self) -> bool {
-        Reduced::is_exact(self)
-    }
-    fn can_chatter(&self) -> bool {
-        Reduced::can_chatter(self)
-    }
-    fn mu(&self) -> f64 {
-        Reduced::mu(self)
-    }
-    fn mode(&self) -> Mode {
-        self.mode
-    }
-    fn set_mode(&mut self, mode: Mode) {
-        self.mode = mode;
-    }
-    fn set_slip_hint(&mut self, d: [f64; 2]) {
-        self.slip_hint = d;
-    }
-    fn slip_hint(&self) -> [f64; 2] {
-        self.slip_hint
-    }
-    fn slip_ref(&self) -> &Cell<[f64; 2]> {
-        &self.slip_ref
-    }
-    fn chattering(&self) -> &Cell<bool> {
-        &self.chattering
-    }
-    fn evaluations(&self) -> u64 {
-        self.evaluations
+    fn plane_mut(&mut self) -> &mut OnPlane {
+        &mut self.plane
     }
     fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
         Reduced::slip_of(self, y)
@@ -382,7 +336,7 @@ impl ContactModel<DIM> for Reduced {
             work_applied: y[WA] * sc.energy(),
             hx: h[0] * sc.force(),
             hy: h[1] * sc.force(),
-            rolling: (m.mode == Mode::Rolling) as u8,
+            rolling: (m.plane.mode == Mode::Rolling) as u8,
         }
     }
     fn describe_state(&self, y: &[f64]) -> String {
@@ -418,18 +372,18 @@ fn settle_at_zero_slip<M: ContactModel<D>, const D: usize>(
     y: &[f64; D],
 ) -> ([f64; D], bool) {
     let yr = m.to_rolling(y);
-    m.set_mode(Mode::Rolling);
+    m.plane_mut().mode = Mode::Rolling;
     if let Ok((_, f)) = m.contact_forces(&yr) {
         if m.stick_margin(&yr).is_some_and(|s| s >= 0.0) {
-            m.set_slip_hint([0.0, 0.0]);
+            m.plane_mut().slip_hint = [0.0, 0.0];
             return (yr, true);
         }
         // Slide off in the direction the needed friction dictates: friction
         // keeps its direction (magnitude μN), the slip grows opposite to it.
-        m.set_slip_hint(unit([-f[0], -f[1]]));
+        m.plane_mut().slip_hint = unit([-f[0], -f[1]]);
     }
-    m.set_mode(Mode::Sliding);
-    m.slip_ref().set(m.slip_hint());
+    m.plane_mut().mode = Mode::Sliding;
+    m.plane().slip_ref.set(m.plane().slip_hint);
     (yr, false)
 }
 
@@ -594,7 +548,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
             kind: "force_switch".into(),
         });
     }
-    if m.is_exact() {
+    if m.plane().is_exact() {
         let v = m.slip_of(&y);
         if v[0].hypot(v[1]) == 0.0 {
             let (yn, stuck) = settle_at_zero_slip(&mut m, &y);
@@ -604,7 +558,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                 kind: if stuck { "stick" } else { "slip" }.into(),
             });
         } else {
-            m.slip_ref().set(unit(v));
+            m.plane().slip_ref.set(unit(v));
         }
     }
 
@@ -632,7 +586,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
         None
     };
     let mut normal_log = NormalLog::new(n_initial);
-    let mut rolling_since: Option<f64> = (m.mode() == Mode::Rolling).then_some(0.0);
+    let mut rolling_since: Option<f64> = (m.plane().mode == Mode::Rolling).then_some(0.0);
     let mut rolling_time = 0.0;
     let mut switches = 0usize;
 
@@ -646,21 +600,21 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
         let mut on_step = |s: &M, t: f64, y: &[f64; D]| {
             last_accepted = (t, *y);
             steps_seen += 1;
-            if s.can_chatter() {
+            if s.plane().can_chatter() {
                 let v = s.slip_of(y);
                 if v[0] * last_slip[0] + v[1] * last_slip[1] < 0.0 {
                     reversals += 1;
                     if reversals >= reduced::CHATTER_REVERSALS {
-                        s.chattering().set(true);
+                        s.plane().chattering.set(true);
                     }
                 }
                 last_slip = v;
             }
             visit(&mut track, s, y);
-            if s.mode() == Mode::Sliding && s.is_exact() {
+            if s.plane().mode == Mode::Sliding && s.plane().is_exact() {
                 let v = unit(s.slip_of(y));
                 if v != [0.0, 0.0] {
-                    s.slip_ref().set(v);
+                    s.plane().slip_ref.set(v);
                 }
             }
         };
@@ -708,7 +662,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                     format!("{why}; {}", m.describe_state(&ylast)),
                 ));
                 stats.steps = steps_seen;
-                stats.rhs_evals = m.evaluations();
+                stats.rhs_evals = m.plane().evaluations;
                 if ylast.len() == D {
                     let mut yl = [0.0; D];
                     yl.copy_from_slice(&ylast);
@@ -761,7 +715,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                                     t: t * tu,
                                     kind: kind.into(),
                                 });
-                                if na < 0.0 && m.contact_mode() == ContactMode::Unilateral {
+                                if na < 0.0 && m.plane().contact_mode() == ContactMode::Unilateral {
                                     error = Some(Error::runtime(
                                         t * tu,
                                         format!(
@@ -773,12 +727,12 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                                 }
                             }
                         }
-                        if m.is_exact() && m.mode() == Mode::Rolling {
+                        if m.plane().is_exact() && m.plane().mode == Mode::Rolling {
                             if let Ok((_, f)) = m.contact_forces(&y) {
                                 if m.stick_margin(&y).is_some_and(|s| s < 0.0) {
-                                    m.set_mode(Mode::Sliding);
-                                    m.set_slip_hint(unit([-f[0], -f[1]]));
-                                    m.slip_ref().set(m.slip_hint());
+                                    m.plane_mut().mode = Mode::Sliding;
+                                    m.plane_mut().slip_hint = unit([-f[0], -f[1]]);
+                                    m.plane().slip_ref.set(m.plane().slip_hint);
                                     if let Some(s0) = rolling_since.take() {
                                         rolling_time += t - s0;
                                     }
@@ -809,7 +763,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                             ));
                             break;
                         }
-                        match m.mode() {
+                        match m.plane().mode {
                             Mode::Sliding => {
                                 let (yn, stuck) = settle_at_zero_slip(&mut m, &y);
                                 y = yn;
@@ -824,11 +778,11 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                             Mode::Rolling => {
                                 let forces = m.contact_forces(&y).ok();
                                 y = m.to_rolling(&y);
-                                m.set_mode(Mode::Sliding);
+                                m.plane_mut().mode = Mode::Sliding;
                                 if let Some((_, f)) = forces {
-                                    m.set_slip_hint(unit([-f[0], -f[1]]));
+                                    m.plane_mut().slip_hint = unit([-f[0], -f[1]]);
                                 }
-                                m.slip_ref().set(m.slip_hint());
+                                m.plane().slip_ref.set(m.plane().slip_hint);
                                 if let Some(s0) = rolling_since.take() {
                                     rolling_time += t - s0;
                                 }

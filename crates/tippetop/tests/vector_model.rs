@@ -321,8 +321,8 @@ fn same_instantaneous_dynamics_as_euler_angles() {
                 let mut vec = Vector::new(&sc);
                 red.latch_force(0.0);
                 vec.latch_force(0.0);
-                red.mode = mode;
-                vec.mode = mode;
+                red.plane.mode = mode;
+                vec.plane.mode = mode;
                 let yr = red.scale_state(&init);
                 let yv = vec.scale_state(&init);
                 let (Ok(er), Ok(ev)) = (red.eval(&yr), vec.eval(&yv)) else {

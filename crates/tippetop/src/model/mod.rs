@@ -5,60 +5,161 @@ pub mod rigid;
 pub(crate) mod vec3;
 pub mod vector;
 
-use crate::{ContactMode, FrictionLaw, contact::SlidingLaw};
+use std::cell::Cell;
 
-/// The friction coefficient vector `f(v)` (`|f| <= μ`) of the models that
-/// keep the sphere on the plane, in sliding mode: the law's
-/// [`SlidingLaw::coefficient`], and for the exact law (`exact`) the slip
-/// hint at exactly zero slip and the smooth continuation through zero.
-///
-/// Exact law, sliding: the slip-zero event is located on the dense output
-/// of the step that crosses zero. Continuing the friction smoothly through
-/// the crossing (keep its direction, i.e. flip `v/|v|` once `v·d < 0`, `d`
-/// the approach direction `slip_ref`) keeps that step smooth, so the event
-/// time is as accurate as the step; the stages past zero are discarded at
-/// the event.
-/// Always inlined: it is on the right-hand sides' critical path (perf showed
-/// it as a separate call from the vector model, 12 % of a sweep).
-#[inline(always)]
-pub(crate) fn sliding_coefficient(
-    law: &FrictionLaw,
+use crate::{ContactMode, Forcing, FrictionLaw, Scenario, contact::SlidingLaw};
+use reduced::{Mode, ModelError, Scales};
+
+/// What the two models that keep the sphere on the plane ([`reduced`] and
+/// [`vector`]) hold besides their ODE state, and the friction and contact
+/// rules they share: the friction law, the contact mode, the latched
+/// applied force, sliding or rolling, and the flags the driver sets.
+#[derive(Debug, Clone)]
+pub struct OnPlane {
+    /// Friction law, ε in scaled units.
+    law: FrictionLaw,
+    /// True for the exact stick/slip law.
     exact: bool,
+    /// μ.
     mu: f64,
-    v: [f64; 2],
-    slip_hint: [f64; 2],
-    slip_ref: [f64; 2],
-) -> [f64; 2] {
-    if !exact {
-        return law.coefficient(mu, v);
-    }
-    if v[0] == 0.0 && v[1] == 0.0 {
-        return [mu * slip_hint[0], mu * slip_hint[1]];
-    }
-    let f = law.coefficient(mu, v);
-    if v[0] * slip_ref[0] + v[1] * slip_ref[1] < 0.0 {
-        [-f[0], -f[1]]
-    } else {
-        f
-    }
+    contact: ContactMode,
+    forcing: Forcing,
+    /// Latched applied force (h_x, h_y) in the precessing frame, scaled.
+    h: [f64; 2],
+    /// Sliding or rolling.
+    pub mode: Mode,
+    /// Unit direction used for μ v/|v| at exactly v = 0 (set when leaving
+    /// rolling; zero for the sliding-only law, giving no friction at v = 0).
+    pub slip_hint: [f64; 2],
+    /// Reference slip direction for the slip-zero event (updated per step).
+    pub slip_ref: Cell<[f64; 2]>,
+    /// Set by the driver when the sliding-only law chatters (see
+    /// [`ModelError::Chattering`]); the next evaluation then fails.
+    pub chattering: Cell<bool>,
+    /// Right-hand-side evaluations so far (all segments).
+    pub evaluations: u64,
 }
 
-/// The normal force `N` from the contact closure `N D(σ) = Q`, where
-/// `D(σ) = dp` for the friction that `N >= 0` gives and `dm` for `N < 0`
-/// (the friction sees `|N|`): `"paper"` contact takes `Q/dp` with its sign
-/// (no solution if `dp <= 0`); bilateral and unilateral contact take the one
-/// self-consistent branch ([`bilateral_normal`]). `Err(n)`: the Painlevé
-/// case, with `n` (0 or 2) consistent solutions.
-#[inline(always)]
-pub(crate) fn normal_force(contact: ContactMode, q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
-    match contact {
-        ContactMode::Paper => {
-            if dp <= 0.0 {
-                return Err(0);
-            }
-            Ok(q / dp)
+impl OnPlane {
+    /// The rules of `sc` in the units `scales`, sliding, no force latched.
+    pub fn new(sc: &Scenario, scales: &Scales) -> Self {
+        let law = sc.surface.law.scaled(scales.velocity());
+        OnPlane {
+            exact: law == FrictionLaw::Coulomb,
+            law,
+            mu: sc.surface.friction,
+            contact: sc.surface.contact,
+            forcing: sc.forcing.clone(),
+            h: [0.0, 0.0],
+            mode: Mode::Sliding,
+            slip_hint: [0.0, 0.0],
+            slip_ref: Cell::new([0.0, 0.0]),
+            chattering: Cell::new(false),
+            evaluations: 0,
         }
-        ContactMode::Bilateral | ContactMode::Unilateral => bilateral_normal(q, dp, dm),
+    }
+
+    /// Latch the applied force in effect at scaled time `t`.
+    pub fn latch_force(&mut self, t: f64, scales: &Scales) {
+        let (hx, hy) = self.forcing.at(t * scales.time);
+        let f = scales.force();
+        self.h = [hx / f, hy / f];
+    }
+
+    /// Latched applied force (h_x, h_y) in the precessing frame, scaled.
+    pub fn applied(&self) -> [f64; 2] {
+        self.h
+    }
+
+    /// Contact mode.
+    pub fn contact_mode(&self) -> ContactMode {
+        self.contact
+    }
+
+    /// True for the exact stick/slip law.
+    pub fn is_exact(&self) -> bool {
+        self.exact
+    }
+
+    /// True for the sliding-only Coulomb law, which can chatter.
+    pub fn can_chatter(&self) -> bool {
+        self.law == FrictionLaw::CoulombSliding
+    }
+
+    /// Friction coefficient μ.
+    pub fn mu(&self) -> f64 {
+        self.mu
+    }
+
+    /// The friction coefficient vector `f(v)` (`|f| <= μ`) while sliding:
+    /// the law's [`SlidingLaw::coefficient`], and for the exact law the slip
+    /// hint at exactly zero slip and the smooth continuation through zero.
+    ///
+    /// Exact law, sliding: the slip-zero event is located on the dense
+    /// output of the step that crosses zero. Continuing the friction
+    /// smoothly through the crossing (keep its direction, i.e. flip `v/|v|`
+    /// once `v·d < 0`, `d` the approach direction `slip_ref`) keeps that
+    /// step smooth, so the event time is as accurate as the step; the stages
+    /// past zero are discarded at the event. Always inlined: it is on the
+    /// right-hand sides' critical path (perf showed it as a separate call
+    /// from the vector model, 12 % of a sweep).
+    #[inline(always)]
+    pub(crate) fn coefficient(&self, v: [f64; 2]) -> [f64; 2] {
+        let mu = self.mu;
+        if !self.exact {
+            return self.law.coefficient(mu, v);
+        }
+        if v[0] == 0.0 && v[1] == 0.0 {
+            return [mu * self.slip_hint[0], mu * self.slip_hint[1]];
+        }
+        let f = self.law.coefficient(mu, v);
+        let d = self.slip_ref.get();
+        if v[0] * d[0] + v[1] * d[1] < 0.0 {
+            [-f[0], -f[1]]
+        } else {
+            f
+        }
+    }
+
+    /// The normal force `N` from the contact closure `N D(σ) = Q`, where
+    /// `D(σ) = dp` for the friction that `N >= 0` gives and `dm` for `N < 0`
+    /// (the friction sees `|N|`): `"paper"` contact takes `Q/dp` with its
+    /// sign (no solution if `dp <= 0`); bilateral and unilateral contact take
+    /// the one self-consistent branch ([`bilateral_normal`]). The error is
+    /// the Painlevé case at `theta()` \[rad\] (evaluated only then).
+    #[inline(always)]
+    pub(crate) fn normal(
+        &self,
+        q: f64,
+        dp: f64,
+        dm: f64,
+        theta: impl Fn() -> f64,
+    ) -> Result<f64, ModelError> {
+        let n = match self.contact {
+            ContactMode::Paper if dp <= 0.0 => Err(0),
+            ContactMode::Paper => Ok(q / dp),
+            ContactMode::Bilateral | ContactMode::Unilateral => bilateral_normal(q, dp, dm),
+        };
+        n.map_err(|solutions| ModelError::Painleve {
+            theta: theta(),
+            solutions,
+        })
+    }
+
+    /// The normal force the friction sees: `N` with its sign for the paper's
+    /// contact, `|N|` otherwise.
+    #[inline(always)]
+    pub(crate) fn friction_normal(&self, normal: f64) -> f64 {
+        match self.contact {
+            ContactMode::Paper => normal,
+            _ => normal.abs(),
+        }
+    }
+
+    /// Stick margin `μ |N| − |F_f|` (scaled force) for a normal force and a
+    /// friction force; rolling ends when it falls through zero.
+    pub fn stick_margin(&self, normal: f64, friction: [f64; 2]) -> f64 {
+        self.mu * normal.abs() - friction[0].hypot(friction[1])
     }
 }
 

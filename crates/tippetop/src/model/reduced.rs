@@ -10,10 +10,10 @@
 //! [`Mode::Rolling`] (exact Coulomb law only: slip held at zero, the
 //! friction is the constraint force, §4 of docs/physics.md).
 
-use std::cell::{Cell, RefCell};
+use std::cell::RefCell;
 
-use super::{normal_force, sliding_coefficient};
-use crate::{ContactMode, Forcing, FrictionLaw, Scenario, Top, integrate::OdeSystem};
+use super::OnPlane;
+use crate::{Scenario, Top, integrate::OdeSystem};
 
 /// Number of state components.
 pub const DIM: usize = 8;
@@ -223,28 +223,9 @@ pub struct Reduced {
     inv_ic: f64,
     /// g in scaled units.
     g: f64,
-    /// μ.
-    mu: f64,
-    /// Friction law, ε in scaled units.
-    law: FrictionLaw,
-    /// True for the exact stick/slip law.
-    exact: bool,
-    contact: ContactMode,
-    forcing: Forcing,
-    /// Latched applied force (H_x, H_y), scaled.
-    h: [f64; 2],
-    /// Current mode.
-    pub mode: Mode,
-    /// Unit direction used for μ v/|v| at exactly v = 0 (set when leaving
-    /// rolling; zero for the sliding-only law, giving no friction at v = 0).
-    pub slip_hint: [f64; 2],
-    /// Reference slip direction for the slip-zero event (updated per step).
-    pub slip_ref: Cell<[f64; 2]>,
-    /// Set by the driver when the sliding-only law chatters (see
-    /// [`ModelError::Chattering`]); the next evaluation then fails.
-    pub chattering: Cell<bool>,
-    /// Right-hand-side evaluations so far (all segments).
-    pub evaluations: u64,
+    /// Friction law, contact, applied force, sliding/rolling and the
+    /// driver's flags (shared with the vector model).
+    pub plane: OnPlane,
     /// The SI top (for observables).
     pub top: Top,
     /// g \[m/s²\].
@@ -257,9 +238,6 @@ impl Reduced {
     /// Build the scaled model of a scenario.
     pub fn new(sc: &Scenario) -> Self {
         let scales = Scales::of(sc);
-        let v = scales.velocity();
-        let law = sc.surface.law.scaled(v);
-        let exact = law == FrictionLaw::Coulomb;
         let ia = sc.top.inertia_transverse / scales.inertia();
         let ic = sc.top.inertia_axial / scales.inertia();
         Reduced {
@@ -270,53 +248,21 @@ impl Reduced {
             inv_ia: 1.0 / ia,
             inv_ic: 1.0 / ic,
             g: sc.surface.gravity * scales.time * scales.time / scales.length,
-            mu: sc.surface.friction,
-            law,
-            exact,
-            contact: sc.surface.contact,
-            forcing: sc.forcing.clone(),
-            h: [0.0, 0.0],
-            mode: Mode::Sliding,
-            slip_hint: [0.0, 0.0],
-            slip_ref: Cell::new([0.0, 0.0]),
-            chattering: Cell::new(false),
-            evaluations: 0,
+            plane: OnPlane::new(sc, &scales),
             top: sc.top,
             gravity_si: sc.surface.gravity,
             last: RefCell::new(None),
         }
     }
 
-    /// Contact mode.
-    pub fn contact_mode(&self) -> ContactMode {
-        self.contact
-    }
-
-    /// True if the friction law is the exact stick/slip law.
-    pub fn is_exact(&self) -> bool {
-        self.exact
-    }
-
-    /// True for the sliding-only Coulomb law, which can chatter.
-    pub fn can_chatter(&self) -> bool {
-        self.law == FrictionLaw::CoulombSliding
-    }
-
-    /// Friction coefficient μ.
-    pub fn mu(&self) -> f64 {
-        self.mu
-    }
-
     /// Latched applied force (H_x, H_y) in scaled units.
     pub fn applied(&self) -> [f64; 2] {
-        self.h
+        self.plane.applied()
     }
 
     /// Latch the applied force in effect at scaled time `t`.
     pub fn latch_force(&mut self, t: f64) {
-        let (hx, hy) = self.forcing.at(t * self.scales.time);
-        let f = self.scales.force();
-        self.h = [hx / f, hy / f];
+        self.plane.latch_force(t, &self.scales);
     }
 
     /// Scaled state from SI initial values.
@@ -333,23 +279,6 @@ impl Reduced {
             0.0,
             0.0,
         ]
-    }
-
-    /// Friction coefficient vector `f(v)` with `|f| <= μ` (sliding mode):
-    /// the law's [`SlidingLaw::coefficient`], plus, for the exact law, the
-    /// slip hint at exactly zero slip and the continuation through zero.
-    /// Always inlined: it is on the right-hand side's critical path, and
-    /// the call (which the compiler otherwise keeps) costs more than it.
-    #[inline(always)]
-    fn law_f(&self, v: [f64; 2]) -> [f64; 2] {
-        sliding_coefficient(
-            &self.law,
-            self.exact,
-            self.mu,
-            v,
-            self.slip_hint,
-            self.slip_ref.get(),
-        )
     }
 
     /// `θ.sin_cos()`, taken from the last `eval` when it was at the same θ
@@ -382,9 +311,10 @@ impl Reduced {
     /// Evaluate the model at a state in the current mode.
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
         let yb = bits(y);
-        let key = inputs_key(self.h, self.slip_hint, self.slip_ref.get());
+        let p = &self.plane;
+        let key = inputs_key(p.applied(), p.slip_hint, p.slip_ref.get());
         if let Some(l) = &*self.last.borrow() {
-            if same_bits(&l.y, &yb) && l.mode == self.mode && same_bits(&l.key, &key) {
+            if same_bits(&l.y, &yb) && l.mode == self.plane.mode && same_bits(&l.key, &key) {
                 return Ok(l.eval);
             }
         }
@@ -392,7 +322,7 @@ impl Reduced {
         let e = self.eval_sc(y, s, c)?;
         *self.last.borrow_mut() = Some(LastEval {
             y: yb,
-            mode: self.mode,
+            mode: self.plane.mode,
             key,
             sc: (s, c),
             eval: e,
@@ -403,7 +333,7 @@ impl Reduced {
     /// `eval` with `(s, c) = y[TH].sin_cos()` given.
     #[inline(always)]
     fn eval_sc(&self, y: &[f64; DIM], s: f64, c: f64) -> Result<Eval, ModelError> {
-        match self.mode {
+        match self.plane.mode {
             Mode::Sliding => self.eval_sliding(y, s, c),
             Mode::Rolling => Ok(self.eval_rolling(y, s, c)),
         }
@@ -421,8 +351,8 @@ impl Reduced {
         let v = [ux - h * thd, uy + s * (w - om * c + a * om)];
         // Off the critical path (independent of the friction): 1/(ia s).
         let inv_ias = inv_ia / s;
-        let f = self.law_f(v);
-        let [hx, hy] = self.h;
+        let f = self.plane.coefficient(v);
+        let [hx, hy] = self.plane.applied();
         // Gyroscopic term of A θ̈.
         let gyro = -om * (ic * w - ia * om * c) * s;
         let as_ = a * s;
@@ -430,15 +360,8 @@ impl Reduced {
         // N (1 + a s (a s − σ h f_x)/A) = Q, σ the sign of N the friction sees.
         let dp = 1.0 + as_ * (as_ - h * f[0]) * inv_ia;
         let dm = 1.0 + as_ * (as_ + h * f[0]) * inv_ia;
-        let normal =
-            normal_force(self.contact, q, dp, dm).map_err(|solutions| ModelError::Painleve {
-                theta: th,
-                solutions,
-            })?;
-        let nf = match self.contact {
-            ContactMode::Paper => normal,
-            _ => normal.abs(),
-        };
+        let normal = self.plane.normal(q, dp, dm, || th)?;
+        let nf = self.plane.friction_normal(normal);
         let ff = [-nf * f[0], -nf * f[1]];
         let fx = ff[0] - hx;
         let fy = ff[1] - hy;
@@ -487,7 +410,7 @@ impl Reduced {
             - (a - c) * thd * (ic * w - 2.0 * ia * om * c) * inv_ia
             - om * s * s * thd)
             / (1.0 + s * s * inv_ic + (a - c) * (a - c) * inv_ia);
-        let [hx, hy] = self.h;
+        let [hx, hy] = self.plane.applied();
         let ff = [fx + hx, fy + hy];
         let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
         let wd = s * fy * inv_ic;
@@ -504,7 +427,7 @@ impl Reduced {
     /// Stick margin while rolling: `μ |N| − |F_f|` (scaled force); rolling
     /// ends when it falls through zero.
     pub fn stick_margin(&self, e: &Eval) -> f64 {
-        self.mu * e.normal.abs() - e.friction[0].hypot(e.friction[1])
+        self.plane.stick_margin(e.normal, e.friction)
     }
 
     /// Jellett's J in scaled units (J / (m R³ / T)).
@@ -537,15 +460,15 @@ impl OdeSystem<DIM> for Reduced {
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {
-        self.evaluations += 1;
-        if self.chattering.get() {
+        self.plane.evaluations += 1;
+        if self.plane.chattering.get() {
             return Err(ModelError::Chattering {
                 reversals: CHATTER_REVERSALS,
             });
         }
         // One sin_cos per evaluation (the guard shares it).
         let (s, c) = y[TH].sin_cos();
-        if self.mode == Mode::Rolling && s.abs() < SIN_GUARD {
+        if self.plane.mode == Mode::Rolling && s.abs() < SIN_GUARD {
             return Err(ModelError::Singular { theta: y[TH] });
         }
         *dy = self.eval_sc(y, s, c)?.dy;
@@ -556,6 +479,7 @@ impl OdeSystem<DIM> for Reduced {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{ContactMode, FrictionLaw};
 
     #[test]
     fn nan_state_is_no_solution_in_bilateral_contact() {

@@ -45,14 +45,12 @@
 //! `− κ (|k|² − 1) k`: at κ = 1 per time unit it cost up to 26 % more
 //! evaluations and six times the J drift, docs/physics.md §14).
 
-use std::cell::{Cell, RefCell};
+use std::cell::RefCell;
 
+use super::OnPlane;
 use super::reduced::{CHATTER_REVERSALS, Mode, ModelError, Scales};
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
-use super::{normal_force, sliding_coefficient};
-use crate::{
-    ContactMode, Forcing, FrictionLaw, Initial, Sample, Scenario, Top, integrate::OdeSystem,
-};
+use crate::{Initial, Sample, Scenario, Top, integrate::OdeSystem};
 
 /// Number of state components.
 pub const DIM: usize = 10;
@@ -104,23 +102,9 @@ pub struct Vector {
     dinv: f64,
     gyro: f64,
     g: f64,
-    mu: f64,
-    law: FrictionLaw,
-    exact: bool,
-    contact: ContactMode,
-    forcing: Forcing,
-    /// Latched applied force (h_x, h_y) in the precessing frame, scaled.
-    h: [f64; 2],
-    /// Current mode.
-    pub mode: Mode,
-    /// Unit friction direction at exactly zero slip (space frame).
-    pub slip_hint: [f64; 2],
-    /// Reference slip direction of the slip-zero event (space frame).
-    pub slip_ref: Cell<[f64; 2]>,
-    /// Set by the driver when the sliding-only law chatters.
-    pub chattering: Cell<bool>,
-    /// Right-hand-side evaluations so far.
-    pub evaluations: u64,
+    /// Friction law, contact, applied force, sliding/rolling and the
+    /// driver's flags (shared with the Euler-angle model).
+    pub plane: OnPlane,
     /// The SI top.
     pub top: Top,
     /// The last evaluation made by [`Vector::eval`] and its key (state bits,
@@ -147,7 +131,6 @@ impl Vector {
     /// Build the scaled model of a scenario.
     pub fn new(sc: &Scenario) -> Self {
         let scales = Scales::of(sc);
-        let law = sc.surface.law.scaled(scales.velocity());
         let ia = sc.top.inertia_transverse / scales.inertia();
         let ic = sc.top.inertia_axial / scales.inertia();
         Vector {
@@ -159,17 +142,7 @@ impl Vector {
             dinv: 1.0 / ic - 1.0 / ia,
             gyro: (ic - ia) / ia,
             g: sc.surface.gravity * scales.time * scales.time / scales.length,
-            mu: sc.surface.friction,
-            exact: law == FrictionLaw::Coulomb,
-            law,
-            contact: sc.surface.contact,
-            forcing: sc.forcing.clone(),
-            h: [0.0, 0.0],
-            mode: Mode::Sliding,
-            slip_hint: [0.0, 0.0],
-            slip_ref: Cell::new([0.0, 0.0]),
-            chattering: Cell::new(false),
-            evaluations: 0,
+            plane: OnPlane::new(sc, &scales),
             top: sc.top,
             last: RefCell::new(None),
         }
@@ -177,34 +150,7 @@ impl Vector {
 
     /// Latch the applied force in effect at scaled time `t`.
     pub fn latch_force(&mut self, t: f64) {
-        let (hx, hy) = self.forcing.at(t * self.scales.time);
-        let f = self.scales.force();
-        self.h = [hx / f, hy / f];
-    }
-
-    /// Latched applied force (h_x, h_y) in the precessing frame, scaled.
-    pub fn applied(&self) -> [f64; 2] {
-        self.h
-    }
-
-    /// Contact mode.
-    pub fn contact_mode(&self) -> ContactMode {
-        self.contact
-    }
-
-    /// True for the exact stick/slip law.
-    pub fn is_exact(&self) -> bool {
-        self.exact
-    }
-
-    /// True for the sliding-only Coulomb law, which can chatter.
-    pub fn can_chatter(&self) -> bool {
-        self.law == FrictionLaw::CoulombSliding
-    }
-
-    /// Friction coefficient μ.
-    pub fn mu(&self) -> f64 {
-        self.mu
+        self.plane.latch_force(t, &self.scales);
     }
 
     /// C/(m R²).
@@ -278,11 +224,12 @@ impl Vector {
     /// The applied force `H` in the space frame (the force on the top is −H).
     #[inline]
     fn applied_world(&self, k: V3) -> V3 {
-        if self.h == [0.0, 0.0] {
+        let [hx, hy] = self.plane.applied();
+        if hx == 0.0 && hy == 0.0 {
             return [0.0; 3];
         }
         let (xh, yh) = Self::frame(k);
-        add(scale(self.h[0], xh), scale(self.h[1], yh))
+        add(scale(hx, xh), scale(hy, yh))
     }
 
     /// Horizontal slip velocity `v + w × r` (space frame) from the state's v.
@@ -309,13 +256,14 @@ impl Vector {
         for (k, v) in key.iter_mut().zip(y) {
             *k = v.to_bits();
         }
-        let r = self.slip_ref.get();
+        let p = &self.plane;
+        let (r, h) = (p.slip_ref.get(), p.applied());
         let inputs = [
-            self.mode as u64,
-            self.h[0].to_bits(),
-            self.h[1].to_bits(),
-            self.slip_hint[0].to_bits(),
-            self.slip_hint[1].to_bits(),
+            p.mode as u64,
+            h[0].to_bits(),
+            h[1].to_bits(),
+            p.slip_hint[0].to_bits(),
+            p.slip_hint[1].to_bits(),
             r[0].to_bits(),
             r[1].to_bits(),
         ];
@@ -334,7 +282,7 @@ impl Vector {
     #[inline(always)]
     fn eval_now(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
         let kn = self.kin(y);
-        match self.mode {
+        match self.plane.mode {
             Mode::Sliding => self.eval_sliding(y, &kn),
             Mode::Rolling => Ok(self.eval_rolling(y, &kn)),
         }
@@ -353,14 +301,7 @@ impl Vector {
         } = *kn;
         let v = [y[VEL], y[VEL + 1]];
         let vp = [v[0] + wr[0], v[1] + wr[1]];
-        let f = sliding_coefficient(
-            &self.law,
-            self.exact,
-            self.mu,
-            vp,
-            self.slip_hint,
-            self.slip_ref.get(),
-        );
+        let f = self.plane.coefficient(vp);
         let hw = self.applied_world(k);
         // Torque-free angular acceleration (k̇ ⊥ k, so I⁻¹ k̇ = k̇/A).
         let w0 = scale(-self.gyro * wk, kd);
@@ -371,15 +312,8 @@ impl Vector {
         let fu = f[0] * u[0] + f[1] * u[1];
         let dp = 1.0 + a * (u[2] - fu);
         let dm = 1.0 + a * (u[2] + fu);
-        let normal =
-            normal_force(self.contact, q, dp, dm).map_err(|solutions| ModelError::Painleve {
-                theta: Self::theta(y),
-                solutions,
-            })?;
-        let nf = match self.contact {
-            ContactMode::Paper => normal,
-            _ => normal.abs(),
-        };
+        let normal = self.plane.normal(q, dp, dm, || Self::theta(y))?;
+        let nf = self.plane.friction_normal(normal);
         let ff = [-nf * f[0], -nf * f[1]];
         let force = [ff[0] - hw[0], ff[1] - hw[1], normal];
         let wd = add(w0, self.inv_inertia(k, cross(r, force)));
@@ -447,7 +381,7 @@ impl Vector {
 
     /// Stick margin while rolling: `μ |N| − |F_f|` (scaled force).
     pub fn stick_margin(&self, e: &Eval) -> f64 {
-        self.mu * e.normal.abs() - e.friction[0].hypot(e.friction[1])
+        self.plane.stick_margin(e.normal, e.friction)
     }
 
     /// Jellett's J = −L·r in scaled units (J / (m R³ / T)).
@@ -509,9 +443,9 @@ impl Vector {
             energy: energy * sc.energy(),
             work_friction: y[WF] * sc.energy(),
             work_applied: y[WA] * sc.energy(),
-            hx: self.h[0] * sc.force(),
-            hy: self.h[1] * sc.force(),
-            rolling: (self.mode == Mode::Rolling) as u8,
+            hx: self.plane.applied()[0] * sc.force(),
+            hy: self.plane.applied()[1] * sc.force(),
+            rolling: (self.plane.mode == Mode::Rolling) as u8,
         }
     }
 
@@ -541,8 +475,8 @@ impl OdeSystem<DIM> for Vector {
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {
-        self.evaluations += 1;
-        if self.chattering.get() {
+        self.plane.evaluations += 1;
+        if self.plane.chattering.get() {
             return Err(ModelError::Chattering {
                 reversals: CHATTER_REVERSALS,
             });
@@ -562,41 +496,11 @@ impl crate::simulate::ContactModel<DIM> for Vector {
     fn initial_state(&self, i: &Initial) -> [f64; DIM] {
         self.scale_state(i)
     }
-    fn latch_force(&mut self, t: f64) {
-        Vector::latch_force(self, t)
+    fn plane(&self) -> &OnPlane {
+        &self.plane
     }
-    fn contact_mode(&self) -> ContactMode {
-        self.contact
-    }
-    fn is_exact(&self) -> bool {
-        self.exact
-    }
-    fn can_chatter(&self) -> bool {
-        Vector::can_chatter(self)
-    }
-    fn mu(&self) -> f64 {
-        self.mu
-    }
-    fn mode(&self) -> Mode {
-        self.mode
-    }
-    fn set_mode(&mut self, mode: Mode) {
-        self.mode = mode;
-    }
-    fn set_slip_hint(&mut self, d: [f64; 2]) {
-        self.slip_hint = d;
-    }
-    fn slip_hint(&self) -> [f64; 2] {
-        self.slip_hint
-    }
-    fn slip_ref(&self) -> &Cell<[f64; 2]> {
-        &self.slip_ref
-    }
-    fn chattering(&self) -> &Cell<bool> {
-        &self.chattering
-    }
-    fn evaluations(&self) -> u64 {
-        self.evaluations
+    fn plane_mut(&mut self) -> &mut OnPlane {
+        &mut self.plane
     }
     fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
         Vector::slip_of(self, y)
