@@ -46,7 +46,7 @@ pub const SWEEP_LONG_ABOUT: &str = "Run a grid of scenarios on all cores and wri
                   directories with tippetop merge. Bad input exits with code 2 and writes \
                   nothing.\n\n\
                   Speed: --set solver.model=vector runs the same physics as the default \
-                  Euler-angle model without its pole singularity, 1.4-2.4x faster on the \
+                  Euler-angle model without its pole singularity, 1.4-2.5x faster on the \
                   classical top; fewer --set solver.samples (output rows per case, which also \
                   cap the step size) make each case cheaper (docs/performance.md).";
 

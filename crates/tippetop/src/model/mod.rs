@@ -156,6 +156,19 @@ impl OnPlane {
         }
     }
 
+    /// Count a right-hand-side evaluation; fails once the driver has
+    /// flagged the sliding-only law as chattering.
+    #[inline(always)]
+    pub(crate) fn start_evaluation(&mut self) -> Result<(), ModelError> {
+        self.evaluations += 1;
+        if self.chattering.get() {
+            return Err(ModelError::Chattering {
+                reversals: reduced::CHATTER_REVERSALS,
+            });
+        }
+        Ok(())
+    }
+
     /// Stick margin `μ |N| − |F_f|` (scaled force) for a normal force and a
     /// friction force; rolling ends when it falls through zero.
     pub fn stick_margin(&self, normal: f64, friction: [f64; 2]) -> f64 {

@@ -460,12 +460,7 @@ impl OdeSystem<DIM> for Reduced {
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {
-        self.plane.evaluations += 1;
-        if self.plane.chattering.get() {
-            return Err(ModelError::Chattering {
-                reversals: CHATTER_REVERSALS,
-            });
-        }
+        self.plane.start_evaluation()?;
         // One sin_cos per evaluation (the guard shares it).
         let (s, c) = y[TH].sin_cos();
         if self.plane.mode == Mode::Rolling && s.abs() < SIN_GUARD {

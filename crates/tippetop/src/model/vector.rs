@@ -48,7 +48,7 @@
 use std::cell::RefCell;
 
 use super::OnPlane;
-use super::reduced::{CHATTER_REVERSALS, Mode, ModelError, Scales};
+use super::reduced::{Mode, ModelError, Scales};
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
 use crate::{Initial, Sample, Scenario, Top, integrate::OdeSystem};
 
@@ -284,7 +284,7 @@ impl Vector {
         let kn = self.kin(y);
         match self.plane.mode {
             Mode::Sliding => self.eval_sliding(y, &kn),
-            Mode::Rolling => Ok(self.eval_rolling(y, &kn)),
+            Mode::Rolling => Ok(self.eval_rolling(&kn)),
         }
     }
 
@@ -341,7 +341,7 @@ impl Vector {
     /// Rolling: the slip held at zero; the whole contact force from one
     /// 3×3 symmetric positive definite system.
     #[inline(always)]
-    fn eval_rolling(&self, _y: &[f64; DIM], kn: &Kin) -> Eval {
+    fn eval_rolling(&self, kn: &Kin) -> Eval {
         let a = self.a;
         let Kin {
             k,
@@ -475,12 +475,7 @@ impl OdeSystem<DIM> for Vector {
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {
-        self.plane.evaluations += 1;
-        if self.plane.chattering.get() {
-            return Err(ModelError::Chattering {
-                reversals: CHATTER_REVERSALS,
-            });
-        }
+        self.plane.start_evaluation()?;
         *dy = self.eval_now(y)?.dy;
         Ok(())
     }
