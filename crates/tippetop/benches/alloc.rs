@@ -106,6 +106,7 @@ fn main() {
             rtol: 1e-8,
             atol: 1e-8,
             beta: 0.0,
+            stability_cap: false,
         },
         max_steps: 20_000_000,
         h0: None,

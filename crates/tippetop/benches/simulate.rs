@@ -66,6 +66,7 @@ fn bare_solve(sc: &Scenario) -> [f64; DIM] {
             rtol: sc.solver.rtol,
             atol: sc.solver.rtol,
             beta: 0.0,
+            stability_cap: false,
         },
         max_steps: 20_000_000,
         h0: None,

@@ -249,6 +249,12 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     fn dop853_beta(&self) -> f64 {
         0.0
     }
+    /// Whether DOP853 caps the step at its stability limit for this model
+    /// ([`Stepper::Dop853`]'s `stability_cap`); `false` (`dop853.f`'s
+    /// step-size control) unless the model says otherwise.
+    fn dop853_stability_cap(&self) -> bool {
+        false
+    }
     /// The output row at scaled time `t`.
     fn sample(&self, t: f64, y: &[f64; D]) -> Sample;
     /// The state in SI units, for error messages.
@@ -494,6 +500,7 @@ impl RunSetup {
                     rtol: sc.solver.rtol,
                     atol: sc.solver.rtol,
                     beta: 0.0,
+                    stability_cap: false,
                 },
                 Method::Stiff => Stepper::Rosenbrock {
                     rtol: sc.solver.rtol,
@@ -534,8 +541,14 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
         tstops,
         mut opts,
     } = RunSetup::new(sc, tu);
-    if let Stepper::Dop853 { beta, .. } = &mut opts.stepper {
+    if let Stepper::Dop853 {
+        beta,
+        stability_cap,
+        ..
+    } = &mut opts.stepper
+    {
         *beta = m.dop853_beta();
+        *stability_cap = m.dop853_stability_cap();
     }
     let ns = sc.solver.samples;
 

@@ -83,9 +83,12 @@ pub(super) fn run<S: OdeSystem<N>, const N: usize>(
     let h_max = default_h_max(opts, t0, t_end);
     match opts.stepper {
         Stepper::Rk4 { h } => drive_with!(Rk4::new(h)),
-        Stepper::Dop853 { rtol, atol, beta } => {
-            drive_with!(Dop853::new(rtol, atol, beta, opts.h0, h_max))
-        }
+        Stepper::Dop853 {
+            rtol,
+            atol,
+            beta,
+            stability_cap,
+        } => drive_with!(Dop853::new(rtol, atol, beta, stability_cap, opts.h0, h_max)),
         Stepper::Rosenbrock { rtol, atol } => {
             drive_with!(Rodas4p::new(rtol, atol, opts.h0, h_max))
         }

@@ -64,14 +64,22 @@ pub const VEL: usize = 6;
 pub const WF: usize = 8;
 /// Index of the applied-force work.
 pub const WA: usize = 9;
-/// `β` of DOP853's stabilised step-size control for this model. Without
+/// DOP853's step-size control for this model
+/// ([`crate::integrate::Stepper::Dop853`]): `β` of the stabilised (PI)
+/// control and the cap of the step at the stability limit `6.1/ρ`. Without
 /// the Euler angles' 1/sin θ the classical top with regularised friction is
-/// stability-bound (the slip relaxes at ≈ 3μg/ε), and pure I control
-/// (`β = 0`) then rejects half the attempts (2 406 of 4 835 at rtol 1e-8);
-/// Hairer's `β = 0.04` damps that: 73 880 evaluations instead of 87 884
-/// (−16 %). Where the run is accuracy-bound it costs a little: +5 % on the
-/// classical exact-law run and on the nano preset (docs/physics.md §14).
+/// stability-bound (the slip relaxes at ≈ 3μg/ε), and the error-based
+/// control overshoots the limit again and again: at rtol 1e-8, 2 406 of
+/// 4 835 attempts rejected with pure I control, 1 632 with Hairer's
+/// β = 0.04, 32 with β = 0.04 and the cap (55 143 evaluations instead of
+/// 87 884 and 73 880). At rtol 1e-10 and below, where the run is partly
+/// accuracy-bound, β = 0.04 still pays (88 886 evaluations with the cap,
+/// 102 929 with the cap alone); on runs that are accuracy-bound throughout
+/// the cap never binds and β = 0.04 costs 5 % (classical exact law, nano).
+/// docs/physics.md §14.
 pub const DOP853_BETA: f64 = 0.04;
+/// See [`DOP853_BETA`].
+pub const DOP853_STABILITY_CAP: bool = true;
 
 /// Everything the right-hand side computes at one state (scaled units).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -540,6 +548,9 @@ impl crate::simulate::ContactModel<DIM> for Vector {
     }
     fn dop853_beta(&self) -> f64 {
         DOP853_BETA
+    }
+    fn dop853_stability_cap(&self) -> bool {
+        DOP853_STABILITY_CAP
     }
     fn sample(&self, t: f64, y: &[f64; DIM]) -> Sample {
         self.sample_at(t, y)
