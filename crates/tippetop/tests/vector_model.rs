@@ -287,6 +287,11 @@ fn same_instantaneous_dynamics_as_euler_angles() {
                 Mode::Sliding,
             ),
             (
+                FrictionLaw::Regularized { eps: 1e-2 },
+                ContactMode::Paper,
+                Mode::Sliding,
+            ),
+            (
                 FrictionLaw::CoulombSliding,
                 ContactMode::Bilateral,
                 Mode::Sliding,

@@ -91,6 +91,16 @@ impl OnPlane {
         self.mu
     }
 
+    /// `ε` (scaled) of the regularised law `μ v/sqrt(|v|² + ε²)`, `None`
+    /// for the other laws.
+    #[inline(always)]
+    pub(crate) fn regularized_eps(&self) -> Option<f64> {
+        match self.law {
+            FrictionLaw::Regularized { eps } => Some(eps),
+            _ => None,
+        }
+    }
+
     /// The friction coefficient vector `f(v)` (`|f| <= μ`) while sliding:
     /// the law's [`SlidingLaw::coefficient`], and for the exact law the slip
     /// hint at exactly zero slip and the smooth continuation through zero.

@@ -309,7 +309,21 @@ impl Vector {
         } = *kn;
         let v = [y[VEL], y[VEL + 1]];
         let vp = [v[0] + wr[0], v[1] + wr[1]];
-        let f = self.plane.coefficient(vp);
+        // Regularised law: `f = μ v/d`, `d = sqrt(|v|² + ε²)`. The closure
+        // `N D(σ) = Q` is solved as `N (d D(σ)) = d Q`, which needs `d` but
+        // not `μ/d`: that division runs beside the one for N instead of
+        // before it (one division less on the critical path).
+        let reg_d = self
+            .plane
+            .regularized_eps()
+            .map(|eps| (vp[0] * vp[0] + vp[1] * vp[1] + eps * eps).sqrt());
+        let f = match reg_d {
+            Some(d) => {
+                let kf = self.plane.mu() / d;
+                [kf * vp[0], kf * vp[1]]
+            }
+            None => self.plane.coefficient(vp),
+        };
         let hw = self.applied_world(k);
         // Torque-free angular acceleration (k̇ ⊥ k, so I⁻¹ k̇ = k̇/A).
         let w0 = scale(-self.gyro * wk, kd);
@@ -317,9 +331,17 @@ impl Vector {
         let u = scale(self.inv_ia, cross(e, r));
         let wkd_z = w[0] * kd[1] - w[1] * kd[0];
         let q = self.g + a * (hw[0] * u[0] + hw[1] * u[1] - dot(w0, e) - wkd_z);
-        let fu = f[0] * u[0] + f[1] * u[1];
-        let dp = 1.0 + a * (u[2] - fu);
-        let dm = 1.0 + a * (u[2] + fu);
+        let (q, dp, dm) = match reg_d {
+            Some(d) => {
+                let base = d * (1.0 + a * u[2]);
+                let t = a * self.plane.mu() * (vp[0] * u[0] + vp[1] * u[1]);
+                (d * q, base - t, base + t)
+            }
+            None => {
+                let fu = f[0] * u[0] + f[1] * u[1];
+                (q, 1.0 + a * (u[2] - fu), 1.0 + a * (u[2] + fu))
+            }
+        };
         let normal = self.plane.normal(q, dp, dm, || Self::theta(y))?;
         let nf = self.plane.friction_normal(normal);
         let ff = [-nf * f[0], -nf * f[1]];
