@@ -252,9 +252,12 @@ impl Vector {
         [-kn.wr[0], -kn.wr[1]]
     }
 
-    /// θ = atan2(|k_h|, k_Z) \[rad\].
+    /// θ = atan2(|k_h|, k_Z) \[rad\]. `|k_h|` as a plain square root, not
+    /// `hypot` (|k| ≈ 1: nothing to overflow; it underflows only for
+    /// `|k_h| < 1e-154`, θ then reads 0): the driver calls this at every
+    /// accepted step.
     pub fn theta(y: &[f64; DIM]) -> f64 {
-        y[K].hypot(y[K + 1]).atan2(y[K + 2])
+        (y[K] * y[K] + y[K + 1] * y[K + 1]).sqrt().atan2(y[K + 2])
     }
 
     /// Evaluate the model at a state in the current mode (cached: see
