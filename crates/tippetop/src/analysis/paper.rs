@@ -230,7 +230,10 @@ struct Runner<'a> {
 
 impl Runner<'_> {
     fn run(&mut self, name: &str, file: &str, sets: &[&str], rk4: bool) -> Result<usize, Error> {
-        let mut all: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        // The paper's own equations (the Euler-angle model), whatever the
+        // default model is; in the settings, so the command reproduces it.
+        let mut all: Vec<String> = vec!["solver.model=\"reduced\"".into()];
+        all.extend(sets.iter().map(|s| s.to_string()));
         if rk4 {
             all.push("solver.method=\"rk4\"".into());
             all.push("solver.steps=500".into());
@@ -250,11 +253,7 @@ impl Runner<'_> {
         }
         (self.progress)(name);
         let trajectory = simulate(&sc)?;
-        let settings = if all.is_empty() {
-            format!("scenarios/{file}")
-        } else {
-            format!("scenarios/{file} --set {}", all.join(" --set "))
-        };
+        let settings = format!("scenarios/{file} --set {}", all.join(" --set "));
         self.runs.push(Run {
             name: name.to_string(),
             settings,

@@ -122,6 +122,27 @@ pub struct Vector {
     last: RefCell<Option<([u64; DIM + 7], Eval)>>,
 }
 
+/// `(sin θ, cos θ)` for the initial axis, with `sin θ` moved by at most a
+/// few ulps so that the axis reads back as `θ` exactly
+/// (`atan2(sin θ, cos θ)` is `θ` only to rounding: 0.1 would come back as
+/// 0.09999999999999999 in the first output row). `0 <= θ <= π`.
+fn axis(theta: f64) -> (f64, f64) {
+    let (mut s, c) = theta.sin_cos();
+    for _ in 0..8 {
+        let back = s.atan2(c);
+        if back == theta || s <= 0.0 {
+            break;
+        }
+        // s > 0 here: the neighbouring doubles are one step in the bits.
+        s = f64::from_bits(if back < theta {
+            s.to_bits() + 1
+        } else {
+            s.to_bits() - 1
+        });
+    }
+    (s, c)
+}
+
 /// Kinematic quantities shared by both modes.
 struct Kin {
     k: V3,
@@ -172,7 +193,7 @@ impl Vector {
     pub fn scale_state(&self, i: &Initial) -> [f64; DIM] {
         let t = self.scales.time;
         let vu = self.scales.velocity();
-        let (s, c) = i.theta.sin_cos();
+        let (s, c) = axis(i.theta);
         let (thd, om, w) = (i.theta_dot * t, i.precession * t, i.spin * t);
         [
             s,
@@ -582,5 +603,30 @@ impl crate::simulate::ContactModel<DIM> for Vector {
     }
     fn describe_state(&self, y: &[f64]) -> String {
         self.describe(y)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The initial axis reads back as the given θ, bit for bit, and is a
+    /// unit vector to rounding, over [0, π].
+    #[test]
+    fn initial_axis_reads_back_exactly() {
+        let mut exact = 0;
+        let n = 100_000;
+        for i in 0..=n {
+            let theta = std::f64::consts::PI * i as f64 / n as f64;
+            let (s, c) = axis(theta);
+            let (s0, _) = theta.sin_cos();
+            assert!((s - s0).abs() <= 8.0 * f64::EPSILON * s0.max(f64::MIN_POSITIVE));
+            assert!((s * s + c * c - 1.0).abs() < 4.0 * f64::EPSILON);
+            exact += (s.atan2(c) == theta) as usize;
+        }
+        // Near θ = π, sin θ is tiny and atan2 resolves θ only to ulps of π.
+        assert!(exact as f64 > 0.999 * n as f64, "{exact} of {n}");
+        assert_eq!(axis(0.1).0.atan2(axis(0.1).1), 0.1);
+        assert_eq!(axis(0.0), (0.0, 1.0));
     }
 }
