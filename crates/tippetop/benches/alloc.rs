@@ -117,16 +117,19 @@ fn main() {
             g: Box::new(|_, _, y| y[TH] - std::f64::consts::FRAC_PI_2),
             direction: Direction::Rising,
             terminal: false,
+            step_to_event: false,
         },
         Event {
             g: Box::new(|_, _, y| y[THD]),
             direction: Direction::Falling,
             terminal: false,
+            step_to_event: false,
         },
         Event {
             g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
             direction: Direction::Either,
             terminal: false,
+            step_to_event: false,
         },
     ];
     let mut samples: Vec<(f64, [f64; DIM])> = Vec::with_capacity(ns);

@@ -48,16 +48,37 @@ fn events_for<M: ContactModel<D>, const D: usize>(m: &M) -> Vec<Event<M, D>> {
             g: Box::new(|m: &M, _, y| m.above_half_pi(y)),
             direction: Direction::Rising,
             terminal: false,
+            step_to_event: false,
         },
         Event {
             g: Box::new(|m: &M, _, y| m.theta_rate(y)),
             direction: Direction::Falling,
             terminal: false,
+            step_to_event: false,
         },
-        Event {
-            g: Box::new(|m: &M, _, y| m.contact_forces(y).map(|(n, _)| n).unwrap_or(f64::NAN)),
-            direction: Direction::Either,
-            terminal: m.plane().contact_mode() == ContactMode::Unilateral,
+        {
+            // Bilateral contact, sliding: N = 0 ends the segment, where the
+            // driver flips the latched branch; watched only in the direction
+            // that leaves the latched sign (a restart a rounding error short
+            // of the zero must not fire again).
+            let plane = m.plane();
+            let (direction, terminal) = match (plane.latches_normal(), plane.normal_branch) {
+                (true, Some(true)) => (Direction::Falling, true),
+                (true, Some(false)) => (Direction::Rising, true),
+                _ => (
+                    Direction::Either,
+                    plane.contact_mode() == ContactMode::Unilateral,
+                ),
+            };
+            Event {
+                g: Box::new(|m: &M, _, y| m.contact_forces(y).map(|(n, _)| n).unwrap_or(f64::NAN)),
+                direction,
+                terminal,
+                // Latched: smooth through N = 0, so the restart state can
+                // come from a step (the error of 275 restarts from the
+                // interpolant raised the nano J drift to 1.05e-10).
+                step_to_event: terminal && plane.latches_normal(),
+            }
         },
     ];
     if m.plane().is_exact() {
@@ -70,11 +91,13 @@ fn events_for<M: ContactModel<D>, const D: usize>(m: &M) -> Vec<Event<M, D>> {
                 }),
                 direction: Direction::Falling,
                 terminal: true,
+                step_to_event: false,
             }),
             Mode::Rolling => ev.push(Event {
                 g: Box::new(|m: &M, _, y| m.stick_margin(y).unwrap_or(f64::NAN)),
                 direction: Direction::Falling,
                 terminal: true,
+                step_to_event: false,
             }),
         }
     }
@@ -605,6 +628,14 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
 
     loop {
         let seg_end = tstops.iter().copied().find(|&ts| ts > t).unwrap_or(t_end);
+        if !m.plane().latches_normal() {
+            m.plane_mut().normal_branch = None;
+        } else if m.plane().normal_branch.is_none() {
+            // The self-consistent branch at the segment's start.
+            if let Ok((n, _)) = m.contact_forces(&y) {
+                m.plane_mut().normal_branch = Some(n >= 0.0);
+            }
+        }
         let events = events_for(&m);
         let next = samples.len();
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
@@ -720,6 +751,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                         // no event can see: record the crossing at the switch.
                         let n_before = m.contact_forces(&y).map(|(n, _)| n).ok();
                         m.latch_force(t);
+                        m.plane_mut().normal_branch = None;
                         let n_after = m.contact_forces(&y).map(|(n, _)| n).ok();
                         if let (Some(nb), Some(na)) = (n_before, n_after) {
                             if (nb < 0.0) != (na < 0.0) {
@@ -757,6 +789,11 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                             }
                         }
                     }
+                    StopReason::Terminal(EV_NORMAL) if m.plane().latches_normal() => {
+                        // N = 0 (bilateral): continue on the other branch.
+                        let b = m.plane().normal_branch;
+                        m.plane_mut().normal_branch = b.map(|pos| !pos);
+                    }
                     StopReason::Terminal(EV_NORMAL) => {
                         error = Some(Error::runtime(
                             t * tu,
@@ -768,6 +805,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                         break;
                     }
                     StopReason::Terminal(EV_SWITCH) => {
+                        m.plane_mut().normal_branch = None;
                         switches += 1;
                         if switches > MAX_SWITCHES {
                             error = Some(Error::runtime(

@@ -33,6 +33,7 @@ fn ev<S, const N: usize>(
         g: Box::new(g),
         direction,
         terminal,
+        step_to_event: false,
     }
 }
 

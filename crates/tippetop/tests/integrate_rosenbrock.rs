@@ -311,6 +311,7 @@ fn rosenbrock_events() {
         g: Box::new(|_: &Osc, _: f64, y: &[f64; 2]| y[0]),
         direction: Direction::Either,
         terminal: false,
+        step_to_event: false,
     }];
     let out = solve(
         &mut Osc,
@@ -345,6 +346,7 @@ fn rosenbrock_events() {
         g: Box::new(|_: &Osc, _: f64, y: &[f64; 2]| y[0]),
         direction: Direction::Rising,
         terminal: true,
+        step_to_event: false,
     }];
     let mut last = (0.0, [0.0; 2]);
     let out = solve(

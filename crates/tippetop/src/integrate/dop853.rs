@@ -346,6 +346,52 @@ impl<const N: usize> Engine<N> for Dop853<N> {
         Ok(())
     }
 
+    fn state_at<S: OdeSystem<N>>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        out: &mut [f64; N],
+        stats: &mut Stats,
+    ) -> Result<(), Fail<S::Error>> {
+        if t == self.t1 || t == self.t0 {
+            *out = if t == self.t1 { self.y1 } else { self.y0 };
+            return Ok(());
+        }
+        // The method's step from (t0, y0) with h = t − t0; own stage
+        // buffer, so the accepted step's interpolant stays valid.
+        let hs = t - self.t0;
+        let y = self.y0;
+        let mut k = [[0.0; N]; STAGES];
+        k[0] = self.k[0];
+        let mut yt = [0.0; N];
+        macro_rules! stage {
+            ($s:literal; $($j:literal)*) => {{
+                let acc = combine!(A[$s], k; $($j)*);
+                for n in 0..N {
+                    yt[n] = y[n] + hs * acc[n];
+                }
+                let ts = if C[$s] == 1.0 { t } else { self.t0 + C[$s] * hs };
+                eval(sys, ts, &yt, &mut k[$s], stats)?;
+            }};
+        }
+        stage!(1; 0);
+        stage!(2; 0 1);
+        stage!(3; 0 1 2);
+        stage!(4; 0 1 2 3);
+        stage!(5; 0 1 2 3 4);
+        stage!(6; 0 1 2 3 4 5);
+        stage!(7; 0 1 2 3 4 5 6);
+        stage!(8; 0 1 2 3 4 5 6 7);
+        stage!(9; 0 1 2 3 4 5 6 7 8);
+        stage!(10; 0 1 2 3 4 5 6 7 8 9);
+        stage!(11; 0 1 2 3 4 5 6 7 8 9 10);
+        let incr = combine!(A[STAGES], k; 0 1 2 3 4 5 6 7 8 9 10 11);
+        for n in 0..N {
+            out[n] = y[n] + hs * incr[n];
+        }
+        Ok(())
+    }
+
     fn dense(&self, t: f64, out: &mut [f64; N]) {
         debug_assert!(self.dense_ready);
         if t == self.t1 {

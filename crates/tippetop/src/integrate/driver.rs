@@ -231,7 +231,18 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
             }
             if let Some(k) = terminal {
                 let (tr, i) = crossings[k];
-                eng.dense(tr, &mut ybuf);
+                if events[i].step_to_event {
+                    // The restart state as accurate as a step, not only as
+                    // the interpolant (errors there add up over many events).
+                    if let Err(f) = eng.state_at(sys, tr, &mut ybuf, &mut stats) {
+                        return Err(convert(f, eng.y()));
+                    }
+                    if let Some(last) = fired.last_mut() {
+                        last.y = ybuf;
+                    }
+                } else {
+                    eng.dense(tr, &mut ybuf);
+                }
                 on_step(sys, tr, &ybuf);
                 return Ok(Outcome {
                     t: tr,

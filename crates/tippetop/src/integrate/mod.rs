@@ -169,6 +169,13 @@ pub struct Event<S, const N: usize> {
     pub direction: Direction,
     /// Stop the integration at the first crossing.
     pub terminal: bool,
+    /// For a terminal event: the state at the event is computed by a step
+    /// of the method from the last step's start to the event (DOP853:
+    /// order 8) instead of the interpolant (order 7). Only where the
+    /// right-hand side is smooth at the event: a kink continued through the
+    /// event is (the branch of `μ|N|` latched at `N = 0`); the zero of `v/|v|`
+    /// at zero slip is not (the stages next to it see `v/|v|` turn).
+    pub step_to_event: bool,
 }
 
 /// An event that fired.
@@ -449,6 +456,20 @@ pub(crate) trait Engine<const N: usize> {
     /// Interpolated state at `t` in `[t_prev, t]` (exact at both ends);
     /// `prepare_dense` must have been called for this step.
     fn dense(&self, t: f64, out: &mut [f64; N]);
+    /// The state at `t` in `[t_prev, t]` for a restart at a terminal event:
+    /// by default the dense output; DOP853 takes a step of its method from
+    /// `t_prev` to `t` instead (order 8 rather than the interpolant's 7).
+    fn state_at<S: OdeSystem<N>>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        out: &mut [f64; N],
+        stats: &mut Stats,
+    ) -> Result<(), Fail<S::Error>> {
+        self.prepare_dense(sys, stats)?;
+        self.dense(t, out);
+        Ok(())
+    }
 }
 
 /// Integrate `sys` from `(t0, y0)` to `t_end`.

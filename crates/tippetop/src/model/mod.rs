@@ -33,6 +33,17 @@ pub struct OnPlane {
     pub slip_hint: [f64; 2],
     /// Reference slip direction for the slip-zero event (updated per step).
     pub slip_ref: Cell<[f64; 2]>,
+    /// Latched branch of the bilateral normal-force closure while sliding:
+    /// `Some(true)` solves `N D(+) = Q` and the friction sees `+N`,
+    /// `Some(false)` solves `N D(−) = Q` and it sees `−N`, whatever the sign
+    /// of `N`; `None` takes the self-consistent branch at every evaluation
+    /// ([`bilateral_normal`]) and the friction sees `|N|`. The driver
+    /// latches the consistent branch at the start of each segment and makes
+    /// `N = 0` a terminal event where it flips it, so that no step straddles
+    /// the kink of `μ|N|` (docs/physics.md §4). Falls back to the
+    /// consistent rule unless both `D(±) > 0`, so Painlevé states are still
+    /// detected.
+    pub normal_branch: Option<bool>,
     /// Set by the driver when the sliding-only law chatters (see
     /// [`ModelError::Chattering`]); the next evaluation then fails.
     pub chattering: Cell<bool>,
@@ -54,6 +65,7 @@ impl OnPlane {
             mode: Mode::Sliding,
             slip_hint: [0.0, 0.0],
             slip_ref: Cell::new([0.0, 0.0]),
+            normal_branch: None,
             chattering: Cell::new(false),
             evaluations: 0,
         }
@@ -79,6 +91,12 @@ impl OnPlane {
     /// True for the exact stick/slip law.
     pub fn is_exact(&self) -> bool {
         self.exact
+    }
+
+    /// True where the driver latches the normal-force branch
+    /// ([`OnPlane::normal_branch`]): bilateral contact, sliding.
+    pub fn latches_normal(&self) -> bool {
+        self.contact == ContactMode::Bilateral && self.mode == Mode::Sliding
     }
 
     /// True for the sliding-only Coulomb law, which can chatter.
@@ -148,7 +166,15 @@ impl OnPlane {
         let n = match self.contact {
             ContactMode::Paper if dp <= 0.0 => Err(0),
             ContactMode::Paper => Ok(q / dp),
-            ContactMode::Bilateral | ContactMode::Unilateral => bilateral_normal(q, dp, dm),
+            ContactMode::Bilateral => match self.normal_branch {
+                // Both denominators positive: no Painlevé case, both
+                // quotients have the sign of q; continue the latched one.
+                Some(pos) if dp > 0.0 && dm > 0.0 && dp < f64::INFINITY && dm < f64::INFINITY => {
+                    Ok(q / if pos { dp } else { dm })
+                }
+                _ => bilateral_normal(q, dp, dm),
+            },
+            ContactMode::Unilateral => bilateral_normal(q, dp, dm),
         };
         n.map_err(|solutions| ModelError::Painleve {
             theta: theta(),
@@ -160,8 +186,11 @@ impl OnPlane {
     /// contact, `|N|` otherwise.
     #[inline(always)]
     pub(crate) fn friction_normal(&self, normal: f64) -> f64 {
-        match self.contact {
-            ContactMode::Paper => normal,
+        match (self.contact, self.normal_branch) {
+            (ContactMode::Paper, _) => normal,
+            // Latched: the branch's sign, continued through N = 0.
+            (ContactMode::Bilateral, Some(true)) => normal,
+            (ContactMode::Bilateral, Some(false)) => -normal,
             _ => normal.abs(),
         }
     }

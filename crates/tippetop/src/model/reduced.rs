@@ -175,6 +175,8 @@ struct LastEval {
     y: [u64; DIM],
     /// Mode, latched force, slip hint and slip reference at the evaluation.
     mode: Mode,
+    /// Latched normal-force branch.
+    branch: Option<bool>,
     key: [u64; 6],
     /// sin θ, cos θ.
     sc: (f64, f64),
@@ -314,7 +316,11 @@ impl Reduced {
         let p = &self.plane;
         let key = inputs_key(p.applied(), p.slip_hint, p.slip_ref.get());
         if let Some(l) = &*self.last.borrow() {
-            if same_bits(&l.y, &yb) && l.mode == self.plane.mode && same_bits(&l.key, &key) {
+            if same_bits(&l.y, &yb)
+                && l.mode == self.plane.mode
+                && l.branch == p.normal_branch
+                && same_bits(&l.key, &key)
+            {
                 return Ok(l.eval);
             }
         }
@@ -323,6 +329,7 @@ impl Reduced {
         *self.last.borrow_mut() = Some(LastEval {
             y: yb,
             mode: self.plane.mode,
+            branch: p.normal_branch,
             key,
             sc: (s, c),
             eval: e,

@@ -909,6 +909,7 @@ fn events_for(m: &Rigid) -> Vec<Event<Rigid, DIM>> {
             g: Box::new(|m, _, y| -m.kin(y).k[2]),
             direction: Direction::Rising,
             terminal: false,
+            step_to_event: false,
         },
         // θ̇ ∝ −(n × k)_Z falls through 0 at a local maximum of θ.
         Event {
@@ -918,6 +919,7 @@ fn events_for(m: &Rigid) -> Vec<Event<Rigid, DIM>> {
             }),
             direction: Direction::Falling,
             terminal: false,
+            step_to_event: false,
         },
     ];
     match (m.phase, m.contact) {
@@ -926,6 +928,7 @@ fn events_for(m: &Rigid) -> Vec<Event<Rigid, DIM>> {
                 g: Box::new(|m, t, y| m.touchdown_function(t, y)),
                 direction: Direction::Falling,
                 terminal: true,
+                step_to_event: false,
             });
             // Guard: a touchdown the first event missed (gap back below 0
             // within the flight's first step) is caught at a penetration of
@@ -934,17 +937,20 @@ fn events_for(m: &Rigid) -> Vec<Event<Rigid, DIM>> {
                 g: Box::new(|m, _, y| m.gap(y) + PENETRATION_GUARD),
                 direction: Direction::Falling,
                 terminal: true,
+                step_to_event: false,
             });
         }
         (Phase::Contact, ContactMode::Unilateral) => ev.push(Event {
             g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
             direction: Direction::Falling,
             terminal: true,
+            step_to_event: false,
         }),
         (Phase::Contact, _) => ev.push(Event {
             g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
             direction: Direction::Either,
             terminal: false,
+            step_to_event: false,
         }),
     }
     if m.phase == Phase::Contact && m.exact {
@@ -956,11 +962,13 @@ fn events_for(m: &Rigid) -> Vec<Event<Rigid, DIM>> {
                 g: Box::new(|m, _, y| dot(m.slip_of(y), m.slip_ref.get())),
                 direction: Direction::Falling,
                 terminal: true,
+                step_to_event: false,
             }),
             Mode::Rolling => ev.push(Event {
                 g: Box::new(|m, _, y| m.eval(y).map(|e| m.stick_margin(&e)).unwrap_or(f64::NAN)),
                 direction: Direction::Falling,
                 terminal: true,
+                step_to_event: false,
             }),
         }
     }

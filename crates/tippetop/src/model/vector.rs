@@ -119,7 +119,7 @@ pub struct Vector {
     /// mode and every input), so the driver's repeated evaluations at an
     /// accepted step (N event, energy, samples) are computed once. The key
     /// is compared bit for bit: the result is what a fresh evaluation gives.
-    last: RefCell<Option<([u64; DIM + 7], Eval)>>,
+    last: RefCell<Option<([u64; DIM + 8], Eval)>>,
 }
 
 /// `(sin θ, cos θ)` for the initial axis, with `sin θ` moved by at most a
@@ -284,7 +284,7 @@ impl Vector {
     /// Evaluate the model at a state in the current mode (cached: see
     /// the `last` field).
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
-        let mut key = [0u64; DIM + 7];
+        let mut key = [0u64; DIM + 8];
         for (k, v) in key.iter_mut().zip(y) {
             *k = v.to_bits();
         }
@@ -298,6 +298,11 @@ impl Vector {
             p.slip_hint[1].to_bits(),
             r[0].to_bits(),
             r[1].to_bits(),
+            match p.normal_branch {
+                None => 0,
+                Some(false) => 1,
+                Some(true) => 2,
+            },
         ];
         key[DIM..].copy_from_slice(&inputs);
         if let Some((k, e)) = &*self.last.borrow() {
