@@ -70,11 +70,12 @@ pub enum Command {
     after_help = "Examples:\n  \
                   tippetop run --preset nano --out out/nano\n  \
                   tippetop run --preset classical --set solver.t_end=20 --no-plot --out out/long\n  \
-                  tippetop run --preset classical --set solver.model=vector --no-plot --out out/fast\n  \
+                  tippetop run --preset classical --set solver.model=reduced --no-plot --out out/paper\n  \
                   tippetop run scenarios/my-top.toml --out out/mine\n\n\
-                  Models (solver.model): \"reduced\" (default) the paper's Euler-angle equations; \"vector\" the\n\
-                  same physics without Euler angles: no singularity at theta = 0 or pi, 1.1-2.5x faster\n\
-                  (the choice for sweeps); \"rigid\" full 3D body with flight and impacts (contact = \"unilateral\")."
+                  Models (solver.model): \"vector\" (default) the physics of the paper's equations written\n\
+                  without Euler angles: no singularity at theta = 0 or pi, 1.1-3x faster; \"reduced\" the\n\
+                  paper's Euler-angle equations themselves (what reproduce runs; theta must stay in (0, pi));\n\
+                  \"rigid\" full 3D body with flight and impacts (contact = \"unilateral\")."
 )]
 pub struct RunArgs {
     /// Scenario file (TOML).

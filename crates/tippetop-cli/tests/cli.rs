@@ -52,12 +52,12 @@ fn help_has_description_and_example() {
         .stdout(predicate::str::contains("--extended"))
         .stdout(predicate::str::contains("--out"));
     // The long help of sweep and merge (their variants' one-line doc
-    // comments used to hide it): what the files hold, and the fast model.
+    // comments used to hide it): what the files hold, and the models.
     tippetop()
         .args(["sweep", "--help"])
         .assert()
         .stdout(predicate::str::contains("rhs_evaluations, status"))
-        .stdout(predicate::str::contains("solver.model=vector"));
+        .stdout(predicate::str::contains("solver.model=reduced"));
     tippetop()
         .args(["merge", "--help"])
         .assert()
@@ -442,7 +442,10 @@ fn every_bad_input_class_is_one_line_exit_2_nothing_written() {
             &["--set", "force.0.hx=1", "--set", "force.0.start=-1"],
             "force.0.start: ",
         ),
-        (&["--set", "initial.theta=0"], "initial.theta: "),
+        (
+            &["--set", "solver.model=reduced", "--set", "initial.theta=0"],
+            "initial.theta: ",
+        ),
         (&["--set", "initial.theta=3.2"], "initial.theta: "),
         (
             &["--set", "surface.friction_law=bogus"],

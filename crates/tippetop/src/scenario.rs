@@ -342,7 +342,7 @@ const FORCE_KEYS: Keys = &[
 const INITIAL_KEYS: Keys = &[
     (
         "theta",
-        "0 < theta < pi [rad]; 0 <= theta <= pi with model = \"rigid\"",
+        "0 < theta < pi [rad]; 0 <= theta <= pi with model = \"vector\" (the default) or \"rigid\"",
     ),
     ("theta_dot", "a finite number [rad/s]"),
     ("precession", "a finite number [rad/s]"),

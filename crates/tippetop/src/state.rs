@@ -54,7 +54,7 @@ impl Initial {
             return Err(Error::invalid(
                 "initial.theta",
                 format!("{} is outside the reduced model's range", self.theta),
-                "0 < theta < pi [rad]; use model = \"rigid\" for theta = 0 or pi".into(),
+                "0 < theta < pi [rad]; use model = \"vector\" (the default) or \"rigid\" for theta = 0 or pi".into(),
             ));
         }
         if !reduced && !(0.0..=std::f64::consts::PI).contains(&self.theta) {
@@ -114,7 +114,9 @@ pub struct SolverSettings {
 }
 
 impl SolverSettings {
-    /// Defaults: adaptive, rtol 1e-10, 500 steps, 1001 samples, reduced model.
+    /// Defaults: adaptive, rtol 1e-10, 500 steps, 1001 samples, the vector
+    /// model (the Euler-angle physics without the pole; `reduced`, the
+    /// paper's own form, is what `reproduce` runs).
     pub fn new(t_end: f64) -> Self {
         SolverSettings {
             method: Method::Adaptive,
@@ -122,7 +124,7 @@ impl SolverSettings {
             steps: 500,
             rtol: 1e-10,
             samples: 1001,
-            model: ModelKind::Reduced,
+            model: ModelKind::Vector,
         }
     }
 

@@ -132,7 +132,7 @@ impl std::fmt::Display for ModelError {
         match self {
             ModelError::Singular { theta } => write!(
                 f,
-                "theta = {theta:e} rad reached the pole of the Euler angles (|sin theta| < {SIN_GUARD:e}): the reduced model divides by sin theta there; use model = \"rigid\""
+                "theta = {theta:e} rad reached the pole of the Euler angles (|sin theta| < {SIN_GUARD:e}): the reduced model divides by sin theta there; use model = \"vector\" (the default) or \"rigid\""
             ),
             ModelError::Chattering { reversals } => write!(
                 f,

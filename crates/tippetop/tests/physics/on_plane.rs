@@ -1,12 +1,20 @@
-//! Physics validation of the reduced model: invariants, closed forms,
-//! convergence orders. Every tolerance is justified next to its assertion.
+// Included by tests/physics_reduced.rs and tests/physics_vector.rs, each with its own `MODEL`.
+//
+// Physics validation of the on-plane models: invariants, closed forms,
+// convergence orders. Every tolerance is justified next to its assertion.
 
-mod common;
 
 use common::nano_schedules;
 use tippetop::{
-    ContactMode, ForceWindow, Forcing, FrictionLaw, Method, Scenario, Trajectory, simulate,
-};
+    ContactMode, ForceWindow, Forcing, FrictionLaw, Method, Scenario, Trajectory, };
+
+
+/// `tippetop::simulate` with this test crate's model (`MODEL`).
+fn simulate(sc: &Scenario) -> Result<Trajectory, tippetop::Error> {
+    let mut sc = sc.clone();
+    sc.solver.model = MODEL;
+    tippetop::simulate(&sc)
+}
 
 fn run(sc: &Scenario) -> Trajectory {
     let tr = simulate(sc).expect("valid scenario");

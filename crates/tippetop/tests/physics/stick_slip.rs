@@ -1,8 +1,17 @@
-//! Exact (set-valued) Coulomb friction: closed forms for sliding → rolling,
-//! rolling conserves energy, the stick limit, cost, invariants across switches.
+// Included by tests/stick_slip_reduced.rs and tests/stick_slip_vector.rs, each with its own `MODEL`.
+//
+// Exact (set-valued) Coulomb friction: closed forms for sliding → rolling,
+// rolling conserves energy, the stick limit, cost, invariants across switches.
 
-mod common;
-use tippetop::{ForceWindow, Forcing, FrictionLaw, Scenario, Trajectory, simulate};
+use tippetop::{ForceWindow, Forcing, FrictionLaw, Scenario, Trajectory, };
+
+
+/// `tippetop::simulate` with this test crate's model (`MODEL`).
+fn simulate(sc: &Scenario) -> Result<Trajectory, tippetop::Error> {
+    let mut sc = sc.clone();
+    sc.solver.model = MODEL;
+    tippetop::simulate(&sc)
+}
 
 fn run(sc: &Scenario) -> Trajectory {
     let tr = simulate(sc).expect("valid scenario");

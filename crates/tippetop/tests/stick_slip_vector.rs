@@ -1,0 +1,11 @@
+//! Exact (set-valued) Coulomb friction: closed forms for sliding → rolling,
+//! rolling conserves energy, the stick limit, cost, invariants across switches.
+//!
+//! These tests run the vector-form (`vector`) model; the same tests run the other on-plane model
+//! from the sibling file (the body is `physics/stick_slip.rs`).
+
+mod common;
+
+const MODEL: tippetop::ModelKind = tippetop::ModelKind::Vector;
+
+include!("physics/stick_slip.rs");
