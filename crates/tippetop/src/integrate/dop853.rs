@@ -126,6 +126,46 @@ impl<const N: usize> Dop853<N> {
     }
 }
 
+/// Stages 1–11 of the method for the step from `(t, y)` to
+/// `t_new = t + hs` into `k[1..12]` (`k[0] = f(t, y)` given); returns the
+/// 12th stage's state `ŷ` (at `t_new`). Shared by the step and by
+/// [`Engine::state_at`]; always inlined (the step's hot loop).
+#[inline(always)]
+fn method_stages<S: OdeSystem<N>, const N: usize>(
+    sys: &mut S,
+    t: f64,
+    y: &[f64; N],
+    hs: f64,
+    t_new: f64,
+    k: &mut [[f64; N]; 16],
+    stats: &mut Stats,
+) -> Result<[f64; N], Fail<S::Error>> {
+    let mut yt = [0.0; N];
+    // Stage s from the stages j < s (row s of A).
+    macro_rules! stage {
+        ($s:literal; $($j:literal)*) => {{
+            let acc = combine!(A[$s], k; $($j)*);
+            for n in 0..N {
+                yt[n] = y[n] + hs * acc[n];
+            }
+            let ts = if C[$s] == 1.0 { t_new } else { t + C[$s] * hs };
+            eval(sys, ts, &yt, &mut k[$s], stats)?;
+        }};
+    }
+    stage!(1; 0);
+    stage!(2; 0 1);
+    stage!(3; 0 1 2);
+    stage!(4; 0 1 2 3);
+    stage!(5; 0 1 2 3 4);
+    stage!(6; 0 1 2 3 4 5);
+    stage!(7; 0 1 2 3 4 5 6);
+    stage!(8; 0 1 2 3 4 5 6 7);
+    stage!(9; 0 1 2 3 4 5 6 7 8);
+    stage!(10; 0 1 2 3 4 5 6 7 8 9);
+    stage!(11; 0 1 2 3 4 5 6 7 8 9 10);
+    Ok(yt)
+}
+
 impl<const N: usize> Dop853<N> {
     /// `STIFF_HLAMB / ρ`, `ρ = |f(y₁) − f(ŷ)| / |y₁ − ŷ|` from the accepted
     /// step's end `y₁` and the 12th stage's state `ŷ` (both at `t + h`;
@@ -203,29 +243,7 @@ impl<const N: usize> Engine<N> for Dop853<N> {
             } else {
                 (self.h, t + self.h, false)
             };
-            let mut yt = [0.0; N];
-            // Stage s from the stages j < s (row s of A).
-            macro_rules! stage {
-                ($s:literal; $($j:literal)*) => {{
-                    let acc = combine!(A[$s], self.k; $($j)*);
-                    for n in 0..N {
-                        yt[n] = y[n] + hs * acc[n];
-                    }
-                    let ts = if C[$s] == 1.0 { t_new } else { t + C[$s] * hs };
-                    eval(sys, ts, &yt, &mut self.k[$s], stats)?;
-                }};
-            }
-            stage!(1; 0);
-            stage!(2; 0 1);
-            stage!(3; 0 1 2);
-            stage!(4; 0 1 2 3);
-            stage!(5; 0 1 2 3 4);
-            stage!(6; 0 1 2 3 4 5);
-            stage!(7; 0 1 2 3 4 5 6);
-            stage!(8; 0 1 2 3 4 5 6 7);
-            stage!(9; 0 1 2 3 4 5 6 7 8);
-            stage!(10; 0 1 2 3 4 5 6 7 8 9);
-            stage!(11; 0 1 2 3 4 5 6 7 8 9 10);
+            let yt = method_stages(sys, t, &y, hs, t_new, &mut self.k, stats)?;
             const _: () = assert!(STAGES == 12);
             // 8th-order solution (weights b_j = A[12][j]).
             let incr = combine!(A[STAGES], self.k; 0 1 2 3 4 5 6 7 8 9 10 11);
@@ -361,30 +379,9 @@ impl<const N: usize> Engine<N> for Dop853<N> {
         // buffer, so the accepted step's interpolant stays valid.
         let hs = t - self.t0;
         let y = self.y0;
-        let mut k = [[0.0; N]; STAGES];
+        let mut k = [[0.0; N]; 16];
         k[0] = self.k[0];
-        let mut yt = [0.0; N];
-        macro_rules! stage {
-            ($s:literal; $($j:literal)*) => {{
-                let acc = combine!(A[$s], k; $($j)*);
-                for n in 0..N {
-                    yt[n] = y[n] + hs * acc[n];
-                }
-                let ts = if C[$s] == 1.0 { t } else { self.t0 + C[$s] * hs };
-                eval(sys, ts, &yt, &mut k[$s], stats)?;
-            }};
-        }
-        stage!(1; 0);
-        stage!(2; 0 1);
-        stage!(3; 0 1 2);
-        stage!(4; 0 1 2 3);
-        stage!(5; 0 1 2 3 4);
-        stage!(6; 0 1 2 3 4 5);
-        stage!(7; 0 1 2 3 4 5 6);
-        stage!(8; 0 1 2 3 4 5 6 7);
-        stage!(9; 0 1 2 3 4 5 6 7 8);
-        stage!(10; 0 1 2 3 4 5 6 7 8 9);
-        stage!(11; 0 1 2 3 4 5 6 7 8 9 10);
+        method_stages(sys, self.t0, &y, hs, t, &mut k, stats)?;
         let incr = combine!(A[STAGES], k; 0 1 2 3 4 5 6 7 8 9 10 11);
         for n in 0..N {
             out[n] = y[n] + hs * incr[n];
