@@ -3,11 +3,8 @@
 // Physics validation of the on-plane models: invariants, closed forms,
 // convergence orders. Every tolerance is justified next to its assertion.
 
-
 use common::nano_schedules;
-use tippetop::{
-    ContactMode, ForceWindow, Forcing, FrictionLaw, Method, Scenario, Trajectory, };
-
+use tippetop::{ContactMode, ForceWindow, Forcing, FrictionLaw, Method, Scenario, Trajectory};
 
 /// `tippetop::simulate` with this test crate's model (`MODEL`).
 fn simulate(sc: &Scenario) -> Result<Trajectory, tippetop::Error> {
@@ -16,10 +13,9 @@ fn simulate(sc: &Scenario) -> Result<Trajectory, tippetop::Error> {
     tippetop::simulate(&sc)
 }
 
+/// Run `sc` with `MODEL`; panics if it fails.
 fn run(sc: &Scenario) -> Trajectory {
-    let tr = simulate(sc).expect("valid scenario");
-    assert!(tr.error.is_none(), "run failed: {:?}", tr.error);
-    tr
+    common::run_as(sc, MODEL)
 }
 
 fn classical_smooth(eps: f64) -> Scenario {

@@ -3,20 +3,11 @@
 // Exact (set-valued) Coulomb friction: closed forms for sliding → rolling,
 // rolling conserves energy, the stick limit, cost, invariants across switches.
 
-use tippetop::{ForceWindow, Forcing, FrictionLaw, Scenario, Trajectory, };
+use tippetop::{ForceWindow, Forcing, FrictionLaw, Scenario, Trajectory};
 
-
-/// `tippetop::simulate` with this test crate's model (`MODEL`).
-fn simulate(sc: &Scenario) -> Result<Trajectory, tippetop::Error> {
-    let mut sc = sc.clone();
-    sc.solver.model = MODEL;
-    tippetop::simulate(&sc)
-}
-
+/// Run `sc` with this test crate's model (`MODEL`); panics if it fails.
 fn run(sc: &Scenario) -> Trajectory {
-    let tr = simulate(sc).expect("valid scenario");
-    assert!(tr.error.is_none(), "run failed: {:?}", tr.error);
-    tr
+    common::run_as(sc, MODEL)
 }
 
 use common::uniform_sphere as sphere;
