@@ -37,7 +37,7 @@ pub struct OnPlane {
     /// `Some(true)` solves `N D(+) = Q` and the friction sees `+N`,
     /// `Some(false)` solves `N D(−) = Q` and it sees `−N`, whatever the sign
     /// of `N`; `None` takes the self-consistent branch at every evaluation
-    /// ([`bilateral_normal`]) and the friction sees `|N|`. The driver
+    /// (`bilateral_normal`) and the friction sees `|N|`. The driver
     /// latches the consistent branch at the start of each segment and makes
     /// `N = 0` a terminal event where it flips it, so that no step straddles
     /// the kink of `μ|N|` (docs/physics.md §4). Falls back to the
