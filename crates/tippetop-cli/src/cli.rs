@@ -73,7 +73,7 @@ pub enum Command {
                   tippetop run --preset classical --set solver.model=reduced --no-plot --out out/paper\n  \
                   tippetop run scenarios/my-top.toml --out out/mine\n\n\
                   Models (solver.model): \"vector\" (default) the physics of the paper's equations written\n\
-                  without Euler angles: no singularity at theta = 0 or pi, 1.1-3x faster; \"reduced\" the\n\
+                  without Euler angles: no singularity at theta = 0 or pi, 1.3-3.6x faster; \"reduced\" the\n\
                   paper's Euler-angle equations themselves (what reproduce runs; theta must stay in (0, pi));\n\
                   \"rigid\" full 3D body with flight and impacts (contact = \"unilateral\")."
 )]

@@ -45,7 +45,7 @@ pub const SWEEP_LONG_ABOUT: &str = "Run a grid of scenarios on all cores and wri
                   differ by at most one; N at most the number of cases); join the shards' \
                   directories with tippetop merge. Bad input exits with code 2 and writes \
                   nothing.\n\n\
-                  Speed: the default model (vector) is 1.1-3x faster than the paper's \
+                  Speed: the default model (vector) is 1.3-3.6x faster than the paper's \
                   Euler-angle equations (--set solver.model=reduced); fewer --set \
                   solver.samples (output rows per case, which also cap the step size) make \
                   each case cheaper (docs/performance.md).";

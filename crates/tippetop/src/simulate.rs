@@ -75,8 +75,9 @@ fn events_for<M: ContactModel<D>, const D: usize>(m: &M) -> Vec<Event<M, D>> {
                 direction,
                 terminal,
                 // Latched: smooth through N = 0, so the restart state can
-                // come from a step (the error of 275 restarts from the
-                // interpolant raised the nano J drift to 1.05e-10).
+                // come from a step (restarting from the interpolant raised
+                // the J drift of reproduce's nano run without gravity to
+                // 1.05e-10; docs/physics.md §4).
                 step_to_event: terminal && plane.latches_normal(),
             }
         },

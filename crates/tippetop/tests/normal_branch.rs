@@ -28,11 +28,11 @@ fn max_theta_diff(a: &Trajectory, b: &Trajectory) -> f64 {
 /// 1e-13 give the same θ(t) to 1e-10 rad over the whole run, and each
 /// model at the preset's rtol 1e-10 is within 1e-7 rad of it. With the
 /// kink inside steps (friction `μ|N|` evaluated on the consistent branch at
-/// every stage, restarts from the interpolant) the two references differed
-/// by 7.9e-9 rad and the rtol-1e-10 runs by 8.1e-7 (Euler angles) and
-/// 1.3e-6 rad (vector form): the error of a step across a kink is O(h²),
-/// not O(h⁹), whatever the tolerance. The same events (275 sign changes of
-/// N) are found in both models.
+/// every stage, no stop at N = 0) the two references differed by 7.9e-9 rad
+/// and the rtol-1e-10 runs by 8.1e-7 (Euler angles) and 1.3e-6 rad (vector
+/// form): a step across a kink loses the method's order, whatever the
+/// tolerance. The same events (275 sign changes of N) are found in both
+/// models.
 #[test]
 fn nano_converges_through_the_normal_force_sign_changes() {
     let ref_r = nano(ModelKind::Reduced, 1e-13);
@@ -60,8 +60,9 @@ fn nano_converges_through_the_normal_force_sign_changes() {
 /// No step straddles a kink: with the branch latched DOP853 rejects few
 /// attempts (measured: 10 % with the Euler angles, whose 1/sin θ adds its
 /// own; 0.4 % in vector form). Evaluating `μ|N|` on the consistent branch
-/// at every stage rejected 54 % and 55 %: every crossing cost a cascade of
-/// rejections, the error of a step across a kink falling only like h².
+/// at every stage rejected 35 % and 36 % of the attempts: every crossing
+/// cost a cascade of rejections, in which the error estimate of a step
+/// across the kink fell only in proportion to h.
 #[test]
 fn no_step_straddles_a_normal_force_kink() {
     for (model, bound) in [(ModelKind::Reduced, 0.2), (ModelKind::Vector, 0.02)] {

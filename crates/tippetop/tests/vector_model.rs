@@ -187,7 +187,7 @@ fn energy_conserved_and_balanced() {
 /// The regularised classical top (ε = 1e-3 m/s, slip relaxing at
 /// ≈ 2 950 s⁻¹) holds DOP853 at its stability limit; with the stability cap
 /// (`vector::DOP853_STABILITY_CAP`) under 2 % of the attempts are rejected
-/// (measured: 32 of 4 317); without it 27 % were (1 632 of 6 010), and the
+/// (measured: 32 of 4 317); without it 27 % were (1 647 of 6 027), and the
 /// step count stays near the limit `10 s · 2 950 s⁻¹ / 6.1` ≈ 4 800.
 #[test]
 fn stability_limited_run_without_rejection_cascades() {

@@ -547,7 +547,7 @@ impl Sweep {
         // splits the range into a few runs that each thread then walks
         // sequentially, and with case costs that vary across the grid one
         // thread sat idle while the other finished its run: 1.72 of 2 CPUs
-        // busy on a vector-model sweep of 8 000 cases (perf stat), 1.97
+        // busy on a vector-model sweep of 8 000 cases (perf stat), 1.89–1.97
         // with it; the cost of a job per case is negligible against a run
         // (docs/performance.md).
         Ok(pool.install(|| {

@@ -152,8 +152,11 @@ impl OnPlane {
     /// The normal force `N` from the contact closure `N D(σ) = Q`, where
     /// `D(σ) = dp` for the friction that `N >= 0` gives and `dm` for `N < 0`
     /// (the friction sees `|N|`): `"paper"` contact takes `Q/dp` with its
-    /// sign (no solution if `dp <= 0`); bilateral and unilateral contact take
-    /// the one self-consistent branch ([`bilateral_normal`]). The error is
+    /// sign (no solution if `dp <= 0`); unilateral contact, and bilateral
+    /// contact with no branch latched, take the one self-consistent branch
+    /// ([`bilateral_normal`]); bilateral contact with a latched branch
+    /// ([`OnPlane::normal_branch`]) takes that branch's quotient while both
+    /// `dp` and `dm` are positive. The error is
     /// the Painlevé case at `theta()` \[rad\] (evaluated only then).
     #[inline(always)]
     pub(crate) fn normal(
@@ -183,7 +186,8 @@ impl OnPlane {
     }
 
     /// The normal force the friction sees: `N` with its sign for the paper's
-    /// contact, `|N|` otherwise.
+    /// contact, `σN` for bilateral contact with the branch `σ` latched
+    /// ([`OnPlane::normal_branch`]), `|N|` otherwise.
     #[inline(always)]
     pub(crate) fn friction_normal(&self, normal: f64) -> f64 {
         match (self.contact, self.normal_branch) {
