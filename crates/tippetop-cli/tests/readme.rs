@@ -1,0 +1,260 @@
+//! The README is part of the interface: its "every key explained" scenario
+//! must run as written and name every key the validator accepts, its
+//! `trajectory.csv` table must list every column, and its example commands
+//! must run.
+
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+
+fn tippetop() -> Command {
+    Command::cargo_bin("tippetop").unwrap()
+}
+
+fn readme() -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../README.md");
+    fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The code blocks of `text` fenced with ```` ```LANG ````, in order.
+fn blocks(text: &str, lang: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    // (language of the open block, its text)
+    let mut cur: Option<(String, String)> = None;
+    for line in text.lines() {
+        let l = line.trim_end();
+        match &mut cur {
+            None => {
+                if let Some(tag) = l.strip_prefix("```") {
+                    cur = Some((tag.trim().to_string(), String::new()));
+                }
+            }
+            Some((tag, b)) => {
+                if l == "```" {
+                    if tag == lang {
+                        out.push(std::mem::take(b));
+                    }
+                    cur = None;
+                } else {
+                    b.push_str(line);
+                    b.push('\n');
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The scenario block of the README (the one that starts with `preset =`).
+fn every_key_block() -> String {
+    let all = blocks(&readme(), "toml");
+    let found: Vec<_> = all
+        .into_iter()
+        .filter(|b| b.contains("[solver]") && b.contains("[top]"))
+        .collect();
+    assert_eq!(found.len(), 1, "expected one full scenario block in README");
+    found[0].clone()
+}
+
+/// The valid keys of `table` as the validator lists them in its
+/// unknown-key error (an independent source: the README is not consulted).
+fn valid_keys(table: &str) -> Vec<String> {
+    let key = if table == "force" {
+        "force.0.no_such_key=1".to_string()
+    } else {
+        format!("{table}.no_such_key=1")
+    };
+    let out = tippetop()
+        .args(["run", "--preset", "nano", "--set", &key, "--out"])
+        .arg(std::env::temp_dir().join("tippetop-readme-never-written"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    let list = err
+        .split("valid keys: ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no key list in {err:?}"));
+    list.trim_end()
+        .trim_end_matches(')')
+        .split(", ")
+        .map(str::to_string)
+        .collect()
+}
+
+fn valid_tables() -> Vec<String> {
+    let out = tippetop()
+        .args([
+            "run",
+            "--preset",
+            "nano",
+            "--set",
+            "no_such_table.x=1",
+            "--out",
+        ])
+        .arg(std::env::temp_dir().join("tippetop-readme-never-written"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    let list = err
+        .split("valid tables: ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no table list in {err:?}"));
+    list.trim_end()
+        .trim_end_matches(')')
+        .split(", ")
+        .map(str::to_string)
+        .collect()
+}
+
+/// `(table, key)` for every `key = ...` line of the block, also commented
+/// ones (`# key = ...`: keys that the example cannot set together with the
+/// others, such as `friction_eps` with the default friction law).
+fn keys_in_block(block: &str) -> BTreeSet<(String, String)> {
+    let mut table = String::new();
+    let mut keys = BTreeSet::new();
+    for line in block.lines() {
+        let l = line.split('#').next().unwrap().trim();
+        if let Some(t) = l.strip_prefix("[[").and_then(|t| t.strip_suffix("]]")) {
+            table = t.to_string();
+        } else if let Some(t) = l.strip_prefix('[').and_then(|t| t.strip_suffix(']')) {
+            table = t.to_string();
+        } else {
+            let l = line.trim().trim_start_matches('#').trim_start();
+            if let Some((k, _)) = l.split_once('=') {
+                let k = k.trim();
+                if !k.is_empty() && k.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+                    keys.insert((table.clone(), k.to_string()));
+                }
+            }
+        }
+    }
+    keys
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = tempfile::Builder::new()
+        .prefix(&format!("tippetop-readme-{name}-"))
+        .tempdir()
+        .unwrap()
+        .keep();
+    d
+}
+
+#[test]
+fn every_key_scenario_runs_as_written() {
+    let dir = tmp("every-key");
+    let file = dir.join("every-key.toml");
+    fs::write(&file, every_key_block()).unwrap();
+    let out = dir.join("out");
+    let o = tippetop()
+        .args(["run", "--no-plot", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "README scenario failed: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let summary = fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("\"status\": \"ok\""), "{summary}");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn every_key_scenario_names_every_valid_key() {
+    let documented = keys_in_block(&every_key_block());
+    assert!(documented.contains(&(String::new(), "preset".to_string())));
+    for table in valid_tables() {
+        for key in valid_keys(&table) {
+            assert!(
+                documented.contains(&(table.clone(), key.clone())),
+                "README's scenario block does not explain {table}.{key}"
+            );
+        }
+    }
+}
+
+#[test]
+fn readme_lists_every_trajectory_column_with_a_unit() {
+    let text = readme();
+    let heading = "The columns of `trajectory.csv`";
+    let text = &text[text.find(heading).expect("README lacks the column table")..];
+    for col in tippetop::trajectory::COLUMNS {
+        // A row of the column table: "| `col` | unit | meaning |", or a
+        // row shared by several columns ("| `ux`, `uy` | m/s | ...").
+        let row = text.lines().find(|l| {
+            l.starts_with("| `")
+                && l.split('|')
+                    .nth(1)
+                    .is_some_and(|c| c.split(',').any(|n| n.trim() == format!("`{col}`")))
+        });
+        let row = row.unwrap_or_else(|| panic!("README has no table row for column {col}"));
+        let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+        assert!(cells.len() >= 4, "{row}");
+        assert!(!cells[2].is_empty(), "no unit for {col}: {row}");
+        assert!(cells[3].len() > 3, "no meaning for {col}: {row}");
+    }
+}
+
+/// Every `cargo run --release -- ARGS` line of the README's shell blocks runs
+/// with the built binary (exit 0), `--out` redirected to a temporary
+/// directory.
+#[test]
+fn readme_commands_run() {
+    let text = readme();
+    let mut commands = Vec::new();
+    for b in blocks(&text, "") {
+        let joined = b.replace("\\\n", " ");
+        for line in joined.lines() {
+            if let Some(rest) = line.trim().strip_prefix("cargo run --release -- ") {
+                let args: Vec<String> = rest
+                    .split('#')
+                    .next()
+                    .unwrap()
+                    .split_whitespace()
+                    .map(|a| a.replace('"', ""))
+                    .collect();
+                commands.push(args);
+            }
+        }
+    }
+    assert!(commands.len() >= 6, "found only {commands:?}");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let base = tmp("commands");
+    for (i, args) in commands.iter().enumerate() {
+        let mut args = args.clone();
+        let out = base.join(format!("c{i}"));
+        match args.iter().position(|a| a == "--out") {
+            Some(p) => args[p + 1] = out.display().to_string(),
+            None if args[0] != "stability" => {
+                args.push("--out".into());
+                args.push(out.display().to_string());
+            }
+            None => {}
+        }
+        // Plots are exercised elsewhere; here they would only cost time.
+        if args[0] == "run" && !args.iter().any(|a| a == "--no-plot") {
+            args.push("--no-plot".into());
+        }
+        let o = tippetop()
+            .current_dir(&root)
+            .args(&args)
+            .arg("--quiet")
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "README command `tippetop {}` failed ({:?}): {}",
+            args.join(" "),
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    let _ = fs::remove_dir_all(&base);
+}
