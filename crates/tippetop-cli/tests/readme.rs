@@ -136,12 +136,11 @@ fn keys_in_block(block: &str) -> BTreeSet<(String, String)> {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = tempfile::Builder::new()
+    tempfile::Builder::new()
         .prefix(&format!("tippetop-readme-{name}-"))
         .tempdir()
         .unwrap()
-        .keep();
-    d
+        .keep()
 }
 
 #[test]
