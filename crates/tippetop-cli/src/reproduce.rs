@@ -3,13 +3,13 @@
 //! `figNN.svg` and `figNN.csv` (first column t in seconds, one column per
 //! curve), plus `report.md` (each claim beside what we measured, with a
 //! verdict) and `claims.json`. The physics and the verdicts are computed by
-//! `tippetop::analysis::paper`; this module only writes them.
+//! the `tippetop-paper` crate; this module only writes them.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use tippetop::analysis::paper::{self, Figure, Options, Reproduction};
+use tippetop_paper::{self as paper, Figure, Options, Reproduction};
 
 use crate::ReproduceArgs;
 use crate::output::{write_bytes_atomic, write_json_pretty, write_series_csv};

@@ -11,7 +11,9 @@
 //! - `bare_solve`: the regularised classical run through `integrate::solve`
 //!   alone (same options, no samples, no events, no diagnostics), to measure
 //!   what the driver's diagnostics and events cost;
-//! - `tippetop::analysis::paper::reproduce` as a whole.
+//!
+//! The paper's reproduction as a whole is benchmarked in the
+//! `tippetop-paper` crate (`cargo bench -p tippetop-paper`).
 //!
 //! `cargo bench -p tippetop --bench simulate`
 
@@ -21,7 +23,6 @@ use std::time::Duration;
 use criterion::{Criterion, criterion_group, criterion_main};
 use tippetop::{
     FrictionLaw, Method, ModelKind, Scenario,
-    analysis::paper::{self, Options as PaperOptions},
     integrate::{self, Options, Stepper},
     model::reduced::{DIM, Reduced},
     simulate,
@@ -139,15 +140,5 @@ fn bench_runs(c: &mut Criterion) {
     g.finish();
 }
 
-fn bench_reproduce(c: &mut Criterion) {
-    let mut g = c.benchmark_group("reproduce");
-    g.sample_size(10);
-    g.measurement_time(Duration::from_secs(20));
-    g.bench_function("paper_reproduce", |b| {
-        b.iter(|| paper::reproduce(PaperOptions::default(), &mut |_| {}).expect("reproduce"))
-    });
-    g.finish();
-}
-
-criterion_group!(benches, bench_runs, bench_reproduce);
+criterion_group!(benches, bench_runs);
 criterion_main!(benches);

@@ -4,6 +4,5 @@
 
 pub mod asymptotics;
 pub mod friction;
-pub mod paper;
 pub mod stability;
 pub mod sweep;

@@ -2,7 +2,7 @@
 //! figure and claim is produced, the verdicts are consistent with the data.
 
 use tippetop::Scenario;
-use tippetop::analysis::paper::{self, Options, SCENARIOS, Verdict};
+use tippetop_paper::{self as paper, Options, SCENARIOS, Verdict};
 
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-14 * a.abs().max(b.abs())
@@ -112,5 +112,26 @@ fn verdicts_follow_the_physics() {
                 r.trajectory.summary.jellett_max_rel_drift
             );
         }
+    }
+}
+
+/// The table of runs: unique names, and each run's settings string is a
+/// command line that loads exactly the scenario the run used (so a reader
+/// can rerun any curve of the report).
+#[test]
+fn run_table_settings_reproduce_each_run() {
+    let specs = tippetop_paper::runs::specs();
+    let mut names: Vec<&str> = specs.iter().map(|s| s.name.as_str()).collect();
+    names.sort_unstable();
+    names.dedup();
+    assert_eq!(names.len(), specs.len(), "duplicate run names");
+    for spec in &specs {
+        let (sc, settings) = tippetop_paper::runs::load(spec, Options::default()).unwrap();
+        let mut parts = settings.split(" --set ");
+        let file = parts.next().unwrap().strip_prefix("scenarios/").unwrap();
+        let sets: Vec<String> = parts.map(str::to_string).collect();
+        let text = tippetop_paper::runs::scenario_text(file).unwrap();
+        let again = Scenario::load(None, Some(text), &sets).unwrap();
+        assert_eq!(again, sc, "{}: {settings}", spec.name);
     }
 }
