@@ -18,6 +18,7 @@ pub mod error;
 pub mod forcing;
 pub mod integrate;
 pub mod model;
+pub mod numeric;
 pub mod observe;
 pub mod scenario;
 pub mod simulate;

@@ -1,4 +1,4 @@
-//! Analyses built on runs: the paper's claims, the friction-law (ε) study,
+//! Analyses built on runs: the friction-law (ε) study,
 //! stability of the steady motions (App. B), the asymptotic laws while
 //! lying (App. C), and parallel sweeps.
 

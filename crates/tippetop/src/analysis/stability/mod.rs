@@ -1,0 +1,701 @@
+//! Stability of the steady motions (the paper's App. B), by exact numerical
+//! linearisation in coordinates that are regular at the poles.
+//!
+//! # Method
+//!
+//! **Model.** The reduced Euler-angle model divides by sin θ, so it cannot be
+//! linearised at θ = 0 or π. Here the same physics (docs/physics.md §2–§5) is
+//! written for the symmetry axis `k` directly: state
+//! `x = (ξ, η, n_1, n_2, n_3, u_1, u_2)`, where `n` is the angular velocity and
+//! `u` the horizontal centre-of-mass velocity (components in a frame turning
+//! about the vertical `Z` at a chosen rate `Ω_f`), and `(ξ, η)` is a chart of
+//! the unit sphere centred on the steady axis `k*`:
+//! `k = (k* + ξ e_1 + η e_2)/|k* + ξ e_1 + η e_2|`, with `e_1 = ∂k/∂θ`,
+//! `e_2 = Z × x`. The chart is regular at every `k*`, poles included. The
+//! equations are Euler's about the centre of mass,
+//! `I ṅ = r × F_P − (C − A)(k·n)(n × k)`, `r = a k − R Z`, Newton's
+//! `m u̇ = F_P − m g Z`, with the normal force solved from the contact
+//! constraint `u_z = −a k̇_z` together with `ṅ` (as in §4), and a **smooth**
+//! friction law (Coulomb is not differentiable at zero slip):
+//! regularised `μ N v/√(|v|² + ε²)` or viscous `μ N v/ε`. Both have the same
+//! linearisation at zero slip (`μ N/ε` per unit slip), so at the steady
+//! motions below (all with zero slip) they give the same eigenvalues; ε is
+//! the user's choice ([`Options::eps`]). The model is checked against the
+//! reduced model's right-hand side away from the poles (tests).
+//!
+//! **Jacobian.** Exact to rounding: forward-mode automatic differentiation
+//! (dual numbers) through the right-hand side, in units `R`, `m`,
+//! `1/rate` (rate = the largest of |n*|, |Ω*|, √(g/R)), then converted to 1/s.
+//!
+//! **Steady motions with H = 0** (derived in the physics-doc section):
+//! - sleeping upright (θ = 0) and inverted (θ = π), `n = ω k`, `u = 0`: a
+//!   true equilibrium for every ω;
+//! - relative equilibria at `θ* ∈ (0, π)` with θ̇ = 0 and zero slip: with a
+//!   smooth law, steady ⇒ no friction ⇒ zero slip and `u = 0`, which forces
+//!   `ω* = Ω* (cos θ* − a/R)` (n parallel to OP) and
+//!   `Ω*² [(A − C) cos θ* + C a/R] = m g a`.
+//!
+//! Steady motions come in families, and Jellett's `J` is conserved, so the
+//! Jacobian always has structural zero eigenvalues: one for the family (its
+//! left null vector is `∇J`) and, at `θ* ∈ (0, π)` in the frame turning with
+//! `Ω*`, one for the rotation about `Z`. These are removed exactly: the
+//! eigenvalues reported are those of `M` restricted to `{∇J·δx = 0}` and
+//! taken modulo the rotation generator. What remains decides.
+//!
+//! **Verdict.** With `ρ` the largest |λ| and `tol = tol_rel ρ`
+//! ([`Options::tol_rel`], default 1e-10): stable if every Re λ < −tol,
+//! unstable if some Re λ > tol, marginal otherwise (e.g. frictionless: a
+//! conservative system has at best purely imaginary eigenvalues).
+//!
+//! **H ≠ 0.** Nothing is steady (ω changes at the rate `R sin θ F_y/C`).
+//! The frozen-spin analysis holds ω, the applied force and `u` fixed and
+//! linearises the reduced model's θ equation about its quasi-equilibrium
+//! `θ̈(θ_q, 0) = 0`, in two variants: Ω frozen (the assumption of the
+//! paper's B1–B4) and Ω from Jellett's J (`Ω = (J − C ω (R cos θ − a))/(A R
+//! sin²θ)`, which keeps the gyroscopic coupling). Both are labelled
+//! "frozen-spin (quasi-static), not a true equilibrium".
+//!
+//! # Layout
+//!
+//! - [`axis_model`]: the model that is linearised (generic over the number
+//!   type, for dual-number Jacobians from [`crate::numeric::dual`]);
+//! - [`linearisation`]: the Jacobian at a steady motion, the structural zeros
+//!   removed, eigenvalues ([`crate::numeric::eigen`]) and verdict; the
+//!   closed forms of the steady motions;
+//! - [`frozen`]: the frozen-spin analysis for H ≠ 0;
+//! - this module: [`analyse`], which finds the steady motions of a scenario
+//!   and sets each of the paper's B1–B4 beside the full linearisation.
+
+pub mod axis_model;
+pub mod frozen;
+pub mod linearisation;
+
+use serde::Serialize;
+
+pub use crate::numeric::eigen::eigenvalues;
+pub use axis_model::{AxisDerivatives, RDIM, SmoothLaw, axis_model_derivatives};
+pub use frozen::{FrozenInput, FrozenSpin, FrozenVariant, frozen_spin};
+pub use linearisation::{
+    Eig, Linearisation, Physics, Verdict, jellett, linearise, relative_equilibrium_precession_sq,
+    relative_equilibrium_spin, sleeping_threshold, verdict_of,
+};
+
+use crate::{Error, Scenario, simulate};
+
+/// Options of [`analyse`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Smooth friction law for the linearisation.
+    pub law: SmoothLaw,
+    /// ε \[m/s\]. `None`: the scenario's ε if its law is regularised or
+    /// viscous, else `1e-3 R max(|ω0|, √(g/R))`.
+    pub eps: Option<f64>,
+    /// Spin about the vertical at the poles \[rad/s\]. `None`: the spin that
+    /// has the scenario's initial Jellett J (upright `J/(C(R − a))`,
+    /// inverted `J/(C(R + a))`).
+    pub spin: Option<f64>,
+    /// Relative tolerance of the verdicts (`tol = tol_rel max|λ|`).
+    pub tol_rel: f64,
+    /// Run the scenario to find the late-time state.
+    pub run: bool,
+    /// Fraction of the run (at its end) that defines the late-time state.
+    pub late_fraction: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            law: SmoothLaw::Regularized,
+            eps: None,
+            spin: None,
+            tol_rel: 1e-10,
+            run: true,
+            late_fraction: 0.25,
+        }
+    }
+}
+
+/// One steady motion (H = 0) with its linearisation.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SteadyMotion {
+    /// Short name ("upright", "inverted", "relative equilibrium at θ = π/2", ...).
+    pub name: String,
+    /// How the motion was chosen.
+    pub how: String,
+    /// With the scenario's μ and the smooth law.
+    pub with_friction: Linearisation,
+    /// The same motion with μ = 0.
+    pub frictionless: Linearisation,
+}
+
+/// The late-time state of the scenario's run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LateState {
+    /// Window start \[s\].
+    pub t_from: f64,
+    /// Window end \[s\].
+    pub t_to: f64,
+    /// Mean θ \[rad\].
+    pub theta_mean: f64,
+    /// Half peak-to-peak of θ \[rad\].
+    pub theta_amplitude: f64,
+    /// Mean Ω \[rad/s\].
+    pub precession_mean: f64,
+    /// Mean ω \[rad/s\].
+    pub spin_mean: f64,
+    /// ω at the end \[rad/s\].
+    pub spin_final: f64,
+    /// Mean (u_x, u_y) \[m/s\].
+    pub u_mean: [f64; 2],
+    /// Mean J \[kg m³/s\].
+    pub jellett: f64,
+    /// "upright", "inverted", "lying" or "intermediate".
+    pub class: String,
+    /// The run's status ("ok" or the error).
+    pub status: String,
+}
+
+/// One frozen-spin analysis with its place.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FrozenCase {
+    /// Where ("near θ = 0", "late-time state", ...).
+    pub name: String,
+    /// The analysis.
+    pub result: FrozenSpin,
+}
+
+/// The paper's B1–B4 against the full analysis.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PaperCheck {
+    /// "B1" … "B4".
+    pub id: String,
+    /// The configuration.
+    pub configuration: String,
+    /// What the paper's equation predicts here, with numbers.
+    pub paper: String,
+    /// What the full analysis gives.
+    pub full: String,
+    /// "yes", "no", "partly" or "n/a".
+    pub agree: String,
+    /// What App. B dropped.
+    pub dropped: String,
+}
+
+/// Everything [`analyse`] finds.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StabilityReport {
+    /// Smooth law used.
+    pub law: SmoothLaw,
+    /// ε \[m/s\].
+    pub eps: f64,
+    /// Relative tolerance of the verdicts.
+    pub tol_rel: f64,
+    /// μ.
+    pub mu: f64,
+    /// g \[m/s²\].
+    pub gravity: f64,
+    /// Jellett's J of the initial state \[kg m³/s\].
+    pub jellett: f64,
+    /// Largest applied force |H| of the schedule \[N\].
+    pub applied_max: f64,
+    /// Sleeping-top threshold `2 √(A m g a)/C` \[rad/s\].
+    pub sleeping_threshold: f64,
+    /// Steady motions (H = 0).
+    pub steady: Vec<SteadyMotion>,
+    /// Late-time state of the run, if run.
+    pub late: Option<LateState>,
+    /// Frozen-spin analyses (only if the scenario applies a force).
+    pub frozen: Vec<FrozenCase>,
+    /// B1–B4.
+    pub paper: Vec<PaperCheck>,
+}
+
+fn late_state(sc: &Scenario, frac: f64) -> Result<LateState, Error> {
+    let tr = simulate(sc)?;
+    let t_to = tr.samples.last().map(|s| s.t).unwrap_or(0.0);
+    let t_from = t_to * (1.0 - frac);
+    let w: Vec<&crate::Sample> = tr.samples.iter().filter(|s| s.t >= t_from).collect();
+    let n = w.len().max(1) as f64;
+    let mean = |f: &dyn Fn(&crate::Sample) -> f64| w.iter().map(|s| f(s)).sum::<f64>() / n;
+    let th_mean = mean(&|s| s.theta);
+    let th_max = w.iter().map(|s| s.theta).fold(f64::NEG_INFINITY, f64::max);
+    let th_min = w.iter().map(|s| s.theta).fold(f64::INFINITY, f64::min);
+    let pi = std::f64::consts::PI;
+    let class = if th_mean < 0.15 {
+        "upright"
+    } else if th_mean > pi - 0.15 {
+        "inverted"
+    } else if (th_mean - pi / 2.0).abs() < 0.3 {
+        "lying"
+    } else {
+        "intermediate"
+    };
+    Ok(LateState {
+        t_from,
+        t_to,
+        theta_mean: th_mean,
+        theta_amplitude: 0.5 * (th_max - th_min),
+        precession_mean: mean(&|s| s.precession),
+        spin_mean: mean(&|s| s.spin),
+        spin_final: w.last().map(|s| s.spin).unwrap_or(f64::NAN),
+        u_mean: [mean(&|s| s.ux), mean(&|s| s.uy)],
+        jellett: mean(&|s| s.jellett),
+        class: class.into(),
+        status: tr.summary.status.clone(),
+    })
+}
+
+fn eig_list(e: &[Eig]) -> String {
+    e.iter()
+        .map(|e| {
+            if e.im == 0.0 {
+                format!("{:.3e}", e.re)
+            } else {
+                format!("{:.3e}{:+.3e}i", e.re, e.im)
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Analyse the steady motions of a scenario (see the [module docs](self)).
+pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> {
+    sc.validate()?;
+    let top = sc.top;
+    let g = sc.surface.gravity;
+    let mu = sc.surface.friction;
+    let (r, a, ia, ic, m) = (
+        top.radius,
+        top.offset,
+        top.inertia_transverse,
+        top.inertia_axial,
+        top.mass,
+    );
+    let pi = std::f64::consts::PI;
+    let eps =
+        match opts.eps {
+            Some(e) => e,
+            None => sc.surface.law.eps().unwrap_or_else(|| {
+                1e-3 * r * sc.initial.spin.abs().max((g / r).sqrt()).max(1e-300)
+            }),
+        };
+    if !(eps > 0.0 && eps.is_finite()) {
+        return Err(Error::invalid(
+            "eps",
+            format!("{eps} is not allowed"),
+            "a finite speed > 0 [m/s]".into(),
+        ));
+    }
+    let ph = Physics {
+        top,
+        gravity: g,
+        mu,
+        law: opts.law,
+        eps,
+    };
+    let ph0 = Physics { mu: 0.0, ..ph };
+    let tol = opts.tol_rel;
+    let i = &sc.initial;
+    let j0 = jellett(&top, i.theta, i.precession, i.spin);
+    let both =
+        |name: String, how: String, th: f64, om: f64, w: f64| -> Result<SteadyMotion, Error> {
+            Ok(SteadyMotion {
+                name,
+                how,
+                with_friction: linearise(&ph, th, om, w, tol)?,
+                frictionless: linearise(&ph0, th, om, w, tol)?,
+            })
+        };
+    let mut steady = Vec::new();
+    // Poles.
+    let (nz_up, nz_inv, how_pole) = match opts.spin {
+        Some(s) => (
+            s,
+            s,
+            "spin about the vertical given by the user".to_string(),
+        ),
+        None => (
+            j0 / (ic * (r - a)),
+            j0 / (ic * (r + a)),
+            "spin with the scenario's Jellett J".to_string(),
+        ),
+    };
+    steady.push(both(
+        "upright (θ = 0)".into(),
+        format!("{how_pole}: n_Z = {nz_up:.4e} rad/s"),
+        0.0,
+        0.0,
+        nz_up,
+    )?);
+    steady.push(both(
+        "inverted (θ = π)".into(),
+        format!("{how_pole}: n_Z = {nz_inv:.4e} rad/s"),
+        pi,
+        0.0,
+        -nz_inv,
+    )?);
+    let sgn = if j0 < 0.0 { -1.0 } else { 1.0 };
+    // θ* = π/2 member of the family.
+    if let Some(o2) = relative_equilibrium_precession_sq(&top, g, pi / 2.0) {
+        let om = sgn * o2.sqrt();
+        steady.push(both(
+            "relative equilibrium at θ = π/2".into(),
+            "zero slip, u = 0: Ω*² = m g R/C, ω* = −Ω* a/R (any J)".into(),
+            pi / 2.0,
+            om,
+            relative_equilibrium_spin(&top, pi / 2.0, om),
+        )?);
+    }
+    // Members with the scenario's J.
+    let jof = |th: f64| -> Option<(f64, f64)> {
+        let o2 = relative_equilibrium_precession_sq(&top, g, th)?;
+        let om = sgn * o2.sqrt();
+        Some((
+            jellett(&top, th, om, relative_equilibrium_spin(&top, th, om)) - j0,
+            om,
+        ))
+    };
+    let ngrid = 4000;
+    let mut prev: Option<(f64, f64)> = None;
+    let mut found = 0;
+    for k in 1..ngrid {
+        let th = pi * k as f64 / ngrid as f64;
+        let cur = jof(th).map(|(d, _)| (th, d));
+        if let (Some((t0, d0)), Some((t1, d1))) = (prev, cur) {
+            if d0 * d1 <= 0.0 && found < 4 {
+                let (mut lo, mut hi, mut dlo) = (t0, t1, d0);
+                for _ in 0..100 {
+                    let mid = 0.5 * (lo + hi);
+                    let dm = jof(mid).map(|x| x.0).unwrap_or(f64::NAN);
+                    if dlo * dm <= 0.0 {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                        dlo = dm;
+                    }
+                }
+                let th = 0.5 * (lo + hi);
+                if let Some((_, om)) = jof(th) {
+                    found += 1;
+                    steady.push(both(
+                        format!("relative equilibrium with the scenario's J, θ* = {th:.4}"),
+                        "zero slip, u = 0, J = J(initial)".into(),
+                        th,
+                        om,
+                        relative_equilibrium_spin(&top, th, om),
+                    )?);
+                }
+            }
+        }
+        prev = cur;
+    }
+    if g == 0.0 && ia != ic {
+        let c = -ic * a / (r * (ia - ic));
+        if c.abs() < 1.0 {
+            let th = c.acos();
+            let s = th.sin();
+            let om = j0 / (ia * r * s * s + ic * (r * c - a).powi(2) / r);
+            steady.push(both(
+                format!("g = 0 relative equilibrium θ* = {th:.4}"),
+                "g = 0: cos θ* = −C a/(R (A − C)) for every Ω; Ω from the scenario's J".into(),
+                th,
+                om,
+                relative_equilibrium_spin(&top, th, om),
+            )?);
+        }
+    }
+
+    // Late-time state.
+    let late = if opts.run {
+        Some(late_state(sc, opts.late_fraction)?)
+    } else {
+        None
+    };
+    let h_late = sc.forcing.at(sc.solver.t_end);
+    let h_late_mag = h_late.0.hypot(h_late.1);
+    if let Some(l) = &late {
+        if h_late_mag == 0.0 && l.class != "upright" && l.class != "inverted" {
+            let th = l.theta_mean;
+            if let Some(o2) = relative_equilibrium_precession_sq(&top, g, th) {
+                let om = if l.precession_mean < 0.0 { -1.0 } else { 1.0 } * o2.sqrt();
+                steady.push(both(
+                    format!("relative equilibrium at the late mean θ = {th:.4}"),
+                    "member of the zero-slip family at the θ the run settles to".into(),
+                    th,
+                    om,
+                    relative_equilibrium_spin(&top, th, om),
+                )?);
+            }
+        }
+    }
+
+    // Frozen spin (H ≠ 0).
+    let mut frozen = Vec::new();
+    let applied_max = sc.forcing.max_magnitude();
+    if applied_max > 0.0 {
+        let mut add = |name: &str, inp: FrozenInput| {
+            for v in [
+                FrozenVariant::PrecessionFrozen,
+                FrozenVariant::PrecessionFromJellett,
+            ] {
+                frozen.push(FrozenCase {
+                    name: name.to_string(),
+                    result: frozen_spin(sc, opts.law, eps, &inp, v, tol),
+                });
+            }
+        };
+        add(
+            "near θ = 0 (initial spin, force at t = 0)",
+            FrozenInput {
+                theta: 0.02,
+                spin: i.spin,
+                precession: 0.0,
+                jellett: j0,
+                u: [0.0, 0.0],
+                t_force: 0.0,
+            },
+        );
+        add(
+            "near θ = π (initial J, force at t = 0)",
+            FrozenInput {
+                theta: pi - 0.02,
+                spin: -j0 / (ic * (r + a)),
+                precession: -j0 / (ic * (r + a)),
+                jellett: j0,
+                u: [0.0, 0.0],
+                t_force: 0.0,
+            },
+        );
+        if let Some(l) = &late {
+            add(
+                "late-time state of the run",
+                FrozenInput {
+                    theta: l.theta_mean,
+                    spin: l.spin_mean,
+                    precession: l.precession_mean,
+                    jellett: l.jellett,
+                    u: l.u_mean,
+                    t_force: l.t_to,
+                },
+            );
+        } else {
+            add(
+                "near θ = π/2 (initial spin, force at t = 0)",
+                FrozenInput {
+                    theta: pi / 2.0,
+                    spin: i.spin,
+                    precession: 0.0,
+                    jellett: j0,
+                    u: [0.0, 0.0],
+                    t_force: 0.0,
+                },
+            );
+        }
+    }
+
+    // B1–B4.
+    let n0 = m * g;
+    let h = applied_max / std::f64::consts::SQRT_2; // H_x = H_y = H in the paper
+    let wc = sleeping_threshold(&top, g);
+    let up = &steady[0];
+    let inv = &steady[1];
+    let mut paper = Vec::new();
+    {
+        let w = up.with_friction.spin;
+        let nu_p = (ic * w + (ic * ic * w * w + 4.0 * ia * a * n0).sqrt()) / (2.0 * ia);
+        let nu_m = (ic * w - (ic * ic * w * w + 4.0 * ia * a * n0).sqrt()) / (2.0 * ia);
+        let v = up.with_friction.verdict;
+        paper.push(PaperCheck {
+            id: "B1".into(),
+            configuration: format!("θ = 0, H = 0, ω = {w:.4e} rad/s"),
+            paper: format!(
+                "ε̈ = −aNε/A: always stable, one frequency √(a m g/A) = {:.4e} rad/s",
+                (a * n0 / ia).sqrt()
+            ),
+            full: format!(
+                "μ = 0: marginal (stable), two frequencies ν± = [Cω ± √(C²ω² + 4 A a m g)]/(2A) = {nu_p:.4e}, {nu_m:.4e} rad/s (verdict {}); with friction ({} ε = {eps:.3e} m/s): {} (max Re λ = {:.3e} 1/s; λ = {})",
+                up.frictionless.verdict.as_str(),
+                opts.law.name(),
+                v.as_str(),
+                up.with_friction.max_re,
+                eig_list(&up.with_friction.eigenvalues)
+            ),
+            agree: if v == Verdict::Unstable { "no" } else { "partly" }.into(),
+            dropped: "the gyroscopic term −Ω(Cω − AΩ cos θ) sin θ (Ω set to 0; with J conserved Ω → Cω/(2A) at θ → 0, which adds C²ω²/(4A) to the stiffness), and the friction torque −h F_x, which is what destabilises the upright top".into(),
+        });
+    }
+    {
+        if h == 0.0 {
+            paper.push(PaperCheck {
+                id: "B2".into(),
+                configuration: "θ = 0 with H_x = H_y = H".into(),
+                paper: "n/a: the scenario has H = 0 (B2 reduces to B1)".into(),
+                full: "n/a".into(),
+                agree: "n/a".into(),
+                dropped: "as B1, and the fact that H ≠ 0 leaves no equilibrium".into(),
+            });
+        } else {
+            let eq = (r - a) * h / (a * n0);
+            let fz: Vec<&FrozenCase> = frozen
+                .iter()
+                .filter(|f| f.name.starts_with("near θ = 0"))
+                .collect();
+            let desc = fz
+                .iter()
+                .map(|f| match f.result.theta_quasi {
+                    Some(tq) => format!(
+                        "{:?}: θ_q = {tq:.4}, λ = {} ({})",
+                        f.result.variant,
+                        eig_list(&f.result.eigenvalues),
+                        f.result.verdict.map(|v| v.as_str()).unwrap_or("-")
+                    ),
+                    None => format!("{:?}: {}", f.result.variant, f.result.note),
+                })
+                .collect::<Vec<_>>()
+                .join("; ");
+            paper.push(PaperCheck {
+                id: "B2".into(),
+                configuration: format!("θ = 0, H = {h:.3e} N"),
+                paper: format!(
+                    "ε̈ = −aNε/A + (R − a)H/A: 'stable', about ε_q = (R − a)H/(a m g) = {eq:.3e} rad"
+                ),
+                full: format!(
+                    "no equilibrium (H ≠ 0: ω changes). Frozen-spin (quasi-static), not a true equilibrium: {desc}"
+                ),
+                agree: if eq > 0.3 { "no" } else { "partly" }.into(),
+                dropped: "as B1; and ε_q is not small when (R − a)H > 0.3 a m g, so the linearisation about θ = 0 does not apply: the drive tips the top over".into(),
+            });
+        }
+    }
+    {
+        let w = inv.with_friction.spin;
+        let grow = (((ic + ia) * w * w + a * n0) / ia).sqrt();
+        let v = inv.with_friction.verdict;
+        paper.push(PaperCheck {
+            id: "B3".into(),
+            configuration: format!("θ = π, H = 0, ω = {w:.4e} rad/s (spin about the vertical {:.4e})", -w),
+            paper: format!(
+                "ε̈ = [(C + A)Ω² + aN]ε/A with Ω = ω: always unstable, growth {grow:.3e} 1/s"
+            ),
+            full: format!(
+                "μ = 0: stable iff C²ω² > 4 A m g a, ω_c = {wc:.4e} rad/s, here |ω|/ω_c = {:.3}: {}; with friction ({} ε = {eps:.3e} m/s): {} (max Re λ = {:.3e} 1/s; λ = {})",
+                w.abs() / wc,
+                inv.frictionless.verdict.as_str(),
+                opts.law.name(),
+                v.as_str(),
+                inv.with_friction.max_re,
+                eig_list(&inv.with_friction.eigenvalues)
+            ),
+            agree: if v == Verdict::Unstable { "yes" } else { "no" }.into(),
+            dropped: "Ω = ω is not a property of θ → π (there Ω is undefined; with J conserved Ω → −Cω/(2A)); with that, −Ω(Cω − AΩ cos θ) sin θ gives −C²ω²/(4A) ε instead of +(C + A)ω² ε, i.e. ε̈ = [a m g − C²ω²/(4A)]ε/A: the sleeping-top criterion. Friction (R + a)F_x is dropped too.".into(),
+        });
+    }
+    {
+        let lying = steady
+            .iter()
+            .find(|s| s.name == "relative equilibrium at θ = π/2");
+        let mut full = String::new();
+        let mut agree = "n/a".to_string();
+        if let Some(l) = lying {
+            let o = l.with_friction.precession;
+            full += &format!(
+                "H = 0: the zero-slip steady motion at π/2 has Ω* = {o:.4e} rad/s, ω* = {:.4e}; paper (AΩ² > aH = 0) says stable; full linearisation: {} (max Re λ = {:.3e} 1/s; λ = {}); μ = 0: {}. ",
+                l.with_friction.spin,
+                l.with_friction.verdict.as_str(),
+                l.with_friction.max_re,
+                eig_list(&l.with_friction.eigenvalues),
+                l.frictionless.verdict.as_str()
+            );
+            agree = if l.with_friction.verdict == Verdict::Unstable {
+                "no".into()
+            } else {
+                "yes".into()
+            };
+        } else {
+            full += "H = 0: no zero-slip steady motion at π/2 (g = 0). ";
+        }
+        let mut paper_txt =
+            "ε̈ = −(AΩ² − aH)ε/A − (HR − CωΩ − aN)/A: stable iff AΩ² > aH".to_string();
+        if h > 0.0 {
+            for f in frozen
+                .iter()
+                .filter(|f| f.name.starts_with("late") || f.name.contains("π/2"))
+            {
+                full += &match f.result.theta_quasi {
+                    Some(tq) => format!(
+                        "H ≠ 0, frozen-spin (quasi-static), not a true equilibrium, {:?} at the {}: θ_q = {tq:.4} (θ_q − π/2 = {:+.3e}), Ω = {:.3e}, ω = {:.3e}, λ = {} ({}). ",
+                        f.result.variant,
+                        f.name,
+                        tq - pi / 2.0,
+                        f.result.precession,
+                        f.result.spin,
+                        eig_list(&f.result.eigenvalues),
+                        f.result.verdict.map(|v| v.as_str()).unwrap_or("-")
+                    ),
+                    None => format!("H ≠ 0, {:?}: {}. ", f.result.variant, f.result.note),
+                };
+            }
+            if let Some(l) = &late {
+                let o = l.precession_mean;
+                paper_txt += &format!(
+                    "; at the late state Ω = {o:.3e}: AΩ² − aH = {:.3e} ⇒ {}",
+                    ia * o * o - a * h,
+                    if ia * o * o > a * h {
+                        "stable"
+                    } else {
+                        "unstable"
+                    }
+                );
+                let fj = frozen.iter().find(|f| {
+                    f.name.starts_with("late")
+                        && f.result.variant == FrozenVariant::PrecessionFromJellett
+                });
+                let ff = frozen.iter().find(|f| {
+                    f.name.starts_with("late")
+                        && f.result.variant == FrozenVariant::PrecessionFrozen
+                });
+                let paper_stable = ia * o * o > a * h;
+                if let (Some(fj), Some(ff)) = (fj, ff) {
+                    let vj = fj.result.verdict;
+                    let vf = ff.result.verdict;
+                    agree = format!(
+                        "{} (Ω frozen: {}; Ω from J: {})",
+                        if vj
+                            .map(|v| (v != Verdict::Unstable) == paper_stable)
+                            .unwrap_or(false)
+                        {
+                            "partly"
+                        } else {
+                            "no"
+                        },
+                        vf.map(|v| v.as_str()).unwrap_or("no quasi-equilibrium"),
+                        vj.map(|v| v.as_str()).unwrap_or("no quasi-equilibrium")
+                    );
+                }
+            }
+        }
+        paper.push(PaperCheck {
+            id: "B4".into(),
+            configuration: format!("θ = π/2, H = {h:.3e} N"),
+            paper: paper_txt,
+            full,
+            agree,
+            dropped: "the gyroscopic coupling through Ω(θ): with J conserved ∂Ω/∂θ = Cω/A at π/2, which adds ≈ C²ω²/A to the stiffness (the nutation frequency Cω/A); the friction μN in F_x; and that H ≠ 0 leaves no equilibrium (ω changes at −R H/C)".into(),
+        });
+    }
+
+    Ok(StabilityReport {
+        law: opts.law,
+        eps,
+        tol_rel: tol,
+        mu,
+        gravity: g,
+        jellett: j0,
+        applied_max,
+        sleeping_threshold: wc,
+        steady,
+        late,
+        frozen,
+        paper,
+    })
+}
