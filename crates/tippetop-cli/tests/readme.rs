@@ -58,25 +58,20 @@ fn every_key_block() -> String {
     found[0].clone()
 }
 
-/// The valid keys of `table` as the validator lists them in its
-/// unknown-key error (an independent source: the README is not consulted).
-fn valid_keys(table: &str) -> Vec<String> {
-    let key = if table == "force" {
-        "force.0.no_such_key=1".to_string()
-    } else {
-        format!("{table}.no_such_key=1")
-    };
+/// The list the validator prints after `marker` in its error for `--set
+/// SET` (an independent source: the README is not consulted).
+fn validator_list(set: &str, marker: &str) -> Vec<String> {
     let out = tippetop()
-        .args(["run", "--preset", "nano", "--set", &key, "--out"])
+        .args(["run", "--preset", "nano", "--set", set, "--out"])
         .arg(std::env::temp_dir().join("tippetop-readme-never-written"))
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8(out.stderr).unwrap();
     let list = err
-        .split("valid keys: ")
+        .split(marker)
         .nth(1)
-        .unwrap_or_else(|| panic!("no key list in {err:?}"));
+        .unwrap_or_else(|| panic!("no {marker:?} in {err:?}"));
     list.trim_end()
         .trim_end_matches(')')
         .split(", ")
@@ -84,30 +79,19 @@ fn valid_keys(table: &str) -> Vec<String> {
         .collect()
 }
 
+/// The valid keys of `table`, from the validator's unknown-key error.
+fn valid_keys(table: &str) -> Vec<String> {
+    let set = if table == "force" {
+        "force.0.no_such_key=1".to_string()
+    } else {
+        format!("{table}.no_such_key=1")
+    };
+    validator_list(&set, "valid keys: ")
+}
+
+/// The valid tables, from the validator's unknown-table error.
 fn valid_tables() -> Vec<String> {
-    let out = tippetop()
-        .args([
-            "run",
-            "--preset",
-            "nano",
-            "--set",
-            "no_such_table.x=1",
-            "--out",
-        ])
-        .arg(std::env::temp_dir().join("tippetop-readme-never-written"))
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8(out.stderr).unwrap();
-    let list = err
-        .split("valid tables: ")
-        .nth(1)
-        .unwrap_or_else(|| panic!("no table list in {err:?}"));
-    list.trim_end()
-        .trim_end_matches(')')
-        .split(", ")
-        .map(str::to_string)
-        .collect()
+    validator_list("no_such_table.x=1", "valid tables: ")
 }
 
 /// `(table, key)` for every `key = ...` line of the block, also commented
