@@ -61,6 +61,9 @@ pub enum Command {
     Merge(crate::sweep_cmd::MergeArgs),
     /// Stability of the steady motions (θ = 0, π/2, π) beside the paper's App. B.
     Stability(crate::stability_cmd::StabilityArgs),
+    /// Van der Waals adhesion of a fullerene on graphene or graphite (E_b, F_a).
+    #[command(long_about = crate::adhesion_cmd::ADHESION_LONG_ABOUT)]
+    Adhesion(crate::adhesion_cmd::AdhesionArgs),
 }
 
 /// `tippetop run`.

@@ -4,6 +4,7 @@
 
 #![warn(missing_docs)]
 
+pub mod adhesion_cmd;
 pub mod cli;
 pub mod output;
 pub mod plot;

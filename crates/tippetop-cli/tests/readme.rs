@@ -215,7 +215,7 @@ fn readme_commands_run() {
         let out = base.join(format!("c{i}"));
         match args.iter().position(|a| a == "--out") {
             Some(p) => args[p + 1] = out.display().to_string(),
-            None if args[0] != "stability" => {
+            None if ["run", "sweep", "reproduce"].contains(&args[0].as_str()) => {
                 args.push("--out".into());
                 args.push(out.display().to_string());
             }

@@ -20,6 +20,7 @@ pub mod integrate;
 pub mod model;
 pub mod numeric;
 pub mod observe;
+pub mod physics;
 pub mod scenario;
 pub mod simulate;
 pub mod state;
