@@ -66,8 +66,31 @@ fn three(
             ),
         ],
         hlines,
-        note: note.into(),
+        note: with_failures(
+            note,
+            &[
+                ("bilateral (accurate)", runs.tr(runs3[0])),
+                ("paper contact (accurate)", runs.tr(runs3[1])),
+                ("paper contact RK4/500 (paper's method)", runs.tr(runs3[2])),
+            ],
+        ),
     }
+}
+
+/// `note`, followed by a sentence for each curve whose run failed: where
+/// the curve ends and why (the reason up to its first colon; the run
+/// table of the report has the whole message).
+pub fn with_failures(note: &str, curves: &[(&str, &Trajectory)]) -> String {
+    let mut s = note.to_string();
+    for (name, tr) in curves {
+        if let Some(tippetop::Error::Runtime { t, why }) = &tr.error {
+            let short = why.split([':', ';']).next().unwrap_or(why).trim();
+            s.push_str(&format!(
+                " {name} ends at t = {t:.4e} s, where its run failed ({short})."
+            ));
+        }
+    }
+    s
 }
 
 const NANO3: [&str; 3] = [NANO_BILATERAL, NANO_PAPER, NANO_PAPER_RK4];
@@ -81,14 +104,42 @@ pub fn fig02(runs: &Runs) -> Figure {
         x_scale: US,
         y_label: "θ [rad]".into(),
         curves: vec![
-            curve("g=0 bilateral", runs.tr(NANO_BILATERAL_G0), |s| s.theta, false),
-            curve("g=9.8 bilateral", runs.tr(NANO_BILATERAL), |s| s.theta, false),
-            curve("g=100 bilateral", runs.tr(NANO_BILATERAL_G100), |s| s.theta, false),
-            curve("g=9.8 paper contact", runs.tr(NANO_PAPER), |s| s.theta, false),
-            curve("g=9.8 paper contact RK4/500", runs.tr(NANO_PAPER_RK4), |s| s.theta, true),
+            curve(
+                "g=0 bilateral",
+                runs.tr(NANO_BILATERAL_G0),
+                |s| s.theta,
+                false,
+            ),
+            curve(
+                "g=9.8 bilateral",
+                runs.tr(NANO_BILATERAL),
+                |s| s.theta,
+                false,
+            ),
+            curve(
+                "g=100 bilateral",
+                runs.tr(NANO_BILATERAL_G100),
+                |s| s.theta,
+                false,
+            ),
+            curve(
+                "g=9.8 paper contact",
+                runs.tr(NANO_PAPER),
+                |s| s.theta,
+                false,
+            ),
+            curve(
+                "g=9.8 paper contact RK4/500",
+                runs.tr(NANO_PAPER_RK4),
+                |s| s.theta,
+                true,
+            ),
         ],
         hlines: theta_lines(),
-        note: "H_x = H_y = 0.1 zN from t = 0; window 100 µs (our choice: the paper's text speaks of ~50 µs).".into(),
+        note: with_failures(
+            "H_x = H_y = 0.1 zN from t = 0; window 100 µs (our choice: the paper's text speaks of ~50 µs).",
+            &[("g=9.8 paper contact RK4/500", runs.tr(NANO_PAPER_RK4))],
+        ),
     }
 }
 
@@ -174,7 +225,13 @@ pub fn fig07(runs: &Runs) -> Figure {
             ),
         ],
         hlines: theta_lines(),
-        note: "R = 15 mm, a = 0.1 R, m = 15 g, A = C, μ = 0.1, no applied force.".into(),
+        note: with_failures(
+            "R = 15 mm, a = 0.1 R, m = 15 g, A = C, μ = 0.1, no applied force.",
+            &[(
+                "sliding Coulomb RK4/500 (paper's method)",
+                runs.tr(CLASSICAL_RK4),
+            )],
+        ),
     }
 }
 
