@@ -135,3 +135,26 @@ fn run_table_settings_reproduce_each_run() {
         assert_eq!(again, sc, "{}: {settings}", spec.name);
     }
 }
+
+/// A figure's note says where a curve ends because its run failed, and the
+/// reason up to its first colon; a curve whose run completed adds nothing.
+#[test]
+fn failed_runs_are_named_in_the_figure_notes() {
+    let spec = tippetop_paper::runs::specs()
+        .into_iter()
+        .find(|s| s.name == tippetop_paper::runs::NANO_PAPER_RK4)
+        .unwrap();
+    let (sc, _) = tippetop_paper::runs::load(&spec, Options::default()).unwrap();
+    let failed = tippetop::simulate(&sc).unwrap();
+    let Some(tippetop::Error::Runtime { t, .. }) = &failed.error else {
+        panic!("the paper's RK4/500 nano run is expected to fail");
+    };
+    let ok = tippetop::simulate(&Scenario::nano()).unwrap();
+    assert!(ok.error.is_none());
+    let note =
+        tippetop_paper::figures::with_failures("Note.", &[("rk4", &failed), ("accurate", &ok)]);
+    assert!(note.starts_with("Note. rk4 ends at t = "), "{note}");
+    assert!(note.contains(&format!("{t:.4e} s")), "{note}");
+    assert!(!note.contains("accurate"), "{note}");
+    assert!(!note.contains("state"), "{note}");
+}
