@@ -1,19 +1,23 @@
 //! `tippetop run`: resolve a scenario, simulate it, write the results.
 //!
 //! Order matters for the exit-code contract: everything that can be bad
-//! input is checked before `--out` is touched; the directory is created only
-//! once `simulate` has returned a trajectory.
+//! input is checked before `--out` is touched (exit code 2, nothing
+//! written); then the output directory is created, locked and probed
+//! ([`OutDir::open`], exit code 1 if it cannot be written or is in use), so
+//! an unwritable `--out` is found before the simulation, not after it; the
+//! results are staged and committed as a unit.
 
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use tippetop::{Error, Scenario, Trajectory};
 
 use crate::cli::RunArgs;
 use crate::output::{
-    SummaryDoc, summary_with_status, write_bytes_atomic, write_json_pretty, write_trajectory_csv,
+    OutDir, SummaryDoc, summary_with_status, write_bytes_atomic, write_json_pretty,
+    write_trajectory_csv,
 };
 use crate::plot::{self, Legend, Panel, PlotOpts, RefLine, Series};
 use crate::{progress, scenario_load};
@@ -41,21 +45,32 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     scenario.validate()?;
     check_out_dir(&args.out)?;
 
-    // 2. The run.
+    // 2. The output directory: created, locked and probed before computing.
+    let out = OutDir::open(&args.out)?;
+
+    // 3. The run.
     let spinner = progress::spinner(quiet, "simulating");
     let start = Instant::now();
     let result = tippetop::simulate(&scenario);
     let wall_seconds = start.elapsed().as_secs_f64();
     spinner.finish_and_clear();
-    let traj = result?;
+    let traj = match result {
+        Ok(t) => t,
+        Err(e) => {
+            // Bad input found by the library: nothing written.
+            out.abandon();
+            return Err(e.into());
+        }
+    };
 
-    // 3. Results (also for a run that failed part-way).
-    fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    // 4. Results (also for a run that failed part-way), staged, then
+    // committed: summary.json last, the previous run's other files removed.
     let toml = scenario_load::to_toml(&scenario);
-    let written = write_data(&args.out, &toml, &traj, wall_seconds)?;
+    let stage = out.stage().to_path_buf();
+    let mut written = write_data(&stage, &toml, &traj, wall_seconds)?;
     let mut plots = Vec::new();
     if args.plots() {
-        match write_plots(&args.out, &scenario, &traj) {
+        match write_plots(&stage, &scenario, &traj) {
             Ok(p) => plots = p,
             // A failed run's error is the one that matters; still say why
             // the plots are missing.
@@ -63,6 +78,13 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
             Err(e) => return Err(e),
         }
     }
+    out.commit(&["summary.json"])?;
+    let rebase = |p: &PathBuf| match p.file_name() {
+        Some(n) => args.out.join(n),
+        None => p.clone(),
+    };
+    written = written.iter().map(rebase).collect();
+    let plots: Vec<PathBuf> = plots.iter().map(rebase).collect();
     if !quiet {
         print!(
             "{}",

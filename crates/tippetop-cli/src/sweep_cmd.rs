@@ -20,9 +20,9 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 
-use crate::output::write_bytes_atomic;
+use crate::output::{OutDir, write_bytes_atomic};
 use clap::{ArgGroup, Args};
 use tippetop::analysis::sweep::{self, Axis, Shard, ShardInfo, Sweep, Table};
 
@@ -178,8 +178,8 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
         Err(e) => return Ok(input_error(e)),
     };
 
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    // Created, locked and probed before computing anything.
+    let out = OutDir::open(&args.out)?;
     let range = info.first_index..info.end_index;
     let pb = crate::progress::bar(quiet, range.len() as u64, "sweep");
     let start = std::time::Instant::now();
@@ -187,16 +187,18 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
         Ok(r) => r,
         Err(e) => {
             pb.finish_and_clear();
+            out.abandon();
             return Ok(input_error(e));
         }
     };
     pb.finish_and_clear();
 
     let csv = sweep::csv(&sw.axes, &rows);
-    write_outputs(&args.out, &csv, &info)?;
+    write_outputs(out.stage(), &csv, &info)?;
     if shard == Shard::ALL {
-        write_plots(&args.out, &Table::from_rows(&sw.axes, &rows))?;
+        write_plots(out.stage(), &Table::from_rows(&sw.axes, &rows))?;
     }
+    out.commit(&["shard.json"])?;
     if !quiet {
         let failed = rows.iter().filter(|r| r.status != "ok").count();
         let what = if shard == Shard::ALL {
@@ -243,10 +245,10 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
         axes: first.axes.clone(),
     };
     let table = Table::parse_csv(&csv).map_err(anyhow::Error::new)?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("cannot create {}", args.out.display()))?;
-    write_outputs(&args.out, &csv, &info)?;
-    write_plots(&args.out, &table)?;
+    let out = OutDir::open(&args.out)?;
+    write_outputs(out.stage(), &csv, &info)?;
+    write_plots(out.stage(), &table)?;
+    out.commit(&["shard.json"])?;
     if !quiet {
         let failed = table.status.iter().filter(|s| *s != "ok").count();
         println!(

@@ -279,3 +279,222 @@ fn vector_model_sweep_is_thread_invariant_and_agrees_with_euler_angles() {
     assert_eq!(ok, 6, "valid cases");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Every name in `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// Defect 4 of issue 12: two processes writing into one `--out` corrupted
+/// each other (every writer used `DIR/.NAME.tmp`). Now the first holds a lock
+/// on the directory and any second `sweep`, `run`, `merge` or `reproduce`
+/// exits at once with code 1 and one line naming the holder's pid, writing
+/// nothing; the first finishes with consistent files.
+#[test]
+fn second_process_on_the_same_out_exits_1() {
+    let d = scratch("lock");
+    let out = d.join("out");
+    let n = 20000;
+    let mut first = bin()
+        .args([
+            "sweep",
+            "--preset",
+            "classical",
+            "--set",
+            "solver.t_end=0.2",
+            "--set",
+            "solver.samples=11",
+            "--vary",
+            &format!("top.offset=0.001:0.004:{n}"),
+            "--threads",
+            "1",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .spawn()
+        .unwrap();
+    let pid = first.id().to_string();
+    // Wait until the first holds the lock (its pid in the lock file).
+    let lock = out.join(".tippetop.lock");
+    let t0 = std::time::Instant::now();
+    while !std::fs::read_to_string(&lock).is_ok_and(|s| s.trim() == pid) {
+        assert!(
+            t0.elapsed().as_secs() < 60,
+            "the first sweep never took the lock"
+        );
+        assert!(
+            first.try_wait().unwrap().is_none(),
+            "the first sweep ended early"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let want = format!(
+        "error: {} is in use by another tippetop process (pid {pid}); choose another --out or wait until it ends\n",
+        out.display()
+    );
+    let seconds: Vec<Vec<String>> = vec![
+        BASE.iter().map(|s| s.to_string()).collect(),
+        ["run", "--preset", "classical", "--quiet"]
+            .map(String::from)
+            .to_vec(),
+        ["reproduce", "--quick", "--quiet"]
+            .map(String::from)
+            .to_vec(),
+    ];
+    for args in &seconds {
+        let o = bin().args(args).arg("--out").arg(&out).output().unwrap();
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        assert_eq!(String::from_utf8_lossy(&o.stderr), want, "{args:?}");
+    }
+    assert!(
+        first.try_wait().unwrap().is_none(),
+        "the first sweep ended before the others tried: make it longer"
+    );
+    assert!(first.wait().unwrap().success());
+    // The first sweep's files, complete; nothing of the others.
+    assert_eq!(
+        listing(&out),
+        [
+            ".tippetop-manifest",
+            ".tippetop.lock",
+            "shard.json",
+            "sweep.csv",
+            "sweep.png",
+            "sweep.svg"
+        ]
+    );
+    let csv = read(&out.join("sweep.csv"));
+    assert_eq!(csv.lines().count(), n + 1);
+    assert!(csv.ends_with('\n'));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Defect 6 of issue 12: an `--out` that exists but cannot be written (a
+/// read-only directory; `/proc`, where even root cannot create files) was
+/// found only after the whole sweep had run. Now it is an error (exit code 1)
+/// before the first case: a sweep of a million cases (minutes of work) fails
+/// at once. (A path under a regular file was already caught early.)
+#[test]
+fn unwritable_out_fails_before_computing() {
+    let d = scratch("unwritable");
+    let file = d.join("file");
+    std::fs::write(&file, "not a directory").unwrap();
+    let mut outs = vec![file.join("sub")];
+    // An existing directory where even root cannot create files (procfs).
+    #[cfg(target_os = "linux")]
+    if Path::new("/proc/self").is_dir() {
+        outs.push(PathBuf::from("/proc"));
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let ro = d.join("ro");
+        std::fs::create_dir(&ro).unwrap();
+        std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o555)).unwrap();
+        // Root ignores permissions: only a non-root run can test this one.
+        if std::fs::write(ro.join("probe"), "").is_err() {
+            outs.push(ro.join("out"));
+            outs.push(ro);
+        }
+    }
+    for out in &outs {
+        let mut child = bin()
+            .args([
+                "sweep",
+                "--preset",
+                "classical",
+                "--set",
+                "solver.t_end=0.2",
+                "--set",
+                "solver.samples=11",
+                "--vary",
+                "top.offset=0.001:0.004:1000000",
+                "--quiet",
+                "--out",
+            ])
+            .arg(out)
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let t0 = std::time::Instant::now();
+        let status = loop {
+            if let Some(s) = child.try_wait().unwrap() {
+                break s;
+            }
+            if t0.elapsed().as_secs() > 20 {
+                let _ = child.kill();
+                let _ = child.wait();
+                panic!("{}: still computing after 20 s", out.display());
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        };
+        let mut err = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+        assert_eq!(status.code(), Some(1), "{err}");
+        assert!(err.starts_with("error: cannot "), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let _ = std::fs::set_permissions(d.join("ro"), std::fs::Permissions::from_mode(0o755));
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Defect 5 of issue 12: a sweep with 3 axes or a shard, written where a
+/// 2-axis sweep had been, left the old heat map beside the new sweep.csv.
+/// Now the files of the previous command that the new one does not write
+/// are removed (only those: a file of the user's stays).
+#[test]
+fn stale_plots_of_a_previous_sweep_are_removed() {
+    let d = scratch("stale");
+    let out = d.join("out");
+    assert!(sweep(&out, &[]).status.success());
+    assert!(out.join("sweep.png").is_file() && out.join("sweep.svg").is_file());
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let three = ["--vary", "surface.friction=0.1:0.3:2"];
+    assert!(sweep(&out, &three).status.success());
+    let visible = |out: &Path| -> Vec<String> {
+        listing(out)
+            .into_iter()
+            .filter(|n| !n.starts_with('.'))
+            .collect()
+    };
+    assert_eq!(visible(&out), ["notes.txt", "shard.json", "sweep.csv"]);
+    assert_eq!(read(&out.join("sweep.csv")).lines().count(), 19);
+    assert!(sweep(&out, &[]).status.success());
+    assert!(out.join("sweep.png").is_file());
+    assert!(sweep(&out, &["--shard", "1/2"]).status.success());
+    assert_eq!(visible(&out), ["notes.txt", "shard.json", "sweep.csv"]);
+    // merge writes the plots again.
+    let s2 = d.join("s2");
+    assert!(sweep(&s2, &["--shard", "2/2"]).status.success());
+    let o = bin()
+        .arg("merge")
+        .arg(&out)
+        .arg(&s2)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        visible(&out),
+        [
+            "notes.txt",
+            "shard.json",
+            "sweep.csv",
+            "sweep.png",
+            "sweep.svg"
+        ]
+    );
+    assert_eq!(read(&out.join("sweep.csv")).lines().count(), 10);
+    let _ = std::fs::remove_dir_all(&d);
+}
