@@ -20,7 +20,9 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::Result;
+use std::io::{Seek, SeekFrom, Write};
+
+use anyhow::{Context, Result};
 
 use crate::output::{OutDir, write_bytes_atomic};
 use clap::{ArgGroup, Args};
@@ -97,6 +99,12 @@ pub struct SweepArgs {
     /// join the outputs with `tippetop merge`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
+
+    /// Continue an interrupted run of the same sweep (same scenario, --set,
+    /// --vary, --shard) from the rows in DIR/sweep.csv.partial; without a
+    /// partial sweep, start from the first case.
+    #[arg(long)]
+    pub resume: bool,
 }
 
 /// Long help of `tippetop merge` (set on the subcommand in `cli.rs`).
@@ -161,9 +169,10 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
         Ok(s) => s.unwrap_or(Shard::ALL),
         Err(e) => return Ok(input_error(e)),
     };
-    if args.threads == Some(0) {
-        return Ok(input_error("--threads: 0 threads (at least 1)"));
-    }
+    let threads = match sweep::threads(args.threads) {
+        Ok(t) => t,
+        Err(e) => return Ok(input_error(e)),
+    };
     let sw = Sweep {
         preset: args.preset.clone(),
         toml_text,
@@ -177,32 +186,142 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
         Ok(i) => i,
         Err(e) => return Ok(input_error(e)),
     };
+    let mut info_json = serde_json::to_string_pretty(&info)?;
+    info_json.push('\n');
 
     // Created, locked and probed before computing anything.
-    let out = OutDir::open(&args.out)?;
+    let mut out = OutDir::open(&args.out)?;
+    let dir = args.out.clone();
+    let (csv_partial, info_partial) = (dir.join(PARTIAL_CSV), dir.join(PARTIAL_INFO));
     let range = info.first_index..info.end_index;
-    let pb = crate::progress::bar(quiet, range.len() as u64, "sweep");
-    let start = std::time::Instant::now();
-    let rows = match sw.run(range.clone(), args.threads, &|| pb.inc(1)) {
-        Ok(r) => r,
-        Err(e) => {
-            pb.finish_and_clear();
-            out.abandon();
-            return Ok(input_error(e));
-        }
-    };
-    pb.finish_and_clear();
 
-    let csv = sweep::csv(&sw.axes, &rows);
-    write_outputs(out.stage(), &csv, &info)?;
+    // What an interrupted run of this sweep left, with --resume.
+    let mut kept = sweep::Prefix::default();
+    if args.resume {
+        match std::fs::read_to_string(&info_partial) {
+            Ok(old) if old == info_json => {
+                if let Ok(text) = std::fs::read_to_string(&csv_partial) {
+                    kept = sw.complete_prefix(info.first_index, &text);
+                }
+            }
+            Ok(old) => {
+                let what = match serde_json::from_str::<ShardInfo>(&old) {
+                    Ok(o) => format!(
+                        "fingerprint {}, cases {}..{} of {}",
+                        o.fingerprint, o.first_index, o.end_index, o.total_cases
+                    ),
+                    Err(_) => "unreadable".to_string(),
+                };
+                out.abandon();
+                return Ok(input_error(format!(
+                    "--resume: the partial sweep in {} is another sweep ({what}), not this one \
+                     (fingerprint {}, cases {}..{} of {}) (the same scenario, --set, --vary and \
+                     --shard as the interrupted run; without --resume a new sweep starts over)",
+                    dir.display(),
+                    info.fingerprint,
+                    info.first_index,
+                    info.end_index,
+                    info.total_cases
+                )));
+            }
+            Err(_) => {
+                if !quiet {
+                    eprintln!(
+                        "note: no partial sweep to resume in {}: starting from the first case",
+                        dir.display()
+                    );
+                }
+            }
+        }
+    }
+
+    // Stream the rows into sweep.csv.partial in grid order (claimed in the
+    // manifest first, so that a later command into this directory removes
+    // it), beside shard.json.partial, which identifies the sweep.
+    out.claim(&[PARTIAL_CSV, PARTIAL_INFO])?;
+    write_bytes_atomic(&info_partial, info_json.as_bytes())?;
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(&csv_partial)
+        .with_context(|| format!("writing {}", csv_partial.display()))?;
+    file.set_len(kept.bytes as u64)
+        .and_then(|()| file.seek(SeekFrom::End(0)).map(|_| ()))
+        .with_context(|| format!("writing {}", csv_partial.display()))?;
+    let mut w = std::io::BufWriter::new(file);
+    if kept.bytes == 0 {
+        w.write_all(sweep::csv_header(&sw.axes).as_bytes())
+            .with_context(|| format!("writing {}", csv_partial.display()))?;
+    }
+    let todo = range.start + kept.rows..range.end;
+    if !quiet && kept.rows > 0 {
+        eprintln!(
+            "resuming: {} of {} cases already in {}",
+            kept.rows,
+            range.len(),
+            csv_partial.display()
+        );
+    }
+    let pb = crate::progress::bar(quiet, range.len() as u64, "sweep");
+    pb.inc(kept.rows as u64);
+    let start = std::time::Instant::now();
+    let mut failed = kept.failed;
+    let mut write_error: Option<std::io::Error> = None;
+    let mut since_flush = std::time::Instant::now();
+    let run = sw.run_streaming(todo, Some(threads), &mut |row| {
+        if row.status != "ok" {
+            failed += 1;
+        }
+        let mut result = w.write_all(sweep::csv_row(&row).as_bytes());
+        // Flushed about once a second: what is on disk is what --resume keeps.
+        if result.is_ok() && since_flush.elapsed().as_secs_f64() >= 1.0 {
+            result = w.flush();
+            since_flush = std::time::Instant::now();
+        }
+        pb.inc(1);
+        match result {
+            Ok(()) => true,
+            Err(e) => {
+                write_error = Some(e);
+                false
+            }
+        }
+    });
+    pb.finish_and_clear();
+    if let Err(e) = run {
+        // A thread pool that cannot start (the count is bounded, so this is
+        // the system's limit): an I/O-like failure, exit code 1.
+        anyhow::bail!("{e}");
+    }
+    let flushed = w.flush();
+    if let Some(e) = write_error {
+        return Err(e).with_context(|| format!("writing {}", csv_partial.display()));
+    }
+    flushed.with_context(|| format!("writing {}", csv_partial.display()))?;
+    drop(w);
+
+    out.adopt(PARTIAL_CSV, "sweep.csv");
+    out.adopt(PARTIAL_INFO, "shard.json");
     if shard == Shard::ALL {
-        write_plots(out.stage(), &Table::from_rows(&sw.axes, &rows))?;
+        if info.total_cases <= MAX_PLOT_CASES {
+            let text = std::fs::read_to_string(&csv_partial)
+                .with_context(|| format!("reading {}", csv_partial.display()))?;
+            let table = Table::parse_csv(&text).map_err(anyhow::Error::new)?;
+            drop(text);
+            write_plots(out.stage(), &table)?;
+        } else if !quiet {
+            eprintln!(
+                "note: no plots: {} cases (plots are drawn for at most {MAX_PLOT_CASES})",
+                info.total_cases
+            );
+        }
     }
     out.commit(&["shard.json"])?;
     if !quiet {
-        let failed = rows.iter().filter(|r| r.status != "ok").count();
+        let n = range.len();
         let what = if shard == Shard::ALL {
-            format!("{} cases", rows.len())
+            format!("{n} cases")
         } else {
             format!(
                 "shard {}/{}: cases {}..{} of {}",
@@ -211,13 +330,27 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
         };
         println!(
             "{what} ({} ok, {failed} failed) in {:.1} s -> {}",
-            rows.len() - failed,
+            n - failed,
             start.elapsed().as_secs_f64(),
-            args.out.join("sweep.csv").display()
+            dir.join("sweep.csv").display()
         );
     }
     Ok(ExitCode::SUCCESS)
 }
+
+/// The file a sweep streams its rows into, in grid order, while it runs;
+/// renamed to `sweep.csv` when the last case is done.
+pub const PARTIAL_CSV: &str = "sweep.csv.partial";
+
+/// What `sweep.csv.partial` holds (the `shard.json` of the running sweep),
+/// so that `--resume` continues only the same sweep; renamed to `shard.json`
+/// at the end.
+pub const PARTIAL_INFO: &str = "shard.json.partial";
+
+/// Largest sweep that gets plots: the plots are drawn from the whole table,
+/// read back from `sweep.csv` (about 300 bytes a case in memory); larger
+/// sweeps get a note instead, and the data stay complete in `sweep.csv`.
+pub const MAX_PLOT_CASES: usize = 100_000;
 
 /// Run `tippetop merge`. Bad input (a missing or foreign shard, a gap, an
 /// overlap): one line on stderr and exit code 2 (returned as `Ok`),

@@ -498,3 +498,171 @@ fn stale_plots_of_a_previous_sweep_are_removed() {
     assert_eq!(read(&out.join("sweep.csv")).lines().count(), 10);
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Run `cmd`, killing it (and failing) if it has not ended after `secs`.
+fn output_within(mut cmd: Command, secs: u64) -> Output {
+    let mut child = cmd
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if t0.elapsed().as_secs() >= secs {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{cmd:?} still running after {secs} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// Defect 9 of issue 12: `--threads 20000` started 20 000 threads, for
+/// minutes. Now above 1024 it is bad input: exit code 2 at once, one line
+/// saying the bound, nothing written.
+#[test]
+fn thread_count_above_the_bound_is_bad_input() {
+    let d = scratch("threads");
+    let out = d.join("out");
+    let mut cmd = bin();
+    cmd.args(BASE)
+        .args(["--threads", "20000", "--out"])
+        .arg(&out);
+    let o = output_within(cmd, 20);
+    assert_input_error(&o, "error: --threads: 20000 threads (1 to 1024");
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Defect 9 of issue 12: an interrupted sweep (here: what a kill leaves, a
+/// partial file with a torn last line) continues with `--resume` and ends
+/// with the very bytes of an uninterrupted run, for a whole sweep and for a
+/// shard, on another thread count.
+#[test]
+fn resumed_sweep_is_byte_identical() {
+    let d = scratch("resume");
+    for shard in [None, Some("2/3")] {
+        let extra: Vec<&str> = shard.map_or(vec![], |s| vec!["--shard", s]);
+        let whole = d.join("whole");
+        assert!(sweep(&whole, &extra).status.success());
+        let csv = read(&whole.join("sweep.csv"));
+        let json = read(&whole.join("shard.json"));
+        for rows_kept in [0, 1, 2] {
+            let part = d.join(format!("part{rows_kept}"));
+            let _ = std::fs::remove_dir_all(&part);
+            std::fs::create_dir_all(&part).unwrap();
+            // The header, `rows_kept` rows and half of the next row.
+            let ends: Vec<usize> = csv.match_indices('\n').map(|(i, _)| i + 1).collect();
+            let cut = ends[rows_kept] + (ends[rows_kept + 1] - ends[rows_kept]) / 2;
+            std::fs::write(part.join("sweep.csv.partial"), &csv[..cut]).unwrap();
+            std::fs::write(part.join("shard.json.partial"), &json).unwrap();
+            let mut args = extra.clone();
+            args.extend(["--resume", "--threads", "2"]);
+            let o = sweep(&part, &args);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            assert_eq!(read(&part.join("sweep.csv")), csv, "{shard:?} {rows_kept}");
+            assert_eq!(read(&part.join("shard.json")), json);
+            assert!(!part.join("sweep.csv.partial").exists());
+            assert!(!part.join("shard.json.partial").exists());
+        }
+        let _ = std::fs::remove_dir_all(&whole);
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Defect 9 of issue 12: a sweep wrote nothing until its last case. Now its
+/// rows stream to `sweep.csv.partial` as they are done: a sweep killed
+/// part-way leaves complete rows on disk, and `--resume` finishes it with
+/// the bytes of an uninterrupted run.
+#[test]
+fn killed_sweep_streams_rows_and_resumes() {
+    let d = scratch("kill");
+    let args = [
+        "sweep",
+        "--preset",
+        "classical",
+        "--set",
+        "solver.t_end=0.2",
+        "--set",
+        "solver.samples=11",
+        "--vary",
+        "top.offset=0.001:0.004:4000",
+        "--quiet",
+    ];
+    let whole = d.join("whole");
+    let o = bin().args(args).arg("--out").arg(&whole).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let want = read(&whole.join("sweep.csv"));
+
+    let out = d.join("out");
+    let mut child = bin()
+        .args(args)
+        .args(["--threads", "1", "--out"])
+        .arg(&out)
+        .spawn()
+        .unwrap();
+    let partial = out.join("sweep.csv.partial");
+    let t0 = std::time::Instant::now();
+    loop {
+        let rows = std::fs::read_to_string(&partial).map_or(0, |t| t.lines().count());
+        if rows > 20 {
+            break;
+        }
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the sweep ended without rows in sweep.csv.partial"
+        );
+        assert!(t0.elapsed().as_secs() < 60, "no rows on disk after 60 s");
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(!out.join("sweep.csv").exists());
+    let o = bin()
+        .args(args)
+        .args(["--resume", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(read(&out.join("sweep.csv")), want);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// `--resume` continues only the same sweep: a partial sweep of another
+/// one is bad input (exit code 2) and stays as it was; with nothing to
+/// resume the sweep starts from the first case.
+#[test]
+fn resume_checks_the_sweep() {
+    let d = scratch("resume-other");
+    let other = d.join("other");
+    assert!(
+        sweep(&other, &["--set", "surface.friction=0.2"])
+            .status
+            .success()
+    );
+    let out = d.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let partial = read(&other.join("sweep.csv"));
+    let partial = &partial[..partial.len() / 2];
+    std::fs::write(out.join("sweep.csv.partial"), partial).unwrap();
+    std::fs::copy(other.join("shard.json"), out.join("shard.json.partial")).unwrap();
+    let before = listing(&out);
+    let o = sweep(&out, &["--resume"]);
+    assert_input_error(&o, "error: --resume: the partial sweep in ");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("is another sweep"));
+    assert_eq!(listing(&out), before);
+    assert_eq!(read(&out.join("sweep.csv.partial")), partial);
+    // Nothing to resume: a fresh sweep, the same bytes as without --resume.
+    let fresh = d.join("fresh");
+    let o = sweep(&fresh, &["--resume"]);
+    assert!(o.status.success());
+    let plain = d.join("plain");
+    assert!(sweep(&plain, &[]).status.success());
+    assert_eq!(
+        read(&fresh.join("sweep.csv")),
+        read(&plain.join("sweep.csv"))
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
