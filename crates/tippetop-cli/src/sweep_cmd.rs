@@ -10,12 +10,20 @@
 //!   energy_final, steps, rhs_evaluations, status` (see
 //!   [`tippetop::analysis::sweep`]);
 //! - `shard.json`: which cases the CSV holds and of which sweep (a one-shot
-//!   run and a merge write `k = n = 1`), so `merge` can check a set of shards.
+//!   run and a merge write `k = n = 1`), so `merge` can check a set of shards;
+//! - `sweep.png`/`sweep.svg`: plots of a whole sweep of 1 or 2 axes and at
+//!   most [`MAX_PLOT_CASES`] cases.
+//!
+//! A sweep streams its rows into `sweep.csv.partial` (beside
+//! `shard.json.partial`) as the cases finish, in grid order, and renames
+//! both at the end; `--resume` continues an interrupted sweep from them. The
+//! directory is locked and updated as a unit ([`crate::output::OutDir`]).
 //!
 //! Exit codes: 0 done (cases that failed are reported in `status`, they do
 //! not fail the sweep); 2 bad input (one line `error: KEY: WHAT (RANGE)` on
-//! stderr, nothing written under `--out`); errors returned as `Err` (I/O)
-//! are for the caller to report (exit 1).
+//! stderr, nothing written under `--out`); errors returned as `Err` (I/O,
+//! an `--out` in use by another process) are for the caller to report
+//! (exit 1).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -29,28 +37,55 @@ use clap::{ArgGroup, Args};
 use tippetop::analysis::sweep::{self, Axis, Shard, ShardInfo, Sweep, Table};
 
 /// Long help of `tippetop sweep` (set on the subcommand in `cli.rs`).
-pub const SWEEP_LONG_ABOUT: &str = "Run a grid of scenarios on all cores and write into --out:\n  \
-                  sweep.csv    one row per case: the varied keys, then theta_final, theta_max,\n               \
-                  omega_final, Omega_final, first_time_theta_above_half_pi,\n               \
-                  contact_lost_at, negative_normal_fraction, rolling_fraction,\n               \
-                  J_max_rel_drift, energy_final, steps, rhs_evaluations, status\n  \
-                  shard.json   what the CSV covers, for tippetop merge\n\n\
-                  Each --vary KEY=FROM:TO:N takes N values FROM + (TO - FROM) i/(N - 1), \
-                  i = 0..N-1 (KEY=FROM:TO:N:log: geometric spacing, FROM, TO > 0). The cases \
-                  form a grid, rows in grid order with the first --vary varying slowest. \
-                  Each case is the scenario (preset, then file, then each --set) with \
-                  KEY=VALUE set for every --vary. A case whose scenario is invalid or whose \
-                  run fails gets the error in its status column (\"ok\" otherwise) and the \
-                  sweep goes on. The CSV is byte for byte the same whatever --threads and \
-                  however the sweep is cut with --shard.\n\n\
-                  --shard K/N runs only the K-th of N contiguous blocks of cases (sizes \
-                  differ by at most one; N at most the number of cases); join the shards' \
-                  directories with tippetop merge. Bad input exits with code 2 and writes \
-                  nothing.\n\n\
-                  Speed: the default model (vector) is 1.3-3.6x faster than the paper's \
-                  Euler-angle equations (--set solver.model=reduced); fewer --set \
-                  solver.samples (output rows per case, which also cap the step size) make \
-                  each case cheaper (docs/performance.md).";
+pub const SWEEP_LONG_ABOUT: &str = "Run a grid of scenarios on all cores and write into --out:
+  sweep.csv    one row per case: the varied keys, then theta_final, theta_max,
+               omega_final, Omega_final, first_time_theta_above_half_pi,
+               contact_lost_at, negative_normal_fraction, rolling_fraction,
+               J_max_rel_drift, energy_final, steps, rhs_evaluations, status
+  shard.json   what the CSV covers, for tippetop merge
+  sweep.png, sweep.svg   plots, for a whole sweep (no --shard) of 1 or 2 --vary and at
+               most 100 000 cases: with 1 --vary, theta final and max, omega final and
+               the first time theta > pi/2 against the varied key; with 2, a heat map of
+               theta final over the two keys (grey: failed case). No plots for 3 or more
+               --vary, for a shard (tippetop merge draws them for the whole sweep), or
+               above 100 000 cases (a note says so; sweep.csv has every row).
+
+Each --vary KEY=FROM:TO:N takes N values FROM + (TO - FROM) i/(N - 1), i = 0..N-1
+(KEY=FROM:TO:N:log: geometric spacing, FROM, TO > 0). The cases form a grid, rows in grid
+order with the first --vary varying slowest. Each case is the scenario (preset, then file,
+then each --set) with KEY=VALUE set for every --vary. A case whose scenario is invalid or
+whose run fails gets the error in its status column (\"ok\" otherwise) and the sweep goes
+on. The CSV is byte for byte the same whatever --threads and however the sweep is cut with
+--shard.
+
+--shard K/N runs only the K-th of N contiguous blocks of cases (sizes differ by at most
+one; N at most the number of cases); join the shards' directories with tippetop merge.
+Bad input exits with code 2 and writes nothing.
+
+--threads T: 1 to 1024 (default: one per core, or RAYON_NUM_THREADS); the cases are
+CPU-bound, so more threads than cores only add overhead.
+
+Streaming and --resume: the rows are written in grid order as the cases finish, into
+DIR/sweep.csv.partial (beside DIR/shard.json.partial, which identifies the sweep); memory
+stays flat however many cases (at most 8 T + 16 finished rows wait for a slower case before
+them). At the end the two files are renamed to sweep.csv and shard.json. If the sweep is
+interrupted, run the same command with --resume: it keeps the complete rows of
+sweep.csv.partial (a torn last line is cut), runs the remaining cases, and ends with the
+same sweep.csv as an uninterrupted run. --resume on another sweep's partial files (other
+scenario, --set, --vary or --shard) exits with code 2 and leaves them alone; with nothing to
+resume it starts from the first case. Without --resume a sweep always starts over.
+
+The output directory: created, checked and locked before the first case (an unwritable
+--out fails at once with code 1). While the sweep runs, any other tippetop command writing
+into the same directory exits at once with code 1 (\"DIR is in use by another tippetop
+process (pid N)\"); it does not wait (the lock, DIR/.tippetop.lock, uses flock(2): Unix
+only). At the end, the files of the previous command into DIR (listed in
+DIR/.tippetop-manifest) that this one did not write are removed, e.g. an old heat map when
+the new sweep has 3 --vary; files the tool did not write are never touched.
+
+Speed: the default model (vector) is 1.3-3.6x faster than the paper's Euler-angle equations
+(--set solver.model=reduced); fewer --set solver.samples (output rows per case, which also
+cap the step size) make each case cheaper (docs/performance.md).";
 
 /// `tippetop sweep`.
 #[derive(Debug, Args)]
@@ -86,12 +121,12 @@ pub struct SweepArgs {
     #[arg(long = "vary", value_name = "KEY=FROM:TO:N[:log]", required = true)]
     pub vary: Vec<String>,
 
-    /// Output directory (created if missing; sweep.csv and shard.json in it
-    /// are replaced).
+    /// Output directory (created if missing; locked while the sweep runs;
+    /// the previous command's files in it are replaced or removed).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
-    /// Number of threads (default: one per core).
+    /// Number of threads, 1 to 1024 (default: one per core).
     #[arg(long, value_name = "T")]
     pub threads: Option<usize>,
 
@@ -113,7 +148,10 @@ pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of
                   of the sweep writes, and shard.json. The shards may come in any order and \
                   from different layouts (e.g. 1/2 with 3/4 and 4/4); merge checks that \
                   they belong to the same sweep and cover every case exactly once. On any \
-                  mismatch or gap it exits with code 2 and writes nothing.";
+                  mismatch or gap it exits with code 2 and writes nothing. Plots as for a \
+                  whole sweep (see tippetop sweep --help). --out is locked and updated as a \
+                  unit as for tippetop sweep (another command writing into it exits with \
+                  code 1).";
 
 /// `tippetop merge`.
 #[derive(Debug, Args)]
@@ -125,8 +163,8 @@ pub struct MergeArgs {
     #[arg(value_name = "DIR", required = true)]
     pub dirs: Vec<PathBuf>,
 
-    /// Output directory (created if missing; sweep.csv and shard.json in it
-    /// are replaced).
+    /// Output directory (created if missing; locked while merge writes; the
+    /// previous command's files in it are replaced or removed).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 }
@@ -380,7 +418,14 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
     let table = Table::parse_csv(&csv).map_err(anyhow::Error::new)?;
     let out = OutDir::open(&args.out)?;
     write_outputs(out.stage(), &csv, &info)?;
-    write_plots(out.stage(), &table)?;
+    if info.total_cases <= MAX_PLOT_CASES {
+        write_plots(out.stage(), &table)?;
+    } else if !quiet {
+        eprintln!(
+            "note: no plots: {} cases (plots are drawn for at most {MAX_PLOT_CASES})",
+            info.total_cases
+        );
+    }
     out.commit(&["shard.json"])?;
     if !quiet {
         let failed = table.status.iter().filter(|s| *s != "ok").count();

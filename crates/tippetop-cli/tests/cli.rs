@@ -652,3 +652,87 @@ fn unwritable_out_fails_before_simulating() {
     let err = String::from_utf8(a.get_output().stderr.clone()).unwrap();
     assert!(err.starts_with("error: cannot create "), "{err}");
 }
+
+/// Defect 10 of issue 12 (the CLI part): `run --help` documents every
+/// trajectory.csv column, each with its unit in brackets (or, for the 0/1
+/// flag `rolling`, its values).
+#[test]
+fn run_help_documents_every_trajectory_column_with_its_unit() {
+    let a = tippetop().args(["run", "--help"]).assert().success();
+    let help = String::from_utf8(a.get_output().stdout.clone()).unwrap();
+    let section = help
+        .split_once("trajectory.csv columns")
+        .expect("a trajectory.csv columns section")
+        .1
+        .split("\n\n")
+        .next()
+        .unwrap();
+    // Entries: "  NAME[, NAME]   description" with continuation lines
+    // indented further.
+    let mut entries: Vec<(Vec<String>, String)> = Vec::new();
+    for line in section.lines().skip(1) {
+        let indent = line.len() - line.trim_start().len();
+        if indent == 2 {
+            let (names, text) = line.trim_start().split_once("  ").unwrap();
+            let names = names.split(", ").map(|n| n.trim().to_string()).collect();
+            entries.push((names, text.trim().to_string()));
+        } else {
+            entries.last_mut().unwrap().1.push_str(line.trim());
+        }
+    }
+    let documented: Vec<&String> = entries.iter().flat_map(|(n, _)| n).collect();
+    assert_eq!(
+        documented,
+        tippetop::trajectory::COLUMNS.iter().collect::<Vec<_>>(),
+        "every column, in order"
+    );
+    for (names, text) in &entries {
+        let has_unit = text.contains(" [") && text.contains(']');
+        assert!(
+            has_unit || (names == &["rolling"] && text.contains("1 while")),
+            "{names:?}: {text}"
+        );
+    }
+    for word in [
+        "[s]",
+        "[rad]",
+        "[rad/s]",
+        "[m/s]",
+        "[N]",
+        "[kg m³/s]",
+        "[J]",
+    ] {
+        assert!(section.contains(word), "{word}");
+    }
+    // The output directory's behaviour.
+    for word in [
+        ".tippetop.lock",
+        "exits at once with code 1",
+        ".tippetop-manifest",
+    ] {
+        assert!(help.contains(word), "{word}");
+    }
+}
+
+/// `sweep --help` says which sweeps get plots and which none, the lock, the
+/// thread bound and --resume.
+#[test]
+fn sweep_help_documents_plots_lock_threads_and_resume() {
+    let a = tippetop().args(["sweep", "--help"]).assert().success();
+    let help = String::from_utf8(a.get_output().stdout.clone()).unwrap();
+    for word in [
+        "sweep.png, sweep.svg",
+        "heat map",
+        "No plots for 3 or more",
+        "for a shard",
+        "above 100 000 cases",
+        "1 to 1024",
+        "--resume",
+        "sweep.csv.partial",
+        "in use by another tippetop",
+        "it does not wait",
+        "never touched",
+    ] {
+        assert!(help.contains(word), "sweep --help lacks {word:?}");
+    }
+}
