@@ -107,7 +107,8 @@ exits at once with code 1 (\"DIR is in use by another tippetop process (pid N)\"
 not wait. The files are written aside and moved in together at the end, summary.json last;
 then the files of the previous command into DIR (listed in DIR/.tippetop-manifest) that this
 run did not write are removed, e.g. the plots after a --no-plot run. Files the tool did not
-write are never touched. (The lock uses flock(2): Unix only.)";
+write are never touched. (The lock uses flock(2), on Unix; on a file system without locks the
+command goes on with a warning.)";
 
 /// `tippetop run`.
 #[derive(Debug, Args)]

@@ -23,15 +23,31 @@ use tippetop::{EventRecord, Summary, Trajectory};
 static TMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
 /// A fresh temporary path for [`write_atomic`] next to `path`:
-/// `DIR/.NAME.PID-N.tmp`, with this process's id and a per-process counter,
-/// so neither two processes nor two writes of one process share it.
+/// `DIR/.NAME.PID-RANDOM-N.tmp`, with this process's id, a random number
+/// drawn once per process and a per-process counter, so neither two
+/// processes nor two writes of one process share it.
 pub fn tmp_path(path: &Path) -> PathBuf {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "out".to_string());
     let n = TMP_COUNTER.fetch_add(1, Ordering::Relaxed);
-    path.with_file_name(format!(".{name}.{}-{n}.tmp", std::process::id()))
+    path.with_file_name(format!(".{name}.{}-{n}.tmp", process_tag()))
+}
+
+/// This process's id and a random number drawn once per process
+/// (`PID-RANDOM`): unique among the processes that may share a directory,
+/// even on several machines of a cluster sharing a file system (where
+/// process ids repeat).
+fn process_tag() -> &'static str {
+    use std::hash::{BuildHasher, Hasher};
+    static TAG: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TAG.get_or_init(|| {
+        // std's hasher keys are random per process.
+        let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+        h.write_u32(std::process::id());
+        format!("{}-{:08x}", std::process::id(), h.finish() as u32)
+    })
 }
 
 /// Write `path` atomically: `fill` writes the contents into a buffered
@@ -180,7 +196,7 @@ pub const LOCK_NAME: &str = ".tippetop.lock";
 /// it lists are ever removed by a later command.
 pub const MANIFEST_NAME: &str = ".tippetop-manifest";
 
-/// Prefix of the staging directory (`DIR/.tippetop-stage-PID`) where a
+/// Prefix of the staging directory (`DIR/.tippetop-stage-PID-RANDOM`) where a
 /// command writes its files before [`OutDir::commit`] moves them into place.
 const STAGE_PREFIX: &str = ".tippetop-stage-";
 
@@ -199,6 +215,8 @@ const STAGE_PREFIX: &str = ".tippetop-stage-";
 pub struct OutDir {
     dir: PathBuf,
     stage: PathBuf,
+    /// Whether the lock was taken (false only where locks are unsupported).
+    locked: bool,
     lock: Option<File>,
     created_dir: bool,
     created_lock: bool,
@@ -216,7 +234,9 @@ impl OutDir {
     /// the directory cannot be created or written, or another process holds
     /// the lock (`DIR is in use by another tippetop process (pid N); ...`).
     /// On error nothing is left behind that this call created, except when
-    /// the directory is in use (then nothing is touched at all).
+    /// the directory is in use (then nothing is touched at all). On a file
+    /// system without locks (`flock` fails otherwise than "held") it goes on
+    /// without the lock, with a warning on stderr.
     pub fn open(dir: &Path) -> Result<OutDir> {
         let created_dir = !dir.exists();
         if let Err(e) = fs::create_dir_all(dir) {
@@ -241,6 +261,7 @@ impl OutDir {
                 });
             }
         };
+        let mut locked = true;
         match try_lock(&lock) {
             Ok(true) => {}
             Ok(false) => {
@@ -250,13 +271,21 @@ impl OutDir {
                     lock_holder(&lock)
                 );
             }
+            // A file system without locks (some cluster file systems):
+            // go on, unprotected, and say so.
             Err(e) => {
-                return Err(e).with_context(|| format!("cannot lock {}", lock_path.display()));
+                eprintln!(
+                    "warning: cannot lock {} ({e}): another tippetop process writing into {} at the same time would not be detected",
+                    lock_path.display(),
+                    dir.display()
+                );
+                locked = false;
             }
         }
         let mut out = OutDir {
             dir: dir.to_path_buf(),
-            stage: dir.join(format!("{STAGE_PREFIX}{}", std::process::id())),
+            stage: dir.join(format!("{STAGE_PREFIX}{}", process_tag())),
+            locked,
             lock: Some(lock),
             created_dir,
             created_lock,
@@ -283,8 +312,8 @@ impl OutDir {
                 .with_context(|| cannot(LOCK_NAME))?;
         }
         // Staging directories of processes that died: we hold the lock, so
-        // no live process uses them.
-        if let Ok(entries) = fs::read_dir(&self.dir) {
+        // no live process uses them (without the lock we cannot know).
+        if let Some(entries) = fs::read_dir(&self.dir).ok().filter(|_| self.locked) {
             for e in entries.flatten() {
                 let name = e.file_name().to_string_lossy().into_owned();
                 if name.starts_with(STAGE_PREFIX) && e.file_type().is_ok_and(|t| t.is_dir()) {

@@ -78,8 +78,8 @@ resume it starts from the first case. Without --resume a sweep always starts ove
 The output directory: created, checked and locked before the first case (an unwritable
 --out fails at once with code 1). While the sweep runs, any other tippetop command writing
 into the same directory exits at once with code 1 (\"DIR is in use by another tippetop
-process (pid N)\"); it does not wait (the lock, DIR/.tippetop.lock, uses flock(2): Unix
-only). At the end, the files of the previous command into DIR (listed in
+process (pid N)\"); it does not wait (the lock, DIR/.tippetop.lock, uses flock(2), on
+Unix; on a file system without locks the sweep goes on with a warning). At the end, the files of the previous command into DIR (listed in
 DIR/.tippetop-manifest) that this one did not write are removed, e.g. an old heat map when
 the new sweep has 3 --vary; files the tool did not write are never touched.
 
