@@ -69,16 +69,31 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     let stage = out.stage().to_path_buf();
     let mut written = write_data(&stage, &toml, &traj, wall_seconds)?;
     let mut plots = Vec::new();
+    let mut plot_error = None;
     if args.plots() {
         match write_plots(&stage, &scenario, &traj) {
             Ok(p) => plots = p,
-            // A failed run's error is the one that matters; still say why
-            // the plots are missing.
-            Err(e) if traj.error.is_some() => eprintln!("warning: plots not written: {e:#}"),
-            Err(e) => return Err(e),
+            Err(e) => {
+                // The data are good: commit them without any plot (no half
+                // set), then report the plots' failure.
+                for stem in PLOT_STEMS {
+                    for ext in ["png", "svg"] {
+                        let _ = fs::remove_file(stage.join(format!("{stem}.{ext}")));
+                    }
+                }
+                plot_error = Some(e);
+            }
         }
     }
     out.commit(&["summary.json"])?;
+    if let Some(e) = plot_error {
+        if traj.error.is_none() {
+            return Err(e.context("plots not written (the data files are)"));
+        }
+        // A failed run's error is the one that matters; still say why the
+        // plots are missing.
+        eprintln!("warning: plots not written: {e:#}");
+    }
     let rebase = |p: &PathBuf| match p.file_name() {
         Some(n) => args.out.join(n),
         None => p.clone(),
@@ -155,6 +170,9 @@ pub fn time_unit(t_max: f64) -> (f64, &'static str) {
         (1e9, "ns")
     }
 }
+
+/// The stems of the plots [`write_plots`] writes.
+pub const PLOT_STEMS: [&str; 3] = ["theta", "spin", "diagnostics"];
 
 /// The standard plots of a run, as `STEM.png` + `STEM.svg` in `dir`:
 /// `theta` (θ with π/2 and π marked), `spin` (ω and Ω), `diagnostics`
@@ -388,6 +406,14 @@ mod tests {
             let toml = scenario_load::to_toml(&sc);
             let written = write_data(dir.path(), &toml, &traj, 0.5).unwrap();
             let plots = write_plots(dir.path(), &sc, &traj).unwrap();
+            let stems: Vec<String> = plots
+                .iter()
+                .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+                .collect();
+            assert_eq!(
+                stems, PLOT_STEMS,
+                "PLOT_STEMS lists what write_plots writes"
+            );
             let mut names: Vec<String> = fs::read_dir(dir.path())
                 .unwrap()
                 .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
