@@ -241,6 +241,11 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
                 if let Ok(text) = std::fs::read_to_string(&csv_partial) {
                     kept = sw.complete_prefix(info.first_index, &text);
                 }
+                if kept.rows > range.len() {
+                    // More rows than the shard has: not a file this sweep
+                    // wrote; start over.
+                    kept = sweep::Prefix::default();
+                }
             }
             Ok(old) => {
                 let what = match serde_json::from_str::<ShardInfo>(&old) {

@@ -568,6 +568,21 @@ fn resumed_sweep_is_byte_identical() {
         }
         let _ = std::fs::remove_dir_all(&whole);
     }
+    // A partial file with more rows than the shard has (cases 3..9 for
+    // shard 2/3, cases 3..6): not this sweep's, so it starts over.
+    let whole = d.join("whole");
+    assert!(sweep(&whole, &[]).status.success());
+    let full = read(&whole.join("sweep.csv"));
+    let part = d.join("too-long");
+    assert!(sweep(&part, &["--shard", "2/3"]).status.success());
+    let want = read(&part.join("sweep.csv"));
+    let ends: Vec<usize> = full.match_indices('\n').map(|(i, _)| i + 1).collect();
+    let text = format!("{}{}", &full[..ends[0]], &full[ends[3]..]);
+    std::fs::write(part.join("sweep.csv.partial"), text).unwrap();
+    std::fs::copy(part.join("shard.json"), part.join("shard.json.partial")).unwrap();
+    let o = sweep(&part, &["--shard", "2/3", "--resume"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(read(&part.join("sweep.csv")), want);
     let _ = std::fs::remove_dir_all(&d);
 }
 
