@@ -447,9 +447,15 @@ impl Drop for OutDir {
 /// workspace's rust-version).
 #[cfg(unix)]
 fn try_lock(file: &File) -> io::Result<bool> {
+    try_flock(file, libc::LOCK_EX)
+}
+
+/// `flock(file, mode | LOCK_NB)`: `Ok(false)` if held by another.
+#[cfg(unix)]
+fn try_flock(file: &File, mode: libc::c_int) -> io::Result<bool> {
     use std::os::fd::AsRawFd;
     // SAFETY: flock on a file descriptor that `file` keeps open.
-    let r = unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) };
+    let r = unsafe { libc::flock(file.as_raw_fd(), mode | libc::LOCK_NB) };
     if r == 0 {
         return Ok(true);
     }
@@ -467,6 +473,36 @@ fn try_lock(file: &File) -> io::Result<bool> {
 #[cfg(not(unix))]
 fn try_lock(_file: &File) -> io::Result<bool> {
     Ok(true)
+}
+
+/// Take a shared lock on `dir`'s [`LOCK_NAME`] before reading files a
+/// tippetop command writes there (e.g. `merge` reading a shard's
+/// directory): several readers may hold it, but not while a command writes
+/// into the directory. Returns the locked file (drop it to release), or
+/// `None` when there is nothing to lock (no lock file: no tippetop command
+/// with locks wrote there; or a file system without locks). Error: a command
+/// is writing into `dir` (`DIR is in use by another tippetop process (pid
+/// N); wait until it ends`).
+pub fn read_lock(dir: &Path) -> Result<Option<File>> {
+    let Ok(file) = File::open(dir.join(LOCK_NAME)) else {
+        return Ok(None);
+    };
+    #[cfg(unix)]
+    {
+        match try_flock(&file, libc::LOCK_SH) {
+            Ok(true) => Ok(Some(file)),
+            Ok(false) => bail!(
+                "{} is in use by another tippetop process (pid {}); wait until it ends",
+                dir.display(),
+                lock_holder(&file)
+            ),
+            Err(_) => Ok(None),
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        Ok(Some(file))
+    }
 }
 
 /// The process id written in a lock file held by another process, or
@@ -732,6 +768,31 @@ pub(crate) mod tests {
         drop(first);
         let again = OutDir::open(&dir).unwrap();
         again.commit(&[]).unwrap();
+    }
+
+    /// Readers (merge reading a shard) share a lock that excludes a writer,
+    /// both ways; a directory no tippetop wrote has nothing to lock.
+    #[test]
+    fn read_lock_excludes_writers() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        assert!(read_lock(tmp.path()).unwrap().is_none());
+        let writer = OutDir::open(&dir).unwrap();
+        let err = read_lock(&dir).unwrap_err().to_string();
+        assert!(
+            err.contains(&format!(
+                "in use by another tippetop process (pid {})",
+                std::process::id()
+            )),
+            "{err}"
+        );
+        writer.commit(&[]).unwrap();
+        let r1 = read_lock(&dir).unwrap();
+        let r2 = read_lock(&dir).unwrap();
+        assert!(r1.is_some() && r2.is_some());
+        assert!(OutDir::open(&dir).is_err());
+        drop((r1, r2));
+        OutDir::open(&dir).unwrap();
     }
 
     /// The commit moves the staged files in, removes the previous command's

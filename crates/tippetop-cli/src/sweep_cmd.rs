@@ -151,7 +151,9 @@ pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of
                   mismatch or gap it exits with code 2 and writes nothing. Plots as for a \
                   whole sweep (see tippetop sweep --help). --out is locked and updated as a \
                   unit as for tippetop sweep (another command writing into it exits with \
-                  code 1).";
+                  code 1). A shard directory that a sweep is still writing into (its lock \
+                  is held) is not read: merge exits with code 1 (\"DIR is in use by \
+                  another tippetop process (pid N); wait until it ends\").";
 
 /// `tippetop merge`.
 #[derive(Debug, Args)]
@@ -401,6 +403,9 @@ pub const MAX_PLOT_CASES: usize = 100_000;
 pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
     let mut shards: Vec<(ShardInfo, String)> = Vec::new();
     for dir in &args.dirs {
+        // Not while a sweep writes into it (e.g. a task still running):
+        // exit code 1, as for a busy --out.
+        let _reading = crate::output::read_lock(dir)?;
         match read_shard(dir) {
             Ok(s) => shards.push(s),
             Err(msg) => return Ok(input_error(msg)),

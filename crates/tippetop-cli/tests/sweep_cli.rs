@@ -681,3 +681,49 @@ fn resume_checks_the_sweep() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// `merge` does not read a shard directory that a sweep is still writing
+/// into (a cluster task still running): exit code 1, one line, nothing
+/// written; once the writer is gone the merge works.
+#[test]
+fn merge_refuses_a_shard_directory_being_written() {
+    let d = scratch("merge-busy");
+    let dirs: Vec<PathBuf> = (1..=2)
+        .map(|k| {
+            let s = d.join(format!("s{k}"));
+            assert!(sweep(&s, &["--shard", &format!("{k}/2")]).status.success());
+            s
+        })
+        .collect();
+    let out = d.join("merged");
+    let writer = tippetop_cli::output::OutDir::open(&dirs[1]).unwrap();
+    let o = bin()
+        .arg("merge")
+        .args(&dirs)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(
+        err,
+        format!(
+            "error: {} is in use by another tippetop process (pid {}); wait until it ends\n",
+            dirs[1].display(),
+            std::process::id()
+        )
+    );
+    assert!(!out.exists());
+    drop(writer);
+    let o = bin()
+        .arg("merge")
+        .args(&dirs)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let _ = std::fs::remove_dir_all(&d);
+}
