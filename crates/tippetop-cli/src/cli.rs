@@ -33,14 +33,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Run one scenario and write its trajectory, summary and plots.
-    #[command(long_about = "Run one scenario and write into --out:\n  \
-                      trajectory.csv   one row per sample (t, theta, theta_dot, Omega, omega, ...)\n  \
-                      summary.json     scalar results, events, wall time and the scenario\n  \
-                      scenario.toml    the resolved scenario, to run it again\n  \
-                      theta, spin, diagnostics (.png and .svg)   plots, unless --no-plot\n\n\
-                      The scenario is the preset (if given), then the scenario file over it, then \
-                      each --set in order. Bad input exits with code 2 and touches nothing; a run \
-                      that fails part-way writes what it computed and exits with code 3.")]
+    #[command(long_about = crate::cli::RUN_LONG_ABOUT)]
     Run(RunArgs),
     /// Reproduce the nano tippe-top paper's figures and numbers.
     #[command(
@@ -50,7 +43,11 @@ pub enum Command {
                             law solved accurately; the paper's RK4 on 500 steps) and writes into \
                             --out: figNN.png/.svg/.csv for figures 02-15, report.md (every claim \
                             of the paper beside what we measured, with a verdict and why) and \
-                            claims.json."
+                            claims.json. --out is created, locked and checked before the runs \
+                            (another tippetop command writing into it exits with code 1); the \
+                            files are moved in together at the end, report.md last, and the \
+                            files of the previous command into it that this one did not write \
+                            (e.g. the ε-study figures of an earlier --extended) are removed."
     )]
     Reproduce(ReproduceArgs),
     /// Run a parameter sweep (a grid of scenarios) on all cores.
@@ -65,6 +62,56 @@ pub enum Command {
     #[command(long_about = crate::adhesion_cmd::ADHESION_LONG_ABOUT)]
     Adhesion(crate::adhesion_cmd::AdhesionArgs),
 }
+
+/// Long help of `tippetop run`: the files, every `trajectory.csv` column
+/// with its unit, the output directory's lock and manifest.
+pub const RUN_LONG_ABOUT: &str = "Run one scenario and write into --out:
+  trajectory.csv   one row per sample, the columns below
+  summary.json     scalar results, events, wall time and the scenario
+  scenario.toml    the resolved scenario, to run it again
+  theta, spin, diagnostics (.png and .svg)   plots, unless --no-plot
+
+trajectory.csv columns (SI units; angles in rad; frames in docs/physics.md):
+  t              time [s]
+  theta          nutation angle θ between the symmetry axis and the vertical [rad]
+                 (0: standing on the heavy end, centre of mass lowest; pi: inverted)
+  theta_dot      dθ/dt [rad/s]
+  Omega          precession rate Ω = dφ/dt: how fast the direction of the axis's tilt
+                 turns about the vertical (the precessing frame's rate) [rad/s]
+  omega          spin ω, the angular velocity along the symmetry axis [rad/s]
+  ux, uy         centre-of-mass velocity in the precessing frame: x horizontal towards
+                 the tilt of the axis, y = Z × x [m/s]
+  uz             centre-of-mass velocity, vertical [m/s]
+  N              normal force of the plane on the top [N] (negative: the plane would
+                 have to pull, i.e. a real top would lose contact)
+  slip           slip speed |v_P| of the contact point on the plane [m/s]
+  J              Jellett's quantity J = A Ω R sin²θ + C ω (R cos θ − a) [kg m³/s], with
+                 A, C the moments of inertia (transverse, axial), R the radius, a the
+                 offset of the centre of mass (conserved for any force at the
+                 contact point: its drift measures the integration error)
+  energy         total energy: translational + rotational kinetic + m g h, h the height
+                 of the centre of mass above the plane [J]
+  work_friction  work done by friction since t = 0 [J] (<= 0)
+  work_applied   work done by the applied force since t = 0 [J]; energy - energy(0)
+                 = work_friction + work_applied up to the integration error
+  hx, hy         applied force H = (H_x, H_y) in effect, precessing frame [N] (a
+                 retarding force: the force on the top at the contact point is -H)
+  rolling        1 while rolling (only with exact Coulomb friction: slip held at zero),
+                 else 0
+
+The scenario is the preset (if given), then the scenario file over it, then each --set in
+order. Bad input exits with code 2 and touches nothing; a run that fails part-way writes what
+it computed and exits with code 3.
+
+The output directory: created if missing and checked (and locked, see below) before the
+simulation starts, so an unwritable --out fails at once with code 1. While a run writes into
+it, DIR/.tippetop.lock holds a lock: any other tippetop command writing into the same directory
+exits at once with code 1 (\"DIR is in use by another tippetop process (pid N)\"); it does
+not wait. The files are written aside and moved in together at the end, summary.json last;
+then the files of the previous command into DIR (listed in DIR/.tippetop-manifest) that this
+run did not write are removed, e.g. the plots after a --no-plot run. Files the tool did not
+write are never touched. (The lock uses flock(2), on Unix; on a file system without locks the
+command goes on with a warning.)";
 
 /// `tippetop run`.
 #[derive(Debug, Args)]
@@ -95,7 +142,8 @@ pub struct RunArgs {
     #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
     pub sets: Vec<String>,
 
-    /// Output directory (created if missing; files in it are replaced).
+    /// Output directory (created if missing; locked while the run writes;
+    /// the previous command's files in it are replaced or removed).
     #[arg(long, value_name = "DIR", default_value = "out")]
     pub out: PathBuf,
 
@@ -121,7 +169,8 @@ impl RunArgs {
                         tippetop reproduce --out out\n  \
                         tippetop reproduce --extended --quiet --out out/full")]
 pub struct ReproduceArgs {
-    /// Output directory for figures, data and the report.
+    /// Output directory for figures, data and the report (locked while
+    /// writing; the previous command's files in it are replaced or removed).
     #[arg(long, value_name = "DIR", default_value = "out")]
     pub out: PathBuf,
 

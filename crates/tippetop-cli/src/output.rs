@@ -1,35 +1,62 @@
-//! Writing results to disk: atomic file writes, CSV with shortest round-trip
-//! floats, pretty JSON, and the `summary.json` document of a run.
+//! Writing results to disk: the output directory as a unit ([`OutDir`]),
+//! atomic file writes, CSV with shortest round-trip floats, pretty JSON, and
+//! the `summary.json` document of a run.
 //!
-//! Every file goes through [`write_atomic`]: it is written to `DIR/.NAME.tmp`
-//! and renamed over `DIR/NAME`, so a reader never sees half a file and a
-//! failed write leaves any previous version in place.
+//! Every file goes through [`write_atomic`]: it is written to a temporary
+//! name unique to the process and the write (`DIR/.NAME.PID-N.tmp`) and
+//! renamed over `DIR/NAME`, so a reader never sees half a file, a failed
+//! write leaves any previous version in place, and two writers never share a
+//! temporary file.
 
-use std::fs::{self, File};
-use std::io::{self, BufWriter, Write};
+use std::collections::BTreeSet;
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, BufWriter, Read, Seek, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use anyhow::{Context, Result, bail};
 use serde::Serialize;
 use tippetop::trajectory::COLUMNS;
 use tippetop::{EventRecord, Summary, Trajectory};
 
-/// The temporary path [`write_atomic`] writes to before renaming:
-/// `DIR/.NAME.tmp` next to `path`.
+/// Counter that makes each temporary name of this process unique.
+static TMP_COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// A fresh temporary path for [`write_atomic`] next to `path`:
+/// `DIR/.NAME.PID-RANDOM-N.tmp`, with this process's id, a random number
+/// drawn once per process and a per-process counter, so neither two
+/// processes nor two writes of one process share it.
 pub fn tmp_path(path: &Path) -> PathBuf {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "out".to_string());
-    path.with_file_name(format!(".{name}.tmp"))
+    let n = TMP_COUNTER.fetch_add(1, Ordering::Relaxed);
+    path.with_file_name(format!(".{name}.{}-{n}.tmp", process_tag()))
+}
+
+/// This process's id and a random number drawn once per process
+/// (`PID-RANDOM`): unique among the processes that may share a directory,
+/// even on several machines of a cluster sharing a file system (where
+/// process ids repeat).
+fn process_tag() -> &'static str {
+    use std::hash::{BuildHasher, Hasher};
+    static TAG: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TAG.get_or_init(|| {
+        // std's hasher keys are random per process.
+        let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+        h.write_u32(std::process::id());
+        format!("{}-{:08x}", std::process::id(), h.finish() as u32)
+    })
 }
 
 /// Write `path` atomically: `fill` writes the contents into a buffered
-/// `DIR/.NAME.tmp`, which is flushed and renamed to `path`. On any error
-/// the temporary file is removed and `path` is left as it was. A process
-/// that is interrupted never leaves a half-written `path` (the rename is
-/// atomic). The file is not fsync'ed: that would guard only against power
-/// loss, at a cost of milliseconds per file (more than a whole simulation).
+/// temporary file ([`tmp_path`]), which is flushed and renamed to `path`. On
+/// any error the temporary file is removed and `path` is left as it was. A
+/// process that is interrupted never leaves a half-written `path` (the
+/// rename is atomic). The file is not fsync'ed: that would guard only
+/// against power loss, at a cost of milliseconds per file (more than a whole
+/// simulation).
 pub fn write_atomic<F>(path: &Path, fill: F) -> Result<()>
 where
     F: FnOnce(&mut BufWriter<File>) -> io::Result<()>,
@@ -153,6 +180,385 @@ pub fn write_json_pretty<T: Serialize + ?Sized>(path: &Path, value: &T) -> Resul
         .with_context(|| format!("serializing {}", path.display()))?;
     text.push('\n');
     write_bytes_atomic(path, text.as_bytes())
+}
+
+// ---------------------------------------------------------------------------
+// The output directory as a unit.
+
+/// The lock file of an output directory: held (an OS advisory lock, released
+/// when the process ends, however it ends) by the one tippetop process that
+/// writes into the directory; it holds that process's id. It stays in the
+/// directory (removing a lock file races with a process about to take it).
+pub const LOCK_NAME: &str = ".tippetop.lock";
+
+/// The manifest of an output directory: the names of the files the last
+/// command wrote into it, one per line after a `#` comment line. Only files
+/// it lists are ever removed by a later command.
+pub const MANIFEST_NAME: &str = ".tippetop-manifest";
+
+/// Prefix of the staging directory (`DIR/.tippetop-stage-PID-RANDOM`) where a
+/// command writes its files before [`OutDir::commit`] moves them into place.
+const STAGE_PREFIX: &str = ".tippetop-stage-";
+
+/// An output directory (`--out`) that one command updates as a unit.
+///
+/// [`OutDir::open`] creates the directory, takes its lock ([`LOCK_NAME`];
+/// a second process gets an error at once, it does not wait) and checks that
+/// files can be created in it, all before anything is computed. The command
+/// then writes its files into [`OutDir::stage`], a private staging directory
+/// inside `DIR`, and [`OutDir::commit`] moves them into `DIR`, removes the
+/// files of the previous command (those listed in its [`MANIFEST_NAME`])
+/// that this one did not write, and writes the new manifest. A command that
+/// fails before the commit leaves `DIR` as it was (its staging directory is
+/// removed when the `OutDir` is dropped).
+#[derive(Debug)]
+pub struct OutDir {
+    dir: PathBuf,
+    stage: PathBuf,
+    /// Whether the lock was taken (false only where locks are unsupported).
+    locked: bool,
+    lock: Option<File>,
+    created_dir: bool,
+    created_lock: bool,
+    /// Files of the previous command (its manifest) and files claimed since.
+    previous: BTreeSet<String>,
+    /// Files already in `DIR` to move into place at the commit: (from, to).
+    adopted: Vec<(String, String)>,
+    done: bool,
+}
+
+impl OutDir {
+    /// Create `dir` (and its parents) if missing, take its lock, remove the
+    /// staging directories of processes that died, create this process's
+    /// staging directory and write a probe file into it. Errors (exit code 1):
+    /// the directory cannot be created or written, or another process holds
+    /// the lock (`DIR is in use by another tippetop process (pid N); ...`).
+    /// On error nothing is left behind that this call created, except when
+    /// the directory is in use (then nothing is touched at all). On a file
+    /// system without locks (`flock` fails otherwise than "held") it goes on
+    /// without the lock, with a warning on stderr.
+    pub fn open(dir: &Path) -> Result<OutDir> {
+        let created_dir = !dir.exists();
+        if let Err(e) = fs::create_dir_all(dir) {
+            return Err(e).with_context(|| format!("cannot create {}", dir.display()));
+        }
+        let lock_path = dir.join(LOCK_NAME);
+        let created_lock = !lock_path.exists();
+        let lock = match OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(&lock_path)
+        {
+            Ok(f) => f,
+            Err(e) => {
+                if created_dir {
+                    let _ = fs::remove_dir(dir);
+                }
+                return Err(e).with_context(|| {
+                    format!("cannot write in {}: creating {LOCK_NAME}", dir.display())
+                });
+            }
+        };
+        let mut locked = true;
+        match try_lock(&lock) {
+            Ok(true) => {}
+            Ok(false) => {
+                bail!(
+                    "{} is in use by another tippetop process (pid {}); choose another --out or wait until it ends",
+                    dir.display(),
+                    lock_holder(&lock)
+                );
+            }
+            // A file system without locks (some cluster file systems):
+            // go on, unprotected, and say so.
+            Err(e) => {
+                eprintln!(
+                    "warning: cannot lock {} ({e}): another tippetop process writing into {} at the same time would not be detected",
+                    lock_path.display(),
+                    dir.display()
+                );
+                locked = false;
+            }
+        }
+        let mut out = OutDir {
+            dir: dir.to_path_buf(),
+            stage: dir.join(format!("{STAGE_PREFIX}{}", process_tag())),
+            locked,
+            lock: Some(lock),
+            created_dir,
+            created_lock,
+            previous: BTreeSet::new(),
+            adopted: Vec::new(),
+            done: false,
+        };
+        match out.prepare() {
+            Ok(()) => Ok(out),
+            Err(e) => {
+                out.abandon();
+                Err(e)
+            }
+        }
+    }
+
+    /// The part of [`OutDir::open`] after the lock is taken.
+    fn prepare(&mut self) -> Result<()> {
+        let cannot = |what: &str| format!("cannot write in {}: {what}", self.dir.display());
+        if let Some(lock) = self.lock.as_mut() {
+            lock.set_len(0)
+                .and_then(|()| lock.rewind())
+                .and_then(|()| writeln!(lock, "{}", std::process::id()))
+                .with_context(|| cannot(LOCK_NAME))?;
+        }
+        // Staging directories of processes that died: we hold the lock, so
+        // no live process uses them (without the lock we cannot know).
+        if let Some(entries) = fs::read_dir(&self.dir).ok().filter(|_| self.locked) {
+            for e in entries.flatten() {
+                let name = e.file_name().to_string_lossy().into_owned();
+                if name.starts_with(STAGE_PREFIX) && e.file_type().is_ok_and(|t| t.is_dir()) {
+                    let _ = fs::remove_dir_all(e.path());
+                }
+            }
+        }
+        fs::create_dir(&self.stage).with_context(|| cannot("creating a staging directory"))?;
+        let probe = self.stage.join(".probe");
+        fs::write(&probe, b"probe").with_context(|| cannot("writing a probe file"))?;
+        fs::remove_file(&probe).with_context(|| cannot("removing a probe file"))?;
+        self.previous = read_manifest(&self.dir);
+        Ok(())
+    }
+
+    /// The output directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The staging directory: write the command's files here (by their final
+    /// names); [`OutDir::commit`] moves them into [`OutDir::dir`].
+    pub fn stage(&self) -> &Path {
+        &self.stage
+    }
+
+    /// Record now, in the manifest, that the command writes `names` directly
+    /// into the directory (e.g. a partial file streamed as it is computed),
+    /// so that a later command removes them if this one is interrupted.
+    pub fn claim(&mut self, names: &[&str]) -> Result<()> {
+        self.previous.extend(names.iter().map(|n| n.to_string()));
+        write_manifest(&self.dir, &self.previous)
+    }
+
+    /// At the commit, rename `DIR/from` (a file written directly into the
+    /// directory, see [`OutDir::claim`]) to `DIR/to`.
+    pub fn adopt(&mut self, from: &str, to: &str) {
+        self.adopted.push((from.to_string(), to.to_string()));
+    }
+
+    /// Move the staged files (and the adopted ones) into the directory, the
+    /// files named in `last` after all others (and any old version of them
+    /// removed first, so that e.g. an old `summary.json` never sits beside a
+    /// new `trajectory.csv`); then remove the previous command's files that
+    /// this one did not write, and write the manifest. Returns the names of
+    /// the removed files. The manifest is rewritten first to list the old and
+    /// the new files, so an interruption at any point leaves every file the
+    /// tool wrote listed.
+    pub fn commit(mut self, last: &[&str]) -> Result<Vec<String>> {
+        let mut names: BTreeSet<String> = BTreeSet::new();
+        for e in fs::read_dir(&self.stage)
+            .with_context(|| format!("reading {}", self.stage.display()))?
+        {
+            let e = e.with_context(|| format!("reading {}", self.stage.display()))?;
+            let name = e.file_name().to_string_lossy().into_owned();
+            if !name.starts_with('.') && e.file_type().is_ok_and(|t| t.is_file()) {
+                names.insert(name);
+            }
+        }
+        names.extend(self.adopted.iter().map(|(_, to)| to.clone()));
+        let mut all = self.previous.clone();
+        all.extend(names.iter().cloned());
+        write_manifest(&self.dir, &all)?;
+        for l in last.iter().filter(|l| names.contains(**l)) {
+            remove_if_present(&self.dir.join(l))?;
+        }
+        let source = |name: &str| -> PathBuf {
+            match self.adopted.iter().find(|(_, to)| to == name) {
+                Some((from, _)) => self.dir.join(from),
+                None => self.stage.join(name),
+            }
+        };
+        let (tail, head): (Vec<&String>, Vec<&String>) =
+            names.iter().partition(|n| last.contains(&n.as_str()));
+        for name in head.into_iter().chain(tail) {
+            let to = self.dir.join(name);
+            fs::rename(source(name), &to).with_context(|| format!("writing {}", to.display()))?;
+        }
+        let mut removed = Vec::new();
+        for stale in self.previous.difference(&names) {
+            let p = self.dir.join(stale);
+            if p.is_file() {
+                remove_if_present(&p)?;
+                removed.push(stale.clone());
+            }
+        }
+        write_manifest(&self.dir, &names)?;
+        let _ = fs::remove_dir_all(&self.stage);
+        self.done = true;
+        Ok(removed)
+    }
+
+    /// Give up without writing anything: remove the staging directory, and
+    /// the lock file and the directory if [`OutDir::open`] created them (for
+    /// an input error found only after the directory was opened).
+    pub fn abandon(mut self) {
+        self.cleanup();
+    }
+
+    fn cleanup(&mut self) {
+        if self.done {
+            return;
+        }
+        self.done = true;
+        let _ = fs::remove_dir_all(&self.stage);
+        if self.created_lock {
+            let _ = fs::remove_file(self.dir.join(LOCK_NAME));
+        }
+        self.lock = None;
+        if self.created_dir {
+            let _ = fs::remove_dir(&self.dir);
+        }
+    }
+}
+
+impl Drop for OutDir {
+    /// Not committed: remove the staging directory (the directory keeps the
+    /// previous command's files and the lock file).
+    fn drop(&mut self) {
+        if !self.done {
+            let _ = fs::remove_dir_all(&self.stage);
+        }
+    }
+}
+
+/// Take an exclusive advisory lock on `file` without waiting: `Ok(true)`
+/// taken, `Ok(false)` another open file description holds it (another
+/// process, or another [`OutDir`] of this one). `flock(2)` on Unix: the lock
+/// goes with the open file and is released when the process ends, however it
+/// ends (std's `File::try_lock` does the same but needs Rust 1.89, above this
+/// workspace's rust-version).
+#[cfg(unix)]
+fn try_lock(file: &File) -> io::Result<bool> {
+    try_flock(file, libc::LOCK_EX)
+}
+
+/// `flock(file, mode | LOCK_NB)`: `Ok(false)` if held by another.
+#[cfg(unix)]
+fn try_flock(file: &File, mode: libc::c_int) -> io::Result<bool> {
+    use std::os::fd::AsRawFd;
+    // SAFETY: flock on a file descriptor that `file` keeps open.
+    let r = unsafe { libc::flock(file.as_raw_fd(), mode | libc::LOCK_NB) };
+    if r == 0 {
+        return Ok(true);
+    }
+    let e = io::Error::last_os_error();
+    if e.kind() == io::ErrorKind::WouldBlock {
+        Ok(false)
+    } else {
+        Err(e)
+    }
+}
+
+/// Without `flock(2)` (not Unix) no lock is taken: two processes writing
+/// into one directory are not detected there (they still never share a
+/// temporary file, and each commits its own files as a unit).
+#[cfg(not(unix))]
+fn try_lock(_file: &File) -> io::Result<bool> {
+    Ok(true)
+}
+
+/// Take a shared lock on `dir`'s [`LOCK_NAME`] before reading files a
+/// tippetop command writes there (e.g. `merge` reading a shard's
+/// directory): several readers may hold it, but not while a command writes
+/// into the directory. Returns the locked file (drop it to release), or
+/// `None` when there is nothing to lock (no lock file: no tippetop command
+/// with locks wrote there; or a file system without locks). Error: a command
+/// is writing into `dir` (`DIR is in use by another tippetop process (pid
+/// N); wait until it ends`).
+pub fn read_lock(dir: &Path) -> Result<Option<File>> {
+    let Ok(file) = File::open(dir.join(LOCK_NAME)) else {
+        return Ok(None);
+    };
+    #[cfg(unix)]
+    {
+        match try_flock(&file, libc::LOCK_SH) {
+            Ok(true) => Ok(Some(file)),
+            Ok(false) => bail!(
+                "{} is in use by another tippetop process (pid {}); wait until it ends",
+                dir.display(),
+                lock_holder(&file)
+            ),
+            Err(_) => Ok(None),
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        Ok(Some(file))
+    }
+}
+
+/// The process id written in a lock file held by another process, or
+/// "unknown" if it has not written it yet.
+fn lock_holder(lock: &File) -> String {
+    for _ in 0..20 {
+        let mut s = String::new();
+        let mut f = lock;
+        if f.rewind().is_ok() && f.read_to_string(&mut s).is_ok() && !s.trim().is_empty() {
+            return s.trim().to_string();
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    "unknown".to_string()
+}
+
+/// Remove `path`; a file that is already gone is fine.
+fn remove_if_present(path: &Path) -> Result<()> {
+    match fs::remove_file(path) {
+        Err(e) if e.kind() != io::ErrorKind::NotFound => {
+            Err(e).with_context(|| format!("removing {}", path.display()))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The file names listed in `DIR/`[`MANIFEST_NAME`] (none if it is missing
+/// or unreadable). Only plain names are accepted: no path separator, not
+/// `.` or `..`, not the tool's own hidden files, so a manifest can never make
+/// the tool remove anything outside the directory.
+pub fn read_manifest(dir: &Path) -> BTreeSet<String> {
+    let text = fs::read_to_string(dir.join(MANIFEST_NAME)).unwrap_or_default();
+    text.lines()
+        .map(str::trim)
+        .filter(|l| {
+            !l.is_empty()
+                && !l.starts_with('#')
+                && !l.starts_with(".tippetop")
+                && *l != "."
+                && *l != ".."
+                && !l.contains(['/', '\\'])
+        })
+        .map(str::to_string)
+        .collect()
+}
+
+/// Write `DIR/`[`MANIFEST_NAME`] listing `names`, atomically.
+fn write_manifest(dir: &Path, names: &BTreeSet<String>) -> Result<()> {
+    let mut text = String::from(
+        "# tippetop: the files the last command wrote into this directory (the next one removes those it does not write)\n",
+    );
+    for n in names {
+        text.push_str(n);
+        text.push('\n');
+    }
+    write_bytes_atomic(&dir.join(MANIFEST_NAME), text.as_bytes())
 }
 
 /// The `summary.json` document of a run: every [`Summary`] field at the top
@@ -307,10 +713,238 @@ pub(crate) mod tests {
         write_bytes_atomic(&p, b"first").unwrap();
         write_bytes_atomic(&p, b"second").unwrap();
         assert_eq!(fs::read_to_string(&p).unwrap(), "second");
-        assert!(!tmp_path(&p).exists());
-        assert_eq!(tmp_path(&p), dir.path().join(".a.txt.tmp"));
         let names: Vec<_> = fs::read_dir(dir.path()).unwrap().collect();
         assert_eq!(names.len(), 1);
+    }
+
+    /// Two writers (two processes, or two writes of one process) never share
+    /// a temporary file: the name has the process id and a counter. Before,
+    /// every writer of `DIR/NAME` used `DIR/.NAME.tmp`.
+    #[test]
+    fn tmp_names_are_unique_per_process_and_write() {
+        let p = Path::new("/some/dir/summary.json");
+        let (a, b) = (tmp_path(p), tmp_path(p));
+        assert_ne!(a, b);
+        let pid = std::process::id().to_string();
+        for t in [&a, &b] {
+            let name = t.file_name().unwrap().to_string_lossy().into_owned();
+            assert!(name.starts_with(".summary.json.") && name.ends_with(".tmp"));
+            assert!(name.contains(&pid), "{name}");
+            assert_eq!(t.parent(), p.parent());
+        }
+    }
+
+    fn listing(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    /// A second `OutDir` on a directory in use fails at once, naming the
+    /// holder's pid; it touches nothing; once the first is gone it works.
+    #[test]
+    fn out_dir_lock_refuses_a_second_writer() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        let first = OutDir::open(&dir).unwrap();
+        assert_eq!(
+            fs::read_to_string(dir.join(LOCK_NAME)).unwrap().trim(),
+            std::process::id().to_string()
+        );
+        let before = listing(&dir);
+        let err = OutDir::open(&dir).unwrap_err().to_string();
+        assert_eq!(
+            err,
+            format!(
+                "{} is in use by another tippetop process (pid {}); choose another --out or wait until it ends",
+                dir.display(),
+                std::process::id()
+            )
+        );
+        assert_eq!(listing(&dir), before);
+        drop(first);
+        let again = OutDir::open(&dir).unwrap();
+        again.commit(&[]).unwrap();
+    }
+
+    /// Readers (merge reading a shard) share a lock that excludes a writer,
+    /// both ways; a directory no tippetop wrote has nothing to lock.
+    #[test]
+    fn read_lock_excludes_writers() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        assert!(read_lock(tmp.path()).unwrap().is_none());
+        let writer = OutDir::open(&dir).unwrap();
+        let err = read_lock(&dir).unwrap_err().to_string();
+        assert!(
+            err.contains(&format!(
+                "in use by another tippetop process (pid {})",
+                std::process::id()
+            )),
+            "{err}"
+        );
+        writer.commit(&[]).unwrap();
+        let r1 = read_lock(&dir).unwrap();
+        let r2 = read_lock(&dir).unwrap();
+        assert!(r1.is_some() && r2.is_some());
+        assert!(OutDir::open(&dir).is_err());
+        drop((r1, r2));
+        OutDir::open(&dir).unwrap();
+    }
+
+    /// The commit moves the staged files in, removes the previous command's
+    /// files that this one did not write (only those: a user's file stays),
+    /// and lists the new files in the manifest.
+    #[test]
+    fn out_dir_commit_replaces_the_previous_run_as_a_unit() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        let out = OutDir::open(&dir).unwrap();
+        for name in ["trajectory.csv", "theta.png", "summary.json"] {
+            write_bytes_atomic(&out.stage().join(name), b"old").unwrap();
+        }
+        assert!(out.commit(&["summary.json"]).unwrap().is_empty());
+        fs::write(dir.join("notes.txt"), "mine").unwrap();
+        assert_eq!(
+            read_manifest(&dir).into_iter().collect::<Vec<_>>(),
+            ["summary.json", "theta.png", "trajectory.csv"]
+        );
+
+        let out = OutDir::open(&dir).unwrap();
+        for name in ["trajectory.csv", "summary.json"] {
+            write_bytes_atomic(&out.stage().join(name), b"new").unwrap();
+        }
+        assert_eq!(out.commit(&["summary.json"]).unwrap(), ["theta.png"]);
+        assert_eq!(
+            listing(&dir),
+            [
+                ".tippetop-manifest",
+                ".tippetop.lock",
+                "notes.txt",
+                "summary.json",
+                "trajectory.csv"
+            ]
+        );
+        assert_eq!(
+            fs::read_to_string(dir.join("trajectory.csv")).unwrap(),
+            "new"
+        );
+        assert_eq!(fs::read_to_string(dir.join("notes.txt")).unwrap(), "mine");
+    }
+
+    /// A write that fails before the commit leaves the directory exactly as
+    /// the previous run left it: never a new trajectory.csv beside an old
+    /// summary.json (before, each file was renamed into place as written).
+    #[test]
+    fn out_dir_failed_write_leaves_the_previous_run() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        let out = OutDir::open(&dir).unwrap();
+        for name in ["trajectory.csv", "summary.json"] {
+            write_bytes_atomic(&out.stage().join(name), b"old").unwrap();
+        }
+        out.commit(&["summary.json"]).unwrap();
+        let before = listing(&dir);
+
+        let result = (|| -> Result<()> {
+            let out = OutDir::open(&dir)?;
+            write_bytes_atomic(&out.stage().join("trajectory.csv"), b"new")?;
+            write_atomic(&out.stage().join("summary.json"), |w| {
+                w.write_all(b"{")?;
+                Err(io::Error::other("disk full"))
+            })?;
+            out.commit(&["summary.json"])?;
+            Ok(())
+        })();
+        assert!(format!("{:#}", result.unwrap_err()).contains("disk full"));
+        assert_eq!(listing(&dir), before);
+        for name in ["trajectory.csv", "summary.json"] {
+            assert_eq!(fs::read_to_string(dir.join(name)).unwrap(), "old");
+        }
+    }
+
+    /// Claimed files (streamed straight into the directory) are in the
+    /// manifest at once, so a later command removes them; adopted files are
+    /// renamed into place at the commit.
+    #[test]
+    fn out_dir_claim_and_adopt() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        let mut out = OutDir::open(&dir).unwrap();
+        out.claim(&["x.partial"]).unwrap();
+        fs::write(dir.join("x.partial"), "rows").unwrap();
+        assert!(read_manifest(&dir).contains("x.partial"));
+        drop(out); // interrupted
+        let out = OutDir::open(&dir).unwrap();
+        assert_eq!(out.commit(&[]).unwrap(), ["x.partial"]);
+        assert!(!dir.join("x.partial").exists());
+
+        let mut out = OutDir::open(&dir).unwrap();
+        out.claim(&["x.partial"]).unwrap();
+        fs::write(dir.join("x.partial"), "rows").unwrap();
+        out.adopt("x.partial", "x");
+        out.commit(&["x"]).unwrap();
+        assert_eq!(fs::read_to_string(dir.join("x")).unwrap(), "rows");
+        assert_eq!(read_manifest(&dir).into_iter().collect::<Vec<_>>(), ["x"]);
+    }
+
+    /// Abandoning (an input error found after `open`) leaves nothing that
+    /// `open` created; a manifest cannot name a path outside the directory.
+    #[test]
+    fn out_dir_abandon_and_safe_manifest() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("new");
+        OutDir::open(&dir).unwrap().abandon();
+        assert!(!dir.exists());
+        let old = tmp.path().join("old");
+        fs::create_dir(&old).unwrap();
+        OutDir::open(&old).unwrap().abandon();
+        assert!(listing(&old).is_empty());
+
+        fs::write(tmp.path().join("victim"), "keep").unwrap();
+        fs::write(
+            old.join(MANIFEST_NAME),
+            "# x\n../victim\n/etc/passwd\n.\n..\n.tippetop.lock\nok.txt\n",
+        )
+        .unwrap();
+        assert_eq!(
+            read_manifest(&old).into_iter().collect::<Vec<_>>(),
+            ["ok.txt"]
+        );
+        OutDir::open(&old).unwrap().commit(&[]).unwrap();
+        assert_eq!(
+            fs::read_to_string(tmp.path().join("victim")).unwrap(),
+            "keep"
+        );
+    }
+
+    /// A directory that cannot be created or written is an error at `open`
+    /// (before anything is computed): a path under a regular file, and (when
+    /// not running as root, which ignores permissions) a read-only directory.
+    #[test]
+    fn out_dir_unwritable_fails_at_open() {
+        let tmp = tempfile::tempdir().unwrap();
+        let file = tmp.path().join("file");
+        fs::write(&file, "x").unwrap();
+        let err = format!("{:#}", OutDir::open(&file.join("sub")).unwrap_err());
+        assert!(err.starts_with("cannot create "), "{err}");
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let ro = tmp.path().join("ro");
+            fs::create_dir(&ro).unwrap();
+            fs::set_permissions(&ro, fs::Permissions::from_mode(0o555)).unwrap();
+            // Root writes anyway: nothing to test then.
+            if fs::write(ro.join("t"), "").is_err() {
+                let err = format!("{:#}", OutDir::open(&ro).unwrap_err());
+                assert!(err.starts_with("cannot write in "), "{err}");
+                assert!(listing(&ro).is_empty());
+            }
+            fs::set_permissions(&ro, fs::Permissions::from_mode(0o755)).unwrap();
+        }
     }
 
     #[test]
@@ -325,7 +959,11 @@ pub(crate) mod tests {
         .unwrap_err();
         assert!(format!("{err:#}").contains("boom"));
         assert_eq!(fs::read_to_string(&p).unwrap(), "old");
-        assert!(!tmp_path(&p).exists());
+        assert_eq!(
+            fs::read_dir(dir.path()).unwrap().count(),
+            1,
+            "a tmp file was left"
+        );
         // A missing directory is an error, not a panic.
         assert!(write_bytes_atomic(&dir.path().join("no/such/file"), b"x").is_err());
     }

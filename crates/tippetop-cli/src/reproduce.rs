@@ -8,11 +8,11 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use tippetop_paper::{self as paper, Figure, Options, Reproduction};
 
 use crate::ReproduceArgs;
-use crate::output::{write_bytes_atomic, write_json_pretty, write_series_csv};
+use crate::output::{OutDir, write_bytes_atomic, write_json_pretty, write_series_csv};
 use crate::plot::{Legend, PlotOpts, RefLine, Series, line_plot};
 use crate::progress;
 
@@ -27,19 +27,29 @@ pub fn run(args: &ReproduceArgs, quiet: bool) -> Result<()> {
         )
         .into());
     }
+    // Created, locked and probed before the (long) computation; the files
+    // are staged and committed as a unit (report.md last), and figures of a
+    // previous reproduce that this one does not write are removed.
+    let out = OutDir::open(&args.out)?;
     let t0 = std::time::Instant::now();
     let pb = progress::spinner(quiet, "running the paper's scenarios");
-    let rep = paper::reproduce(
+    let rep = match paper::reproduce(
         Options {
             quick: args.quick,
             extended: args.extended,
         },
         &mut |name| pb.set_message(format!("running {name}")),
-    )?;
+    ) {
+        Ok(r) => r,
+        Err(e) => {
+            pb.finish_and_clear();
+            out.abandon();
+            return Err(e.into());
+        }
+    };
     pb.set_message("writing figures");
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    write_all(&args.out, &rep)?;
+    write_all(out.stage(), &rep)?;
+    out.commit(&["report.md"])?;
     pb.finish_and_clear();
     if !quiet {
         let count = |v: paper::Verdict| rep.claims.iter().filter(|c| c.verdict == v).count();

@@ -1,19 +1,23 @@
 //! `tippetop run`: resolve a scenario, simulate it, write the results.
 //!
 //! Order matters for the exit-code contract: everything that can be bad
-//! input is checked before `--out` is touched; the directory is created only
-//! once `simulate` has returned a trajectory.
+//! input is checked before `--out` is touched (exit code 2, nothing
+//! written); then the output directory is created, locked and probed
+//! ([`OutDir::open`], exit code 1 if it cannot be written or is in use), so
+//! an unwritable `--out` is found before the simulation, not after it; the
+//! results are staged and committed as a unit.
 
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use tippetop::{Error, Scenario, Trajectory};
 
 use crate::cli::RunArgs;
 use crate::output::{
-    SummaryDoc, summary_with_status, write_bytes_atomic, write_json_pretty, write_trajectory_csv,
+    OutDir, SummaryDoc, summary_with_status, write_bytes_atomic, write_json_pretty,
+    write_trajectory_csv,
 };
 use crate::plot::{self, Legend, Panel, PlotOpts, RefLine, Series};
 use crate::{progress, scenario_load};
@@ -41,28 +45,61 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     scenario.validate()?;
     check_out_dir(&args.out)?;
 
-    // 2. The run.
+    // 2. The output directory: created, locked and probed before computing.
+    let out = OutDir::open(&args.out)?;
+
+    // 3. The run.
     let spinner = progress::spinner(quiet, "simulating");
     let start = Instant::now();
     let result = tippetop::simulate(&scenario);
     let wall_seconds = start.elapsed().as_secs_f64();
     spinner.finish_and_clear();
-    let traj = result?;
+    let traj = match result {
+        Ok(t) => t,
+        Err(e) => {
+            // Bad input found by the library: nothing written.
+            out.abandon();
+            return Err(e.into());
+        }
+    };
 
-    // 3. Results (also for a run that failed part-way).
-    fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    // 4. Results (also for a run that failed part-way), staged, then
+    // committed: summary.json last, the previous run's other files removed.
     let toml = scenario_load::to_toml(&scenario);
-    let written = write_data(&args.out, &toml, &traj, wall_seconds)?;
+    let stage = out.stage().to_path_buf();
+    let mut written = write_data(&stage, &toml, &traj, wall_seconds)?;
     let mut plots = Vec::new();
+    let mut plot_error = None;
     if args.plots() {
-        match write_plots(&args.out, &scenario, &traj) {
+        match write_plots(&stage, &scenario, &traj) {
             Ok(p) => plots = p,
-            // A failed run's error is the one that matters; still say why
-            // the plots are missing.
-            Err(e) if traj.error.is_some() => eprintln!("warning: plots not written: {e:#}"),
-            Err(e) => return Err(e),
+            Err(e) => {
+                // The data are good: commit them without any plot (no half
+                // set), then report the plots' failure.
+                for stem in PLOT_STEMS {
+                    for ext in ["png", "svg"] {
+                        let _ = fs::remove_file(stage.join(format!("{stem}.{ext}")));
+                    }
+                }
+                plot_error = Some(e);
+            }
         }
     }
+    out.commit(&["summary.json"])?;
+    if let Some(e) = plot_error {
+        if traj.error.is_none() {
+            return Err(e.context("plots not written (the data files are)"));
+        }
+        // A failed run's error is the one that matters; still say why the
+        // plots are missing.
+        eprintln!("warning: plots not written: {e:#}");
+    }
+    let rebase = |p: &PathBuf| match p.file_name() {
+        Some(n) => args.out.join(n),
+        None => p.clone(),
+    };
+    written = written.iter().map(rebase).collect();
+    let plots: Vec<PathBuf> = plots.iter().map(rebase).collect();
     if !quiet {
         print!(
             "{}",
@@ -133,6 +170,9 @@ pub fn time_unit(t_max: f64) -> (f64, &'static str) {
         (1e9, "ns")
     }
 }
+
+/// The stems of the plots [`write_plots`] writes.
+pub const PLOT_STEMS: [&str; 3] = ["theta", "spin", "diagnostics"];
 
 /// The standard plots of a run, as `STEM.png` + `STEM.svg` in `dir`:
 /// `theta` (θ with π/2 and π marked), `spin` (ω and Ω), `diagnostics`
@@ -366,6 +406,14 @@ mod tests {
             let toml = scenario_load::to_toml(&sc);
             let written = write_data(dir.path(), &toml, &traj, 0.5).unwrap();
             let plots = write_plots(dir.path(), &sc, &traj).unwrap();
+            let stems: Vec<String> = plots
+                .iter()
+                .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+                .collect();
+            assert_eq!(
+                stems, PLOT_STEMS,
+                "PLOT_STEMS lists what write_plots writes"
+            );
             let mut names: Vec<String> = fs::read_dir(dir.path())
                 .unwrap()
                 .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())

@@ -10,45 +10,82 @@
 //!   energy_final, steps, rhs_evaluations, status` (see
 //!   [`tippetop::analysis::sweep`]);
 //! - `shard.json`: which cases the CSV holds and of which sweep (a one-shot
-//!   run and a merge write `k = n = 1`), so `merge` can check a set of shards.
+//!   run and a merge write `k = n = 1`), so `merge` can check a set of shards;
+//! - `sweep.png`/`sweep.svg`: plots of a whole sweep of 1 or 2 axes and at
+//!   most [`MAX_PLOT_CASES`] cases.
+//!
+//! A sweep streams its rows into `sweep.csv.partial` (beside
+//! `shard.json.partial`) as the cases finish, in grid order, and renames
+//! both at the end; `--resume` continues an interrupted sweep from them. The
+//! directory is locked and updated as a unit ([`crate::output::OutDir`]).
 //!
 //! Exit codes: 0 done (cases that failed are reported in `status`, they do
 //! not fail the sweep); 2 bad input (one line `error: KEY: WHAT (RANGE)` on
-//! stderr, nothing written under `--out`); errors returned as `Err` (I/O)
-//! are for the caller to report (exit 1).
+//! stderr, nothing written under `--out`); errors returned as `Err` (I/O,
+//! an `--out` in use by another process) are for the caller to report
+//! (exit 1).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use std::io::{Seek, SeekFrom, Write};
+
 use anyhow::{Context, Result};
 
-use crate::output::write_bytes_atomic;
+use crate::output::{OutDir, write_bytes_atomic};
 use clap::{ArgGroup, Args};
 use tippetop::analysis::sweep::{self, Axis, Shard, ShardInfo, Sweep, Table};
 
 /// Long help of `tippetop sweep` (set on the subcommand in `cli.rs`).
-pub const SWEEP_LONG_ABOUT: &str = "Run a grid of scenarios on all cores and write into --out:\n  \
-                  sweep.csv    one row per case: the varied keys, then theta_final, theta_max,\n               \
-                  omega_final, Omega_final, first_time_theta_above_half_pi,\n               \
-                  contact_lost_at, negative_normal_fraction, rolling_fraction,\n               \
-                  J_max_rel_drift, energy_final, steps, rhs_evaluations, status\n  \
-                  shard.json   what the CSV covers, for tippetop merge\n\n\
-                  Each --vary KEY=FROM:TO:N takes N values FROM + (TO - FROM) i/(N - 1), \
-                  i = 0..N-1 (KEY=FROM:TO:N:log: geometric spacing, FROM, TO > 0). The cases \
-                  form a grid, rows in grid order with the first --vary varying slowest. \
-                  Each case is the scenario (preset, then file, then each --set) with \
-                  KEY=VALUE set for every --vary. A case whose scenario is invalid or whose \
-                  run fails gets the error in its status column (\"ok\" otherwise) and the \
-                  sweep goes on. The CSV is byte for byte the same whatever --threads and \
-                  however the sweep is cut with --shard.\n\n\
-                  --shard K/N runs only the K-th of N contiguous blocks of cases (sizes \
-                  differ by at most one; N at most the number of cases); join the shards' \
-                  directories with tippetop merge. Bad input exits with code 2 and writes \
-                  nothing.\n\n\
-                  Speed: the default model (vector) is 1.3-3.6x faster than the paper's \
-                  Euler-angle equations (--set solver.model=reduced); fewer --set \
-                  solver.samples (output rows per case, which also cap the step size) make \
-                  each case cheaper (docs/performance.md).";
+pub const SWEEP_LONG_ABOUT: &str = "Run a grid of scenarios on all cores and write into --out:
+  sweep.csv    one row per case: the varied keys, then theta_final, theta_max,
+               omega_final, Omega_final, first_time_theta_above_half_pi,
+               contact_lost_at, negative_normal_fraction, rolling_fraction,
+               J_max_rel_drift, energy_final, steps, rhs_evaluations, status
+  shard.json   what the CSV covers, for tippetop merge
+  sweep.png, sweep.svg   plots, for a whole sweep (no --shard) of 1 or 2 --vary and at
+               most 100 000 cases: with 1 --vary, theta final and max, omega final and
+               the first time theta > pi/2 against the varied key; with 2, a heat map of
+               theta final over the two keys (grey: failed case). No plots for 3 or more
+               --vary, for a shard (tippetop merge draws them for the whole sweep), or
+               above 100 000 cases (a note says so; sweep.csv has every row).
+
+Each --vary KEY=FROM:TO:N takes N values FROM + (TO - FROM) i/(N - 1), i = 0..N-1
+(KEY=FROM:TO:N:log: geometric spacing, FROM, TO > 0). The cases form a grid, rows in grid
+order with the first --vary varying slowest. Each case is the scenario (preset, then file,
+then each --set) with KEY=VALUE set for every --vary. A case whose scenario is invalid or
+whose run fails gets the error in its status column (\"ok\" otherwise) and the sweep goes
+on. The CSV is byte for byte the same whatever --threads and however the sweep is cut with
+--shard.
+
+--shard K/N runs only the K-th of N contiguous blocks of cases (sizes differ by at most
+one; N at most the number of cases); join the shards' directories with tippetop merge.
+Bad input exits with code 2 and writes nothing.
+
+--threads T: 1 to 1024 (default: one per core, or RAYON_NUM_THREADS); the cases are
+CPU-bound, so more threads than cores only add overhead.
+
+Streaming and --resume: the rows are written in grid order as the cases finish, into
+DIR/sweep.csv.partial (beside DIR/shard.json.partial, which identifies the sweep); memory
+stays flat however many cases (at most 8 T + 16 finished rows wait for a slower case before
+them). At the end the two files are renamed to sweep.csv and shard.json. If the sweep is
+interrupted, run the same command with --resume: it keeps the complete rows of
+sweep.csv.partial (a torn last line is cut), runs the remaining cases, and ends with the
+same sweep.csv as an uninterrupted run. --resume on another sweep's partial files (other
+scenario, --set, --vary or --shard) exits with code 2 and leaves them alone; with nothing to
+resume it starts from the first case. Without --resume a sweep always starts over.
+
+The output directory: created, checked and locked before the first case (an unwritable
+--out fails at once with code 1). While the sweep runs, any other tippetop command writing
+into the same directory exits at once with code 1 (\"DIR is in use by another tippetop
+process (pid N)\"); it does not wait (the lock, DIR/.tippetop.lock, uses flock(2), on
+Unix; on a file system without locks the sweep goes on with a warning). At the end, the files of the previous command into DIR (listed in
+DIR/.tippetop-manifest) that this one did not write are removed, e.g. an old heat map when
+the new sweep has 3 --vary; files the tool did not write are never touched.
+
+Speed: the default model (vector) is 1.3-3.6x faster than the paper's Euler-angle equations
+(--set solver.model=reduced); fewer --set solver.samples (output rows per case, which also
+cap the step size) make each case cheaper (docs/performance.md).";
 
 /// `tippetop sweep`.
 #[derive(Debug, Args)]
@@ -84,12 +121,12 @@ pub struct SweepArgs {
     #[arg(long = "vary", value_name = "KEY=FROM:TO:N[:log]", required = true)]
     pub vary: Vec<String>,
 
-    /// Output directory (created if missing; sweep.csv and shard.json in it
-    /// are replaced).
+    /// Output directory (created if missing; locked while the sweep runs;
+    /// the previous command's files in it are replaced or removed).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
-    /// Number of threads (default: one per core).
+    /// Number of threads, 1 to 1024 (default: one per core).
     #[arg(long, value_name = "T")]
     pub threads: Option<usize>,
 
@@ -97,6 +134,12 @@ pub struct SweepArgs {
     /// join the outputs with `tippetop merge`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
+
+    /// Continue an interrupted run of the same sweep (same scenario, --set,
+    /// --vary, --shard) from the rows in DIR/sweep.csv.partial; without a
+    /// partial sweep, start from the first case.
+    #[arg(long)]
+    pub resume: bool,
 }
 
 /// Long help of `tippetop merge` (set on the subcommand in `cli.rs`).
@@ -105,7 +148,12 @@ pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of
                   of the sweep writes, and shard.json. The shards may come in any order and \
                   from different layouts (e.g. 1/2 with 3/4 and 4/4); merge checks that \
                   they belong to the same sweep and cover every case exactly once. On any \
-                  mismatch or gap it exits with code 2 and writes nothing.";
+                  mismatch or gap it exits with code 2 and writes nothing. Plots as for a \
+                  whole sweep (see tippetop sweep --help). --out is locked and updated as a \
+                  unit as for tippetop sweep (another command writing into it exits with \
+                  code 1). A shard directory that a sweep is still writing into (its lock \
+                  is held) is not read: merge exits with code 1 (\"DIR is in use by \
+                  another tippetop process (pid N); wait until it ends\").";
 
 /// `tippetop merge`.
 #[derive(Debug, Args)]
@@ -117,8 +165,8 @@ pub struct MergeArgs {
     #[arg(value_name = "DIR", required = true)]
     pub dirs: Vec<PathBuf>,
 
-    /// Output directory (created if missing; sweep.csv and shard.json in it
-    /// are replaced).
+    /// Output directory (created if missing; locked while merge writes; the
+    /// previous command's files in it are replaced or removed).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 }
@@ -161,9 +209,10 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
         Ok(s) => s.unwrap_or(Shard::ALL),
         Err(e) => return Ok(input_error(e)),
     };
-    if args.threads == Some(0) {
-        return Ok(input_error("--threads: 0 threads (at least 1)"));
-    }
+    let threads = match sweep::threads(args.threads) {
+        Ok(t) => t,
+        Err(e) => return Ok(input_error(e)),
+    };
     let sw = Sweep {
         preset: args.preset.clone(),
         toml_text,
@@ -177,30 +226,147 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
         Ok(i) => i,
         Err(e) => return Ok(input_error(e)),
     };
+    let mut info_json = serde_json::to_string_pretty(&info)?;
+    info_json.push('\n');
 
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    // Created, locked and probed before computing anything.
+    let mut out = OutDir::open(&args.out)?;
+    let dir = args.out.clone();
+    let (csv_partial, info_partial) = (dir.join(PARTIAL_CSV), dir.join(PARTIAL_INFO));
     let range = info.first_index..info.end_index;
-    let pb = crate::progress::bar(quiet, range.len() as u64, "sweep");
-    let start = std::time::Instant::now();
-    let rows = match sw.run(range.clone(), args.threads, &|| pb.inc(1)) {
-        Ok(r) => r,
-        Err(e) => {
-            pb.finish_and_clear();
-            return Ok(input_error(e));
-        }
-    };
-    pb.finish_and_clear();
 
-    let csv = sweep::csv(&sw.axes, &rows);
-    write_outputs(&args.out, &csv, &info)?;
-    if shard == Shard::ALL {
-        write_plots(&args.out, &Table::from_rows(&sw.axes, &rows))?;
+    // What an interrupted run of this sweep left, with --resume.
+    let mut kept = sweep::Prefix::default();
+    if args.resume {
+        match std::fs::read_to_string(&info_partial) {
+            Ok(old) if old == info_json => {
+                if let Ok(text) = std::fs::read_to_string(&csv_partial) {
+                    kept = sw.complete_prefix(info.first_index, &text);
+                }
+                if kept.rows > range.len() {
+                    // More rows than the shard has: not a file this sweep
+                    // wrote; start over.
+                    kept = sweep::Prefix::default();
+                }
+            }
+            Ok(old) => {
+                let what = match serde_json::from_str::<ShardInfo>(&old) {
+                    Ok(o) => format!(
+                        "fingerprint {}, cases {}..{} of {}",
+                        o.fingerprint, o.first_index, o.end_index, o.total_cases
+                    ),
+                    Err(_) => "unreadable".to_string(),
+                };
+                out.abandon();
+                return Ok(input_error(format!(
+                    "--resume: the partial sweep in {} is another sweep ({what}), not this one \
+                     (fingerprint {}, cases {}..{} of {}) (the same scenario, --set, --vary and \
+                     --shard as the interrupted run; without --resume a new sweep starts over)",
+                    dir.display(),
+                    info.fingerprint,
+                    info.first_index,
+                    info.end_index,
+                    info.total_cases
+                )));
+            }
+            Err(_) => {
+                if !quiet {
+                    eprintln!(
+                        "note: no partial sweep to resume in {}: starting from the first case",
+                        dir.display()
+                    );
+                }
+            }
+        }
     }
+
+    // Stream the rows into sweep.csv.partial in grid order (claimed in the
+    // manifest first, so that a later command into this directory removes
+    // it), beside shard.json.partial, which identifies the sweep.
+    out.claim(&[PARTIAL_CSV, PARTIAL_INFO])?;
+    write_bytes_atomic(&info_partial, info_json.as_bytes())?;
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(&csv_partial)
+        .with_context(|| format!("writing {}", csv_partial.display()))?;
+    file.set_len(kept.bytes as u64)
+        .and_then(|()| file.seek(SeekFrom::End(0)).map(|_| ()))
+        .with_context(|| format!("writing {}", csv_partial.display()))?;
+    let mut w = std::io::BufWriter::new(file);
+    if kept.bytes == 0 {
+        w.write_all(sweep::csv_header(&sw.axes).as_bytes())
+            .with_context(|| format!("writing {}", csv_partial.display()))?;
+    }
+    let todo = range.start + kept.rows..range.end;
+    if !quiet && kept.rows > 0 {
+        eprintln!(
+            "resuming: {} of {} cases already in {}",
+            kept.rows,
+            range.len(),
+            csv_partial.display()
+        );
+    }
+    let pb = crate::progress::bar(quiet, range.len() as u64, "sweep");
+    pb.inc(kept.rows as u64);
+    let start = std::time::Instant::now();
+    let mut failed = kept.failed;
+    let mut write_error: Option<std::io::Error> = None;
+    let mut since_flush = std::time::Instant::now();
+    let run = sw.run_streaming(todo, Some(threads), &mut |row| {
+        if row.status != "ok" {
+            failed += 1;
+        }
+        let mut result = w.write_all(sweep::csv_row(&row).as_bytes());
+        // Flushed about once a second: what is on disk is what --resume keeps.
+        if result.is_ok() && since_flush.elapsed().as_secs_f64() >= 1.0 {
+            result = w.flush();
+            since_flush = std::time::Instant::now();
+        }
+        pb.inc(1);
+        match result {
+            Ok(()) => true,
+            Err(e) => {
+                write_error = Some(e);
+                false
+            }
+        }
+    });
+    pb.finish_and_clear();
+    if let Err(e) = run {
+        // A thread pool that cannot start (the count is bounded, so this is
+        // the system's limit): an I/O-like failure, exit code 1.
+        anyhow::bail!("{e}");
+    }
+    let flushed = w.flush();
+    if let Some(e) = write_error {
+        return Err(e).with_context(|| format!("writing {}", csv_partial.display()));
+    }
+    flushed.with_context(|| format!("writing {}", csv_partial.display()))?;
+    drop(w);
+
+    out.adopt(PARTIAL_CSV, "sweep.csv");
+    out.adopt(PARTIAL_INFO, "shard.json");
+    if shard == Shard::ALL {
+        if info.total_cases <= MAX_PLOT_CASES {
+            let text = std::fs::read_to_string(&csv_partial)
+                .with_context(|| format!("reading {}", csv_partial.display()))?;
+            let table = Table::parse_csv(&text).map_err(anyhow::Error::new)?;
+            drop(text);
+            write_plots(out.stage(), &table)?;
+        } else if !quiet {
+            eprintln!(
+                "note: no plots: {} cases (plots are drawn for at most {MAX_PLOT_CASES})",
+                info.total_cases
+            );
+        }
+    }
+    out.commit(&["shard.json"])?;
     if !quiet {
-        let failed = rows.iter().filter(|r| r.status != "ok").count();
+        let n = range.len();
         let what = if shard == Shard::ALL {
-            format!("{} cases", rows.len())
+            format!("{n} cases")
         } else {
             format!(
                 "shard {}/{}: cases {}..{} of {}",
@@ -209,13 +375,27 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
         };
         println!(
             "{what} ({} ok, {failed} failed) in {:.1} s -> {}",
-            rows.len() - failed,
+            n - failed,
             start.elapsed().as_secs_f64(),
-            args.out.join("sweep.csv").display()
+            dir.join("sweep.csv").display()
         );
     }
     Ok(ExitCode::SUCCESS)
 }
+
+/// The file a sweep streams its rows into, in grid order, while it runs;
+/// renamed to `sweep.csv` when the last case is done.
+pub const PARTIAL_CSV: &str = "sweep.csv.partial";
+
+/// What `sweep.csv.partial` holds (the `shard.json` of the running sweep),
+/// so that `--resume` continues only the same sweep; renamed to `shard.json`
+/// at the end.
+pub const PARTIAL_INFO: &str = "shard.json.partial";
+
+/// Largest sweep that gets plots: the plots are drawn from the whole table,
+/// read back from `sweep.csv` (about 300 bytes a case in memory); larger
+/// sweeps get a note instead, and the data stay complete in `sweep.csv`.
+pub const MAX_PLOT_CASES: usize = 100_000;
 
 /// Run `tippetop merge`. Bad input (a missing or foreign shard, a gap, an
 /// overlap): one line on stderr and exit code 2 (returned as `Ok`),
@@ -223,6 +403,9 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
 pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
     let mut shards: Vec<(ShardInfo, String)> = Vec::new();
     for dir in &args.dirs {
+        // Not while a sweep writes into it (e.g. a task still running):
+        // exit code 1, as for a busy --out.
+        let _reading = crate::output::read_lock(dir)?;
         match read_shard(dir) {
             Ok(s) => shards.push(s),
             Err(msg) => return Ok(input_error(msg)),
@@ -243,10 +426,17 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
         axes: first.axes.clone(),
     };
     let table = Table::parse_csv(&csv).map_err(anyhow::Error::new)?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("cannot create {}", args.out.display()))?;
-    write_outputs(&args.out, &csv, &info)?;
-    write_plots(&args.out, &table)?;
+    let out = OutDir::open(&args.out)?;
+    write_outputs(out.stage(), &csv, &info)?;
+    if info.total_cases <= MAX_PLOT_CASES {
+        write_plots(out.stage(), &table)?;
+    } else if !quiet {
+        eprintln!(
+            "note: no plots: {} cases (plots are drawn for at most {MAX_PLOT_CASES})",
+            info.total_cases
+        );
+    }
+    out.commit(&["shard.json"])?;
     if !quiet {
         let failed = table.status.iter().filter(|s| *s != "ok").count();
         println!(

@@ -533,3 +533,206 @@ fn vector_model_runs_from_upright_and_bad_model_lists_the_choices() {
         "solver.model: unknown value \"euler\" (valid: \"reduced\", \"vector\" or \"rigid\")",
     );
 }
+
+/// Visible names in `dir` (not the tool's hidden lock and manifest), sorted.
+fn visible(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.starts_with('.'))
+        .collect();
+    v.sort();
+    v
+}
+
+/// Defect 5 of issue 12: `--no-plot` after a plotted run left the old plots
+/// beside the new data. Now the previous run's files that the new one does
+/// not write are removed, and only those (a file of the user's stays).
+#[test]
+fn no_plot_after_a_plotted_run_removes_the_old_plots() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let o = out.to_str().unwrap();
+    let short = ["--preset", "classical", "--set", "solver.t_end=0.5"];
+    tippetop()
+        .args(["run", "--quiet", "--out", o])
+        .args(short)
+        .assert()
+        .success();
+    assert!(out.join("theta.png").is_file());
+    fs::write(out.join("notes.txt"), "mine").unwrap();
+    tippetop()
+        .args(["run", "--quiet", "--no-plot", "--out", o])
+        .args(short)
+        .assert()
+        .success();
+    assert_eq!(
+        visible(&out),
+        [
+            "notes.txt",
+            "scenario.toml",
+            "summary.json",
+            "trajectory.csv"
+        ]
+    );
+    assert_eq!(fs::read_to_string(out.join("notes.txt")).unwrap(), "mine");
+}
+
+/// Defect 5 of issue 12: `reproduce` after `reproduce --extended` left the
+/// ε-study figures and maps, which the new report does not list. Now every
+/// figure in the directory is one the report names.
+#[test]
+fn reproduce_after_extended_leaves_only_figures_of_the_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("rep");
+    let o = out.to_str().unwrap();
+    tippetop()
+        .args(["reproduce", "--quick", "--extended", "--quiet", "--out", o])
+        .assert()
+        .success();
+    assert!(out.join("figeps_10s.png").is_file());
+    tippetop()
+        .args(["reproduce", "--quick", "--quiet", "--out", o])
+        .assert()
+        .success();
+    let report = fs::read_to_string(out.join("report.md")).unwrap();
+    let names = visible(&out);
+    assert!(!names.iter().any(|n| n.starts_with("figeps")), "{names:?}");
+    for n in names.iter().filter(|n| n.ends_with(".png")) {
+        assert!(report.contains(n.as_str()), "{n} is not in report.md");
+    }
+    for n in &names {
+        let stem = n.rsplit_once('.').map_or(n.as_str(), |(s, _)| s);
+        assert!(
+            ["report", "claims"].contains(&stem) || report.contains(&format!("{stem}.png")),
+            "{n} does not belong to the report"
+        );
+    }
+}
+
+/// Defect 6 of issue 12: an `--out` that cannot be created was found only
+/// after the simulation. Now `run` and `reproduce` fail (exit code 1, one
+/// line) before computing: the failing run takes a small part of the time
+/// the same run takes into a writable directory.
+#[test]
+fn unwritable_out_fails_before_simulating() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("file");
+    fs::write(&file, "x").unwrap();
+    let bad = file.join("sub");
+    let good = dir.path().join("good");
+    let args = [
+        "run",
+        "--preset",
+        "classical",
+        "--set",
+        "solver.t_end=20000",
+        "--no-plot",
+        "--quiet",
+        "--out",
+    ];
+    let t0 = std::time::Instant::now();
+    tippetop().args(args).arg(&good).assert().success();
+    let t_good = t0.elapsed().as_secs_f64();
+    let t0 = std::time::Instant::now();
+    let a = tippetop().args(args).arg(&bad).assert().code(1);
+    let t_bad = t0.elapsed().as_secs_f64();
+    let err = String::from_utf8(a.get_output().stderr.clone()).unwrap();
+    assert!(err.starts_with("error: cannot create "), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        t_bad < 0.5 * t_good,
+        "the failing run took {t_bad} s, the whole run {t_good} s"
+    );
+    let a = tippetop()
+        .args(["reproduce", "--quick", "--quiet", "--out"])
+        .arg(&bad)
+        .assert()
+        .code(1);
+    let err = String::from_utf8(a.get_output().stderr.clone()).unwrap();
+    assert!(err.starts_with("error: cannot create "), "{err}");
+}
+
+/// Defect 10 of issue 12 (the CLI part): `run --help` documents every
+/// trajectory.csv column, each with its unit in brackets (or, for the 0/1
+/// flag `rolling`, its values).
+#[test]
+fn run_help_documents_every_trajectory_column_with_its_unit() {
+    let a = tippetop().args(["run", "--help"]).assert().success();
+    let help = String::from_utf8(a.get_output().stdout.clone()).unwrap();
+    let section = help
+        .split_once("trajectory.csv columns")
+        .expect("a trajectory.csv columns section")
+        .1
+        .split("\n\n")
+        .next()
+        .unwrap();
+    // Entries: "  NAME[, NAME]   description" with continuation lines
+    // indented further.
+    let mut entries: Vec<(Vec<String>, String)> = Vec::new();
+    for line in section.lines().skip(1) {
+        let indent = line.len() - line.trim_start().len();
+        if indent == 2 {
+            let (names, text) = line.trim_start().split_once("  ").unwrap();
+            let names = names.split(", ").map(|n| n.trim().to_string()).collect();
+            entries.push((names, text.trim().to_string()));
+        } else {
+            entries.last_mut().unwrap().1.push_str(line.trim());
+        }
+    }
+    let documented: Vec<&String> = entries.iter().flat_map(|(n, _)| n).collect();
+    assert_eq!(
+        documented,
+        tippetop::trajectory::COLUMNS.iter().collect::<Vec<_>>(),
+        "every column, in order"
+    );
+    for (names, text) in &entries {
+        let has_unit = text.contains(" [") && text.contains(']');
+        assert!(
+            has_unit || (names == &["rolling"] && text.contains("1 while")),
+            "{names:?}: {text}"
+        );
+    }
+    for word in [
+        "[s]",
+        "[rad]",
+        "[rad/s]",
+        "[m/s]",
+        "[N]",
+        "[kg m³/s]",
+        "[J]",
+    ] {
+        assert!(section.contains(word), "{word}");
+    }
+    // The output directory's behaviour.
+    for word in [
+        ".tippetop.lock",
+        "exits at once with code 1",
+        ".tippetop-manifest",
+    ] {
+        assert!(help.contains(word), "{word}");
+    }
+}
+
+/// `sweep --help` says which sweeps get plots and which none, the lock, the
+/// thread bound and --resume.
+#[test]
+fn sweep_help_documents_plots_lock_threads_and_resume() {
+    let a = tippetop().args(["sweep", "--help"]).assert().success();
+    let help = String::from_utf8(a.get_output().stdout.clone()).unwrap();
+    for word in [
+        "sweep.png, sweep.svg",
+        "heat map",
+        "No plots for 3 or more",
+        "for a shard",
+        "above 100 000 cases",
+        "1 to 1024",
+        "--resume",
+        "sweep.csv.partial",
+        "in use by another tippetop",
+        "it does not wait",
+        "never touched",
+    ] {
+        assert!(help.contains(word), "sweep --help lacks {word:?}");
+    }
+}

@@ -462,3 +462,97 @@ fn fingerprint_is_stable_and_specific() {
     t.sets.swap(0, 1);
     assert_ne!(t.fingerprint(), f);
 }
+
+/// Defect 9 of issue 12: the rows of a streamed sweep arrive in grid order,
+/// the same bytes for any thread count (and as `run`), and a sink that stops
+/// gets no further row.
+#[test]
+fn streamed_rows_come_in_grid_order_for_any_thread_count() {
+    // Offsets past R = 0.015 are invalid cases: fast, mixed with real runs.
+    let s = cheap(&["top.offset=0.001:0.03:7", "initial.spin=60:150:6"]);
+    s.validate().unwrap();
+    let want = run_csv(&s, 1);
+    for threads in [1, 2, 3, 7] {
+        let mut text = csv_header(&s.axes);
+        let mut next = 0;
+        let done = s
+            .run_streaming(0..s.total(), Some(threads), &mut |row| {
+                assert_eq!(row.index, next, "{threads} threads");
+                next += 1;
+                text.push_str(&csv_row(&row));
+                true
+            })
+            .unwrap();
+        assert!(done);
+        assert_eq!(text, want, "{threads} threads");
+    }
+    // A part of the grid, and a sink that stops after 5 rows.
+    let mut got = Vec::new();
+    let done = s
+        .run_streaming(10..30, Some(3), &mut |row| {
+            got.push(row.index);
+            got.len() < 5
+        })
+        .unwrap();
+    assert!(!done);
+    assert_eq!(got, [10, 11, 12, 13, 14]);
+}
+
+/// Defect 9 of issue 12: `--threads 20000` used to start 20 000 threads (for
+/// minutes); the count is now bounded by MAX_THREADS = 1024.
+#[test]
+fn thread_count_is_bounded() {
+    use tippetop::analysis::sweep::{MAX_THREADS, threads};
+    assert_eq!(MAX_THREADS, 1024);
+    assert_eq!(threads(Some(1)).unwrap(), 1);
+    assert_eq!(threads(Some(1024)).unwrap(), 1024);
+    let t = threads(None).unwrap();
+    assert!((1..=MAX_THREADS).contains(&t));
+    for bad in [0, 1025, 20_000, usize::MAX] {
+        let e = threads(Some(bad)).unwrap_err();
+        assert!(e.to_string().contains("(1 to 1024"), "{e}");
+        assert_eq!(key_of(e), "--threads");
+    }
+    let s = cheap(&["top.offset=1e-3:2e-3:2"]);
+    assert_eq!(
+        key_of(s.run(0..2, Some(20_000), &|| {}).unwrap_err()),
+        "--threads"
+    );
+}
+
+/// What `--resume` keeps of an interrupted sweep.csv: the header and the
+/// complete rows of the right cases, never a torn last line.
+#[test]
+fn complete_prefix_of_an_interrupted_csv() {
+    let s = cheap(&["top.offset=0.001:0.03:5"]);
+    let full = run_csv(&s, 2);
+    let header = csv_header(&s.axes);
+    let ends: Vec<usize> = full.match_indices('\n').map(|(i, _)| i + 1).collect(); // ends[0]: header, ends[k]: k rows
+    let failed_in = |rows: usize| {
+        full[header.len()..ends[rows]]
+            .lines()
+            .filter(|l| !l.ends_with(",ok"))
+            .count()
+    };
+    for cut in 0..=full.len() {
+        let p = s.complete_prefix(0, &full[..cut]);
+        let rows = ends.iter().filter(|&&e| e <= cut).count().saturating_sub(1);
+        if cut < header.len() {
+            assert_eq!((p.rows, p.bytes), (0, 0), "cut {cut}");
+        } else {
+            assert_eq!((p.rows, p.bytes), (rows, ends[rows]), "cut {cut}");
+            assert_eq!(p.failed, failed_in(rows), "cut {cut}");
+        }
+    }
+    assert!(s.complete_prefix(0, &full).failed > 0, "some invalid cases");
+    // A shard's rows start at its first case: the same text read as cases
+    // from 1 on does not match.
+    assert_eq!(s.complete_prefix(1, &full).rows, 0);
+    // Another sweep's header: nothing kept.
+    let other = cheap(&["top.mass=0.01:0.02:5"]);
+    assert_eq!(other.complete_prefix(0, &full).bytes, 0);
+    // A row that is not the next case ends what is kept.
+    let mut swapped = full[..ends[1]].to_string();
+    swapped.push_str(&full[ends[2]..ends[3]]);
+    assert_eq!(s.complete_prefix(0, &swapped).rows, 1);
+}

@@ -18,8 +18,9 @@
 //! # Determinism
 //!
 //! The output bytes depend only on the sweep (and the binary that ran it):
-//! the rows come back in grid order whatever the thread count ([`Sweep::run`]
-//! uses rayon's order-preserving `collect`), floats are written in the
+//! the rows come back in grid order whatever the thread count
+//! ([`Sweep::run_streaming`] delivers each row once all rows before it are
+//! done, through a reorder buffer of bounded size), floats are written in the
 //! shortest form that parses back to the same `f64`, and there are no timing
 //! columns. A sweep cut into [`Shard`]s, run on different machines and
 //! joined with [`merge`] gives the same `sweep.csv` as a one-shot run.
@@ -44,10 +45,12 @@
 //! print!("{}", csv(&sweep.axes, &rows));
 //! ```
 
+use std::collections::BTreeMap;
 use std::ops::Range;
 use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Condvar, Mutex, mpsc};
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::{Error, Scenario, Summary, simulate};
@@ -73,6 +76,43 @@ pub const FIELDS: [&str; 12] = [
 
 /// Largest number of cases in one sweep.
 pub const MAX_CASES: usize = 1_000_000_000;
+
+/// Largest thread count of a sweep. The work is CPU-bound, so threads beyond
+/// the cores only add start-up time and memory (each holds a case in
+/// flight, and [`window`] grows with the count); 20 000 threads took
+/// minutes just to start.
+pub const MAX_THREADS: usize = 1024;
+
+/// The thread count a sweep runs on: `requested`, or without it
+/// `RAYON_NUM_THREADS` if set to a positive number, else one per core (as
+/// reported by the OS), at most [`MAX_THREADS`]. Error: a requested count of
+/// 0 or above [`MAX_THREADS`] (key `--threads`).
+pub fn threads(requested: Option<usize>) -> Result<usize, Error> {
+    match requested {
+        Some(t) if (1..=MAX_THREADS).contains(&t) => Ok(t),
+        Some(t) => Err(Error::invalid(
+            "--threads",
+            format!("{t} threads"),
+            format!("1 to {MAX_THREADS}; more threads than cores only add overhead"),
+        )),
+        None => {
+            let env = std::env::var("RAYON_NUM_THREADS")
+                .ok()
+                .and_then(|v| v.trim().parse::<usize>().ok())
+                .filter(|&t| t > 0);
+            let t =
+                env.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+            Ok(t.clamp(1, MAX_THREADS))
+        }
+    }
+}
+
+/// How far past the next row to deliver [`Sweep::run_streaming`] may start
+/// a case on `threads` threads: `8 * threads + 16` cases, so the rows held
+/// at once stay a few times the thread count however large the sweep.
+pub fn window(threads: usize) -> usize {
+    8 * threads + 16
+}
 
 /// How many cases [`Sweep::validate`] tries to load, at most, when looking
 /// for one valid case.
@@ -345,6 +385,17 @@ pub struct Case {
     pub values: Vec<f64>,
 }
 
+/// What [`Sweep::complete_prefix`] keeps of an interrupted `sweep.csv`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Prefix {
+    /// Complete data rows kept (cases `first_index..first_index + rows`).
+    pub rows: usize,
+    /// Bytes kept: the header and those rows (0: not even the header).
+    pub bytes: usize,
+    /// How many of the kept rows have a status other than `ok`.
+    pub failed: usize,
+}
+
 /// The result of one case.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
@@ -508,16 +559,46 @@ impl Sweep {
     }
 
     /// Run the cases `range` (0-based grid indices) on `threads` threads
-    /// (`None`: one per core, or `RAYON_NUM_THREADS`), calling `progress`
-    /// after each case. The rows come back in index order, identical for any
-    /// thread count. Errors: `threads == Some(0)`, a range past
-    /// [`Sweep::total`], or a thread pool that cannot be built.
+    /// (`None`: see [`threads`]), calling `progress` after each case. The
+    /// rows come back in index order, identical for any thread count. Errors:
+    /// a thread count out of `1..=`[`MAX_THREADS`], a range past
+    /// [`Sweep::total`], or a thread pool that cannot be built. Keeps every
+    /// row in memory: for large sweeps use [`Sweep::run_streaming`].
     pub fn run(
         &self,
         range: Range<usize>,
         threads: Option<usize>,
         progress: &(dyn Fn() + Sync),
     ) -> Result<Vec<Row>, Error> {
+        let mut rows = Vec::with_capacity(range.len().min(1 << 20));
+        self.run_streaming(range, threads, &mut |row| {
+            progress();
+            rows.push(row);
+            true
+        })?;
+        Ok(rows)
+    }
+
+    /// Run the cases `range` on `threads` threads (`None`: see [`threads`])
+    /// and hand each row to `sink`, in index order, as soon as it and all
+    /// rows before it are done. `sink` runs on the calling thread; when it
+    /// returns `false` no further case is started and the call returns
+    /// `Ok(false)` (`Ok(true)`: every row was delivered).
+    ///
+    /// Memory is flat in the number of cases: a case starts only when it is
+    /// less than [`window`]`(threads)` cases past the next row to deliver,
+    /// so at most that many rows wait (a slow case holds the others back
+    /// rather than letting finished rows pile up). Each thread takes the
+    /// next case when it is free (one case at a time: case costs vary a lot
+    /// across a grid, and fixed blocks left threads idle). The rows, and so
+    /// the order and bytes of a CSV written from them, do not depend on the
+    /// thread count. Errors as for [`Sweep::run`].
+    pub fn run_streaming(
+        &self,
+        range: Range<usize>,
+        threads: Option<usize>,
+        sink: &mut dyn FnMut(Row) -> bool,
+    ) -> Result<bool, Error> {
         if range.end > self.total() || range.start > range.end {
             return Err(Error::invalid(
                 "sweep",
@@ -525,42 +606,116 @@ impl Sweep {
                 format!("within 0..{}", self.total()),
             ));
         }
-        let mut builder = rayon::ThreadPoolBuilder::new();
-        if let Some(t) = threads {
-            if t == 0 {
-                return Err(Error::invalid(
+        let t = self::threads(threads)?;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .map_err(|e| {
+                Error::invalid(
                     "--threads",
-                    "0 threads".into(),
-                    "at least 1".into(),
-                ));
+                    format!("cannot start the thread pool: {e}"),
+                    "fewer threads".into(),
+                )
+            })?;
+        let window = window(t);
+        let next = AtomicUsize::new(range.start);
+        let stop = AtomicBool::new(false);
+        // The next index to deliver; workers wait on it for the window.
+        let delivered = Mutex::new(range.start);
+        let moved = Condvar::new();
+        let (tx, rx) = mpsc::channel::<Row>();
+        let mut complete = true;
+        pool.in_place_scope(|scope| {
+            for _ in 0..t {
+                let tx = tx.clone();
+                let (next, stop, delivered, moved) = (&next, &stop, &delivered, &moved);
+                let end = range.end;
+                scope.spawn(move |_| {
+                    loop {
+                        if stop.load(Ordering::Relaxed) {
+                            break;
+                        }
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        if i >= end {
+                            break;
+                        }
+                        {
+                            let mut d = delivered.lock().unwrap_or_else(|e| e.into_inner());
+                            while i >= *d + window && !stop.load(Ordering::Relaxed) {
+                                d = moved.wait(d).unwrap_or_else(|e| e.into_inner());
+                            }
+                        }
+                        if stop.load(Ordering::Relaxed) || tx.send(self.run_case(i)).is_err() {
+                            break;
+                        }
+                    }
+                });
             }
-            builder = builder.num_threads(t);
+            drop(tx);
+            let mut pending: BTreeMap<usize, Row> = BTreeMap::new();
+            let mut expect = range.start;
+            'rows: for row in &rx {
+                pending.insert(row.index, row);
+                while let Some(r) = pending.remove(&expect) {
+                    expect += 1;
+                    if !sink(r) {
+                        complete = false;
+                        break 'rows;
+                    }
+                    *delivered.lock().unwrap_or_else(|e| e.into_inner()) = expect;
+                    moved.notify_all();
+                }
+            }
+            if !complete {
+                stop.store(true, Ordering::Relaxed);
+                // Take the lock so no worker misses the wake-up between its
+                // check of `stop` and its wait.
+                drop(delivered.lock().unwrap_or_else(|e| e.into_inner()));
+                moved.notify_all();
+            }
+        });
+        Ok(complete)
+    }
+
+    /// How much of an interrupted `sweep.csv` of the cases from
+    /// `first_index` on can be kept: the header (it must be this sweep's,
+    /// else nothing is kept) and then every complete line (ending in `\n`,
+    /// with the right number of fields) that holds the next case's values,
+    /// up to the first that does not (a torn last line, say).
+    pub fn complete_prefix(&self, first_index: usize, text: &str) -> Prefix {
+        let header = csv_header(&self.axes);
+        let mut p = Prefix::default();
+        if !text.starts_with(&header) {
+            return p;
         }
-        let pool = builder.build().map_err(|e| {
-            Error::invalid(
-                "--threads",
-                format!("cannot start the thread pool: {e}"),
-                "fewer threads".into(),
-            )
-        })?;
-        // `with_max_len(1)`: one stealable job per case. Without it rayon
-        // splits the range into a few runs that each thread then walks
-        // sequentially, and with case costs that vary across the grid one
-        // thread sat idle while the other finished its run: 1.72 of 2 CPUs
-        // busy on a vector-model sweep of 8 000 cases (perf stat), 1.89–1.97
-        // with it; the cost of a job per case is negligible against a run
-        // (docs/performance.md).
-        Ok(pool.install(|| {
-            range
-                .into_par_iter()
-                .with_max_len(1)
-                .map(|i| {
-                    let row = self.run_case(i);
-                    progress();
-                    row
-                })
-                .collect()
-        }))
+        p.bytes = header.len();
+        let ncols = self.axes.len() + FIELDS.len() + 1;
+        let total = self.total();
+        for line in text[header.len()..].split_inclusive('\n') {
+            let index = first_index + p.rows;
+            let Some(body) = line.strip_suffix('\n') else {
+                break;
+            };
+            let ok = index < total
+                && split_line(body, ncols).is_some_and(|(head, status)| {
+                    let case = self.case(index);
+                    let same = case
+                        .values
+                        .iter()
+                        .zip(&head)
+                        .all(|(v, f)| fmt_f64(*v) == *f);
+                    if same && status != "ok" {
+                        p.failed += 1;
+                    }
+                    same
+                });
+            if !ok {
+                break;
+            }
+            p.rows += 1;
+            p.bytes += line.len();
+        }
+        p
     }
 
     /// A 16-hex-digit hash (FNV-1a, 64 bit) of everything that defines the
