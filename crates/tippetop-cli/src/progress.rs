@@ -46,3 +46,72 @@ fn target(quiet: bool) -> ProgressDrawTarget {
         ProgressDrawTarget::hidden()
     }
 }
+
+/// Seconds between two progress lines on a stderr that is not a terminal.
+pub const LOG_EVERY_SECONDS: u64 = 10;
+
+/// Progress of one simulation, fed by
+/// [`tippetop::simulate_with_progress`]: a bar on a terminal; without one
+/// (a log, a batch job) a line `simulating: 43 % (t = 4.3 s of 10 s)` on
+/// stderr every [`LOG_EVERY_SECONDS`] seconds, so a long run shows it is
+/// alive; nothing with `--quiet`.
+pub struct RunProgress {
+    bar: ProgressBar,
+    log: bool,
+    t_end: f64,
+    last_line: std::time::Instant,
+}
+
+impl RunProgress {
+    /// Progress of a run to `t_end` \[s\].
+    pub fn new(quiet: bool, t_end: f64) -> Self {
+        let bar = ProgressBar::with_draw_target(Some(1000), target(quiet));
+        bar.set_style(
+            ProgressStyle::with_template(
+                "simulating [{bar:40}] {percent:>3} % [{elapsed} < {eta}]",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        RunProgress {
+            bar,
+            log: !quiet && !std::io::stderr().is_terminal(),
+            t_end,
+            last_line: std::time::Instant::now(),
+        }
+    }
+
+    /// The run has done `fraction` (in `[0, 1]`) of its time span.
+    pub fn update(&mut self, fraction: f64) {
+        self.bar.set_position((fraction * 1000.0) as u64);
+        if self.log && self.last_line.elapsed() >= Duration::from_secs(LOG_EVERY_SECONDS) {
+            self.last_line = std::time::Instant::now();
+            eprintln!("{}", log_line(fraction, self.t_end));
+        }
+    }
+
+    /// Remove the bar.
+    pub fn finish(self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+/// The progress line for a log: `simulating: 43 % (t = 4.3 s of 10 s)`.
+pub fn log_line(fraction: f64, t_end: f64) -> String {
+    format!(
+        "simulating: {:.0} % (t = {:.4e} s of {t_end} s)",
+        100.0 * fraction,
+        fraction * t_end
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn log_line_reads_well() {
+        assert_eq!(
+            super::log_line(0.43, 10.0),
+            "simulating: 43 % (t = 4.3000e0 s of 10 s)"
+        );
+    }
+}

@@ -42,11 +42,11 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     check_out_dir(&args.out)?;
 
     // 2. The run.
-    let spinner = progress::spinner(quiet, "simulating");
+    let mut prog = progress::RunProgress::new(quiet, scenario.solver.t_end);
     let start = Instant::now();
-    let result = tippetop::simulate(&scenario);
+    let result = tippetop::simulate_with_progress(&scenario, &mut |f| prog.update(f));
     let wall_seconds = start.elapsed().as_secs_f64();
-    spinner.finish_and_clear();
+    prog.finish();
     let traj = result?;
 
     // 3. Results (also for a run that failed part-way).

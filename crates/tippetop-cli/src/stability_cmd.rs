@@ -19,8 +19,31 @@ pub enum LawArg {
     Viscous,
 }
 
+/// Largest |--spin| \[rad/s\]: beyond about 1e150 the linearisation's
+/// matrices overflow; 1e100 leaves a margin (the analysis is exact in its
+/// scaling up to there).
+pub const MAX_SPIN: f64 = 1e100;
+/// Range of --eps \[m/s\]: outside about 1e-150 ..= 1e150 the linearised
+/// friction terms overflow or vanish against the others; these bounds leave a
+/// margin.
+pub const EPS_RANGE: (f64, f64) = (1e-100, 1e100);
+
 /// Arguments of `tippetop stability`.
 #[derive(Debug, Clone, clap::Args)]
+#[command(after_help = "Examples:\n  \
+    tippetop stability --preset classical\n  \
+    tippetop stability --preset nano --no-run --json > stability.json\n  \
+    tippetop stability scenarios/fig07_classical.toml --law viscous --eps 1e-3\n  \
+    tippetop stability --preset classical --spin 200 --tol 1e-8\n\n\
+Output (stdout; a table, or JSON with --json): for each steady motion (upright at theta = 0,\n\
+inverted at theta = pi, the relative equilibrium at theta = pi/2) its theta*, Omega*, omega*, the eigenvalues of the\n\
+linearisation with the smooth friction law and with mu = 0, and a verdict (stable, unstable,\n\
+marginal); without --no-run the late-time state of the scenario's run; with an applied force the\n\
+frozen-spin analysis; and the paper's App. B (B1-B4) against the full analysis. Progress and\n\
+errors go to stderr; nothing is written to disk.\n\n\
+Exit codes: 0 done; 2 bad input (scenario key, --spin, --eps or --tol out of range; one line\n\
+`error: KEY: what (valid range)`, nothing computed); 3 the analysis or the run failed part-way\n\
+(e.g. an eigenvalue iteration did not converge); 1 other errors.")]
 pub struct StabilityArgs {
     /// Scenario file (TOML); or give --preset.
     pub scenario: Option<PathBuf>,
@@ -37,16 +60,16 @@ pub struct StabilityArgs {
     /// differentiable at zero slip).
     #[arg(long, value_enum, default_value = "regularized")]
     pub law: LawArg,
-    /// Regularisation speed ε [m/s]; default: the scenario's, else
-    /// 1e-3 R max(|ω0|, √(g/R)).
-    #[arg(long)]
+    /// Regularisation speed ε [m/s], 1e-100 <= eps <= 1e100; default: the
+    /// scenario's, else 1e-3 R max(|ω0|, √(g/R)).
+    #[arg(long, allow_negative_numbers = true)]
     pub eps: Option<f64>,
-    /// Spin about the vertical at θ = 0 and π [rad/s]; default: the spin with
-    /// the scenario's Jellett J.
-    #[arg(long)]
+    /// Spin about the vertical at θ = 0 and π [rad/s], |spin| <= 1e100;
+    /// default: the spin with the scenario's Jellett J.
+    #[arg(long, allow_negative_numbers = true)]
     pub spin: Option<f64>,
-    /// Relative tolerance of the verdicts: tol = TOL · max|λ|.
-    #[arg(long, default_value_t = 1e-10)]
+    /// Relative tolerance of the verdicts: tol = TOL · max|λ|; 0 <= TOL < 1.
+    #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
     pub tol: f64,
     /// Do not run the scenario (no late-time state).
     #[arg(long)]
@@ -74,10 +97,52 @@ fn load(args: &StabilityArgs) -> Result<Scenario, tippetop::Error> {
     Scenario::load(args.preset.as_deref(), text.as_deref(), &args.set)
 }
 
+/// A number for a message: plain for ordinary magnitudes, else `1e308` style.
+fn num(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// Check the command's own arguments (the scenario is checked by `load`).
+pub fn check_args(args: &StabilityArgs) -> Result<(), tippetop::Error> {
+    if let Some(spin) = args.spin {
+        if spin.is_nan() || spin.abs() > MAX_SPIN {
+            return Err(tippetop::Error::invalid(
+                "spin",
+                format!("{} is not allowed", num(spin)),
+                format!("a finite spin, |spin| <= {MAX_SPIN:e} [rad/s]"),
+            ));
+        }
+    }
+    if let Some(eps) = args.eps {
+        if !(EPS_RANGE.0..=EPS_RANGE.1).contains(&eps) {
+            return Err(tippetop::Error::invalid(
+                "eps",
+                format!("{} is not allowed", num(eps)),
+                format!(
+                    "a finite speed, {:e} <= eps <= {:e} [m/s]",
+                    EPS_RANGE.0, EPS_RANGE.1
+                ),
+            ));
+        }
+    }
+    if !(0.0..1.0).contains(&args.tol) {
+        return Err(tippetop::Error::invalid(
+            "tol",
+            format!("{} is not allowed", num(args.tol)),
+            "0 <= tol < 1 (relative to max |lambda|; default 1e-10)".into(),
+        ));
+    }
+    Ok(())
+}
+
 /// Run `tippetop stability`. Exit code 0, 2 for bad input, 3 for a failure
 /// while computing.
 pub fn run(args: &StabilityArgs, quiet: bool) -> anyhow::Result<ExitCode> {
-    let sc = match load(args) {
+    let sc = match check_args(args).and_then(|()| load(args)) {
         Ok(sc) => sc,
         Err(e) => {
             eprintln!("error: {e}");

@@ -53,6 +53,7 @@ pub(super) fn run<S: OdeSystem<N>, const N: usize>(
     events: &[Event<S, N>],
     on_sample: &mut dyn FnMut(&S, f64, &[f64; N]),
     on_step: &mut dyn FnMut(&S, f64, &[f64; N]),
+    fired: &mut Vec<Fired<N>>,
 ) -> Result<Outcome<N>, IntegrateError<S::Error>> {
     assert!(
         t0.is_finite() && t_end.is_finite() && t_end >= t0,
@@ -77,6 +78,7 @@ pub(super) fn run<S: OdeSystem<N>, const N: usize>(
                 events,
                 on_sample,
                 on_step,
+                fired,
             )
         };
     }
@@ -115,6 +117,7 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
     events: &[Event<S, N>],
     on_sample: &mut dyn FnMut(&S, f64, &[f64; N]),
     on_step: &mut dyn FnMut(&S, f64, &[f64; N]),
+    fired: &mut Vec<Fired<N>>,
 ) -> Result<Outcome<N>, IntegrateError<S::Error>> {
     let mut stats = Stats::default();
     let mut stops: Vec<f64> = tstops
@@ -125,7 +128,6 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
     stops.sort_by(f64::total_cmp);
     stops.dedup();
 
-    let mut fired: Vec<Fired<N>> = Vec::new();
     let mut g_prev = vec![0.0; events.len()];
     let mut g_new = vec![0.0; events.len()];
     let mut crossings: Vec<(f64, usize)> = Vec::with_capacity(events.len());
@@ -149,7 +151,7 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
                     t: t0,
                     y: y0,
                     stop: StopReason::End,
-                    fired,
+                    fired: std::mem::take(fired),
                     stats,
                 });
             }
@@ -248,7 +250,7 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
                     t: tr,
                     y: ybuf,
                     stop: StopReason::Terminal(i),
-                    fired,
+                    fired: std::mem::take(fired),
                     stats,
                 });
             }
@@ -263,7 +265,7 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
                 t,
                 y,
                 stop: StopReason::End,
-                fired,
+                fired: std::mem::take(fired),
                 stats,
             });
         }

@@ -519,6 +519,44 @@ pub fn solve<S: OdeSystem<N>, const N: usize>(
     on_sample: &mut dyn FnMut(&S, f64, &[f64; N]),
     on_step: &mut dyn FnMut(&S, f64, &[f64; N]),
 ) -> Result<Outcome<N>, IntegrateError<S::Error>> {
+    solve_keeping_events(
+        sys,
+        opts,
+        t0,
+        y0,
+        t_end,
+        tstops,
+        sample_times,
+        events,
+        on_sample,
+        on_step,
+        &mut Vec::new(),
+    )
+}
+
+/// As [`solve`], collecting the events that fire in `fired` (cleared
+/// first): on success they are moved into [`Outcome::fired`] (and `fired`
+/// is left empty); on failure `fired` keeps every event that fired before
+/// it, so that a run that fails part-way still reports them.
+///
+/// # Panics
+///
+/// As [`solve`].
+#[allow(clippy::too_many_arguments)]
+pub fn solve_keeping_events<S: OdeSystem<N>, const N: usize>(
+    sys: &mut S,
+    opts: &Options,
+    t0: f64,
+    y0: [f64; N],
+    t_end: f64,
+    tstops: &[f64],
+    sample_times: &[f64],
+    events: &[Event<S, N>],
+    on_sample: &mut dyn FnMut(&S, f64, &[f64; N]),
+    on_step: &mut dyn FnMut(&S, f64, &[f64; N]),
+    fired: &mut Vec<Fired<N>>,
+) -> Result<Outcome<N>, IntegrateError<S::Error>> {
+    fired.clear();
     driver::run(
         sys,
         opts,
@@ -530,5 +568,6 @@ pub fn solve<S: OdeSystem<N>, const N: usize>(
         events,
         on_sample,
         on_step,
+        fired,
     )
 }
