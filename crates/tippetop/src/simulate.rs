@@ -1047,7 +1047,24 @@ fn run_contact<M: ContactModel<D>, const D: usize>(
 
 #[cfg(test)]
 mod tests {
-    use super::NormalLog;
+    use super::{EventList, NormalLog};
+    use crate::limits::MAX_EVENTS;
+
+    /// At most MAX_EVENTS records, then one marker; memory stays bounded
+    /// however many events a run has.
+    #[test]
+    fn event_list_is_capped() {
+        let mut l = EventList::default();
+        for k in 0..MAX_EVENTS + 1000 {
+            l.push(k as f64, "contact_lost");
+        }
+        assert_eq!(l.dropped, 1000);
+        let v = l.into_sorted();
+        assert_eq!(v.len(), MAX_EVENTS + 1);
+        assert_eq!(v[MAX_EVENTS].kind, "event_limit_reached");
+        assert_eq!(v[MAX_EVENTS].t, MAX_EVENTS as f64);
+        assert_eq!(v[MAX_EVENTS - 1].kind, "contact_lost");
+    }
 
     #[test]
     fn normal_log_fraction_and_first_time() {
