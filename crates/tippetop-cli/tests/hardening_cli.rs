@@ -168,3 +168,122 @@ fn stability_help_is_complete() {
         assert!(help.contains(needle), "{needle:?} missing:\n{help}");
     }
 }
+
+/// The fuzz of `tippetop/tests/fuzz.rs` on the binary, fewer cases: every
+/// invocation exits 0, 2 or 3 (never a panic, 101, or an abort); exit 2
+/// prints one line and writes nothing; exit 0 and 3 write the summary.
+#[test]
+fn fuzz_cli() {
+    let mut state: u64 = 0x7170_7e70_2026_0c11;
+    let mut next = move |n: usize| {
+        // SplitMix64.
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) % n as u64) as usize
+    };
+    let keys = [
+        "top.radius",
+        "top.offset",
+        "top.mass",
+        "top.inertia_transverse",
+        "top.inertia_axial",
+        "surface.gravity",
+        "surface.friction",
+        "surface.friction_law",
+        "surface.contact",
+        "surface.restitution",
+        "force.0.hx",
+        "force.0.hy",
+        "force.0.stop",
+        "initial.theta",
+        "initial.theta_dot",
+        "initial.precession",
+        "initial.spin",
+        "initial.ux",
+        "solver.method",
+        "solver.t_end",
+        "solver.steps",
+        "solver.rtol",
+        "solver.samples",
+        "solver.model",
+        "solver.max_steps",
+    ];
+    let extreme = [
+        "0",
+        "-0.0",
+        "1e-320",
+        "-1e-320",
+        "1e308",
+        "-1e308",
+        "inf",
+        "-inf",
+        "nan",
+        "9223372036854775807",
+        "-1",
+        "1e9",
+    ];
+    let ordinary = [
+        "0.5",
+        "2",
+        "1e-3",
+        "3.0",
+        "0.13",
+        "1e-22",
+        "rk4",
+        "stiff",
+        "reduced",
+        "rigid",
+        "viscous",
+        "paper",
+        "unilateral",
+        "coulomb_sliding",
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let mut codes = [0usize; 4];
+    for case in 0..150 {
+        let out = dir.path().join(format!("c{case}"));
+        let preset = ["nano", "classical"][next(2)];
+        let mut args: Vec<String> = vec!["run".into(), "--preset".into(), preset.into()];
+        for s in ["solver.max_steps=2000", "solver.samples=21"] {
+            args.extend(["--set".into(), s.into()]);
+        }
+        for _ in 0..1 + next(2) {
+            let value = if next(3) == 0 {
+                extreme[next(extreme.len())]
+            } else {
+                ordinary[next(ordinary.len())]
+            };
+            let kv = format!("{}={value}", keys[next(keys.len())]);
+            args.extend(["--set".into(), kv]);
+        }
+        args.extend(["--no-plot".into(), "--quiet".into(), "--out".into()]);
+        args.push(out.to_str().unwrap().into());
+        let o = tippetop().args(&args).output().unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr).to_string();
+        let code = o.status.code();
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        match code {
+            Some(2) => {
+                assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+                assert!(stderr.starts_with("error: "), "{args:?}: {stderr}");
+                assert!(!out.exists(), "{args:?} wrote {}", out.display());
+                codes[2] += 1;
+            }
+            Some(c @ (0 | 3)) => {
+                assert!(out.join("summary.json").exists(), "{args:?}: {stderr}");
+                if c == 3 {
+                    assert!(stderr.starts_with("error: "), "{args:?}: {stderr}");
+                }
+                codes[c as usize] += 1;
+            }
+            other => panic!("{args:?}: exit {other:?}: {stderr}"),
+        }
+    }
+    eprintln!(
+        "fuzz_cli: exit codes 0, 2, 3: {}, {}, {}",
+        codes[0], codes[2], codes[3]
+    );
+    assert!(codes[0] > 0 && codes[2] > 0 && codes[3] > 0, "{codes:?}");
+}
