@@ -19,15 +19,6 @@ pub enum LawArg {
     Viscous,
 }
 
-/// Largest |--spin| \[rad/s\]: beyond about 1e150 the linearisation's
-/// matrices overflow; 1e100 leaves a margin (the analysis is exact in its
-/// scaling up to there).
-pub const MAX_SPIN: f64 = 1e100;
-/// Range of --eps \[m/s\]: outside about 1e-150 ..= 1e150 the linearised
-/// friction terms overflow or vanish against the others; these bounds leave a
-/// margin.
-pub const EPS_RANGE: (f64, f64) = (1e-100, 1e100);
-
 /// Arguments of `tippetop stability`.
 #[derive(Debug, Clone, clap::Args)]
 #[command(after_help = "Examples:\n  \
@@ -97,58 +88,9 @@ fn load(args: &StabilityArgs) -> Result<Scenario, tippetop::Error> {
     Scenario::load(args.preset.as_deref(), text.as_deref(), &args.set)
 }
 
-/// A number for a message: plain for ordinary magnitudes, else `1e308` style.
-fn num(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
-
-/// Check the command's own arguments (the scenario is checked by `load`).
-pub fn check_args(args: &StabilityArgs) -> Result<(), tippetop::Error> {
-    if let Some(spin) = args.spin {
-        if spin.is_nan() || spin.abs() > MAX_SPIN {
-            return Err(tippetop::Error::invalid(
-                "spin",
-                format!("{} is not allowed", num(spin)),
-                format!("a finite spin, |spin| <= {MAX_SPIN:e} [rad/s]"),
-            ));
-        }
-    }
-    if let Some(eps) = args.eps {
-        if !(EPS_RANGE.0..=EPS_RANGE.1).contains(&eps) {
-            return Err(tippetop::Error::invalid(
-                "eps",
-                format!("{} is not allowed", num(eps)),
-                format!(
-                    "a finite speed, {:e} <= eps <= {:e} [m/s]",
-                    EPS_RANGE.0, EPS_RANGE.1
-                ),
-            ));
-        }
-    }
-    if !(0.0..1.0).contains(&args.tol) {
-        return Err(tippetop::Error::invalid(
-            "tol",
-            format!("{} is not allowed", num(args.tol)),
-            "0 <= tol < 1 (relative to max |lambda|; default 1e-10)".into(),
-        ));
-    }
-    Ok(())
-}
-
 /// Run `tippetop stability`. Exit code 0, 2 for bad input, 3 for a failure
 /// while computing.
 pub fn run(args: &StabilityArgs, quiet: bool) -> anyhow::Result<ExitCode> {
-    let sc = match check_args(args).and_then(|()| load(args)) {
-        Ok(sc) => sc,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return Ok(ExitCode::from(2));
-        }
-    };
     let opts = Options {
         law: match args.law {
             LawArg::Regularized => SmoothLaw::Regularized,
@@ -159,6 +101,14 @@ pub fn run(args: &StabilityArgs, quiet: bool) -> anyhow::Result<ExitCode> {
         tol_rel: args.tol,
         run: !args.no_run,
         ..Default::default()
+    };
+    // Every input (options, then the scenario) before any work or output.
+    let sc = match opts.validate().and_then(|()| load(args)) {
+        Ok(sc) => sc,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Ok(ExitCode::from(2));
+        }
     };
     if !quiet && opts.run {
         eprintln!("running the scenario for its late-time state ...");

@@ -18,7 +18,11 @@
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use tippetop::{Error, Scenario, limits, simulate};
+use tippetop::{
+    Error, Scenario,
+    analysis::stability::{self, SmoothLaw},
+    limits, simulate,
+};
 
 /// SplitMix64: a small, seeded, portable generator (the same cases on every
 /// machine).
@@ -273,4 +277,63 @@ fn fuzz_scenarios() {
         rejected > CASES / 10 && ok > CASES / 20 && failed > CASES / 50,
         "{rejected} {ok} {failed}"
     );
+}
+
+/// The stability analysis (`tippetop stability`) on fuzzed scenarios with
+/// fuzzed options: no panic; options out of range are input errors; the
+/// rest give a report or a one-line run-time error.
+#[test]
+fn fuzz_stability() {
+    let bases = bases();
+    let mut rng = Rng(0x57ab_1e00_2026_0012);
+    let opt_values = [
+        None,
+        Some(f64::NAN),
+        Some(f64::INFINITY),
+        Some(-1e308),
+        Some(1e308),
+        Some(1e-320),
+        Some(0.0),
+        Some(-1.0),
+        Some(1e-3),
+        Some(2.0),
+        Some(150.0),
+        Some(1e100),
+        Some(1e-100),
+    ];
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let mut failures = Vec::new();
+    let (mut reports, mut cases) = (0, 0);
+    while cases < 600 {
+        let (name, preset, text) = &bases[rng.below(bases.len())];
+        let mut sets: Vec<String> = BASE_SETS.iter().map(|s| s.to_string()).collect();
+        sets.extend(mutations(&mut rng));
+        let Ok(sc) = Scenario::load(*preset, text.as_deref(), &sets) else {
+            continue;
+        };
+        cases += 1;
+        let opts = stability::Options {
+            law: [SmoothLaw::Regularized, SmoothLaw::Viscous][rng.below(2)],
+            eps: opt_values[rng.below(opt_values.len())],
+            spin: opt_values[rng.below(opt_values.len())],
+            tol_rel: opt_values[rng.below(opt_values.len())].unwrap_or(1e-10),
+            run: rng.below(4) == 0,
+            ..Default::default()
+        };
+        let valid_opts = opts.validate().is_ok();
+        match catch_unwind(AssertUnwindSafe(|| stability::analyse(&sc, &opts))) {
+            Err(_) => failures.push(format!("{name} {sets:?} {opts:?}: panic")),
+            Ok(Ok(_)) if valid_opts => reports += 1,
+            Ok(Ok(_)) => failures.push(format!("{name} {sets:?} {opts:?}: accepted")),
+            Ok(Err(e)) => {
+                if e.to_string().contains('\n') || (e.is_input() == valid_opts) {
+                    failures.push(format!("{name} {sets:?} {opts:?}: {e}"));
+                }
+            }
+        }
+    }
+    std::panic::set_hook(hook);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(reports > 50, "{reports}");
 }
