@@ -70,8 +70,10 @@ pub(crate) fn step_limit_why(sc: &Scenario, cap: u64) -> String {
         (_, Method::Stiff) => "a stiff friction law near rolling: try a larger friction_eps",
         _ => "a stiff friction law near rolling: try method = \"stiff\" or a larger friction_eps",
     };
+    let periods = sc.solver.t_end / crate::limits::time_unit(sc);
     format!(
-        "step limit {cap} reached (the run cannot make progress: the motion needs steps far shorter than t_end / {cap} = {mean:e} s; {hint})"
+        "step limit {cap} reached (the run cannot make progress: the motion needs steps far shorter than t_end / {cap} = {mean:e} s; {hint}; t_end is {periods:.3e} time units T_ref of the fastest initial rate; solver.max_steps sets the limit, at most {})",
+        crate::limits::MAX_STEPS
     )
 }
 
