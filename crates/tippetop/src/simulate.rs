@@ -285,6 +285,15 @@ impl Track {
         if r.is_nan() { f64::INFINITY } else { r }
     }
 
+    /// Take the maxima of `other` (a track of the same run) too.
+    pub(crate) fn merge(&mut self, other: &Track) {
+        self.j_dev_max = self.j_dev_max.max(other.j_dev_max);
+        self.omega_abs_max = self.omega_abs_max.max(other.omega_abs_max);
+        self.e_abs_max = self.e_abs_max.max(other.e_abs_max);
+        self.balance_max = self.balance_max.max(other.balance_max);
+        self.theta_max = self.theta_max.max(other.theta_max);
+    }
+
     /// Record a state: θ, ω, J, the energy E (if it could be evaluated) and
     /// the work done so far `W_f + W_a`.
     pub(crate) fn record(
@@ -772,7 +781,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(
     let mut rolling_since: Option<f64> = (m.plane().mode == Mode::Rolling).then_some(0.0);
     let mut rolling_time = 0.0;
     let mut switches = 0usize;
-    let mut fired_buf: Vec<integrate::Fired<D>> = Vec::new();
+    let mut event_track = track.clone();
     let mut nonfinite_at: Option<f64> = None;
 
     loop {
@@ -819,7 +828,22 @@ fn run_contact<M: ContactModel<D>, const D: usize>(
                 }
             }
         };
-        let res = integrate::solve_keeping_events(
+        // The events of this call as they fire (also those before a
+        // failure). θ maxima go into their own track, merged below (the
+        // maxima do not depend on the order).
+        let mut on_event = |s: &M, f: &integrate::Fired<D>| match f.index {
+            EV_HALF_PI if first_above.is_none() => {
+                first_above = Some(f.t * tu);
+                events_out.push(f.t * tu, "theta_above_half_pi");
+            }
+            EV_THETA_MAX => visit(&mut event_track, s, &f.y),
+            EV_NORMAL => {
+                let kind = normal_log.cross(f.t);
+                events_out.push(f.t * tu, kind);
+            }
+            _ => {}
+        };
+        let res = integrate::solve_with_events(
             &mut m,
             &opts,
             t,
@@ -830,27 +854,9 @@ fn run_contact<M: ContactModel<D>, const D: usize>(
             &events,
             &mut on_sample,
             &mut on_step,
-            &mut fired_buf,
+            &mut on_event,
         );
-        // The events of this call, also those before a failure.
-        let fired: &[integrate::Fired<D>] = match &res {
-            Ok(o) => &o.fired,
-            Err(_) => &fired_buf,
-        };
-        for f in fired {
-            match f.index {
-                EV_HALF_PI if first_above.is_none() => {
-                    first_above = Some(f.t * tu);
-                    events_out.push(f.t * tu, "theta_above_half_pi");
-                }
-                EV_THETA_MAX => visit(&mut track, &m, &f.y),
-                EV_NORMAL => {
-                    let kind = normal_log.cross(f.t);
-                    events_out.push(f.t * tu, kind);
-                }
-                _ => {}
-            }
-        }
+        track.merge(&event_track);
         // (A failed call explains itself: its rows may be NaN where the
         // model could not be evaluated.)
         if let (Some(ts), Ok(_)) = (nonfinite_at, &res) {

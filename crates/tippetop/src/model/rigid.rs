@@ -1206,7 +1206,7 @@ pub fn run_with_progress(
     let mut last_accepted_t = 0.0;
     let mut reversals: u32 = 0;
     let mut last_slip = m.slip_of(&y);
-    let mut fired_buf: Vec<integrate::Fired<DIM>> = Vec::new();
+    let mut event_track = track.clone();
     let mut nonfinite_at: Option<f64> = None;
 
     loop {
@@ -1254,7 +1254,21 @@ pub fn run_with_progress(
         // the integrator, handles the switch, so it can project the state
         // and let the top lift off if the new force makes N negative.
         let t_stop = tstops.iter().copied().find(|&s| s > t).unwrap_or(t_end);
-        let res = integrate::solve_keeping_events(
+        // The events of this call as they fire (also those before a
+        // failure); θ maxima into their own track, merged below.
+        let mut on_event = |s: &Rigid, f: &integrate::Fired<DIM>| match f.index {
+            EV_HALF_PI if first_above.is_none() => {
+                first_above = Some(f.t * tu);
+                events_out.push(f.t * tu, "theta_above_half_pi");
+            }
+            EV_THETA_MAX => visit(&mut event_track, s, &f.y),
+            EV_CONTACT if !unilateral => {
+                let kind = normal_log.cross(f.t);
+                events_out.push(f.t * tu, kind);
+            }
+            _ => {}
+        };
+        let res = integrate::solve_with_events(
             &mut m,
             &opts,
             t,
@@ -1265,27 +1279,9 @@ pub fn run_with_progress(
             &events,
             &mut on_sample,
             &mut on_step,
-            &mut fired_buf,
+            &mut on_event,
         );
-        // The events of this call, also those before a failure.
-        let fired: &[integrate::Fired<DIM>] = match &res {
-            Ok(o) => &o.fired,
-            Err(_) => &fired_buf,
-        };
-        for f in fired {
-            match f.index {
-                EV_HALF_PI if first_above.is_none() => {
-                    first_above = Some(f.t * tu);
-                    events_out.push(f.t * tu, "theta_above_half_pi");
-                }
-                EV_THETA_MAX => visit(&mut track, &m, &f.y),
-                EV_CONTACT if !unilateral => {
-                    let kind = normal_log.cross(f.t);
-                    events_out.push(f.t * tu, kind);
-                }
-                _ => {}
-            }
-        }
+        track.merge(&event_track);
         // (A failed call explains itself: its rows may be NaN where the
         // model could not be evaluated.)
         if let (Some(ts), Ok(_)) = (nonfinite_at, &res) {
