@@ -121,12 +121,18 @@ pub(crate) const RK4_UNSTABLE_BALANCE: f64 = 1e-2;
 
 /// A failed RK4 run whose energy balance was already off by more than
 /// [`RK4_UNSTABLE_BALANCE`]: the fixed step made the solution unstable, and
-/// `why` (a Painlevé case, a NaN) is a consequence, not the physics.
+/// `why` (a Painlevé case, a NaN) is a consequence, not the physics. Any
+/// other failure of an RK4 run says that its fixed step may be the cause.
 pub(crate) fn unstable_rk4(sc: &Scenario, track: &Track, why: String) -> String {
     let rel = track.balance_rel();
     if sc.solver.method == Method::Rk4 && (rel.is_nan() || rel > RK4_UNSTABLE_BALANCE) {
         format!(
             "the RK4 solution became unstable (energy balance error {rel:.1e} of max |E|): the fixed step t_end / steps = {:e} s is too long for this motion, raise solver.steps or use method = \"adaptive\"; it ended with: {why}",
+            sc.solver.t_end / sc.solver.steps as f64
+        )
+    } else if sc.solver.method == Method::Rk4 {
+        format!(
+            "{why} (method = \"rk4\" with a fixed step t_end / steps = {:e} s: check that it persists with more steps or method = \"adaptive\")",
             sc.solver.t_end / sc.solver.steps as f64
         )
     } else {

@@ -335,3 +335,32 @@ fn rk4_runs_on_both_presets() {
         assert_eq!(sc.solver.steps, 200);
     }
 }
+
+/// Defect 8: an RK4 run whose fixed step is far too long blows up; that is
+/// reported as such (it used to read as a Painlevé paradox at θ = π/2).
+#[test]
+fn rk4_blow_up_is_not_reported_as_painleve() {
+    for (preset, samples) in [("classical", "51"), ("nano", "51")] {
+        let tr = run(
+            preset,
+            &["solver.method=rk4", &format!("solver.samples={samples}")],
+        );
+        let msg = tr.error.expect(preset).to_string();
+        assert!(
+            msg.contains("the RK4 solution became unstable (energy balance error"),
+            "{msg}"
+        );
+        assert!(msg.contains("raise solver.steps"), "{msg}");
+    }
+    // A failure whose balance is unknown still names the fixed step.
+    let tr = run(
+        "nano",
+        &[
+            "solver.method=rk4",
+            "solver.samples=21",
+            "solver.model=reduced",
+        ],
+    );
+    let msg = tr.error.unwrap().to_string();
+    assert!(msg.contains("method = \"rk4\" with a fixed step"), "{msg}");
+}
