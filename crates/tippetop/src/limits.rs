@@ -41,8 +41,9 @@ pub const MAX_STEPS: u64 = 20_000_000;
 pub const MAX_SAMPLES: usize = 5_000_000;
 
 /// Largest number of events a run records (`Trajectory::events`); further
-/// events are counted in the summary's diagnostics but not listed, and a
-/// single `"event_limit_reached"` record marks where the list stops. A run
+/// events still enter the summary (first times, the fraction of the time
+/// with N < 0) but are not listed, and a single `"event_limit_reached"`
+/// record marks where the list stops. A run
 /// whose motion chatters can cross `N = 0` millions of times; the list
 /// would otherwise grow with the steps taken, not with the samples kept.
 pub const MAX_EVENTS: usize = 100_000;

@@ -50,11 +50,15 @@ impl Initial {
                 ));
             }
         }
-        if reduced && !(self.theta > 0.0 && self.theta < std::f64::consts::PI) {
+        if reduced
+            && !(self.theta > 0.0
+                && self.theta < std::f64::consts::PI
+                && self.theta.sin() >= crate::model::reduced::SIN_GUARD)
+        {
             return Err(Error::invalid(
                 "initial.theta",
                 format!("{} is outside the reduced model's range", self.theta),
-                "0 < theta < pi [rad]; use model = \"vector\" (the default) or \"rigid\" for theta = 0 or pi".into(),
+                "0 < theta < pi [rad] with sin(theta) >= 1e-8 (the reduced model's pole guard); use model = \"vector\" (the default) or \"rigid\" for theta = 0 or pi".into(),
             ));
         }
         if !reduced && !(0.0..=std::f64::consts::PI).contains(&self.theta) {

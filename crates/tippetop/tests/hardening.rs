@@ -364,3 +364,19 @@ fn rk4_blow_up_is_not_reported_as_painleve() {
     let msg = tr.error.unwrap().to_string();
     assert!(msg.contains("method = \"rk4\" with a fixed step"), "{msg}");
 }
+
+/// The reduced model cannot start within its pole guard (|sin θ| < 1e-8):
+/// that is bad input (it used to fail at t = 0 with exit 3); the vector
+/// model starts there.
+#[test]
+fn reduced_model_rejects_a_start_at_the_pole_guard() {
+    for theta in ["1e-9", "3.14159265", "3.141592653589793"] {
+        rejected(
+            "classical",
+            &["solver.model=reduced", &format!("initial.theta={theta}")],
+            "initial.theta",
+        );
+        load("classical", &[&format!("initial.theta={theta}")]).unwrap();
+    }
+    load("classical", &["solver.model=reduced", "initial.theta=2e-8"]).unwrap();
+}
