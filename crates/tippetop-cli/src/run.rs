@@ -49,11 +49,11 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     let out = OutDir::open(&args.out)?;
 
     // 3. The run.
-    let spinner = progress::spinner(quiet, "simulating");
+    let mut prog = progress::RunProgress::new(quiet, scenario.solver.t_end);
     let start = Instant::now();
-    let result = tippetop::simulate(&scenario);
+    let result = tippetop::simulate_with_progress(&scenario, &mut |f| prog.update(f));
     let wall_seconds = start.elapsed().as_secs_f64();
-    spinner.finish_and_clear();
+    prog.finish();
     let traj = match result {
         Ok(t) => t,
         Err(e) => {

@@ -21,6 +21,20 @@ pub enum LawArg {
 
 /// Arguments of `tippetop stability`.
 #[derive(Debug, Clone, clap::Args)]
+#[command(after_help = "Examples:\n  \
+    tippetop stability --preset classical\n  \
+    tippetop stability --preset nano --no-run --json > stability.json\n  \
+    tippetop stability scenarios/fig07_classical.toml --law viscous --eps 1e-3\n  \
+    tippetop stability --preset classical --spin 200 --tol 1e-8\n\n\
+Output (stdout; a table, or JSON with --json): for each steady motion (upright at theta = 0,\n\
+inverted at theta = pi, the relative equilibrium at theta = pi/2) its theta*, Omega*, omega*, the eigenvalues of the\n\
+linearisation with the smooth friction law and with mu = 0, and a verdict (stable, unstable,\n\
+marginal); without --no-run the late-time state of the scenario's run; with an applied force the\n\
+frozen-spin analysis; and the paper's App. B (B1-B4) against the full analysis. Progress and\n\
+errors go to stderr; nothing is written to disk.\n\n\
+Exit codes: 0 done; 2 bad input (scenario key, --spin, --eps or --tol out of range; one line\n\
+`error: KEY: what (valid range)`, nothing computed); 3 the analysis or the run failed part-way\n\
+(e.g. an eigenvalue iteration did not converge); 1 other errors.")]
 pub struct StabilityArgs {
     /// Scenario file (TOML); or give --preset.
     pub scenario: Option<PathBuf>,
@@ -37,16 +51,16 @@ pub struct StabilityArgs {
     /// differentiable at zero slip).
     #[arg(long, value_enum, default_value = "regularized")]
     pub law: LawArg,
-    /// Regularisation speed ε [m/s]; default: the scenario's, else
-    /// 1e-3 R max(|ω0|, √(g/R)).
-    #[arg(long)]
+    /// Regularisation speed ε [m/s], 1e-100 <= eps <= 1e100; default: the
+    /// scenario's, else 1e-3 R max(|ω0|, √(g/R)).
+    #[arg(long, allow_negative_numbers = true)]
     pub eps: Option<f64>,
-    /// Spin about the vertical at θ = 0 and π [rad/s]; default: the spin with
-    /// the scenario's Jellett J.
-    #[arg(long)]
+    /// Spin about the vertical at θ = 0 and π [rad/s], |spin| <= 1e100;
+    /// default: the spin with the scenario's Jellett J.
+    #[arg(long, allow_negative_numbers = true)]
     pub spin: Option<f64>,
-    /// Relative tolerance of the verdicts: tol = TOL · max|λ|.
-    #[arg(long, default_value_t = 1e-10)]
+    /// Relative tolerance of the verdicts: tol = TOL · max|λ|; 0 <= TOL < 1.
+    #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
     pub tol: f64,
     /// Do not run the scenario (no late-time state).
     #[arg(long)]
@@ -77,13 +91,6 @@ fn load(args: &StabilityArgs) -> Result<Scenario, tippetop::Error> {
 /// Run `tippetop stability`. Exit code 0, 2 for bad input, 3 for a failure
 /// while computing.
 pub fn run(args: &StabilityArgs, quiet: bool) -> anyhow::Result<ExitCode> {
-    let sc = match load(args) {
-        Ok(sc) => sc,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return Ok(ExitCode::from(2));
-        }
-    };
     let opts = Options {
         law: match args.law {
             LawArg::Regularized => SmoothLaw::Regularized,
@@ -94,6 +101,14 @@ pub fn run(args: &StabilityArgs, quiet: bool) -> anyhow::Result<ExitCode> {
         tol_rel: args.tol,
         run: !args.no_run,
         ..Default::default()
+    };
+    // Every input (options, then the scenario) before any work or output.
+    let sc = match opts.validate().and_then(|()| load(args)) {
+        Ok(sc) => sc,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Ok(ExitCode::from(2));
+        }
     };
     if !quiet && opts.run {
         eprintln!("running the scenario for its late-time state ...");

@@ -34,10 +34,11 @@
 //! [solver]
 //! method = "adaptive"         # or "rk4", "stiff"
 //! t_end = 10.0                # [s]
-//! steps = 500                 # rk4 only
+//! steps = 1000                # rk4 only; default samples - 1
 //! rtol = 1e-10
 //! samples = 1001              # output rows, evenly spaced from 0 to t_end
 //! model = "reduced"           # or "rigid", "vector"
+//! max_steps = 20000000        # step limit of the run (default; 2e6 with "stiff")
 //! ```
 //!
 //! Without a preset the required keys are the five `[top]` keys,
@@ -121,7 +122,10 @@ impl Scenario {
         }
     }
 
-    /// Validate every part.
+    /// Validate every part, then what the run needs as a whole
+    /// ([`crate::limits::check_run`]: finite scaled units and times,
+    /// `t_end` within [`crate::limits::MAX_SCALED_T_END`] time units, a finite
+    /// initial energy, the memory of the samples).
     pub fn validate(&self) -> Result<(), Error> {
         self.top.validate()?;
         self.surface.validate()?;
@@ -129,6 +133,7 @@ impl Scenario {
         self.initial
             .validate(self.solver.model == ModelKind::Reduced)?;
         self.solver.validate()?;
+        crate::limits::check_run(self)?;
         Ok(())
     }
 
@@ -281,13 +286,20 @@ impl Scenario {
             Value::String(name_of(METHODS, so.method).into()),
         );
         solver.insert("t_end".into(), Value::Float(so.t_end));
-        solver.insert("steps".into(), Value::Integer(to_i64(so.steps)));
+        // `steps` defaults to `samples - 1`: written only when it differs,
+        // so that changing `samples` (or `method`) alone keeps RK4 valid.
+        if so.steps != so.samples.wrapping_sub(1) {
+            solver.insert("steps".into(), Value::Integer(to_i64(so.steps)));
+        }
         solver.insert("rtol".into(), Value::Float(so.rtol));
         solver.insert("samples".into(), Value::Integer(to_i64(so.samples)));
         solver.insert(
             "model".into(),
             Value::String(name_of(MODELS, so.model).into()),
         );
+        if let Some(n) = so.max_steps {
+            solver.insert("max_steps".into(), Value::Integer(to_i64(n as usize)));
+        }
 
         let mut t = Table::new();
         t.insert("top".into(), Value::Table(top));
@@ -356,11 +368,12 @@ const SOLVER_KEYS: Keys = &[
     ("t_end", "a finite time > 0 [s]"),
     (
         "steps",
-        "an integer >= 1, a multiple of samples - 1 (method = \"rk4\")",
+        "an integer >= 1, a multiple of samples - 1 (method = \"rk4\"); default samples - 1",
     ),
     ("rtol", "1e-14 <= rtol <= 1e-2"),
-    ("samples", "an integer >= 2"),
+    ("samples", "an integer, 2 <= samples <= 5000000"),
     ("model", "\"reduced\", \"vector\" or \"rigid\""),
+    ("max_steps", crate::state::MAX_STEPS_RANGE),
 ];
 
 /// Tables in document order; `force` is an array of tables.
@@ -852,13 +865,18 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     let method = s.name("method", METHODS, Method::Adaptive)?;
     let t_end = s.f64("t_end", req(0.0))?;
     let d = SolverSettings::new(t_end);
+    let samples = s.usize("samples", d.samples)?;
     let solver = SolverSettings {
         method,
         t_end,
-        steps: s.usize("steps", d.steps)?,
+        steps: s.usize("steps", samples.saturating_sub(1))?,
         rtol: s.f64("rtol", Some(d.rtol))?,
-        samples: s.usize("samples", d.samples)?,
+        samples,
         model: s.name("model", MODELS, d.model)?,
+        max_steps: match s.get("max_steps") {
+            None => None,
+            Some(_) => Some(s.usize("max_steps", 0)? as u64),
+        },
     };
 
     Ok(Scenario {

@@ -19,8 +19,9 @@ use crate::{
     observe,
 };
 
-/// Largest number of accepted steps of one run before it is stopped.
-pub const MAX_STEPS: u64 = 20_000_000;
+/// Largest number of accepted steps of one run before it is stopped (see
+/// [`crate::limits::MAX_STEPS`] and [`crate::limits::max_steps_for`]).
+pub use crate::limits::MAX_STEPS;
 /// Largest number of stick/slip switches of one run before it is stopped.
 pub const MAX_SWITCHES: usize = 200_000;
 
@@ -28,11 +29,148 @@ pub const MAX_SWITCHES: usize = 200_000;
 /// integrating returns `Ok` with `trajectory.error` set and the samples up to
 /// the failure.
 pub fn simulate(scenario: &Scenario) -> Result<Trajectory, Error> {
+    simulate_with_progress(scenario, &mut |_| {})
+}
+
+/// Accepted steps between two calls of the progress callback of
+/// [`simulate_with_progress`].
+pub const PROGRESS_EVERY: u64 = 1 << 14;
+
+/// As [`simulate`], calling `progress(fraction)` with the fraction `t / t_end`
+/// of the run done (in `[0, 1]`) every [`PROGRESS_EVERY`] accepted steps (a
+/// few hundred times per second at most: cheap enough to print or to
+/// update a bar from). Not called for a run that is rejected as bad input.
+pub fn simulate_with_progress(
+    scenario: &Scenario,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Trajectory, Error> {
     scenario.validate()?;
     match scenario.solver.model {
-        ModelKind::Reduced => Ok(run_contact::<Reduced, DIM>(scenario)),
-        ModelKind::Vector => Ok(run_contact::<Vector, { vector::DIM }>(scenario)),
-        ModelKind::Rigid => Ok(crate::model::rigid::run(scenario)),
+        ModelKind::Reduced => Ok(run_contact::<Reduced, DIM>(scenario, progress)),
+        ModelKind::Vector => Ok(run_contact::<Vector, { vector::DIM }>(scenario, progress)),
+        ModelKind::Rigid => Ok(crate::model::rigid::run_with_progress(
+            scenario,
+            &mut |_, _, _| {},
+            progress,
+        )),
+    }
+}
+
+/// Why a run of `sc` stopped at its step limit `cap`, with a hint at why it
+/// cannot make progress.
+pub(crate) fn step_limit_why(sc: &Scenario, cap: u64) -> String {
+    let mean = sc.solver.t_end / cap as f64;
+    let hint = match (sc.surface.law, sc.solver.method) {
+        (crate::FrictionLaw::Coulomb, _) => {
+            "stick/slip switches or N = 0 crossings that follow each other ever faster, or a rate far faster than t_end"
+        }
+        (crate::FrictionLaw::CoulombSliding, _) => {
+            "a slip that chatters around zero: try friction_law = \"coulomb\" (exact stick/slip)"
+        }
+        (_, Method::Stiff) => "a stiff friction law near rolling: try a larger friction_eps",
+        _ => "a stiff friction law near rolling: try method = \"stiff\" or a larger friction_eps",
+    };
+    let periods = sc.solver.t_end / crate::limits::time_unit(sc);
+    format!(
+        "step limit {cap} reached (the run cannot make progress: the motion needs steps far shorter than t_end / {cap} = {mean:e} s; {hint}; t_end is {periods:.3e} time units T_ref of the fastest initial rate; solver.max_steps sets the limit, at most {})",
+        crate::limits::MAX_STEPS
+    )
+}
+
+/// The error of a run whose output row at `t` \[s\] is not finite.
+pub(crate) fn nonfinite_output_error(t: f64, state: &str) -> Error {
+    Error::runtime(
+        t,
+        format!(
+            "the output became NaN or infinite (a value overflows f64 in SI units); last accepted {state}"
+        ),
+    )
+}
+
+/// The friction law as a phrase for messages.
+pub(crate) fn law_phrase(law: crate::FrictionLaw) -> String {
+    match law {
+        crate::FrictionLaw::Coulomb => "Coulomb friction (friction_law = \"coulomb\")".into(),
+        crate::FrictionLaw::CoulombSliding => {
+            "sliding Coulomb friction (friction_law = \"coulomb_sliding\")".into()
+        }
+        crate::FrictionLaw::Regularized { eps } => {
+            format!(
+                "regularized friction (friction_law = \"regularized\", friction_eps = {eps} m/s)"
+            )
+        }
+        crate::FrictionLaw::Viscous { eps } => {
+            format!("viscous friction (friction_law = \"viscous\", friction_eps = {eps} m/s)")
+        }
+    }
+}
+
+/// Why a run of `sc` failed with the Painlevé case at `theta` \[rad\]
+/// (`solutions` consistent normal forces, 0 or 2, of the model's `system`
+/// of equations), naming the run's law.
+pub(crate) fn painleve_why(sc: &Scenario, system: &str, theta: f64, solutions: usize) -> String {
+    format!(
+        "Painleve paradox at theta = {theta}: the {system} with {} has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists",
+        law_phrase(sc.surface.law)
+    )
+}
+
+/// Relative energy-balance error beyond which a failed fixed-step (RK4) run
+/// is reported as unstable rather than by the failure that ended it.
+pub(crate) const RK4_UNSTABLE_BALANCE: f64 = 1e-2;
+
+/// A failed RK4 run whose energy balance was already off by more than
+/// [`RK4_UNSTABLE_BALANCE`]: the fixed step made the solution unstable, and
+/// `why` (a Painlevé case, a NaN) is a consequence, not the physics. Any
+/// other failure of an RK4 run says that its fixed step may be the cause.
+pub(crate) fn unstable_rk4(sc: &Scenario, track: &Track, why: String) -> String {
+    let rel = track.balance_rel();
+    if sc.solver.method == Method::Rk4 && (rel.is_nan() || rel > RK4_UNSTABLE_BALANCE) {
+        format!(
+            "the RK4 solution became unstable (energy balance error {rel:.1e} of max |E|): the fixed step t_end / steps = {:e} s is too long for this motion, raise solver.steps or use method = \"adaptive\"; it ended with: {why}",
+            sc.solver.t_end / sc.solver.steps as f64
+        )
+    } else if sc.solver.method == Method::Rk4 {
+        format!(
+            "{why} (method = \"rk4\" with a fixed step t_end / steps = {:e} s: check that it persists with more steps or method = \"adaptive\")",
+            sc.solver.t_end / sc.solver.steps as f64
+        )
+    } else {
+        why
+    }
+}
+
+/// The events a run records: at most [`crate::limits::MAX_EVENTS`], then one
+/// `"event_limit_reached"` record (see there).
+#[derive(Debug, Default)]
+pub(crate) struct EventList {
+    list: Vec<EventRecord>,
+    dropped: u64,
+}
+
+impl EventList {
+    /// Record an event of `kind` at `t` \[s\] (or count it if the list is full).
+    pub(crate) fn push(&mut self, t: f64, kind: &str) {
+        if self.list.len() < crate::limits::MAX_EVENTS {
+            self.list.push(EventRecord {
+                t,
+                kind: kind.into(),
+            });
+        } else {
+            if self.dropped == 0 {
+                self.list.push(EventRecord {
+                    t,
+                    kind: "event_limit_reached".into(),
+                });
+            }
+            self.dropped += 1;
+        }
+    }
+
+    /// The records in time order.
+    pub(crate) fn into_sorted(mut self) -> Vec<EventRecord> {
+        self.list.sort_by(|a, b| a.t.total_cmp(&b.t));
+        self.list
     }
 }
 
@@ -140,6 +278,26 @@ impl Track {
             balance_max: 0.0,
             theta_max: theta,
         }
+    }
+
+    /// The largest energy-balance error so far relative to max |E| (NaN-safe:
+    /// infinite if the balance is not finite).
+    pub(crate) fn balance_rel(&self) -> f64 {
+        let r = if self.e_abs_max > 0.0 {
+            self.balance_max / self.e_abs_max
+        } else {
+            self.balance_max
+        };
+        if r.is_nan() { f64::INFINITY } else { r }
+    }
+
+    /// Take the maxima of `other` (a track of the same run) too.
+    pub(crate) fn merge(&mut self, other: &Track) {
+        self.j_dev_max = self.j_dev_max.max(other.j_dev_max);
+        self.omega_abs_max = self.omega_abs_max.max(other.omega_abs_max);
+        self.e_abs_max = self.e_abs_max.max(other.e_abs_max);
+        self.balance_max = self.balance_max.max(other.balance_max);
+        self.theta_max = self.theta_max.max(other.theta_max);
     }
 
     /// Record a state: θ, ω, J, the energy E (if it could be evaluated) and
@@ -419,11 +577,15 @@ fn settle_at_zero_slip<M: ContactModel<D>, const D: usize>(
 
 /// The sign history of the normal force N: its sign at t = 0 and the
 /// (scaled) times it crossed zero, from events or from jumps at force
-/// switches. Shared by the drivers of every model.
+/// switches. Shared by the drivers of every model. Constant memory: the
+/// first crossing, the number of crossings and the time with N < 0 so far.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NormalLog {
     negative_at_start: bool,
-    crossings: Vec<f64>,
+    first: Option<f64>,
+    count: u64,
+    last: f64,
+    neg_time: f64,
 }
 
 impl NormalLog {
@@ -431,14 +593,22 @@ impl NormalLog {
     pub fn new(n_initial: f64) -> Self {
         NormalLog {
             negative_at_start: n_initial < 0.0,
-            crossings: Vec::new(),
+            first: None,
+            count: 0,
+            last: 0.0,
+            neg_time: 0.0,
         }
     }
 
     /// Record a crossing at scaled time `t`; returns the event kind,
     /// "contact_lost" (N now < 0) or "contact_regained".
     pub fn cross(&mut self, t: f64) -> &'static str {
-        self.crossings.push(t);
+        if self.negative_now() {
+            self.neg_time += t - self.last;
+        }
+        self.last = t;
+        self.first.get_or_insert(t);
+        self.count += 1;
         if self.negative_now() {
             "contact_lost"
         } else {
@@ -448,7 +618,7 @@ impl NormalLog {
 
     /// Whether N is negative after the crossings recorded so far.
     pub fn negative_now(&self) -> bool {
-        self.negative_at_start != (self.crossings.len() % 2 == 1)
+        self.negative_at_start != (self.count % 2 == 1)
     }
 
     /// First time N < 0 (scaled), if ever.
@@ -456,27 +626,19 @@ impl NormalLog {
         if self.negative_at_start {
             Some(0.0)
         } else {
-            self.crossings.first().copied()
+            self.first
         }
     }
 
-    /// Fraction of `[0, t_final]` with N < 0.
+    /// Fraction of `[0, t_final]` with N < 0 (`t_final` not before the
+    /// last crossing).
     pub fn negative_fraction(&self, t_final: f64) -> f64 {
         if t_final <= 0.0 {
             return 0.0;
         }
-        let mut neg_time = 0.0;
-        let mut neg = self.negative_at_start;
-        let mut last = 0.0;
-        for &tc in &self.crossings {
-            if neg {
-                neg_time += tc - last;
-            }
-            neg = !neg;
-            last = tc;
-        }
-        if neg {
-            neg_time += t_final - last;
+        let mut neg_time = self.neg_time;
+        if self.negative_now() {
+            neg_time += t_final - self.last;
         }
         neg_time / t_final
     }
@@ -534,7 +696,7 @@ impl RunSetup {
                     h: t_end / sc.solver.steps as f64,
                 },
             },
-            max_steps: MAX_STEPS,
+            max_steps: sc.solver.step_limit(),
             h0: None,
             // Samples and events are read from the dense output, whose error
             // the step-size control does not see: with steps much longer than
@@ -556,7 +718,10 @@ impl RunSetup {
 
 /// The driver of the models that keep the sphere on the plane (see
 /// [`ContactModel`]).
-fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory {
+fn run_contact<M: ContactModel<D>, const D: usize>(
+    sc: &Scenario,
+    progress: &mut dyn FnMut(f64),
+) -> Trajectory {
     let mut m = M::build(sc);
     let tu = m.scales().time;
     let RunSetup {
@@ -578,22 +743,16 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
 
     let mut y = m.initial_state(&sc.initial);
     m.latch_force(0.0);
-    let mut events_out: Vec<EventRecord> = Vec::new();
+    let mut events_out = EventList::default();
     for &ts in &tstops {
-        events_out.push(EventRecord {
-            t: ts * tu,
-            kind: "force_switch".into(),
-        });
+        events_out.push(ts * tu, "force_switch");
     }
     if m.plane().is_exact() {
         let v = m.slip_of(&y);
         if v[0].hypot(v[1]) == 0.0 {
             let (yn, stuck) = settle_at_zero_slip(&mut m, &y);
             y = yn;
-            events_out.push(EventRecord {
-                t: 0.0,
-                kind: if stuck { "stick" } else { "slip" }.into(),
-            });
+            events_out.push(0.0, if stuck { "stick" } else { "slip" });
         } else {
             m.plane().slip_ref.set(unit(v));
         }
@@ -612,6 +771,8 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
     // Step count and last accepted state, kept here too so that a failed
     // run still reports them.
     let mut steps_seen: u64 = 0;
+    // The step limit holds for the whole run, over all its `solve` calls.
+    let step_cap = opts.max_steps;
     let mut reversals: u32 = 0;
     let mut last_slip = m.slip_of(&y);
     let mut last_accepted: (f64, [f64; D]) = (0.0, y);
@@ -626,6 +787,8 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
     let mut rolling_since: Option<f64> = (m.plane().mode == Mode::Rolling).then_some(0.0);
     let mut rolling_time = 0.0;
     let mut switches = 0usize;
+    let mut event_track = track.clone();
+    let mut nonfinite_at: Option<f64> = None;
 
     loop {
         let seg_end = tstops.iter().copied().find(|&ts| ts > t).unwrap_or(t_end);
@@ -638,13 +801,21 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
             }
         }
         let events = events_for(&m);
+        opts.max_steps = step_cap.saturating_sub(steps_seen);
         let next = samples.len();
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
-            samples.push(s.sample(t, y));
+            let row = s.sample(t, y);
+            if nonfinite_at.is_none() && !row.is_finite() {
+                nonfinite_at = Some(t);
+            }
+            samples.push(row);
         };
         let mut on_step = |s: &M, t: f64, y: &[f64; D]| {
             last_accepted = (t, *y);
             steps_seen += 1;
+            if steps_seen % PROGRESS_EVERY == 0 {
+                progress((t / t_end).clamp(0.0, 1.0));
+            }
             if s.plane().can_chatter() {
                 let v = s.slip_of(y);
                 if v[0] * last_slip[0] + v[1] * last_slip[1] < 0.0 {
@@ -663,7 +834,22 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                 }
             }
         };
-        let res = integrate::solve(
+        // The events of this call as they fire (also those before a
+        // failure). θ maxima go into their own track, merged below (the
+        // maxima do not depend on the order).
+        let mut on_event = |s: &M, f: &integrate::Fired<D>| match f.index {
+            EV_HALF_PI if first_above.is_none() => {
+                first_above = Some(f.t * tu);
+                events_out.push(f.t * tu, "theta_above_half_pi");
+            }
+            EV_THETA_MAX => visit(&mut event_track, s, &f.y),
+            EV_NORMAL => {
+                let kind = normal_log.cross(f.t);
+                events_out.push(f.t * tu, kind);
+            }
+            _ => {}
+        };
+        let res = integrate::solve_with_events(
             &mut m,
             &opts,
             t,
@@ -674,33 +860,56 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
             &events,
             &mut on_sample,
             &mut on_step,
+            &mut on_event,
         );
+        track.merge(&event_track);
+        // (A failed call explains itself: its rows may be NaN where the
+        // model could not be evaluated.)
+        if let (Some(ts), Ok(_)) = (nonfinite_at, &res) {
+            // A value of the output overflowed (in SI units) although the
+            // scaled state is finite: stop at the first such row.
+            samples.retain(|r| r.t < ts * tu);
+            error = Some(nonfinite_output_error(
+                ts * tu,
+                &m.describe_state(&last_accepted.1),
+            ));
+            t = last_accepted.0;
+            y = last_accepted.1;
+            stats.steps = steps_seen;
+            stats.rhs_evals = m.plane().evaluations;
+            break;
+        }
         match res {
             Err(e) => {
                 let (te, why, ylast) = match e {
                     IntegrateError::Rhs { t, y_last, err } => {
                         let why = match err {
-                            ModelError::Singular { .. }
-                            | ModelError::Painleve { .. }
-                            | ModelError::Chattering { .. } => err.to_string(),
+                            ModelError::Painleve { theta, solutions } => {
+                                painleve_why(sc, "theta_ddot-N system", theta, solutions)
+                            }
+                            ModelError::Singular { .. } | ModelError::Chattering { .. } => {
+                                err.to_string()
+                            }
                         };
-                        (t, why, y_last)
+                        (t, unstable_rk4(sc, &track, why), y_last)
                     }
                     IntegrateError::StepUnderflow { t, h, y_last } => (
                         t,
                         format!("step size underflow (h = {:e} s)", h * tu),
                         y_last,
                     ),
-                    IntegrateError::NonFinite { t, y_last } => {
-                        (t, "the solution became NaN or infinite".to_string(), y_last)
-                    }
-                    IntegrateError::TooManySteps { t, max_steps } => (
+                    IntegrateError::NonFinite { t, y_last } => (
                         t,
-                        format!(
-                            "more than {max_steps} steps (chattering friction? try friction_law = \"coulomb\")"
+                        unstable_rk4(
+                            sc,
+                            &track,
+                            "the solution became NaN or infinite".to_string(),
                         ),
-                        last_accepted.1.to_vec(),
+                        y_last,
                     ),
+                    IntegrateError::TooManySteps { t, .. } => {
+                        (t, step_limit_why(sc, step_cap), last_accepted.1.to_vec())
+                    }
                 };
                 error = Some(Error::runtime(
                     te * tu,
@@ -721,26 +930,6 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                 stats.steps += o.stats.steps;
                 debug_assert_eq!(stats.steps, steps_seen);
                 stats.rejected += o.stats.rejected;
-                for f in &o.fired {
-                    match f.index {
-                        EV_HALF_PI if first_above.is_none() => {
-                            first_above = Some(f.t * tu);
-                            events_out.push(EventRecord {
-                                t: f.t * tu,
-                                kind: "theta_above_half_pi".into(),
-                            });
-                        }
-                        EV_THETA_MAX => visit(&mut track, &m, &f.y),
-                        EV_NORMAL => {
-                            let kind = normal_log.cross(f.t);
-                            events_out.push(EventRecord {
-                                t: f.t * tu,
-                                kind: kind.into(),
-                            });
-                        }
-                        _ => {}
-                    }
-                }
                 t = o.t;
                 y = o.y;
                 match o.stop {
@@ -757,10 +946,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                         if let (Some(nb), Some(na)) = (n_before, n_after) {
                             if (nb < 0.0) != (na < 0.0) {
                                 let kind = normal_log.cross(t);
-                                events_out.push(EventRecord {
-                                    t: t * tu,
-                                    kind: kind.into(),
-                                });
+                                events_out.push(t * tu, kind);
                                 if na < 0.0 && m.plane().contact_mode() == ContactMode::Unilateral {
                                     error = Some(Error::runtime(
                                         t * tu,
@@ -782,10 +968,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                                     if let Some(s0) = rolling_since.take() {
                                         rolling_time += t - s0;
                                     }
-                                    events_out.push(EventRecord {
-                                        t: t * tu,
-                                        kind: "slip".into(),
-                                    });
+                                    events_out.push(t * tu, "slip");
                                 }
                             }
                         }
@@ -821,10 +1004,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                                 y = yn;
                                 if stuck {
                                     rolling_since = Some(t);
-                                    events_out.push(EventRecord {
-                                        t: t * tu,
-                                        kind: "stick".into(),
-                                    });
+                                    events_out.push(t * tu, "stick");
                                 }
                             }
                             Mode::Rolling => {
@@ -838,10 +1018,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
                                 if let Some(s0) = rolling_since.take() {
                                     rolling_time += t - s0;
                                 }
-                                events_out.push(EventRecord {
-                                    t: t * tu,
-                                    kind: "slip".into(),
-                                });
+                                events_out.push(t * tu, "slip");
                             }
                         }
                     }
@@ -856,7 +1033,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
     visit(&mut track, &m, &y);
 
     let contact_lost_at = normal_log.first_negative().map(|tc| tc * tu);
-    events_out.sort_by(|a, b| a.t.total_cmp(&b.t));
+    let events_out = events_out.into_sorted();
 
     let last = m.sample(t, &y);
     let summary = summarize(
@@ -884,7 +1061,24 @@ fn run_contact<M: ContactModel<D>, const D: usize>(sc: &Scenario) -> Trajectory 
 
 #[cfg(test)]
 mod tests {
-    use super::NormalLog;
+    use super::{EventList, NormalLog};
+    use crate::limits::MAX_EVENTS;
+
+    /// At most MAX_EVENTS records, then one marker; memory stays bounded
+    /// however many events a run has.
+    #[test]
+    fn event_list_is_capped() {
+        let mut l = EventList::default();
+        for k in 0..MAX_EVENTS + 1000 {
+            l.push(k as f64, "contact_lost");
+        }
+        assert_eq!(l.dropped, 1000);
+        let v = l.into_sorted();
+        assert_eq!(v.len(), MAX_EVENTS + 1);
+        assert_eq!(v[MAX_EVENTS].kind, "event_limit_reached");
+        assert_eq!(v[MAX_EVENTS].t, MAX_EVENTS as f64);
+        assert_eq!(v[MAX_EVENTS - 1].kind, "contact_lost");
+    }
 
     #[test]
     fn normal_log_fraction_and_first_time() {

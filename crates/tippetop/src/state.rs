@@ -50,11 +50,15 @@ impl Initial {
                 ));
             }
         }
-        if reduced && !(self.theta > 0.0 && self.theta < std::f64::consts::PI) {
+        if reduced
+            && !(self.theta > 0.0
+                && self.theta < std::f64::consts::PI
+                && self.theta.sin() >= crate::model::reduced::SIN_GUARD)
+        {
             return Err(Error::invalid(
                 "initial.theta",
                 format!("{} is outside the reduced model's range", self.theta),
-                "0 < theta < pi [rad]; use model = \"vector\" (the default) or \"rigid\" for theta = 0 or pi".into(),
+                "0 < theta < pi [rad] with sin(theta) >= 1e-8 (the reduced model's pole guard); use model = \"vector\" (the default) or \"rigid\" for theta = 0 or pi".into(),
             ));
         }
         if !reduced && !(0.0..=std::f64::consts::PI).contains(&self.theta) {
@@ -95,6 +99,10 @@ pub enum ModelKind {
     Vector,
 }
 
+/// The valid range of `solver.max_steps`.
+pub(crate) const MAX_STEPS_RANGE: &str =
+    "an integer, 1 <= max_steps <= 20000000; default 20000000, 2000000 with method = \"stiff\"";
+
 /// Solver settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolverSettings {
@@ -102,7 +110,8 @@ pub struct SolverSettings {
     pub method: Method,
     /// End time \[s\].
     pub t_end: f64,
-    /// Number of RK4 steps over `[0, t_end]` (RK4 only).
+    /// Number of RK4 steps over `[0, t_end]` (RK4 only); a multiple of
+    /// `samples - 1`, which is its default.
     pub steps: usize,
     /// Relative tolerance (adaptive and stiff); the absolute tolerance is the same
     /// number in the scaled units (lengths by R, masses by m, see docs/physics.md).
@@ -111,21 +120,34 @@ pub struct SolverSettings {
     pub samples: usize,
     /// Which model.
     pub model: ModelKind,
+    /// Largest number of accepted steps of the run (`solver.max_steps`);
+    /// `None` for the method's default, [`crate::limits::max_steps_for`].
+    /// A run that reaches it stops with a run-time error.
+    pub max_steps: Option<u64>,
 }
 
 impl SolverSettings {
-    /// Defaults: adaptive, rtol 1e-10, 500 steps, 1001 samples, the vector
-    /// model (the Euler-angle physics without the pole; `reduced`, the
-    /// paper's own form, is what `reproduce` runs).
+    /// Defaults: adaptive, rtol 1e-10, 1001 samples, 1000 steps (`samples -
+    /// 1`, so that `method = "rk4"` alone is valid), the vector model (the
+    /// Euler-angle physics without the pole; `reduced`, the paper's own
+    /// form, is what `reproduce` runs), the method's step limit.
     pub fn new(t_end: f64) -> Self {
         SolverSettings {
             method: Method::Adaptive,
             t_end,
-            steps: 500,
+            steps: 1000,
             rtol: 1e-10,
             samples: 1001,
             model: ModelKind::Vector,
+            max_steps: None,
         }
+    }
+
+    /// The run's step limit: `max_steps`, or the method's default
+    /// ([`crate::limits::max_steps_for`]).
+    pub fn step_limit(&self) -> u64 {
+        self.max_steps
+            .unwrap_or_else(|| crate::limits::max_steps_for(self.method))
     }
 
     /// Check ranges.
@@ -137,11 +159,19 @@ impl SolverSettings {
                 "a finite time > 0 [s]".into(),
             ));
         }
-        if self.samples < 2 {
+        if self.samples < 2 || self.samples > crate::limits::MAX_SAMPLES {
             return Err(Error::invalid(
                 "solver.samples",
-                format!("{} is too few", self.samples),
-                "an integer >= 2".into(),
+                format!(
+                    "{} is too {}",
+                    self.samples,
+                    if self.samples < 2 { "few" } else { "many" }
+                ),
+                format!(
+                    "an integer, 2 <= samples <= {}: each row keeps {} bytes in memory",
+                    crate::limits::MAX_SAMPLES,
+                    crate::limits::BYTES_PER_SAMPLE
+                ),
             ));
         }
         if !self.rtol.is_finite() || self.rtol < 1e-14 || self.rtol > 1e-2 {
@@ -151,7 +181,28 @@ impl SolverSettings {
                 "1e-14 <= rtol <= 1e-2".into(),
             ));
         }
+        if let Some(n) = self.max_steps {
+            if !(1..=crate::limits::MAX_STEPS).contains(&n) {
+                return Err(Error::invalid(
+                    "solver.max_steps",
+                    format!("{n} is not allowed"),
+                    MAX_STEPS_RANGE.into(),
+                ));
+            }
+        }
         if self.method == Method::Rk4 {
+            if self.steps as u64 > self.step_limit() {
+                return Err(Error::invalid(
+                    "solver.steps",
+                    format!(
+                        "{} exceeds the step limit {}",
+                        self.steps,
+                        self.step_limit()
+                    ),
+                    "steps <= solver.max_steps (default 20000000), a multiple of samples - 1"
+                        .into(),
+                ));
+            }
             if self.steps == 0 {
                 return Err(Error::invalid(
                     "solver.steps",

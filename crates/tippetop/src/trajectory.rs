@@ -46,6 +46,30 @@ pub struct Sample {
     pub rolling: u8,
 }
 
+impl Sample {
+    /// True if the state columns (t, θ, θ̇, Ω, ω, u_x, u_y, J, the energy and
+    /// the work counters) are finite. `uz`, `N` and `slip` are NaN where the
+    /// model cannot be evaluated (e.g. at a Painlevé case), which the run
+    /// reports by its own error.
+    pub fn is_finite(&self) -> bool {
+        [
+            self.t,
+            self.theta,
+            self.theta_dot,
+            self.precession,
+            self.spin,
+            self.ux,
+            self.uy,
+            self.jellett,
+            self.energy,
+            self.work_friction,
+            self.work_applied,
+        ]
+        .iter()
+        .all(|x| x.is_finite())
+    }
+}
+
 /// The CSV column names, in order; the first twelve are fixed by the
 /// scenario-file contract.
 pub const COLUMNS: [&str; 17] = [

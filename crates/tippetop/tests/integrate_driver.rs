@@ -435,3 +435,80 @@ fn too_many_steps() {
         other => panic!("expected TooManySteps, got {other:?}"),
     }
 }
+
+/// `solve_with_events` reports, as they fire, exactly the events `solve`
+/// collects (terminal one last, with the same restart state) and keeps none:
+/// a long integration's memory does not grow with its events (issue 12,
+/// defect 3). Also with a failure: the events before it were reported.
+#[test]
+fn solve_with_events_streams_what_solve_collects() {
+    use tippetop::integrate::solve_with_events;
+    for opts in both() {
+        let events = [
+            ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Either, false),
+            ev(|_: &Osc, t, _: &[f64; 2]| t - 60.5, Direction::Rising, true),
+        ];
+        let (collected, _, _) = run(&mut Osc, &opts, [1.0, 0.0], 100.0, &[], &[], &events);
+        let mut streamed: Vec<Fired<2>> = Vec::new();
+        let out = solve_with_events(
+            &mut Osc,
+            &opts,
+            0.0,
+            [1.0, 0.0],
+            100.0,
+            &[],
+            &[],
+            &events,
+            &mut |_, _, _| {},
+            &mut |_, _, _| {},
+            &mut |_, f| streamed.push(*f),
+        )
+        .unwrap();
+        assert!(out.fired.is_empty());
+        assert_eq!(out.stop, StopReason::Terminal(1));
+        assert_eq!((out.t, out.y), (collected.t, collected.y));
+        // 19 zeros of cos t before t = 60.5, then the terminal event.
+        assert_eq!(collected.fired.len(), 20);
+        assert_eq!(streamed, collected.fired);
+    }
+    // A failing system: the events before the failure were all reported.
+    struct Fails;
+    impl OdeSystem<2> for Fails {
+        type Error = ();
+        fn rhs(&mut self, t: f64, y: &[f64; 2], dy: &mut [f64; 2]) -> Result<(), ()> {
+            if t > 10.0 {
+                return Err(());
+            }
+            dy[0] = y[1];
+            dy[1] = -y[0];
+            Ok(())
+        }
+    }
+    for opts in both() {
+        let events = [ev(
+            |_: &Fails, _, y: &[f64; 2]| y[0],
+            Direction::Either,
+            false,
+        )];
+        let mut streamed = Vec::new();
+        let r = solve_with_events(
+            &mut Fails,
+            &opts,
+            0.0,
+            [1.0, 0.0],
+            20.0,
+            &[],
+            &[],
+            &events,
+            &mut |_, _, _| {},
+            &mut |_, _, _| {},
+            &mut |_, f: &Fired<2>| streamed.push(f.t),
+        );
+        assert!(matches!(r, Err(IntegrateError::Rhs { .. })));
+        // pi/2, 3pi/2, 5pi/2: the zeros of cos t before t = 10.
+        assert_eq!(streamed.len(), 3, "{streamed:?}");
+        for (k, t) in streamed.iter().enumerate() {
+            assert!((t - (k as f64 + 0.5) * PI).abs() < 1e-9, "{t}");
+        }
+    }
+}

@@ -181,7 +181,7 @@ fn minimal_file_gets_the_defaults() {
     assert_eq!((s.initial.ux, s.initial.uy), (0.0, 0.0));
     assert_eq!(s.solver.method, Method::Adaptive);
     assert_eq!(s.solver.rtol, 1e-10);
-    assert_eq!(s.solver.steps, 500);
+    assert_eq!(s.solver.steps, 1000); // samples - 1, so that method = "rk4" alone is valid
     assert_eq!(s.solver.samples, 1001);
     assert_eq!(s.solver.model, ModelKind::Vector);
 }

@@ -53,6 +53,7 @@ pub(super) fn run<S: OdeSystem<N>, const N: usize>(
     events: &[Event<S, N>],
     on_sample: &mut dyn FnMut(&S, f64, &[f64; N]),
     on_step: &mut dyn FnMut(&S, f64, &[f64; N]),
+    on_event: &mut dyn FnMut(&S, &Fired<N>),
 ) -> Result<Outcome<N>, IntegrateError<S::Error>> {
     assert!(
         t0.is_finite() && t_end.is_finite() && t_end >= t0,
@@ -77,6 +78,7 @@ pub(super) fn run<S: OdeSystem<N>, const N: usize>(
                 events,
                 on_sample,
                 on_step,
+                on_event,
             )
         };
     }
@@ -115,6 +117,7 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
     events: &[Event<S, N>],
     on_sample: &mut dyn FnMut(&S, f64, &[f64; N]),
     on_step: &mut dyn FnMut(&S, f64, &[f64; N]),
+    on_event: &mut dyn FnMut(&S, &Fired<N>),
 ) -> Result<Outcome<N>, IntegrateError<S::Error>> {
     let mut stats = Stats::default();
     let mut stops: Vec<f64> = tstops
@@ -125,7 +128,6 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
     stops.sort_by(f64::total_cmp);
     stops.dedup();
 
-    let mut fired: Vec<Fired<N>> = Vec::new();
     let mut g_prev = vec![0.0; events.len()];
     let mut g_new = vec![0.0; events.len()];
     let mut crossings: Vec<(f64, usize)> = Vec::with_capacity(events.len());
@@ -149,7 +151,7 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
                     t: t0,
                     y: y0,
                     stop: StopReason::End,
-                    fired,
+                    fired: Vec::new(),
                     stats,
                 });
             }
@@ -220,35 +222,53 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
                 si += 1;
             }
 
-            let upto = terminal.map_or(crossings.len(), |k| k + 1);
+            // Non-terminal crossings up to the terminal one, in time order,
+            // then the terminal one with its restart state.
+            let upto = terminal.unwrap_or(crossings.len());
             for &(tr, i) in &crossings[..upto] {
                 eng.dense(tr, &mut ybuf);
-                fired.push(Fired {
-                    index: i,
-                    t: tr,
-                    y: ybuf,
-                });
+                on_event(
+                    sys,
+                    &Fired {
+                        index: i,
+                        t: tr,
+                        y: ybuf,
+                    },
+                );
             }
             if let Some(k) = terminal {
                 let (tr, i) = crossings[k];
+                eng.dense(tr, &mut ybuf);
                 if events[i].step_to_event {
                     // The restart state as accurate as a step, not only as
                     // the interpolant (errors there add up over many events).
+                    let dense = ybuf;
                     if let Err(f) = eng.state_at(sys, tr, &mut ybuf, &mut stats) {
+                        on_event(
+                            sys,
+                            &Fired {
+                                index: i,
+                                t: tr,
+                                y: dense,
+                            },
+                        );
                         return Err(convert(f, eng.y()));
                     }
-                    if let Some(last) = fired.last_mut() {
-                        last.y = ybuf;
-                    }
-                } else {
-                    eng.dense(tr, &mut ybuf);
                 }
+                on_event(
+                    sys,
+                    &Fired {
+                        index: i,
+                        t: tr,
+                        y: ybuf,
+                    },
+                );
                 on_step(sys, tr, &ybuf);
                 return Ok(Outcome {
                     t: tr,
                     y: ybuf,
                     stop: StopReason::Terminal(i),
-                    fired,
+                    fired: Vec::new(),
                     stats,
                 });
             }
@@ -263,7 +283,7 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
                 t,
                 y,
                 stop: StopReason::End,
-                fired,
+                fired: Vec::new(),
                 stats,
             });
         }

@@ -218,7 +218,8 @@ pub struct Outcome<const N: usize> {
     pub y: [f64; N],
     /// Why it stopped.
     pub stop: StopReason,
-    /// Every event that fired, in time order (the terminal one last).
+    /// Every event that fired, in time order (the terminal one last); empty
+    /// from [`solve_with_events`], which reports them as they fire.
     pub fired: Vec<Fired<N>>,
     /// Work counters.
     pub stats: Stats,
@@ -519,6 +520,46 @@ pub fn solve<S: OdeSystem<N>, const N: usize>(
     on_sample: &mut dyn FnMut(&S, f64, &[f64; N]),
     on_step: &mut dyn FnMut(&S, f64, &[f64; N]),
 ) -> Result<Outcome<N>, IntegrateError<S::Error>> {
+    let mut fired = Vec::new();
+    let out = driver::run(
+        sys,
+        opts,
+        t0,
+        y0,
+        t_end,
+        tstops,
+        sample_times,
+        events,
+        on_sample,
+        on_step,
+        &mut |_, f| fired.push(*f),
+    );
+    out.map(|o| Outcome { fired, ..o })
+}
+
+/// As [`solve`], but every event that fires is passed to `on_event(sys,
+/// fired)` at once, in time order (the terminal one last, with the restart
+/// state), instead of being collected: [`Outcome::fired`] is empty. Memory
+/// stays constant however many events a long integration has, and a failed
+/// integration has reported every event before its failure.
+///
+/// # Panics
+///
+/// As [`solve`].
+#[allow(clippy::too_many_arguments)]
+pub fn solve_with_events<S: OdeSystem<N>, const N: usize>(
+    sys: &mut S,
+    opts: &Options,
+    t0: f64,
+    y0: [f64; N],
+    t_end: f64,
+    tstops: &[f64],
+    sample_times: &[f64],
+    events: &[Event<S, N>],
+    on_sample: &mut dyn FnMut(&S, f64, &[f64; N]),
+    on_step: &mut dyn FnMut(&S, f64, &[f64; N]),
+    on_event: &mut dyn FnMut(&S, &Fired<N>),
+) -> Result<Outcome<N>, IntegrateError<S::Error>> {
     driver::run(
         sys,
         opts,
@@ -530,5 +571,6 @@ pub fn solve<S: OdeSystem<N>, const N: usize>(
         events,
         on_sample,
         on_step,
+        on_event,
     )
 }

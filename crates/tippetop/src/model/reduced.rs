@@ -104,10 +104,21 @@ pub enum Mode {
     Rolling,
 }
 
+/// θ (with `s = sin θ`) is at a pole of the Euler angles or past one:
+/// `sin θ < SIN_GUARD` or θ outside `(0, π)`. A step can jump over the
+/// pole (θ̇ large, θ near 0 or π), to where `sin θ` is of the right size
+/// again but the angles no longer describe the motion; the model stops there
+/// as it does at the pole.
+#[inline(always)]
+fn at_pole(theta: f64, s: f64) -> bool {
+    !(theta > 0.0 && theta < std::f64::consts::PI && s >= SIN_GUARD)
+}
+
 /// Why the right-hand side cannot be evaluated.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ModelError {
-    /// |sin θ| < [`SIN_GUARD`]: the Ω equation divides by sin θ.
+    /// |sin θ| < [`SIN_GUARD`], or θ outside `(0, π)` (a step passed a
+    /// pole): the Ω equation divides by sin θ.
     Singular {
         /// θ \[rad\].
         theta: f64,
@@ -132,7 +143,7 @@ impl std::fmt::Display for ModelError {
         match self {
             ModelError::Singular { theta } => write!(
                 f,
-                "theta = {theta:e} rad reached the pole of the Euler angles (|sin theta| < {SIN_GUARD:e}): the reduced model divides by sin theta there; use model = \"vector\" (the default) or \"rigid\""
+                "theta = {theta:e} rad reached the pole of the Euler angles (|sin theta| < {SIN_GUARD:e}, or theta outside (0, pi)): the reduced model divides by sin theta there; use model = \"vector\" (the default) or \"rigid\""
             ),
             ModelError::Chattering { reversals } => write!(
                 f,
@@ -140,7 +151,7 @@ impl std::fmt::Display for ModelError {
             ),
             ModelError::Painleve { theta, solutions } => write!(
                 f,
-                "Painleve paradox at theta = {theta}: the theta_ddot-N system with Coulomb friction has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists"
+                "Painleve paradox at theta = {theta}: the theta_ddot-N system with friction has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists"
             ),
         }
     }
@@ -349,7 +360,7 @@ impl Reduced {
     #[inline(always)]
     fn eval_sliding(&self, y: &[f64; DIM], s: f64, c: f64) -> Result<Eval, ModelError> {
         let (th, thd, om, w, ux, uy) = (y[TH], y[THD], y[OM], y[W], y[UX], y[UY]);
-        if s.abs() < SIN_GUARD {
+        if at_pole(th, s) {
             return Err(ModelError::Singular { theta: th });
         }
         let (a, ia, ic) = (self.a, self.ia, self.ic);
@@ -470,7 +481,7 @@ impl OdeSystem<DIM> for Reduced {
         self.plane.start_evaluation()?;
         // One sin_cos per evaluation (the guard shares it).
         let (s, c) = y[TH].sin_cos();
-        if self.plane.mode == Mode::Rolling && s.abs() < SIN_GUARD {
+        if self.plane.mode == Mode::Rolling && at_pole(y[TH], s) {
             return Err(ModelError::Singular { theta: y[TH] });
         }
         *dy = self.eval_sc(y, s, c)?.dy;
@@ -498,6 +509,8 @@ mod tests {
             // reaches q or d_± and leaves no consistent solution.
             match m.eval(&y) {
                 Err(ModelError::Painleve { solutions: 0, .. }) => {}
+                // A NaN θ is not in (0, π): the pole guard stops it first.
+                Err(ModelError::Singular { .. }) if i == TH => {}
                 other => panic!("NaN in component {i}: {other:?}"),
             }
         }

@@ -161,7 +161,7 @@
 //!   without a contact phase, a bounce whose flight would be shorter than
 //!   1e-6 time units also ends in contact (Zeno guard).
 //!
-//! Every lift-off and touchdown is an [`EventRecord`] (`"lift_off"`,
+//! Every lift-off and touchdown is an [`crate::EventRecord`] (`"lift_off"`,
 //! `"touchdown"`). For unilateral contact, `contact_lost_at` is the first
 //! lift-off and `negative_normal_fraction` the fraction of time in flight.
 
@@ -171,7 +171,7 @@ use std::f64::consts::FRAC_PI_2;
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
 use crate::simulate::{RunEnd, Track, summarize};
 use crate::{
-    ContactMode, Error, EventRecord, Forcing, FrictionLaw, Sample, Scenario, Top, Trajectory,
+    ContactMode, Error, Forcing, FrictionLaw, Sample, Scenario, Top, Trajectory,
     integrate::{self, Direction, Event, IntegrateError, OdeSystem, StopReason},
     model::reduced::{CHATTER_REVERSALS, ModelError, Scales},
 };
@@ -279,7 +279,7 @@ impl std::fmt::Display for RigidError {
         match self {
             RigidError::Painleve { theta, solutions } => write!(
                 f,
-                "Painleve paradox at theta = {theta}: the N equation with Coulomb friction has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists"
+                "Painleve paradox at theta = {theta}: the N equation with friction has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists"
             ),
             RigidError::ImpactJam { theta } => write!(
                 f,
@@ -1126,24 +1126,34 @@ pub fn run_observed(
     sc: &Scenario,
     observe: &mut dyn FnMut(&Rigid, f64, &[f64; DIM]),
 ) -> Trajectory {
+    run_with_progress(sc, observe, &mut |_| {})
+}
+
+/// As [`run_observed`], also calling `progress(t / t_end)` every
+/// [`crate::simulate::PROGRESS_EVERY`] accepted steps (see
+/// [`crate::simulate::simulate_with_progress`]).
+pub fn run_with_progress(
+    sc: &Scenario,
+    observe: &mut dyn FnMut(&Rigid, f64, &[f64; DIM]),
+    progress: &mut dyn FnMut(f64),
+) -> Trajectory {
     let mut m = Rigid::new(sc);
     let tu = m.scales.time;
     let crate::simulate::RunSetup {
         t_end,
         sample_times,
         tstops,
-        opts,
+        mut opts,
     } = crate::simulate::RunSetup::new(sc, tu);
     let ns = sc.solver.samples;
+    // The step limit holds for the whole run, over all its `solve` calls.
+    let step_cap = opts.max_steps;
 
     let mut y = m.scale_state(&sc.initial);
     m.latch_force(0.0);
-    let mut events_out: Vec<EventRecord> = Vec::new();
+    let mut events_out = crate::simulate::EventList::default();
     for &ts in &tstops {
-        events_out.push(EventRecord {
-            t: ts * tu,
-            kind: "force_switch".into(),
-        });
+        events_out.push(ts * tu, "force_switch");
     }
 
     let unilateral = m.contact == ContactMode::Unilateral;
@@ -1156,10 +1166,7 @@ pub fn run_observed(
         m.flight_start = 0.0;
         flight_since = Some(0.0);
         lift_offs.push(0.0);
-        events_out.push(EventRecord {
-            t: 0.0,
-            kind: "lift_off".into(),
-        });
+        events_out.push(0.0, "lift_off");
     }
     let mut rolling_since: Option<f64> = None;
     let mut rolling_time = 0.0;
@@ -1170,10 +1177,7 @@ pub fn run_observed(
             if stuck {
                 rolling_since = Some(0.0);
             }
-            events_out.push(EventRecord {
-                t: 0.0,
-                kind: if stuck { "stick" } else { "slip" }.into(),
-            });
+            events_out.push(0.0, if stuck { "stick" } else { "slip" });
         } else {
             m.slip_ref.set(unit_h(v));
         }
@@ -1199,17 +1203,29 @@ pub fn run_observed(
     // failed run still reports them.
     let mut steps_seen: u64 = 0;
     let mut last_accepted = y;
+    let mut last_accepted_t = 0.0;
     let mut reversals: u32 = 0;
     let mut last_slip = m.slip_of(&y);
+    let mut event_track = track.clone();
+    let mut nonfinite_at: Option<f64> = None;
 
     loop {
         let events = events_for(&m);
+        opts.max_steps = step_cap.saturating_sub(steps_seen);
         let next = samples.len();
         let mut on_sample = |s: &Rigid, t: f64, y: &[f64; DIM]| {
-            samples.push(sample_of(s, t, y));
+            let row = sample_of(s, t, y);
+            if nonfinite_at.is_none() && !row.is_finite() {
+                nonfinite_at = Some(t);
+            }
+            samples.push(row);
         };
         let mut on_step = |s: &Rigid, t: f64, y: &[f64; DIM]| {
             steps_seen += 1;
+            last_accepted_t = t;
+            if steps_seen % crate::simulate::PROGRESS_EVERY == 0 {
+                progress((t / t_end).clamp(0.0, 1.0));
+            }
             last_accepted = *y;
             if s.phase == Phase::Contact {
                 if s.can_chatter() {
@@ -1238,7 +1254,21 @@ pub fn run_observed(
         // the integrator, handles the switch, so it can project the state
         // and let the top lift off if the new force makes N negative.
         let t_stop = tstops.iter().copied().find(|&s| s > t).unwrap_or(t_end);
-        let res = integrate::solve(
+        // The events of this call as they fire (also those before a
+        // failure); θ maxima into their own track, merged below.
+        let mut on_event = |s: &Rigid, f: &integrate::Fired<DIM>| match f.index {
+            EV_HALF_PI if first_above.is_none() => {
+                first_above = Some(f.t * tu);
+                events_out.push(f.t * tu, "theta_above_half_pi");
+            }
+            EV_THETA_MAX => visit(&mut event_track, s, &f.y),
+            EV_CONTACT if !unilateral => {
+                let kind = normal_log.cross(f.t);
+                events_out.push(f.t * tu, kind);
+            }
+            _ => {}
+        };
+        let res = integrate::solve_with_events(
             &mut m,
             &opts,
             t,
@@ -1249,22 +1279,52 @@ pub fn run_observed(
             &events,
             &mut on_sample,
             &mut on_step,
+            &mut on_event,
         );
+        track.merge(&event_track);
+        // (A failed call explains itself: its rows may be NaN where the
+        // model could not be evaluated.)
+        if let (Some(ts), Ok(_)) = (nonfinite_at, &res) {
+            samples.retain(|r| r.t < ts * tu);
+            error = Some(crate::simulate::nonfinite_output_error(
+                ts * tu,
+                &describe_state(&m, &last_accepted),
+            ));
+            y = last_accepted;
+            t = last_accepted_t;
+            stats.steps = steps_seen;
+            stats.rhs_evals = m.evaluations;
+            break;
+        }
         match res {
             Err(e) => {
                 let (te, why, ylast) = match e {
-                    IntegrateError::Rhs { t, y_last, err } => (t, err.to_string(), y_last),
+                    IntegrateError::Rhs { t, y_last, err } => {
+                        let why = match err {
+                            RigidError::Painleve { theta, solutions } => {
+                                crate::simulate::painleve_why(sc, "N equation", theta, solutions)
+                            }
+                            other => other.to_string(),
+                        };
+                        (t, crate::simulate::unstable_rk4(sc, &track, why), y_last)
+                    }
                     IntegrateError::StepUnderflow { t, h, y_last } => (
                         t,
                         format!("step size underflow (h = {:e} s)", h * tu),
                         y_last,
                     ),
-                    IntegrateError::NonFinite { t, y_last } => {
-                        (t, "the solution became NaN or infinite".to_string(), y_last)
-                    }
-                    IntegrateError::TooManySteps { t, max_steps } => (
+                    IntegrateError::NonFinite { t, y_last } => (
                         t,
-                        format!("more than {max_steps} steps"),
+                        crate::simulate::unstable_rk4(
+                            sc,
+                            &track,
+                            "the solution became NaN or infinite".to_string(),
+                        ),
+                        y_last,
+                    ),
+                    IntegrateError::TooManySteps { t, .. } => (
+                        t,
+                        crate::simulate::step_limit_why(sc, step_cap),
                         last_accepted.to_vec(),
                     ),
                 };
@@ -1284,26 +1344,6 @@ pub fn run_observed(
                 stats.rhs_evals += o.stats.rhs_evals;
                 stats.steps += o.stats.steps;
                 stats.rejected += o.stats.rejected;
-                for f in &o.fired {
-                    match f.index {
-                        EV_HALF_PI if first_above.is_none() => {
-                            first_above = Some(f.t * tu);
-                            events_out.push(EventRecord {
-                                t: f.t * tu,
-                                kind: "theta_above_half_pi".into(),
-                            });
-                        }
-                        EV_THETA_MAX => visit(&mut track, &m, &f.y),
-                        EV_CONTACT if !unilateral => {
-                            let kind = normal_log.cross(f.t);
-                            events_out.push(EventRecord {
-                                t: f.t * tu,
-                                kind: kind.into(),
-                            });
-                        }
-                        _ => {}
-                    }
-                }
                 t = o.t;
                 y = o.y;
                 match o.stop {
@@ -1323,10 +1363,7 @@ pub fn run_observed(
                                     if let Some(s0) = rolling_since.take() {
                                         rolling_time += t - s0;
                                     }
-                                    events_out.push(EventRecord {
-                                        t: t * tu,
-                                        kind: "slip".into(),
-                                    });
+                                    events_out.push(t * tu, "slip");
                                 }
                             }
                         }
@@ -1340,10 +1377,7 @@ pub fn run_observed(
                                 m.flight_start = t;
                                 flight_since = Some(t);
                                 lift_offs.push(t);
-                                events_out.push(EventRecord {
-                                    t: t * tu,
-                                    kind: "lift_off".into(),
-                                });
+                                events_out.push(t * tu, "lift_off");
                             }
                         }
                     }
@@ -1380,16 +1414,10 @@ pub fn run_observed(
                                 m.flight_start = t;
                                 flight_since = Some(t);
                                 lift_offs.push(t);
-                                events_out.push(EventRecord {
-                                    t: t * tu,
-                                    kind: "lift_off".into(),
-                                });
+                                events_out.push(t * tu, "lift_off");
                             }
                             Phase::Flight => {
-                                events_out.push(EventRecord {
-                                    t: t * tu,
-                                    kind: "touchdown".into(),
-                                });
+                                events_out.push(t * tu, "touchdown");
                                 // Put C exactly on the plane, then the impulse.
                                 let kz = m.kin(&y).k[2];
                                 let before = m.energy_scaled(&y);
@@ -1428,10 +1456,7 @@ pub fn run_observed(
                                     if enter_contact(&mut m, t, &mut y) == Phase::Flight {
                                         flight_since = Some(t);
                                         lift_offs.push(t);
-                                        events_out.push(EventRecord {
-                                            t: t * tu,
-                                            kind: "lift_off".into(),
-                                        });
+                                        events_out.push(t * tu, "lift_off");
                                     } else if m.exact {
                                         // Exact law: a sticking impulse leaves
                                         // zero slip, where stick/slip is
@@ -1441,10 +1466,7 @@ pub fn run_observed(
                                         if stuck || m.slip_is_zero(&y) {
                                             if settle_at_zero_slip(&mut m, &mut y) {
                                                 rolling_since = Some(t);
-                                                events_out.push(EventRecord {
-                                                    t: t * tu,
-                                                    kind: "stick".into(),
-                                                });
+                                                events_out.push(t * tu, "stick");
                                             }
                                         } else {
                                             m.slip_ref.set(unit_h(v));
@@ -1470,10 +1492,7 @@ pub fn run_observed(
                             Mode::Sliding => {
                                 if settle_at_zero_slip(&mut m, &mut y) {
                                     rolling_since = Some(t);
-                                    events_out.push(EventRecord {
-                                        t: t * tu,
-                                        kind: "stick".into(),
-                                    });
+                                    events_out.push(t * tu, "stick");
                                 }
                             }
                             Mode::Rolling => {
@@ -1481,10 +1500,7 @@ pub fn run_observed(
                                 if let Some(s0) = rolling_since.take() {
                                     rolling_time += t - s0;
                                 }
-                                events_out.push(EventRecord {
-                                    t: t * tu,
-                                    kind: "slip".into(),
-                                });
+                                events_out.push(t * tu, "slip");
                             }
                         }
                     }
@@ -1512,7 +1528,7 @@ pub fn run_observed(
             normal_log.negative_fraction(t),
         )
     };
-    events_out.sort_by(|a, b| a.t.total_cmp(&b.t));
+    let events_out = events_out.into_sorted();
 
     let last = sample_of(&m, t, &y);
     let summary = summarize(

@@ -102,6 +102,68 @@ pub struct Options {
     pub late_fraction: f64,
 }
 
+/// Largest |[`Options::spin`]| \[rad/s\]: beyond about 1e150 the
+/// linearisation's matrices overflow (QR does not converge); 1e100 leaves a
+/// margin.
+pub const MAX_SPIN: f64 = 1e100;
+
+/// Range of [`Options::eps`] \[m/s\]: outside about 1e-150 ..= 1e150 the
+/// linearised friction terms overflow or vanish against the others; these
+/// bounds leave a margin.
+pub const EPS_RANGE: (f64, f64) = (1e-100, 1e100);
+
+/// A number for a message: plain for ordinary magnitudes, else `1e308` style.
+fn num(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+impl Options {
+    /// Check the options' ranges (errors name the CLI argument: `spin`,
+    /// `eps`, `tol`, `late_fraction`).
+    pub fn validate(&self) -> Result<(), Error> {
+        if let Some(spin) = self.spin {
+            if spin.is_nan() || spin.abs() > MAX_SPIN {
+                return Err(Error::invalid(
+                    "spin",
+                    format!("{} is not allowed", num(spin)),
+                    format!("a finite spin, |spin| <= {MAX_SPIN:e} [rad/s]"),
+                ));
+            }
+        }
+        if let Some(eps) = self.eps {
+            if !(EPS_RANGE.0..=EPS_RANGE.1).contains(&eps) {
+                return Err(Error::invalid(
+                    "eps",
+                    format!("{} is not allowed", num(eps)),
+                    format!(
+                        "a finite speed, {:e} <= eps <= {:e} [m/s]",
+                        EPS_RANGE.0, EPS_RANGE.1
+                    ),
+                ));
+            }
+        }
+        if !(0.0..1.0).contains(&self.tol_rel) {
+            return Err(Error::invalid(
+                "tol",
+                format!("{} is not allowed", num(self.tol_rel)),
+                "0 <= tol < 1 (relative to max |lambda|; default 1e-10)".into(),
+            ));
+        }
+        if !(self.late_fraction > 0.0 && self.late_fraction <= 1.0) {
+            return Err(Error::invalid(
+                "late_fraction",
+                format!("{} is not allowed", num(self.late_fraction)),
+                "0 < late_fraction <= 1".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for Options {
     fn default() -> Self {
         Options {
@@ -260,6 +322,7 @@ fn eig_list(e: &[Eig]) -> String {
 
 /// Analyse the steady motions of a scenario (see the [module docs](self)).
 pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> {
+    opts.validate()?;
     sc.validate()?;
     let top = sc.top;
     let g = sc.surface.gravity;

@@ -1,0 +1,289 @@
+//! Issue 12 (hardening), end to end: extreme input is exit 2 with one line
+//! and nothing written, never a panic; runs that cannot make progress stop
+//! with exit 3; `stability` checks its own arguments first.
+
+use std::path::Path;
+
+use assert_cmd::Command;
+
+fn tippetop() -> Command {
+    Command::cargo_bin("tippetop").unwrap()
+}
+
+/// Exit 2, exactly one stderr line `error: KEY...`, nothing on stdout,
+/// `out` (if given) not created.
+fn expect_input_error(args: &[&str], out: Option<&Path>, key: &str) {
+    let a = tippetop().args(args).assert();
+    let o = a.get_output();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{args:?}: {stderr:?}");
+    assert!(
+        lines[0].starts_with(&format!("error: {key}: ")),
+        "{args:?}: {stderr:?}"
+    );
+    assert!(o.stdout.is_empty(), "{args:?}");
+    if let Some(out) = out {
+        assert!(!out.exists(), "{args:?}: {} was created", out.display());
+    }
+}
+
+/// Defect 1: values that used to panic in the solver are input errors, for
+/// every model and method.
+#[test]
+fn run_rejects_extreme_values_without_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let o = out.to_str().unwrap();
+    for (preset, set, key) in [
+        ("classical", "solver.t_end=1e308", "solver.t_end"),
+        ("nano", "solver.t_end=1e-320", "solver.t_end"),
+        ("classical", "surface.gravity=1e308", "surface.gravity"),
+        ("nano", "top.mass=1e-320", "force.0.hx"),
+        ("classical", "initial.spin=-1e308", "solver.t_end"),
+        ("nano", "initial.spin=1e308", "solver.t_end"),
+        ("classical", "solver.samples=1000000000", "solver.samples"),
+        (
+            "nano",
+            "solver.samples=4611686018427387904",
+            "solver.samples",
+        ),
+    ] {
+        for model in ["vector", "reduced", "rigid"] {
+            for method in ["adaptive", "rk4", "stiff"] {
+                let m = format!("solver.model={model}");
+                let me = format!("solver.method={method}");
+                expect_input_error(
+                    &[
+                        "run",
+                        "--preset",
+                        preset,
+                        "--set",
+                        set,
+                        "--set",
+                        &m,
+                        "--set",
+                        &me,
+                        "--no-plot",
+                        "--out",
+                        o,
+                    ],
+                    Some(&out),
+                    key,
+                );
+            }
+        }
+    }
+}
+
+/// Defect 3: a run that reaches its step limit stops with exit 3, says so,
+/// and writes what it computed.
+#[test]
+fn step_limit_is_exit_3_with_results() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let a = tippetop()
+        .args([
+            "run",
+            "--preset",
+            "classical",
+            "--set",
+            "solver.max_steps=200",
+        ])
+        .args([
+            "--set",
+            "solver.method=stiff",
+            "--no-plot",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .code(3);
+    let stderr = String::from_utf8_lossy(&a.get_output().stderr).to_string();
+    assert!(
+        stderr.contains("step limit 200 reached (the run cannot make progress"),
+        "{stderr}"
+    );
+    assert!(out.join("summary.json").exists());
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("step limit 200"), "{summary}");
+}
+
+/// Defect 10: rk4 alone runs on both presets.
+#[test]
+fn rk4_runs_on_both_presets() {
+    let dir = tempfile::tempdir().unwrap();
+    for p in ["nano", "classical"] {
+        tippetop()
+            .args(["run", "--preset", p, "--set", "solver.method=rk4"])
+            .args(["--no-plot", "--quiet", "--out"])
+            .arg(dir.path().join(p))
+            .assert()
+            .success();
+    }
+}
+
+/// Defect 8: `stability` rejects bad --spin, --eps, --tol (exit 2, one
+/// line, before "running the scenario ..."), and bad scenario values.
+#[test]
+fn stability_checks_its_arguments_first() {
+    for (args, key) in [
+        (vec!["--spin", "nan"], "spin"),
+        (vec!["--spin", "inf"], "spin"),
+        (vec!["--spin", "1e308"], "spin"),
+        (vec!["--spin=-1e200"], "spin"),
+        (vec!["--eps", "0"], "eps"),
+        (vec!["--eps", "-1"], "eps"),
+        (vec!["--eps", "1e308"], "eps"),
+        (vec!["--tol=-1"], "tol"),
+        (vec!["--tol", "2"], "tol"),
+        (vec!["--tol", "nan"], "tol"),
+        (vec!["--set", "solver.t_end=1e308"], "solver.t_end"),
+        (vec!["--set", "top.mass=1e-320"], "top.mass"),
+    ] {
+        let mut all = vec!["stability", "--preset", "classical"];
+        all.extend(args);
+        expect_input_error(&all, None, key);
+    }
+}
+
+/// Defect 8 / 10: `stability --help` has examples, the output and the exit
+/// codes.
+#[test]
+fn stability_help_is_complete() {
+    let a = tippetop().args(["stability", "--help"]).assert().success();
+    let help = String::from_utf8_lossy(&a.get_output().stdout).to_string();
+    for needle in [
+        "Examples:",
+        "tippetop stability --preset classical",
+        "Output (stdout",
+        "Exit codes: 0",
+        "2 bad input",
+        "3 the analysis",
+        "|spin| <= 1e100",
+        "0 <= TOL < 1",
+    ] {
+        assert!(help.contains(needle), "{needle:?} missing:\n{help}");
+    }
+}
+
+/// The fuzz of `tippetop/tests/fuzz.rs` on the binary, fewer cases: every
+/// invocation exits 0, 2 or 3 (never a panic, 101, or an abort); exit 2
+/// prints one line and writes nothing; exit 0 and 3 write the summary.
+#[test]
+fn fuzz_cli() {
+    let mut state: u64 = 0x7170_7e70_2026_0c11;
+    let mut next = move |n: usize| {
+        // SplitMix64.
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) % n as u64) as usize
+    };
+    let keys = [
+        "top.radius",
+        "top.offset",
+        "top.mass",
+        "top.inertia_transverse",
+        "top.inertia_axial",
+        "surface.gravity",
+        "surface.friction",
+        "surface.friction_law",
+        "surface.contact",
+        "surface.restitution",
+        "force.0.hx",
+        "force.0.hy",
+        "force.0.stop",
+        "initial.theta",
+        "initial.theta_dot",
+        "initial.precession",
+        "initial.spin",
+        "initial.ux",
+        "solver.method",
+        "solver.t_end",
+        "solver.steps",
+        "solver.rtol",
+        "solver.samples",
+        "solver.model",
+        "solver.max_steps",
+    ];
+    let extreme = [
+        "0",
+        "-0.0",
+        "1e-320",
+        "-1e-320",
+        "1e308",
+        "-1e308",
+        "inf",
+        "-inf",
+        "nan",
+        "9223372036854775807",
+        "-1",
+        "1e9",
+    ];
+    let ordinary = [
+        "0.5",
+        "2",
+        "1e-3",
+        "3.0",
+        "0.13",
+        "1e-22",
+        "rk4",
+        "stiff",
+        "reduced",
+        "rigid",
+        "viscous",
+        "paper",
+        "unilateral",
+        "coulomb_sliding",
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let mut codes = [0usize; 4];
+    for case in 0..150 {
+        let out = dir.path().join(format!("c{case}"));
+        let preset = ["nano", "classical"][next(2)];
+        let mut args: Vec<String> = vec!["run".into(), "--preset".into(), preset.into()];
+        for s in ["solver.max_steps=2000", "solver.samples=21"] {
+            args.extend(["--set".into(), s.into()]);
+        }
+        for _ in 0..1 + next(2) {
+            let value = if next(3) == 0 {
+                extreme[next(extreme.len())]
+            } else {
+                ordinary[next(ordinary.len())]
+            };
+            let kv = format!("{}={value}", keys[next(keys.len())]);
+            args.extend(["--set".into(), kv]);
+        }
+        args.extend(["--no-plot".into(), "--quiet".into(), "--out".into()]);
+        args.push(out.to_str().unwrap().into());
+        let o = tippetop().args(&args).output().unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr).to_string();
+        let code = o.status.code();
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        match code {
+            Some(2) => {
+                assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+                assert!(stderr.starts_with("error: "), "{args:?}: {stderr}");
+                assert!(!out.exists(), "{args:?} wrote {}", out.display());
+                codes[2] += 1;
+            }
+            Some(c @ (0 | 3)) => {
+                assert!(out.join("summary.json").exists(), "{args:?}: {stderr}");
+                if c == 3 {
+                    assert!(stderr.starts_with("error: "), "{args:?}: {stderr}");
+                }
+                codes[c as usize] += 1;
+            }
+            other => panic!("{args:?}: exit {other:?}: {stderr}"),
+        }
+    }
+    eprintln!(
+        "fuzz_cli: exit codes 0, 2, 3: {}, {}, {}",
+        codes[0], codes[2], codes[3]
+    );
+    assert!(codes[0] > 0 && codes[2] > 0 && codes[3] > 0, "{codes:?}");
+}

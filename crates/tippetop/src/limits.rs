@@ -1,0 +1,308 @@
+//! Limits of one run, checked before it starts ([`check_run`], called by
+//! [`Scenario::validate`]): what the solver needs to be representable in
+//! `f64` (finite units, finite scaled times, finite initial energy), how long
+//! a run may be in its own time unit, how many samples it may keep, and the
+//! caps that bound a run that cannot make progress (steps, recorded events).
+//!
+//! Every value a scenario can hold passes through the scaled model of
+//! docs/physics.md: lengths by `R`, masses by `m`, times by `T_ref`, the
+//! inverse of the fastest initial rate ([`time_unit`]). A scenario whose
+//! units or scaled values overflow or underflow is bad input (exit code 2),
+//! not a run that fails.
+
+use crate::{Error, Method, Sample, Scenario, SolverSettings, observe};
+
+/// Largest `t_end / T_ref`, the run's length in its own time unit `T_ref`
+/// (the inverse of the fastest initial rate: spin, precession, nutation
+/// rate, `sqrt(g/R)`, `sqrt(|H|/(m R))`).
+///
+/// Why 1e9: near `t = 1e9 T_ref` consecutive `f64` times are `1.2e-7 T_ref`
+/// apart, so the phase of the fastest motion can no longer be resolved to
+/// the tolerances the solver offers (`rtol >= 1e-14`); and the fastest motion
+/// turns `1e9 / (2 pi) = 1.6e8` times, which at several steps per turn is
+/// beyond the step limit [`MAX_STEPS`] anyway.
+pub const MAX_SCALED_T_END: f64 = 1e9;
+
+/// Largest number of accepted steps of one run, over all its integration
+/// segments and every method; a run that reaches it stops with a run-time
+/// error (exit code 3). Measured (release build, one core of a shared
+/// 2-core machine, classical preset with `initial.spin = 1e8`, which needs
+/// far more steps): 20 million DOP853 steps take 39 s (reduced model), 46 s
+/// (vector), 47 s (rigid), with memory flat at 6 to 21 MB; so a run that
+/// cannot make progress stops within about a minute. The stiff method gets
+/// a tenth ([`max_steps_for`]). `solver.max_steps` lowers (or restores) it.
+pub const MAX_STEPS: u64 = 20_000_000;
+
+/// Largest number of output rows (`solver.samples`). One row takes
+/// [`BYTES_PER_SAMPLE`] (144) bytes in memory (and about 310 bytes of CSV),
+/// so 5 000 000 rows need 0.72 GB while the run is kept in memory (and a
+/// 1.5 GB trajectory.csv): under the few GB of an ordinary machine. A sweep
+/// keeps one run per thread: [`run_memory_bytes`] times the threads.
+pub const MAX_SAMPLES: usize = 5_000_000;
+
+/// Largest number of events a run records (`Trajectory::events`); further
+/// events still enter the summary (first times, the fraction of the time
+/// with N < 0) but are not listed, and a single `"event_limit_reached"`
+/// record marks where the list stops. A run
+/// whose motion chatters can cross `N = 0` millions of times; the list
+/// would otherwise grow with the steps taken, not with the samples kept.
+pub const MAX_EVENTS: usize = 100_000;
+
+/// Memory of one output row in a [`crate::Trajectory`] plus its sample time \[bytes\].
+pub const BYTES_PER_SAMPLE: u64 = (std::mem::size_of::<Sample>() + 8) as u64;
+
+/// Largest memory one run may need for the rows and events it keeps
+/// \[bytes\]: 1 GiB. [`run_memory_bytes`] of a valid scenario stays below it.
+pub const MAX_RUN_BYTES: u64 = 1 << 30;
+
+/// The memory a run of `solver` keeps while it runs \[bytes\]: its samples
+/// (rows and sample times) and at most [`MAX_EVENTS`] events. The
+/// integrator's own state is a few kB and independent of the run's length.
+pub fn run_memory_bytes(solver: &SolverSettings) -> u64 {
+    let event = (std::mem::size_of::<crate::EventRecord>() + 32) as u64;
+    (solver.samples as u64)
+        .saturating_mul(BYTES_PER_SAMPLE)
+        .saturating_add(MAX_EVENTS as u64 * event)
+}
+
+/// The default step limit of a run with `method`: [`MAX_STEPS`] for the
+/// explicit methods; a tenth of it for the stiff method (Rodas4P), whose
+/// steps cost up to about ten DOP853 steps each (a numerical Jacobian, an LU
+/// decomposition and five stages): 2 million of them took 4 s (nano preset,
+/// `force.0.hy = 1e-12`) to 12 s (rigid model, classical, spin 1e8).
+pub fn max_steps_for(method: Method) -> u64 {
+    match method {
+        Method::Stiff => MAX_STEPS / 10,
+        Method::Adaptive | Method::Rk4 => MAX_STEPS,
+    }
+}
+
+/// The rates that define the time unit `T_ref` \[1/s\], each with the scenario
+/// key it comes from and a description.
+fn rates(sc: &Scenario) -> [(f64, String, &'static str); 6] {
+    let top = &sc.top;
+    let i = &sc.initial;
+    // The force window with the largest applied force names the key.
+    let (force_key, _) = sc
+        .forcing
+        .windows
+        .iter()
+        .enumerate()
+        .flat_map(|(k, w)| {
+            [
+                (format!("force.{k}.hx"), w.hx),
+                (format!("force.{k}.hy"), w.hy),
+            ]
+        })
+        .fold((String::from("force.0.hx"), -1.0), |best, (k, v)| {
+            if v.abs() > best.1 { (k, v.abs()) } else { best }
+        });
+    [
+        (i.spin.abs(), "initial.spin".into(), "|spin|"),
+        (
+            i.precession.abs(),
+            "initial.precession".into(),
+            "|precession|",
+        ),
+        (i.theta_dot.abs(), "initial.theta_dot".into(), "|theta_dot|"),
+        (
+            (sc.surface.gravity / top.radius).sqrt(),
+            "surface.gravity".into(),
+            "sqrt(gravity / radius)",
+        ),
+        (
+            (sc.forcing.max_magnitude() / (top.mass * top.radius)).sqrt(),
+            force_key,
+            "sqrt(|H| / (mass radius))",
+        ),
+        (1.0 / sc.solver.t_end, "solver.t_end".into(), "1 / t_end"),
+    ]
+}
+
+/// The time unit `T_ref` of a scenario \[s\]: the inverse of its fastest
+/// initial rate (see [`MAX_SCALED_T_END`]); the same as the models' `Scales::of`.
+pub fn time_unit(sc: &Scenario) -> f64 {
+    1.0 / rates(sc).iter().map(|r| r.0).fold(0.0, f64::max)
+}
+
+/// A number for a message: plain for ordinary magnitudes, else `1e308` style.
+fn num(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+fn bad(key: &str, what: String, range: String) -> Result<(), Error> {
+    Err(Error::invalid(key, what, range))
+}
+
+/// Check what a run of `sc` needs beyond each key's own range (the keys are
+/// assumed to be in range already): finite units and scaled parameters,
+/// `t_end / T_ref <= MAX_SCALED_T_END`, a finite initial energy, the sample
+/// count and memory, and the RK4 step count. Errors name the key to change.
+pub fn check_run(sc: &Scenario) -> Result<(), Error> {
+    let so = &sc.solver;
+    if so.samples > MAX_SAMPLES {
+        return bad(
+            "solver.samples",
+            format!("{} is too many", so.samples),
+            format!(
+                "2 <= samples <= {MAX_SAMPLES}: each row keeps {BYTES_PER_SAMPLE} bytes in memory"
+            ),
+        );
+    }
+    let bytes = run_memory_bytes(so);
+    if bytes > MAX_RUN_BYTES {
+        return bad(
+            "solver.samples",
+            format!("{} rows would need {bytes} bytes of memory", so.samples),
+            format!("at most {MAX_RUN_BYTES} bytes per run"),
+        );
+    }
+    // Every rate finite: each one is a candidate for 1/T_ref.
+    let rates = rates(sc);
+    for (r, key, what) in &rates {
+        if !r.is_finite() {
+            return bad(
+                key,
+                format!("{what} = {} s^-1 overflows", num(*r)),
+                "a value whose rate (1/s) is finite in f64; see the key's own range too".into(),
+            );
+        }
+    }
+    let (rate, _, which) = rates
+        .iter()
+        .fold((0.0, String::new(), ""), |best, (r, k, w)| {
+            if *r > best.0 {
+                (*r, k.clone(), *w)
+            } else {
+                best
+            }
+        });
+    let tu = 1.0 / rate;
+    let scaled_end = so.t_end / tu;
+    if scaled_end.is_nan() || scaled_end > MAX_SCALED_T_END {
+        return bad(
+            "solver.t_end",
+            format!(
+                "{} s is {} time units T_ref = 1/({which}) = {} s",
+                num(so.t_end),
+                num(scaled_end),
+                num(tu)
+            ),
+            format!(
+                "t_end <= {MAX_SCALED_T_END:e} T_ref = {} s: a longer run cannot resolve the fastest motion (lower the rate or t_end)",
+                num(MAX_SCALED_T_END * tu)
+            ),
+        );
+    }
+
+    // The units of the scaled model and the scaled parameters: finite and
+    // non-zero.
+    let top = &sc.top;
+    let length = top.radius;
+    let mass = top.mass;
+    let inertia = mass * length * length;
+    let velocity = length / tu;
+    let force = mass * length / (tu * tu);
+    let energy = inertia / (tu * tu);
+    let unit_range =
+        "mass and radius such that the scaled model's units are finite and non-zero in f64";
+    for (v, what) in [
+        (inertia, "the inertia unit mass radius^2"),
+        (velocity, "the velocity unit radius / T_ref"),
+        (force, "the force unit mass radius / T_ref^2"),
+        (energy, "the energy unit mass radius^2 / T_ref^2"),
+    ] {
+        if !(v.is_finite() && v >= f64::MIN_POSITIVE) {
+            return bad(
+                "top.mass",
+                format!(
+                    "{what} is {v:e} [SI] (mass {mass:e} kg, radius {length:e} m, T_ref {tu:e} s)"
+                ),
+                unit_range.into(),
+            );
+        }
+    }
+    for (key, v) in [
+        ("top.inertia_transverse", top.inertia_transverse / inertia),
+        ("top.inertia_axial", top.inertia_axial / inertia),
+    ] {
+        if !(v.is_finite() && v >= f64::MIN_POSITIVE && 1.0 / v < f64::MAX) {
+            return bad(
+                key,
+                format!("divided by mass radius^2 = {inertia:e} kg m^2 it is {v:e}"),
+                "a moment of inertia whose ratio to mass radius^2 is finite and non-zero in f64"
+                    .into(),
+            );
+        }
+    }
+    if let Some(eps) = sc.surface.law.eps() {
+        let v = eps / velocity;
+        if !(v.is_finite() && v >= f64::MIN_POSITIVE) {
+            return bad(
+                "surface.friction_eps",
+                format!("divided by the velocity unit {velocity:e} m/s it is {v:e}"),
+                "a speed whose ratio to radius / T_ref is finite and non-zero in f64".into(),
+            );
+        }
+    }
+    let i = &sc.initial;
+    for (key, v) in [("initial.ux", i.ux), ("initial.uy", i.uy)] {
+        if !(v / velocity).is_finite() {
+            return bad(
+                key,
+                format!(
+                    "{} m/s is {:e} velocity units radius / T_ref",
+                    num(v),
+                    v / velocity
+                ),
+                "a velocity whose ratio to radius / T_ref is finite in f64".into(),
+            );
+        }
+    }
+
+    // The initial energy, with room to grow (the energy is computed in SI
+    // for every output row).
+    let e0 = observe::energy(
+        top,
+        sc.surface.gravity,
+        i.theta,
+        i.theta_dot,
+        i.precession,
+        i.spin,
+        [i.ux, i.uy, 0.0],
+    );
+    const MAX_ENERGY: f64 = 1e300;
+    if e0.is_nan() || e0.abs() > MAX_ENERGY {
+        // Blame the velocity whose own energy is largest.
+        let terms = [
+            ("initial.ux", 0.5 * mass * i.ux * i.ux),
+            ("initial.uy", 0.5 * mass * i.uy * i.uy),
+            (
+                "initial.theta_dot",
+                0.5 * top.inertia_transverse * i.theta_dot * i.theta_dot,
+            ),
+            (
+                "initial.precession",
+                0.5 * top.inertia_transverse * i.precession * i.precession,
+            ),
+            ("initial.spin", 0.5 * top.inertia_axial * i.spin * i.spin),
+            ("surface.gravity", mass * sc.surface.gravity * top.radius),
+        ];
+        let key = terms
+            .iter()
+            .fold(("initial.spin", -1.0), |b, &(k, v)| {
+                if v.is_nan() || v > b.1 { (k, v) } else { b }
+            })
+            .0;
+        return bad(
+            key,
+            format!("the initial energy is {e0:e} J"),
+            format!("values that keep the energy finite, |E| <= {MAX_ENERGY:e} J"),
+        );
+    }
+    Ok(())
+}
