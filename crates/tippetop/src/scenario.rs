@@ -48,6 +48,8 @@
 //! replaces the preset's list. Precedence: preset < file < `--set`.
 //! Whole numbers are accepted wherever a float is expected.
 
+pub mod limits;
+
 use serde::Deserialize as _;
 use toml::{Table, Value};
 

@@ -1,6 +1,6 @@
 //! Initial state and solver settings.
 
-use crate::Error;
+use crate::{Error, Sample};
 
 /// Initial state of the reduced model (SI units, radians).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,7 +53,7 @@ impl Initial {
         if reduced
             && !(self.theta > 0.0
                 && self.theta < std::f64::consts::PI
-                && self.theta.sin() >= crate::model::reduced::SIN_GUARD)
+                && self.theta.sin() >= SIN_GUARD)
         {
             return Err(Error::invalid(
                 "initial.theta",
@@ -121,7 +121,7 @@ pub struct SolverSettings {
     /// Which model.
     pub model: ModelKind,
     /// Largest number of accepted steps of the run (`solver.max_steps`);
-    /// `None` for the method's default, [`crate::limits::max_steps_for`].
+    /// `None` for the method's default, [`max_steps_for`].
     /// A run that reaches it stops with a run-time error.
     pub max_steps: Option<u64>,
 }
@@ -144,10 +144,9 @@ impl SolverSettings {
     }
 
     /// The run's step limit: `max_steps`, or the method's default
-    /// ([`crate::limits::max_steps_for`]).
+    /// ([`max_steps_for`]).
     pub fn step_limit(&self) -> u64 {
-        self.max_steps
-            .unwrap_or_else(|| crate::limits::max_steps_for(self.method))
+        self.max_steps.unwrap_or_else(|| max_steps_for(self.method))
     }
 
     /// Check ranges.
@@ -159,7 +158,7 @@ impl SolverSettings {
                 "a finite time > 0 [s]".into(),
             ));
         }
-        if self.samples < 2 || self.samples > crate::limits::MAX_SAMPLES {
+        if self.samples < 2 || self.samples > MAX_SAMPLES {
             return Err(Error::invalid(
                 "solver.samples",
                 format!(
@@ -169,8 +168,7 @@ impl SolverSettings {
                 ),
                 format!(
                     "an integer, 2 <= samples <= {}: each row keeps {} bytes in memory",
-                    crate::limits::MAX_SAMPLES,
-                    crate::limits::BYTES_PER_SAMPLE
+                    MAX_SAMPLES, BYTES_PER_SAMPLE
                 ),
             ));
         }
@@ -182,7 +180,7 @@ impl SolverSettings {
             ));
         }
         if let Some(n) = self.max_steps {
-            if !(1..=crate::limits::MAX_STEPS).contains(&n) {
+            if !(1..=MAX_STEPS).contains(&n) {
                 return Err(Error::invalid(
                     "solver.max_steps",
                     format!("{n} is not allowed"),
@@ -223,5 +221,45 @@ impl SolverSettings {
             }
         }
         Ok(())
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Bounds of the solver settings (see `limits` for the checks of a whole run).
+
+/// |sin θ| below which the reduced (Euler-angle) equations are declared
+/// singular: the pole guard of `model::reduced`, also the bound an initial
+/// θ of that model is checked against.
+pub const SIN_GUARD: f64 = 1e-8;
+
+/// Largest number of accepted steps of one run, over all its integration
+/// segments and every method; a run that reaches it stops with a run-time
+/// error (exit code 3). Measured (release build, one core of a shared
+/// 2-core machine, classical preset with `initial.spin = 1e8`, which needs
+/// far more steps): 20 million DOP853 steps take 39 s (reduced model), 46 s
+/// (vector), 47 s (rigid), with memory flat at 6 to 21 MB; so a run that
+/// cannot make progress stops within about a minute. The stiff method gets
+/// a tenth ([`max_steps_for`]). `solver.max_steps` lowers (or restores) it.
+pub const MAX_STEPS: u64 = 20_000_000;
+
+/// Largest number of output rows (`solver.samples`). One row takes
+/// [`BYTES_PER_SAMPLE`] (144) bytes in memory (and about 310 bytes of CSV),
+/// so 5 000 000 rows need 0.72 GB while the run is kept in memory (and a
+/// 1.5 GB trajectory.csv): under the few GB of an ordinary machine. A sweep
+/// keeps one run per thread: [`crate::limits::run_memory_bytes`] times the threads.
+pub const MAX_SAMPLES: usize = 5_000_000;
+
+/// Memory of one output row in a [`crate::Trajectory`] plus its sample time \[bytes\].
+pub const BYTES_PER_SAMPLE: u64 = (std::mem::size_of::<Sample>() + 8) as u64;
+
+/// The default step limit of a run with `method`: [`MAX_STEPS`] for the
+/// explicit methods; a tenth of it for the stiff method (Rodas4P), whose
+/// steps cost up to about ten DOP853 steps each (a numerical Jacobian, an LU
+/// decomposition and five stages): 2 million of them took 4 s (nano preset,
+/// `force.0.hy = 1e-12`) to 12 s (rigid model, classical, spin 1e8).
+pub fn max_steps_for(method: Method) -> u64 {
+    match method {
+        Method::Stiff => MAX_STEPS / 10,
+        Method::Adaptive | Method::Rk4 => MAX_STEPS,
     }
 }

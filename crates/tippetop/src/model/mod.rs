@@ -7,8 +7,64 @@ pub mod vector;
 
 use std::cell::Cell;
 
-use crate::{ContactMode, Forcing, FrictionLaw, Scenario, contact::SlidingLaw};
-use reduced::{Mode, ModelError, Scales};
+use crate::physics::units::Scales;
+use crate::{
+    ContactMode, Forcing, FrictionLaw, Initial, Sample, Scenario, contact::SlidingLaw,
+    integrate::OdeSystem,
+};
+
+/// Sliding or rolling (exact Coulomb law only).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Friction from the friction law.
+    Sliding,
+    /// Slip held at zero; friction is the constraint force.
+    Rolling,
+}
+
+/// Why the right-hand side cannot be evaluated.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ModelError {
+    /// |sin θ| < [`reduced::SIN_GUARD`], or θ outside `(0, π)` (a step passed a
+    /// pole): the Ω equation divides by sin θ.
+    Singular {
+        /// θ \[rad\].
+        theta: f64,
+    },
+    /// The θ̈–N system has no or two consistent solutions.
+    Painleve {
+        /// θ \[rad\].
+        theta: f64,
+        /// Number of consistent solutions found (0 or 2).
+        solutions: usize,
+    },
+    /// The sliding-only Coulomb law reversed the slip direction at step
+    /// after step: the slip sits at zero, where that law has no solution.
+    Chattering {
+        /// Slip reversals counted.
+        reversals: u32,
+    },
+}
+
+impl std::fmt::Display for ModelError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ModelError::Singular { theta } => write!(
+                f,
+                "theta = {theta:e} rad reached the pole of the Euler angles (|sin theta| < {:e}, or theta outside (0, pi)): the reduced model divides by sin theta there; use model = \"vector\" (the default) or \"rigid\"",
+                reduced::SIN_GUARD
+            ),
+            ModelError::Chattering { reversals } => write!(
+                f,
+                "the sliding-only Coulomb law chatters: the slip reversed direction at {reversals} steps (it sits at zero slip, where mu N v/|v| is undefined); use friction_law = \"coulomb\" (exact stick/slip) or \"regularized\""
+            ),
+            ModelError::Painleve { theta, solutions } => write!(
+                f,
+                "Painleve paradox at theta = {theta}: the theta_ddot-N system with friction has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists"
+            ),
+        }
+    }
+}
 
 /// What the two models that keep the sphere on the plane ([`reduced`] and
 /// [`vector`]) hold besides their ODE state, and the friction and contact
@@ -248,6 +304,76 @@ pub(crate) fn bilateral_normal(q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
         (true, true) => Err(2),
         (false, false) => Err(0),
     }
+}
+
+/// What the contact driver ([`run_contact`]) needs from a model whose
+/// sphere stays on the plane: the reduced Euler-angle model ([`Reduced`])
+/// and its vector form ([`Vector`]). Both share the friction laws, the
+/// contact modes and the stick/slip logic; they differ in their state.
+pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> {
+    /// The scaled model of a scenario.
+    fn build(sc: &Scenario) -> Self;
+    /// Unit system.
+    fn scales(&self) -> Scales;
+    /// Scaled state from the SI initial values.
+    fn initial_state(&self, i: &Initial) -> [f64; D];
+    /// The friction and contact rules and the sliding/rolling state.
+    fn plane(&self) -> &OnPlane;
+    /// The same, to switch modes and set the slip hint.
+    fn plane_mut(&mut self) -> &mut OnPlane;
+    /// Latch the applied force in effect at scaled time `t`.
+    fn latch_force(&mut self, t: f64) {
+        let scales = self.scales();
+        self.plane_mut().latch_force(t, &scales);
+    }
+    /// Horizontal slip velocity at a state (scaled; the model's own frame).
+    fn slip_of(&self, y: &[f64; D]) -> [f64; 2];
+    /// The state with its velocity replaced by the rolling (zero-slip) one.
+    fn to_rolling(&self, y: &[f64; D]) -> [f64; D];
+    /// Normal force and friction (scaled, the model's frame) at a state in
+    /// the current mode.
+    fn contact_forces(&self, y: &[f64; D]) -> Result<(f64, [f64; 2]), ModelError>;
+    /// Stick margin `μ|N| − |F_f|` (scaled force) while rolling.
+    fn stick_margin(&self, y: &[f64; D]) -> Option<f64> {
+        self.contact_forces(y)
+            .ok()
+            .map(|(n, f)| self.plane().stick_margin(n, f))
+    }
+    /// Nutation angle θ \[rad\].
+    fn theta(&self, y: &[f64; D]) -> f64;
+    /// A function with the sign and the zero of θ − π/2 (the inversion
+    /// event).
+    fn above_half_pi(&self, y: &[f64; D]) -> f64 {
+        self.theta(y) - std::f64::consts::FRAC_PI_2
+    }
+    /// A function with the sign of θ̇ that is zero where θ̇ is (θ maxima).
+    fn theta_rate(&self, y: &[f64; D]) -> f64;
+    /// Spin ω = n·k (scaled).
+    fn spin(&self, y: &[f64; D]) -> f64;
+    /// Jellett's J (scaled).
+    fn jellett_scaled(&self, y: &[f64; D]) -> f64;
+    /// Total energy (scaled), if the state can be evaluated.
+    fn energy_scaled(&self, y: &[f64; D]) -> Option<f64>;
+    /// Work done so far by friction and the applied force (scaled).
+    fn work_scaled(&self, y: &[f64; D]) -> f64;
+    /// C/(m R²).
+    fn axial(&self) -> f64;
+    /// `β` of DOP853's stabilised step-size control for this model
+    /// ([`Stepper::Dop853`]); 0 (pure I control, `dop853.f`'s default)
+    /// unless the model says otherwise.
+    fn dop853_beta(&self) -> f64 {
+        0.0
+    }
+    /// Whether DOP853 caps the step at its stability limit for this model
+    /// ([`Stepper::Dop853`]'s `stability_cap`); `false` (`dop853.f`'s
+    /// step-size control) unless the model says otherwise.
+    fn dop853_stability_cap(&self) -> bool {
+        false
+    }
+    /// The output row at scaled time `t`.
+    fn sample(&self, t: f64, y: &[f64; D]) -> Sample;
+    /// The state in SI units, for error messages.
+    fn describe_state(&self, y: &[f64]) -> String;
 }
 
 #[cfg(test)]

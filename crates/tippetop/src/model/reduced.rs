@@ -13,6 +13,9 @@
 use std::cell::RefCell;
 
 use super::OnPlane;
+/// The shared types, re-exported where they used to live.
+pub use super::{Mode, ModelError};
+pub use crate::physics::units::Scales;
 use crate::{Scenario, Top, integrate::OdeSystem};
 
 /// Number of state components.
@@ -39,70 +42,9 @@ pub const WA: usize = 7;
 /// instants).
 pub const CHATTER_REVERSALS: u32 = 1000;
 
-/// |sin θ| below which the reduced equations are declared singular.
-pub const SIN_GUARD: f64 = 1e-8;
-
-/// Units of the scaled variables: lengths by R, masses by m, times by
-/// `1/rate` with `rate` the largest of |ω0|, |Ω0|, |θ̇0|, sqrt(g/R),
-/// sqrt(|H|max/(m R)) and 1/t_end, so that the scale exists for g = 0 and
-/// ω0 = 0 and one tolerance means the same for the C60 top and the toy.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Scales {
-    /// Length unit \[m\] (= R).
-    pub length: f64,
-    /// Mass unit \[kg\] (= m).
-    pub mass: f64,
-    /// Time unit \[s\].
-    pub time: f64,
-}
-
-impl Scales {
-    /// The scales of a scenario.
-    pub fn of(sc: &Scenario) -> Self {
-        let top = &sc.top;
-        let i = &sc.initial;
-        let rate = [
-            i.spin.abs(),
-            i.precession.abs(),
-            i.theta_dot.abs(),
-            (sc.surface.gravity / top.radius).sqrt(),
-            (sc.forcing.max_magnitude() / (top.mass * top.radius)).sqrt(),
-            1.0 / sc.solver.t_end,
-        ]
-        .into_iter()
-        .fold(0.0, f64::max);
-        Scales {
-            length: top.radius,
-            mass: top.mass,
-            time: 1.0 / rate,
-        }
-    }
-    /// Velocity unit \[m/s\].
-    pub fn velocity(&self) -> f64 {
-        self.length / self.time
-    }
-    /// Force unit \[N\].
-    pub fn force(&self) -> f64 {
-        self.mass * self.length / (self.time * self.time)
-    }
-    /// Energy unit \[J\].
-    pub fn energy(&self) -> f64 {
-        self.mass * self.length * self.length / (self.time * self.time)
-    }
-    /// Moment-of-inertia unit \[kg m²\].
-    pub fn inertia(&self) -> f64 {
-        self.mass * self.length * self.length
-    }
-}
-
-/// Sliding or rolling (exact Coulomb law only).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mode {
-    /// Friction from the friction law.
-    Sliding,
-    /// Slip held at zero; friction is the constraint force.
-    Rolling,
-}
+/// |sin θ| below which the reduced equations are declared singular
+/// (defined with the initial state, which is checked against it).
+pub use crate::state::SIN_GUARD;
 
 /// θ (with `s = sin θ`) is at a pole of the Euler angles or past one:
 /// `sin θ < SIN_GUARD` or θ outside `(0, π)`. A step can jump over the
@@ -112,49 +54,6 @@ pub enum Mode {
 #[inline(always)]
 fn at_pole(theta: f64, s: f64) -> bool {
     !(theta > 0.0 && theta < std::f64::consts::PI && s >= SIN_GUARD)
-}
-
-/// Why the right-hand side cannot be evaluated.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ModelError {
-    /// |sin θ| < [`SIN_GUARD`], or θ outside `(0, π)` (a step passed a
-    /// pole): the Ω equation divides by sin θ.
-    Singular {
-        /// θ \[rad\].
-        theta: f64,
-    },
-    /// The θ̈–N system has no or two consistent solutions.
-    Painleve {
-        /// θ \[rad\].
-        theta: f64,
-        /// Number of consistent solutions found (0 or 2).
-        solutions: usize,
-    },
-    /// The sliding-only Coulomb law reversed the slip direction at step
-    /// after step: the slip sits at zero, where that law has no solution.
-    Chattering {
-        /// Slip reversals counted.
-        reversals: u32,
-    },
-}
-
-impl std::fmt::Display for ModelError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            ModelError::Singular { theta } => write!(
-                f,
-                "theta = {theta:e} rad reached the pole of the Euler angles (|sin theta| < {SIN_GUARD:e}, or theta outside (0, pi)): the reduced model divides by sin theta there; use model = \"vector\" (the default) or \"rigid\""
-            ),
-            ModelError::Chattering { reversals } => write!(
-                f,
-                "the sliding-only Coulomb law chatters: the slip reversed direction at {reversals} steps (it sits at zero slip, where mu N v/|v| is undefined); use friction_law = \"coulomb\" (exact stick/slip) or \"regularized\""
-            ),
-            ModelError::Painleve { theta, solutions } => write!(
-                f,
-                "Painleve paradox at theta = {theta}: the theta_ddot-N system with friction has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists"
-            ),
-        }
-    }
 }
 
 /// Everything the right-hand side computes at one state (scaled units).
@@ -486,6 +385,105 @@ impl OdeSystem<DIM> for Reduced {
         }
         *dy = self.eval_sc(y, s, c)?.dy;
         Ok(())
+    }
+}
+
+impl super::ContactModel<DIM> for Reduced {
+    fn build(sc: &Scenario) -> Self {
+        Reduced::new(sc)
+    }
+    fn scales(&self) -> Scales {
+        self.scales
+    }
+    fn initial_state(&self, i: &crate::Initial) -> [f64; DIM] {
+        self.scale_state(i)
+    }
+    fn plane(&self) -> &OnPlane {
+        &self.plane
+    }
+    fn plane_mut(&mut self) -> &mut OnPlane {
+        &mut self.plane
+    }
+    fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
+        Reduced::slip_of(self, y)
+    }
+    fn to_rolling(&self, y: &[f64; DIM]) -> [f64; DIM] {
+        let mut yr = *y;
+        let u = self.rolling_velocity(y);
+        yr[UX] = u[0];
+        yr[UY] = u[1];
+        yr
+    }
+    fn contact_forces(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2]), ModelError> {
+        self.eval(y).map(|e| (e.normal, e.friction))
+    }
+    fn theta(&self, y: &[f64; DIM]) -> f64 {
+        y[TH]
+    }
+    fn theta_rate(&self, y: &[f64; DIM]) -> f64 {
+        y[THD]
+    }
+    fn spin(&self, y: &[f64; DIM]) -> f64 {
+        y[W]
+    }
+    fn jellett_scaled(&self, y: &[f64; DIM]) -> f64 {
+        Reduced::jellett_scaled(self, y)
+    }
+    fn energy_scaled(&self, y: &[f64; DIM]) -> Option<f64> {
+        self.eval(y)
+            .ok()
+            .map(|e| Reduced::energy_scaled(self, y, &e))
+    }
+    fn work_scaled(&self, y: &[f64; DIM]) -> f64 {
+        y[WF] + y[WA]
+    }
+    fn axial(&self) -> f64 {
+        self.ic()
+    }
+    fn sample(&self, t: f64, y: &[f64; DIM]) -> crate::Sample {
+        let m = self;
+        let sc = m.scales;
+        let (tu, vu) = (sc.time, sc.velocity());
+        let e = m.eval(y).ok();
+        let (u, normal, slip) = match &e {
+            Some(e) => (e.u, e.normal, e.slip),
+            None => ([y[UX], y[UY], f64::NAN], f64::NAN, m.slip_of(y)),
+        };
+        let u_si = [u[0] * vu, u[1] * vu, u[2] * vu];
+        let (theta, thd, om, w) = (y[TH], y[THD] / tu, y[OM] / tu, y[W] / tu);
+        let h = m.applied();
+        crate::Sample {
+            t: t * tu,
+            theta,
+            theta_dot: thd,
+            precession: om,
+            spin: w,
+            ux: u_si[0],
+            uy: u_si[1],
+            uz: u_si[2],
+            normal: normal * sc.force(),
+            slip: slip[0].hypot(slip[1]) * vu,
+            jellett: crate::observe::jellett(&m.top, theta, om, w),
+            energy: crate::observe::energy(&m.top, m.gravity_si, theta, thd, om, w, u_si),
+            work_friction: y[WF] * sc.energy(),
+            work_applied: y[WA] * sc.energy(),
+            hx: h[0] * sc.force(),
+            hy: h[1] * sc.force(),
+            rolling: (m.plane.mode == Mode::Rolling) as u8,
+        }
+    }
+    fn describe_state(&self, y: &[f64]) -> String {
+        let tu = self.scales.time;
+        let vu = self.scales.velocity();
+        format!(
+            "state: theta = {}, theta_dot = {:e} rad/s, Omega = {:e} rad/s, omega = {:e} rad/s, ux = {:e} m/s, uy = {:e} m/s",
+            y[TH],
+            y[THD] / tu,
+            y[OM] / tu,
+            y[W] / tu,
+            y[UX] * vu,
+            y[UY] * vu
+        )
     }
 }
 

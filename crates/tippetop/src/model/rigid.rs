@@ -169,7 +169,7 @@ use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
-use crate::simulate::{RunEnd, Track, summarize};
+use crate::sim::record::{RunEnd, Track, summarize};
 use crate::{
     ContactMode, Error, Forcing, FrictionLaw, Sample, Scenario, Top, Trajectory,
     integrate::{self, Direction, Event, IntegrateError, OdeSystem, StopReason},
@@ -1130,7 +1130,7 @@ pub fn run_observed(
 }
 
 /// As [`run_observed`], also calling `progress(t / t_end)` every
-/// [`crate::simulate::PROGRESS_EVERY`] accepted steps (see
+/// [`crate::sim::record::PROGRESS_EVERY`] accepted steps (see
 /// [`crate::simulate::simulate_with_progress`]).
 pub fn run_with_progress(
     sc: &Scenario,
@@ -1139,19 +1139,19 @@ pub fn run_with_progress(
 ) -> Trajectory {
     let mut m = Rigid::new(sc);
     let tu = m.scales.time;
-    let crate::simulate::RunSetup {
+    let crate::sim::record::RunSetup {
         t_end,
         sample_times,
         tstops,
         mut opts,
-    } = crate::simulate::RunSetup::new(sc, tu);
+    } = crate::sim::record::RunSetup::new(sc, tu);
     let ns = sc.solver.samples;
     // The step limit holds for the whole run, over all its `solve` calls.
     let step_cap = opts.max_steps;
 
     let mut y = m.scale_state(&sc.initial);
     m.latch_force(0.0);
-    let mut events_out = crate::simulate::EventList::default();
+    let mut events_out = crate::sim::record::EventList::default();
     for &ts in &tstops {
         events_out.push(ts * tu, "force_switch");
     }
@@ -1195,7 +1195,7 @@ pub fn run_with_progress(
     let mut t = 0.0;
     let mut error: Option<Error> = None;
     let mut first_above: Option<f64> = (m.theta(&y) > FRAC_PI_2).then_some(0.0);
-    let mut normal_log = crate::simulate::NormalLog::new(n_initial);
+    let mut normal_log = crate::sim::record::NormalLog::new(n_initial);
     let mut transitions = 0usize;
     let mut bounces = 0usize;
     let mut switches = 0usize;
@@ -1223,7 +1223,7 @@ pub fn run_with_progress(
         let mut on_step = |s: &Rigid, t: f64, y: &[f64; DIM]| {
             steps_seen += 1;
             last_accepted_t = t;
-            if steps_seen % crate::simulate::PROGRESS_EVERY == 0 {
+            if steps_seen % crate::sim::record::PROGRESS_EVERY == 0 {
                 progress((t / t_end).clamp(0.0, 1.0));
             }
             last_accepted = *y;
@@ -1286,7 +1286,7 @@ pub fn run_with_progress(
         // model could not be evaluated.)
         if let (Some(ts), Ok(_)) = (nonfinite_at, &res) {
             samples.retain(|r| r.t < ts * tu);
-            error = Some(crate::simulate::nonfinite_output_error(
+            error = Some(crate::sim::messages::nonfinite_output_error(
                 ts * tu,
                 &describe_state(&m, &last_accepted),
             ));
@@ -1302,11 +1302,20 @@ pub fn run_with_progress(
                     IntegrateError::Rhs { t, y_last, err } => {
                         let why = match err {
                             RigidError::Painleve { theta, solutions } => {
-                                crate::simulate::painleve_why(sc, "N equation", theta, solutions)
+                                crate::sim::messages::painleve_why(
+                                    sc,
+                                    "N equation",
+                                    theta,
+                                    solutions,
+                                )
                             }
                             other => other.to_string(),
                         };
-                        (t, crate::simulate::unstable_rk4(sc, &track, why), y_last)
+                        (
+                            t,
+                            crate::sim::messages::unstable_rk4(sc, &track, why),
+                            y_last,
+                        )
                     }
                     IntegrateError::StepUnderflow { t, h, y_last } => (
                         t,
@@ -1315,7 +1324,7 @@ pub fn run_with_progress(
                     ),
                     IntegrateError::NonFinite { t, y_last } => (
                         t,
-                        crate::simulate::unstable_rk4(
+                        crate::sim::messages::unstable_rk4(
                             sc,
                             &track,
                             "the solution became NaN or infinite".to_string(),
@@ -1324,7 +1333,7 @@ pub fn run_with_progress(
                     ),
                     IntegrateError::TooManySteps { t, .. } => (
                         t,
-                        crate::simulate::step_limit_why(sc, step_cap),
+                        crate::sim::messages::step_limit_why(sc, step_cap),
                         last_accepted.to_vec(),
                     ),
                 };
@@ -1478,12 +1487,12 @@ pub fn run_with_progress(
                     }
                     StopReason::Terminal(EV_SWITCH) => {
                         switches += 1;
-                        if switches > crate::simulate::MAX_SWITCHES {
+                        if switches > crate::sim::record::MAX_SWITCHES {
                             error = Some(Error::runtime(
                                 t * tu,
                                 format!(
                                     "more than {} stick/slip switches",
-                                    crate::simulate::MAX_SWITCHES
+                                    crate::sim::record::MAX_SWITCHES
                                 ),
                             ));
                             break;

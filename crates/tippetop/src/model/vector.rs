@@ -556,7 +556,7 @@ impl OdeSystem<DIM> for Vector {
     }
 }
 
-impl crate::simulate::ContactModel<DIM> for Vector {
+impl super::ContactModel<DIM> for Vector {
     fn build(sc: &Scenario) -> Self {
         Vector::new(sc)
     }

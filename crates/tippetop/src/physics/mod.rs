@@ -1,5 +1,6 @@
 //! Physics written once and used by every model (docs/architecture.md):
-//! for now the van der Waals adhesion of a fullerene on graphene or
-//! graphite.
+//! the unit system of the scaled models, and the van der Waals adhesion of
+//! a fullerene on graphene or graphite.
 
 pub mod adhesion;
+pub mod units;

@@ -10,7 +10,10 @@
 //! units or scaled values overflow or underflow is bad input (exit code 2),
 //! not a run that fails.
 
-use crate::{Error, Method, Sample, Scenario, SolverSettings, observe};
+use crate::{Error, Scenario, SolverSettings, observe};
+
+/// The bounds of the solver settings live with them (`state`).
+pub use crate::state::{BYTES_PER_SAMPLE, MAX_SAMPLES, MAX_STEPS, max_steps_for};
 
 /// Largest `t_end / T_ref`, the run's length in its own time unit `T_ref`
 /// (the inverse of the fastest initial rate: spin, precession, nutation
@@ -23,23 +26,6 @@ use crate::{Error, Method, Sample, Scenario, SolverSettings, observe};
 /// beyond the step limit [`MAX_STEPS`] anyway.
 pub const MAX_SCALED_T_END: f64 = 1e9;
 
-/// Largest number of accepted steps of one run, over all its integration
-/// segments and every method; a run that reaches it stops with a run-time
-/// error (exit code 3). Measured (release build, one core of a shared
-/// 2-core machine, classical preset with `initial.spin = 1e8`, which needs
-/// far more steps): 20 million DOP853 steps take 39 s (reduced model), 46 s
-/// (vector), 47 s (rigid), with memory flat at 6 to 21 MB; so a run that
-/// cannot make progress stops within about a minute. The stiff method gets
-/// a tenth ([`max_steps_for`]). `solver.max_steps` lowers (or restores) it.
-pub const MAX_STEPS: u64 = 20_000_000;
-
-/// Largest number of output rows (`solver.samples`). One row takes
-/// [`BYTES_PER_SAMPLE`] (144) bytes in memory (and about 310 bytes of CSV),
-/// so 5 000 000 rows need 0.72 GB while the run is kept in memory (and a
-/// 1.5 GB trajectory.csv): under the few GB of an ordinary machine. A sweep
-/// keeps one run per thread: [`run_memory_bytes`] times the threads.
-pub const MAX_SAMPLES: usize = 5_000_000;
-
 /// Largest number of events a run records (`Trajectory::events`); further
 /// events still enter the summary (first times, the fraction of the time
 /// with N < 0) but are not listed, and a single `"event_limit_reached"`
@@ -47,9 +33,6 @@ pub const MAX_SAMPLES: usize = 5_000_000;
 /// whose motion chatters can cross `N = 0` millions of times; the list
 /// would otherwise grow with the steps taken, not with the samples kept.
 pub const MAX_EVENTS: usize = 100_000;
-
-/// Memory of one output row in a [`crate::Trajectory`] plus its sample time \[bytes\].
-pub const BYTES_PER_SAMPLE: u64 = (std::mem::size_of::<Sample>() + 8) as u64;
 
 /// Largest memory one run may need for the rows and events it keeps
 /// \[bytes\]: 1 GiB. [`run_memory_bytes`] of a valid scenario stays below it.
@@ -63,18 +46,6 @@ pub fn run_memory_bytes(solver: &SolverSettings) -> u64 {
     (solver.samples as u64)
         .saturating_mul(BYTES_PER_SAMPLE)
         .saturating_add(MAX_EVENTS as u64 * event)
-}
-
-/// The default step limit of a run with `method`: [`MAX_STEPS`] for the
-/// explicit methods; a tenth of it for the stiff method (Rodas4P), whose
-/// steps cost up to about ten DOP853 steps each (a numerical Jacobian, an LU
-/// decomposition and five stages): 2 million of them took 4 s (nano preset,
-/// `force.0.hy = 1e-12`) to 12 s (rigid model, classical, spin 1e8).
-pub fn max_steps_for(method: Method) -> u64 {
-    match method {
-        Method::Stiff => MAX_STEPS / 10,
-        Method::Adaptive | Method::Rk4 => MAX_STEPS,
-    }
 }
 
 /// The rates that define the time unit `T_ref` \[1/s\], each with the scenario

@@ -1,0 +1,87 @@
+//! The messages of run-time failures: what stopped a run and what to do.
+
+use crate::{Error, Method, Scenario, sim::record::Track};
+
+/// Why a run of `sc` stopped at its step limit `cap`, with a hint at why it
+/// cannot make progress.
+pub(crate) fn step_limit_why(sc: &Scenario, cap: u64) -> String {
+    let mean = sc.solver.t_end / cap as f64;
+    let hint = match (sc.surface.law, sc.solver.method) {
+        (crate::FrictionLaw::Coulomb, _) => {
+            "stick/slip switches or N = 0 crossings that follow each other ever faster, or a rate far faster than t_end"
+        }
+        (crate::FrictionLaw::CoulombSliding, _) => {
+            "a slip that chatters around zero: try friction_law = \"coulomb\" (exact stick/slip)"
+        }
+        (_, Method::Stiff) => "a stiff friction law near rolling: try a larger friction_eps",
+        _ => "a stiff friction law near rolling: try method = \"stiff\" or a larger friction_eps",
+    };
+    let periods = sc.solver.t_end / crate::limits::time_unit(sc);
+    format!(
+        "step limit {cap} reached (the run cannot make progress: the motion needs steps far shorter than t_end / {cap} = {mean:e} s; {hint}; t_end is {periods:.3e} time units T_ref of the fastest initial rate; solver.max_steps sets the limit, at most {})",
+        crate::limits::MAX_STEPS
+    )
+}
+
+/// The error of a run whose output row at `t` \[s\] is not finite.
+pub(crate) fn nonfinite_output_error(t: f64, state: &str) -> Error {
+    Error::runtime(
+        t,
+        format!(
+            "the output became NaN or infinite (a value overflows f64 in SI units); last accepted {state}"
+        ),
+    )
+}
+
+/// The friction law as a phrase for messages.
+pub(crate) fn law_phrase(law: crate::FrictionLaw) -> String {
+    match law {
+        crate::FrictionLaw::Coulomb => "Coulomb friction (friction_law = \"coulomb\")".into(),
+        crate::FrictionLaw::CoulombSliding => {
+            "sliding Coulomb friction (friction_law = \"coulomb_sliding\")".into()
+        }
+        crate::FrictionLaw::Regularized { eps } => {
+            format!(
+                "regularized friction (friction_law = \"regularized\", friction_eps = {eps} m/s)"
+            )
+        }
+        crate::FrictionLaw::Viscous { eps } => {
+            format!("viscous friction (friction_law = \"viscous\", friction_eps = {eps} m/s)")
+        }
+    }
+}
+
+/// Why a run of `sc` failed with the Painlevé case at `theta` \[rad\]
+/// (`solutions` consistent normal forces, 0 or 2, of the model's `system`
+/// of equations), naming the run's law.
+pub(crate) fn painleve_why(sc: &Scenario, system: &str, theta: f64, solutions: usize) -> String {
+    format!(
+        "Painleve paradox at theta = {theta}: the {system} with {} has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists",
+        law_phrase(sc.surface.law)
+    )
+}
+
+/// Relative energy-balance error beyond which a failed fixed-step (RK4) run
+/// is reported as unstable rather than by the failure that ended it.
+pub(crate) const RK4_UNSTABLE_BALANCE: f64 = 1e-2;
+
+/// A failed RK4 run whose energy balance was already off by more than
+/// [`RK4_UNSTABLE_BALANCE`]: the fixed step made the solution unstable, and
+/// `why` (a Painlevé case, a NaN) is a consequence, not the physics. Any
+/// other failure of an RK4 run says that its fixed step may be the cause.
+pub(crate) fn unstable_rk4(sc: &Scenario, track: &Track, why: String) -> String {
+    let rel = track.balance_rel();
+    if sc.solver.method == Method::Rk4 && (rel.is_nan() || rel > RK4_UNSTABLE_BALANCE) {
+        format!(
+            "the RK4 solution became unstable (energy balance error {rel:.1e} of max |E|): the fixed step t_end / steps = {:e} s is too long for this motion, raise solver.steps or use method = \"adaptive\"; it ended with: {why}",
+            sc.solver.t_end / sc.solver.steps as f64
+        )
+    } else if sc.solver.method == Method::Rk4 {
+        format!(
+            "{why} (method = \"rk4\" with a fixed step t_end / steps = {:e} s: check that it persists with more steps or method = \"adaptive\")",
+            sc.solver.t_end / sc.solver.steps as f64
+        )
+    } else {
+        why
+    }
+}

@@ -1,0 +1,356 @@
+//! The record of a run and its set-up, shared by every model's driver.
+
+use crate::{
+    Error, EventRecord, Method, Sample, Scenario, Summary,
+    integrate::{self, Options, Stepper},
+};
+
+/// Accepted steps between two calls of the progress callback of
+/// [`crate::simulate::simulate_with_progress`].
+pub const PROGRESS_EVERY: u64 = 1 << 14;
+
+/// Largest number of stick/slip switches of one run before it is stopped.
+pub const MAX_SWITCHES: usize = 200_000;
+
+/// The events a run records: at most [`crate::limits::MAX_EVENTS`], then one
+/// `"event_limit_reached"` record (see there).
+#[derive(Debug, Default)]
+pub(crate) struct EventList {
+    list: Vec<EventRecord>,
+    dropped: u64,
+}
+
+impl EventList {
+    /// Record an event of `kind` at `t` \[s\] (or count it if the list is full).
+    pub(crate) fn push(&mut self, t: f64, kind: &str) {
+        if self.list.len() < crate::limits::MAX_EVENTS {
+            self.list.push(EventRecord {
+                t,
+                kind: kind.into(),
+            });
+        } else {
+            if self.dropped == 0 {
+                self.list.push(EventRecord {
+                    t,
+                    kind: "event_limit_reached".into(),
+                });
+            }
+            self.dropped += 1;
+        }
+    }
+
+    /// The records in time order.
+    pub(crate) fn into_sorted(mut self) -> Vec<EventRecord> {
+        self.list.sort_by(|a, b| a.t.total_cmp(&b.t));
+        self.list
+    }
+}
+
+pub(crate) fn unit(v: [f64; 2]) -> [f64; 2] {
+    let n = v[0].hypot(v[1]);
+    if n > 0.0 {
+        [v[0] / n, v[1] / n]
+    } else {
+        [0.0, 0.0]
+    }
+}
+
+/// Running diagnostics of a run (scaled units), updated at every accepted
+/// step, sample and event by the drivers of every model.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Track {
+    j0: f64,
+    j_dev_max: f64,
+    omega_abs_max: f64,
+    e0: f64,
+    e_abs_max: f64,
+    balance_max: f64,
+    theta_max: f64,
+}
+
+impl Track {
+    /// Start from θ, ω, J and the energy E (if it could be evaluated) at t = 0.
+    pub(crate) fn new(theta: f64, omega: f64, j: f64, energy: Option<f64>) -> Self {
+        let e0 = energy.unwrap_or(0.0);
+        Track {
+            j0: j,
+            j_dev_max: 0.0,
+            omega_abs_max: omega.abs(),
+            e0,
+            e_abs_max: e0.abs(),
+            balance_max: 0.0,
+            theta_max: theta,
+        }
+    }
+
+    /// The largest energy-balance error so far relative to max |E| (NaN-safe:
+    /// infinite if the balance is not finite).
+    pub(crate) fn balance_rel(&self) -> f64 {
+        let r = if self.e_abs_max > 0.0 {
+            self.balance_max / self.e_abs_max
+        } else {
+            self.balance_max
+        };
+        if r.is_nan() { f64::INFINITY } else { r }
+    }
+
+    /// Take the maxima of `other` (a track of the same run) too.
+    pub(crate) fn merge(&mut self, other: &Track) {
+        self.j_dev_max = self.j_dev_max.max(other.j_dev_max);
+        self.omega_abs_max = self.omega_abs_max.max(other.omega_abs_max);
+        self.e_abs_max = self.e_abs_max.max(other.e_abs_max);
+        self.balance_max = self.balance_max.max(other.balance_max);
+        self.theta_max = self.theta_max.max(other.theta_max);
+    }
+
+    /// Record a state: θ, ω, J, the energy E (if it could be evaluated) and
+    /// the work done so far `W_f + W_a`.
+    pub(crate) fn record(
+        &mut self,
+        theta: f64,
+        omega: f64,
+        j: f64,
+        energy: Option<f64>,
+        work: f64,
+    ) {
+        self.theta_max = self.theta_max.max(theta);
+        self.omega_abs_max = self.omega_abs_max.max(omega.abs());
+        self.j_dev_max = self.j_dev_max.max((j - self.j0).abs());
+        if let Some(en) = energy {
+            self.e_abs_max = self.e_abs_max.max(en.abs());
+            self.balance_max = self.balance_max.max((en - self.e0 - work).abs());
+        }
+    }
+}
+
+/// What a driver knows at the end of a run, besides its [`Track`].
+pub(crate) struct RunEnd<'a> {
+    /// Time reached (scaled).
+    pub t: f64,
+    /// Time unit \[s\].
+    pub time_unit: f64,
+    /// C/(m R²): the J drift is relative to C max|ω| R.
+    pub axial: f64,
+    /// The final output row and θ there.
+    pub last: &'a Sample,
+    /// All output rows.
+    pub samples: &'a [Sample],
+    /// First time θ > π/2 \[s\].
+    pub first_above: Option<f64>,
+    /// First time N < 0 \[s\] and fraction of the time with N < 0.
+    pub contact: (Option<f64>, f64),
+    /// Time spent rolling (scaled).
+    pub rolling_time: f64,
+    /// Work counters.
+    pub stats: integrate::Stats,
+    /// The run-time failure, if any.
+    pub error: Option<&'a Error>,
+}
+
+/// The run's [`Summary`] from its [`Track`] and its end.
+pub(crate) fn summarize(track: &Track, end: RunEnd<'_>) -> Summary {
+    let ratio = |num: f64, den: f64| if den > 0.0 { num / den } else { num };
+    let t = end.t;
+    Summary {
+        t_end: t * end.time_unit,
+        theta_final: end.last.theta,
+        theta_max: track.theta_max,
+        omega_final: end.last.spin,
+        precession_final: end.last.precession,
+        jellett_initial: end.samples.first().map(|s| s.jellett).unwrap_or(f64::NAN),
+        jellett_max_rel_drift: ratio(track.j_dev_max, end.axial * track.omega_abs_max),
+        energy_initial: end.samples.first().map(|s| s.energy).unwrap_or(f64::NAN),
+        energy_final: end.last.energy,
+        energy_balance_max_rel_error: ratio(track.balance_max, track.e_abs_max),
+        first_time_theta_above_half_pi: end.first_above,
+        contact_lost_at: end.contact.0,
+        negative_normal_fraction: end.contact.1,
+        rolling_fraction: if t > 0.0 { end.rolling_time / t } else { 0.0 },
+        steps: end.stats.steps,
+        rejected_steps: end.stats.rejected,
+        rhs_evaluations: end.stats.rhs_evals,
+        status: match end.error {
+            None => "ok".into(),
+            Some(e) => e.to_string(),
+        },
+    }
+}
+
+/// The sign history of the normal force N: its sign at t = 0 and the
+/// (scaled) times it crossed zero, from events or from jumps at force
+/// switches. Shared by the drivers of every model. Constant memory: the
+/// first crossing, the number of crossings and the time with N < 0 so far.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NormalLog {
+    negative_at_start: bool,
+    first: Option<f64>,
+    count: u64,
+    last: f64,
+    neg_time: f64,
+}
+
+impl NormalLog {
+    /// Start with N(0) = `n_initial` (NaN counts as non-negative).
+    pub fn new(n_initial: f64) -> Self {
+        NormalLog {
+            negative_at_start: n_initial < 0.0,
+            first: None,
+            count: 0,
+            last: 0.0,
+            neg_time: 0.0,
+        }
+    }
+
+    /// Record a crossing at scaled time `t`; returns the event kind,
+    /// "contact_lost" (N now < 0) or "contact_regained".
+    pub fn cross(&mut self, t: f64) -> &'static str {
+        if self.negative_now() {
+            self.neg_time += t - self.last;
+        }
+        self.last = t;
+        self.first.get_or_insert(t);
+        self.count += 1;
+        if self.negative_now() {
+            "contact_lost"
+        } else {
+            "contact_regained"
+        }
+    }
+
+    /// Whether N is negative after the crossings recorded so far.
+    pub fn negative_now(&self) -> bool {
+        self.negative_at_start != (self.count % 2 == 1)
+    }
+
+    /// First time N < 0 (scaled), if ever.
+    pub fn first_negative(&self) -> Option<f64> {
+        if self.negative_at_start {
+            Some(0.0)
+        } else {
+            self.first
+        }
+    }
+
+    /// Fraction of `[0, t_final]` with N < 0 (`t_final` not before the
+    /// last crossing).
+    pub fn negative_fraction(&self, t_final: f64) -> f64 {
+        if t_final <= 0.0 {
+            return 0.0;
+        }
+        let mut neg_time = self.neg_time;
+        if self.negative_now() {
+            neg_time += t_final - self.last;
+        }
+        neg_time / t_final
+    }
+}
+
+/// What every model's driver needs from a scenario, in scaled time: the
+/// end time, the sample times, the force-switch times inside the run, and
+/// the integrator options.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSetup {
+    /// End time (scaled).
+    pub t_end: f64,
+    /// Evenly spaced sample times on `[0, t_end]`, the last exactly `t_end`.
+    pub sample_times: Vec<f64>,
+    /// Switch times of the force schedule strictly inside `(0, t_end)`.
+    pub tstops: Vec<f64>,
+    /// Integrator options from `[solver]`.
+    pub opts: Options,
+}
+
+impl RunSetup {
+    /// The setup of `sc` with time unit `time_unit` \[s\].
+    pub fn new(sc: &Scenario, time_unit: f64) -> Self {
+        let t_end = sc.solver.t_end / time_unit;
+        let ns = sc.solver.samples;
+        let sample_times = (0..ns)
+            .map(|i| {
+                if i + 1 == ns {
+                    t_end
+                } else {
+                    t_end * i as f64 / (ns - 1) as f64
+                }
+            })
+            .collect();
+        let tstops = sc
+            .forcing
+            .switch_times()
+            .into_iter()
+            .map(|t| t / time_unit)
+            .filter(|&t| t > 0.0 && t < t_end)
+            .collect();
+        let opts = Options {
+            stepper: match sc.solver.method {
+                Method::Adaptive => Stepper::Dop853 {
+                    rtol: sc.solver.rtol,
+                    atol: sc.solver.rtol,
+                    beta: 0.0,
+                    stability_cap: false,
+                },
+                Method::Stiff => Stepper::Rosenbrock {
+                    rtol: sc.solver.rtol,
+                    atol: sc.solver.rtol,
+                },
+                Method::Rk4 => Stepper::Rk4 {
+                    h: t_end / sc.solver.steps as f64,
+                },
+            },
+            max_steps: sc.solver.step_limit(),
+            h0: None,
+            // Samples and events are read from the dense output, whose error
+            // the step-size control does not see: with steps much longer than
+            // the time scale of the motion (a tiny nutation on a steady
+            // precession lets DOP853 take steps of a whole period) the
+            // interpolant is far less accurate than the step ends. No step
+            // longer than the sample spacing keeps the dense output at the
+            // step-error level.
+            h_max: Some(t_end / (ns - 1) as f64),
+        };
+        RunSetup {
+            t_end,
+            sample_times,
+            tstops,
+            opts,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{EventList, NormalLog};
+    use crate::limits::MAX_EVENTS;
+
+    /// At most MAX_EVENTS records, then one marker; memory stays bounded
+    /// however many events a run has.
+    #[test]
+    fn event_list_is_capped() {
+        let mut l = EventList::default();
+        for k in 0..MAX_EVENTS + 1000 {
+            l.push(k as f64, "contact_lost");
+        }
+        assert_eq!(l.dropped, 1000);
+        let v = l.into_sorted();
+        assert_eq!(v.len(), MAX_EVENTS + 1);
+        assert_eq!(v[MAX_EVENTS].kind, "event_limit_reached");
+        assert_eq!(v[MAX_EVENTS].t, MAX_EVENTS as f64);
+        assert_eq!(v[MAX_EVENTS - 1].kind, "contact_lost");
+    }
+
+    #[test]
+    fn normal_log_fraction_and_first_time() {
+        let mut l = NormalLog::new(1.0);
+        assert_eq!(l.first_negative(), None);
+        assert_eq!(l.cross(2.0), "contact_lost");
+        assert_eq!(l.cross(3.0), "contact_regained");
+        assert_eq!(l.cross(8.0), "contact_lost");
+        assert_eq!(l.first_negative(), Some(2.0));
+        // Negative on [2, 3) and [8, 10]: 3 of 10.
+        assert_eq!(l.negative_fraction(10.0), 0.3);
+        let mut l = NormalLog::new(-1.0);
+        assert_eq!(l.first_negative(), Some(0.0));
+        assert_eq!(l.cross(4.0), "contact_regained");
+        assert_eq!(l.negative_fraction(8.0), 0.5);
+    }
+}
