@@ -15,6 +15,7 @@ use crate::{
         reduced::{self, DIM, Mode, ModelError, Reduced},
         vector::{self, Vector},
     },
+    sim::events::{self, Happened, Watch},
     sim::messages::{nonfinite_output_error, painleve_why, step_limit_why, unstable_rk4},
     sim::record::{EventList, NormalLog, RunEnd, RunSetup, Track, summarize, unit},
 };
@@ -56,27 +57,27 @@ pub fn simulate_with_progress(
     }
 }
 
-// Event indices.
-const EV_HALF_PI: usize = 0;
-const EV_THETA_MAX: usize = 1;
-const EV_NORMAL: usize = 2;
-const EV_SWITCH: usize = 3;
-
-fn events_for<M: ContactModel<D>, const D: usize>(m: &M) -> Vec<Event<M, D>> {
-    let mut ev: Vec<Event<M, D>> = vec![
-        Event {
-            g: Box::new(|m: &M, _, y| m.above_half_pi(y)),
-            direction: Direction::Rising,
-            terminal: false,
-            step_to_event: false,
-        },
-        Event {
-            g: Box::new(|m: &M, _, y| m.theta_rate(y)),
-            direction: Direction::Falling,
-            terminal: false,
-            step_to_event: false,
-        },
-        {
+fn events_for<M: ContactModel<D>, const D: usize>(m: &M) -> Vec<(Watch, Event<M, D>)> {
+    let mut ev: Vec<(Watch, Event<M, D>)> = vec![
+        (
+            Watch::ThetaAboveHalfPi,
+            Event {
+                g: Box::new(|m: &M, _, y| m.above_half_pi(y)),
+                direction: Direction::Rising,
+                terminal: false,
+                step_to_event: false,
+            },
+        ),
+        (
+            Watch::ThetaMax,
+            Event {
+                g: Box::new(|m: &M, _, y| m.theta_rate(y)),
+                direction: Direction::Falling,
+                terminal: false,
+                step_to_event: false,
+            },
+        ),
+        (Watch::NormalZero, {
             // Bilateral contact, sliding: N = 0 ends the segment, where the
             // driver flips the latched branch; watched only in the direction
             // that leaves the latched sign (a restart a rounding error short
@@ -100,26 +101,32 @@ fn events_for<M: ContactModel<D>, const D: usize>(m: &M) -> Vec<Event<M, D>> {
                 // 1.05e-10; docs/physics.md §4).
                 step_to_event: terminal && plane.latches_normal(),
             }
-        },
+        }),
     ];
     if m.plane().is_exact() {
         match m.plane().mode {
-            Mode::Sliding => ev.push(Event {
-                g: Box::new(|m: &M, _, y| {
-                    let v = m.slip_of(y);
-                    let r = m.plane().slip_ref.get();
-                    v[0] * r[0] + v[1] * r[1]
-                }),
-                direction: Direction::Falling,
-                terminal: true,
-                step_to_event: false,
-            }),
-            Mode::Rolling => ev.push(Event {
-                g: Box::new(|m: &M, _, y| m.stick_margin(y).unwrap_or(f64::NAN)),
-                direction: Direction::Falling,
-                terminal: true,
-                step_to_event: false,
-            }),
+            Mode::Sliding => ev.push((
+                Watch::SlipZero,
+                Event {
+                    g: Box::new(|m: &M, _, y| {
+                        let v = m.slip_of(y);
+                        let r = m.plane().slip_ref.get();
+                        v[0] * r[0] + v[1] * r[1]
+                    }),
+                    direction: Direction::Falling,
+                    terminal: true,
+                    step_to_event: false,
+                },
+            )),
+            Mode::Rolling => ev.push((
+                Watch::StickLimit,
+                Event {
+                    g: Box::new(|m: &M, _, y| m.stick_margin(y).unwrap_or(f64::NAN)),
+                    direction: Direction::Falling,
+                    terminal: true,
+                    step_to_event: false,
+                },
+            )),
         }
     }
     ev
@@ -187,14 +194,21 @@ fn run_contact<M: ContactModel<D>, const D: usize>(
     m.latch_force(0.0);
     let mut events_out = EventList::default();
     for &ts in &tstops {
-        events_out.push(ts * tu, "force_switch");
+        events_out.push(ts * tu, Happened::ForceSwitch);
     }
     if m.plane().is_exact() {
         let v = m.slip_of(&y);
         if v[0].hypot(v[1]) == 0.0 {
             let (yn, stuck) = settle_at_zero_slip(&mut m, &y);
             y = yn;
-            events_out.push(0.0, if stuck { "stick" } else { "slip" });
+            events_out.push(
+                0.0,
+                if stuck {
+                    Happened::Stick
+                } else {
+                    Happened::Slip
+                },
+            );
         } else {
             m.plane().slip_ref.set(unit(v));
         }
@@ -242,7 +256,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(
                 m.plane_mut().normal_branch = Some(n >= 0.0);
             }
         }
-        let events = events_for(&m);
+        let (watches, events) = events::split(events_for(&m));
         opts.max_steps = step_cap.saturating_sub(steps_seen);
         let next = samples.len();
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
@@ -279,15 +293,15 @@ fn run_contact<M: ContactModel<D>, const D: usize>(
         // The events of this call as they fire (also those before a
         // failure). θ maxima go into their own track, merged below (the
         // maxima do not depend on the order).
-        let mut on_event = |s: &M, f: &integrate::Fired<D>| match f.index {
-            EV_HALF_PI if first_above.is_none() => {
+        let mut on_event = |s: &M, f: &integrate::Fired<D>| match watches[f.index] {
+            Watch::ThetaAboveHalfPi if first_above.is_none() => {
                 first_above = Some(f.t * tu);
-                events_out.push(f.t * tu, "theta_above_half_pi");
+                events_out.push(f.t * tu, Happened::ThetaAboveHalfPi);
             }
-            EV_THETA_MAX => visit(&mut event_track, s, &f.y),
-            EV_NORMAL => {
-                let kind = normal_log.cross(f.t);
-                events_out.push(f.t * tu, kind);
+            Watch::ThetaMax => visit(&mut event_track, s, &f.y),
+            Watch::NormalZero => {
+                let what = normal_log.cross(f.t);
+                events_out.push(f.t * tu, what);
             }
             _ => {}
         };
@@ -410,17 +424,19 @@ fn run_contact<M: ContactModel<D>, const D: usize>(
                                     if let Some(s0) = rolling_since.take() {
                                         rolling_time += t - s0;
                                     }
-                                    events_out.push(t * tu, "slip");
+                                    events_out.push(t * tu, Happened::Slip);
                                 }
                             }
                         }
                     }
-                    StopReason::Terminal(EV_NORMAL) if m.plane().latches_normal() => {
+                    StopReason::Terminal(i)
+                        if watches[i] == Watch::NormalZero && m.plane().latches_normal() =>
+                    {
                         // N = 0 (bilateral): continue on the other branch.
                         let b = m.plane().normal_branch;
                         m.plane_mut().normal_branch = b.map(|pos| !pos);
                     }
-                    StopReason::Terminal(EV_NORMAL) => {
+                    StopReason::Terminal(i) if watches[i] == Watch::NormalZero => {
                         error = Some(Error::runtime(
                             t * tu,
                             format!(
@@ -430,7 +446,9 @@ fn run_contact<M: ContactModel<D>, const D: usize>(
                         ));
                         break;
                     }
-                    StopReason::Terminal(EV_SWITCH) => {
+                    StopReason::Terminal(i)
+                        if matches!(watches[i], Watch::SlipZero | Watch::StickLimit) =>
+                    {
                         m.plane_mut().normal_branch = None;
                         switches += 1;
                         if switches > MAX_SWITCHES {
@@ -446,7 +464,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(
                                 y = yn;
                                 if stuck {
                                     rolling_since = Some(t);
-                                    events_out.push(t * tu, "stick");
+                                    events_out.push(t * tu, Happened::Stick);
                                 }
                             }
                             Mode::Rolling => {
@@ -460,7 +478,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(
                                 if let Some(s0) = rolling_since.take() {
                                     rolling_time += t - s0;
                                 }
-                                events_out.push(t * tu, "slip");
+                                events_out.push(t * tu, Happened::Slip);
                             }
                         }
                     }

@@ -161,14 +161,15 @@
 //!   without a contact phase, a bounce whose flight would be shorter than
 //!   1e-6 time units also ends in contact (Zeno guard).
 //!
-//! Every lift-off and touchdown is an [`crate::EventRecord`] (`"lift_off"`,
-//! `"touchdown"`). For unilateral contact, `contact_lost_at` is the first
+//! Every lift-off and touchdown is an [`crate::EventRecord`] (`Happened::LiftOff`,
+//! `Happened::Touchdown`). For unilateral contact, `contact_lost_at` is the first
 //! lift-off and `negative_normal_fraction` the fraction of time in flight.
 
 use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
+use crate::sim::events::{self, Happened, Watch};
 use crate::sim::record::{RunEnd, Track, summarize};
 use crate::{
     ContactMode, Error, Forcing, FrictionLaw, Sample, Scenario, Top, Trajectory,
@@ -889,87 +890,105 @@ impl OdeSystem<DIM> for Rigid {
 // ---------------------------------------------------------------------------
 // The driver.
 
-const EV_HALF_PI: usize = 0;
-const EV_THETA_MAX: usize = 1;
-const EV_CONTACT: usize = 2;
-/// In flight: the penetration guard.
-const EV_GUARD: usize = 3;
-/// In contact, exact law: the stick/slip switch (slip zero while sliding,
-/// stick margin zero while rolling). Same index as [`EV_GUARD`], which only
-/// exists in flight.
-const EV_SWITCH: usize = 3;
-
 /// Penetration \[R\] at which the guard event declares a touchdown.
 pub const PENETRATION_GUARD: f64 = 1e-10;
 
-fn events_for(m: &Rigid) -> Vec<Event<Rigid, DIM>> {
-    let mut ev: Vec<Event<Rigid, DIM>> = vec![
+/// The events of the current phase and mode, each with what it watches
+/// for (in flight: touchdown and its guard; in contact: N = 0 and, under
+/// the exact law, the stick/slip switch).
+fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
+    let mut ev: Vec<(Watch, Event<Rigid, DIM>)> = vec![
         // θ rises through π/2 ⇔ k_Z falls through 0.
-        Event {
-            g: Box::new(|m, _, y| -m.kin(y).k[2]),
-            direction: Direction::Rising,
-            terminal: false,
-            step_to_event: false,
-        },
+        (
+            Watch::ThetaAboveHalfPi,
+            Event {
+                g: Box::new(|m, _, y| -m.kin(y).k[2]),
+                direction: Direction::Rising,
+                terminal: false,
+                step_to_event: false,
+            },
+        ),
         // θ̇ ∝ −(n × k)_Z falls through 0 at a local maximum of θ.
-        Event {
-            g: Box::new(|m, _, y| {
-                let kin = m.kin(y);
-                -cross(kin.n, kin.k)[2]
-            }),
-            direction: Direction::Falling,
-            terminal: false,
-            step_to_event: false,
-        },
+        (
+            Watch::ThetaMax,
+            Event {
+                g: Box::new(|m, _, y| {
+                    let kin = m.kin(y);
+                    -cross(kin.n, kin.k)[2]
+                }),
+                direction: Direction::Falling,
+                terminal: false,
+                step_to_event: false,
+            },
+        ),
     ];
     match (m.phase, m.contact) {
         (Phase::Flight, _) => {
-            ev.push(Event {
-                g: Box::new(|m, t, y| m.touchdown_function(t, y)),
-                direction: Direction::Falling,
-                terminal: true,
-                step_to_event: false,
-            });
+            ev.push((
+                Watch::Touchdown,
+                Event {
+                    g: Box::new(|m, t, y| m.touchdown_function(t, y)),
+                    direction: Direction::Falling,
+                    terminal: true,
+                    step_to_event: false,
+                },
+            ));
             // Guard: a touchdown the first event missed (gap back below 0
             // within the flight's first step) is caught at a penetration of
             // 1e-10 R.
-            ev.push(Event {
-                g: Box::new(|m, _, y| m.gap(y) + PENETRATION_GUARD),
+            ev.push((
+                Watch::PenetrationGuard,
+                Event {
+                    g: Box::new(|m, _, y| m.gap(y) + PENETRATION_GUARD),
+                    direction: Direction::Falling,
+                    terminal: true,
+                    step_to_event: false,
+                },
+            ));
+        }
+        (Phase::Contact, ContactMode::Unilateral) => ev.push((
+            Watch::NormalZero,
+            Event {
+                g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
                 direction: Direction::Falling,
                 terminal: true,
                 step_to_event: false,
-            });
-        }
-        (Phase::Contact, ContactMode::Unilateral) => ev.push(Event {
-            g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
-            direction: Direction::Falling,
-            terminal: true,
-            step_to_event: false,
-        }),
-        (Phase::Contact, _) => ev.push(Event {
-            g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
-            direction: Direction::Either,
-            terminal: false,
-            step_to_event: false,
-        }),
+            },
+        )),
+        (Phase::Contact, _) => ev.push((
+            Watch::NormalZero,
+            Event {
+                g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
+                direction: Direction::Either,
+                terminal: false,
+                step_to_event: false,
+            },
+        )),
     }
     if m.phase == Phase::Contact && m.exact {
-        debug_assert_eq!(ev.len(), EV_SWITCH);
         match m.mode {
             // v_P · d falls through zero, d the slip direction at the last
             // accepted step: the slip vector passes through zero along d.
-            Mode::Sliding => ev.push(Event {
-                g: Box::new(|m, _, y| dot(m.slip_of(y), m.slip_ref.get())),
-                direction: Direction::Falling,
-                terminal: true,
-                step_to_event: false,
-            }),
-            Mode::Rolling => ev.push(Event {
-                g: Box::new(|m, _, y| m.eval(y).map(|e| m.stick_margin(&e)).unwrap_or(f64::NAN)),
-                direction: Direction::Falling,
-                terminal: true,
-                step_to_event: false,
-            }),
+            Mode::Sliding => ev.push((
+                Watch::SlipZero,
+                Event {
+                    g: Box::new(|m, _, y| dot(m.slip_of(y), m.slip_ref.get())),
+                    direction: Direction::Falling,
+                    terminal: true,
+                    step_to_event: false,
+                },
+            )),
+            Mode::Rolling => ev.push((
+                Watch::StickLimit,
+                Event {
+                    g: Box::new(|m, _, y| {
+                        m.eval(y).map(|e| m.stick_margin(&e)).unwrap_or(f64::NAN)
+                    }),
+                    direction: Direction::Falling,
+                    terminal: true,
+                    step_to_event: false,
+                },
+            )),
         }
     }
     ev
@@ -1153,7 +1172,7 @@ pub fn run_with_progress(
     m.latch_force(0.0);
     let mut events_out = crate::sim::record::EventList::default();
     for &ts in &tstops {
-        events_out.push(ts * tu, "force_switch");
+        events_out.push(ts * tu, Happened::ForceSwitch);
     }
 
     let unilateral = m.contact == ContactMode::Unilateral;
@@ -1166,7 +1185,7 @@ pub fn run_with_progress(
         m.flight_start = 0.0;
         flight_since = Some(0.0);
         lift_offs.push(0.0);
-        events_out.push(0.0, "lift_off");
+        events_out.push(0.0, Happened::LiftOff);
     }
     let mut rolling_since: Option<f64> = None;
     let mut rolling_time = 0.0;
@@ -1177,7 +1196,14 @@ pub fn run_with_progress(
             if stuck {
                 rolling_since = Some(0.0);
             }
-            events_out.push(0.0, if stuck { "stick" } else { "slip" });
+            events_out.push(
+                0.0,
+                if stuck {
+                    Happened::Stick
+                } else {
+                    Happened::Slip
+                },
+            );
         } else {
             m.slip_ref.set(unit_h(v));
         }
@@ -1210,7 +1236,7 @@ pub fn run_with_progress(
     let mut nonfinite_at: Option<f64> = None;
 
     loop {
-        let events = events_for(&m);
+        let (watches, events) = events::split(events_for(&m));
         opts.max_steps = step_cap.saturating_sub(steps_seen);
         let next = samples.len();
         let mut on_sample = |s: &Rigid, t: f64, y: &[f64; DIM]| {
@@ -1256,15 +1282,15 @@ pub fn run_with_progress(
         let t_stop = tstops.iter().copied().find(|&s| s > t).unwrap_or(t_end);
         // The events of this call as they fire (also those before a
         // failure); θ maxima into their own track, merged below.
-        let mut on_event = |s: &Rigid, f: &integrate::Fired<DIM>| match f.index {
-            EV_HALF_PI if first_above.is_none() => {
+        let mut on_event = |s: &Rigid, f: &integrate::Fired<DIM>| match watches[f.index] {
+            Watch::ThetaAboveHalfPi if first_above.is_none() => {
                 first_above = Some(f.t * tu);
-                events_out.push(f.t * tu, "theta_above_half_pi");
+                events_out.push(f.t * tu, Happened::ThetaAboveHalfPi);
             }
-            EV_THETA_MAX => visit(&mut event_track, s, &f.y),
-            EV_CONTACT if !unilateral => {
-                let kind = normal_log.cross(f.t);
-                events_out.push(f.t * tu, kind);
+            Watch::ThetaMax => visit(&mut event_track, s, &f.y),
+            Watch::NormalZero if !unilateral => {
+                let what = normal_log.cross(f.t);
+                events_out.push(f.t * tu, what);
             }
             _ => {}
         };
@@ -1372,7 +1398,7 @@ pub fn run_with_progress(
                                     if let Some(s0) = rolling_since.take() {
                                         rolling_time += t - s0;
                                     }
-                                    events_out.push(t * tu, "slip");
+                                    events_out.push(t * tu, Happened::Slip);
                                 }
                             }
                         }
@@ -1386,12 +1412,15 @@ pub fn run_with_progress(
                                 m.flight_start = t;
                                 flight_since = Some(t);
                                 lift_offs.push(t);
-                                events_out.push(t * tu, "lift_off");
+                                events_out.push(t * tu, Happened::LiftOff);
                             }
                         }
                     }
                     StopReason::Terminal(i)
-                        if i == EV_CONTACT || (i == EV_GUARD && m.phase == Phase::Flight) =>
+                        if matches!(
+                            watches[i],
+                            Watch::NormalZero | Watch::Touchdown | Watch::PenetrationGuard
+                        ) =>
                     {
                         transitions += 1;
                         if transitions > MAX_TRANSITIONS {
@@ -1423,10 +1452,10 @@ pub fn run_with_progress(
                                 m.flight_start = t;
                                 flight_since = Some(t);
                                 lift_offs.push(t);
-                                events_out.push(t * tu, "lift_off");
+                                events_out.push(t * tu, Happened::LiftOff);
                             }
                             Phase::Flight => {
-                                events_out.push(t * tu, "touchdown");
+                                events_out.push(t * tu, Happened::Touchdown);
                                 // Put C exactly on the plane, then the impulse.
                                 let kz = m.kin(&y).k[2];
                                 let before = m.energy_scaled(&y);
@@ -1465,7 +1494,7 @@ pub fn run_with_progress(
                                     if enter_contact(&mut m, t, &mut y) == Phase::Flight {
                                         flight_since = Some(t);
                                         lift_offs.push(t);
-                                        events_out.push(t * tu, "lift_off");
+                                        events_out.push(t * tu, Happened::LiftOff);
                                     } else if m.exact {
                                         // Exact law: a sticking impulse leaves
                                         // zero slip, where stick/slip is
@@ -1475,7 +1504,7 @@ pub fn run_with_progress(
                                         if stuck || m.slip_is_zero(&y) {
                                             if settle_at_zero_slip(&mut m, &mut y) {
                                                 rolling_since = Some(t);
-                                                events_out.push(t * tu, "stick");
+                                                events_out.push(t * tu, Happened::Stick);
                                             }
                                         } else {
                                             m.slip_ref.set(unit_h(v));
@@ -1485,7 +1514,9 @@ pub fn run_with_progress(
                             }
                         }
                     }
-                    StopReason::Terminal(EV_SWITCH) => {
+                    StopReason::Terminal(i)
+                        if matches!(watches[i], Watch::SlipZero | Watch::StickLimit) =>
+                    {
                         switches += 1;
                         if switches > crate::sim::record::MAX_SWITCHES {
                             error = Some(Error::runtime(
@@ -1501,7 +1532,7 @@ pub fn run_with_progress(
                             Mode::Sliding => {
                                 if settle_at_zero_slip(&mut m, &mut y) {
                                     rolling_since = Some(t);
-                                    events_out.push(t * tu, "stick");
+                                    events_out.push(t * tu, Happened::Stick);
                                 }
                             }
                             Mode::Rolling => {
@@ -1509,7 +1540,7 @@ pub fn run_with_progress(
                                 if let Some(s0) = rolling_since.take() {
                                     rolling_time += t - s0;
                                 }
-                                events_out.push(t * tu, "slip");
+                                events_out.push(t * tu, Happened::Slip);
                             }
                         }
                     }

@@ -6,5 +6,6 @@
 //! build on it; it imports neither, so the import graph has no cycle
 //! (docs/architecture.md).
 
+pub mod events;
 pub(crate) mod messages;
 pub mod record;

@@ -3,6 +3,7 @@
 use crate::{
     Error, EventRecord, Method, Sample, Scenario, Summary,
     integrate::{self, Options, Stepper},
+    sim::events::Happened,
 };
 
 /// Accepted steps between two calls of the progress callback of
@@ -21,18 +22,19 @@ pub(crate) struct EventList {
 }
 
 impl EventList {
-    /// Record an event of `kind` at `t` \[s\] (or count it if the list is full).
-    pub(crate) fn push(&mut self, t: f64, kind: &str) {
+    /// Record that `what` happened at `t` \[s\] (or count it if the list is
+    /// full).
+    pub(crate) fn push(&mut self, t: f64, what: Happened) {
         if self.list.len() < crate::limits::MAX_EVENTS {
             self.list.push(EventRecord {
                 t,
-                kind: kind.into(),
+                kind: what.as_str().into(),
             });
         } else {
             if self.dropped == 0 {
                 self.list.push(EventRecord {
                     t,
-                    kind: "event_limit_reached".into(),
+                    kind: Happened::EventLimitReached.as_str().into(),
                 });
             }
             self.dropped += 1;
@@ -201,9 +203,9 @@ impl NormalLog {
         }
     }
 
-    /// Record a crossing at scaled time `t`; returns the event kind,
-    /// "contact_lost" (N now < 0) or "contact_regained".
-    pub fn cross(&mut self, t: f64) -> &'static str {
+    /// Record a crossing at scaled time `t`; returns what happened:
+    /// contact lost (N now < 0) or regained.
+    pub fn cross(&mut self, t: f64) -> Happened {
         if self.negative_now() {
             self.neg_time += t - self.last;
         }
@@ -211,9 +213,9 @@ impl NormalLog {
         self.first.get_or_insert(t);
         self.count += 1;
         if self.negative_now() {
-            "contact_lost"
+            Happened::ContactLost
         } else {
-            "contact_regained"
+            Happened::ContactRegained
         }
     }
 
@@ -321,6 +323,7 @@ impl RunSetup {
 mod tests {
     use super::{EventList, NormalLog};
     use crate::limits::MAX_EVENTS;
+    use crate::sim::events::Happened;
 
     /// At most MAX_EVENTS records, then one marker; memory stays bounded
     /// however many events a run has.
@@ -328,7 +331,7 @@ mod tests {
     fn event_list_is_capped() {
         let mut l = EventList::default();
         for k in 0..MAX_EVENTS + 1000 {
-            l.push(k as f64, "contact_lost");
+            l.push(k as f64, Happened::ContactLost);
         }
         assert_eq!(l.dropped, 1000);
         let v = l.into_sorted();
@@ -342,15 +345,15 @@ mod tests {
     fn normal_log_fraction_and_first_time() {
         let mut l = NormalLog::new(1.0);
         assert_eq!(l.first_negative(), None);
-        assert_eq!(l.cross(2.0), "contact_lost");
-        assert_eq!(l.cross(3.0), "contact_regained");
-        assert_eq!(l.cross(8.0), "contact_lost");
+        assert_eq!(l.cross(2.0), Happened::ContactLost);
+        assert_eq!(l.cross(3.0), Happened::ContactRegained);
+        assert_eq!(l.cross(8.0), Happened::ContactLost);
         assert_eq!(l.first_negative(), Some(2.0));
         // Negative on [2, 3) and [8, 10]: 3 of 10.
         assert_eq!(l.negative_fraction(10.0), 0.3);
         let mut l = NormalLog::new(-1.0);
         assert_eq!(l.first_negative(), Some(0.0));
-        assert_eq!(l.cross(4.0), "contact_regained");
+        assert_eq!(l.cross(4.0), Happened::ContactRegained);
         assert_eq!(l.negative_fraction(8.0), 0.5);
     }
 }

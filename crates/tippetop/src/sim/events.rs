@@ -1,0 +1,107 @@
+//! Events, typed: what the integrator watches for ([`Watch`]: the zero of
+//! an event function, with what the driver does when it fires), and what a
+//! run records ([`Happened`], written to `summary.json` as today's strings).
+
+/// A zero crossing a driver asks the integrator to locate. Each driver
+/// builds its list of `(Watch, integrate::Event)` for the current phase
+/// and mode, and dispatches on the `Watch` of what fired (never on an
+/// index into the list, whose length depends on the phase).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Watch {
+    /// θ rises through π/2: recorded once, as [`Happened::ThetaAboveHalfPi`].
+    ThetaAboveHalfPi,
+    /// θ̇ falls through 0 (a maximum of θ): enters the running diagnostics.
+    ThetaMax,
+    /// The normal force N crosses 0: recorded as contact lost/regained;
+    /// terminal where the latched branch flips (bilateral, sliding) or the
+    /// top lifts off (unilateral).
+    NormalZero,
+    /// The sphere's lowest point reaches the plane (rigid model in flight):
+    /// touchdown.
+    Touchdown,
+    /// The sphere's lowest point is a small depth below the plane (rigid
+    /// model in flight): the backup of [`Watch::Touchdown`].
+    PenetrationGuard,
+    /// The slip velocity along its direction at the segment's start falls
+    /// through 0 (exact Coulomb law, sliding): stick or slip on.
+    SlipZero,
+    /// The stick margin μ|N| − |F| falls through 0 (exact Coulomb law,
+    /// rolling): the contact starts to slip.
+    StickLimit,
+}
+
+/// Something a run records in its event list (`Trajectory::events`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Happened {
+    /// A switch time of the applied-force schedule.
+    ForceSwitch,
+    /// Sliding turned to rolling (exact Coulomb law).
+    Stick,
+    /// Rolling turned to sliding (exact Coulomb law), or sliding starts.
+    Slip,
+    /// θ first exceeds π/2.
+    ThetaAboveHalfPi,
+    /// N fell below zero.
+    ContactLost,
+    /// N rose back above zero.
+    ContactRegained,
+    /// The rigid body left the plane.
+    LiftOff,
+    /// The rigid body landed on the plane.
+    Touchdown,
+    /// The event list reached its cap; later events are not listed.
+    EventLimitReached,
+}
+
+impl Happened {
+    /// The name written to `summary.json` (`events[].kind`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Happened::ForceSwitch => "force_switch",
+            Happened::Stick => "stick",
+            Happened::Slip => "slip",
+            Happened::ThetaAboveHalfPi => "theta_above_half_pi",
+            Happened::ContactLost => "contact_lost",
+            Happened::ContactRegained => "contact_regained",
+            Happened::LiftOff => "lift_off",
+            Happened::Touchdown => "touchdown",
+            Happened::EventLimitReached => "event_limit_reached",
+        }
+    }
+
+    /// Every kind, for documentation and tests.
+    pub const ALL: [Happened; 9] = [
+        Happened::ForceSwitch,
+        Happened::Stick,
+        Happened::Slip,
+        Happened::ThetaAboveHalfPi,
+        Happened::ContactLost,
+        Happened::ContactRegained,
+        Happened::LiftOff,
+        Happened::Touchdown,
+        Happened::EventLimitReached,
+    ];
+}
+
+/// Split a driver's event list into the kinds (to dispatch on) and the
+/// event functions (for the integrator), index for index.
+pub(crate) fn split<E>(list: Vec<(Watch, E)>) -> (Vec<Watch>, Vec<E>) {
+    list.into_iter().unzip()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Happened;
+
+    #[test]
+    fn names_are_unique_snake_case() {
+        let names: std::collections::BTreeSet<_> =
+            Happened::ALL.iter().map(|h| h.as_str()).collect();
+        assert_eq!(names.len(), Happened::ALL.len());
+        assert!(
+            names
+                .iter()
+                .all(|n| n.chars().all(|c| c.is_ascii_lowercase() || c == '_'))
+        );
+    }
+}
