@@ -61,6 +61,9 @@ pub enum Command {
     /// Van der Waals adhesion of a fullerene on graphene or graphite (E_b, F_a).
     #[command(long_about = crate::adhesion_cmd::ADHESION_LONG_ABOUT)]
     Adhesion(crate::adhesion_cmd::AdhesionArgs),
+    /// The regime a scenario is in: weight, adhesion, friction and thermal ratios.
+    #[command(long_about = crate::regime_cmd::REGIME_LONG_ABOUT)]
+    Regime(crate::regime_cmd::RegimeArgs),
 }
 
 /// Long help of `tippetop run`: the files, every `trajectory.csv` column

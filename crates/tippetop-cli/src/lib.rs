@@ -9,6 +9,7 @@ pub mod cli;
 pub mod output;
 pub mod plot;
 pub mod progress;
+pub mod regime_cmd;
 pub mod reproduce;
 pub mod run;
 pub mod scenario_load;

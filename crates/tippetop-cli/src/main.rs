@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use tippetop_cli::cli::{Cli, Command};
-use tippetop_cli::{adhesion_cmd, reproduce, run, stability_cmd, sweep_cmd};
+use tippetop_cli::{adhesion_cmd, regime_cmd, reproduce, run, stability_cmd, sweep_cmd};
 
 fn main() -> ExitCode {
     // Behave like a Unix filter when the reader goes away (`tippetop ... | head`):
@@ -29,6 +29,7 @@ fn main() -> ExitCode {
         Command::Merge(args) => sweep_cmd::merge(args, cli.quiet),
         Command::Stability(args) => stability_cmd::run(args, cli.quiet),
         Command::Adhesion(args) => adhesion_cmd::run(args),
+        Command::Regime(args) => regime_cmd::run(args),
     };
     match result {
         Ok(code) => code,

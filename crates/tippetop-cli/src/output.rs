@@ -575,6 +575,9 @@ pub struct SummaryDoc<'a> {
     pub scenario: &'a str,
     /// Events in time order, each `{t, kind}`.
     pub events: &'a [EventRecord],
+    /// The regime the scenario is in (`tippetop regime`; without a
+    /// temperature, so the thermal ratios are null).
+    pub regime: Option<tippetop::analysis::regime::Regime>,
 }
 
 impl<'a> SummaryDoc<'a> {
@@ -592,7 +595,14 @@ impl<'a> SummaryDoc<'a> {
             wall_seconds,
             scenario: scenario_toml,
             events,
+            regime: None,
         }
+    }
+
+    /// The same document with the scenario's regime.
+    pub fn with_regime(mut self, regime: tippetop::analysis::regime::Regime) -> Self {
+        self.regime = Some(regime);
+        self
     }
 }
 

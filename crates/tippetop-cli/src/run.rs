@@ -67,7 +67,7 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     // committed: summary.json last, the previous run's other files removed.
     let toml = scenario_load::to_toml(&scenario);
     let stage = out.stage().to_path_buf();
-    let mut written = write_data(&stage, &toml, &traj, wall_seconds)?;
+    let mut written = write_data(&stage, &scenario, &toml, &traj, wall_seconds)?;
     let mut plots = Vec::new();
     let mut plot_error = None;
     if args.plots() {
@@ -141,6 +141,7 @@ fn check_out_dir(out: &Path) -> Result<(), Error> {
 /// its presence means the data files are complete.
 pub fn write_data(
     dir: &Path,
+    scenario: &Scenario,
     scenario_toml: &str,
     traj: &Trajectory,
     wall_seconds: f64,
@@ -150,7 +151,12 @@ pub fn write_data(
     let toml = dir.join("scenario.toml");
     write_bytes_atomic(&toml, scenario_toml.as_bytes())?;
     let summary = summary_with_status(traj);
-    let doc = SummaryDoc::new(&summary, &traj.events, scenario_toml, wall_seconds);
+    let mut doc = SummaryDoc::new(&summary, &traj.events, scenario_toml, wall_seconds);
+    // The scenario was validated, so its regime exists (no temperature:
+    // the thermal ratios are null).
+    if let Ok(r) = tippetop::analysis::regime::regime(scenario, None) {
+        doc = doc.with_regime(r);
+    }
     let json = dir.join("summary.json");
     write_json_pretty(&json, &doc)?;
     Ok(vec![csv, json, toml])
@@ -404,7 +410,7 @@ mod tests {
             let sc = Scenario::nano();
             let traj = fake_trajectory(1001, 1e-4, failed);
             let toml = scenario_load::to_toml(&sc);
-            let written = write_data(dir.path(), &toml, &traj, 0.5).unwrap();
+            let written = write_data(dir.path(), &sc, &toml, &traj, 0.5).unwrap();
             let plots = write_plots(dir.path(), &sc, &traj).unwrap();
             let stems: Vec<String> = plots
                 .iter()

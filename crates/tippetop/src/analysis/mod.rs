@@ -4,5 +4,6 @@
 
 pub mod asymptotics;
 pub mod friction;
+pub mod regime;
 pub mod stability;
 pub mod sweep;

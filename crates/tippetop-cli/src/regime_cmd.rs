@@ -1,0 +1,110 @@
+//! `tippetop regime`: the dimensionless ratios that say which physics a
+//! scenario's regime needs (`tippetop::analysis::regime`), as a table with
+//! a verdict per line or as JSON.
+
+use std::{path::PathBuf, process::ExitCode};
+
+use anyhow::Context;
+use tippetop::{Scenario, analysis::regime};
+
+/// Long help of `tippetop regime`.
+pub const REGIME_LONG_ABOUT: &str = "The regime a scenario is in: dimensionless ratios from \
+    its parameters and initial state, each with a verdict. adhesion_over_weight F_a/(m g) \
+    (null: no adhesion in the model yet); applied_over_weight max|H|/(m g); \
+    applied_over_friction_capacity max|H|/(mu (m g + F_a)); and with --temperature T: \
+    rotational_energy_over_kT (1/2 C omega0^2 / kT), spin_over_thermal_spin (|omega0| / \
+    sqrt(kT/C)), window_over_orientation_correlation_time (t_end / 9.1 ps, the C60 \
+    orientation correlation time near room temperature); always angular_momentum_over_hbar \
+    (C |omega0| / hbar; below 10 classical rotation is questionable). summary.json of every \
+    run carries the same object (thermal entries null). docs/physics.md §16 has the \
+    constants and sources.\n\n\
+    Exit codes: 0 ok, 2 bad input (one line naming the key and its range).";
+
+/// Arguments of `tippetop regime`.
+#[derive(Debug, Clone, clap::Args)]
+#[command(after_help = "Examples:\n  \
+                  tippetop regime --preset nano --temperature 300\n  \
+                  tippetop regime scenarios/nano.toml --temperature 4 --json\n  \
+                  tippetop regime --preset classical")]
+pub struct RegimeArgs {
+    /// Scenario file (TOML); or give --preset.
+    pub scenario: Option<PathBuf>,
+    /// Start from a preset: "nano" or "classical".
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Override a scenario key, e.g. --set initial.spin=3e7 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Temperature for the thermal ratios [K], 0 to 1e5.
+    #[arg(long, allow_negative_numbers = true)]
+    pub temperature: Option<f64>,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn load(args: &RegimeArgs) -> Result<Scenario, tippetop::Error> {
+    let text = match &args.scenario {
+        Some(p) => Some(std::fs::read_to_string(p).map_err(|e| {
+            tippetop::Error::invalid(
+                "scenario",
+                format!("cannot read {}: {e}", p.display()),
+                "a readable TOML file".into(),
+            )
+        })?),
+        None => None,
+    };
+    if text.is_none() && args.preset.is_none() {
+        return Err(tippetop::Error::invalid(
+            "scenario",
+            "no scenario given".into(),
+            "a SCENARIO.toml argument or --preset nano|classical".into(),
+        ));
+    }
+    let sc = Scenario::load(args.preset.as_deref(), text.as_deref(), &args.set)?;
+    sc.validate()?;
+    Ok(sc)
+}
+
+/// Run `tippetop regime`: exit 0, or 2 with one line for bad input.
+pub fn run(args: &RegimeArgs) -> anyhow::Result<ExitCode> {
+    let rep = load(args).and_then(|sc| {
+        let r = regime::regime(&sc, args.temperature).map_err(|e| match e {
+            tippetop::Error::Invalid { key, what, range } if key == "temperature" => {
+                tippetop::Error::Invalid {
+                    key: "--temperature".into(),
+                    what,
+                    range,
+                }
+            }
+            other => other,
+        })?;
+        Ok((sc, r))
+    });
+    let (sc, rep) = match rep {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Ok(ExitCode::from(2));
+        }
+    };
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&rep).context("serialising the regime")?
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    match rep.temperature {
+        Some(t) => println!("regime at T = {t} K"),
+        None => println!("regime without temperature (--temperature K for the thermal ratios)"),
+    }
+    for l in regime::lines(&sc, &rep) {
+        let v = match l.value {
+            Some(v) => format!("{v:.3e}"),
+            None => "null".into(),
+        };
+        println!("{:<42} {:>10}  {}", l.key, v, l.verdict);
+    }
+    Ok(ExitCode::SUCCESS)
+}
