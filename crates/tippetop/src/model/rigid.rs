@@ -366,6 +366,16 @@ pub struct Rigid {
     /// Set by the driver when the sliding-only law chatters; the next
     /// evaluation then fails with [`RigidError::Chattering`].
     pub chattering: Cell<bool>,
+    /// Latched branch of the bilateral normal-force closure while sliding
+    /// in contact, as the on-plane models' [`super::OnPlane::normal_branch`]:
+    /// `Some(true)` solves `N D(+) = Q` and the friction sees `+N`,
+    /// `Some(false)` solves `N D(−) = Q` and it sees `−N`, whatever the sign
+    /// of `N` (while both `D(±) > 0`); `None` takes the self-consistent
+    /// branch at every evaluation. The driver latches the consistent branch
+    /// at the start of each segment and makes `N = 0` a terminal event
+    /// where it flips it (docs/physics.md §4), so that no step straddles
+    /// the kink of `μ|N|`.
+    pub normal_branch: Option<bool>,
     /// Right-hand-side evaluations so far (all segments).
     pub evaluations: u64,
     /// Time the current flight started (scaled).
@@ -405,6 +415,7 @@ impl Rigid {
             slip_hint: [0.0; 3],
             slip_ref: Cell::new([0.0; 3]),
             chattering: Cell::new(false),
+            normal_branch: None,
             evaluations: 0,
             flight_start: 0.0,
             top: sc.top,
@@ -597,6 +608,22 @@ impl Rigid {
                         }
                         q_free / dp
                     }
+                    ContactMode::Bilateral
+                        if self.normal_branch.is_some()
+                            && dp > 0.0
+                            && dm > 0.0
+                            && dp < f64::INFINITY
+                            && dm < f64::INFINITY =>
+                    {
+                        // Both denominators positive: no Painlevé case;
+                        // continue the latched branch through N = 0.
+                        q_free
+                            / if self.normal_branch == Some(true) {
+                                dp
+                            } else {
+                                dm
+                            }
+                    }
                     ContactMode::Bilateral | ContactMode::Unilateral => {
                         let np = q_free / dp;
                         let nm = q_free / dm;
@@ -620,8 +647,11 @@ impl Rigid {
                         }
                     }
                 };
-                let nf = match self.contact {
-                    ContactMode::Paper => normal,
+                let nf = match (self.contact, self.normal_branch) {
+                    (ContactMode::Paper, _) => normal,
+                    // Latched: the branch's sign, continued through N = 0.
+                    (ContactMode::Bilateral, Some(true)) => normal,
+                    (ContactMode::Bilateral, Some(false)) => -normal,
                     _ => normal.abs(),
                 };
                 (normal, scale(-nf, f), None)
@@ -683,6 +713,14 @@ impl Rigid {
             kmul([0.0, 1.0, 0.0]),
             kmul([0.0, 0.0, 1.0]),
         ]
+    }
+
+    /// True where the driver latches the normal-force branch
+    /// ([`Rigid::normal_branch`]): bilateral contact, in contact, sliding.
+    pub fn latches_normal(&self) -> bool {
+        self.contact == ContactMode::Bilateral
+            && self.phase == Phase::Contact
+            && self.mode == Mode::Sliding
     }
 
     /// Stick margin while rolling, `μ |N| − |F_f|` (scaled force): rolling
@@ -955,15 +993,27 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
                 step_to_event: false,
             },
         )),
-        (Phase::Contact, _) => ev.push((
-            Watch::NormalZero,
-            Event {
-                g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
-                direction: Direction::Either,
-                terminal: false,
-                step_to_event: false,
-            },
-        )),
+        (Phase::Contact, _) => {
+            // Bilateral contact, sliding: N = 0 ends the segment, where the
+            // driver flips the latched branch; watched only in the direction
+            // that leaves the latched sign, and the restart state comes from
+            // a step to the event (the right-hand side is smooth through the
+            // zero on the latched branch).
+            let (direction, terminal) = match (m.latches_normal(), m.normal_branch) {
+                (true, Some(true)) => (Direction::Falling, true),
+                (true, Some(false)) => (Direction::Rising, true),
+                _ => (Direction::Either, false),
+            };
+            ev.push((
+                Watch::NormalZero,
+                Event {
+                    g: Box::new(|m, _, y| m.eval(y).map(|e| e.normal).unwrap_or(f64::NAN)),
+                    direction,
+                    terminal,
+                    step_to_event: terminal,
+                },
+            ))
+        }
     }
     if m.phase == Phase::Contact && m.exact {
         match m.mode {
@@ -1236,6 +1286,14 @@ pub fn run_with_progress(
     let mut nonfinite_at: Option<f64> = None;
 
     loop {
+        if !m.latches_normal() {
+            m.normal_branch = None;
+        } else if m.normal_branch.is_none() {
+            // The self-consistent branch at the segment's start.
+            if let Ok(e) = m.eval(&y) {
+                m.normal_branch = Some(e.normal >= 0.0);
+            }
+        }
         let (watches, events) = events::split(events_for(&m));
         opts.max_steps = step_cap.saturating_sub(steps_seen);
         let next = samples.len();
@@ -1388,6 +1446,7 @@ pub fn run_with_progress(
                         // again in begin_segment), project onto the contact
                         // constraint, and fly if N < 0 now (unilateral).
                         m.latch_force(t);
+                        m.normal_branch = None;
                         if m.phase == Phase::Contact && m.mode == Mode::Rolling {
                             // Re-check stick with the new force (N does not
                             // depend on H while rolling, the friction does).
@@ -1415,6 +1474,12 @@ pub fn run_with_progress(
                                 events_out.push(t * tu, Happened::LiftOff);
                             }
                         }
+                    }
+                    StopReason::Terminal(i)
+                        if watches[i] == Watch::NormalZero && m.latches_normal() =>
+                    {
+                        // N = 0 (bilateral): continue on the other branch.
+                        m.normal_branch = m.normal_branch.map(|pos| !pos);
                     }
                     StopReason::Terminal(i)
                         if matches!(
