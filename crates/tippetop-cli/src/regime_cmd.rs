@@ -44,24 +44,11 @@ pub struct RegimeArgs {
 }
 
 fn load(args: &RegimeArgs) -> Result<Scenario, tippetop::Error> {
-    let text = match &args.scenario {
-        Some(p) => Some(std::fs::read_to_string(p).map_err(|e| {
-            tippetop::Error::invalid(
-                "scenario",
-                format!("cannot read {}: {e}", p.display()),
-                "a readable TOML file".into(),
-            )
-        })?),
-        None => None,
-    };
-    if text.is_none() && args.preset.is_none() {
-        return Err(tippetop::Error::invalid(
-            "scenario",
-            "no scenario given".into(),
-            "a SCENARIO.toml argument or --preset nano|classical".into(),
-        ));
-    }
-    let sc = Scenario::load(args.preset.as_deref(), text.as_deref(), &args.set)?;
+    let sc = crate::scenario_load::from_args(
+        args.scenario.as_deref(),
+        args.preset.as_deref(),
+        &args.set,
+    )?;
     sc.validate()?;
     Ok(sc)
 }

@@ -13,6 +13,35 @@ pub fn load(
     Scenario::load(preset, toml_text, sets)
 }
 
+/// The scenario of a command that takes `[SCENARIO.toml] [--preset NAME]
+/// [--set KEY=VALUE ...]` (`stability`, `regime`): the file read (an
+/// unreadable file is bad input for the key `scenario`), then [`load`]. At
+/// least one of the file and the preset is required.
+pub fn from_args(
+    scenario: Option<&std::path::Path>,
+    preset: Option<&str>,
+    sets: &[String],
+) -> Result<Scenario, Error> {
+    let text = match scenario {
+        Some(p) => Some(std::fs::read_to_string(p).map_err(|e| {
+            Error::invalid(
+                "scenario",
+                format!("cannot read {}: {e}", p.display()),
+                "a readable TOML file".into(),
+            )
+        })?),
+        None => None,
+    };
+    if text.is_none() && preset.is_none() {
+        return Err(Error::invalid(
+            "scenario",
+            "no scenario given".into(),
+            "a SCENARIO.toml argument or --preset nano|classical".into(),
+        ));
+    }
+    load(preset, text.as_deref(), sets)
+}
+
 /// The resolved scenario as TOML text (written to `scenario.toml` and into
 /// `summary.json`).
 pub fn to_toml(scenario: &Scenario) -> String {

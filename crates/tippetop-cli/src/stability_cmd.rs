@@ -68,24 +68,7 @@ pub struct StabilityArgs {
 }
 
 fn load(args: &StabilityArgs) -> Result<Scenario, tippetop::Error> {
-    let text = match &args.scenario {
-        Some(p) => Some(std::fs::read_to_string(p).map_err(|e| {
-            tippetop::Error::invalid(
-                "scenario",
-                format!("cannot read {}: {e}", p.display()),
-                "a readable TOML file".into(),
-            )
-        })?),
-        None => None,
-    };
-    if text.is_none() && args.preset.is_none() {
-        return Err(tippetop::Error::invalid(
-            "scenario",
-            "no scenario given".into(),
-            "a SCENARIO.toml argument or --preset nano|classical".into(),
-        ));
-    }
-    Scenario::load(args.preset.as_deref(), text.as_deref(), &args.set)
+    crate::scenario_load::from_args(args.scenario.as_deref(), args.preset.as_deref(), &args.set)
 }
 
 /// Run `tippetop stability`. Exit code 0, 2 for bad input, 3 for a failure
