@@ -21,21 +21,12 @@ impl Scales {
     /// The scales of a scenario.
     pub fn of(sc: &Scenario) -> Self {
         let top = &sc.top;
-        let i = &sc.initial;
-        let rate = [
-            i.spin.abs(),
-            i.precession.abs(),
-            i.theta_dot.abs(),
-            (sc.surface.gravity / top.radius).sqrt(),
-            (sc.forcing.max_magnitude() / (top.mass * top.radius)).sqrt(),
-            1.0 / sc.solver.t_end,
-        ]
-        .into_iter()
-        .fold(0.0, f64::max);
+        // The inverse of the fastest initial rate; the run limits use the
+        // same unit (`limits::time_unit`, which names each rate for messages).
         Scales {
             length: top.radius,
             mass: top.mass,
-            time: 1.0 / rate,
+            time: crate::limits::time_unit(sc),
         }
     }
     /// Velocity unit \[m/s\].
