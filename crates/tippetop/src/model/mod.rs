@@ -222,22 +222,11 @@ impl OnPlane {
         dm: f64,
         theta: impl Fn() -> f64,
     ) -> Result<f64, ModelError> {
-        let n = match self.contact {
-            ContactMode::Paper if dp <= 0.0 => Err(0),
-            ContactMode::Paper => Ok(q / dp),
-            ContactMode::Bilateral => match self.normal_branch {
-                // Both denominators positive: no Painlevé case, both
-                // quotients have the sign of q; continue the latched one.
-                Some(pos) if dp > 0.0 && dm > 0.0 && dp < f64::INFINITY && dm < f64::INFINITY => {
-                    Ok(q / if pos { dp } else { dm })
-                }
-                _ => bilateral_normal(q, dp, dm),
-            },
-            ContactMode::Unilateral => bilateral_normal(q, dp, dm),
-        };
-        n.map_err(|solutions| ModelError::Painleve {
-            theta: theta(),
-            solutions,
+        closure_normal(self.contact, self.normal_branch, q, dp, dm).map_err(|solutions| {
+            ModelError::Painleve {
+                theta: theta(),
+                solutions,
+            }
         })
     }
 
@@ -246,13 +235,7 @@ impl OnPlane {
     /// ([`OnPlane::normal_branch`]), `|N|` otherwise.
     #[inline(always)]
     pub(crate) fn friction_normal(&self, normal: f64) -> f64 {
-        match (self.contact, self.normal_branch) {
-            (ContactMode::Paper, _) => normal,
-            // Latched: the branch's sign, continued through N = 0.
-            (ContactMode::Bilateral, Some(true)) => normal,
-            (ContactMode::Bilateral, Some(false)) => -normal,
-            _ => normal.abs(),
-        }
+        friction_normal(self.contact, self.normal_branch, normal)
     }
 
     /// Count a right-hand-side evaluation; fails once the driver has
@@ -272,6 +255,51 @@ impl OnPlane {
     /// friction force; rolling ends when it falls through zero.
     pub fn stick_margin(&self, normal: f64, friction: [f64; 2]) -> f64 {
         self.mu * normal.abs() - friction[0].hypot(friction[1])
+    }
+}
+
+/// The normal force from the contact closure `N D(σ) = Q` (`dp = D(+)`,
+/// `dm = D(−)`), written once for every model: `"paper"` contact takes
+/// `Q/dp` with its sign (no solution if `dp <= 0`); unilateral contact, and
+/// bilateral contact with no branch latched, take the one self-consistent
+/// branch ([`bilateral_normal`]); bilateral contact with a latched branch
+/// (`branch`, see [`OnPlane::normal_branch`]) takes that branch's quotient
+/// while both `dp` and `dm` are positive and finite. `Err` is the number of
+/// consistent solutions (0 or 2: a Painlevé case).
+#[inline(always)]
+pub(crate) fn closure_normal(
+    contact: ContactMode,
+    branch: Option<bool>,
+    q: f64,
+    dp: f64,
+    dm: f64,
+) -> Result<f64, usize> {
+    match contact {
+        ContactMode::Paper if dp <= 0.0 => Err(0),
+        ContactMode::Paper => Ok(q / dp),
+        ContactMode::Bilateral => match branch {
+            // Both denominators positive: no Painlevé case, both quotients
+            // have the sign of q; continue the latched one.
+            Some(pos) if dp > 0.0 && dm > 0.0 && dp < f64::INFINITY && dm < f64::INFINITY => {
+                Ok(q / if pos { dp } else { dm })
+            }
+            _ => bilateral_normal(q, dp, dm),
+        },
+        ContactMode::Unilateral => bilateral_normal(q, dp, dm),
+    }
+}
+
+/// The normal force the friction sees, for every model: `N` with its sign
+/// for the paper's contact, `σN` for bilateral contact with the branch `σ`
+/// latched, `|N|` otherwise.
+#[inline(always)]
+pub(crate) fn friction_normal(contact: ContactMode, branch: Option<bool>, normal: f64) -> f64 {
+    match (contact, branch) {
+        (ContactMode::Paper, _) => normal,
+        // Latched: the branch's sign, continued through N = 0.
+        (ContactMode::Bilateral, Some(true)) => normal,
+        (ContactMode::Bilateral, Some(false)) => -normal,
+        _ => normal.abs(),
     }
 }
 

@@ -598,62 +598,10 @@ impl Rigid {
                 let dp = 1.0 + self.a * (w[2] - fw);
                 let dm = 1.0 + self.a * (w[2] + fw);
                 let theta = kin.kh.atan2(k[2]);
-                let normal = match self.contact {
-                    ContactMode::Paper => {
-                        if dp <= 0.0 {
-                            return Err(RigidError::Painleve {
-                                theta,
-                                solutions: 0,
-                            });
-                        }
-                        q_free / dp
-                    }
-                    ContactMode::Bilateral
-                        if self.normal_branch.is_some()
-                            && dp > 0.0
-                            && dm > 0.0
-                            && dp < f64::INFINITY
-                            && dm < f64::INFINITY =>
-                    {
-                        // Both denominators positive: no Painlevé case;
-                        // continue the latched branch through N = 0.
-                        q_free
-                            / if self.normal_branch == Some(true) {
-                                dp
-                            } else {
-                                dm
-                            }
-                    }
-                    ContactMode::Bilateral | ContactMode::Unilateral => {
-                        let np = q_free / dp;
-                        let nm = q_free / dm;
-                        let okp = dp != 0.0 && np >= 0.0;
-                        let okm = dm != 0.0 && nm < 0.0;
-                        match (okp, okm) {
-                            (true, false) => np,
-                            (false, true) => nm,
-                            (true, true) => {
-                                return Err(RigidError::Painleve {
-                                    theta,
-                                    solutions: 2,
-                                });
-                            }
-                            (false, false) => {
-                                return Err(RigidError::Painleve {
-                                    theta,
-                                    solutions: 0,
-                                });
-                            }
-                        }
-                    }
-                };
-                let nf = match (self.contact, self.normal_branch) {
-                    (ContactMode::Paper, _) => normal,
-                    // Latched: the branch's sign, continued through N = 0.
-                    (ContactMode::Bilateral, Some(true)) => normal,
-                    (ContactMode::Bilateral, Some(false)) => -normal,
-                    _ => normal.abs(),
-                };
+                let normal =
+                    super::closure_normal(self.contact, self.normal_branch, q_free, dp, dm)
+                        .map_err(|solutions| RigidError::Painleve { theta, solutions })?;
+                let nf = super::friction_normal(self.contact, self.normal_branch, normal);
                 (normal, scale(-nf, f), None)
             }
         };
