@@ -7,7 +7,8 @@
 //!   1 000 000 steps (dt = 1e-5 s: at 100 000 steps it blows up at 2.96 s,
 //!   at 200 000 it stays finite but wrongly inverts, at 500 000 θ(10 s) is
 //!   off by 7e-4 rad);
-//! - the nano preset, 100 µs, adaptive at rtol 1e-10;
+//! - the nano preset, 100 µs, adaptive at rtol 1e-10 (Euler angles, vector
+//!   form, rigid body);
 //! - `bare_solve`: the regularised classical run through `integrate::solve`
 //!   alone (same options, no samples, no events, no diagnostics), to measure
 //!   what the driver's diagnostics and events cost;
@@ -128,6 +129,11 @@ fn bench_runs(c: &mut Criterion) {
             vector(classical(FrictionLaw::Coulomb)),
         ),
         ("nano_100us_rtol1e-10_vector", vector(Scenario::nano())),
+        ("nano_100us_rtol1e-10_rigid", {
+            let mut sc = Scenario::nano();
+            sc.solver.model = ModelKind::Rigid;
+            sc
+        }),
     ];
     for (name, sc) in &cases {
         check(sc);
