@@ -81,24 +81,32 @@ fn no_step_straddles_a_normal_force_kink() {
 }
 
 /// The rigid model latches the branch too (issue #13): on the nano preset at
-/// its rtol 1e-10 it follows the vector form's θ(t) to 2e-8 rad (the
-/// accuracy of a run at this tolerance, within 1e-7 of the 1e-13 reference
-/// above) and N to 1e-6 of its scale, and rejects under 10 % of its step
-/// attempts. Without the latched branch (the kink of μ|N| inside its steps)
-/// it rejected 2 423 of 6 693 attempts (36 %) and differed by 9.7e-7 rad in
-/// θ and 7.9e-6 of the scale in N; now 178 of 3 017 (5.9 %), 8.6e-9 rad and
-/// 5.3e-8.
+/// its rtol 1e-10 it is within 1e-7 rad in θ of the rtol-1e-13 reference
+/// (the bar the test above sets for the other two models) and within 1e-6
+/// of the scale in N, and it rejects under 10 % of its step attempts.
+/// Without the latched branch (the kink of μ|N| inside its steps) it was
+/// 1.0e-6 rad and 8.1e-6 off and rejected 2 423 of 6 693 attempts (36 %);
+/// now 3.4e-8 rad, 2.6e-7 and 178 of 3 017 (5.9 %); the vector form at
+/// 1e-10: 2.6e-8 rad and 2.1e-7. (The issue's bar is 5 %: DOP853's
+/// stabilised control with β = 0.04, as the vector form uses, gives 0.4 %
+/// and 1.7e-8 rad here, but moves the sliding sphere's stick time in
+/// tests/rigid_stick_slip.rs from 1e-14 to 5e-10 of the closed form, which
+/// is not understood yet; not adopted.)
 #[test]
-fn rigid_model_latches_the_branch_and_follows_the_vector_form() {
-    let v = nano(ModelKind::Vector, 1e-10);
+fn rigid_model_latches_the_branch_and_converges() {
+    let reference = nano(ModelKind::Vector, 1e-13);
     let r = nano(ModelKind::Rigid, 1e-10);
-    let d_theta = max_theta_diff(&r, &v);
-    assert!(d_theta <= 2e-8, "theta differs by {d_theta:e} rad");
-    let n_scale = v.samples.iter().map(|s| s.normal.abs()).fold(0.0, f64::max);
+    let d_theta = max_theta_diff(&r, &reference);
+    assert!(d_theta <= 1e-7, "theta differs by {d_theta:e} rad");
+    let n_scale = reference
+        .samples
+        .iter()
+        .map(|s| s.normal.abs())
+        .fold(0.0, f64::max);
     let d_n = r
         .samples
         .iter()
-        .zip(&v.samples)
+        .zip(&reference.samples)
         .map(|(a, b)| (a.normal - b.normal).abs())
         .fold(0.0, f64::max);
     assert!(
@@ -107,12 +115,12 @@ fn rigid_model_latches_the_branch_and_follows_the_vector_form() {
         d_n / n_scale
     );
     let s = &r.summary;
-    let share = s.rejected_steps as f64 / (s.steps + s.rejected_steps) as f64;
+    let attempts = s.steps + s.rejected_steps;
+    let share = s.rejected_steps as f64 / attempts as f64;
     assert!(
         share < 0.10,
-        "{} of {} attempts rejected",
-        s.rejected_steps,
-        s.steps + s.rejected_steps
+        "{} of {attempts} attempts rejected",
+        s.rejected_steps
     );
     // The same sign changes of N.
     let crossings = |t: &Trajectory| {
@@ -121,5 +129,5 @@ fn rigid_model_latches_the_branch_and_follows_the_vector_form() {
             .filter(|e| e.kind == "contact_lost" || e.kind == "contact_regained")
             .count()
     };
-    assert_eq!(crossings(&r), crossings(&v));
+    assert_eq!(crossings(&r), crossings(&reference));
 }
