@@ -5,7 +5,6 @@
 
 use std::process::ExitCode;
 
-use anyhow::Context;
 use serde::Serialize;
 use tippetop::physics::adhesion::{ANGSTROM, Adhesion, EV, LjConstants, Shell, Substrate};
 
@@ -187,10 +186,7 @@ pub fn run(args: &AdhesionArgs) -> anyhow::Result<ExitCode> {
         }
     };
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&rep).context("serialising the report")?
-        );
+        crate::output::print_json(&rep)?;
     } else {
         print!("{}", table(&rep));
     }

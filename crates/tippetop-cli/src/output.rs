@@ -561,6 +561,16 @@ fn write_manifest(dir: &Path, names: &BTreeSet<String>) -> Result<()> {
     write_bytes_atomic(&dir.join(MANIFEST_NAME), text.as_bytes())
 }
 
+/// Print `value` as pretty JSON on stdout (the `--json` output of the
+/// report commands).
+pub fn print_json<T: Serialize + ?Sized>(value: &T) -> Result<()> {
+    println!(
+        "{}",
+        serde_json::to_string_pretty(value).context("serialising the report")?
+    );
+    Ok(())
+}
+
 /// The `summary.json` document of a run: every [`Summary`] field at the top
 /// level, plus `wall_seconds`, the resolved `scenario` (as TOML text) and the
 /// `events`.

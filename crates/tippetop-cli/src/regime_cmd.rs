@@ -4,7 +4,6 @@
 
 use std::{path::PathBuf, process::ExitCode};
 
-use anyhow::Context;
 use tippetop::{Scenario, analysis::regime};
 
 /// Long help of `tippetop regime`.
@@ -76,10 +75,7 @@ pub fn run(args: &RegimeArgs) -> anyhow::Result<ExitCode> {
         }
     };
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&rep).context("serialising the regime")?
-        );
+        crate::output::print_json(&rep)?;
         return Ok(ExitCode::SUCCESS);
     }
     match rep.temperature {

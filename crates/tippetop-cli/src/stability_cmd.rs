@@ -4,7 +4,6 @@
 
 use std::{path::PathBuf, process::ExitCode};
 
-use anyhow::Context;
 use tippetop::{
     Scenario,
     analysis::stability::{self, Linearisation, Options, SmoothLaw, StabilityReport},
@@ -104,10 +103,7 @@ pub fn run(args: &StabilityArgs, quiet: bool) -> anyhow::Result<ExitCode> {
         }
     };
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&rep).context("serialising the report")?
-        );
+        crate::output::print_json(&rep)?;
     } else {
         print!("{}", table(&rep));
     }

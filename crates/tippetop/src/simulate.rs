@@ -15,7 +15,7 @@ use crate::{
         reduced::{self, DIM, Mode, ModelError, Reduced},
         vector::{self, Vector},
     },
-    sim::events::{self, Happened, Watch},
+    sim::events::{Happened, Watch},
     sim::messages::{nonfinite_output_error, painleve_why, step_limit_why, unstable_rk4},
     sim::record::{EventList, NormalLog, RunEnd, RunSetup, Track, summarize, unit},
 };
@@ -256,7 +256,7 @@ fn run_contact<M: ContactModel<D>, const D: usize>(
                 m.plane_mut().normal_branch = Some(n >= 0.0);
             }
         }
-        let (watches, events) = events::split(events_for(&m));
+        let (watches, events): (Vec<_>, Vec<_>) = events_for(&m).into_iter().unzip();
         opts.max_steps = step_cap.saturating_sub(steps_seen);
         let next = samples.len();
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {

@@ -217,11 +217,3 @@ fn cycle_detector_finds_a_cycle() {
         ["Error", "model", "sim"]
     );
 }
-
-#[test]
-#[ignore]
-fn print_graph() {
-    for (k, v) in graph() {
-        println!("{k} -> {}", v.into_iter().collect::<Vec<_>>().join(", "));
-    }
-}

@@ -52,10 +52,11 @@
 //!
 //! with `N_f = σ N` (per unit mass; `m = 1` in scaled units). For
 //! `k = (s, 0, c)` this is exactly the reduced model's
-//! `D = 1 + m a s (a s − σ h f_x)/A`. The branches are those of the reduced
-//! model: bilateral takes the self-consistent sign (Painlevé error for 0 or
-//! 2 solutions), paper uses `N` with its sign, unilateral flies when `N`
-//! falls through 0.
+//! `D = 1 + m a s (a s − σ h f_x)/A`. The branches are the on-plane models'
+//! (one shared `model::closure_normal`): bilateral takes the self-consistent
+//! sign (Painlevé error for 0 or 2 solutions) and, while sliding, latches it
+//! per segment with N = 0 a terminal event where it flips; paper uses `N`
+//! with its sign; unilateral flies when `N` falls through 0.
 //!
 //! The vertical position and velocity stay in the state: in contact
 //! `v̇_z = N/m − g` is the constraint acceleration, so the constraint
@@ -169,7 +170,7 @@ use std::cell::Cell;
 use std::f64::consts::FRAC_PI_2;
 
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
-use crate::sim::events::{self, Happened, Watch};
+use crate::sim::events::{Happened, Watch};
 use crate::sim::record::{RunEnd, Track, summarize};
 use crate::{
     ContactMode, Error, Forcing, FrictionLaw, Sample, Scenario, Top, Trajectory,
@@ -1242,7 +1243,7 @@ pub fn run_with_progress(
                 m.normal_branch = Some(e.normal >= 0.0);
             }
         }
-        let (watches, events) = events::split(events_for(&m));
+        let (watches, events): (Vec<_>, Vec<_>) = events_for(&m).into_iter().unzip();
         opts.max_steps = step_cap.saturating_sub(steps_seen);
         let next = samples.len();
         let mut on_sample = |s: &Rigid, t: f64, y: &[f64; DIM]| {

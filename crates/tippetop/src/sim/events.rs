@@ -83,12 +83,6 @@ impl Happened {
     ];
 }
 
-/// Split a driver's event list into the kinds (to dispatch on) and the
-/// event functions (for the integrator), index for index.
-pub(crate) fn split<E>(list: Vec<(Watch, E)>) -> (Vec<Watch>, Vec<E>) {
-    list.into_iter().unzip()
-}
-
 #[cfg(test)]
 mod tests {
     use super::Happened;
