@@ -2,7 +2,7 @@
 //! force crosses zero, ballistic flight, touchdown with the impact law,
 //! bounces that settle into contact.
 
-use tippetop::model::rigid::{self, DIM, POS, Phase, VEL};
+use tippetop::model::rigid::{DIM, POS, Phase, VEL};
 use tippetop::{
     ContactMode, ForceWindow, Forcing, FrictionLaw, ModelKind, Scenario, Trajectory, simulate,
 };
@@ -27,7 +27,7 @@ struct Obs {
 
 fn observe(sc: &Scenario) -> (Trajectory, Vec<Obs>) {
     let mut obs = Vec::new();
-    let tr = rigid::run_observed(sc, &mut |m, t, y| {
+    let tr = tippetop::simulate::simulate_rigid_observed(sc, &mut |m, t, y| {
         obs.push(Obs {
             t,
             phase: m.phase,

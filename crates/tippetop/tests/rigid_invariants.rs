@@ -152,7 +152,7 @@ fn quaternion_norm_held() {
     sc.surface.law = FrictionLaw::Regularized { eps: 1e-2 };
     let mut worst: f64 = 0.0;
     let mut steps = 0usize;
-    let tr = rigid::run_observed(&sc, &mut |_, _, y: &[f64; DIM]| {
+    let tr = tippetop::simulate::simulate_rigid_observed(&sc, &mut |_, _, y: &[f64; DIM]| {
         let q = &y[QUAT..QUAT + 4];
         let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
         worst = worst.max((n - 1.0).abs());
@@ -232,7 +232,7 @@ fn passes_through_theta_pi() {
     let mut kx_min = f64::INFINITY;
     let mut kx_first = f64::NAN;
     let mut closest = f64::INFINITY;
-    let tr = rigid::run_observed(&sc, &mut |m, _, y| {
+    let tr = tippetop::simulate::simulate_rigid_observed(&sc, &mut |m, _, y| {
         let k = m.kin(y).k;
         if kx_first.is_nan() {
             kx_first = k[0];
@@ -293,7 +293,7 @@ fn normal_force_closure_holds_constraint() {
     n.surface.law = FrictionLaw::CoulombSliding;
     for sc in [c, n] {
         let mut states = Vec::new();
-        rigid::run_observed(&sc, &mut |_, _, y| states.push(*y));
+        tippetop::simulate::simulate_rigid_observed(&sc, &mut |_, _, y| states.push(*y));
         let m = rigid::Rigid::new(&sc);
         let (mut worst, mut nmax, mut neg) = (0.0f64, 0.0f64, false);
         for y in states.iter().step_by(37) {

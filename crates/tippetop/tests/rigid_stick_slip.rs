@@ -5,7 +5,7 @@
 //! force, cost, and chattering detection for the sliding-only law.
 
 mod common;
-use tippetop::model::rigid::{self, Mode, VEL};
+use tippetop::model::rigid::{Mode, VEL};
 use tippetop::{
     ForceWindow, Forcing, FrictionLaw, ModelKind, Sample, Scenario, Trajectory, simulate,
 };
@@ -182,7 +182,7 @@ fn rigid_sphere_from_theta_zero_sticks_at_the_coulomb_time() {
 /// the integration error).
 fn rolling_world_velocities(sc: &Scenario) -> Vec<[f64; 2]> {
     let mut out = Vec::new();
-    let tr = rigid::run_observed(sc, &mut |m, _, y| {
+    let tr = tippetop::simulate::simulate_rigid_observed(sc, &mut |m, _, y| {
         if m.mode == Mode::Rolling {
             let vu = m.scales.velocity();
             out.push([y[VEL] * vu, y[VEL + 1] * vu]);

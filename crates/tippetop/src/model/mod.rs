@@ -1,5 +1,6 @@
 //! Equations of motion, one file per formulation.
 
+pub(crate) mod on_plane;
 pub mod reduced;
 pub mod rigid;
 pub(crate) mod vec3;
@@ -7,9 +8,12 @@ pub mod vector;
 
 use std::cell::Cell;
 
+use crate::integrate::Event;
 use crate::physics::units::Scales;
+use crate::sim::events::Watch;
+use crate::sim::record::RunLog;
 use crate::{
-    ContactMode, Forcing, FrictionLaw, Initial, Sample, Scenario, contact::SlidingLaw,
+    ContactMode, Error, Forcing, FrictionLaw, Initial, Sample, Scenario, contact::SlidingLaw,
     integrate::OdeSystem,
 };
 
@@ -103,6 +107,10 @@ pub struct OnPlane {
     /// Set by the driver when the sliding-only law chatters (see
     /// [`ModelError::Chattering`]); the next evaluation then fails.
     pub chattering: Cell<bool>,
+    /// Slip reversals counted at accepted steps (sliding-only law).
+    reversals: Cell<u32>,
+    /// The slip at the last accepted step (chatter detection).
+    last_slip: Cell<[f64; 2]>,
     /// Right-hand-side evaluations so far (all segments).
     pub evaluations: u64,
 }
@@ -123,8 +131,26 @@ impl OnPlane {
             slip_ref: Cell::new([0.0, 0.0]),
             normal_branch: None,
             chattering: Cell::new(false),
+            reversals: Cell::new(0),
+            last_slip: Cell::new([0.0, 0.0]),
             evaluations: 0,
         }
+    }
+
+    /// Chatter detection of the sliding-only law, at every accepted step
+    /// with the slip `v` there: a genuine motion reverses its slip only at
+    /// isolated instants; after [`reduced::CHATTER_REVERSALS`] reversals
+    /// the next evaluation fails with [`ModelError::Chattering`].
+    pub(crate) fn count_reversal(&self, v: [f64; 2]) {
+        let l = self.last_slip.get();
+        if v[0] * l[0] + v[1] * l[1] < 0.0 {
+            let r = self.reversals.get() + 1;
+            self.reversals.set(r);
+            if r >= reduced::CHATTER_REVERSALS {
+                self.chattering.set(true);
+            }
+        }
+        self.last_slip.set(v);
     }
 
     /// Latch the applied force in effect at scaled time `t`.
@@ -334,10 +360,82 @@ pub(crate) fn bilateral_normal(q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
     }
 }
 
-/// What the contact driver ([`run_contact`]) needs from a model whose
-/// sphere stays on the plane: the reduced Euler-angle model ([`Reduced`])
-/// and its vector form ([`Vector`]). Both share the friction laws, the
-/// contact modes and the stick/slip logic; they differ in their state.
+/// What an event handler of a [`Model`] tells the driver to do next.
+#[derive(Debug)]
+pub(crate) enum Flow {
+    /// Integrate on from the (possibly changed) state.
+    Continue,
+    /// Stop the run with this error (the samples so far are kept).
+    Stop(Error),
+    /// Stop the run without an error.
+    End,
+}
+
+/// What the one driver ([`crate::simulate`]) needs from a model: the
+/// right-hand side ([`OdeSystem`]), the events the model needs in its
+/// current discrete state and what each does, the observables of a state,
+/// and its step-control hints. The reduced and vector models implement it
+/// through [`ContactModel`] (their shared on-plane contact logic,
+/// `on_plane.rs`), the rigid model directly. The driver owns the loop, the
+/// samples, the error mapping, the run's record ([`RunLog`]) and the
+/// summary.
+pub(crate) trait Model<const D: usize>: OdeSystem<D> + Sized {
+    /// Seconds per scaled time unit.
+    fn time_unit(&self) -> f64;
+    /// C/(m R²).
+    fn axial_ratio(&self) -> f64;
+    /// Right-hand-side evaluations so far.
+    fn evaluations(&self) -> u64;
+    /// `(β, stability_cap)` of DOP853's step-size control for this model
+    /// ([`crate::integrate::Stepper::Dop853`]).
+    fn step_hints(&self) -> (f64, bool) {
+        (0.0, false)
+    }
+    /// The scaled initial state of `sc` with the discrete state at `t = 0`
+    /// decided (stick or slip at zero slip, contact or flight), recording
+    /// what happened in `log`; returns the state and N(0) (scaled; NaN if
+    /// it cannot be evaluated).
+    fn start(&mut self, sc: &Scenario, log: &mut RunLog) -> ([f64; D], f64);
+    /// Latch the applied force in effect at scaled time `t`.
+    fn latch_force(&mut self, t: f64);
+    /// At the start of each integration segment: latch the normal-force
+    /// branch where the model latches it (bilateral contact, sliding),
+    /// clear it elsewhere.
+    fn latch_branch(&mut self, y: &[f64; D]);
+    /// The events the model needs in its current discrete state, each with
+    /// what it watches for.
+    fn events(&self) -> Vec<(Watch, Event<Self, D>)>;
+    /// After every accepted step: update the slip reference and the
+    /// chatter detection.
+    fn accepted(&self, y: &[f64; D]);
+    /// θ \[rad\], spin, Jellett's J, the energy (if it can be evaluated)
+    /// and the work done by friction and the applied force (scaled): what
+    /// the run's [`Track`] follows.
+    fn track_point(&self, y: &[f64; D]) -> (f64, f64, f64, Option<f64>, f64);
+    /// True where the top can leave the plane (rigid model, unilateral
+    /// contact): the summary's contact entries then count flights, not
+    /// zero crossings of N.
+    fn flies(&self) -> bool {
+        false
+    }
+    /// A force switch at `t` (the new force is not latched yet): latch it
+    /// and re-decide what depends on it.
+    fn on_force_switch(&mut self, t: f64, y: &mut [f64; D], log: &mut RunLog) -> Flow;
+    /// A terminal event `what` at `t` with state `y`.
+    fn on_terminal(&mut self, what: Watch, t: f64, y: &mut [f64; D], log: &mut RunLog) -> Flow;
+    /// Why the right-hand side failed, for the error message.
+    fn explain(&self, sc: &Scenario, err: Self::Error) -> String;
+    /// The output row at scaled time `t`.
+    fn row(&self, t: f64, y: &[f64; D]) -> Sample;
+    /// The state in SI units, for error messages.
+    fn describe(&self, y: &[f64]) -> String;
+}
+
+/// What a model whose sphere stays on the plane provides: the reduced
+/// Euler-angle model ([`reduced::Reduced`]) and its vector form
+/// ([`vector::Vector`]). Both share the friction laws, the contact modes
+/// and the stick/slip logic (their [`Model`] implementation, written once
+/// in `on_plane.rs`); they differ in their state.
 pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> {
     /// The scaled model of a scenario.
     fn build(sc: &Scenario) -> Self;

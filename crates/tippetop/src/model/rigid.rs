@@ -167,15 +167,16 @@
 //! lift-off and `negative_normal_fraction` the fraction of time in flight.
 
 use std::cell::Cell;
-use std::f64::consts::FRAC_PI_2;
 
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
 use crate::sim::events::{Happened, Watch};
-use crate::sim::record::{RunEnd, Track, summarize};
+use crate::sim::messages::painleve_why;
+use crate::sim::record::RunLog;
 use crate::{
-    ContactMode, Error, Forcing, FrictionLaw, Sample, Scenario, Top, Trajectory,
-    integrate::{self, Direction, Event, IntegrateError, OdeSystem, StopReason},
+    ContactMode, Error, Forcing, FrictionLaw, Sample, Scenario, Top,
+    integrate::{Direction, Event, OdeSystem},
     model::reduced::{CHATTER_REVERSALS, ModelError, Scales},
+    model::{Flow, Model},
 };
 
 pub use crate::model::reduced::Mode;
@@ -379,6 +380,14 @@ pub struct Rigid {
     pub normal_branch: Option<bool>,
     /// Right-hand-side evaluations so far (all segments).
     pub evaluations: u64,
+    /// Slip reversals counted at accepted steps (sliding-only law).
+    reversals: Cell<u32>,
+    /// The slip at the last accepted step (chatter detection).
+    last_slip: Cell<V3>,
+    /// Lift-offs and touchdowns so far (bounded by [`MAX_TRANSITIONS`]).
+    transitions: usize,
+    /// Bounces since the last contact phase (Zeno guard, [`MAX_BOUNCES`]).
+    bounces: usize,
     /// Time the current flight started (scaled).
     pub flight_start: f64,
     /// The SI top.
@@ -418,6 +427,10 @@ impl Rigid {
             chattering: Cell::new(false),
             normal_branch: None,
             evaluations: 0,
+            reversals: Cell::new(0),
+            last_slip: Cell::new([0.0; 3]),
+            transitions: 0,
+            bounces: 0,
             flight_start: 0.0,
             top: sc.top,
             gravity_si: sc.surface.gravity,
@@ -1038,17 +1051,6 @@ fn slide_off(m: &mut Rigid, y: &mut [f64; DIM]) {
     m.slip_ref.set(m.slip_hint);
 }
 
-/// Record a rigid-model state in `track`.
-fn visit(track: &mut Track, m: &Rigid, y: &[f64; DIM]) {
-    track.record(
-        m.theta(y),
-        m.spin_scaled(y),
-        m.jellett_scaled(y),
-        Some(m.energy_scaled(y)),
-        y[WF] + y[WA],
-    );
-}
-
 /// One output row from a scaled state.
 pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
     let sc = m.scales;
@@ -1132,478 +1134,271 @@ fn enter_contact(m: &mut Rigid, t: f64, y: &mut [f64; DIM]) -> Phase {
     m.phase
 }
 
-/// Run `sc` with the rigid model (the scenario is assumed validated).
-pub fn run(sc: &Scenario) -> Trajectory {
-    run_observed(sc, &mut |_, _, _| {})
-}
-
-/// As [`run`], calling `observe(model, t, y)` (scaled time and state) after
-/// every accepted step and at every event that ends an integration (lift-off,
-/// touchdown), before the state is changed there.
-pub fn run_observed(
-    sc: &Scenario,
-    observe: &mut dyn FnMut(&Rigid, f64, &[f64; DIM]),
-) -> Trajectory {
-    run_with_progress(sc, observe, &mut |_| {})
-}
-
-/// As [`run_observed`], also calling `progress(t / t_end)` every
-/// [`crate::sim::record::PROGRESS_EVERY`] accepted steps (see
-/// [`crate::simulate::simulate_with_progress`]).
-pub fn run_with_progress(
-    sc: &Scenario,
-    observe: &mut dyn FnMut(&Rigid, f64, &[f64; DIM]),
-    progress: &mut dyn FnMut(f64),
-) -> Trajectory {
-    let mut m = Rigid::new(sc);
-    let tu = m.scales.time;
-    let crate::sim::record::RunSetup {
-        t_end,
-        sample_times,
-        tstops,
-        mut opts,
-    } = crate::sim::record::RunSetup::new(sc, tu);
-    let ns = sc.solver.samples;
-    // The step limit holds for the whole run, over all its `solve` calls.
-    let step_cap = opts.max_steps;
-
-    let mut y = m.scale_state(&sc.initial);
-    m.latch_force(0.0);
-    let mut events_out = crate::sim::record::EventList::default();
-    for &ts in &tstops {
-        events_out.push(ts * tu, Happened::ForceSwitch);
+impl Model<DIM> for Rigid {
+    fn time_unit(&self) -> f64 {
+        self.scales.time
     }
 
-    let unilateral = m.contact == ContactMode::Unilateral;
-    let n_initial = m.eval(&y).map(|e| e.normal).unwrap_or(f64::NAN);
-    let mut lift_offs: Vec<f64> = Vec::new();
-    let mut flight_since: Option<f64> = None;
-    let mut flight_time = 0.0;
-    if unilateral && n_initial < 0.0 {
-        m.phase = Phase::Flight;
-        m.flight_start = 0.0;
-        flight_since = Some(0.0);
-        lift_offs.push(0.0);
-        events_out.push(0.0, Happened::LiftOff);
+    fn axial_ratio(&self) -> f64 {
+        self.ic
     }
-    let mut rolling_since: Option<f64> = None;
-    let mut rolling_time = 0.0;
-    if m.exact && m.phase == Phase::Contact {
-        let v = m.slip_of(&y);
-        if m.slip_is_zero(&y) {
-            let stuck = settle_at_zero_slip(&mut m, &mut y);
-            if stuck {
-                rolling_since = Some(0.0);
-            }
-            events_out.push(
-                0.0,
+
+    fn evaluations(&self) -> u64 {
+        self.evaluations
+    }
+
+    fn start(&mut self, sc: &Scenario, log: &mut RunLog) -> ([f64; DIM], f64) {
+        let mut y = self.scale_state(&sc.initial);
+        let n_initial = self.eval(&y).map(|e| e.normal).unwrap_or(f64::NAN);
+        if self.contact == ContactMode::Unilateral && n_initial < 0.0 {
+            self.phase = Phase::Flight;
+            self.flight_start = 0.0;
+            log.lift_off(0.0);
+        }
+        if self.exact && self.phase == Phase::Contact {
+            let v = self.slip_of(&y);
+            if self.slip_is_zero(&y) {
+                let stuck = settle_at_zero_slip(self, &mut y);
                 if stuck {
-                    Happened::Stick
-                } else {
-                    Happened::Slip
-                },
-            );
-        } else {
-            m.slip_ref.set(unit_h(v));
+                    log.start_rolling(0.0);
+                }
+                log.push(
+                    0.0,
+                    if stuck {
+                        Happened::Stick
+                    } else {
+                        Happened::Slip
+                    },
+                );
+            } else {
+                self.slip_ref.set(unit_h(v));
+            }
         }
+        self.last_slip.set(self.slip_of(&y));
+        (y, n_initial)
     }
 
-    let mut track = Track::new(
-        m.theta(&y),
-        m.spin_scaled(&y),
-        m.jellett_scaled(&y),
-        Some(m.energy_scaled(&y)),
-    );
+    fn latch_force(&mut self, t: f64) {
+        Rigid::latch_force(self, t);
+    }
 
-    let mut samples: Vec<Sample> = Vec::with_capacity(ns);
-    let mut stats = integrate::Stats::default();
-    let mut t = 0.0;
-    let mut error: Option<Error> = None;
-    let mut first_above: Option<f64> = (m.theta(&y) > FRAC_PI_2).then_some(0.0);
-    let mut normal_log = crate::sim::record::NormalLog::new(n_initial);
-    let mut transitions = 0usize;
-    let mut bounces = 0usize;
-    let mut switches = 0usize;
-    // Accepted steps and the last accepted state, kept here too so that a
-    // failed run still reports them.
-    let mut steps_seen: u64 = 0;
-    let mut last_accepted = y;
-    let mut last_accepted_t = 0.0;
-    let mut reversals: u32 = 0;
-    let mut last_slip = m.slip_of(&y);
-    let mut event_track = track.clone();
-    let mut nonfinite_at: Option<f64> = None;
-
-    loop {
-        if !m.latches_normal() {
-            m.normal_branch = None;
-        } else if m.normal_branch.is_none() {
+    fn latch_branch(&mut self, y: &[f64; DIM]) {
+        if !self.latches_normal() {
+            self.normal_branch = None;
+        } else if self.normal_branch.is_none() {
             // The self-consistent branch at the segment's start.
-            if let Ok(e) = m.eval(&y) {
-                m.normal_branch = Some(e.normal >= 0.0);
+            if let Ok(e) = self.eval(y) {
+                self.normal_branch = Some(e.normal >= 0.0);
             }
         }
-        let (watches, events): (Vec<_>, Vec<_>) = events_for(&m).into_iter().unzip();
-        opts.max_steps = step_cap.saturating_sub(steps_seen);
-        let next = samples.len();
-        let mut on_sample = |s: &Rigid, t: f64, y: &[f64; DIM]| {
-            let row = sample_of(s, t, y);
-            if nonfinite_at.is_none() && !row.is_finite() {
-                nonfinite_at = Some(t);
-            }
-            samples.push(row);
-        };
-        let mut on_step = |s: &Rigid, t: f64, y: &[f64; DIM]| {
-            steps_seen += 1;
-            last_accepted_t = t;
-            if steps_seen % crate::sim::record::PROGRESS_EVERY == 0 {
-                progress((t / t_end).clamp(0.0, 1.0));
-            }
-            last_accepted = *y;
-            if s.phase == Phase::Contact {
-                if s.can_chatter() {
-                    // As the reduced driver: a genuine motion reverses its
-                    // slip only at isolated instants.
-                    let v = s.slip_of(y);
-                    if dot(v, last_slip) < 0.0 {
-                        reversals += 1;
-                        if reversals >= CHATTER_REVERSALS {
-                            s.chattering.set(true);
-                        }
-                    }
-                    last_slip = v;
-                }
-                if s.exact && s.mode == Mode::Sliding {
-                    let d = unit_h(s.slip_of(y));
-                    if d != [0.0; 3] {
-                        s.slip_ref.set(d);
-                    }
-                }
-            }
-            visit(&mut track, s, y);
-            observe(s, t, y);
-        };
-        // Integrate to the next force switch (or the end): the driver, not
-        // the integrator, handles the switch, so it can project the state
-        // and let the top lift off if the new force makes N negative.
-        let t_stop = tstops.iter().copied().find(|&s| s > t).unwrap_or(t_end);
-        // The events of this call as they fire (also those before a
-        // failure); θ maxima into their own track, merged below.
-        let mut on_event = |s: &Rigid, f: &integrate::Fired<DIM>| match watches[f.index] {
-            Watch::ThetaAboveHalfPi if first_above.is_none() => {
-                first_above = Some(f.t * tu);
-                events_out.push(f.t * tu, Happened::ThetaAboveHalfPi);
-            }
-            Watch::ThetaMax => visit(&mut event_track, s, &f.y),
-            Watch::NormalZero if !unilateral => {
-                let what = normal_log.cross(f.t);
-                events_out.push(f.t * tu, what);
-            }
-            _ => {}
-        };
-        let res = integrate::solve_with_events(
-            &mut m,
-            &opts,
-            t,
-            y,
-            t_stop,
-            &[],
-            &sample_times[next..],
-            &events,
-            &mut on_sample,
-            &mut on_step,
-            &mut on_event,
-        );
-        track.merge(&event_track);
-        // (A failed call explains itself: its rows may be NaN where the
-        // model could not be evaluated.)
-        if let (Some(ts), Ok(_)) = (nonfinite_at, &res) {
-            samples.retain(|r| r.t < ts * tu);
-            error = Some(crate::sim::messages::nonfinite_output_error(
-                ts * tu,
-                &describe_state(&m, &last_accepted),
-            ));
-            y = last_accepted;
-            t = last_accepted_t;
-            stats.steps = steps_seen;
-            stats.rhs_evals = m.evaluations;
-            break;
+    }
+
+    fn events(&self) -> Vec<(Watch, Event<Self, DIM>)> {
+        events_for(self)
+    }
+
+    fn accepted(&self, y: &[f64; DIM]) {
+        if self.phase != Phase::Contact {
+            return;
         }
-        match res {
-            Err(e) => {
-                let (te, why, ylast) = match e {
-                    IntegrateError::Rhs { t, y_last, err } => {
-                        let why = match err {
-                            RigidError::Painleve { theta, solutions } => {
-                                crate::sim::messages::painleve_why(
-                                    sc,
-                                    "N equation",
-                                    theta,
-                                    solutions,
-                                )
-                            }
-                            other => other.to_string(),
-                        };
-                        (
-                            t,
-                            crate::sim::messages::unstable_rk4(sc, &track, why),
-                            y_last,
-                        )
-                    }
-                    IntegrateError::StepUnderflow { t, h, y_last } => (
-                        t,
-                        format!("step size underflow (h = {:e} s)", h * tu),
-                        y_last,
-                    ),
-                    IntegrateError::NonFinite { t, y_last } => (
-                        t,
-                        crate::sim::messages::unstable_rk4(
-                            sc,
-                            &track,
-                            "the solution became NaN or infinite".to_string(),
+        if self.can_chatter() {
+            // As the on-plane models: a genuine motion reverses its slip
+            // only at isolated instants.
+            let v = self.slip_of(y);
+            if dot(v, self.last_slip.get()) < 0.0 {
+                let r = self.reversals.get() + 1;
+                self.reversals.set(r);
+                if r >= CHATTER_REVERSALS {
+                    self.chattering.set(true);
+                }
+            }
+            self.last_slip.set(v);
+        }
+        if self.exact && self.mode == Mode::Sliding {
+            let d = unit_h(self.slip_of(y));
+            if d != [0.0; 3] {
+                self.slip_ref.set(d);
+            }
+        }
+    }
+
+    fn track_point(&self, y: &[f64; DIM]) -> (f64, f64, f64, Option<f64>, f64) {
+        (
+            self.theta(y),
+            self.spin_scaled(y),
+            self.jellett_scaled(y),
+            Some(self.energy_scaled(y)),
+            y[WF] + y[WA],
+        )
+    }
+
+    fn flies(&self) -> bool {
+        self.contact == ContactMode::Unilateral
+    }
+
+    fn on_force_switch(&mut self, t: f64, y: &mut [f64; DIM], log: &mut RunLog) -> Flow {
+        // Latch the new force (solve does it again in begin_segment),
+        // project onto the contact constraint, and fly if N < 0 now
+        // (unilateral).
+        Rigid::latch_force(self, t);
+        self.normal_branch = None;
+        if self.phase == Phase::Contact && self.mode == Mode::Rolling {
+            // Re-check stick with the new force (N does not depend on H
+            // while rolling, the friction does).
+            self.project_rolling(y);
+            if let Ok(e) = self.eval(y) {
+                if self.stick_margin(&e) < 0.0 {
+                    slide_off(self, y);
+                    log.stop_rolling(t);
+                    log.push(t, Happened::Slip);
+                }
+            }
+        }
+        if self.phase == Phase::Contact {
+            if self.mode == Mode::Sliding {
+                self.project_contact(y);
+            }
+            let n = self.eval(y).map(|e| e.normal).unwrap_or(0.0);
+            if self.contact == ContactMode::Unilateral && n < 0.0 {
+                self.phase = Phase::Flight;
+                self.flight_start = t;
+                log.lift_off(t);
+            }
+        }
+        Flow::Continue
+    }
+
+    fn on_terminal(&mut self, what: Watch, t: f64, y: &mut [f64; DIM], log: &mut RunLog) -> Flow {
+        let tu = self.scales.time;
+        match what {
+            Watch::NormalZero if self.latches_normal() => {
+                // N = 0 (bilateral): continue on the other branch.
+                self.normal_branch = self.normal_branch.map(|pos| !pos);
+                Flow::Continue
+            }
+            Watch::NormalZero | Watch::Touchdown | Watch::PenetrationGuard => {
+                self.transitions += 1;
+                if self.transitions > MAX_TRANSITIONS {
+                    return Flow::Stop(Error::runtime(
+                        t * tu,
+                        format!(
+                            "more than {MAX_TRANSITIONS} lift-offs and touchdowns; {}",
+                            describe_state(self, y)
                         ),
-                        y_last,
-                    ),
-                    IntegrateError::TooManySteps { t, .. } => (
-                        t,
-                        crate::sim::messages::step_limit_why(sc, step_cap),
-                        last_accepted.to_vec(),
-                    ),
-                };
-                error = Some(Error::runtime(
-                    te * tu,
-                    format!("{why}; {}", describe_state(&m, &ylast)),
-                ));
-                stats.steps = steps_seen;
-                stats.rhs_evals = m.evaluations;
-                if ylast.len() == DIM {
-                    y.copy_from_slice(&ylast);
+                    ));
                 }
-                t = te;
-                break;
+                match self.phase {
+                    Phase::Contact => {
+                        // Lift-off: N fell through 0 (from sliding or
+                        // rolling: the flight starts from the rolling
+                        // velocity).
+                        if self.mode == Mode::Rolling {
+                            self.project_rolling(y);
+                            self.mode = Mode::Sliding;
+                            self.slip_hint = [0.0; 3];
+                            log.stop_rolling(t);
+                        } else {
+                            self.project_contact(y);
+                        }
+                        self.phase = Phase::Flight;
+                        self.flight_start = t;
+                        log.lift_off(t);
+                        Flow::Continue
+                    }
+                    Phase::Flight => self.touch_down(t, y, log),
+                }
             }
-            Ok(o) => {
-                stats.rhs_evals += o.stats.rhs_evals;
-                stats.steps += o.stats.steps;
-                stats.rejected += o.stats.rejected;
-                t = o.t;
-                y = o.y;
-                match o.stop {
-                    StopReason::End if t >= t_end => break,
-                    StopReason::End => {
-                        // A force switch: latch the new force (solve does it
-                        // again in begin_segment), project onto the contact
-                        // constraint, and fly if N < 0 now (unilateral).
-                        m.latch_force(t);
-                        m.normal_branch = None;
-                        if m.phase == Phase::Contact && m.mode == Mode::Rolling {
-                            // Re-check stick with the new force (N does not
-                            // depend on H while rolling, the friction does).
-                            m.project_rolling(&mut y);
-                            if let Ok(e) = m.eval(&y) {
-                                if m.stick_margin(&e) < 0.0 {
-                                    slide_off(&mut m, &mut y);
-                                    if let Some(s0) = rolling_since.take() {
-                                        rolling_time += t - s0;
-                                    }
-                                    events_out.push(t * tu, Happened::Slip);
-                                }
-                            }
-                        }
-                        if m.phase == Phase::Contact {
-                            if m.mode == Mode::Sliding {
-                                m.project_contact(&mut y);
-                            }
-                            let n = m.eval(&y).map(|e| e.normal).unwrap_or(0.0);
-                            if unilateral && n < 0.0 {
-                                m.phase = Phase::Flight;
-                                m.flight_start = t;
-                                flight_since = Some(t);
-                                lift_offs.push(t);
-                                events_out.push(t * tu, Happened::LiftOff);
-                            }
+            Watch::SlipZero | Watch::StickLimit => {
+                match self.mode {
+                    Mode::Sliding => {
+                        if settle_at_zero_slip(self, y) {
+                            log.start_rolling(t);
+                            log.push(t, Happened::Stick);
                         }
                     }
-                    StopReason::Terminal(i)
-                        if watches[i] == Watch::NormalZero && m.latches_normal() =>
-                    {
-                        // N = 0 (bilateral): continue on the other branch.
-                        m.normal_branch = m.normal_branch.map(|pos| !pos);
+                    Mode::Rolling => {
+                        slide_off(self, y);
+                        log.stop_rolling(t);
+                        log.push(t, Happened::Slip);
                     }
-                    StopReason::Terminal(i)
-                        if matches!(
-                            watches[i],
-                            Watch::NormalZero | Watch::Touchdown | Watch::PenetrationGuard
-                        ) =>
-                    {
-                        transitions += 1;
-                        if transitions > MAX_TRANSITIONS {
-                            error = Some(Error::runtime(
-                                t * tu,
-                                format!(
-                                    "more than {MAX_TRANSITIONS} lift-offs and touchdowns; {}",
-                                    describe_state(&m, &y)
-                                ),
-                            ));
-                            break;
-                        }
-                        match m.phase {
-                            Phase::Contact => {
-                                // Lift-off: N fell through 0 (from sliding or
-                                // rolling: the flight starts from the
-                                // rolling velocity).
-                                if m.mode == Mode::Rolling {
-                                    m.project_rolling(&mut y);
-                                    m.mode = Mode::Sliding;
-                                    m.slip_hint = [0.0; 3];
-                                    if let Some(s0) = rolling_since.take() {
-                                        rolling_time += t - s0;
-                                    }
-                                } else {
-                                    m.project_contact(&mut y);
-                                }
-                                m.phase = Phase::Flight;
-                                m.flight_start = t;
-                                flight_since = Some(t);
-                                lift_offs.push(t);
-                                events_out.push(t * tu, Happened::LiftOff);
-                            }
-                            Phase::Flight => {
-                                events_out.push(t * tu, Happened::Touchdown);
-                                // Put C exactly on the plane, then the impulse.
-                                let kz = m.kin(&y).k[2];
-                                let before = m.energy_scaled(&y);
-                                y[POS + 2] = 1.0 - m.a * kz;
-                                let (yn, vn_plus, stuck) = match m.impact(&y) {
-                                    Ok(v) => v,
-                                    Err(err) => {
-                                        error = Some(Error::runtime(
-                                            t * tu,
-                                            format!("{err}; {}", describe_state(&m, &y)),
-                                        ));
-                                        break;
-                                    }
-                                };
-                                // Book the impact's energy change (position
-                                // unchanged) into W_f.
-                                let after = m.energy_scaled(&yn);
-                                y = yn;
-                                y[WF] += after - before;
-                                bounces += 1;
-                                let qf = m.eval(&y).map(|e| e.q_free).unwrap_or(0.0);
-                                let t_fl = if qf > 0.0 {
-                                    2.0 * vn_plus / qf
-                                } else {
-                                    f64::INFINITY
-                                };
-                                let settle = vn_plus <= 0.0
-                                    || t_fl < MIN_FLIGHT
-                                    || (bounces > MAX_BOUNCES && t_fl < 1e3 * MIN_FLIGHT);
-                                m.flight_start = t;
-                                if settle {
-                                    if let Some(s0) = flight_since.take() {
-                                        flight_time += t - s0;
-                                    }
-                                    bounces = 0;
-                                    if enter_contact(&mut m, t, &mut y) == Phase::Flight {
-                                        flight_since = Some(t);
-                                        lift_offs.push(t);
-                                        events_out.push(t * tu, Happened::LiftOff);
-                                    } else if m.exact {
-                                        // Exact law: a sticking impulse leaves
-                                        // zero slip, where stick/slip is
-                                        // decided as at a slip-zero event.
-                                        m.slip_hint = [0.0; 3];
-                                        let v = m.slip_of(&y);
-                                        if stuck || m.slip_is_zero(&y) {
-                                            if settle_at_zero_slip(&mut m, &mut y) {
-                                                rolling_since = Some(t);
-                                                events_out.push(t * tu, Happened::Stick);
-                                            }
-                                        } else {
-                                            m.slip_ref.set(unit_h(v));
-                                        }
-                                    }
-                                }
-                            }
-                        }
+                }
+                Flow::Continue
+            }
+            _ => Flow::End,
+        }
+    }
+
+    fn explain(&self, sc: &Scenario, err: RigidError) -> String {
+        match err {
+            RigidError::Painleve { theta, solutions } => {
+                painleve_why(sc, "N equation", theta, solutions)
+            }
+            other => other.to_string(),
+        }
+    }
+
+    fn row(&self, t: f64, y: &[f64; DIM]) -> Sample {
+        sample_of(self, t, y)
+    }
+
+    fn describe(&self, y: &[f64]) -> String {
+        describe_state(self, y)
+    }
+}
+
+impl Rigid {
+    /// Touchdown at `t` (flight, the touchdown or guard event): put `C`
+    /// exactly on the plane, apply the impact, and settle into contact
+    /// when the rebound is too short to follow.
+    fn touch_down(&mut self, t: f64, y: &mut [f64; DIM], log: &mut RunLog) -> Flow {
+        log.push(t, Happened::Touchdown);
+        let kz = self.kin(y).k[2];
+        let before = self.energy_scaled(y);
+        y[POS + 2] = 1.0 - self.a * kz;
+        let (yn, vn_plus, stuck) = match self.impact(y) {
+            Ok(v) => v,
+            Err(err) => {
+                return Flow::Stop(Error::runtime(
+                    t * self.scales.time,
+                    format!("{err}; {}", describe_state(self, y)),
+                ));
+            }
+        };
+        // Book the impact's energy change (position unchanged) into W_f.
+        let after = self.energy_scaled(&yn);
+        *y = yn;
+        y[WF] += after - before;
+        self.bounces += 1;
+        let qf = self.eval(y).map(|e| e.q_free).unwrap_or(0.0);
+        let t_fl = if qf > 0.0 {
+            2.0 * vn_plus / qf
+        } else {
+            f64::INFINITY
+        };
+        let settle = vn_plus <= 0.0
+            || t_fl < MIN_FLIGHT
+            || (self.bounces > MAX_BOUNCES && t_fl < 1e3 * MIN_FLIGHT);
+        self.flight_start = t;
+        if settle {
+            log.land(t);
+            self.bounces = 0;
+            if enter_contact(self, t, y) == Phase::Flight {
+                log.lift_off(t);
+            } else if self.exact {
+                // Exact law: a sticking impulse leaves zero slip, where
+                // stick/slip is decided as at a slip-zero event.
+                self.slip_hint = [0.0; 3];
+                let v = self.slip_of(y);
+                if stuck || self.slip_is_zero(y) {
+                    if settle_at_zero_slip(self, y) {
+                        log.start_rolling(t);
+                        log.push(t, Happened::Stick);
                     }
-                    StopReason::Terminal(i)
-                        if matches!(watches[i], Watch::SlipZero | Watch::StickLimit) =>
-                    {
-                        switches += 1;
-                        if switches > crate::sim::record::MAX_SWITCHES {
-                            error = Some(Error::runtime(
-                                t * tu,
-                                format!(
-                                    "more than {} stick/slip switches",
-                                    crate::sim::record::MAX_SWITCHES
-                                ),
-                            ));
-                            break;
-                        }
-                        match m.mode {
-                            Mode::Sliding => {
-                                if settle_at_zero_slip(&mut m, &mut y) {
-                                    rolling_since = Some(t);
-                                    events_out.push(t * tu, Happened::Stick);
-                                }
-                            }
-                            Mode::Rolling => {
-                                slide_off(&mut m, &mut y);
-                                if let Some(s0) = rolling_since.take() {
-                                    rolling_time += t - s0;
-                                }
-                                events_out.push(t * tu, Happened::Slip);
-                            }
-                        }
-                    }
-                    StopReason::Terminal(_) => break,
+                } else {
+                    self.slip_ref.set(unit_h(v));
                 }
             }
         }
-    }
-    if let Some(s0) = flight_since {
-        flight_time += t - s0;
-    }
-    if let Some(s0) = rolling_since {
-        rolling_time += t - s0;
-    }
-    visit(&mut track, &m, &y);
-
-    let (contact_lost_at, negative_normal_fraction) = if unilateral {
-        (
-            lift_offs.first().map(|&t| t * tu),
-            if t > 0.0 { flight_time / t } else { 0.0 },
-        )
-    } else {
-        (
-            normal_log.first_negative().map(|tc| tc * tu),
-            normal_log.negative_fraction(t),
-        )
-    };
-    let events_out = events_out.into_sorted();
-
-    let last = sample_of(&m, t, &y);
-    let summary = summarize(
-        &track,
-        RunEnd {
-            t,
-            time_unit: tu,
-            axial: m.ic,
-            last: &last,
-            samples: &samples,
-            first_above,
-            contact: (contact_lost_at, negative_normal_fraction),
-            rolling_time,
-            stats,
-            error: error.as_ref(),
-        },
-    );
-    Trajectory {
-        samples,
-        events: events_out,
-        summary,
-        error,
+        Flow::Continue
     }
 }

@@ -58,7 +58,7 @@ pub(crate) fn unit(v: [f64; 2]) -> [f64; 2] {
 }
 
 /// Running diagnostics of a run (scaled units), updated at every accepted
-/// step, sample and event by the drivers of every model.
+/// step, sample and event by the driver for every model.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Track {
     j0: f64,
@@ -180,7 +180,7 @@ pub(crate) fn summarize(track: &Track, end: RunEnd<'_>) -> Summary {
 
 /// The sign history of the normal force N: its sign at t = 0 and the
 /// (scaled) times it crossed zero, from events or from jumps at force
-/// switches. Shared by the drivers of every model. Constant memory: the
+/// switches. Shared by the driver for every model. Constant memory: the
 /// first crossing, the number of crossings and the time with N < 0 so far.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NormalLog {
@@ -355,5 +355,95 @@ mod tests {
         assert_eq!(l.first_negative(), Some(0.0));
         assert_eq!(l.cross(4.0), Happened::ContactRegained);
         assert_eq!(l.negative_fraction(8.0), 0.5);
+    }
+}
+
+/// The bookkeeping of a run's discrete history that the driver owns and the
+/// models' event handlers write to: the event list, the normal force's
+/// sign history, and the intervals spent rolling and (rigid model,
+/// unilateral contact) in flight. Times are scaled; `time_unit` \[s\]
+/// converts them for the event records.
+#[derive(Debug)]
+pub(crate) struct RunLog {
+    /// The events recorded so far (SI times).
+    pub events: EventList,
+    /// Sign history of N.
+    pub normal: NormalLog,
+    /// Seconds per scaled time unit.
+    pub time_unit: f64,
+    rolling_since: Option<f64>,
+    rolling_time: f64,
+    flight_since: Option<f64>,
+    flight_time: f64,
+    first_lift_off: Option<f64>,
+}
+
+impl RunLog {
+    /// An empty log; `n_initial` is N at t = 0 (scaled).
+    pub(crate) fn new(time_unit: f64, n_initial: f64) -> Self {
+        RunLog {
+            events: EventList::default(),
+            normal: NormalLog::new(n_initial),
+            time_unit,
+            rolling_since: None,
+            rolling_time: 0.0,
+            flight_since: None,
+            flight_time: 0.0,
+            first_lift_off: None,
+        }
+    }
+
+    /// Record that `what` happened at scaled time `t`.
+    pub(crate) fn push(&mut self, t: f64, what: Happened) {
+        self.events.push(t * self.time_unit, what);
+    }
+
+    /// Record a zero crossing of N at scaled time `t` (contact lost or
+    /// regained).
+    pub(crate) fn cross_normal(&mut self, t: f64) {
+        let what = self.normal.cross(t);
+        self.push(t, what);
+    }
+
+    /// The top starts rolling at `t` (an interval, no event record).
+    pub(crate) fn start_rolling(&mut self, t: f64) {
+        self.rolling_since = Some(t);
+    }
+
+    /// The top stops rolling at `t`, if it rolled.
+    pub(crate) fn stop_rolling(&mut self, t: f64) {
+        if let Some(s0) = self.rolling_since.take() {
+            self.rolling_time += t - s0;
+        }
+    }
+
+    /// The top lifts off at `t`: records `"lift_off"` and starts a flight.
+    pub(crate) fn lift_off(&mut self, t: f64) {
+        self.flight_since = Some(t);
+        self.first_lift_off.get_or_insert(t);
+        self.push(t, Happened::LiftOff);
+    }
+
+    /// A flight ends at `t` (the top settles in contact), if it flew.
+    pub(crate) fn land(&mut self, t: f64) {
+        if let Some(s0) = self.flight_since.take() {
+            self.flight_time += t - s0;
+        }
+    }
+
+    /// Close the open intervals at the final time `t`; returns the time
+    /// spent rolling (scaled).
+    pub(crate) fn finish(&mut self, t: f64) -> f64 {
+        self.land(t);
+        self.stop_rolling(t);
+        self.rolling_time
+    }
+
+    /// The first lift-off and the fraction of `[0, t]` in flight (scaled).
+    pub(crate) fn flights(&self, t: f64) -> (Option<f64>, f64) {
+        (
+            self.first_lift_off,
+            if t > 0.0 { self.flight_time / t } else { 0.0 },
+        )
     }
 }

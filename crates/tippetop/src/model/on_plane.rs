@@ -1,0 +1,287 @@
+//! The [`Model`] of the two models that keep the sphere on the plane
+//! (reduced and vector): their events and handlers, written once over
+//! [`ContactModel`]. Exact Coulomb law: the slip-zero and stick-limit events
+//! end a segment, where the mode switches and the integration restarts;
+//! bilateral contact while sliding: `N = 0` ends a segment, where the
+//! latched branch flips (docs/physics.md §4).
+
+use crate::integrate::{Direction, Event};
+use crate::model::{ContactModel, Flow, Mode, Model, ModelError};
+use crate::sim::events::{Happened, Watch};
+use crate::sim::messages::painleve_why;
+use crate::sim::record::{RunLog, unit};
+use crate::{ContactMode, Error, Sample, Scenario};
+
+/// Decide stick or slip at zero slip (exact law). Returns the state to
+/// continue from; sets the model's mode and slip hint.
+fn settle_at_zero_slip<M: ContactModel<D>, const D: usize>(
+    m: &mut M,
+    y: &[f64; D],
+) -> ([f64; D], bool) {
+    let yr = m.to_rolling(y);
+    m.plane_mut().mode = Mode::Rolling;
+    if let Ok((_, f)) = m.contact_forces(&yr) {
+        if m.stick_margin(&yr).is_some_and(|s| s >= 0.0) {
+            m.plane_mut().slip_hint = [0.0, 0.0];
+            return (yr, true);
+        }
+        // Slide off in the direction the needed friction dictates: friction
+        // keeps its direction (magnitude μN), the slip grows opposite to it.
+        m.plane_mut().slip_hint = unit([-f[0], -f[1]]);
+    }
+    m.plane_mut().mode = Mode::Sliding;
+    m.plane().slip_ref.set(m.plane().slip_hint);
+    (yr, false)
+}
+
+impl<M: ContactModel<D>, const D: usize> Model<D> for M {
+    fn time_unit(&self) -> f64 {
+        self.scales().time
+    }
+
+    fn axial_ratio(&self) -> f64 {
+        self.axial()
+    }
+
+    fn evaluations(&self) -> u64 {
+        self.plane().evaluations
+    }
+
+    fn step_hints(&self) -> (f64, bool) {
+        (self.dop853_beta(), self.dop853_stability_cap())
+    }
+
+    fn start(&mut self, sc: &Scenario, log: &mut RunLog) -> ([f64; D], f64) {
+        let mut y = ContactModel::initial_state(self, &sc.initial);
+        if self.plane().is_exact() {
+            let v = self.slip_of(&y);
+            if v[0].hypot(v[1]) == 0.0 {
+                let (yn, stuck) = settle_at_zero_slip(self, &y);
+                y = yn;
+                if stuck {
+                    log.start_rolling(0.0);
+                    log.push(0.0, Happened::Stick);
+                } else {
+                    log.push(0.0, Happened::Slip);
+                }
+            } else {
+                self.plane().slip_ref.set(unit(v));
+            }
+        }
+        self.plane().last_slip.set(self.slip_of(&y));
+        let n0 = self.contact_forces(&y).map(|(n, _)| n).unwrap_or(f64::NAN);
+        (y, n0)
+    }
+
+    fn latch_force(&mut self, t: f64) {
+        ContactModel::latch_force(self, t);
+    }
+
+    fn latch_branch(&mut self, y: &[f64; D]) {
+        if !self.plane().latches_normal() {
+            self.plane_mut().normal_branch = None;
+        } else if self.plane().normal_branch.is_none() {
+            // The self-consistent branch at the segment's start.
+            if let Ok((n, _)) = self.contact_forces(y) {
+                self.plane_mut().normal_branch = Some(n >= 0.0);
+            }
+        }
+    }
+
+    fn events(&self) -> Vec<(Watch, Event<Self, D>)> {
+        let mut ev: Vec<(Watch, Event<Self, D>)> = vec![
+            (
+                Watch::ThetaAboveHalfPi,
+                Event {
+                    g: Box::new(|m: &M, _, y| m.above_half_pi(y)),
+                    direction: Direction::Rising,
+                    terminal: false,
+                    step_to_event: false,
+                },
+            ),
+            (
+                Watch::ThetaMax,
+                Event {
+                    g: Box::new(|m: &M, _, y| m.theta_rate(y)),
+                    direction: Direction::Falling,
+                    terminal: false,
+                    step_to_event: false,
+                },
+            ),
+            (Watch::NormalZero, {
+                // Bilateral contact, sliding: N = 0 ends the segment, where
+                // the branch flips; watched only in the direction that
+                // leaves the latched sign (a restart a rounding error short
+                // of the zero must not fire again).
+                let plane = self.plane();
+                let (direction, terminal) = match (plane.latches_normal(), plane.normal_branch) {
+                    (true, Some(true)) => (Direction::Falling, true),
+                    (true, Some(false)) => (Direction::Rising, true),
+                    _ => (
+                        Direction::Either,
+                        plane.contact_mode() == ContactMode::Unilateral,
+                    ),
+                };
+                Event {
+                    g: Box::new(|m: &M, _, y| {
+                        m.contact_forces(y).map(|(n, _)| n).unwrap_or(f64::NAN)
+                    }),
+                    direction,
+                    terminal,
+                    // Latched: smooth through N = 0, so the restart state
+                    // can come from a step (docs/physics.md §4).
+                    step_to_event: terminal && plane.latches_normal(),
+                }
+            }),
+        ];
+        if self.plane().is_exact() {
+            match self.plane().mode {
+                Mode::Sliding => ev.push((
+                    Watch::SlipZero,
+                    Event {
+                        g: Box::new(|m: &M, _, y| {
+                            let v = m.slip_of(y);
+                            let r = m.plane().slip_ref.get();
+                            v[0] * r[0] + v[1] * r[1]
+                        }),
+                        direction: Direction::Falling,
+                        terminal: true,
+                        step_to_event: false,
+                    },
+                )),
+                Mode::Rolling => ev.push((
+                    Watch::StickLimit,
+                    Event {
+                        g: Box::new(|m: &M, _, y| m.stick_margin(y).unwrap_or(f64::NAN)),
+                        direction: Direction::Falling,
+                        terminal: true,
+                        step_to_event: false,
+                    },
+                )),
+            }
+        }
+        ev
+    }
+
+    fn accepted(&self, y: &[f64; D]) {
+        let plane = self.plane();
+        if plane.can_chatter() {
+            plane.count_reversal(self.slip_of(y));
+        }
+        if plane.mode == Mode::Sliding && plane.is_exact() {
+            let v = unit(self.slip_of(y));
+            if v != [0.0, 0.0] {
+                plane.slip_ref.set(v);
+            }
+        }
+    }
+
+    fn track_point(&self, y: &[f64; D]) -> (f64, f64, f64, Option<f64>, f64) {
+        (
+            self.theta(y),
+            self.spin(y),
+            self.jellett_scaled(y),
+            self.energy_scaled(y),
+            self.work_scaled(y),
+        )
+    }
+
+    fn on_force_switch(&mut self, t: f64, y: &mut [f64; D], log: &mut RunLog) -> Flow {
+        // While rolling, check that the contact can still hold the new
+        // force. N may jump across zero here, which no event can see:
+        // record the crossing at the switch.
+        let n_before = self.contact_forces(y).map(|(n, _)| n).ok();
+        ContactModel::latch_force(self, t);
+        self.plane_mut().normal_branch = None;
+        let n_after = self.contact_forces(y).map(|(n, _)| n).ok();
+        if let (Some(nb), Some(na)) = (n_before, n_after) {
+            if (nb < 0.0) != (na < 0.0) {
+                log.cross_normal(t);
+                if na < 0.0 && self.plane().contact_mode() == ContactMode::Unilateral {
+                    return Flow::Stop(Error::runtime(
+                        t * self.time_unit(),
+                        format!(
+                            "lift-off at a force switch: the normal force N jumped below zero (contact = \"unilateral\"); the reduced and vector models keep the sphere on the plane and cannot follow a flight, use model = \"rigid\"; {}",
+                            ContactModel::describe_state(self, y)
+                        ),
+                    ));
+                }
+            }
+        }
+        if self.plane().is_exact() && self.plane().mode == Mode::Rolling {
+            if let Ok((_, f)) = self.contact_forces(y) {
+                if self.stick_margin(y).is_some_and(|s| s < 0.0) {
+                    let plane = self.plane_mut();
+                    plane.mode = Mode::Sliding;
+                    plane.slip_hint = unit([-f[0], -f[1]]);
+                    plane.slip_ref.set(plane.slip_hint);
+                    log.stop_rolling(t);
+                    log.push(t, Happened::Slip);
+                }
+            }
+        }
+        Flow::Continue
+    }
+
+    fn on_terminal(&mut self, what: Watch, t: f64, y: &mut [f64; D], log: &mut RunLog) -> Flow {
+        match what {
+            Watch::NormalZero if self.plane().latches_normal() => {
+                // N = 0 (bilateral): continue on the other branch.
+                let b = self.plane().normal_branch;
+                self.plane_mut().normal_branch = b.map(|pos| !pos);
+                Flow::Continue
+            }
+            Watch::NormalZero => Flow::Stop(Error::runtime(
+                t * self.time_unit(),
+                format!(
+                    "lift-off: the normal force N fell to zero (contact = \"unilateral\"); the reduced and vector models keep the sphere on the plane and cannot follow a flight, use model = \"rigid\"; {}",
+                    ContactModel::describe_state(self, y)
+                ),
+            )),
+            Watch::SlipZero | Watch::StickLimit => {
+                self.plane_mut().normal_branch = None;
+                match self.plane().mode {
+                    Mode::Sliding => {
+                        let (yn, stuck) = settle_at_zero_slip(self, y);
+                        *y = yn;
+                        if stuck {
+                            log.start_rolling(t);
+                            log.push(t, Happened::Stick);
+                        }
+                    }
+                    Mode::Rolling => {
+                        let forces = self.contact_forces(y).ok();
+                        *y = self.to_rolling(y);
+                        let plane = self.plane_mut();
+                        plane.mode = Mode::Sliding;
+                        if let Some((_, f)) = forces {
+                            plane.slip_hint = unit([-f[0], -f[1]]);
+                        }
+                        plane.slip_ref.set(plane.slip_hint);
+                        log.stop_rolling(t);
+                        log.push(t, Happened::Slip);
+                    }
+                }
+                Flow::Continue
+            }
+            _ => Flow::End,
+        }
+    }
+
+    fn explain(&self, sc: &Scenario, err: ModelError) -> String {
+        match err {
+            ModelError::Painleve { theta, solutions } => {
+                painleve_why(sc, "theta_ddot-N system", theta, solutions)
+            }
+            ModelError::Singular { .. } | ModelError::Chattering { .. } => err.to_string(),
+        }
+    }
+
+    fn row(&self, t: f64, y: &[f64; D]) -> Sample {
+        self.sample(t, y)
+    }
+
+    fn describe(&self, y: &[f64]) -> String {
+        ContactModel::describe_state(self, y)
+    }
+}
