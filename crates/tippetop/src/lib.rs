@@ -32,7 +32,7 @@ pub use contact::{ContactMode, FrictionLaw, Surface};
 pub use error::Error;
 pub use forcing::{ForceWindow, Forcing};
 pub use scenario::{Scenario, limits};
-pub use simulate::{simulate, simulate_with_progress};
+pub use simulate::{Simulation, Snapshot, simulate, simulate_with_progress};
 pub use state::{Initial, Method, ModelKind, SolverSettings};
 pub use top::Top;
 pub use trajectory::{EventRecord, Sample, Summary, Trajectory};

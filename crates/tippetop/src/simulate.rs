@@ -17,7 +17,7 @@
 
 use crate::{
     Error, ModelKind, Sample, Scenario, Trajectory,
-    integrate::{self, IntegrateError, Stepper, StopReason},
+    integrate::{self, AnyEngine, Engine, Event, IntegrateError, Stepped, Stepper, Stepping},
     model::{
         ContactModel, Flow, Model,
         reduced::{DIM, Reduced},
@@ -88,246 +88,692 @@ pub fn simulate_rigid_observed(
     run(sc, Rigid::new(sc), observe, &mut |_| {})
 }
 
+/// A run you can step, inspect, copy and continue (REBOUND-style): the same
+/// driver as [`simulate`], paused and resumed at accepted steps only, so
+/// where you stop it never changes a step.
+///
+/// - [`Simulation::integrate_to`] integrates until the run has passed `t`
+///   (never shortening a step to land on it); [`Simulation::state`] is the
+///   state at `t`, read from the dense output of the step that contains it.
+///   Integrating to `t1` and then to `t2` gives the same trajectory, bit for
+///   bit, as one call to `t2`.
+/// - [`Simulation::snapshot`] copies everything (the integrator's last
+///   step, the model's discrete state: sliding or rolling, the latched
+///   normal-force branch, contact or flight; the record so far) with exact
+///   floats; [`Simulation::restore`] goes back to it.
+/// - [`Simulation::into_trajectory`] is the run so far (samples up to the
+///   last accepted step, events, summary): after `integrate_to(t_end)` it
+///   equals [`simulate`]'s.
+///
+/// ```
+/// use tippetop::{Scenario, Simulation};
+///
+/// let mut sc = Scenario::nano();
+/// sc.solver.t_end = 20e-6; // s
+/// let mut sim = Simulation::new(&sc)?;
+/// sim.integrate_to(10e-6)?;
+/// let mid = sim.state(); // SI, one trajectory.csv row
+/// println!("θ = {} rad at t = {} s", mid.theta, mid.t);
+/// let saved = sim.snapshot();
+/// sim.integrate_to(20e-6)?;
+/// sim.restore(&saved);
+/// sim.integrate_to(20e-6)?;
+/// let tr = sim.into_trajectory();
+/// assert_eq!(tr.samples, tippetop::simulate(&sc)?.samples);
+/// # Ok::<(), tippetop::Error>(())
+/// ```
+pub struct Simulation {
+    inner: AnySim,
+    /// The time `state` refers to (scaled).
+    at: f64,
+    #[allow(clippy::type_complexity)]
+    observer: Option<Box<dyn FnMut(&Sample) + Send>>,
+}
+
+/// A copy of a [`Simulation`] at one instant ([`Simulation::snapshot`]).
+#[derive(Clone)]
+pub struct Snapshot {
+    inner: AnySim,
+    at: f64,
+}
+
+/// The driver over each model (no generic parameter at the API).
+#[derive(Clone)]
+enum AnySim {
+    Reduced(Box<Sim<Reduced, DIM>>),
+    Vector(Box<Sim<Vector, { vector::DIM }>>),
+    Rigid(Box<Sim<Rigid, { rigid::DIM }>>),
+}
+
+/// `$body` with `$s` bound to the inner `Sim` of whichever model.
+macro_rules! with_sim {
+    ($inner:expr, $s:ident => $body:expr) => {
+        match $inner {
+            AnySim::Reduced($s) => $body,
+            AnySim::Vector($s) => $body,
+            AnySim::Rigid($s) => $body,
+        }
+    };
+}
+
+impl Simulation {
+    /// Set up a run of `scenario` at `t = 0` (validated: `Err` for bad
+    /// input, as [`simulate`]).
+    pub fn new(scenario: &Scenario) -> Result<Self, Error> {
+        scenario.validate()?;
+        let sc = scenario;
+        let inner = match sc.solver.model {
+            ModelKind::Reduced => AnySim::Reduced(Box::new(Sim::new(
+                sc,
+                <Reduced as ContactModel<DIM>>::build(sc),
+            ))),
+            ModelKind::Vector => AnySim::Vector(Box::new(Sim::new(
+                sc,
+                <Vector as ContactModel<{ vector::DIM }>>::build(sc),
+            ))),
+            ModelKind::Rigid => AnySim::Rigid(Box::new(Sim::new(sc, Rigid::new(sc)))),
+        };
+        Ok(Simulation {
+            inner,
+            at: 0.0,
+            observer: None,
+        })
+    }
+
+    /// Call `observer` with the state (one trajectory row, SI) after every
+    /// accepted step from now on (at the step's end; at a terminal event,
+    /// at the event).
+    pub fn set_observer(&mut self, observer: impl FnMut(&Sample) + Send + 'static) {
+        self.observer = Some(Box::new(observer));
+    }
+
+    /// Integrate until the run has passed `t` \[s\] (or ended, or failed:
+    /// see [`Simulation::error`]). `Err` if `t` is not finite, before the
+    /// time of the last call, or after `solver.t_end`.
+    pub fn integrate_to(&mut self, t: f64) -> Result<(), Error> {
+        let (tu, t_end) = with_sim!(&self.inner, s => (s.tu, s.t_end));
+        let target = t / tu;
+        if !(target.is_finite() && target >= self.at && target <= t_end) {
+            return Err(Error::invalid(
+                "t",
+                format!("{t} s"),
+                format!(
+                    "finite, from the last time integrated to ({} s) to solver.t_end ({} s)",
+                    self.at * tu,
+                    t_end * tu
+                ),
+            ));
+        }
+        let observer = &mut self.observer;
+        with_sim!(&mut self.inner, s => match observer {
+            Some(f) => s.advance(target, &mut |m, t, y| f(&m.row(t, y)), &mut |_| {}),
+            None => s.advance(target, &mut |_, _, _| {}, &mut |_| {}),
+        });
+        self.at = target.min(with_sim!(&self.inner, s => s.reached()));
+        Ok(())
+    }
+
+    /// The time \[s\] the [`Simulation::state`] refers to: the last time
+    /// integrated to (earlier if the run failed before it).
+    pub fn time(&self) -> f64 {
+        self.at * with_sim!(&self.inner, s => s.tu)
+    }
+
+    /// The state at [`Simulation::time`], as one trajectory.csv row (SI).
+    pub fn state(&self) -> Sample {
+        let at = self.at;
+        with_sim!(&self.inner, s => {
+            let y = s.state_at(at);
+            s.m.row(at, &y)
+        })
+    }
+
+    /// The error that ended the run, if it failed.
+    pub fn error(&self) -> Option<&Error> {
+        with_sim!(&self.inner, s => s.error.as_ref())
+    }
+
+    /// True once the run has reached `solver.t_end` or failed.
+    pub fn is_finished(&self) -> bool {
+        with_sim!(&self.inner, s => s.done)
+    }
+
+    /// A copy of the whole run as it stands (see [`Simulation`]); the
+    /// observer is not part of it.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            inner: self.inner.clone(),
+            at: self.at,
+        }
+    }
+
+    /// Go back to `snapshot` (taken from a simulation of the same
+    /// scenario or any other: it replaces the run entirely; the observer
+    /// stays).
+    pub fn restore(&mut self, snapshot: &Snapshot) {
+        self.inner = snapshot.inner.clone();
+        self.at = snapshot.at;
+    }
+
+    /// The run so far: samples up to the last accepted step, events and
+    /// summary (all of the run after `integrate_to(t_end)`).
+    pub fn into_trajectory(self) -> Trajectory {
+        with_sim!(self.inner, s => (*s).finish())
+    }
+}
+
 /// Record a state in `track`.
 fn visit<M: Model<D>, const D: usize>(track: &mut Track, m: &M, y: &[f64; D]) {
     let (theta, spin, j, e, w) = m.track_point(y);
     track.record(theta, spin, j, e, w);
 }
 
-/// The one driver: runs model `m` over the scenario `sc` (validated),
-/// calling `observe(m, t, y)` after every accepted step and `progress`
-/// every [`PROGRESS_EVERY`] steps.
-///
-/// It integrates from one force switch to the next (one `solve` call per
-/// segment, so the model can re-decide stick/slip, branch and contact at
-/// the switch), with the events the model needs in its discrete state now;
-/// a terminal event ends the call and the model's handler says how to go
-/// on. It owns the samples, the error mapping, the step limit over the
-/// whole run, the run's record ([`RunLog`]) and the summary.
-fn run<M: Model<D>, const D: usize>(
+/// Run model `m` over the validated scenario `sc` to its end, calling
+/// `observe(m, t, y)` after every accepted step and `progress` every
+/// [`PROGRESS_EVERY`] steps.
+fn run<M: Model<D> + Clone, const D: usize>(
     sc: &Scenario,
-    mut m: M,
+    m: M,
     observe: &mut dyn FnMut(&M, f64, &[f64; D]),
     progress: &mut dyn FnMut(f64),
 ) -> Trajectory {
-    let tu = m.time_unit();
-    let RunSetup {
-        t_end,
-        sample_times,
-        tstops,
-        mut opts,
-    } = RunSetup::new(sc, tu);
-    if let Stepper::Dop853 {
-        beta,
-        stability_cap,
-        ..
-    } = &mut opts.stepper
-    {
-        (*beta, *stability_cap) = m.step_hints();
-    }
-    let ns = sc.solver.samples;
+    let mut sim = Sim::new(sc, m);
+    let t_end = sim.t_end;
+    sim.advance(t_end, observe, progress);
+    sim.finish()
+}
 
-    let mut log = RunLog::new(tu, f64::NAN);
-    for &ts in &tstops {
-        log.push(ts, Happened::ForceSwitch);
-    }
-    m.latch_force(0.0);
-    let (mut y, n_initial) = m.start(sc, &mut log);
-    log.normal = crate::sim::record::NormalLog::new(n_initial);
+/// A segment being integrated: its stepper, events, and how it ended (if it
+/// did) before the model has handled that.
+struct Active<M, const D: usize> {
+    st: Stepping<AnyEngine<D>, D>,
+    watches: Vec<Watch>,
+    events: Vec<Event<M, D>>,
+    /// End of the segment: the next force switch or the run's end (scaled).
+    seg_end: f64,
+    /// The segment ended (at the force switch or end, or at a terminal
+    /// event: `Some(i)`), at `(t, y)`, not yet handled.
+    ended: Option<(Option<usize>, f64, [f64; D])>,
+}
 
-    let mut track = {
+/// The one driver, resumable (see the module doc): model `M` with state
+/// dimension `D`, and everything a run records.
+struct Sim<M, const D: usize> {
+    sc: Scenario,
+    m: M,
+    tu: f64,
+    t_end: f64,
+    sample_times: Vec<f64>,
+    tstops: Vec<f64>,
+    opts: integrate::Options,
+    log: RunLog,
+    track: Track,
+    event_track: Track,
+    samples: Vec<Sample>,
+    stats: integrate::Stats,
+    /// Accepted steps and the last accepted state, kept here too so that a
+    /// failed run still reports them.
+    steps_seen: u64,
+    /// The step limit holds for the whole run, over all its segments.
+    step_cap: u64,
+    last_accepted: (f64, [f64; D]),
+    /// Start of the current segment, or where the run ended (scaled).
+    t: f64,
+    y: [f64; D],
+    error: Option<Error>,
+    first_above: Option<f64>,
+    switches: usize,
+    nonfinite_at: Option<f64>,
+    logs_crossings: bool,
+    active: Option<Active<M, D>>,
+    done: bool,
+}
+
+impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
+    /// A copy of the whole run, the engine's last step and the model's
+    /// discrete state included. The events (closures) are rebuilt from the
+    /// model: within a segment they depend only on its discrete state,
+    /// which does not change until the segment ends.
+    fn clone(&self) -> Self {
+        Sim {
+            sc: self.sc.clone(),
+            m: self.m.clone(),
+            tu: self.tu,
+            t_end: self.t_end,
+            sample_times: self.sample_times.clone(),
+            tstops: self.tstops.clone(),
+            opts: self.opts,
+            log: self.log.clone(),
+            track: self.track.clone(),
+            event_track: self.event_track.clone(),
+            samples: self.samples.clone(),
+            stats: self.stats,
+            steps_seen: self.steps_seen,
+            step_cap: self.step_cap,
+            last_accepted: self.last_accepted,
+            t: self.t,
+            y: self.y,
+            error: self.error.clone(),
+            first_above: self.first_above,
+            switches: self.switches,
+            nonfinite_at: self.nonfinite_at,
+            logs_crossings: self.logs_crossings,
+            active: self.active.as_ref().map(|a| {
+                let (watches, events): (Vec<_>, Vec<_>) = self.m.events().into_iter().unzip();
+                debug_assert_eq!(watches, a.watches);
+                Active {
+                    st: a.st.clone(),
+                    watches,
+                    events,
+                    seg_end: a.seg_end,
+                    ended: a.ended,
+                }
+            }),
+            done: self.done,
+        }
+    }
+}
+
+impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
+    /// Set up the run of model `m` over the validated scenario `sc` at
+    /// `t = 0`: the discrete state decided, the samples at `t = 0` not yet
+    /// emitted.
+    fn new(sc: &Scenario, mut m: M) -> Self {
+        let tu = m.time_unit();
+        let RunSetup {
+            t_end,
+            sample_times,
+            tstops,
+            mut opts,
+        } = RunSetup::new(sc, tu);
+        if let Stepper::Dop853 {
+            beta,
+            stability_cap,
+            ..
+        } = &mut opts.stepper
+        {
+            (*beta, *stability_cap) = m.step_hints();
+        }
+        let mut log = RunLog::new(tu, f64::NAN);
+        for &ts in &tstops {
+            log.push(ts, Happened::ForceSwitch);
+        }
+        m.latch_force(0.0);
+        let (y, n_initial) = m.start(sc, &mut log);
+        log.normal = crate::sim::record::NormalLog::new(n_initial);
         let (theta, spin, j, e, _) = m.track_point(&y);
-        Track::new(theta, spin, j, e)
-    };
-    let mut samples: Vec<Sample> = Vec::with_capacity(ns);
-    let mut stats = integrate::Stats::default();
-    // Step count and last accepted state, kept here too so that a failed
-    // run still reports them.
-    let mut steps_seen: u64 = 0;
-    // The step limit holds for the whole run, over all its `solve` calls.
-    let step_cap = opts.max_steps;
-    let mut last_accepted: (f64, [f64; D]) = (0.0, y);
-    let mut t = 0.0;
-    let mut error: Option<Error> = None;
-    let mut first_above: Option<f64> =
-        (m.track_point(&y).0 > std::f64::consts::FRAC_PI_2).then_some(0.0);
-    let mut switches = 0usize;
-    let mut event_track = track.clone();
-    let mut nonfinite_at: Option<f64> = None;
-    let logs_crossings = !m.flies();
+        let track = Track::new(theta, spin, j, e);
+        let step_cap = opts.max_steps;
+        let mut sim = Sim {
+            sc: sc.clone(),
+            tu,
+            t_end,
+            samples: Vec::with_capacity(sc.solver.samples),
+            sample_times,
+            tstops,
+            opts,
+            log,
+            event_track: track.clone(),
+            track,
+            stats: integrate::Stats::default(),
+            steps_seen: 0,
+            step_cap,
+            last_accepted: (0.0, y),
+            t: 0.0,
+            y,
+            error: None,
+            first_above: (theta > std::f64::consts::FRAC_PI_2).then_some(0.0),
+            switches: 0,
+            nonfinite_at: None,
+            logs_crossings: !m.flies(),
+            active: None,
+            done: false,
+            m,
+        };
+        sim.begin_segment();
+        sim
+    }
 
-    loop {
-        let seg_end = tstops.iter().copied().find(|&ts| ts > t).unwrap_or(t_end);
-        m.latch_branch(&y);
-        let (watches, events): (Vec<_>, Vec<_>) = m.events().into_iter().unzip();
-        opts.max_steps = step_cap.saturating_sub(steps_seen);
-        let next = samples.len();
+    /// How far the run has got (scaled): the end of the last accepted step,
+    /// or the end of the run.
+    fn reached(&self) -> f64 {
+        match &self.active {
+            Some(Active {
+                ended: Some((_, t, _)),
+                ..
+            }) => *t,
+            Some(a) if a.st.stats.steps > 0 => a.st.eng.t(),
+            _ => self.t,
+        }
+    }
+
+    /// The state at scaled time `t`, which must lie in the last accepted
+    /// step (or be where the run stands): from the dense output, on copies
+    /// of the engine and the model, so nothing the run does changes.
+    fn state_at(&self, t: f64) -> [f64; D] {
+        if let Some(a) = &self.active {
+            if let Some((_, te, ye)) = a.ended {
+                if t >= te {
+                    return ye;
+                }
+            }
+            if a.st.stats.steps > 0 {
+                let eng = &a.st.eng;
+                if t >= eng.t() {
+                    return *eng.y();
+                }
+                let mut eng = eng.clone();
+                let mut m = self.m.clone();
+                let mut stats = integrate::Stats::default();
+                let mut out = *eng.y();
+                if eng.prepare_dense(&mut m, &mut stats).is_ok() {
+                    eng.dense(t.max(eng.t_prev()), &mut out);
+                }
+                return out;
+            }
+        }
+        self.y
+    }
+
+    /// Integrate until the run has reached scaled time `target` (or its
+    /// end, or a failure): whole steps only, so where it pauses does not
+    /// change any step. What ends a segment is handled only when the run
+    /// goes on past it.
+    fn advance(
+        &mut self,
+        target: f64,
+        observe: &mut dyn FnMut(&M, f64, &[f64; D]),
+        progress: &mut dyn FnMut(f64),
+    ) {
+        while !self.done {
+            if target < self.t_end && self.reached() >= target {
+                return;
+            }
+            match &self.active {
+                None => self.begin_segment(),
+                Some(a) if a.ended.is_some() => self.handle_end(),
+                Some(_) => self.step_once(observe, progress),
+            }
+        }
+    }
+
+    /// Start a segment at `(t, y)`, emitting the samples at exactly `t`
+    /// (only the run's start has any: later segments start where the last
+    /// one's samples ended).
+    fn begin_segment(&mut self) {
+        let t = self.t;
+        let seg_end = self
+            .tstops
+            .iter()
+            .copied()
+            .find(|&ts| ts > t)
+            .unwrap_or(self.t_end);
+        self.m.latch_branch(&self.y);
+        let (watches, events): (Vec<_>, Vec<_>) = self.m.events().into_iter().unzip();
+        self.opts.max_steps = self.step_cap.saturating_sub(self.steps_seen);
+        let eng = AnyEngine::new(&self.opts, t, seg_end);
+        let mut st = Stepping::new(eng, events.len(), self.samples.len());
+        let samples = &mut self.samples;
+        let nonfinite_at = &mut self.nonfinite_at;
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
             let row = s.row(t, y);
             if nonfinite_at.is_none() && !row.is_finite() {
-                nonfinite_at = Some(t);
+                *nonfinite_at = Some(t);
+            }
+            samples.push(row);
+        };
+        match st.begin(
+            &mut self.m,
+            t,
+            &self.y,
+            seg_end,
+            true,
+            &self.sample_times,
+            &events,
+            &mut on_sample,
+        ) {
+            Ok(started) => {
+                self.active = Some(Active {
+                    st,
+                    watches,
+                    events,
+                    seg_end,
+                    // An empty segment (at the run's end) ends at once.
+                    ended: (!started).then_some((None, t, self.y)),
+                });
+            }
+            Err(e) => self.fail(e),
+        }
+    }
+
+    /// One accepted step of the active segment.
+    fn step_once(
+        &mut self,
+        observe: &mut dyn FnMut(&M, f64, &[f64; D]),
+        progress: &mut dyn FnMut(f64),
+    ) {
+        let a = self.active.as_mut().expect("an active segment");
+        let Active {
+            st,
+            watches,
+            events,
+            ..
+        } = a;
+        let tu = self.tu;
+        let t_end = self.t_end;
+        let samples = &mut self.samples;
+        let nonfinite_at = &mut self.nonfinite_at;
+        let last_accepted = &mut self.last_accepted;
+        let steps_seen = &mut self.steps_seen;
+        let track = &mut self.track;
+        let event_track = &mut self.event_track;
+        let first_above = &mut self.first_above;
+        let log = &mut self.log;
+        let logs_crossings = self.logs_crossings;
+        let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
+            let row = s.row(t, y);
+            if nonfinite_at.is_none() && !row.is_finite() {
+                *nonfinite_at = Some(t);
             }
             samples.push(row);
         };
         let mut on_step = |s: &M, t: f64, y: &[f64; D]| {
-            last_accepted = (t, *y);
-            steps_seen += 1;
-            if steps_seen % PROGRESS_EVERY == 0 {
+            *last_accepted = (t, *y);
+            *steps_seen += 1;
+            if *steps_seen % PROGRESS_EVERY == 0 {
                 progress((t / t_end).clamp(0.0, 1.0));
             }
             s.accepted(y);
-            visit(&mut track, s, y);
+            visit(track, s, y);
             observe(s, t, y);
         };
-        // The events of this call as they fire (also those before a
-        // failure). θ maxima go into their own track, merged below (the
-        // maxima do not depend on the order).
+        // The events as they fire (also those before a failure). θ maxima
+        // go into their own track, merged at the segment's end (the maxima
+        // do not depend on the order).
         let mut on_event = |s: &M, f: &integrate::Fired<D>| match watches[f.index] {
             Watch::ThetaAboveHalfPi if first_above.is_none() => {
-                first_above = Some(f.t * tu);
+                *first_above = Some(f.t * tu);
                 log.push(f.t, Happened::ThetaAboveHalfPi);
             }
-            Watch::ThetaMax => visit(&mut event_track, s, &f.y),
+            Watch::ThetaMax => visit(event_track, s, &f.y),
             Watch::NormalZero if logs_crossings => log.cross_normal(f.t),
             _ => {}
         };
-        let res = integrate::solve_with_events(
-            &mut m,
-            &opts,
-            t,
-            y,
-            seg_end,
-            &[],
-            &sample_times[next..],
-            &events,
+        let res = st.step(
+            &mut self.m,
+            &self.opts,
+            &self.sample_times,
+            events,
             &mut on_sample,
             &mut on_step,
             &mut on_event,
         );
-        track.merge(&event_track);
-        // (A failed call explains itself: its rows may be NaN where the
-        // model could not be evaluated.)
-        if let (Some(ts), Ok(_)) = (nonfinite_at, &res) {
-            // A value of the output overflowed (in SI units) although the
-            // scaled state is finite: stop at the first such row.
-            samples.retain(|r| r.t < ts * tu);
-            error = Some(nonfinite_output_error(
-                ts * tu,
-                &m.describe(&last_accepted.1),
-            ));
-            t = last_accepted.0;
-            y = last_accepted.1;
-            stats.steps = steps_seen;
-            stats.rhs_evals = m.evaluations();
-            break;
-        }
         match res {
-            Err(e) => {
-                let (te, why, ylast) = match e {
-                    IntegrateError::Rhs { t, y_last, err } => {
-                        let why = m.explain(sc, err);
-                        (t, unstable_rk4(sc, &track, why), y_last)
-                    }
-                    IntegrateError::StepUnderflow { t, h, y_last } => (
-                        t,
-                        format!("step size underflow (h = {:e} s)", h * tu),
-                        y_last,
-                    ),
-                    IntegrateError::NonFinite { t, y_last } => (
-                        t,
-                        unstable_rk4(
-                            sc,
-                            &track,
-                            "the solution became NaN or infinite".to_string(),
-                        ),
-                        y_last,
-                    ),
-                    IntegrateError::TooManySteps { t, .. } => {
-                        (t, step_limit_why(sc, step_cap), last_accepted.1.to_vec())
-                    }
-                };
-                error = Some(Error::runtime(
-                    te * tu,
-                    format!("{why}; {}", m.describe(&ylast)),
-                ));
-                stats.steps = steps_seen;
-                stats.rhs_evals = m.evaluations();
-                if ylast.len() == D {
-                    y.copy_from_slice(&ylast);
-                }
-                t = te;
-                break;
+            Ok(Stepped::Step) => {}
+            Ok(Stepped::SegmentEnd) => {
+                let y = *st.eng.y();
+                a.ended = Some((None, a.seg_end, y));
             }
-            Ok(o) => {
-                stats.rhs_evals += o.stats.rhs_evals;
-                stats.steps += o.stats.steps;
-                debug_assert_eq!(stats.steps, steps_seen);
-                stats.rejected += o.stats.rejected;
-                t = o.t;
-                y = o.y;
-                let flow = match o.stop {
-                    StopReason::End if seg_end >= t_end => break,
-                    StopReason::End => m.on_force_switch(t, &mut y, &mut log),
-                    StopReason::Terminal(i) => {
-                        let what = watches[i];
-                        if matches!(what, Watch::SlipZero | Watch::StickLimit) {
-                            switches += 1;
-                            if switches > MAX_SWITCHES {
-                                error = Some(Error::runtime(
-                                    t * tu,
-                                    format!("more than {MAX_SWITCHES} stick/slip switches"),
-                                ));
-                                break;
-                            }
-                        }
-                        m.on_terminal(what, t, &mut y, &mut log)
-                    }
-                };
-                match flow {
-                    Flow::Continue => {}
-                    Flow::Stop(e) => {
-                        error = Some(e);
-                        break;
-                    }
-                    Flow::End => break,
-                }
-            }
+            Ok(Stepped::Terminal { index, t, y }) => a.ended = Some((Some(index), t, y)),
+            Err(e) => self.fail(e),
         }
     }
-    let rolling_time = log.finish(t);
-    visit(&mut track, &m, &y);
 
-    let contact = if m.flies() {
-        let (first, fraction) = log.flights(t);
-        (first.map(|tc| tc * tu), fraction)
-    } else {
-        (
-            log.normal.first_negative().map(|tc| tc * tu),
-            log.normal.negative_fraction(t),
-        )
-    };
-    let events_out = log.events.into_sorted();
+    /// The integration failed: record the error (with the state it
+    /// failed from) and end the run.
+    fn fail(&mut self, e: IntegrateError<M::Error>) {
+        let tu = self.tu;
+        self.track.merge(&self.event_track);
+        let (te, why, ylast) = match e {
+            IntegrateError::Rhs { t, y_last, err } => {
+                let why = self.m.explain(&self.sc, err);
+                (t, unstable_rk4(&self.sc, &self.track, why), y_last)
+            }
+            IntegrateError::StepUnderflow { t, h, y_last } => (
+                t,
+                format!("step size underflow (h = {:e} s)", h * tu),
+                y_last,
+            ),
+            IntegrateError::NonFinite { t, y_last } => (
+                t,
+                unstable_rk4(
+                    &self.sc,
+                    &self.track,
+                    "the solution became NaN or infinite".to_string(),
+                ),
+                y_last,
+            ),
+            IntegrateError::TooManySteps { t, .. } => (
+                t,
+                step_limit_why(&self.sc, self.step_cap),
+                self.last_accepted.1.to_vec(),
+            ),
+        };
+        self.error = Some(Error::runtime(
+            te * tu,
+            format!("{why}; {}", self.m.describe(&ylast)),
+        ));
+        self.stats.steps = self.steps_seen;
+        self.stats.rhs_evals = self.m.evaluations();
+        if ylast.len() == D {
+            self.y.copy_from_slice(&ylast);
+        }
+        self.t = te;
+        self.active = None;
+        self.done = true;
+    }
 
-    let last = m.row(t, &y);
-    let summary = summarize(
-        &track,
-        RunEnd {
-            t,
-            time_unit: tu,
-            axial: m.axial_ratio(),
-            last: &last,
-            samples: &samples,
-            first_above,
-            contact,
-            rolling_time,
-            stats,
-            error: error.as_ref(),
-        },
-    );
-    Trajectory {
-        samples,
-        events: events_out,
-        summary,
-        error,
+    /// Handle the end of the active segment: merge its counters, check the
+    /// output, and let the model handle a force switch or terminal event.
+    fn handle_end(&mut self) {
+        let a = self.active.take().expect("an active segment");
+        let (index, t, y) = a.ended.expect("an ended segment");
+        self.track.merge(&self.event_track);
+        if let Some(ts) = self.nonfinite_at {
+            // A value of the output overflowed (in SI units) although the
+            // scaled state is finite: stop at the first such row.
+            let tu = self.tu;
+            self.samples.retain(|r| r.t < ts * tu);
+            self.error = Some(nonfinite_output_error(
+                ts * tu,
+                &self.m.describe(&self.last_accepted.1),
+            ));
+            (self.t, self.y) = self.last_accepted;
+            self.stats.steps = self.steps_seen;
+            self.stats.rhs_evals = self.m.evaluations();
+            self.done = true;
+            return;
+        }
+        self.stats.rhs_evals += a.st.stats.rhs_evals;
+        self.stats.steps += a.st.stats.steps;
+        debug_assert_eq!(self.stats.steps, self.steps_seen);
+        self.stats.rejected += a.st.stats.rejected;
+        self.t = t;
+        self.y = y;
+        let flow = match index {
+            None if a.seg_end >= self.t_end => Flow::End,
+            None => self.m.on_force_switch(t, &mut self.y, &mut self.log),
+            Some(i) => {
+                let what = a.watches[i];
+                if matches!(what, Watch::SlipZero | Watch::StickLimit) {
+                    self.switches += 1;
+                    if self.switches > MAX_SWITCHES {
+                        self.error = Some(Error::runtime(
+                            t * self.tu,
+                            format!("more than {MAX_SWITCHES} stick/slip switches"),
+                        ));
+                        self.done = true;
+                        return;
+                    }
+                }
+                self.m.on_terminal(what, t, &mut self.y, &mut self.log)
+            }
+        };
+        match flow {
+            Flow::Continue => {}
+            Flow::Stop(e) => {
+                self.error = Some(e);
+                self.done = true;
+            }
+            Flow::End => self.done = true,
+        }
+    }
+
+    /// The trajectory so far: samples up to the last accepted step (the
+    /// whole run once it has ended), events, summary.
+    fn finish(mut self) -> Trajectory {
+        if self.active.as_ref().is_some_and(|a| a.ended.is_some()) {
+            self.handle_end();
+        }
+        if let Some(a) = self.active.take() {
+            // Paused inside a segment: the run so far ends at its last step.
+            self.track.merge(&self.event_track);
+            self.stats.rhs_evals += a.st.stats.rhs_evals;
+            self.stats.steps += a.st.stats.steps;
+            self.stats.rejected += a.st.stats.rejected;
+            (self.t, self.y) = self.last_accepted;
+            if let Some(ts) = self.nonfinite_at {
+                let tu = self.tu;
+                self.samples.retain(|r| r.t < ts * tu);
+                self.error = Some(nonfinite_output_error(
+                    ts * tu,
+                    &self.m.describe(&self.last_accepted.1),
+                ));
+            }
+        }
+        let (t, y, tu) = (self.t, self.y, self.tu);
+        let rolling_time = self.log.finish(t);
+        visit(&mut self.track, &self.m, &y);
+        let contact = if self.m.flies() {
+            let (first, fraction) = self.log.flights(t);
+            (first.map(|tc| tc * tu), fraction)
+        } else {
+            (
+                self.log.normal.first_negative().map(|tc| tc * tu),
+                self.log.normal.negative_fraction(t),
+            )
+        };
+        let last = self.m.row(t, &y);
+        let summary = summarize(
+            &self.track,
+            RunEnd {
+                t,
+                time_unit: tu,
+                axial: self.m.axial_ratio(),
+                last: &last,
+                samples: &self.samples,
+                first_above: self.first_above,
+                contact,
+                rolling_time,
+                stats: self.stats,
+                error: self.error.as_ref(),
+            },
+        );
+        Trajectory {
+            samples: self.samples,
+            events: self.log.events.into_sorted(),
+            summary,
+            error: self.error,
+        }
     }
 }

@@ -28,7 +28,8 @@ const STIFF_HLAMB: f64 = 6.1;
 const STAGES: usize = 12;
 
 /// The DOP853 stepper state.
-pub(super) struct Dop853<const N: usize> {
+#[derive(Clone)]
+pub(crate) struct Dop853<const N: usize> {
     rtol: f64,
     atol: f64,
     h_max: f64,

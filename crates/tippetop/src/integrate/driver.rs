@@ -106,7 +106,7 @@ fn default_h_max(opts: &Options, t0: f64, t_end: f64) -> f64 {
 
 #[allow(clippy::too_many_arguments)]
 fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
-    mut eng: E,
+    eng: E,
     sys: &mut S,
     opts: &Options,
     t0: f64,
@@ -119,7 +119,6 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
     on_step: &mut dyn FnMut(&S, f64, &[f64; N]),
     on_event: &mut dyn FnMut(&S, &Fired<N>),
 ) -> Result<Outcome<N>, IntegrateError<S::Error>> {
-    let mut stats = Stats::default();
     let mut stops: Vec<f64> = tstops
         .iter()
         .copied()
@@ -128,165 +127,371 @@ fn drive<S: OdeSystem<N>, E: Engine<N>, const N: usize>(
     stops.sort_by(f64::total_cmp);
     stops.dedup();
 
-    let mut g_prev = vec![0.0; events.len()];
-    let mut g_new = vec![0.0; events.len()];
-    let mut crossings: Vec<(f64, usize)> = Vec::with_capacity(events.len());
-    let mut ybuf = [0.0; N];
-    let ns = sample_times.len();
-    let mut si = sample_times.partition_point(|&s| s < t0);
-
+    let si = sample_times.partition_point(|&s| s < t0);
+    let mut st = Stepping::new(eng, events.len(), si);
     let mut t = t0;
     let mut y = y0;
     let mut seg = 0;
     loop {
         let t_stop = stops.get(seg).copied().unwrap_or(t_end);
-        sys.begin_segment(t, &y);
-        if seg == 0 {
-            while si < ns && sample_times[si] == t0 {
-                on_sample(sys, t0, &y0);
-                si += 1;
-            }
-            if t_end == t0 {
-                return Ok(Outcome {
-                    t: t0,
-                    y: y0,
-                    stop: StopReason::End,
-                    fired: Vec::new(),
-                    stats,
-                });
-            }
+        let first = seg == 0;
+        if !st.begin(sys, t, &y, t_stop, first, sample_times, events, on_sample)? {
+            return Ok(Outcome {
+                t: t0,
+                y: y0,
+                stop: StopReason::End,
+                fired: Vec::new(),
+                stats: st.stats,
+            });
         }
-        for (gp, ev) in g_prev.iter_mut().zip(events) {
-            *gp = (ev.g)(sys, t, &y);
-        }
-        eng.restart(sys, t, &y, t_stop, &mut stats)
-            .map_err(|f| convert(f, &y))?;
-
-        while eng.t() < t_stop {
-            if stats.steps >= opts.max_steps {
-                return Err(IntegrateError::TooManySteps {
-                    t: eng.t(),
-                    max_steps: opts.max_steps,
-                });
-            }
-            if let Err(f) = eng.step(sys, t_stop, &mut stats) {
-                return Err(convert(f, eng.y()));
-            }
-            stats.steps += 1;
-            let tn = eng.t();
-            let tp = eng.t_prev();
-
-            // Events: sign changes between the step ends, located on the
-            // dense output.
-            crossings.clear();
-            for (i, ev) in events.iter().enumerate() {
-                let gn = (ev.g)(sys, tn, eng.y());
-                g_new[i] = gn;
-                if crosses(g_prev[i], gn, ev.direction) {
-                    if let Err(f) = eng.prepare_dense(sys, &mut stats) {
-                        return Err(convert(f, eng.y()));
-                    }
-                    let tol = 4.0 * f64::EPSILON * tn.abs().max(tn - tp);
-                    let sys_ref: &S = sys;
-                    let eng_ref = &eng;
-                    let tr = illinois(
-                        |tc| {
-                            eng_ref.dense(tc, &mut ybuf);
-                            (ev.g)(sys_ref, tc, &ybuf)
-                        },
-                        tp,
-                        tn,
-                        g_prev[i],
-                        gn,
-                        tol,
-                    );
-                    crossings.push((tr, i));
+        loop {
+            match st.step(
+                sys,
+                opts,
+                sample_times,
+                events,
+                on_sample,
+                on_step,
+                on_event,
+            )? {
+                Stepped::Step => {}
+                Stepped::SegmentEnd => break,
+                Stepped::Terminal { index, t, y } => {
+                    return Ok(Outcome {
+                        t,
+                        y,
+                        stop: StopReason::Terminal(index),
+                        fired: Vec::new(),
+                        stats: st.stats,
+                    });
                 }
             }
-            crossings.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            let terminal = crossings.iter().position(|&(_, i)| events[i].terminal);
-            let t_lim = terminal.map_or(tn, |k| crossings[k].0);
-
-            // Samples in (tp, t_lim].
-            while si < ns && sample_times[si] <= t_lim {
-                let ts = sample_times[si];
-                if ts == tn {
-                    on_sample(sys, tn, eng.y());
-                } else {
-                    if let Err(f) = eng.prepare_dense(sys, &mut stats) {
-                        return Err(convert(f, eng.y()));
-                    }
-                    eng.dense(ts, &mut ybuf);
-                    on_sample(sys, ts, &ybuf);
-                }
-                si += 1;
-            }
-
-            // Non-terminal crossings up to the terminal one, in time order,
-            // then the terminal one with its restart state.
-            let upto = terminal.unwrap_or(crossings.len());
-            for &(tr, i) in &crossings[..upto] {
-                eng.dense(tr, &mut ybuf);
-                on_event(
-                    sys,
-                    &Fired {
-                        index: i,
-                        t: tr,
-                        y: ybuf,
-                    },
-                );
-            }
-            if let Some(k) = terminal {
-                let (tr, i) = crossings[k];
-                eng.dense(tr, &mut ybuf);
-                if events[i].step_to_event {
-                    // The restart state as accurate as a step, not only as
-                    // the interpolant (errors there add up over many events).
-                    let dense = ybuf;
-                    if let Err(f) = eng.state_at(sys, tr, &mut ybuf, &mut stats) {
-                        on_event(
-                            sys,
-                            &Fired {
-                                index: i,
-                                t: tr,
-                                y: dense,
-                            },
-                        );
-                        return Err(convert(f, eng.y()));
-                    }
-                }
-                on_event(
-                    sys,
-                    &Fired {
-                        index: i,
-                        t: tr,
-                        y: ybuf,
-                    },
-                );
-                on_step(sys, tr, &ybuf);
-                return Ok(Outcome {
-                    t: tr,
-                    y: ybuf,
-                    stop: StopReason::Terminal(i),
-                    fired: Vec::new(),
-                    stats,
-                });
-            }
-            on_step(sys, tn, eng.y());
-            std::mem::swap(&mut g_prev, &mut g_new);
         }
-
         t = t_stop;
-        y = *eng.y();
+        y = *st.eng.y();
         if seg >= stops.len() {
             return Ok(Outcome {
                 t,
                 y,
                 stop: StopReason::End,
                 fired: Vec::new(),
-                stats,
+                stats: st.stats,
             });
         }
         seg += 1;
+    }
+}
+
+/// The engine of one of the three methods, chosen at run time (for the
+/// resumable driver, which keeps one across calls).
+#[derive(Clone)]
+pub(crate) enum AnyEngine<const N: usize> {
+    /// Classical RK4.
+    Rk4(Rk4<N>),
+    /// DOP853.
+    Dop853(Dop853<N>),
+    /// Rodas4P.
+    Rodas4p(Rodas4p<N>),
+}
+
+impl<const N: usize> AnyEngine<N> {
+    /// The engine `opts` asks for, for a segment `[t0, t_end]` (the adaptive
+    /// steppers' largest step defaults to the segment's length).
+    pub(crate) fn new(opts: &Options, t0: f64, t_end: f64) -> Self {
+        let h_max = default_h_max(opts, t0, t_end);
+        match opts.stepper {
+            Stepper::Rk4 { h } => AnyEngine::Rk4(Rk4::new(h)),
+            Stepper::Dop853 {
+                rtol,
+                atol,
+                beta,
+                stability_cap,
+            } => AnyEngine::Dop853(Dop853::new(rtol, atol, beta, stability_cap, opts.h0, h_max)),
+            Stepper::Rosenbrock { rtol, atol } => {
+                AnyEngine::Rodas4p(Rodas4p::new(rtol, atol, opts.h0, h_max))
+            }
+        }
+    }
+}
+
+macro_rules! each_engine {
+    ($self:expr, $e:ident => $body:expr) => {
+        match $self {
+            AnyEngine::Rk4($e) => $body,
+            AnyEngine::Dop853($e) => $body,
+            AnyEngine::Rodas4p($e) => $body,
+        }
+    };
+}
+
+impl<const N: usize> Engine<N> for AnyEngine<N> {
+    fn restart<S: OdeSystem<N>>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        y: &[f64; N],
+        t_stop: f64,
+        stats: &mut Stats,
+    ) -> Result<(), Fail<S::Error>> {
+        each_engine!(self, e => e.restart(sys, t, y, t_stop, stats))
+    }
+    fn step<S: OdeSystem<N>>(
+        &mut self,
+        sys: &mut S,
+        t_stop: f64,
+        stats: &mut Stats,
+    ) -> Result<(), Fail<S::Error>> {
+        each_engine!(self, e => e.step(sys, t_stop, stats))
+    }
+    fn t(&self) -> f64 {
+        each_engine!(self, e => e.t())
+    }
+    fn y(&self) -> &[f64; N] {
+        each_engine!(self, e => e.y())
+    }
+    fn t_prev(&self) -> f64 {
+        each_engine!(self, e => e.t_prev())
+    }
+    fn prepare_dense<S: OdeSystem<N>>(
+        &mut self,
+        sys: &mut S,
+        stats: &mut Stats,
+    ) -> Result<(), Fail<S::Error>> {
+        each_engine!(self, e => e.prepare_dense(sys, stats))
+    }
+    fn dense(&self, t: f64, out: &mut [f64; N]) {
+        each_engine!(self, e => e.dense(t, out))
+    }
+    fn state_at<S: OdeSystem<N>>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        out: &mut [f64; N],
+        stats: &mut Stats,
+    ) -> Result<(), Fail<S::Error>> {
+        each_engine!(self, e => e.state_at(sys, t, out, stats))
+    }
+}
+
+/// What one call of [`Stepping::step`] did.
+pub(crate) enum Stepped<const N: usize> {
+    /// An accepted step inside the segment.
+    Step,
+    /// The accepted step reached the segment's end.
+    SegmentEnd,
+    /// A terminal event fired: the segment ends at `t` with state `y`.
+    Terminal {
+        /// Index of the event.
+        index: usize,
+        /// Event time.
+        t: f64,
+        /// Restart state.
+        y: [f64; N],
+    },
+}
+
+/// One segment of an integration taken a step at a time: the engine, the
+/// event functions' values at the last step end, the next sample and the
+/// work counters. `solve` runs it to the end of each segment; the resumable
+/// driver (`crate::simulate::Simulation`) keeps it between calls, so a
+/// pause never changes a step.
+#[derive(Clone)]
+pub(crate) struct Stepping<E, const N: usize> {
+    /// The engine (its last accepted step and dense output).
+    pub(crate) eng: E,
+    t_stop: f64,
+    /// Work counters since this `Stepping` was made.
+    pub(crate) stats: Stats,
+    g_prev: Vec<f64>,
+    g_new: Vec<f64>,
+    crossings: Vec<(f64, usize)>,
+    /// Index of the next sample time not yet emitted.
+    pub(crate) si: usize,
+}
+
+impl<E: Engine<N>, const N: usize> Stepping<E, N> {
+    /// A stepper with `n_events` events, the next sample at index `si`.
+    pub(crate) fn new(eng: E, n_events: usize, si: usize) -> Self {
+        Stepping {
+            eng,
+            t_stop: 0.0,
+            stats: Stats::default(),
+            g_prev: vec![0.0; n_events],
+            g_new: vec![0.0; n_events],
+            crossings: Vec::with_capacity(n_events),
+            si,
+        }
+    }
+
+    /// Start a segment at `(t, y)` ending at `t_stop`: `sys.begin_segment`,
+    /// then (for the `first` segment) the samples at exactly `t`, the event
+    /// functions at the start and the engine's restart. `Ok(false)` if the
+    /// segment is empty (`t_stop == t`, first segment only: nothing to do).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn begin<S: OdeSystem<N>>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        y: &[f64; N],
+        t_stop: f64,
+        first: bool,
+        sample_times: &[f64],
+        events: &[Event<S, N>],
+        on_sample: &mut dyn FnMut(&S, f64, &[f64; N]),
+    ) -> Result<bool, IntegrateError<S::Error>> {
+        self.t_stop = t_stop;
+        sys.begin_segment(t, y);
+        if first {
+            while self.si < sample_times.len() && sample_times[self.si] == t {
+                on_sample(sys, t, y);
+                self.si += 1;
+            }
+            if t_stop == t {
+                return Ok(false);
+            }
+        }
+        for (gp, ev) in self.g_prev.iter_mut().zip(events) {
+            *gp = (ev.g)(sys, t, y);
+        }
+        self.eng
+            .restart(sys, t, y, t_stop, &mut self.stats)
+            .map_err(|f| convert(f, y))?;
+        Ok(true)
+    }
+
+    /// Take one accepted step (the segment must not have ended): locate the
+    /// events in it, emit the samples and the non-terminal events up to the
+    /// terminal one (if any), call `on_step`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn step<S: OdeSystem<N>>(
+        &mut self,
+        sys: &mut S,
+        opts: &Options,
+        sample_times: &[f64],
+        events: &[Event<S, N>],
+        on_sample: &mut dyn FnMut(&S, f64, &[f64; N]),
+        on_step: &mut dyn FnMut(&S, f64, &[f64; N]),
+        on_event: &mut dyn FnMut(&S, &Fired<N>),
+    ) -> Result<Stepped<N>, IntegrateError<S::Error>> {
+        let t_stop = self.t_stop;
+        let eng = &mut self.eng;
+        let stats = &mut self.stats;
+        let mut ybuf = [0.0; N];
+        let ns = sample_times.len();
+        if stats.steps >= opts.max_steps {
+            return Err(IntegrateError::TooManySteps {
+                t: eng.t(),
+                max_steps: opts.max_steps,
+            });
+        }
+        if let Err(f) = eng.step(sys, t_stop, stats) {
+            return Err(convert(f, eng.y()));
+        }
+        stats.steps += 1;
+        let tn = eng.t();
+        let tp = eng.t_prev();
+
+        // Events: sign changes between the step ends, located on the
+        // dense output.
+        self.crossings.clear();
+        for (i, ev) in events.iter().enumerate() {
+            let gn = (ev.g)(sys, tn, eng.y());
+            self.g_new[i] = gn;
+            if crosses(self.g_prev[i], gn, ev.direction) {
+                if let Err(f) = eng.prepare_dense(sys, stats) {
+                    return Err(convert(f, eng.y()));
+                }
+                let tol = 4.0 * f64::EPSILON * tn.abs().max(tn - tp);
+                let sys_ref: &S = sys;
+                let eng_ref = &*eng;
+                let tr = illinois(
+                    |tc| {
+                        eng_ref.dense(tc, &mut ybuf);
+                        (ev.g)(sys_ref, tc, &ybuf)
+                    },
+                    tp,
+                    tn,
+                    self.g_prev[i],
+                    gn,
+                    tol,
+                );
+                self.crossings.push((tr, i));
+            }
+        }
+        let crossings = &mut self.crossings;
+        crossings.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let terminal = crossings.iter().position(|&(_, i)| events[i].terminal);
+        let t_lim = terminal.map_or(tn, |k| crossings[k].0);
+
+        // Samples in (tp, t_lim].
+        while self.si < ns && sample_times[self.si] <= t_lim {
+            let ts = sample_times[self.si];
+            if ts == tn {
+                on_sample(sys, tn, eng.y());
+            } else {
+                if let Err(f) = eng.prepare_dense(sys, stats) {
+                    return Err(convert(f, eng.y()));
+                }
+                eng.dense(ts, &mut ybuf);
+                on_sample(sys, ts, &ybuf);
+            }
+            self.si += 1;
+        }
+
+        // Non-terminal crossings up to the terminal one, in time order,
+        // then the terminal one with its restart state.
+        let upto = terminal.unwrap_or(crossings.len());
+        for &(tr, i) in &crossings[..upto] {
+            eng.dense(tr, &mut ybuf);
+            on_event(
+                sys,
+                &Fired {
+                    index: i,
+                    t: tr,
+                    y: ybuf,
+                },
+            );
+        }
+        if let Some(k) = terminal {
+            let (tr, i) = crossings[k];
+            eng.dense(tr, &mut ybuf);
+            if events[i].step_to_event {
+                // The restart state as accurate as a step, not only as
+                // the interpolant (errors there add up over many events).
+                let dense = ybuf;
+                if let Err(f) = eng.state_at(sys, tr, &mut ybuf, stats) {
+                    on_event(
+                        sys,
+                        &Fired {
+                            index: i,
+                            t: tr,
+                            y: dense,
+                        },
+                    );
+                    return Err(convert(f, eng.y()));
+                }
+            }
+            on_event(
+                sys,
+                &Fired {
+                    index: i,
+                    t: tr,
+                    y: ybuf,
+                },
+            );
+            on_step(sys, tr, &ybuf);
+            return Ok(Stepped::Terminal {
+                index: i,
+                t: tr,
+                y: ybuf,
+            });
+        }
+        on_step(sys, tn, eng.y());
+        std::mem::swap(&mut self.g_prev, &mut self.g_new);
+        Ok(if eng.t() < t_stop {
+            Stepped::Step
+        } else {
+            Stepped::SegmentEnd
+        })
     }
 }

@@ -321,6 +321,7 @@ impl Options {
 mod dop853;
 mod dop853_coefficients;
 mod driver;
+pub(crate) use driver::{AnyEngine, Stepped, Stepping};
 mod rk4;
 mod roots;
 mod rosenbrock;

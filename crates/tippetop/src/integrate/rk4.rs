@@ -10,7 +10,8 @@ use super::{Engine, Fail, OdeSystem, Stats, eval};
 const LANDING_SLACK: f64 = 1e-9;
 
 /// RK4 on the grid `t_seg + k h` of the current segment.
-pub(super) struct Rk4<const N: usize> {
+#[derive(Clone)]
+pub(crate) struct Rk4<const N: usize> {
     h: f64,
     /// Segment start and index of the current grid point.
     t_seg: f64,

@@ -228,7 +228,8 @@ pub(crate) fn lu_solve<const N: usize>(lu: &[[f64; N]; N], piv: &[usize; N], b: 
 }
 
 /// The Rodas4P stepper state.
-pub(super) struct Rodas4p<const N: usize> {
+#[derive(Clone)]
+pub(crate) struct Rodas4p<const N: usize> {
     rtol: f64,
     atol: f64,
     h_max: f64,

@@ -15,7 +15,7 @@ pub const MAX_SWITCHES: usize = 200_000;
 
 /// The events a run records: at most [`crate::limits::MAX_EVENTS`], then one
 /// `"event_limit_reached"` record (see there).
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub(crate) struct EventList {
     list: Vec<EventRecord>,
     dropped: u64,
@@ -363,7 +363,7 @@ mod tests {
 /// sign history, and the intervals spent rolling and (rigid model,
 /// unilateral contact) in flight. Times are scaled; `time_unit` \[s\]
 /// converts them for the event records.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(crate) struct RunLog {
     /// The events recorded so far (SI times).
     pub events: EventList,
