@@ -214,3 +214,30 @@ fn observer_sees_every_accepted_step() {
         );
     }
 }
+
+/// The README's Rust example is the doc test of `Simulation` (which
+/// `cargo test` runs), line for line.
+#[test]
+fn readme_example_is_the_doc_test() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let readme = std::fs::read_to_string(format!("{root}/../../README.md")).unwrap();
+    let start = readme.find("```rust\n").expect("a rust block") + "```rust\n".len();
+    let block: Vec<&str> = readme[start..]
+        .split("\n```")
+        .next()
+        .unwrap()
+        .lines()
+        .collect();
+    let src = std::fs::read_to_string(format!("{root}/src/simulate.rs")).unwrap();
+    let doc: Vec<&str> = src
+        .lines()
+        .map(|l| l.trim_start())
+        .filter_map(|l| l.strip_prefix("///"))
+        .map(|l| l.strip_prefix(' ').unwrap_or(l))
+        .collect();
+    let at = doc.windows(block.len()).position(|w| w == block.as_slice());
+    assert!(
+        at.is_some(),
+        "README example not found in Simulation's doc test"
+    );
+}
