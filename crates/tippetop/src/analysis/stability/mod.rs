@@ -324,6 +324,14 @@ fn eig_list(e: &[Eig]) -> String {
 pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> {
     opts.validate()?;
     sc.validate()?;
+    // The linearised model has no vertical load (docs/physics.md §17).
+    if let Some(k) = sc.forcing.windows.iter().position(|w| w.hz != 0.0) {
+        return Err(Error::invalid(
+            &format!("force.{k}.hz"),
+            "the stability analysis does not model a vertical load".into(),
+            "0 (use `tippetop run` for a loaded top)".into(),
+        ));
+    }
     let top = sc.top;
     let g = sc.surface.gravity;
     let mu = sc.surface.friction;
