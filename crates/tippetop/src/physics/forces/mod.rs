@@ -133,10 +133,16 @@ impl ContactPointForce {
     }
 }
 
+/// Relative distance within which a latch time is read as a switch time
+/// ([`Forces::latch`]): a few roundings of the scaled time's round trip.
+pub const SWITCH_SNAP: f64 = 8.0 * f64::EPSILON;
+
 /// A scenario's force terms and the value latched for the current segment.
 #[derive(Debug, Clone)]
 pub struct Forces {
     terms: Vec<Arc<dyn ForceTerm>>,
+    /// The schedule's switch times \[s\], sorted.
+    switch_times: Vec<f64>,
     latched: ContactPointForce,
 }
 
@@ -151,6 +157,7 @@ impl Forces {
         }
         Forces {
             terms,
+            switch_times: sc.forcing.switch_times(),
             latched: ContactPointForce::default(),
         }
     }
@@ -170,7 +177,23 @@ impl Forces {
     }
 
     /// Latch the force in effect at `t` \[s\], scaled by `force_unit` \[N\].
+    ///
+    /// The models latch at a segment's start, a switch time `s` that went
+    /// through the scaled time `s/T` and back (`t = (s/T)·T`), which can land
+    /// an ulp below `s`, where the schedule still has the old force (a
+    /// window ending at `0.1 + 0.02` stayed on for the rest of the run with
+    /// `T = 0.02 s`). A `t` within [`SWITCH_SNAP`] (relative) of a switch
+    /// time is therefore read at the switch time itself: the force that
+    /// starts there.
     pub fn latch(&mut self, t: f64, force_unit: f64) {
+        let i = self.switch_times.partition_point(|&s| s < t);
+        let near = |s: f64| (s - t).abs() <= SWITCH_SNAP * s.abs();
+        let t = [i.checked_sub(1), Some(i)]
+            .into_iter()
+            .flatten()
+            .filter_map(|j| self.switch_times.get(j).copied())
+            .find(|&s| near(s))
+            .unwrap_or(t);
         let [hx, hy, hz] = self.at(t).contact_point;
         self.latched = ContactPointForce {
             h: [hx / force_unit, hy / force_unit],
