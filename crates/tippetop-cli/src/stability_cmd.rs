@@ -85,7 +85,11 @@ pub fn run(args: &StabilityArgs, quiet: bool) -> anyhow::Result<ExitCode> {
         ..Default::default()
     };
     // Every input (options, then the scenario) before any work or output.
-    let sc = match opts.validate().and_then(|()| load(args)) {
+    let sc = match opts
+        .validate()
+        .and_then(|()| load(args))
+        .and_then(|sc| stability::supports(&sc).map(|()| sc))
+    {
         Ok(sc) => sc,
         Err(e) => {
             eprintln!("error: {e}");

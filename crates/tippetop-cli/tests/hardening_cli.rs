@@ -77,6 +77,42 @@ fn run_rejects_extreme_values_without_panic() {
     }
 }
 
+/// The vertical load `force.K.hz` (docs/physics.md §17) is checked like
+/// `hx`, `hy`: it must be finite, and the time unit it sets,
+/// `sqrt(|(H, hz)| / (m R))`, must be finite too (1e308 N overflows it on
+/// both presets); exit 2, one line naming the key, nothing written, for
+/// every model.
+#[test]
+fn run_rejects_a_bad_vertical_load() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let o = out.to_str().unwrap();
+    for preset in ["classical", "nano"] {
+        for value in ["nan", "inf", "-inf", "1e308", "-1e308"] {
+            for model in ["vector", "reduced", "rigid"] {
+                let set = format!("force.0.hz={value}");
+                let m = format!("solver.model={model}");
+                expect_input_error(
+                    &[
+                        "run",
+                        "--preset",
+                        preset,
+                        "--set",
+                        &set,
+                        "--set",
+                        &m,
+                        "--no-plot",
+                        "--out",
+                        o,
+                    ],
+                    Some(&out),
+                    "force.0.hz",
+                );
+            }
+        }
+    }
+}
+
 /// Defect 3: a run that reaches its step limit stops with exit 3, says so,
 /// and writes what it computed.
 #[test]
@@ -142,6 +178,8 @@ fn stability_checks_its_arguments_first() {
         (vec!["--tol", "nan"], "tol"),
         (vec!["--set", "solver.t_end=1e308"], "solver.t_end"),
         (vec!["--set", "top.mass=1e-320"], "top.mass"),
+        // The linearised model has no vertical load (docs/physics.md §17).
+        (vec!["--set", "force.0.hz=1"], "force.0.hz"),
     ] {
         let mut all = vec!["stability", "--preset", "classical"];
         all.extend(args);
@@ -196,6 +234,7 @@ fn fuzz_cli() {
         "surface.restitution",
         "force.0.hx",
         "force.0.hy",
+        "force.0.hz",
         "force.0.stop",
         "initial.theta",
         "initial.theta_dot",

@@ -22,6 +22,7 @@
 //! [[force]]                   # applied force at the contact point, precessing frame [N]
 //! hx = 0.0                    # default 0
 //! hy = 0.0                    # default 0
+//! hz = 0.0                    # vertical load, > 0 pushes onto the plane; default 0
 //! start = 0.0                 # [s], default 0
 //! stop = 1e-5                 # [s], default: never
 //! [initial]
@@ -260,6 +261,11 @@ impl Scenario {
                 let mut t = Table::new();
                 t.insert("hx".into(), Value::Float(w.hx));
                 t.insert("hy".into(), Value::Float(w.hy));
+                // Written only when set, so scenarios without a load keep
+                // their text (scenario.toml, summary.json) unchanged.
+                if w.hz != 0.0 {
+                    t.insert("hz".into(), Value::Float(w.hz));
+                }
                 t.insert("start".into(), Value::Float(w.start));
                 if w.stop != f64::INFINITY {
                     t.insert("stop".into(), Value::Float(w.stop));
@@ -349,6 +355,10 @@ const SURFACE_KEYS: Keys = &[
 const FORCE_KEYS: Keys = &[
     ("hx", "a finite force [N]"),
     ("hy", "a finite force [N]"),
+    (
+        "hz",
+        "a finite force [N] (vertical load at the contact point, > 0 pushes onto the plane)",
+    ),
     ("start", "a finite time >= 0 [s]"),
     ("stop", "a finite time > start [s], or omit stop for never"),
 ];
@@ -645,7 +655,7 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
         ["force", ..] => Err(Error::invalid(
             key,
             "force windows are set one key at a time".into(),
-            "force.K.KEY with K = 0, 1, ... and KEY one of hx, hy, start, stop".into(),
+            "force.K.KEY with K = 0, 1, ... and KEY one of hx, hy, hz, start, stop".into(),
         )),
         [table, k] if keys_of(table).is_some() => {
             let keys = keys_of(table).unwrap_or(&[]);
@@ -846,6 +856,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
             windows.push(ForceWindow {
                 hx: s.f64("hx", Some(0.0))?,
                 hy: s.f64("hy", Some(0.0))?,
+                hz: s.f64("hz", Some(0.0))?,
                 start: s.f64("start", Some(0.0))?,
                 stop: s.f64("stop", Some(f64::INFINITY))?,
             });

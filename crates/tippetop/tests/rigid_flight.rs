@@ -196,6 +196,7 @@ fn bounces_shrink_by_restitution_and_settle() {
             windows: vec![ForceWindow {
                 hx: -2.0,
                 hy: 0.0,
+                hz: 0.0,
                 start: 0.0,
                 stop: 0.003,
             }],

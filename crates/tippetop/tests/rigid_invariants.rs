@@ -104,12 +104,14 @@ fn energy_balance_with_friction_and_forcing() {
                     ForceWindow {
                         hx: h,
                         hy: h,
+                        hz: 0.0,
                         start: 0.0,
                         stop: 6e-5,
                     },
                     ForceWindow {
                         hx: -h,
                         hy: -h,
+                        hz: 0.0,
                         start: 6e-5,
                         stop: f64::INFINITY,
                     },

@@ -304,6 +304,7 @@ fn rigid_applied_force_step_breaks_rolling_only_above_mu_n() {
             windows: vec![ForceWindow {
                 hx: h * 0.6,
                 hy: h * 0.8,
+                hz: 0.0,
                 start: t1,
                 stop: f64::INFINITY,
             }],

@@ -98,18 +98,21 @@ fn round_trip_several_windows_and_other_enums() {
         ForceWindow {
             hx: 1e-22,
             hy: -3.3e-23,
+            hz: 0.0,
             start: 0.0,
             stop: 1e-5,
         },
         ForceWindow {
             hx: 0.0,
             hy: 2.0 / 3.0 * 1e-22,
+            hz: 0.0,
             start: 1e-5,
             stop: f64::INFINITY,
         },
         ForceWindow {
             hx: 5e-23,
             hy: 0.0,
+            hz: 0.0,
             start: 2e-5,
             stop: 7e-5,
         },
@@ -205,6 +208,7 @@ fn file_force_list_replaces_the_presets() {
         vec![ForceWindow {
             hx: 3e-22,
             hy: 0.0,
+            hz: 0.0,
             start: 0.0,
             stop: 1e-5
         }]
@@ -264,6 +268,7 @@ fn set_appends_force_window() {
         ForceWindow {
             hx: -1e-22,
             hy: 0.0,
+            hz: 0.0,
             start: 1e-5,
             stop: f64::INFINITY
         }

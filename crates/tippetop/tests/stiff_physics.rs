@@ -90,6 +90,7 @@ fn model_rhs_is_autonomous_within_a_segment() {
         windows: vec![ForceWindow {
             hx: 1e-3,
             hy: -2e-3,
+            hz: 0.0,
             start: 0.0,
             stop: 5e-3,
         }],

@@ -9,11 +9,12 @@ pub mod vector;
 use std::cell::Cell;
 
 use crate::integrate::Event;
+use crate::physics::forces::{ContactPointForce, Forces};
 use crate::physics::units::Scales;
 use crate::sim::events::Watch;
 use crate::sim::record::RunLog;
 use crate::{
-    ContactMode, Error, Forcing, FrictionLaw, Initial, Sample, Scenario, contact::SlidingLaw,
+    ContactMode, Error, FrictionLaw, Initial, Sample, Scenario, contact::SlidingLaw,
     integrate::OdeSystem,
 };
 
@@ -72,8 +73,9 @@ impl std::fmt::Display for ModelError {
 
 /// What the two models that keep the sphere on the plane ([`reduced`] and
 /// [`vector`]) hold besides their ODE state, and the friction and contact
-/// rules they share: the friction law, the contact mode, the latched
-/// applied force, sliding or rolling, and the flags the driver sets.
+/// rules they share: the friction law, the contact mode, the applied
+/// force terms and their latched value, sliding or rolling, and the flags
+/// the driver sets.
 #[derive(Debug, Clone)]
 pub struct OnPlane {
     /// Friction law, ε in scaled units.
@@ -83,9 +85,9 @@ pub struct OnPlane {
     /// μ.
     mu: f64,
     contact: ContactMode,
-    forcing: Forcing,
-    /// Latched applied force (h_x, h_y) in the precessing frame, scaled.
-    h: [f64; 2],
+    /// The applied force terms, and the contact-point force (h_x, h_y, h_z)
+    /// in the precessing frame latched for the segment, scaled.
+    forces: Forces,
     /// Sliding or rolling.
     pub mode: Mode,
     /// Unit direction used for μ v/|v| at exactly v = 0 (set when leaving
@@ -124,8 +126,7 @@ impl OnPlane {
             law,
             mu: sc.surface.friction,
             contact: sc.surface.contact,
-            forcing: sc.forcing.clone(),
-            h: [0.0, 0.0],
+            forces: Forces::of(sc),
             mode: Mode::Sliding,
             slip_hint: [0.0, 0.0],
             slip_ref: Cell::new([0.0, 0.0]),
@@ -155,14 +156,19 @@ impl OnPlane {
 
     /// Latch the applied force in effect at scaled time `t`.
     pub fn latch_force(&mut self, t: f64, scales: &Scales) {
-        let (hx, hy) = self.forcing.at(t * scales.time);
-        let f = scales.force();
-        self.h = [hx / f, hy / f];
+        self.forces.latch(t * scales.time, scales.force());
     }
 
     /// Latched applied force (h_x, h_y) in the precessing frame, scaled.
+    #[inline(always)]
     pub fn applied(&self) -> [f64; 2] {
-        self.h
+        self.forces.contact_point().h
+    }
+
+    /// The latched contact-point force (H and the vertical load h_z), scaled.
+    #[inline(always)]
+    pub fn contact_point(&self) -> ContactPointForce {
+        self.forces.contact_point()
     }
 
     /// Contact mode.

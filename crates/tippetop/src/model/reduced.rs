@@ -87,7 +87,7 @@ struct LastEval {
     mode: Mode,
     /// Latched normal-force branch.
     branch: Option<bool>,
-    key: [u64; 6],
+    key: [u64; 7],
     /// sin θ, cos θ.
     sc: (f64, f64),
     eval: Eval,
@@ -95,10 +95,11 @@ struct LastEval {
 
 /// Everything besides the state that an evaluation depends on and that can
 /// change between evaluations (the model constants cannot).
-fn inputs_key(h: [f64; 2], hint: [f64; 2], slip_ref: [f64; 2]) -> [u64; 6] {
+fn inputs_key(h: [f64; 3], hint: [f64; 2], slip_ref: [f64; 2]) -> [u64; 7] {
     [
         h[0].to_bits(),
         h[1].to_bits(),
+        h[2].to_bits(),
         hint[0].to_bits(),
         hint[1].to_bits(),
         slip_ref[0].to_bits(),
@@ -224,7 +225,8 @@ impl Reduced {
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
         let yb = bits(y);
         let p = &self.plane;
-        let key = inputs_key(p.applied(), p.slip_hint, p.slip_ref.get());
+        let cp = p.contact_point();
+        let key = inputs_key([cp.h[0], cp.h[1], cp.hz], p.slip_hint, p.slip_ref.get());
         if let Some(l) = &*self.last.borrow() {
             if same_bits(&l.y, &yb)
                 && l.mode == self.plane.mode
@@ -269,11 +271,15 @@ impl Reduced {
         // Off the critical path (independent of the friction): 1/(ia s).
         let inv_ias = inv_ia / s;
         let f = self.plane.coefficient(v);
-        let [hx, hy] = self.plane.applied();
+        let cp = self.plane.contact_point();
+        let [hx, hy] = cp.h;
         // Gyroscopic term of A θ̈.
         let gyro = -om * (ic * w - ia * om * c) * s;
         let as_ = a * s;
         let q = self.g + a * c * thd * thd + as_ * (gyro + h * hx) * inv_ia;
+        // The vertical load h_z at P: Q + h_z D₀, D₀ = 1 + a² s²/A
+        // (docs/physics.md §17).
+        let q = cp.closure_q(q, 1.0 + as_ * as_ * inv_ia);
         // N (1 + a s (a s − σ h f_x)/A) = Q, σ the sign of N the friction sees.
         let dp = 1.0 + as_ * (as_ - h * f[0]) * inv_ia;
         let dm = 1.0 + as_ * (as_ + h * f[0]) * inv_ia;
@@ -282,7 +288,8 @@ impl Reduced {
         let ff = [-nf * f[0], -nf * f[1]];
         let fx = ff[0] - hx;
         let fy = ff[1] - hy;
-        let thdd = (gyro - as_ * normal - h * fx) * inv_ia;
+        // The vertical force at P is N − h_z (§17).
+        let thdd = (gyro - as_ * cp.vertical_total(normal) - h * fx) * inv_ia;
         let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
         let wd = s * fy * inv_ic;
         let dy = [
@@ -320,14 +327,17 @@ impl Reduced {
         let gyro = -om * (ic * w - ia * om * c) * s;
         let thdd = (gyro - a * s * self.g - a * s * thd * thd + h * om * uy)
             / (ia + a * a * s * s + h * h);
-        let normal = self.g + a * c * thd * thd + a * s * thdd;
+        // The plane's reaction: the vertical constraint force plus the
+        // load h_z (§17).
+        let cp = self.plane.contact_point();
+        let normal = cp.reaction(self.g + a * c * thd * thd + a * s * thdd);
         let fx = h * thdd + a * s * thd * thd - om * uy;
         let fy = (om * ux
             - c * thd * weff
             - (a - c) * thd * (ic * w - 2.0 * ia * om * c) * inv_ia
             - om * s * s * thd)
             / (1.0 + s * s * inv_ic + (a - c) * (a - c) * inv_ia);
-        let [hx, hy] = self.plane.applied();
+        let [hx, hy] = cp.h;
         let ff = [fx + hx, fy + hy];
         let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
         let wd = s * fy * inv_ic;

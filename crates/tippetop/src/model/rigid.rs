@@ -27,7 +27,10 @@
 //!   right-hand side uses the normalised `q` for every rotation.
 //! - `Ẇ_f = F_f · v_P`, `Ẇ_a = (−H) · v_P`, `v_P = v + n × r`.
 //!
-//! `F = N Z + F_f − H`: `H = h_x x̂ + h_y ŷ` is the paper's retarding force
+//! `F = N Z + F_f − H − h_z Z`: the vertical load `h_z` (force terms,
+//! [`crate::physics::forces`]) adds `h_z (1/m + a w_Z)` to the closure's `Q`
+//! below and `h_z` to the rolling `N`; `N` is the plane's reaction
+//! (docs/physics.md §17). `H = h_x x̂ + h_y ŷ` is the paper's retarding force
 //! (the force on the top is `−H`), `x̂` the horizontal unit vector along the
 //! horizontal projection of `k`, `ŷ = Z × x̂` (world `X`, `Y` when `k` is
 //! exactly vertical). `(h_x, h_y)` is latched per segment in
@@ -173,10 +176,11 @@ use crate::sim::events::{Happened, Watch};
 use crate::sim::messages::painleve_why;
 use crate::sim::record::RunLog;
 use crate::{
-    ContactMode, Error, Forcing, FrictionLaw, Sample, Scenario, Top,
+    ContactMode, Error, FrictionLaw, Sample, Scenario, Top,
     integrate::{Direction, Event, OdeSystem},
     model::reduced::{CHATTER_REVERSALS, ModelError, Scales},
     model::{Flow, Model},
+    physics::forces::Forces,
 };
 
 pub use crate::model::reduced::Mode;
@@ -347,12 +351,12 @@ pub struct Rigid {
     mu: f64,
     law: Law,
     contact: ContactMode,
-    forcing: Forcing,
+    /// The applied force terms and the contact-point force
+    /// (h_x, h_y, h_z) latched for the segment, scaled.
+    forces: Forces,
     restitution: f64,
     /// True for the exact stick/slip law (`"coulomb"`).
     exact: bool,
-    /// Latched (h_x, h_y), scaled.
-    h: [f64; 2],
     /// Current phase.
     pub phase: Phase,
     /// Sliding or rolling (in contact; always sliding in flight).
@@ -416,10 +420,9 @@ impl Rigid {
             mu: sc.surface.friction,
             law,
             contact: sc.surface.contact,
-            forcing: sc.forcing.clone(),
+            forces: Forces::of(sc),
             restitution: sc.surface.restitution,
             exact,
-            h: [0.0, 0.0],
             phase: Phase::Contact,
             mode: Mode::Sliding,
             slip_hint: [0.0; 3],
@@ -464,14 +467,12 @@ impl Rigid {
 
     /// Latched applied force (h_x, h_y) in scaled units.
     pub fn applied(&self) -> [f64; 2] {
-        self.h
+        self.forces.contact_point().h
     }
 
     /// Latch the applied force in effect at scaled time `t`.
     pub fn latch_force(&mut self, t: f64) {
-        let (hx, hy) = self.forcing.at(t * self.scales.time);
-        let f = self.scales.force();
-        self.h = [hx / f, hy / f];
+        self.forces.latch(t * self.scales.time, self.scales.force());
     }
 
     /// Scaled state (in contact) from the SI initial values, with the
@@ -571,27 +572,30 @@ impl Rigid {
         }
     }
 
-    /// Applied force on the top (world): −(h_x x̂ + h_y ŷ).
+    /// Applied horizontal force on the top (world): −(h_x x̂ + h_y ŷ).
     fn applied_world(&self, kin: &Kin) -> V3 {
-        scale(
-            -1.0,
-            add(scale(self.h[0], kin.xh), scale(self.h[1], kin.yh)),
-        )
+        let h = self.applied();
+        scale(-1.0, add(scale(h[0], kin.xh), scale(h[1], kin.yh)))
     }
 
     /// Evaluate the model at a state in the current phase.
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, RigidError> {
         let kin = self.kin(y);
         let (k, n, r) = (kin.k, kin.n, kin.r);
-        let fa = self.applied_world(&kin);
+        let fh = self.applied_world(&kin);
+        let cp = self.forces.contact_point();
+        // The whole applied force at P: −H and the load −h_z Z (§17).
+        let fa = [fh[0], fh[1], cp.vertical_total(fh[2])];
         let wk = dot(n, k);
         // Gyroscopic angular acceleration (world): −I⁻¹ (n × I n).
         let ndot0 = scale(-1.0, self.inv_inertia(k, cross(n, self.inertia(k, n))));
         let e = cross(k, Z);
         let w = cross(self.inv_inertia(k, e), r);
         let nn = dot(n, n);
-        // Q: −(gap acceleration) with N = 0 and no friction (H = −fa).
-        let q_free = self.g + self.a * (-dot(fa, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
+        // Q: −(gap acceleration) with N = 0 and no friction (H = −fh).
+        let q_free = self.g + self.a * (-dot(fh, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
+        // The load h_z at P: Q + h_z D₀, D₀ = 1/m + a w_Z (§17).
+        let q_free = cp.closure_q(q_free, 1.0 + self.a * w[2]);
         let (normal, ff, rolling_force) = match (self.phase, self.mode) {
             (Phase::Flight, _) => (0.0, [0.0; 3], None),
             (Phase::Contact, Mode::Rolling) => {
@@ -604,7 +608,8 @@ impl Rigid {
                 let force = solve3(self.k_columns(k, r), b);
                 // Friction needed: the plane supplies F + H = F − fa.
                 let ff = [force[0] - fa[0], force[1] - fa[1], 0.0];
-                (force[2], ff, Some(force))
+                // The plane's reaction: F_Z plus the load (§17).
+                (cp.reaction(force[2]), ff, Some(force))
             }
             (Phase::Contact, Mode::Sliding) => {
                 let f = self.law_f(kin.vp);

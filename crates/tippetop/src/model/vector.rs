@@ -32,6 +32,9 @@
 //!
 //! - `v̇_h = F_h`;
 //! - `I ẇ = r × F − (C − A)(w·k) k̇`, `I⁻¹ x = x/A + (1/C − 1/A)(x·k) k`;
+//! - a vertical load `h_z` at `P` (the force on the top is `−h_z Z`) adds
+//!   `h_z (1 + a u_Z)` to `Q` below; the vertical force at `P` is `N − h_z`
+//!   (docs/physics.md §17);
 //! - the contact closure `v̇_Z = N − g = −a k̈_Z` gives
 //!   `N D(σ) = Q` with `e = k × Z`, `u = (e × r)/A`,
 //!   `D(σ) = 1 + a (u_Z − σ f·u)`,
@@ -120,7 +123,7 @@ pub struct Vector {
     /// mode and every input), so the driver's repeated evaluations at an
     /// accepted step (N event, energy, samples) are computed once. The key
     /// is compared bit for bit: the result is what a fresh evaluation gives.
-    last: RefCell<Option<([u64; DIM + 8], Eval)>>,
+    last: RefCell<Option<([u64; DIM + 9], Eval)>>,
 }
 
 /// `(sin θ, cos θ)` for the initial axis, moved by a few ulps so that the
@@ -300,7 +303,7 @@ impl Vector {
     /// Evaluate the model at a state in the current mode (cached: see
     /// the `last` field).
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
-        let mut key = [0u64; DIM + 8];
+        let mut key = [0u64; DIM + 9];
         for (k, v) in key.iter_mut().zip(y) {
             *k = v.to_bits();
         }
@@ -319,6 +322,7 @@ impl Vector {
                 Some(false) => 1,
                 Some(true) => 2,
             },
+            p.contact_point().hz.to_bits(),
         ];
         key[DIM..].copy_from_slice(&inputs);
         if let Some((k, e)) = &*self.last.borrow() {
@@ -376,6 +380,10 @@ impl Vector {
         let u = scale(self.inv_ia, cross(e, r));
         let wkd_z = w[0] * kd[1] - w[1] * kd[0];
         let q = self.g + a * (hw[0] * u[0] + hw[1] * u[1] - dot(w0, e) - wkd_z);
+        // The vertical load h_z at P: Q + h_z D₀, D₀ = 1 + a u_Z
+        // (docs/physics.md §17).
+        let cp = self.plane.contact_point();
+        let q = cp.closure_q(q, 1.0 + a * u[2]);
         let (q, dp, dm) = match reg_d {
             Some(d) => {
                 let base = d * (1.0 + a * u[2]);
@@ -390,7 +398,8 @@ impl Vector {
         let normal = self.plane.normal(q, dp, dm, || Self::theta(y))?;
         let nf = self.plane.friction_normal(normal);
         let ff = [-nf * f[0], -nf * f[1]];
-        let force = [ff[0] - hw[0], ff[1] - hw[1], normal];
+        // The vertical force at P is N − h_z (§17).
+        let force = [ff[0] - hw[0], ff[1] - hw[1], cp.vertical_total(normal)];
         let wd = add(w0, self.inv_inertia(k, cross(r, force)));
         let dy = [
             kd[0],
@@ -447,7 +456,8 @@ impl Vector {
         ];
         Eval {
             dy,
-            normal: force[2],
+            // The plane's reaction: the constraint force plus the load (§17).
+            normal: self.plane.contact_point().reaction(force[2]),
             friction: [force[0] + hw[0], force[1] + hw[1]],
             slip: [0.0, 0.0],
             v: [-wr[0], -wr[1], -a * kd[2]],

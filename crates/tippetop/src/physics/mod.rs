@@ -1,6 +1,7 @@
 //! Physics written once and used by every model (docs/architecture.md):
-//! the unit system of the scaled models, and the van der Waals adhesion of
-//! a fullerene on graphene or graphite.
+//! the unit system of the scaled models, the applied force terms, and the
+//! van der Waals adhesion of a fullerene on graphene or graphite.
 
 pub mod adhesion;
+pub mod forces;
 pub mod units;

@@ -17,7 +17,7 @@ pub use crate::state::{BYTES_PER_SAMPLE, MAX_SAMPLES, MAX_STEPS, max_steps_for};
 
 /// Largest `t_end / T_ref`, the run's length in its own time unit `T_ref`
 /// (the inverse of the fastest initial rate: spin, precession, nutation
-/// rate, `sqrt(g/R)`, `sqrt(|H|/(m R))`).
+/// rate, `sqrt(g/R)`, `sqrt(|(H, h_z)|/(m R))`).
 ///
 /// Why 1e9: near `t = 1e9 T_ref` consecutive `f64` times are `1.2e-7 T_ref`
 /// apart, so the phase of the fastest motion can no longer be resolved to
@@ -63,6 +63,7 @@ fn rates(sc: &Scenario) -> [(f64, String, &'static str); 6] {
             [
                 (format!("force.{k}.hx"), w.hx),
                 (format!("force.{k}.hy"), w.hy),
+                (format!("force.{k}.hz"), w.hz),
             ]
         })
         .fold((String::from("force.0.hx"), -1.0), |best, (k, v)| {
@@ -82,9 +83,9 @@ fn rates(sc: &Scenario) -> [(f64, String, &'static str); 6] {
             "sqrt(gravity / radius)",
         ),
         (
-            (sc.forcing.max_magnitude() / (top.mass * top.radius)).sqrt(),
+            (sc.forcing.max_contact_force() / (top.mass * top.radius)).sqrt(),
             force_key,
-            "sqrt(|H| / (mass radius))",
+            "sqrt(|(H, hz)| / (mass radius))",
         ),
         (1.0 / sc.solver.t_end, "solver.t_end".into(), "1 / t_end"),
     ]

@@ -129,6 +129,7 @@ pub fn nano_schedules() -> Vec<(&'static str, Forcing)> {
                 windows: vec![ForceWindow {
                     hx: 0.0,
                     hy: h,
+                    hz: 0.0,
                     start: 0.0,
                     stop: 8e-6,
                 }],
@@ -141,12 +142,14 @@ pub fn nano_schedules() -> Vec<(&'static str, Forcing)> {
                     ForceWindow {
                         hx: h,
                         hy: h,
+                        hz: 0.0,
                         start: 0.0,
                         stop: 6e-5,
                     },
                     ForceWindow {
                         hx: -h,
                         hy: -h,
+                        hz: 0.0,
                         start: 6e-5,
                         stop: f64::INFINITY,
                     },

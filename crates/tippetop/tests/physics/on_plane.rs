@@ -412,6 +412,7 @@ fn normal_force_jump_at_a_switch_is_reported() {
             windows: vec![ForceWindow {
                 hx,
                 hy: 0.0,
+                hz: 0.0,
                 start: 0.005,
                 stop: f64::INFINITY,
             }],
@@ -479,12 +480,14 @@ fn jellett_conserved_classical_with_forcing() {
             ForceWindow {
                 hx: 0.01,
                 hy: -0.02,
+                hz: 0.0,
                 start: 0.1,
                 stop: 0.7,
             },
             ForceWindow {
                 hx: -0.005,
                 hy: 0.01,
+                hz: 0.0,
                 start: 0.5,
                 stop: f64::INFINITY,
             },

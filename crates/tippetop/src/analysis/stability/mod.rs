@@ -320,10 +320,25 @@ fn eig_list(e: &[Eig]) -> String {
         .join(", ")
 }
 
+/// Whether the analysis covers `sc`: the linearised model has no vertical
+/// load (`force.K.hz`, docs/physics.md §17), so a scenario with one is bad
+/// input naming the key.
+pub fn supports(sc: &Scenario) -> Result<(), Error> {
+    match sc.forcing.windows.iter().position(|w| w.hz != 0.0) {
+        Some(k) => Err(Error::invalid(
+            &format!("force.{k}.hz"),
+            "the stability analysis does not model a vertical load".into(),
+            "0; use `tippetop run` for a loaded top".into(),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// Analyse the steady motions of a scenario (see the [module docs](self)).
 pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> {
     opts.validate()?;
     sc.validate()?;
+    supports(sc)?;
     let top = sc.top;
     let g = sc.surface.gravity;
     let mu = sc.surface.friction;

@@ -1,0 +1,49 @@
+//! The paper's retarding force `H = (H_x, H_y)` at the contact point
+//! (eq. 1.3; docs/physics.md §3.1): keys `force.K.hx`, `force.K.hy`. The
+//! force on the top is `−H`, components in the precessing frame.
+//!
+//! - Closure: `Q` gains `a (H·w)` (`w = (I⁻¹ e) × r`, §11; `m a s h H_x/A`
+//!   in the Euler angles, §4). While rolling it drops out of the motion and
+//!   only changes the friction needed (§6).
+//! - Jellett's J: conserved (a force at `P`, §7).
+//! - Energy: no potential; its work `W_a = ∫ (−H)·v_P dt` is integrated
+//!   (zero while rolling).
+
+use super::{Applied, Energy, ForceTerm, Kind, Properties};
+use crate::Forcing;
+
+/// The paper's `H` from the force windows.
+#[derive(Debug, Clone)]
+pub struct Retarding {
+    schedule: Forcing,
+}
+
+impl Retarding {
+    /// The term of a schedule.
+    pub fn of(schedule: &Forcing) -> Self {
+        Retarding {
+            schedule: schedule.clone(),
+        }
+    }
+}
+
+impl ForceTerm for Retarding {
+    fn name(&self) -> &'static str {
+        "applied force H (force.K.hx, force.K.hy)"
+    }
+    fn kind(&self) -> Kind {
+        Kind::ContactPoint
+    }
+    fn properties(&self) -> Properties {
+        Properties {
+            closure: "Q += a H·w (docs/physics.md §4, §11)",
+            conserves_jellett: true,
+            energy: Energy::Integrated,
+        }
+    }
+    fn add_to(&self, t: f64, acc: &mut Applied) {
+        let (hx, hy) = self.schedule.at(t);
+        acc.contact_point[0] += hx;
+        acc.contact_point[1] += hy;
+    }
+}
