@@ -53,13 +53,13 @@ fn energy_conserved_frictionless_classical() {
 /// to 1e-10 of C max|ω| R, classical (regularised, inverting; default rtol
 /// 1e-10) and nano (friction and the paper's force; rtol 1e-12).
 ///
-/// The nano run needs the tighter rtol: its J drift is ≈ 20 rtol (measured
-/// 2.3e-9 at rtol 1e-10, 2.1e-11 at 1e-12), against ≈ 0.15 rtol for the
-/// reduced model. The quaternion and the body-frame angular velocity turn
-/// with the spin (up to 2.7e7 rad/s), so their local errors sit at the
-/// tolerance, while the reduced model's θ, Ω, ω vary slowly and its local
-/// errors are far below it. (Integrating the angular velocity in the space
-/// frame instead does not help: 3.1e-9 at 1e-10; the attitude error dominates.)
+/// The nano run was put at rtol 1e-12 when the state held the quaternion and
+/// the body-frame angular velocity, which turn with the spin (up to 2.7e7
+/// rad/s): J drifted by ≈ 20 rtol (2.5e-9 at rtol 1e-10, 2.2e-11 at 1e-12),
+/// against ≈ 0.15 rtol for the reduced model (the space-frame angular
+/// velocity with the axis taken from the quaternion: 3.1e-9 at 1e-10). With
+/// the axis k and the space-frame angular velocity integrated
+/// (docs/physics.md §11): 6.5e-11 at 1e-10, 3.6e-13 at 1e-12.
 #[test]
 fn jellett_conserved() {
     let mut c = rigid(Scenario::classical());

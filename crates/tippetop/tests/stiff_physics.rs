@@ -112,10 +112,10 @@ fn model_rhs_is_autonomous_within_a_segment() {
     let mut m = Rigid::new(&sc);
     let y = m.scale_state(&sc.initial);
     m.begin_segment(0.0, &y);
-    let mut d0 = [0.0; 15];
+    let mut d0 = [0.0; tippetop::model::rigid::DIM];
     m.rhs(0.0, &y, &mut d0).unwrap();
     for t in ts {
-        let mut d = [0.0; 15];
+        let mut d = [0.0; tippetop::model::rigid::DIM];
         m.rhs(t, &y, &mut d).unwrap();
         assert_eq!(d, d0, "rigid, t = {t}");
     }

@@ -1,30 +1,45 @@
-//! Full 3D rigid-body model: centre-of-mass position and velocity, a unit
-//! quaternion for the attitude and the body-frame angular velocity, with the
-//! contact at the sphere's lowest point. It cross-checks the reduced
-//! (Euler-angle) model and handles what that one cannot: `θ = 0` or `π`
-//! exactly, and lift-off (free flight, touchdown).
+//! Full 3D rigid-body model: centre-of-mass position and velocity, the
+//! symmetry axis and the angular velocity in the world frame, and a unit
+//! quaternion for the full attitude, with the contact at the sphere's lowest
+//! point. It cross-checks the reduced (Euler-angle) model and handles what
+//! that one cannot: `θ = 0` or `π` exactly, and lift-off (free flight,
+//! touchdown).
 //!
 //! # State and units
 //!
 //! Scaled units as the reduced model ([`Scales`]: lengths by R, masses by m,
 //! times by the same `Scales::of`), so tolerances mean the same.
-//! The state (`DIM = 15`) is
-//! `[x_O (3), v_O (3), q (4: w, x, y, z; body → world), n_b (3), W_f, W_a]`:
-//! the centre-of-mass position and velocity in the space frame, the attitude
-//! quaternion, the angular velocity in the body frame (principal axes
-//! `e1, e2, e3 = k`, `I = diag(A, A, C)`), and the work done so far by
-//! friction and by the applied force.
+//! The state (`DIM = 18`) is
+//! `[x_O (3), v_O (3), q (4: w, x, y, z; body → world), n (3), W_f, W_a, k (3)]`:
+//! the centre-of-mass position and velocity, the attitude quaternion, the
+//! angular velocity, the work done so far by friction and by the applied
+//! force, and the symmetry axis (unit vector `k = q e3 q*`; body principal
+//! axes `e1, e2, e3`, `I = diag(A, A, C)`). Vectors are in the space frame.
+//!
+//! The dynamics of a symmetric body depend on its attitude only through `k`
+//! (the inertia tensor is `I = A 1 + (C − A) k kᵀ`), so the right-hand side
+//! reads `k` and `n` and never the quaternion: `q` carries the rotation
+//! about the axis (the spin angle) along, and `k = q e3 q*` holds to the
+//! integration error. Integrating `k` and the world-frame `n` rather than `q`
+//! and the body-frame rates is what keeps Jellett's `J` (docs/physics.md
+//! §11): `k` and `n` turn only at the precession and nutation rates, while
+//! `q` and the body-frame rates turn with the spin, and an error in the spin
+//! phase of `q` that `n_b` does not share rotates the world `n` about `k`,
+//! which changes `J`.
 //!
 //! # Equations
 //!
-//! `k = q e3 q*`, geometric centre `C = O + a k`, lowest point
-//! `P = C − R Z`, `r = P − O = a k − R Z`. With the contact force `F` at `P`:
+//! Geometric centre `C = O + a k`, lowest point `P = C − R Z`,
+//! `r = P − O = a k − R Z`. With the contact force `F` at `P`:
 //!
 //! - Newton: `m v̇ = F − m g Z`, `ẋ = v`.
-//! - Euler (body frame): `I ṅ_b = τ_b − n_b × I n_b`, `τ_b = q* (r × F) q`.
-//! - Attitude: `q̇ = ½ q ⊗ (0, n_b) − κ (|q|² − 1) q` with `κ = 1` (per
-//!   time unit): the second term makes `|q| = 1` attracting. The
-//!   right-hand side uses the normalised `q` for every rotation.
+//! - Euler (world frame): `d(I n)/dt = r × F`, with
+//!   `İ n = (C − A)(n·k) k̇`: `I ṅ = r × F − (C − A)(n·k) k̇`.
+//! - Axis: `k̇ = n × k` (keeps `|k|` constant exactly, so it drifts only by
+//!   the integration error, as in the vector form; `k` is normalised at
+//!   every restart).
+//! - Attitude: `q̇ = ½ (0, n) ⊗ q − κ (|q|² − 1) q` with `κ = 1` (per
+//!   time unit): the second term makes `|q| = 1` attracting.
 //! - `Ẇ_f = F_f · v_P`, `Ẇ_a = (−H) · v_P`, `v_P = v + n × r`.
 //!
 //! `F = N Z + F_f − H − h_z Z`: the vertical load `h_z` (force terms,
@@ -68,7 +83,7 @@
 //! depend on the attitude, `n` and horizontal `v` only); the energy and the
 //! output `u_z` use the constraint values `z_O = R − a k_Z`,
 //! `v_z = −a (n × k)_Z`. The state is projected back onto `z_C = R`,
-//! `v_Cz = 0` (and `q` normalised) at every restart: lift-off, touchdown,
+//! `v_Cz = 0` (and `q`, `k` normalised) at every restart: lift-off, touchdown,
 //! and the force schedule's switch times. The driver integrates from switch
 //! to switch itself (one `solve` per segment, `begin_segment` latching the
 //! force at the segment's start) instead of passing the switch times as
@@ -186,19 +201,21 @@ use crate::{
 pub use crate::model::reduced::Mode;
 
 /// Number of state components.
-pub const DIM: usize = 15;
+pub const DIM: usize = 18;
 /// Index of the centre-of-mass position (3 components).
 pub const POS: usize = 0;
 /// Index of the centre-of-mass velocity (3 components).
 pub const VEL: usize = 3;
 /// Index of the attitude quaternion (w, x, y, z).
 pub const QUAT: usize = 6;
-/// Index of the body-frame angular velocity (3 components).
-pub const OMB: usize = 10;
+/// Index of the angular velocity n (world frame, 3 components).
+pub const OMEGA: usize = 10;
 /// Index of the friction work.
 pub const WF: usize = 13;
 /// Index of the applied-force work.
 pub const WA: usize = 14;
+/// Index of the symmetry axis k (world frame, 3 components).
+pub const AXIS: usize = 15;
 
 /// Quaternion-norm stabilisation rate κ \[1/time unit\].
 pub const KAPPA: f64 = 1.0;
@@ -215,12 +232,6 @@ fn rotate(q: [f64; 4], v: V3) -> V3 {
     let u = [q[1], q[2], q[3]];
     let t = scale(2.0, cross(u, v));
     add(add(v, scale(q[0], t)), cross(u, t))
-}
-
-/// Rotate `v` by the inverse of the unit quaternion `q` (world → body).
-#[inline]
-fn rotate_inv(q: [f64; 4], v: V3) -> V3 {
-    rotate([q[0], -q[1], -q[2], -q[3]], v)
 }
 
 fn quat_of(y: &[f64; DIM]) -> [f64; 4] {
@@ -308,7 +319,7 @@ impl std::fmt::Display for RigidError {
 pub struct Kin {
     /// Normalised attitude quaternion.
     pub q: [f64; 4],
-    /// Symmetry axis k.
+    /// Symmetry axis k (the state's, unit to the integration error).
     pub k: V3,
     /// Angular velocity n (world).
     pub n: V3,
@@ -487,12 +498,12 @@ impl Rigid {
         let (hs, hc) = (0.5 * i.theta).sin_cos();
         let q = [hc, 0.0, hs, 0.0];
         let n_w = [(w - om * c) * s, thd, om * s * s + w * c];
-        let n_b = rotate_inv(q, n_w);
         let mut y = [0.0; DIM];
         set3(&mut y, POS, [0.0, 0.0, 1.0 - self.a * c]);
         set3(&mut y, VEL, [i.ux / vu, i.uy / vu, self.a * s * thd]);
         y[QUAT..QUAT + 4].copy_from_slice(&q);
-        set3(&mut y, OMB, n_b);
+        set3(&mut y, OMEGA, n_w);
+        set3(&mut y, AXIS, rotate(q, Z));
         y
     }
 
@@ -515,8 +526,8 @@ impl Rigid {
     /// Kinematics at a state.
     pub fn kin(&self, y: &[f64; DIM]) -> Kin {
         let q = normalized(quat_of(y));
-        let k = rotate(q, Z);
-        let n = rotate(q, v3(y, OMB));
+        let k = v3(y, AXIS);
+        let n = v3(y, OMEGA);
         let r = [self.a * k[0], self.a * k[1], self.a * k[2] - 1.0];
         let vp = add(v3(y, VEL), cross(n, r));
         let kh = k[0].hypot(k[1]);
@@ -631,31 +642,30 @@ impl Rigid {
         // Translation.
         set3(&mut dy, POS, v3(y, VEL));
         set3(&mut dy, VEL, sub(force, scale(self.g, Z)));
-        // Euler's equations in the body frame.
-        let nb = v3(y, OMB);
-        let tau_b = rotate_inv(kin.q, cross(r, force));
-        let inb = [self.ia * nb[0], self.ia * nb[1], self.ic * nb[2]];
-        let gb = cross(nb, inb);
+        // Euler's equations in the world frame: d(I n)/dt = r × F with
+        // İ n = (C − A)(n·k) k̇ (k̇ = n × k ⟂ n), so
+        // ṅ = I⁻¹ (r × F − (C − A)(n·k) k̇).
+        let kdot = cross(n, k);
         set3(
             &mut dy,
-            OMB,
-            [
-                (tau_b[0] - gb[0]) / self.ia,
-                (tau_b[1] - gb[1]) / self.ia,
-                (tau_b[2] - gb[2]) / self.ic,
-            ],
+            OMEGA,
+            self.inv_inertia(
+                k,
+                sub(cross(r, force), scale((self.ic - self.ia) * wk, kdot)),
+            ),
         );
-        // Attitude: q̇ = ½ q ⊗ (0, n_b) − κ (|q|² − 1) q.
+        // Attitude: q̇ = ½ (0, n) ⊗ q − κ (|q|² − 1) q.
         let qs = quat_of(y);
         let q2 = qs[0] * qs[0] + qs[1] * qs[1] + qs[2] * qs[2] + qs[3] * qs[3];
         let st = KAPPA * (q2 - 1.0);
         let (qw, qv) = (qs[0], [qs[1], qs[2], qs[3]]);
-        let qdw = -0.5 * dot(qv, nb);
-        let qdv = scale(0.5, add(scale(qw, nb), cross(qv, nb)));
+        let qdw = -0.5 * dot(n, qv);
+        let qdv = scale(0.5, add(scale(qw, n), cross(n, qv)));
         dy[QUAT] = qdw - st * qw;
         dy[QUAT + 1] = qdv[0] - st * qv[0];
         dy[QUAT + 2] = qdv[1] - st * qv[1];
         dy[QUAT + 3] = qdv[2] - st * qv[2];
+        set3(&mut dy, AXIS, kdot);
         // Work (none while rolling: the contact point does not move).
         if rolling_force.is_none() {
             dy[WF] = dot(ff, kin.vp);
@@ -720,7 +730,7 @@ impl Rigid {
         scale(-1.0, cross(kin.n, kin.r))
     }
 
-    /// Project onto rolling contact: normalise q, `z_C = R`, `v = −n × r`
+    /// Project onto rolling contact: normalise q and k, `z_C = R`, `v = −n × r`
     /// (zero slip).
     pub fn project_rolling(&self, y: &mut [f64; DIM]) {
         self.project_contact(y);
@@ -742,8 +752,7 @@ impl Rigid {
 
     /// Gap between the sphere and the plane, `z_C − R` (scaled).
     pub fn gap(&self, y: &[f64; DIM]) -> f64 {
-        let k = rotate(normalized(quat_of(y)), Z);
-        y[POS + 2] + self.a * k[2] - 1.0
+        y[POS + 2] + self.a * y[AXIS + 2] - 1.0
     }
 
     /// Rate of change of the gap, `v_Cz` (scaled).
@@ -765,12 +774,14 @@ impl Rigid {
         }
     }
 
-    /// Project onto the contact constraint: normalise q, `z_C = R`, `v_Cz = 0`.
+    /// Project onto the contact constraint: normalise q and k, `z_C = R`, `v_Cz = 0`.
     pub fn project_contact(&self, y: &mut [f64; DIM]) {
         let q = normalized(quat_of(y));
         y[QUAT..QUAT + 4].copy_from_slice(&q);
-        let k = rotate(q, Z);
-        let n = rotate(q, v3(y, OMB));
+        let kq = v3(y, AXIS);
+        let k = scale(1.0 / dot(kq, kq).sqrt(), kq);
+        set3(y, AXIS, k);
+        let n = v3(y, OMEGA);
         y[POS + 2] = 1.0 - self.a * k[2];
         y[VEL + 2] = -self.a * cross(n, k)[2];
     }
@@ -863,7 +874,7 @@ impl Rigid {
         y_normalize(&mut yn, kin.q);
         set3(&mut yn, VEL, add(v3(y, VEL), imp));
         let n_new = add(kin.n, self.inv_inertia(k, cross(r, imp)));
-        set3(&mut yn, OMB, rotate_inv(kin.q, n_new));
+        set3(&mut yn, OMEGA, n_new);
         let vpn = add(v3(&yn, VEL), cross(n_new, r))[2];
         Ok((yn, vpn.max(0.0), stuck))
     }
