@@ -1,71 +1,24 @@
-//! The `solve` driver: events, tstops with restart, samples, determinism,
-//! step limit. Most tests run with both steppers.
+//! The `solve` driver, the same for every engine: events (location,
+//! direction, terminal, several in one step, at a restart), tstops with
+//! restart, samples, determinism, the step limit, streamed events. Each
+//! test runs over the engines (RK4, DOP853, Rodas4P) unless it says why not.
 
+use crate::problems::*;
 use std::f64::consts::PI;
 use tippetop::integrate::{
-    Direction, Event, Fired, IntegrateError, OdeSystem, Options, Outcome, StopReason, solve,
+    Direction, Fired, IntegrateError, OdeSystem, Options, StopReason, solve,
 };
 
-/// y'' = -y as (y, y'); from (1, 0): y = cos t.
-struct Osc;
-impl OdeSystem<2> for Osc {
-    type Error = ();
-    fn rhs(&mut self, _t: f64, y: &[f64; 2], dy: &mut [f64; 2]) -> Result<(), ()> {
-        dy[0] = y[1];
-        dy[1] = -y[0];
-        Ok(())
-    }
-}
-
-fn both() -> [Options; 2] {
-    // Tight enough that event times on [0, 10] are within 1e-12 of the
-    // exact ones (see `events_zeros_of_cosine`): RK4 with h = 1e-3 has a
-    // global error ~ t h^4 / 120 < 1e-13 on [0, 10].
-    [Options::dop853(1e-13, 1e-13), Options::rk4(1e-3)]
-}
-
-fn ev<S, const N: usize>(
-    g: impl Fn(&S, f64, &[f64; N]) -> f64 + 'static,
-    direction: Direction,
-    terminal: bool,
-) -> Event<S, N> {
-    Event {
-        g: Box::new(g),
-        direction,
-        terminal,
-        step_to_event: false,
-    }
-}
-
-type Samples<const N: usize> = Vec<(f64, [f64; N])>;
-
-/// Run and collect samples and step ends.
-#[allow(clippy::type_complexity)]
-fn run<S: OdeSystem<N, Error = ()>, const N: usize>(
-    sys: &mut S,
-    opts: &Options,
-    y0: [f64; N],
-    t_end: f64,
-    tstops: &[f64],
-    sample_times: &[f64],
-    events: &[Event<S, N>],
-) -> (Outcome<N>, Samples<N>, Samples<N>) {
-    let mut samples = Vec::new();
-    let mut steps = Vec::new();
-    let out = solve(
-        sys,
-        opts,
-        0.0,
-        y0,
-        t_end,
-        tstops,
-        sample_times,
-        events,
-        &mut |_, t, y| samples.push((t, *y)),
-        &mut |_, t, y| steps.push((t, *y)),
-    )
-    .unwrap();
-    (out, samples, steps)
+/// Every engine, tight enough that event times on [0, 10] are within 1e-12
+/// of the exact ones (see `events_zeros_of_cosine`): RK4 with h = 1e-3 has
+/// a global error ~ t h^4 / 120 < 1e-13 on [0, 10]; DOP853 and Rodas4P at
+/// tol 1e-13.
+fn engines() -> [Options; 3] {
+    [
+        Options::dop853(1e-13, 1e-13),
+        Options::rk4(1e-3),
+        Options::rosenbrock(1e-13, 1e-13),
+    ]
 }
 
 /// Zeros of cos t on [0, 10]: pi/2, 3pi/2, 5pi/2.
@@ -73,22 +26,25 @@ fn run<S: OdeSystem<N, Error = ()>, const N: usize>(
 /// The error of a located zero is the solution's phase error there (|y'| = 1
 /// at the zeros) plus the locator's own error. At tol 1e-12 DOP853's global
 /// error reaches 1.4e-12 at t = 7.85 (it grows linearly: 2.9e-12 at t = 20
-/// in `integrate_dop853`), so the third zero is off by 1.4e-12 and a bound
+/// in `engines::error_follows_the_tolerance`), so the third zero is off by 1.4e-12 and a bound
 /// of 1e-12 against the exact time cannot hold there. Hence three checks:
 /// - the locator: the dense state at the reported time has |y| <= 1e-14
 ///   (4 eps t |y'| = 7e-15 at t = 7.85);
 /// - at tol 1e-12: the time error is the solution error at that time, up
 ///   to 1e-14;
-/// - against the exact times to 1e-12 with DOP853 at tol 1e-13 and with RK4
-///   at h = 1e-3 (global error ~ t h^4 / 120 < 1e-13).
+/// - against the exact times to 1e-12 with DOP853 and Rodas4P at tol 1e-13
+///   and with RK4 at h = 1e-3 (global error ~ t h^4 / 120 < 1e-13); to
+///   50 tol with Rodas4P at tol 1e-10.
 #[test]
 fn events_zeros_of_cosine() {
     let configs = [
-        Options::dop853(1e-12, 1e-12),
-        Options::dop853(1e-13, 1e-13),
-        Options::rk4(1e-3),
+        (Options::dop853(1e-12, 1e-12), None),
+        (Options::dop853(1e-13, 1e-13), Some(1e-12)),
+        (Options::rk4(1e-3), Some(1e-12)),
+        (Options::rosenbrock(1e-10, 1e-10), Some(50.0 * 1e-10)),
+        (Options::rosenbrock(1e-13, 1e-13), Some(1e-12)),
     ];
-    for (c, opts) in configs.iter().enumerate() {
+    for (opts, bound) in &configs {
         let events = [ev(
             |_: &Osc, _, y: &[f64; 2]| y[0],
             Direction::Either,
@@ -112,8 +68,13 @@ fn events_zeros_of_cosine() {
             assert_eq!(f.index, 0);
             assert!(f.y[0].abs() <= 1e-14, "locator: y = {}", f.y[0]);
             assert!((f.t - exact).abs() <= sol_err + 1e-14);
-            if c > 0 {
-                assert!((f.t - exact).abs() <= 1e-12, "{} vs {exact}", f.t);
+            if let Some(b) = bound {
+                assert!(
+                    (f.t - exact).abs() <= *b,
+                    "{}: {} vs {exact}",
+                    name(opts),
+                    f.t
+                );
             }
         }
     }
@@ -122,7 +83,7 @@ fn events_zeros_of_cosine() {
 /// cos t falls through 0 at pi/2 and 5pi/2 and rises at 3pi/2.
 #[test]
 fn events_direction_filter() {
-    for opts in both() {
+    for opts in engines() {
         let events = [
             ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Rising, false),
             ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Falling, false),
@@ -142,7 +103,7 @@ fn events_direction_filter() {
 /// sample before it is from dense output; on_step ends at the root.
 #[test]
 fn terminal_event_stops_there() {
-    for opts in both() {
+    for opts in engines() {
         let events = [
             ev(|_: &Osc, t, _: &[f64; 2]| t - 0.7, Direction::Rising, false),
             ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Falling, true),
@@ -200,7 +161,7 @@ fn events_in_one_step_in_time_order() {
 /// there and g is exactly 0); g = t fires never.
 #[test]
 fn event_at_start_or_restart_fires_once() {
-    for opts in both() {
+    for opts in engines() {
         let events = [
             ev(|_: &Osc, t, _: &[f64; 2]| t - 1.0, Direction::Either, false),
             ev(|_: &Osc, t, _: &[f64; 2]| t, Direction::Either, false),
@@ -229,7 +190,11 @@ fn free_fall_hits_ground() {
         }
     }
     let exact = (2.0 * 2.0 / 9.81f64).sqrt();
-    for opts in [Options::dop853(1e-10, 1e-10), Options::rk4(0.01)] {
+    for opts in [
+        Options::dop853(1e-10, 1e-10),
+        Options::rk4(0.01),
+        Options::rosenbrock(1e-10, 1e-10),
+    ] {
         let events = [ev(
             |_: &Fall, _, y: &[f64; 2]| y[0],
             Direction::Falling,
@@ -248,35 +213,18 @@ fn free_fall_hits_ground() {
     }
 }
 
-/// y' = u, u latched in begin_segment: 1 before t = 1, 0 after. Records
-/// the begin_segment times.
-struct Switch {
-    u: f64,
-    begins: Vec<f64>,
-}
-impl OdeSystem<1> for Switch {
-    type Error = ();
-    fn begin_segment(&mut self, t: f64, _y: &[f64; 1]) {
-        self.u = if t < 1.0 { 1.0 } else { 0.0 };
-        self.begins.push(t);
-    }
-    fn rhs(&mut self, _t: f64, _y: &[f64; 1], dy: &mut [f64; 1]) -> Result<(), ()> {
-        dy[0] = self.u;
-        Ok(())
-    }
-}
-
 /// With a tstop at the switch, y(2) = 1 up to rounding (the solution is
 /// piecewise linear, integrated exactly by both methods), and begin_segment
 /// is called exactly at t0 and at the tstop (others out of range ignored,
 /// duplicates merged).
 #[test]
 fn tstops_restart_at_discontinuity() {
-    for opts in [Options::dop853(1e-10, 1e-10), Options::rk4(0.3)] {
-        let mut sys = Switch {
-            u: f64::NAN,
-            begins: Vec::new(),
-        };
+    for opts in [
+        Options::dop853(1e-10, 1e-10),
+        Options::rk4(0.3),
+        Options::rosenbrock(1e-10, 1e-10),
+    ] {
+        let mut sys = Switch::new();
         let (out, _, steps) = run(
             &mut sys,
             &opts,
@@ -324,7 +272,7 @@ fn without_tstop_the_jump_is_smeared() {
 /// [t0, t_end] are ignored.
 #[test]
 fn samples_exact_once_in_order() {
-    for opts in both() {
+    for opts in engines() {
         let mut times: Vec<f64> = (0..=200).map(|i| i as f64 * 0.05).collect();
         times.push(3.3); // the tstop (66 * 0.05 is not exactly 3.3)
         times.sort_by(f64::total_cmp);
@@ -351,7 +299,7 @@ fn samples_exact_once_in_order() {
 /// A zero-length interval returns y0 and emits the t0 samples.
 #[test]
 fn zero_length_interval() {
-    for opts in both() {
+    for opts in engines() {
         let (out, samples, steps) = run(&mut Osc, &opts, [1.0, 2.0], 0.0, &[], &[0.0, 0.0], &[]);
         assert_eq!(out.y, [1.0, 2.0]);
         assert_eq!(out.stats.steps, 0);
@@ -363,7 +311,7 @@ fn zero_length_interval() {
 /// Two identical runs (with tstops, samples, events) are bit-identical.
 #[test]
 fn deterministic() {
-    for opts in both() {
+    for opts in engines() {
         let go = || {
             let events = [
                 ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Either, false),
@@ -443,7 +391,7 @@ fn too_many_steps() {
 #[test]
 fn solve_with_events_streams_what_solve_collects() {
     use tippetop::integrate::solve_with_events;
-    for opts in both() {
+    for opts in engines() {
         let events = [
             ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Either, false),
             ev(|_: &Osc, t, _: &[f64; 2]| t - 60.5, Direction::Rising, true),
@@ -484,7 +432,7 @@ fn solve_with_events_streams_what_solve_collects() {
             Ok(())
         }
     }
-    for opts in both() {
+    for opts in engines() {
         let events = [ev(
             |_: &Fails, _, y: &[f64; 2]| y[0],
             Direction::Either,
@@ -510,5 +458,38 @@ fn solve_with_events_streams_what_solve_collects() {
         for (k, t) in streamed.iter().enumerate() {
             assert!((t - (k as f64 + 0.5) * PI).abs() < 1e-9, "{t}");
         }
+    }
+}
+
+/// A terminal event rising through zero (cos t at 3π/2) at the engines'
+/// everyday tolerances: the run stops there (`Terminal(0)`) within 50 tol
+/// of the exact time, and the last step ends exactly at the stop.
+#[test]
+fn terminal_rising_event_at_everyday_tolerances() {
+    let tol = 1e-10;
+    for opts in [Options::dop853(tol, tol), Options::rosenbrock(tol, tol)] {
+        let terminal = [ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Rising, true)];
+        let mut last = (0.0, [0.0; 2]);
+        let out = solve(
+            &mut Osc,
+            &opts,
+            0.0,
+            [1.0, 0.0],
+            10.0,
+            &[],
+            &[],
+            &terminal,
+            &mut |_, _, _| {},
+            &mut |_, t, y| last = (t, *y),
+        )
+        .unwrap();
+        assert_eq!(out.stop, StopReason::Terminal(0), "{}", name(&opts));
+        assert!(
+            (out.t - 1.5 * PI).abs() <= 50.0 * tol,
+            "{}: {}",
+            name(&opts),
+            out.t
+        );
+        assert_eq!(last, (out.t, out.y), "{}", name(&opts));
     }
 }
