@@ -113,7 +113,8 @@ fn order_with_a_fixed_step() {
 /// tolerance (fixed step).
 #[test]
 fn error_follows_the_tolerance() {
-    let cases: [(fn(f64, f64) -> Options, &[i32]); 2] = [
+    type Engine = fn(f64, f64) -> Options;
+    let cases: [(Engine, &[i32]); 2] = [
         (Options::dop853, &[4, 6, 8, 10, 12]),
         (Options::rosenbrock, &[3, 4, 5, 6, 7, 8, 9, 10]),
     ];
