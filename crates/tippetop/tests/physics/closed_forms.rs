@@ -3,7 +3,7 @@
 //! case, N jumping below zero at a force switch, the poles θ = 0 and θ = π.
 
 use crate::spec::*;
-use tippetop::{ContactMode, ForceWindow, Forcing, FrictionLaw, Scenario};
+use tippetop::{ContactMode, ForceWindow, Forcing, FrictionLaw, ModelKind, Scenario};
 
 /// The reduced model's Euler angles are singular at the poles: it refuses
 /// θ = 0 and θ = π and its Ω equation divides by sin θ.
@@ -166,37 +166,67 @@ fn classical_inverts_regularized_and_nz_limit() {
     });
 }
 
+/// The Painlevé scenario of [`painleve_case_is_reported`] with friction
+/// `factor` μ_crit: slip 0.5 m/s purely along +x at θ = 0.5, no spin, 1 ms.
+fn painleve_scenario(factor: f64) -> Scenario {
+    let mut sc = Scenario::classical();
+    let top = sc.top;
+    let (m, a, ia) = (top.mass, top.offset, top.inertia_transverse);
+    let th: f64 = 0.5;
+    let (s, h) = (th.sin(), top.height(th));
+    let k = m * a * h * s / ia;
+    let mu_crit = (1.0 + m * a * a * s * s / ia) / k;
+    sc.surface.friction = factor * mu_crit;
+    sc.surface.law = FrictionLaw::CoulombSliding;
+    sc.initial.theta = th;
+    sc.initial.spin = 0.0;
+    sc.initial.ux = 0.5;
+    sc.solver.t_end = 1e-3;
+    sc
+}
+
+/// Below μ_crit (0.8 μ_crit) the run completes. It is expensive in every
+/// model: the slip reaches zero at ≈ 0.45 ms and the sliding-only law then
+/// crawls along |v| ≈ 1e-8 m/s without tripping the chatter detector
+/// (reduced: 2.13M accepted + 2.71M rejected steps, 2.6 s in the test
+/// profile; vector 1.19M + 3.09M, 2.4 s; rigid 1.56M + 1.98M, 5.3 s). The
+/// rigid run alone would cost more than the whole suite gained by merging
+/// the test binaries, so it runs with `--ignored`.
+const PAINLEVE_SUBCRITICAL_COST: Filter = too_slow(
+    Rigid,
+    "the sub-critical Painlevé run crawls at zero slip: 1.56M steps + 1.98M rejected, 5.3 s",
+);
+
 /// Painlevé: with slip purely along +x and μ large enough that
 /// m a h μ sin θ / A > 1 + m a² sin²θ / A, the θ̈–N system has no consistent
-/// solution (docs/physics.md §4): the run stops at once and says so.
+/// solution (docs/physics.md §4): the run stops at once and says so
+/// (1.2 μ_crit). Below μ_crit (0.8 μ_crit) the run completes.
 #[test]
 fn painleve_case_is_reported() {
     each_model(&[], |model| {
-        let mut sc = Scenario::classical();
-        let top = sc.top;
-        let (m, a, ia) = (top.mass, top.offset, top.inertia_transverse);
-        let th: f64 = 0.5;
-        let (s, h) = (th.sin(), top.height(th));
-        let k = m * a * h * s / ia;
-        let mu_crit = (1.0 + m * a * a * s * s / ia) / k;
-        for (mu, fails) in [(1.2 * mu_crit, true), (0.8 * mu_crit, false)] {
-            sc.surface.friction = mu;
-            sc.surface.law = FrictionLaw::CoulombSliding;
-            sc.initial.theta = th;
-            sc.initial.spin = 0.0;
-            sc.initial.ux = 0.5;
-            sc.solver.t_end = 1e-3;
-            let tr = simulate_as(&sc, model);
-            match (&tr.error, fails) {
-                (Some(tippetop::Error::Runtime { t, why }), true) => {
-                    assert_eq!(*t, 0.0);
-                    assert!(why.contains("Painleve"), "{why}");
-                }
-                (None, false) => {}
-                other => panic!("mu = {mu}: {other:?}"),
+        let tr = simulate_as(&painleve_scenario(1.2), model);
+        match &tr.error {
+            Some(tippetop::Error::Runtime { t, why }) => {
+                assert_eq!(*t, 0.0);
+                assert!(why.contains("Painleve"), "{why}");
             }
+            other => panic!("1.2 mu_crit: {other:?}"),
         }
     });
+    each_model(&[PAINLEVE_SUBCRITICAL_COST], painleve_subcritical_completes);
+}
+
+fn painleve_subcritical_completes(model: ModelKind) {
+    let tr = simulate_as(&painleve_scenario(0.8), model);
+    assert!(tr.error.is_none(), "0.8 mu_crit: {:?}", tr.error);
+}
+
+/// The sub-critical half of [`painleve_case_is_reported`] on the models it
+/// leaves out for cost ([`PAINLEVE_SUBCRITICAL_COST`]).
+#[test]
+#[ignore = "slow: the sub-critical Painlevé run crawls at zero slip (rigid: 5.3 s in the test profile)"]
+fn painleve_subcritical_completes_slow_models() {
+    painleve_subcritical_completes(Rigid);
 }
 
 /// A force switch that makes N jump below zero is reported at the switch

@@ -14,8 +14,9 @@ pub const MODELS: [ModelKind; 3] = [Reduced, Vector, Rigid];
 #[derive(Debug, Clone, Copy)]
 pub struct Filter {
     model: ModelKind,
-    /// "cannot" (the model cannot do this by construction) or "known gap"
-    /// (it should, and does not yet: remove the filter when it does).
+    /// "cannot" (the model cannot do this by construction), "known gap"
+    /// (it should, and does not yet: remove the filter when it does) or
+    /// "too slow" (it runs in an ignored test).
     kind: &'static str,
     why: &'static str,
 }
@@ -36,6 +37,17 @@ pub const fn known_gap(model: ModelKind, why: &'static str) -> Filter {
     Filter {
         model,
         kind: "known gap",
+        why,
+    }
+}
+
+/// The check runs on the model, but too slowly for the default suite: it
+/// runs in an `#[ignore]`d test instead (`cargo test --workspace --release
+/// -- --ignored`); `why` names the cost.
+pub const fn too_slow(model: ModelKind, why: &'static str) -> Filter {
+    Filter {
+        model,
+        kind: "too slow, runs with --ignored",
         why,
     }
 }
