@@ -18,7 +18,7 @@ fn dop853_stabilised_step_control_at_the_stability_limit() {
         if let tippetop::integrate::Stepper::Dop853 { beta: b, .. } = &mut opts.stepper {
             *b = beta;
         }
-        let o = plain(&mut StiffRotor(3e3), &opts, [1.0, 0.0], 10.0).expect("solves");
+        let o = plain(&mut stiff_rotor(3e3), &opts, [1.0, 0.0], 10.0).expect("solves");
         let err = (o.y[0] - 10f64.cos())
             .abs()
             .max((o.y[1] - 10f64.sin()).abs());
@@ -58,7 +58,7 @@ fn capped(tol: f64) -> Options {
 #[test]
 fn dop853_stability_cap_at_the_stability_limit() {
     let run = |nu: f64, opts: &Options| {
-        let o = plain(&mut StiffRotor(nu), opts, [1.0, 0.0], 10.0).expect("solves");
+        let o = plain(&mut stiff_rotor(nu), opts, [1.0, 0.0], 10.0).expect("solves");
         let err = (o.y[0] - 10f64.cos())
             .abs()
             .max((o.y[1] - 10f64.sin()).abs());
@@ -90,14 +90,14 @@ fn dop853_stability_cap_at_the_stability_limit() {
 fn dop853_stability_cap_is_inert_when_accuracy_bound() {
     for tol in [1e-5, 1e-8, 1e-11] {
         let a = plain(
-            &mut Kepler,
+            &mut kepler(),
             &Options::dop853(tol, tol),
             kepler_y0(),
             4.0 * std::f64::consts::PI,
         )
         .unwrap();
         let b = plain(
-            &mut Kepler,
+            &mut kepler(),
             &capped(tol),
             kepler_y0(),
             4.0 * std::f64::consts::PI,
@@ -105,8 +105,8 @@ fn dop853_stability_cap_is_inert_when_accuracy_bound() {
         .unwrap();
         assert_eq!(a.stats, b.stats, "Kepler tol {tol}");
         assert_eq!(a.y, b.y, "Kepler tol {tol}");
-        let a = plain(&mut Osc, &Options::dop853(tol, tol), [1.0, 0.0], 20.0).unwrap();
-        let b = plain(&mut Osc, &capped(tol), [1.0, 0.0], 20.0).unwrap();
+        let a = plain(&mut osc(), &Options::dop853(tol, tol), [1.0, 0.0], 20.0).unwrap();
+        let b = plain(&mut osc(), &capped(tol), [1.0, 0.0], 20.0).unwrap();
         assert_eq!(a.stats, b.stats, "oscillator tol {tol}");
         assert_eq!(a.y, b.y, "oscillator tol {tol}");
     }

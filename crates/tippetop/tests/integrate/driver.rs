@@ -5,9 +5,7 @@
 
 use crate::problems::*;
 use std::f64::consts::PI;
-use tippetop::integrate::{
-    Direction, Fired, IntegrateError, OdeSystem, Options, StopReason, solve,
-};
+use tippetop::integrate::{Direction, Fired, IntegrateError, Options, StopReason, solve};
 
 /// Every engine, tight enough that event times on [0, 10] are within 1e-12
 /// of the exact ones (see `events_zeros_of_cosine`): RK4 with h = 1e-3 has
@@ -46,11 +44,11 @@ fn events_zeros_of_cosine() {
     ];
     for (opts, bound) in &configs {
         let events = [ev(
-            |_: &Osc, _, y: &[f64; 2]| y[0],
+            |_: &Ode<2>, _, y: &[f64; 2]| y[0],
             Direction::Either,
             false,
         )];
-        let (out, _, _) = run(&mut Osc, opts, [1.0, 0.0], 10.0, &[], &[], &events);
+        let (out, _, _) = run(&mut osc(), opts, [1.0, 0.0], 10.0, &[], &[], &events);
         assert_eq!(out.stop, StopReason::End);
         assert_eq!(out.t, 10.0);
         assert_eq!(out.fired.len(), 3, "{:?}", out.fired);
@@ -85,10 +83,14 @@ fn events_zeros_of_cosine() {
 fn events_direction_filter() {
     for opts in engines() {
         let events = [
-            ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Rising, false),
-            ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Falling, false),
+            ev(|_: &Ode<2>, _, y: &[f64; 2]| y[0], Direction::Rising, false),
+            ev(
+                |_: &Ode<2>, _, y: &[f64; 2]| y[0],
+                Direction::Falling,
+                false,
+            ),
         ];
-        let (out, _, _) = run(&mut Osc, &opts, [1.0, 0.0], 10.0, &[], &[], &events);
+        let (out, _, _) = run(&mut osc(), &opts, [1.0, 0.0], 10.0, &[], &[], &events);
         let got: Vec<(usize, f64)> = out.fired.iter().map(|f| (f.index, f.t)).collect();
         assert_eq!(got.len(), 3, "{got:?}");
         let expect = [(1, PI / 2.0), (0, 1.5 * PI), (1, 2.5 * PI)];
@@ -105,12 +107,16 @@ fn events_direction_filter() {
 fn terminal_event_stops_there() {
     for opts in engines() {
         let events = [
-            ev(|_: &Osc, t, _: &[f64; 2]| t - 0.7, Direction::Rising, false),
-            ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Falling, true),
+            ev(
+                |_: &Ode<2>, t, _: &[f64; 2]| t - 0.7,
+                Direction::Rising,
+                false,
+            ),
+            ev(|_: &Ode<2>, _, y: &[f64; 2]| y[0], Direction::Falling, true),
         ];
         let sample_times: Vec<f64> = (0..=100).map(|i| i as f64 * 0.1).collect();
         let (out, samples, steps) = run(
-            &mut Osc,
+            &mut osc(),
             &opts,
             [1.0, 0.0],
             10.0,
@@ -143,12 +149,28 @@ fn terminal_event_stops_there() {
 fn events_in_one_step_in_time_order() {
     let opts = Options::rk4(1.0); // one step covers all of them
     let events = [
-        ev(|_: &Osc, t, _: &[f64; 2]| t - 0.3, Direction::Either, false),
-        ev(|_: &Osc, t, _: &[f64; 2]| t - 0.2, Direction::Either, false),
-        ev(|_: &Osc, t, _: &[f64; 2]| t - 0.25, Direction::Either, true),
-        ev(|_: &Osc, t, _: &[f64; 2]| t - 0.1, Direction::Either, false),
+        ev(
+            |_: &Ode<2>, t, _: &[f64; 2]| t - 0.3,
+            Direction::Either,
+            false,
+        ),
+        ev(
+            |_: &Ode<2>, t, _: &[f64; 2]| t - 0.2,
+            Direction::Either,
+            false,
+        ),
+        ev(
+            |_: &Ode<2>, t, _: &[f64; 2]| t - 0.25,
+            Direction::Either,
+            true,
+        ),
+        ev(
+            |_: &Ode<2>, t, _: &[f64; 2]| t - 0.1,
+            Direction::Either,
+            false,
+        ),
     ];
-    let (out, _, steps) = run(&mut Osc, &opts, [1.0, 0.0], 2.0, &[], &[], &events);
+    let (out, _, steps) = run(&mut osc(), &opts, [1.0, 0.0], 2.0, &[], &[], &events);
     let got: Vec<usize> = out.fired.iter().map(|f| f.index).collect();
     assert_eq!(got, vec![3, 1, 2]);
     assert_eq!(out.stop, StopReason::Terminal(2));
@@ -163,10 +185,14 @@ fn events_in_one_step_in_time_order() {
 fn event_at_start_or_restart_fires_once() {
     for opts in engines() {
         let events = [
-            ev(|_: &Osc, t, _: &[f64; 2]| t - 1.0, Direction::Either, false),
-            ev(|_: &Osc, t, _: &[f64; 2]| t, Direction::Either, false),
+            ev(
+                |_: &Ode<2>, t, _: &[f64; 2]| t - 1.0,
+                Direction::Either,
+                false,
+            ),
+            ev(|_: &Ode<2>, t, _: &[f64; 2]| t, Direction::Either, false),
         ];
-        let (out, _, steps) = run(&mut Osc, &opts, [1.0, 0.0], 2.0, &[1.0], &[], &events);
+        let (out, _, steps) = run(&mut osc(), &opts, [1.0, 0.0], 2.0, &[1.0], &[], &events);
         assert_eq!(out.fired.len(), 1, "{:?}", out.fired);
         assert_eq!(out.fired[0].index, 0);
         assert_eq!(out.fired[0].t, 1.0);
@@ -180,15 +206,6 @@ fn event_at_start_or_restart_fires_once() {
 /// rounding, hence 1e-14.
 #[test]
 fn free_fall_hits_ground() {
-    struct Fall;
-    impl OdeSystem<2> for Fall {
-        type Error = ();
-        fn rhs(&mut self, _t: f64, y: &[f64; 2], dy: &mut [f64; 2]) -> Result<(), ()> {
-            dy[0] = y[1];
-            dy[1] = -9.81;
-            Ok(())
-        }
-    }
     let exact = (2.0 * 2.0 / 9.81f64).sqrt();
     for opts in [
         Options::dop853(1e-10, 1e-10),
@@ -196,11 +213,11 @@ fn free_fall_hits_ground() {
         Options::rosenbrock(1e-10, 1e-10),
     ] {
         let events = [ev(
-            |_: &Fall, _, y: &[f64; 2]| y[0],
+            |_: &Ode<2>, _, y: &[f64; 2]| y[0],
             Direction::Falling,
             true,
         )];
-        let (out, _, _) = run(&mut Fall, &opts, [2.0, 0.0], 5.0, &[], &[], &events);
+        let (out, _, _) = run(&mut fall(), &opts, [2.0, 0.0], 5.0, &[], &[], &events);
         eprintln!(
             "{:?}: ground at {:.16} error {:.2e}",
             opts.stepper,
@@ -224,7 +241,7 @@ fn tstops_restart_at_discontinuity() {
         Options::rk4(0.3),
         Options::rosenbrock(1e-10, 1e-10),
     ] {
-        let mut sys = Switch::new();
+        let mut sys = switch();
         let (out, _, steps) = run(
             &mut sys,
             &opts,
@@ -245,16 +262,8 @@ fn tstops_restart_at_discontinuity() {
 /// straddles the jump and the error is large (shows the test above can fail).
 #[test]
 fn without_tstop_the_jump_is_smeared() {
-    struct Unlatched;
-    impl OdeSystem<1> for Unlatched {
-        type Error = ();
-        fn rhs(&mut self, t: f64, _y: &[f64; 1], dy: &mut [f64; 1]) -> Result<(), ()> {
-            dy[0] = if t < 1.0 { 1.0 } else { 0.0 };
-            Ok(())
-        }
-    }
     let (out, _, _) = run(
-        &mut Unlatched,
+        &mut unlatched(),
         &Options::rk4(0.3),
         [0.0],
         2.0,
@@ -279,7 +288,7 @@ fn samples_exact_once_in_order() {
         times.insert(0, -1.0);
         times.push(10.5);
         let y0 = [0.9, 0.1];
-        let (out, samples, steps) = run(&mut Osc, &opts, y0, 10.0, &[3.3], &times, &[]);
+        let (out, samples, steps) = run(&mut osc(), &opts, y0, 10.0, &[3.3], &times, &[]);
         let st: Vec<f64> = samples.iter().map(|s| s.0).collect();
         assert_eq!(st, times[1..times.len() - 1].to_vec());
         assert_eq!(samples[0].1, y0);
@@ -300,7 +309,7 @@ fn samples_exact_once_in_order() {
 #[test]
 fn zero_length_interval() {
     for opts in engines() {
-        let (out, samples, steps) = run(&mut Osc, &opts, [1.0, 2.0], 0.0, &[], &[0.0, 0.0], &[]);
+        let (out, samples, steps) = run(&mut osc(), &opts, [1.0, 2.0], 0.0, &[], &[0.0, 0.0], &[]);
         assert_eq!(out.y, [1.0, 2.0]);
         assert_eq!(out.stats.steps, 0);
         assert_eq!(samples.len(), 2);
@@ -314,16 +323,16 @@ fn deterministic() {
     for opts in engines() {
         let go = || {
             let events = [
-                ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Either, false),
+                ev(|_: &Ode<2>, _, y: &[f64; 2]| y[0], Direction::Either, false),
                 ev(
-                    |_: &Osc, _, y: &[f64; 2]| y[1] - 0.5,
+                    |_: &Ode<2>, _, y: &[f64; 2]| y[1] - 0.5,
                     Direction::Rising,
                     true,
                 ),
             ];
             let times: Vec<f64> = (0..1000).map(|i| i as f64 * 0.01).collect();
             run(
-                &mut Osc,
+                &mut osc(),
                 &opts,
                 [1.0, 0.0],
                 10.0,
@@ -362,7 +371,7 @@ fn too_many_steps() {
             ..Options::rk4(0.1)
         };
         solve(
-            &mut Osc,
+            &mut osc(),
             &opts,
             0.0,
             [1.0, 0.0],
@@ -393,13 +402,17 @@ fn solve_with_events_streams_what_solve_collects() {
     use tippetop::integrate::solve_with_events;
     for opts in engines() {
         let events = [
-            ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Either, false),
-            ev(|_: &Osc, t, _: &[f64; 2]| t - 60.5, Direction::Rising, true),
+            ev(|_: &Ode<2>, _, y: &[f64; 2]| y[0], Direction::Either, false),
+            ev(
+                |_: &Ode<2>, t, _: &[f64; 2]| t - 60.5,
+                Direction::Rising,
+                true,
+            ),
         ];
-        let (collected, _, _) = run(&mut Osc, &opts, [1.0, 0.0], 100.0, &[], &[], &events);
+        let (collected, _, _) = run(&mut osc(), &opts, [1.0, 0.0], 100.0, &[], &[], &events);
         let mut streamed: Vec<Fired<2>> = Vec::new();
         let out = solve_with_events(
-            &mut Osc,
+            &mut osc(),
             &opts,
             0.0,
             [1.0, 0.0],
@@ -420,27 +433,15 @@ fn solve_with_events_streams_what_solve_collects() {
         assert_eq!(streamed, collected.fired);
     }
     // A failing system: the events before the failure were all reported.
-    struct Fails;
-    impl OdeSystem<2> for Fails {
-        type Error = ();
-        fn rhs(&mut self, t: f64, y: &[f64; 2], dy: &mut [f64; 2]) -> Result<(), ()> {
-            if t > 10.0 {
-                return Err(());
-            }
-            dy[0] = y[1];
-            dy[1] = -y[0];
-            Ok(())
-        }
-    }
     for opts in engines() {
         let events = [ev(
-            |_: &Fails, _, y: &[f64; 2]| y[0],
+            |_: &Ode<2>, _, y: &[f64; 2]| y[0],
             Direction::Either,
             false,
         )];
         let mut streamed = Vec::new();
         let r = solve_with_events(
-            &mut Fails,
+            &mut osc_failing_after_10(),
             &opts,
             0.0,
             [1.0, 0.0],
@@ -468,10 +469,14 @@ fn solve_with_events_streams_what_solve_collects() {
 fn terminal_rising_event_at_everyday_tolerances() {
     let tol = 1e-10;
     for opts in [Options::dop853(tol, tol), Options::rosenbrock(tol, tol)] {
-        let terminal = [ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Rising, true)];
+        let terminal = [ev(
+            |_: &Ode<2>, _, y: &[f64; 2]| y[0],
+            Direction::Rising,
+            true,
+        )];
         let mut last = (0.0, [0.0; 2]);
         let out = solve(
-            &mut Osc,
+            &mut osc(),
             &opts,
             0.0,
             [1.0, 0.0],

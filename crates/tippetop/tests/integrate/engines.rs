@@ -5,7 +5,7 @@
 
 use crate::problems::*;
 use std::f64::consts::PI;
-use tippetop::integrate::{IntegrateError, OdeSystem, Options, solve};
+use tippetop::integrate::{IntegrateError, Options, solve};
 
 /// Options with the step size held at `h` (the adaptive engines with the
 /// controller out of play: `h0 = h_max = h`, tolerances so loose that no
@@ -19,9 +19,9 @@ fn fixed(engine: fn(f64, f64) -> Options, h: f64) -> Options {
 }
 
 /// Global errors on `problem` from 0 to `t_end` for each step in `hs`.
-fn errors<S: OdeSystem<N, Error = ()>, const N: usize>(
+fn errors<const N: usize>(
     opts: impl Fn(f64) -> Options,
-    problem: impl Fn() -> S,
+    problem: fn() -> Ode<N>,
     y0: [f64; N],
     t_end: f64,
     err: impl Fn(f64, &[f64; N]) -> f64,
@@ -71,7 +71,7 @@ fn assert_ratios(what: &str, e: &[f64], band: std::ops::RangeInclusive<f64>) {
 fn order_with_a_fixed_step() {
     let e = errors(
         Options::rk4,
-        || Osc,
+        osc,
         [1.0, 0.0],
         10.0,
         osc_err,
@@ -81,7 +81,7 @@ fn order_with_a_fixed_step() {
     let gauss_err = |_: f64, y: &[f64; 1]| (y[0] - (-4.0f64).exp()).abs();
     let e = errors(
         Options::rk4,
-        || Gauss,
+        gauss,
         [1.0],
         2.0,
         gauss_err,
@@ -90,18 +90,18 @@ fn order_with_a_fixed_step() {
     assert_ratios("RK4 exp(-t^2)", &e, 14.0..=18.0);
 
     let dop = |h| fixed(Options::dop853, h);
-    let e = errors(dop, || Osc, [1.0, 0.0], 16.0, osc_err, &[1.0, 0.5, 0.25]);
+    let e = errors(dop, osc, [1.0, 0.0], 16.0, osc_err, &[1.0, 0.5, 0.25]);
     assert_ratios("DOP853 oscillator", &e, 200.0..=300.0);
     // Exactly t_end / h steps: the controller is out of play.
-    let out = plain(&mut Osc, &dop(0.25), [1.0, 0.0], 16.0).unwrap();
+    let out = plain(&mut osc(), &dop(0.25), [1.0, 0.0], 16.0).unwrap();
     assert_eq!(out.stats.steps as f64, 16.0 / 0.25);
 
     let ros = |h| fixed(Options::rosenbrock, h);
     let hs = [0.1, 0.05, 0.025, 0.0125];
-    let e = errors(ros, || Osc, [1.0, 0.0], 10.0, osc_err, &hs);
+    let e = errors(ros, osc, [1.0, 0.0], 10.0, osc_err, &hs);
     assert_ratios("Rodas4P oscillator", &e, 15.0..=17.0);
     let ros8 = |h: f64| fixed(Options::rosenbrock, h / 8.0);
-    let e = errors(ros8, || Kepler, kepler_y0(), 2.0 * PI, kepler_err, &hs);
+    let e = errors(ros8, kepler, kepler_y0(), 2.0 * PI, kepler_err, &hs);
     assert_ratios("Rodas4P Kepler", &e, 13.0..=f64::INFINITY);
 }
 
@@ -123,7 +123,7 @@ fn error_follows_the_tolerance() {
         for &k in exponents {
             let tol = 10f64.powi(-k);
             let opts = engine(tol, tol);
-            let out = plain(&mut Osc, &opts, [1.0, 0.0], 20.0).unwrap();
+            let out = plain(&mut osc(), &opts, [1.0, 0.0], 20.0).unwrap();
             assert_eq!(out.t, 20.0);
             let err = osc_err(20.0, &out.y);
             let n = name(&opts);
@@ -142,8 +142,8 @@ fn error_follows_the_tolerance() {
 
 /// Max error over `samples` (dense output) and over step ends; asserts one
 /// sample callback per requested time.
-fn dense_vs_steps<S: OdeSystem<N, Error = ()>, const N: usize>(
-    sys: &mut S,
+fn dense_vs_steps<const N: usize>(
+    sys: &mut Ode<N>,
     opts: &Options,
     y0: [f64; N],
     t_end: f64,
@@ -195,7 +195,7 @@ fn dense_vs_steps<S: OdeSystem<N, Error = ()>, const N: usize>(
 fn dense_output_as_accurate_as_steps() {
     let osc_t: Vec<f64> = (0..10_000).map(|i| i as f64 * 1e-3).collect();
     let (dense, step) = dense_vs_steps(
-        &mut Osc,
+        &mut osc(),
         &Options::rk4(0.1),
         [1.0, 0.0],
         10.0,
@@ -205,7 +205,7 @@ fn dense_output_as_accurate_as_steps() {
     assert!(dense / step <= 1.2, "RK4 ratio {}", dense / step);
 
     let dop = Options::dop853(1e-12, 1e-12);
-    let (dense, step) = dense_vs_steps(&mut Osc, &dop, [1.0, 0.0], 10.0, &osc_t, &osc_err);
+    let (dense, step) = dense_vs_steps(&mut osc(), &dop, [1.0, 0.0], 10.0, &osc_t, &osc_err);
     assert!(
         dense / step <= 10.0,
         "DOP853 oscillator ratio {}",
@@ -214,7 +214,8 @@ fn dense_output_as_accurate_as_steps() {
     assert!(dense <= 1e-10, "DOP853 oscillator dense error {dense}");
     let t_end = 6.0 * PI;
     let kep_t: Vec<f64> = (0..10_000).map(|i| i as f64 * t_end / 10_000.0).collect();
-    let (dense, step) = dense_vs_steps(&mut Kepler, &dop, kepler_y0(), t_end, &kep_t, &kepler_err);
+    let (dense, step) =
+        dense_vs_steps(&mut kepler(), &dop, kepler_y0(), t_end, &kep_t, &kepler_err);
     assert!(dense / step <= 10.0, "DOP853 Kepler ratio {}", dense / step);
 
     for tol in [1e-6, 1e-8] {
@@ -222,7 +223,8 @@ fn dense_output_as_accurate_as_steps() {
         let ns = 2000;
         let st: Vec<f64> = (0..=ns).map(|i| t_end * i as f64 / ns as f64).collect();
         let ros = Options::rosenbrock(tol, tol);
-        let (dense, step) = dense_vs_steps(&mut Kepler, &ros, kepler_y0(), t_end, &st, &kepler_err);
+        let (dense, step) =
+            dense_vs_steps(&mut kepler(), &ros, kepler_y0(), t_end, &st, &kepler_err);
         assert!(dense <= 3.0 * step, "Rodas4P tol {tol}: {dense} vs {step}");
     }
 }
@@ -238,7 +240,7 @@ fn dense_output_as_accurate_as_steps() {
 #[test]
 fn evaluation_count_follows_the_formula() {
     // RK4 on the oscillator.
-    let mut sys = Counting::new(Osc);
+    let mut sys = osc();
     let out = solve(
         &mut sys,
         &Options::rk4(0.1),
@@ -263,7 +265,7 @@ fn evaluation_count_follows_the_formula() {
     // DOP853 on Kepler.
     let samples = [0.25, 1.0, 2.0, 2.5, 7.0, 7.0001, 9.9];
     let tstops = [3.0, 6.5];
-    let mut sys = Counting::new(Kepler);
+    let mut sys = kepler();
     let mut steps: Vec<(f64, f64)> = Vec::new();
     let mut t_last = 0.0;
     let out = solve(
@@ -298,7 +300,7 @@ fn evaluation_count_follows_the_formula() {
         out.stats.rhs_evals,
         segments + 1 + 12 * out.stats.steps + 11 * out.stats.rejected + 3 * dense_steps
     );
-    let mut sys = Counting::new(Kepler);
+    let mut sys = kepler();
     let opts = Options {
         h0: Some(1e-3),
         ..Options::dop853(1e-9, 1e-9)
@@ -311,7 +313,7 @@ fn evaluation_count_follows_the_formula() {
     );
 
     // Rodas4P on the stiff problem.
-    let mut sys = Counting::new(StiffCos { lambda: 1000.0 });
+    let mut sys = stiff_cos(1000.0);
     let out = solve(
         &mut sys,
         &Options::rosenbrock(1e-5, 1e-5),
@@ -350,7 +352,7 @@ fn blowup_fails_cleanly() {
         Options::rosenbrock(1e-8, 1e-8),
     ] {
         let n = name(&opts);
-        let res = plain(&mut Blowup, &opts, [1.0], 2.0);
+        let res = plain(&mut blowup(), &opts, [1.0], 2.0);
         eprintln!("{n} blow-up: {res:?}");
         let t = match (res, n) {
             (Err(IntegrateError::NonFinite { t, y_last }), "RK4") => {
@@ -380,23 +382,12 @@ fn blowup_fails_cleanly() {
 /// whatever the engine.
 #[test]
 fn rhs_error_aborts() {
-    struct Failing;
-    impl OdeSystem<1> for Failing {
-        type Error = &'static str;
-        fn rhs(&mut self, t: f64, _y: &[f64; 1], dy: &mut [f64; 1]) -> Result<(), &'static str> {
-            if t > 0.5 {
-                return Err("boom");
-            }
-            dy[0] = 1.0;
-            Ok(())
-        }
-    }
     for opts in [
         Options::rk4(0.01),
         Options::dop853(1e-8, 1e-8),
         Options::rosenbrock(1e-8, 1e-8),
     ] {
-        match plain(&mut Failing, &opts, [0.0], 1.0) {
+        match plain(&mut failing(), &opts, [0.0], 1.0) {
             Err(IntegrateError::Rhs { t, y_last, err }) => {
                 assert_eq!(err, "boom");
                 assert!(t > 0.5, "{}: t = {t}", name(&opts));
@@ -418,7 +409,7 @@ fn rhs_error_aborts() {
 #[test]
 fn stiff_problem_rosenbrock_far_fewer_evaluations() {
     for tol in [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8] {
-        let mut sys = StiffCos { lambda: 1000.0 };
+        let mut sys = stiff_cos(1000.0);
         let ro = plain(&mut sys, &Options::rosenbrock(tol, tol), [1.0], 10.0).unwrap();
         let dp = plain(&mut sys, &Options::dop853(tol, tol), [1.0], 10.0).unwrap();
         let e_ro = (ro.y[0] - 10f64.cos()).abs();
@@ -448,7 +439,7 @@ fn stiff_problem_rosenbrock_far_fewer_evaluations() {
 fn step_times(h: f64, t_end: f64, tstops: &[f64]) -> Vec<f64> {
     let mut times = Vec::new();
     solve(
-        &mut Osc,
+        &mut osc(),
         &Options::rk4(h),
         0.0,
         [1.0, 0.0],

@@ -14,15 +14,63 @@ pub fn name(opts: &Options) -> &'static str {
     }
 }
 
+/// A test problem `y' = f(t, y)` of dimension `N`. Every problem is this one
+/// type (a function pointer and its parameters, not a type per problem), so
+/// the engines are compiled once per dimension, not once per problem: the
+/// binary's build time is mostly `solve`'s instantiations at opt-level 2.
+/// It counts its right-hand-side calls and segments and records the times
+/// of `begin_segment`, where it latches its input `u` if it has a `latch`.
+pub struct Ode<const N: usize> {
+    f: fn(&Ode<N>, f64, &[f64; N], &mut [f64; N]) -> Result<(), &'static str>,
+    /// A parameter of `f` (λ, ν).
+    pub param: f64,
+    /// The input latched at the start of each segment.
+    pub u: f64,
+    latch: Option<fn(f64) -> f64>,
+    /// Right-hand-side calls so far.
+    pub calls: u64,
+    /// `begin_segment` calls so far.
+    pub segments: u64,
+    /// The times of the `begin_segment` calls.
+    pub begins: Vec<f64>,
+}
+
+impl<const N: usize> Ode<N> {
+    fn new(f: fn(&Ode<N>, f64, &[f64; N], &mut [f64; N]) -> Result<(), &'static str>) -> Self {
+        Ode {
+            f,
+            param: f64::NAN,
+            u: f64::NAN,
+            latch: None,
+            calls: 0,
+            segments: 0,
+            begins: Vec::new(),
+        }
+    }
+}
+
+impl<const N: usize> OdeSystem<N> for Ode<N> {
+    type Error = &'static str;
+    fn begin_segment(&mut self, t: f64, _y: &[f64; N]) {
+        self.segments += 1;
+        self.begins.push(t);
+        if let Some(latch) = self.latch {
+            self.u = latch(t);
+        }
+    }
+    fn rhs(&mut self, t: f64, y: &[f64; N], dy: &mut [f64; N]) -> Result<(), &'static str> {
+        self.calls += 1;
+        (self.f)(self, t, y, dy)
+    }
+}
+
 /// y'' = -y as (y, y'); from (1, 0): y = cos t.
-pub struct Osc;
-impl OdeSystem<2> for Osc {
-    type Error = ();
-    fn rhs(&mut self, _t: f64, y: &[f64; 2], dy: &mut [f64; 2]) -> Result<(), ()> {
+pub fn osc() -> Ode<2> {
+    Ode::new(|_, _, y, dy| {
         dy[0] = y[1];
         dy[1] = -y[0];
         Ok(())
-    }
+    })
 }
 
 /// Error of (y, y') against (cos t, −sin t).
@@ -31,10 +79,8 @@ pub fn osc_err(t: f64, y: &[f64; 2]) -> f64 {
 }
 
 /// Kepler problem (mu = 1), state (x, y, vx, vy): nonlinear and smooth.
-pub struct Kepler;
-impl OdeSystem<4> for Kepler {
-    type Error = ();
-    fn rhs(&mut self, _t: f64, y: &[f64; 4], dy: &mut [f64; 4]) -> Result<(), ()> {
+pub fn kepler() -> Ode<4> {
+    Ode::new(|_, _, y, dy| {
         let r2 = y[0] * y[0] + y[1] * y[1];
         let r3 = r2 * r2.sqrt();
         dy[0] = y[2];
@@ -42,7 +88,7 @@ impl OdeSystem<4> for Kepler {
         dy[2] = -y[0] / r3;
         dy[3] = -y[1] / r3;
         Ok(())
-    }
+    })
 }
 
 /// The Kepler orbit's eccentricity.
@@ -79,115 +125,107 @@ pub fn kepler_err(t: f64, y: &[f64; 4]) -> f64 {
 }
 
 /// y' = -2 t y, y(0) = 1 -> exp(-t^2) (non-autonomous).
-pub struct Gauss;
-impl OdeSystem<1> for Gauss {
-    type Error = ();
-    fn rhs(&mut self, t: f64, y: &[f64; 1], dy: &mut [f64; 1]) -> Result<(), ()> {
+pub fn gauss() -> Ode<1> {
+    Ode::new(|_, t, y, dy| {
         dy[0] = -2.0 * t * y[0];
         Ok(())
-    }
+    })
 }
 
 /// y' = y^2, y(0) = 1 -> 1 / (1 - t), blows up at t = 1.
-pub struct Blowup;
-impl OdeSystem<1> for Blowup {
-    type Error = ();
-    fn rhs(&mut self, _t: f64, y: &[f64; 1], dy: &mut [f64; 1]) -> Result<(), ()> {
+pub fn blowup() -> Ode<1> {
+    Ode::new(|_, _, y, dy| {
         dy[0] = y[0] * y[0];
         Ok(())
-    }
+    })
 }
 
-/// Stiff, non-autonomous (Prothero–Robinson): y' = -L (y - cos t) - sin t,
-/// y(0) = 1, exact y = cos t; the transient decays on 1/L.
-pub struct StiffCos {
-    pub lambda: f64,
-}
-impl OdeSystem<1> for StiffCos {
-    type Error = ();
-    fn rhs(&mut self, t: f64, y: &[f64; 1], dy: &mut [f64; 1]) -> Result<(), ()> {
-        dy[0] = -self.lambda * (y[0] - t.cos()) - t.sin();
+/// Stiff, non-autonomous (Prothero–Robinson): y' = -λ (y - cos t) - sin t,
+/// y(0) = 1, exact y = cos t; the transient decays on 1/λ.
+pub fn stiff_cos(lambda: f64) -> Ode<1> {
+    let mut o = Ode::new(|o, t, y, dy| {
+        dy[0] = -o.param * (y[0] - t.cos()) - t.sin();
         Ok(())
-    }
+    });
+    o.param = lambda;
+    o
 }
 
 /// A stiff linear system relaxing onto a moving equilibrium, with
-/// eigenvalues `−λ ± i ν` (λ = 1e4, ν = the field): `y' = M (y − g(t)) + g'(t)`,
+/// eigenvalues `−λ ± i ν` (λ = 1e4): `y' = M (y − g(t)) + g'(t)`,
 /// `g(t) = (cos t, sin t)`, solution `g(t)` from `y(0) = g(0)`. DOP853 is
 /// held to its stability limit (`h ≈ 6/λ`), not to its accuracy.
-pub struct StiffRotor(pub f64);
-impl OdeSystem<2> for StiffRotor {
-    type Error = ();
-    fn rhs(&mut self, t: f64, y: &[f64; 2], dy: &mut [f64; 2]) -> Result<(), ()> {
-        let (lam, nu) = (1e4, self.0);
+pub fn stiff_rotor(nu: f64) -> Ode<2> {
+    let mut o = Ode::new(|o, t, y, dy| {
+        let (lam, nu) = (1e4, o.param);
         let (s, c) = t.sin_cos();
         let (d0, d1) = (y[0] - c, y[1] - s);
         dy[0] = -lam * d0 + nu * d1 - s;
         dy[1] = -nu * d0 - lam * d1 + c;
         Ok(())
-    }
+    });
+    o.param = nu;
+    o
 }
 
-/// y' = u, u latched in begin_segment: 1 before t = 1, 0 after. Records
-/// the begin_segment times.
-pub struct Switch {
-    pub u: f64,
-    pub begins: Vec<f64>,
-}
-impl Switch {
-    pub fn new() -> Self {
-        Switch {
-            u: f64::NAN,
-            begins: Vec::new(),
-        }
-    }
-}
-impl OdeSystem<1> for Switch {
-    type Error = ();
-    fn begin_segment(&mut self, t: f64, _y: &[f64; 1]) {
-        self.u = if t < 1.0 { 1.0 } else { 0.0 };
-        self.begins.push(t);
-    }
-    fn rhs(&mut self, _t: f64, _y: &[f64; 1], dy: &mut [f64; 1]) -> Result<(), ()> {
-        dy[0] = self.u;
+/// y' = u, u latched in begin_segment: 1 before t = 1, 0 after.
+pub fn switch() -> Ode<1> {
+    let mut o = Ode::new(|o, _, _, dy| {
+        dy[0] = o.u;
         Ok(())
-    }
+    });
+    o.latch = Some(|t| if t < 1.0 { 1.0 } else { 0.0 });
+    o
 }
 
-/// Counts rhs calls and begin_segment calls of an inner system.
-pub struct Counting<S> {
-    pub inner: S,
-    pub calls: u64,
-    pub segments: u64,
+/// The same jump read from t in rhs (not latched): a step straddles it
+/// unless a tstop is placed there.
+pub fn unlatched() -> Ode<1> {
+    Ode::new(|_, t, _, dy| {
+        dy[0] = if t < 1.0 { 1.0 } else { 0.0 };
+        Ok(())
+    })
 }
-impl<S> Counting<S> {
-    pub fn new(inner: S) -> Self {
-        Counting {
-            inner,
-            calls: 0,
-            segments: 0,
+
+/// Free fall (height, velocity) under g = 9.81.
+pub fn fall() -> Ode<2> {
+    Ode::new(|_, _, y, dy| {
+        dy[0] = y[1];
+        dy[1] = -9.81;
+        Ok(())
+    })
+}
+
+/// y' = 1 whose right-hand side fails ("boom") for t > 0.5.
+pub fn failing() -> Ode<1> {
+    Ode::new(|_, t, _, dy| {
+        if t > 0.5 {
+            return Err("boom");
         }
-    }
+        dy[0] = 1.0;
+        Ok(())
+    })
 }
-impl<S: OdeSystem<N>, const N: usize> OdeSystem<N> for Counting<S> {
-    type Error = S::Error;
-    fn begin_segment(&mut self, t: f64, y: &[f64; N]) {
-        self.segments += 1;
-        self.inner.begin_segment(t, y);
-    }
-    fn rhs(&mut self, t: f64, y: &[f64; N], dy: &mut [f64; N]) -> Result<(), S::Error> {
-        self.calls += 1;
-        self.inner.rhs(t, y, dy)
-    }
+
+/// The oscillator whose right-hand side fails ("boom") for t > 10.
+pub fn osc_failing_after_10() -> Ode<2> {
+    Ode::new(|_, t, y, dy| {
+        if t > 10.0 {
+            return Err("boom");
+        }
+        dy[0] = y[1];
+        dy[1] = -y[0];
+        Ok(())
+    })
 }
 
 /// `solve` from t = 0 without tstops, samples or events.
-pub fn plain<S: OdeSystem<N>, const N: usize>(
-    sys: &mut S,
+pub fn plain<const N: usize>(
+    sys: &mut Ode<N>,
     opts: &Options,
     y0: [f64; N],
     t_end: f64,
-) -> Result<Outcome<N>, IntegrateError<S::Error>> {
+) -> Result<Outcome<N>, IntegrateError<&'static str>> {
     solve(
         sys,
         opts,
@@ -206,14 +244,14 @@ pub type Samples<const N: usize> = Vec<(f64, [f64; N])>;
 
 /// Run from t = 0 and collect samples and step ends.
 #[allow(clippy::type_complexity)]
-pub fn run<S: OdeSystem<N, Error = ()>, const N: usize>(
-    sys: &mut S,
+pub fn run<const N: usize>(
+    sys: &mut Ode<N>,
     opts: &Options,
     y0: [f64; N],
     t_end: f64,
     tstops: &[f64],
     sample_times: &[f64],
-    events: &[Event<S, N>],
+    events: &[Event<Ode<N>, N>],
 ) -> (Outcome<N>, Samples<N>, Samples<N>) {
     let mut samples = Vec::new();
     let mut steps = Vec::new();
@@ -234,11 +272,11 @@ pub fn run<S: OdeSystem<N, Error = ()>, const N: usize>(
 }
 
 /// An event without `step_to_event`.
-pub fn ev<S, const N: usize>(
-    g: impl Fn(&S, f64, &[f64; N]) -> f64 + 'static,
+pub fn ev<const N: usize>(
+    g: impl Fn(&Ode<N>, f64, &[f64; N]) -> f64 + 'static,
     direction: Direction,
     terminal: bool,
-) -> Event<S, N> {
+) -> Event<Ode<N>, N> {
     Event {
         g: Box::new(g),
         direction,

@@ -82,11 +82,15 @@ pub const RIGID_NANO_J: Filter = known_gap(
 /// once every model ran, re-raised naming each failing model, so a failing
 /// assertion always says which model it was.
 pub fn each_model(filters: &[Filter], check: impl Fn(ModelKind) + Sync) {
+    each_model_dyn(filters, &check)
+}
+
+/// [`each_model`]'s body, compiled once (not once per check).
+fn each_model_dyn(filters: &[Filter], check: &(dyn Fn(ModelKind) + Sync)) {
     let models: Vec<ModelKind> = MODELS
         .into_iter()
         .filter(|&m| applies(m, filters))
         .collect();
-    let check = &check;
     let results: Vec<(ModelKind, std::thread::Result<()>)> = std::thread::scope(|s| {
         let handles: Vec<_> = models
             .iter()
