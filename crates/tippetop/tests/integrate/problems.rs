@@ -14,6 +14,9 @@ pub fn name(opts: &Options) -> &'static str {
     }
 }
 
+/// The right-hand side of an [`Ode`]: `dy = f(ode, t, y)`.
+type Rhs<const N: usize> = fn(&Ode<N>, f64, &[f64; N], &mut [f64; N]) -> Result<(), &'static str>;
+
 /// A test problem `y' = f(t, y)` of dimension `N`. Every problem is this one
 /// type (a function pointer and its parameters, not a type per problem), so
 /// the engines are compiled once per dimension, not once per problem: the
@@ -21,7 +24,7 @@ pub fn name(opts: &Options) -> &'static str {
 /// It counts its right-hand-side calls and segments and records the times
 /// of `begin_segment`, where it latches its input `u` if it has a `latch`.
 pub struct Ode<const N: usize> {
-    f: fn(&Ode<N>, f64, &[f64; N], &mut [f64; N]) -> Result<(), &'static str>,
+    f: Rhs<N>,
     /// A parameter of `f` (λ, ν).
     pub param: f64,
     /// The input latched at the start of each segment.
@@ -36,7 +39,7 @@ pub struct Ode<const N: usize> {
 }
 
 impl<const N: usize> Ode<N> {
-    fn new(f: fn(&Ode<N>, f64, &[f64; N], &mut [f64; N]) -> Result<(), &'static str>) -> Self {
+    fn new(f: Rhs<N>) -> Self {
         Ode {
             f,
             param: f64::NAN,
