@@ -30,7 +30,7 @@
 //!
 //! The methods are small and well documented, so they are written here
 //! (about 1 200 lines with the coefficient table) and tested against the
-//! properties we rely on (`tests/integrate_*.rs`).
+//! properties we rely on (`tests/integrate/`).
 //!
 //! # Methods
 //!

@@ -25,7 +25,7 @@
 //! `C_ij` entering as `C_ij / h`), the time-derivative weights `d_i`, the
 //! nodes `c_i` and the dense-output coefficients `h2j`, `h3j`. The
 //! transcription is checked by the observed order 4 with a fixed step
-//! (`tests/integrate_rosenbrock.rs`).
+//! (`tests/integrate/`).
 //!
 //! # Algorithm (as `rodas.f`)
 //!

@@ -1255,7 +1255,12 @@ impl Model<DIM> for Rigid {
     fn on_force_switch(&mut self, t: f64, y: &mut [f64; DIM], log: &mut RunLog) -> Flow {
         // Latch the new force (solve does it again in begin_segment),
         // project onto the contact constraint, and fly if N < 0 now
-        // (unilateral).
+        // (unilateral). N may jump across zero here, which no event can
+        // see: without flight (bilateral, paper contact) the jump is
+        // recorded as a crossing at the switch, as the on-plane models do.
+        let n_before = (self.phase == Phase::Contact)
+            .then(|| self.eval(y).map(|e| e.normal).ok())
+            .flatten();
         Rigid::latch_force(self, t);
         self.normal_branch = None;
         if self.phase == Phase::Contact && self.mode == Mode::Rolling {
@@ -1274,7 +1279,13 @@ impl Model<DIM> for Rigid {
             if self.mode == Mode::Sliding {
                 self.project_contact(y);
             }
-            let n = self.eval(y).map(|e| e.normal).unwrap_or(0.0);
+            let n_after = self.eval(y).map(|e| e.normal).ok();
+            if let (Some(nb), Some(na), false) = (n_before, n_after, self.flies()) {
+                if (nb < 0.0) != (na < 0.0) {
+                    log.cross_normal(t);
+                }
+            }
+            let n = n_after.unwrap_or(0.0);
             if self.contact == ContactMode::Unilateral && n < 0.0 {
                 self.phase = Phase::Flight;
                 self.flight_start = t;

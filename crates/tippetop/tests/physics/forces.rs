@@ -6,9 +6,7 @@
 //! pull in flight (rigid model). Every tolerance is justified next to its
 //! assertion; no expected value comes from the code's output.
 
-mod common;
-
-use common::{run_as, uniform_sphere};
+use super::spec::{self, run as run_as, uniform_sphere};
 use tippetop::{ContactMode, ForceWindow, Forcing, FrictionLaw, ModelKind, Scenario};
 
 const MODELS: [ModelKind; 3] = [ModelKind::Reduced, ModelKind::Vector, ModelKind::Rigid];
@@ -84,7 +82,7 @@ fn frictionless_top_moves_as_without_load_and_n_grows_by_hz() {
         let free = run_as(&sc, model);
         sc.forcing = load(hz, 0.201, 0.601);
         let loaded = run_as(&sc, model);
-        let d = common::deviations(&sc, &free.samples, &loaded.samples);
+        let d = spec::deviations(&sc, &free.samples, &loaded.samples);
         let nmax = free
             .samples
             .iter()
@@ -129,7 +127,7 @@ fn frictionless_top_moves_as_without_load_and_n_grows_by_hz() {
         // below 1e-7 of each quantity's scale. The load is 0.7 m g: a torque
         // from N instead of N − hz changes θ at order 1e-1.
         for q in [0, 1, 2, 5] {
-            let (name, v) = (common::DEVIATION_NAMES[q], d[q]);
+            let (name, v) = (spec::DEVIATION_NAMES[q], d[q]);
             assert!(
                 v <= 1e-7,
                 "{model:?}: {name} changed by {v:e} under the load"
@@ -217,8 +215,8 @@ fn jellett_and_energy_balance_hold_under_a_load() {
             s.energy_balance_max_rel_error,
             tr.samples.last().unwrap().work_applied
         );
-        // The bars of the unloaded invariant tests (tests/physics/on_plane.rs,
-        // tests/rigid_invariants.rs) at rtol 1e-10.
+        // The bars of the unloaded invariant tests (physics/invariants.rs)
+        // at rtol 1e-10.
         assert!(s.jellett_max_rel_drift <= 1e-10, "{model:?}");
         assert!(s.energy_balance_max_rel_error <= 1e-8, "{model:?}");
         // No H, and the load does no work in contact: W_a stays 0 exactly
@@ -252,15 +250,10 @@ fn jellett_and_energy_balance_hold_under_a_load() {
             "nano {model:?}: J drift {:.1e}, energy balance {:.1e}",
             s.jellett_max_rel_drift, s.energy_balance_max_rel_error
         );
-        // The nano bars of the unloaded tests: 1e-10 (on-plane models at
-        // the preset's rtol 1e-10); the rigid model holds J to 2.5e-9 on
-        // the unloaded nano preset (docs/physics.md §11), bar 1e-8.
-        let jbar = if model == ModelKind::Rigid {
-            1e-8
-        } else {
-            1e-10
-        };
-        assert!(s.jellett_max_rel_drift <= jbar, "{model:?}");
+        // The nano bar of the unloaded tests at the preset's rtol 1e-10
+        // (every model, the rigid one since its axis/space-rate state,
+        // docs/physics.md §11).
+        assert!(s.jellett_max_rel_drift <= 1e-10, "{model:?}");
         assert!(s.energy_balance_max_rel_error <= 1e-8, "{model:?}");
     }
 }

@@ -1,71 +1,22 @@
-//! The `solve` driver: events, tstops with restart, samples, determinism,
-//! step limit. Most tests run with both steppers.
+//! The `solve` driver, the same for every engine: events (location,
+//! direction, terminal, several in one step, at a restart), tstops with
+//! restart, samples, determinism, the step limit, streamed events. Each
+//! test runs over the engines (RK4, DOP853, Rodas4P) unless it says why not.
 
+use crate::problems::*;
 use std::f64::consts::PI;
-use tippetop::integrate::{
-    Direction, Event, Fired, IntegrateError, OdeSystem, Options, Outcome, StopReason, solve,
-};
+use tippetop::integrate::{Direction, Fired, IntegrateError, Options, StopReason, solve};
 
-/// y'' = -y as (y, y'); from (1, 0): y = cos t.
-struct Osc;
-impl OdeSystem<2> for Osc {
-    type Error = ();
-    fn rhs(&mut self, _t: f64, y: &[f64; 2], dy: &mut [f64; 2]) -> Result<(), ()> {
-        dy[0] = y[1];
-        dy[1] = -y[0];
-        Ok(())
-    }
-}
-
-fn both() -> [Options; 2] {
-    // Tight enough that event times on [0, 10] are within 1e-12 of the
-    // exact ones (see `events_zeros_of_cosine`): RK4 with h = 1e-3 has a
-    // global error ~ t h^4 / 120 < 1e-13 on [0, 10].
-    [Options::dop853(1e-13, 1e-13), Options::rk4(1e-3)]
-}
-
-fn ev<S, const N: usize>(
-    g: impl Fn(&S, f64, &[f64; N]) -> f64 + 'static,
-    direction: Direction,
-    terminal: bool,
-) -> Event<S, N> {
-    Event {
-        g: Box::new(g),
-        direction,
-        terminal,
-        step_to_event: false,
-    }
-}
-
-type Samples<const N: usize> = Vec<(f64, [f64; N])>;
-
-/// Run and collect samples and step ends.
-#[allow(clippy::type_complexity)]
-fn run<S: OdeSystem<N, Error = ()>, const N: usize>(
-    sys: &mut S,
-    opts: &Options,
-    y0: [f64; N],
-    t_end: f64,
-    tstops: &[f64],
-    sample_times: &[f64],
-    events: &[Event<S, N>],
-) -> (Outcome<N>, Samples<N>, Samples<N>) {
-    let mut samples = Vec::new();
-    let mut steps = Vec::new();
-    let out = solve(
-        sys,
-        opts,
-        0.0,
-        y0,
-        t_end,
-        tstops,
-        sample_times,
-        events,
-        &mut |_, t, y| samples.push((t, *y)),
-        &mut |_, t, y| steps.push((t, *y)),
-    )
-    .unwrap();
-    (out, samples, steps)
+/// Every engine, tight enough that event times on [0, 10] are within 1e-12
+/// of the exact ones (see `events_zeros_of_cosine`): RK4 with h = 1e-3 has
+/// a global error ~ t h^4 / 120 < 1e-13 on [0, 10]; DOP853 and Rodas4P at
+/// tol 1e-13.
+fn engines() -> [Options; 3] {
+    [
+        Options::dop853(1e-13, 1e-13),
+        Options::rk4(1e-3),
+        Options::rosenbrock(1e-13, 1e-13),
+    ]
 }
 
 /// Zeros of cos t on [0, 10]: pi/2, 3pi/2, 5pi/2.
@@ -73,28 +24,31 @@ fn run<S: OdeSystem<N, Error = ()>, const N: usize>(
 /// The error of a located zero is the solution's phase error there (|y'| = 1
 /// at the zeros) plus the locator's own error. At tol 1e-12 DOP853's global
 /// error reaches 1.4e-12 at t = 7.85 (it grows linearly: 2.9e-12 at t = 20
-/// in `integrate_dop853`), so the third zero is off by 1.4e-12 and a bound
+/// in `engines::error_follows_the_tolerance`), so the third zero is off by 1.4e-12 and a bound
 /// of 1e-12 against the exact time cannot hold there. Hence three checks:
 /// - the locator: the dense state at the reported time has |y| <= 1e-14
 ///   (4 eps t |y'| = 7e-15 at t = 7.85);
 /// - at tol 1e-12: the time error is the solution error at that time, up
 ///   to 1e-14;
-/// - against the exact times to 1e-12 with DOP853 at tol 1e-13 and with RK4
-///   at h = 1e-3 (global error ~ t h^4 / 120 < 1e-13).
+/// - against the exact times to 1e-12 with DOP853 and Rodas4P at tol 1e-13
+///   and with RK4 at h = 1e-3 (global error ~ t h^4 / 120 < 1e-13); to
+///   50 tol with Rodas4P at tol 1e-10.
 #[test]
 fn events_zeros_of_cosine() {
     let configs = [
-        Options::dop853(1e-12, 1e-12),
-        Options::dop853(1e-13, 1e-13),
-        Options::rk4(1e-3),
+        (Options::dop853(1e-12, 1e-12), None),
+        (Options::dop853(1e-13, 1e-13), Some(1e-12)),
+        (Options::rk4(1e-3), Some(1e-12)),
+        (Options::rosenbrock(1e-10, 1e-10), Some(50.0 * 1e-10)),
+        (Options::rosenbrock(1e-13, 1e-13), Some(1e-12)),
     ];
-    for (c, opts) in configs.iter().enumerate() {
+    for (opts, bound) in &configs {
         let events = [ev(
-            |_: &Osc, _, y: &[f64; 2]| y[0],
+            |_: &Ode<2>, _, y: &[f64; 2]| y[0],
             Direction::Either,
             false,
         )];
-        let (out, _, _) = run(&mut Osc, opts, [1.0, 0.0], 10.0, &[], &[], &events);
+        let (out, _, _) = run(&mut osc(), opts, [1.0, 0.0], 10.0, &[], &[], &events);
         assert_eq!(out.stop, StopReason::End);
         assert_eq!(out.t, 10.0);
         assert_eq!(out.fired.len(), 3, "{:?}", out.fired);
@@ -112,8 +66,13 @@ fn events_zeros_of_cosine() {
             assert_eq!(f.index, 0);
             assert!(f.y[0].abs() <= 1e-14, "locator: y = {}", f.y[0]);
             assert!((f.t - exact).abs() <= sol_err + 1e-14);
-            if c > 0 {
-                assert!((f.t - exact).abs() <= 1e-12, "{} vs {exact}", f.t);
+            if let Some(b) = bound {
+                assert!(
+                    (f.t - exact).abs() <= *b,
+                    "{}: {} vs {exact}",
+                    name(opts),
+                    f.t
+                );
             }
         }
     }
@@ -122,12 +81,16 @@ fn events_zeros_of_cosine() {
 /// cos t falls through 0 at pi/2 and 5pi/2 and rises at 3pi/2.
 #[test]
 fn events_direction_filter() {
-    for opts in both() {
+    for opts in engines() {
         let events = [
-            ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Rising, false),
-            ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Falling, false),
+            ev(|_: &Ode<2>, _, y: &[f64; 2]| y[0], Direction::Rising, false),
+            ev(
+                |_: &Ode<2>, _, y: &[f64; 2]| y[0],
+                Direction::Falling,
+                false,
+            ),
         ];
-        let (out, _, _) = run(&mut Osc, &opts, [1.0, 0.0], 10.0, &[], &[], &events);
+        let (out, _, _) = run(&mut osc(), &opts, [1.0, 0.0], 10.0, &[], &[], &events);
         let got: Vec<(usize, f64)> = out.fired.iter().map(|f| (f.index, f.t)).collect();
         assert_eq!(got.len(), 3, "{got:?}");
         let expect = [(1, PI / 2.0), (0, 1.5 * PI), (1, 2.5 * PI)];
@@ -142,14 +105,18 @@ fn events_direction_filter() {
 /// sample before it is from dense output; on_step ends at the root.
 #[test]
 fn terminal_event_stops_there() {
-    for opts in both() {
+    for opts in engines() {
         let events = [
-            ev(|_: &Osc, t, _: &[f64; 2]| t - 0.7, Direction::Rising, false),
-            ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Falling, true),
+            ev(
+                |_: &Ode<2>, t, _: &[f64; 2]| t - 0.7,
+                Direction::Rising,
+                false,
+            ),
+            ev(|_: &Ode<2>, _, y: &[f64; 2]| y[0], Direction::Falling, true),
         ];
         let sample_times: Vec<f64> = (0..=100).map(|i| i as f64 * 0.1).collect();
         let (out, samples, steps) = run(
-            &mut Osc,
+            &mut osc(),
             &opts,
             [1.0, 0.0],
             10.0,
@@ -182,12 +149,28 @@ fn terminal_event_stops_there() {
 fn events_in_one_step_in_time_order() {
     let opts = Options::rk4(1.0); // one step covers all of them
     let events = [
-        ev(|_: &Osc, t, _: &[f64; 2]| t - 0.3, Direction::Either, false),
-        ev(|_: &Osc, t, _: &[f64; 2]| t - 0.2, Direction::Either, false),
-        ev(|_: &Osc, t, _: &[f64; 2]| t - 0.25, Direction::Either, true),
-        ev(|_: &Osc, t, _: &[f64; 2]| t - 0.1, Direction::Either, false),
+        ev(
+            |_: &Ode<2>, t, _: &[f64; 2]| t - 0.3,
+            Direction::Either,
+            false,
+        ),
+        ev(
+            |_: &Ode<2>, t, _: &[f64; 2]| t - 0.2,
+            Direction::Either,
+            false,
+        ),
+        ev(
+            |_: &Ode<2>, t, _: &[f64; 2]| t - 0.25,
+            Direction::Either,
+            true,
+        ),
+        ev(
+            |_: &Ode<2>, t, _: &[f64; 2]| t - 0.1,
+            Direction::Either,
+            false,
+        ),
     ];
-    let (out, _, steps) = run(&mut Osc, &opts, [1.0, 0.0], 2.0, &[], &[], &events);
+    let (out, _, steps) = run(&mut osc(), &opts, [1.0, 0.0], 2.0, &[], &[], &events);
     let got: Vec<usize> = out.fired.iter().map(|f| f.index).collect();
     assert_eq!(got, vec![3, 1, 2]);
     assert_eq!(out.stop, StopReason::Terminal(2));
@@ -200,12 +183,16 @@ fn events_in_one_step_in_time_order() {
 /// there and g is exactly 0); g = t fires never.
 #[test]
 fn event_at_start_or_restart_fires_once() {
-    for opts in both() {
+    for opts in engines() {
         let events = [
-            ev(|_: &Osc, t, _: &[f64; 2]| t - 1.0, Direction::Either, false),
-            ev(|_: &Osc, t, _: &[f64; 2]| t, Direction::Either, false),
+            ev(
+                |_: &Ode<2>, t, _: &[f64; 2]| t - 1.0,
+                Direction::Either,
+                false,
+            ),
+            ev(|_: &Ode<2>, t, _: &[f64; 2]| t, Direction::Either, false),
         ];
-        let (out, _, steps) = run(&mut Osc, &opts, [1.0, 0.0], 2.0, &[1.0], &[], &events);
+        let (out, _, steps) = run(&mut osc(), &opts, [1.0, 0.0], 2.0, &[1.0], &[], &events);
         assert_eq!(out.fired.len(), 1, "{:?}", out.fired);
         assert_eq!(out.fired[0].index, 0);
         assert_eq!(out.fired[0].t, 1.0);
@@ -219,23 +206,18 @@ fn event_at_start_or_restart_fires_once() {
 /// rounding, hence 1e-14.
 #[test]
 fn free_fall_hits_ground() {
-    struct Fall;
-    impl OdeSystem<2> for Fall {
-        type Error = ();
-        fn rhs(&mut self, _t: f64, y: &[f64; 2], dy: &mut [f64; 2]) -> Result<(), ()> {
-            dy[0] = y[1];
-            dy[1] = -9.81;
-            Ok(())
-        }
-    }
     let exact = (2.0 * 2.0 / 9.81f64).sqrt();
-    for opts in [Options::dop853(1e-10, 1e-10), Options::rk4(0.01)] {
+    for opts in [
+        Options::dop853(1e-10, 1e-10),
+        Options::rk4(0.01),
+        Options::rosenbrock(1e-10, 1e-10),
+    ] {
         let events = [ev(
-            |_: &Fall, _, y: &[f64; 2]| y[0],
+            |_: &Ode<2>, _, y: &[f64; 2]| y[0],
             Direction::Falling,
             true,
         )];
-        let (out, _, _) = run(&mut Fall, &opts, [2.0, 0.0], 5.0, &[], &[], &events);
+        let (out, _, _) = run(&mut fall(), &opts, [2.0, 0.0], 5.0, &[], &[], &events);
         eprintln!(
             "{:?}: ground at {:.16} error {:.2e}",
             opts.stepper,
@@ -248,35 +230,18 @@ fn free_fall_hits_ground() {
     }
 }
 
-/// y' = u, u latched in begin_segment: 1 before t = 1, 0 after. Records
-/// the begin_segment times.
-struct Switch {
-    u: f64,
-    begins: Vec<f64>,
-}
-impl OdeSystem<1> for Switch {
-    type Error = ();
-    fn begin_segment(&mut self, t: f64, _y: &[f64; 1]) {
-        self.u = if t < 1.0 { 1.0 } else { 0.0 };
-        self.begins.push(t);
-    }
-    fn rhs(&mut self, _t: f64, _y: &[f64; 1], dy: &mut [f64; 1]) -> Result<(), ()> {
-        dy[0] = self.u;
-        Ok(())
-    }
-}
-
 /// With a tstop at the switch, y(2) = 1 up to rounding (the solution is
 /// piecewise linear, integrated exactly by both methods), and begin_segment
 /// is called exactly at t0 and at the tstop (others out of range ignored,
 /// duplicates merged).
 #[test]
 fn tstops_restart_at_discontinuity() {
-    for opts in [Options::dop853(1e-10, 1e-10), Options::rk4(0.3)] {
-        let mut sys = Switch {
-            u: f64::NAN,
-            begins: Vec::new(),
-        };
+    for opts in [
+        Options::dop853(1e-10, 1e-10),
+        Options::rk4(0.3),
+        Options::rosenbrock(1e-10, 1e-10),
+    ] {
+        let mut sys = switch();
         let (out, _, steps) = run(
             &mut sys,
             &opts,
@@ -297,16 +262,8 @@ fn tstops_restart_at_discontinuity() {
 /// straddles the jump and the error is large (shows the test above can fail).
 #[test]
 fn without_tstop_the_jump_is_smeared() {
-    struct Unlatched;
-    impl OdeSystem<1> for Unlatched {
-        type Error = ();
-        fn rhs(&mut self, t: f64, _y: &[f64; 1], dy: &mut [f64; 1]) -> Result<(), ()> {
-            dy[0] = if t < 1.0 { 1.0 } else { 0.0 };
-            Ok(())
-        }
-    }
     let (out, _, _) = run(
-        &mut Unlatched,
+        &mut unlatched(),
         &Options::rk4(0.3),
         [0.0],
         2.0,
@@ -324,14 +281,14 @@ fn without_tstop_the_jump_is_smeared() {
 /// [t0, t_end] are ignored.
 #[test]
 fn samples_exact_once_in_order() {
-    for opts in both() {
+    for opts in engines() {
         let mut times: Vec<f64> = (0..=200).map(|i| i as f64 * 0.05).collect();
         times.push(3.3); // the tstop (66 * 0.05 is not exactly 3.3)
         times.sort_by(f64::total_cmp);
         times.insert(0, -1.0);
         times.push(10.5);
         let y0 = [0.9, 0.1];
-        let (out, samples, steps) = run(&mut Osc, &opts, y0, 10.0, &[3.3], &times, &[]);
+        let (out, samples, steps) = run(&mut osc(), &opts, y0, 10.0, &[3.3], &times, &[]);
         let st: Vec<f64> = samples.iter().map(|s| s.0).collect();
         assert_eq!(st, times[1..times.len() - 1].to_vec());
         assert_eq!(samples[0].1, y0);
@@ -351,8 +308,8 @@ fn samples_exact_once_in_order() {
 /// A zero-length interval returns y0 and emits the t0 samples.
 #[test]
 fn zero_length_interval() {
-    for opts in both() {
-        let (out, samples, steps) = run(&mut Osc, &opts, [1.0, 2.0], 0.0, &[], &[0.0, 0.0], &[]);
+    for opts in engines() {
+        let (out, samples, steps) = run(&mut osc(), &opts, [1.0, 2.0], 0.0, &[], &[0.0, 0.0], &[]);
         assert_eq!(out.y, [1.0, 2.0]);
         assert_eq!(out.stats.steps, 0);
         assert_eq!(samples.len(), 2);
@@ -363,19 +320,19 @@ fn zero_length_interval() {
 /// Two identical runs (with tstops, samples, events) are bit-identical.
 #[test]
 fn deterministic() {
-    for opts in both() {
+    for opts in engines() {
         let go = || {
             let events = [
-                ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Either, false),
+                ev(|_: &Ode<2>, _, y: &[f64; 2]| y[0], Direction::Either, false),
                 ev(
-                    |_: &Osc, _, y: &[f64; 2]| y[1] - 0.5,
+                    |_: &Ode<2>, _, y: &[f64; 2]| y[1] - 0.5,
                     Direction::Rising,
                     true,
                 ),
             ];
             let times: Vec<f64> = (0..1000).map(|i| i as f64 * 0.01).collect();
             run(
-                &mut Osc,
+                &mut osc(),
                 &opts,
                 [1.0, 0.0],
                 10.0,
@@ -414,7 +371,7 @@ fn too_many_steps() {
             ..Options::rk4(0.1)
         };
         solve(
-            &mut Osc,
+            &mut osc(),
             &opts,
             0.0,
             [1.0, 0.0],
@@ -443,15 +400,19 @@ fn too_many_steps() {
 #[test]
 fn solve_with_events_streams_what_solve_collects() {
     use tippetop::integrate::solve_with_events;
-    for opts in both() {
+    for opts in engines() {
         let events = [
-            ev(|_: &Osc, _, y: &[f64; 2]| y[0], Direction::Either, false),
-            ev(|_: &Osc, t, _: &[f64; 2]| t - 60.5, Direction::Rising, true),
+            ev(|_: &Ode<2>, _, y: &[f64; 2]| y[0], Direction::Either, false),
+            ev(
+                |_: &Ode<2>, t, _: &[f64; 2]| t - 60.5,
+                Direction::Rising,
+                true,
+            ),
         ];
-        let (collected, _, _) = run(&mut Osc, &opts, [1.0, 0.0], 100.0, &[], &[], &events);
+        let (collected, _, _) = run(&mut osc(), &opts, [1.0, 0.0], 100.0, &[], &[], &events);
         let mut streamed: Vec<Fired<2>> = Vec::new();
         let out = solve_with_events(
-            &mut Osc,
+            &mut osc(),
             &opts,
             0.0,
             [1.0, 0.0],
@@ -472,27 +433,15 @@ fn solve_with_events_streams_what_solve_collects() {
         assert_eq!(streamed, collected.fired);
     }
     // A failing system: the events before the failure were all reported.
-    struct Fails;
-    impl OdeSystem<2> for Fails {
-        type Error = ();
-        fn rhs(&mut self, t: f64, y: &[f64; 2], dy: &mut [f64; 2]) -> Result<(), ()> {
-            if t > 10.0 {
-                return Err(());
-            }
-            dy[0] = y[1];
-            dy[1] = -y[0];
-            Ok(())
-        }
-    }
-    for opts in both() {
+    for opts in engines() {
         let events = [ev(
-            |_: &Fails, _, y: &[f64; 2]| y[0],
+            |_: &Ode<2>, _, y: &[f64; 2]| y[0],
             Direction::Either,
             false,
         )];
         let mut streamed = Vec::new();
         let r = solve_with_events(
-            &mut Fails,
+            &mut osc_failing_after_10(),
             &opts,
             0.0,
             [1.0, 0.0],
@@ -510,5 +459,42 @@ fn solve_with_events_streams_what_solve_collects() {
         for (k, t) in streamed.iter().enumerate() {
             assert!((t - (k as f64 + 0.5) * PI).abs() < 1e-9, "{t}");
         }
+    }
+}
+
+/// A terminal event rising through zero (cos t at 3π/2) at the engines'
+/// everyday tolerances: the run stops there (`Terminal(0)`) within 50 tol
+/// of the exact time, and the last step ends exactly at the stop.
+#[test]
+fn terminal_rising_event_at_everyday_tolerances() {
+    let tol = 1e-10;
+    for opts in [Options::dop853(tol, tol), Options::rosenbrock(tol, tol)] {
+        let terminal = [ev(
+            |_: &Ode<2>, _, y: &[f64; 2]| y[0],
+            Direction::Rising,
+            true,
+        )];
+        let mut last = (0.0, [0.0; 2]);
+        let out = solve(
+            &mut osc(),
+            &opts,
+            0.0,
+            [1.0, 0.0],
+            10.0,
+            &[],
+            &[],
+            &terminal,
+            &mut |_, _, _| {},
+            &mut |_, t, y| last = (t, *y),
+        )
+        .unwrap();
+        assert_eq!(out.stop, StopReason::Terminal(0), "{}", name(&opts));
+        assert!(
+            (out.t - 1.5 * PI).abs() <= 50.0 * tol,
+            "{}: {}",
+            name(&opts),
+            out.t
+        );
+        assert_eq!(last, (out.t, out.y), "{}", name(&opts));
     }
 }
