@@ -77,7 +77,11 @@ mod tests {
         // Context does not hide the library error.
         let wrapped = Err::<(), _>(input).context("loading").unwrap_err();
         assert_eq!(classify(&wrapped).0, 2);
-        let rt = tippetop::Error::runtime(1.5e-3, "step size underflow");
+        let rt = tippetop::Error::runtime(
+            1.5e-3,
+            tippetop::Failure::StepUnderflow,
+            "step size underflow",
+        );
         let (code, msg) = classify(&rt.into());
         assert_eq!(code, 3);
         assert!(msg.starts_with("run failed at t = "), "{msg}");

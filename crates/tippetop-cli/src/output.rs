@@ -663,7 +663,13 @@ pub(crate) mod tests {
             })
             .collect();
         let last = *samples.last().unwrap();
-        let error = failed.then(|| Error::runtime(last.t, "step size underflow"));
+        let error = failed.then(|| {
+            Error::runtime(
+                last.t,
+                tippetop::Failure::StepUnderflow,
+                "step size underflow",
+            )
+        });
         Trajectory {
             events: vec![EventRecord {
                 t: 0.5 * t_end,
@@ -688,6 +694,7 @@ pub(crate) mod tests {
                 rejected_steps: 5,
                 rhs_evaluations: 15000,
                 status: "ok".into(),
+                failure: error.as_ref().and_then(|e| e.failure()).map(|f| f.as_str()),
             },
             samples,
             error,
@@ -1057,6 +1064,7 @@ pub(crate) mod tests {
             "rejected_steps",
             "rhs_evaluations",
             "status",
+            "failure",
             "wall_seconds",
             "scenario",
             "events",

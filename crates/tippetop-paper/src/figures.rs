@@ -83,7 +83,7 @@ fn three(
 pub fn with_failures(note: &str, curves: &[(&str, &Trajectory)]) -> String {
     let mut s = note.to_string();
     for (name, tr) in curves {
-        if let Some(tippetop::Error::Runtime { t, why }) = &tr.error {
+        if let Some(tippetop::Error::Runtime { t, why, .. }) = &tr.error {
             let short = why.split([':', ';']).next().unwrap_or(why).trim();
             s.push_str(&format!(
                 " {name} ends at t = {t:.4e} s, where its run failed ({short})."

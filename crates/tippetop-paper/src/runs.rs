@@ -301,7 +301,7 @@ pub fn max_diff(a: &Trajectory, b: &Trajectory, f: impl Fn(&Sample) -> f64) -> f
 pub fn status(tr: &Trajectory) -> String {
     match &tr.error {
         None => "completed".into(),
-        Some(Error::Runtime { t, why }) => {
+        Some(Error::Runtime { t, why, .. }) => {
             let short = why.split("; state:").next().unwrap_or(why);
             format!("FAILED at t = {t:.4e} s: {short}")
         }

@@ -15,13 +15,66 @@ pub enum Error {
         range: String,
     },
     /// A run that failed while integrating; `t` is the time of failure \[s\].
+    /// The state there is the last row of the run's output (the summary's
+    /// `*_final` values, [`crate::Simulation::state`]).
     #[error("at t = {t:e} s: {why}")]
     Runtime {
         /// Simulated time of the failure \[s\].
         t: f64,
+        /// What kind of failure.
+        kind: Failure,
         /// What went wrong, with the state where useful.
         why: String,
     },
+}
+
+/// The kinds of run-time failure ([`Error::Runtime`]), for programs that
+/// react to them (the message says the same in words).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Failure {
+    /// The normal force has no or two consistent solutions with friction
+    /// (Painlevé paradox), in the equations of motion or at an impact.
+    Painleve,
+    /// The Euler-angle (reduced) model reached its pole θ = 0 or π.
+    Pole,
+    /// The sliding-only Coulomb law chatters at zero slip.
+    Chattering,
+    /// The fixed-step RK4 solution became unstable (energy balance lost).
+    Unstable,
+    /// The state became NaN or infinite.
+    NonFinite,
+    /// A value of the output overflows f64 in SI units.
+    OutputOverflow,
+    /// The step limit (`solver.max_steps`) was reached.
+    StepLimit,
+    /// The adaptive step size underflowed.
+    StepUnderflow,
+    /// The top would leave the plane, which the on-plane models cannot follow.
+    LiftOff,
+    /// Too many stick/slip switches, or lift-offs and touchdowns.
+    SwitchLimit,
+    /// A numerical method of an analysis did not converge.
+    Numerics,
+}
+
+impl Failure {
+    /// The kind as a short name (`"painleve"`, `"step_limit"`, ...), as in
+    /// `summary.json`'s `failure`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Failure::Painleve => "painleve",
+            Failure::Pole => "pole",
+            Failure::Chattering => "chattering",
+            Failure::Unstable => "unstable",
+            Failure::NonFinite => "non_finite",
+            Failure::OutputOverflow => "output_overflow",
+            Failure::StepLimit => "step_limit",
+            Failure::StepUnderflow => "step_underflow",
+            Failure::LiftOff => "lift_off",
+            Failure::SwitchLimit => "switch_limit",
+            Failure::Numerics => "numerics",
+        }
+    }
 }
 
 impl Error {
@@ -34,9 +87,21 @@ impl Error {
         }
     }
 
-    /// A run-time error at time `t` \[s\].
-    pub fn runtime(t: f64, why: impl Into<String>) -> Self {
-        Error::Runtime { t, why: why.into() }
+    /// A run-time error of `kind` at time `t` \[s\].
+    pub fn runtime(t: f64, kind: Failure, why: impl Into<String>) -> Self {
+        Error::Runtime {
+            t,
+            kind,
+            why: why.into(),
+        }
+    }
+
+    /// The kind of a run-time failure (`None` for bad input).
+    pub fn failure(&self) -> Option<Failure> {
+        match self {
+            Error::Runtime { kind, .. } => Some(*kind),
+            Error::Invalid { .. } => None,
+        }
     }
 
     /// True for bad input (CLI exit code 2), false for run-time failures (exit code 3).

@@ -29,7 +29,7 @@ pub mod top;
 pub mod trajectory;
 
 pub use contact::{ContactMode, FrictionLaw, Surface};
-pub use error::Error;
+pub use error::{Error, Failure};
 pub use forcing::{ForceWindow, Forcing};
 pub use scenario::{Scenario, limits};
 pub use simulate::{Simulation, Snapshot, simulate, simulate_with_progress};

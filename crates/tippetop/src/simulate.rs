@@ -16,7 +16,7 @@
 //! integration from the state the handler leaves.
 
 use crate::{
-    Error, ModelKind, Sample, Scenario, Trajectory,
+    Error, Failure, ModelKind, Sample, Scenario, Trajectory,
     integrate::{self, AnyEngine, Engine, Event, IntegrateError, Stepped, Stepper, Stepping},
     model::{
         ContactModel, Flow, Model,
@@ -626,12 +626,15 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         self.track.merge(&self.event_track);
         let (te, why, ylast) = match e {
             IntegrateError::Rhs { t, y_last, err } => {
-                let why = self.m.explain(&self.sc, err);
-                (t, unstable_rk4(&self.sc, &self.track, why), y_last)
+                let (kind, why) = self.m.explain(&self.sc, err);
+                (t, unstable_rk4(&self.sc, &self.track, kind, why), y_last)
             }
             IntegrateError::StepUnderflow { t, h, y_last } => (
                 t,
-                format!("step size underflow (h = {:e} s)", h * tu),
+                (
+                    Failure::StepUnderflow,
+                    format!("step size underflow (h = {:e} s)", h * tu),
+                ),
                 y_last,
             ),
             IntegrateError::NonFinite { t, y_last } => (
@@ -639,18 +642,21 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 unstable_rk4(
                     &self.sc,
                     &self.track,
+                    Failure::NonFinite,
                     "the solution became NaN or infinite".to_string(),
                 ),
                 y_last,
             ),
             IntegrateError::TooManySteps { t, .. } => (
                 t,
-                step_limit_why(&self.sc, self.step_cap),
+                (Failure::StepLimit, step_limit_why(&self.sc, self.step_cap)),
                 self.last_accepted.1.to_vec(),
             ),
         };
+        let (kind, why) = why;
         self.error = Some(Error::runtime(
             te * tu,
+            kind,
             format!("{why}; {}", self.m.describe(&ylast)),
         ));
         self.stats.steps = self.steps_seen;
@@ -700,6 +706,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                     if self.switches > MAX_SWITCHES {
                         self.error = Some(Error::runtime(
                             t * self.tu,
+                            Failure::SwitchLimit,
                             format!("more than {MAX_SWITCHES} stick/slip switches"),
                         ));
                         self.done = true;

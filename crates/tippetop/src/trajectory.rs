@@ -169,6 +169,9 @@ pub struct Summary {
     pub rhs_evaluations: u64,
     /// "ok" or the error message.
     pub status: String,
+    /// The kind of the run-time failure ([`crate::Failure::as_str`]:
+    /// `"painleve"`, `"step_limit"`, ...), `None` for a run that completed.
+    pub failure: Option<&'static str>,
 }
 
 /// A run: samples, events, summary, and the run-time error if it failed.

@@ -126,6 +126,7 @@ fn step_limit_fires_on_every_model_and_method() {
                 .unwrap_or_else(|| panic!("{model} {method}"));
             let msg = e.to_string();
             assert!(!e.is_input());
+            assert_eq!(e.failure(), Some(tippetop::Failure::StepLimit));
             assert!(
                 msg.contains("step limit 300 reached (the run cannot make progress"),
                 "{msg}"
@@ -264,6 +265,7 @@ fn failed_run_keeps_its_events() {
     assert!(tr.samples.iter().any(|s| s.t > lost && s.normal < 0.0));
     assert!(tr.summary.negative_normal_fraction > 0.0);
     // The RK4 blow-up is reported as such, not as the physics' Painlevé case.
+    assert_eq!(tr.summary.failure, Some("unstable"));
     let msg = tr.error.unwrap().to_string();
     assert!(msg.contains("the RK4 solution became unstable"), "{msg}");
 }
@@ -281,6 +283,7 @@ fn reduced_model_stops_at_the_pole_at_pi() {
             "initial.theta_dot=5",
         ],
     );
+    assert_eq!(tr.summary.failure, Some("pole"));
     let msg = tr.error.expect("must fail at theta = pi").to_string();
     assert!(msg.contains("pole of the Euler angles"), "{msg}");
     let pi = std::f64::consts::PI;
@@ -345,6 +348,7 @@ fn rk4_blow_up_is_not_reported_as_painleve() {
             preset,
             &["solver.method=rk4", &format!("solver.samples={samples}")],
         );
+        assert_eq!(tr.summary.failure, Some("unstable"), "{preset}");
         let msg = tr.error.expect(preset).to_string();
         assert!(
             msg.contains("the RK4 solution became unstable (energy balance error"),
@@ -360,6 +364,12 @@ fn rk4_blow_up_is_not_reported_as_painleve() {
             "solver.samples=21",
             "solver.model=reduced",
         ],
+    );
+    // Not unstable: the kind is the failure's own.
+    assert!(
+        tr.summary.failure.is_some_and(|f| f != "unstable"),
+        "{:?}",
+        tr.summary.failure
     );
     let msg = tr.error.unwrap().to_string();
     assert!(msg.contains("method = \"rk4\" with a fixed step"), "{msg}");

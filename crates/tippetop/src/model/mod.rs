@@ -429,8 +429,8 @@ pub(crate) trait Model<const D: usize>: OdeSystem<D> + Sized {
     fn on_force_switch(&mut self, t: f64, y: &mut [f64; D], log: &mut RunLog) -> Flow;
     /// A terminal event `what` at `t` with state `y`.
     fn on_terminal(&mut self, what: Watch, t: f64, y: &mut [f64; D], log: &mut RunLog) -> Flow;
-    /// Why the right-hand side failed, for the error message.
-    fn explain(&self, sc: &Scenario, err: Self::Error) -> String;
+    /// Why the right-hand side failed: its kind and the error message.
+    fn explain(&self, sc: &Scenario, err: Self::Error) -> (crate::Failure, String);
     /// The output row at scaled time `t`.
     fn row(&self, t: f64, y: &[f64; D]) -> Sample;
     /// The state in SI units, for error messages.

@@ -10,7 +10,7 @@ use crate::model::{ContactModel, Flow, Mode, Model, ModelError};
 use crate::sim::events::{Happened, Watch};
 use crate::sim::messages::painleve_why;
 use crate::sim::record::{RunLog, unit};
-use crate::{ContactMode, Error, Sample, Scenario};
+use crate::{ContactMode, Error, Failure, Sample, Scenario};
 
 /// Decide stick or slip at zero slip (exact law). Returns the state to
 /// continue from; sets the model's mode and slip hint.
@@ -200,6 +200,7 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                 if na < 0.0 && self.plane().contact_mode() == ContactMode::Unilateral {
                     return Flow::Stop(Error::runtime(
                         t * self.time_unit(),
+                        Failure::LiftOff,
                         format!(
                             "lift-off at a force switch: the normal force N jumped below zero (contact = \"unilateral\"); the reduced and vector models keep the sphere on the plane and cannot follow a flight, use model = \"rigid\"; {}",
                             ContactModel::describe_state(self, y)
@@ -233,6 +234,7 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
             }
             Watch::NormalZero => Flow::Stop(Error::runtime(
                 t * self.time_unit(),
+                Failure::LiftOff,
                 format!(
                     "lift-off: the normal force N fell to zero (contact = \"unilateral\"); the reduced and vector models keep the sphere on the plane and cannot follow a flight, use model = \"rigid\"; {}",
                     ContactModel::describe_state(self, y)
@@ -268,12 +270,14 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
         }
     }
 
-    fn explain(&self, sc: &Scenario, err: ModelError) -> String {
+    fn explain(&self, sc: &Scenario, err: ModelError) -> (Failure, String) {
         match err {
-            ModelError::Painleve { theta, solutions } => {
-                painleve_why(sc, "theta_ddot-N system", theta, solutions)
-            }
-            ModelError::Singular { .. } | ModelError::Chattering { .. } => err.to_string(),
+            ModelError::Painleve { theta, solutions } => (
+                Failure::Painleve,
+                painleve_why(sc, "theta_ddot-N system", theta, solutions),
+            ),
+            ModelError::Singular { .. } => (Failure::Pole, err.to_string()),
+            ModelError::Chattering { .. } => (Failure::Chattering, err.to_string()),
         }
     }
 

@@ -191,7 +191,7 @@ use crate::sim::events::{Happened, Watch};
 use crate::sim::messages::painleve_why;
 use crate::sim::record::RunLog;
 use crate::{
-    ContactMode, Error, FrictionLaw, Sample, Scenario, Top,
+    ContactMode, Error, Failure, FrictionLaw, Sample, Scenario, Top,
     integrate::{Direction, Event, OdeSystem},
     model::reduced::{CHATTER_REVERSALS, ModelError, Scales},
     model::{Flow, Model},
@@ -1308,6 +1308,7 @@ impl Model<DIM> for Rigid {
                 if self.transitions > MAX_TRANSITIONS {
                     return Flow::Stop(Error::runtime(
                         t * tu,
+                        Failure::SwitchLimit,
                         format!(
                             "more than {MAX_TRANSITIONS} lift-offs and touchdowns; {}",
                             describe_state(self, y)
@@ -1355,12 +1356,14 @@ impl Model<DIM> for Rigid {
         }
     }
 
-    fn explain(&self, sc: &Scenario, err: RigidError) -> String {
+    fn explain(&self, sc: &Scenario, err: RigidError) -> (Failure, String) {
         match err {
-            RigidError::Painleve { theta, solutions } => {
-                painleve_why(sc, "N equation", theta, solutions)
-            }
-            other => other.to_string(),
+            RigidError::Painleve { theta, solutions } => (
+                Failure::Painleve,
+                painleve_why(sc, "N equation", theta, solutions),
+            ),
+            RigidError::ImpactJam { .. } => (Failure::Painleve, err.to_string()),
+            RigidError::Chattering { .. } => (Failure::Chattering, err.to_string()),
         }
     }
 
@@ -1387,6 +1390,7 @@ impl Rigid {
             Err(err) => {
                 return Flow::Stop(Error::runtime(
                     t * self.scales.time,
+                    Failure::Painleve,
                     format!("{err}; {}", describe_state(self, y)),
                 ));
             }

@@ -1,6 +1,6 @@
 //! The messages of run-time failures: what stopped a run and what to do.
 
-use crate::{Error, Method, Scenario, sim::record::Track};
+use crate::{Error, Failure, Method, Scenario, sim::record::Track};
 
 /// Why a run of `sc` stopped at its step limit `cap`, with a hint at why it
 /// cannot make progress.
@@ -27,6 +27,7 @@ pub(crate) fn step_limit_why(sc: &Scenario, cap: u64) -> String {
 pub(crate) fn nonfinite_output_error(t: f64, state: &str) -> Error {
     Error::runtime(
         t,
+        Failure::OutputOverflow,
         format!(
             "the output became NaN or infinite (a value overflows f64 in SI units); last accepted {state}"
         ),
@@ -69,19 +70,27 @@ pub(crate) const RK4_UNSTABLE_BALANCE: f64 = 1e-2;
 /// [`RK4_UNSTABLE_BALANCE`]: the fixed step made the solution unstable, and
 /// `why` (a Painlevé case, a NaN) is a consequence, not the physics. Any
 /// other failure of an RK4 run says that its fixed step may be the cause.
-pub(crate) fn unstable_rk4(sc: &Scenario, track: &Track, why: String) -> String {
+/// Returns the failure's kind (`kind`, or [`Failure::Unstable`]) and message.
+pub(crate) fn unstable_rk4(
+    sc: &Scenario,
+    track: &Track,
+    kind: Failure,
+    why: String,
+) -> (Failure, String) {
     let rel = track.balance_rel();
     if sc.solver.method == Method::Rk4 && (rel.is_nan() || rel > RK4_UNSTABLE_BALANCE) {
-        format!(
+        let msg = format!(
             "the RK4 solution became unstable (energy balance error {rel:.1e} of max |E|): the fixed step t_end / steps = {:e} s is too long for this motion, raise solver.steps or use method = \"adaptive\"; it ended with: {why}",
             sc.solver.t_end / sc.solver.steps as f64
-        )
+        );
+        (Failure::Unstable, msg)
     } else if sc.solver.method == Method::Rk4 {
-        format!(
+        let msg = format!(
             "{why} (method = \"rk4\" with a fixed step t_end / steps = {:e} s: check that it persists with more steps or method = \"adaptive\")",
             sc.solver.t_end / sc.solver.steps as f64
-        )
+        );
+        (kind, msg)
     } else {
-        why
+        (kind, why)
     }
 }

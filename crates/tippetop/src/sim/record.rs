@@ -175,6 +175,7 @@ pub(crate) fn summarize(track: &Track, end: RunEnd<'_>) -> Summary {
             None => "ok".into(),
             Some(e) => e.to_string(),
         },
+        failure: end.error.and_then(|e| e.failure()).map(|f| f.as_str()),
     }
 }
 

@@ -194,9 +194,10 @@ fn painleve_case_is_reported() {
     each_model(&[], |model| {
         let tr = simulate_as(&painleve_scenario(1.2), model);
         match &tr.error {
-            Some(tippetop::Error::Runtime { t, why }) => {
+            Some(tippetop::Error::Runtime { t, why, .. }) => {
                 assert_eq!(*t, 0.0);
                 assert!(why.contains("Painleve"), "{why}");
+                assert_eq!(tr.summary.failure, Some("painleve"));
             }
             other => panic!("1.2 mu_crit: {other:?}"),
         }
@@ -279,7 +280,10 @@ fn normal_force_jump_at_a_switch_is_reported() {
                 }
             } else {
                 match (&tr.error, lost) {
-                    (Some(tippetop::Error::Runtime { t, .. }), true) => assert_eq!(*t, 0.005),
+                    (Some(e @ tippetop::Error::Runtime { t, .. }), true) => {
+                        assert_eq!(*t, 0.005);
+                        assert_eq!(e.failure(), Some(tippetop::Failure::LiftOff));
+                    }
                     (None, false) => {}
                     other => panic!("unexpected outcome {other:?}"),
                 }

@@ -303,6 +303,8 @@ fn coulomb_sliding_chatter_detected() {
             "{msg}"
         );
         assert!(msg.contains("use friction_law = \"coulomb\""), "{msg}");
+        assert_eq!(err.failure(), Some(tippetop::Failure::Chattering));
+        assert_eq!(tr.summary.failure, Some("chattering"));
         assert!(tr.summary.steps < 100_000, "{} steps", tr.summary.steps);
         assert!(tr.summary.steps > 0);
         assert_eq!(strip_time(cut(&msg)), strip_time(cut(&reference)));

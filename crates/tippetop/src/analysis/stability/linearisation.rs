@@ -238,6 +238,7 @@ pub fn linearise(
     let ev = eigenvalues(&red).ok_or_else(|| {
         Error::runtime(
             0.0,
+            crate::Failure::Numerics,
             "the QR eigenvalue iteration did not converge".to_string(),
         )
     })?;
