@@ -241,3 +241,21 @@ fn readme_example_is_the_doc_test() {
         "README example not found in Simulation's doc test"
     );
 }
+
+/// A `Simulation` and its snapshots can move to another thread (a Python
+/// binding releases the GIL while it runs; a sweep runs one per thread).
+#[test]
+fn simulation_is_send() {
+    fn send<T: Send>() {}
+    send::<Simulation>();
+    send::<tippetop::Snapshot>();
+    let mut sc = Scenario::nano();
+    sc.solver.t_end = 1e-6;
+    let mut sim = Simulation::new(&sc).expect("valid");
+    let handle = std::thread::spawn(move || {
+        sim.integrate_to(1e-6).expect("in range");
+        sim.into_trajectory()
+    });
+    let tr = handle.join().expect("no panic");
+    assert_same("thread", &tr, &simulate(&sc).expect("valid"));
+}

@@ -164,7 +164,7 @@ pub enum Direction {
 pub struct Event<S, const N: usize> {
     /// The event function.
     #[allow(clippy::type_complexity)]
-    pub g: Box<dyn Fn(&S, f64, &[f64; N]) -> f64>,
+    pub g: Box<dyn Fn(&S, f64, &[f64; N]) -> f64 + Send + Sync>,
     /// Which crossings count.
     pub direction: Direction,
     /// Stop the integration at the first crossing.
