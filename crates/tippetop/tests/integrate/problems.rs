@@ -276,7 +276,7 @@ pub fn run<const N: usize>(
 
 /// An event without `step_to_event`.
 pub fn ev<const N: usize>(
-    g: impl Fn(&Ode<N>, f64, &[f64; N]) -> f64 + 'static,
+    g: impl Fn(&Ode<N>, f64, &[f64; N]) -> f64 + Send + Sync + 'static,
     direction: Direction,
     terminal: bool,
 ) -> Event<Ode<N>, N> {
