@@ -217,8 +217,8 @@ impl OnPlane {
     /// once `v·d < 0`, `d` the approach direction `slip_ref`) keeps that
     /// step smooth, so the event time is as accurate as the step; the stages
     /// past zero are discarded at the event. Always inlined: it is on the
-    /// right-hand sides' critical path (perf showed it as a separate call
-    /// from the vector model, 12 % of a sweep).
+    /// right-hand sides' critical path (docs/performance.md, "The inner
+    /// loop").
     #[inline(always)]
     pub(crate) fn coefficient(&self, v: [f64; 2]) -> [f64; 2] {
         let mu = self.mu;

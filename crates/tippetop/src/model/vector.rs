@@ -72,15 +72,9 @@ pub const WA: usize = 9;
 /// control and the cap of the step at the stability limit `6.1/ρ`. Without
 /// the Euler angles' 1/sin θ the classical top with regularised friction is
 /// stability-bound (the slip relaxes at ≈ 3μg/ε), and the error-based
-/// control overshoots the limit again and again: at rtol 1e-8, 2 402 of
-/// 7 236 attempts rejected with pure I control, 1 647 of 6 027 with
-/// Hairer's β = 0.04, 32 of 4 317 with β = 0.04 and the cap (55 137
-/// evaluations instead of 87 810 and 74 057). At rtol 1e-10, where the run
-/// is partly accuracy-bound, β = 0.04 still pays (88 418 evaluations with
-/// the cap, 103 001 with the cap alone); on runs that are accuracy-bound
-/// throughout the cap never binds and β = 0.04 costs 5 % (classical exact
-/// law 16 020 against 15 302, nano 41 091 against 39 003).
-/// docs/physics.md §14.
+/// control alone overshoots the limit again and again (docs/physics.md §14;
+/// the measurements that chose these values: docs/performance.md,
+/// "DOP853's step control for the vector model").
 pub const DOP853_BETA: f64 = 0.04;
 /// See [`DOP853_BETA`].
 pub const DOP853_STABILITY_CAP: bool = true;
