@@ -19,6 +19,9 @@
 //! # friction_eps = 1e-3       # [m/s], only (and required) with "regularized"/"viscous"
 //! contact = "bilateral"       # or "paper", "unilateral"
 //! restitution = 0.0           # [0, 1], rigid model touchdown only
+//! [adhesion]                  # van der Waals adhesion, off by default (docs/physics.md §18)
+//! force = 0.0                 # F_a [N], pull-off force (> 0 requires energy > 0)
+//! energy = 0.0                # E_b [J], binding energy (> 0 requires force > 0)
 //! [[force]]                   # applied force at the contact point, precessing frame [N]
 //! hx = 0.0                    # default 0
 //! hy = 0.0                    # default 0
@@ -55,7 +58,8 @@ use serde::Deserialize as _;
 use toml::{Table, Value};
 
 use crate::{
-    ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial, SolverSettings, Surface, Top,
+    Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial, SolverSettings,
+    Surface, Top,
     state::{Method, ModelKind},
 };
 
@@ -66,6 +70,8 @@ pub struct Scenario {
     pub top: Top,
     /// The plane.
     pub surface: Surface,
+    /// Van der Waals adhesion (off: [`Adhesion::NONE`]).
+    pub adhesion: Adhesion,
     /// Applied force schedule.
     pub forcing: Forcing,
     /// Initial state.
@@ -88,6 +94,7 @@ impl Scenario {
                 contact: ContactMode::Bilateral,
                 restitution: 0.0,
             },
+            adhesion: Adhesion::NONE,
             forcing: Forcing::constant(1e-22, 1e-22),
             initial: Initial::paper(),
             solver: SolverSettings::new(1e-4),
@@ -106,6 +113,7 @@ impl Scenario {
                 contact: ContactMode::Bilateral,
                 restitution: 0.0,
             },
+            adhesion: Adhesion::NONE,
             forcing: Forcing::none(),
             initial: Initial::paper(),
             solver: SolverSettings::new(10.0),
@@ -132,6 +140,7 @@ impl Scenario {
     pub fn validate(&self) -> Result<(), Error> {
         self.top.validate()?;
         self.surface.validate()?;
+        self.adhesion.validate()?;
         self.forcing.validate()?;
         self.initial
             .validate(self.solver.model == ModelKind::Reduced)?;
@@ -252,6 +261,12 @@ impl Scenario {
         }
         surface.insert("contact".into(), Value::String(s.contact.name().into()));
         surface.insert("restitution".into(), Value::Float(s.restitution));
+        // Written only when on, so scenarios without adhesion keep their
+        // text (scenario.toml, summary.json) unchanged.
+        let adhesion = self.adhesion.is_on() || self.adhesion.energy != 0.0;
+        let mut adh = Table::new();
+        adh.insert("force".into(), Value::Float(self.adhesion.force));
+        adh.insert("energy".into(), Value::Float(self.adhesion.energy));
 
         let force = self
             .forcing
@@ -312,6 +327,9 @@ impl Scenario {
         let mut t = Table::new();
         t.insert("top".into(), Value::Table(top));
         t.insert("surface".into(), Value::Table(surface));
+        if adhesion {
+            t.insert("adhesion".into(), Value::Table(adh));
+        }
         t.insert("force".into(), Value::Array(force));
         t.insert("initial".into(), Value::Table(initial));
         t.insert("solver".into(), Value::Table(solver));
@@ -350,6 +368,11 @@ const SURFACE_KEYS: Keys = &[
     ),
     ("contact", "\"bilateral\", \"paper\" or \"unilateral\""),
     ("restitution", "0 <= restitution <= 1"),
+];
+
+const ADHESION_KEYS: Keys = &[
+    ("force", crate::contact::ADHESION_FORCE_RANGE),
+    ("energy", crate::contact::ADHESION_ENERGY_RANGE),
 ];
 
 const FORCE_KEYS: Keys = &[
@@ -392,13 +415,14 @@ const SOLVER_KEYS: Keys = &[
 const TABLES: &[(&str, Keys)] = &[
     ("top", TOP_KEYS),
     ("surface", SURFACE_KEYS),
+    ("adhesion", ADHESION_KEYS),
     ("force", FORCE_KEYS),
     ("initial", INITIAL_KEYS),
     ("solver", SOLVER_KEYS),
 ];
 
 const TOP_LEVEL_RANGE: &str =
-    "valid top-level entries: preset, [top], [surface], [[force]], [initial], [solver]";
+    "valid top-level entries: preset, [top], [surface], [adhesion], [[force]], [initial], [solver]";
 
 const LAWS: &[(&str, LawName)] = &[
     ("coulomb", LawName::Coulomb),
@@ -680,7 +704,7 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
         [table, ..] => Err(Error::invalid(
             key,
             format!("unknown table \"{table}\""),
-            "valid tables: top, surface, force, initial, solver".into(),
+            "valid tables: top, surface, adhesion, force, initial, solver".into(),
         )),
         [] => unreachable!("split always yields one part"),
     }
@@ -845,6 +869,12 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         restitution: s.f64("restitution", Some(0.0))?,
     };
 
+    let s = section(merged, "adhesion");
+    let adhesion = Adhesion {
+        force: s.f64("force", Some(0.0))?,
+        energy: s.f64("energy", Some(0.0))?,
+    };
+
     let mut windows = Vec::new();
     if let Some(Value::Array(list)) = merged.get("force") {
         for (k, w) in list.iter().enumerate() {
@@ -895,6 +925,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     Ok(Scenario {
         top,
         surface,
+        adhesion,
         forcing,
         initial,
         solver,
