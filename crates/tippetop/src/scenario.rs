@@ -120,15 +120,39 @@ impl Scenario {
         }
     }
 
-    /// A preset by name (`"nano"` or `"classical"`).
+    /// C60 on graphene with van der Waals adhesion (issue #14,
+    /// docs/physics.md §18): the nano preset's top, applied force, initial
+    /// state and window, with the adhesion of one graphene sheet from
+    /// [`crate::physics::adhesion`] (`F_a = 5.92e-10 N`, `E_b = 0.73 eV`,
+    /// Girifalco–Hodak–Lee constants, §15) and superlubric friction: the
+    /// exact Coulomb law with `μ = 1e-3`, the upper bound measured for
+    /// graphene/C60/graphene (Sasaki et al., Tribology Online 7, 96 (2012)).
+    /// Deterministic (no thermal noise yet).
+    pub fn nano_physical() -> Self {
+        let b = crate::physics::adhesion::Adhesion::c60_on_graphene().binding();
+        // The default constants always bind (checked by the adhesion tests);
+        // NaN would be refused by validate() rather than run.
+        let (force, energy) = b.map_or((f64::NAN, f64::NAN), |b| (b.pull_off_force, b.energy));
+        Scenario {
+            surface: Surface {
+                friction: 1e-3,
+                ..Self::nano().surface
+            },
+            adhesion: Adhesion { force, energy },
+            ..Self::nano()
+        }
+    }
+
+    /// A preset by name (`"nano"`, `"nano-physical"` or `"classical"`).
     pub fn preset(name: &str) -> Result<Self, Error> {
         match name {
             "nano" => Ok(Self::nano()),
+            "nano-physical" => Ok(Self::nano_physical()),
             "classical" => Ok(Self::classical()),
             other => Err(Error::invalid(
                 "preset",
                 format!("unknown preset \"{other}\""),
-                "\"nano\" or \"classical\"".into(),
+                PRESET_RANGE.into(),
             )),
         }
     }
@@ -342,7 +366,7 @@ impl Scenario {
 
 type Keys = &'static [(&'static str, &'static str)];
 
-const PRESET_RANGE: &str = "\"nano\" or \"classical\"";
+const PRESET_RANGE: &str = "\"nano\", \"nano-physical\" or \"classical\"";
 
 const TOP_KEYS: Keys = &[
     ("radius", "a finite length > 0 [m]"),

@@ -260,3 +260,49 @@ fn rigid_separation_costs_the_binding_energy() {
     assert!(s.energy_balance_max_rel_error <= 1e-8);
     assert!(s.jellett_max_rel_drift <= 1e-10);
 }
+
+/// The `nano-physical` preset (graphene adhesion, superlubric μ = 1e-3)
+/// runs in every model with J and the energy balance at the usual nano
+/// bars, and the contact reaction stays `F_a` up to the motion's own part,
+/// which is of the order of the weight and the paper's H (8.5 m g per
+/// component): `|N_c − F_a| <= 100 m g` (the adhesion is 5e13 m g).
+#[test]
+fn nano_physical_preset_holds_its_contact() {
+    each_model(&[], |model| {
+        let sc = Scenario::nano_physical();
+        let tr = run_as(&sc, model);
+        let s = &tr.summary;
+        let w = sc.top.mass * sc.surface.gravity;
+        let margin = s.pull_off_margin_min.expect("adhesion on");
+        println!(
+            "{model:?} nano-physical: J drift {:.1e}, energy balance {:.1e}, F_a − min N_c = {:.2} m g, rolling {}",
+            s.jellett_max_rel_drift,
+            s.energy_balance_max_rel_error,
+            (sc.adhesion.force - margin) / w,
+            s.rolling_fraction
+        );
+        assert!(s.jellett_max_rel_drift <= 1e-10, "{model:?}");
+        assert!(s.energy_balance_max_rel_error <= 1e-8, "{model:?}");
+        for r in &tr.samples {
+            assert!(
+                (r.normal - sc.adhesion.force).abs() <= 100.0 * w,
+                "{model:?} t {}: N {}",
+                r.t,
+                r.normal
+            );
+        }
+        // The slip (~R ω0 sin θ0 = 3.5e-9 m/s) dies at μ (g + F_a/m) ~ 5e11
+        // m/s²: the top sticks within ~1e-20 s and rolls the whole window
+        // (the friction capacity μ F_a is 4e12 |H|).
+        assert!(
+            s.rolling_fraction >= 1.0 - 1e-6,
+            "{model:?}: {}",
+            s.rolling_fraction
+        );
+        // Rolling, neither the friction nor H does work, so the energy
+        // stays E0 ≈ ½ C ω0² = 2.5e-40 J; standing up to θ > π/2 would
+        // raise the centre of mass by a (1 + cos θ0) and cost ~m g a =
+        // 4e-34 J. No inversion.
+        assert_eq!(s.first_time_theta_above_half_pi, None, "{model:?}");
+    });
+}
