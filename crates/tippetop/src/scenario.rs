@@ -128,11 +128,11 @@ impl Scenario {
     /// exact Coulomb law with `μ = 1e-3`, the upper bound measured for
     /// graphene/C60/graphene (Sasaki et al., Tribology Online 7, 96 (2012)).
     /// Deterministic (no thermal noise yet).
+    /// The two adhesion values are those `Adhesion::c60_on_graphene().binding()`
+    /// gives (`tippetop adhesion`), written out (the scenario module does not
+    /// import the physics; tests/scenario.rs checks they agree).
     pub fn nano_physical() -> Self {
-        let b = crate::physics::adhesion::Adhesion::c60_on_graphene().binding();
-        // The default constants always bind (checked by the adhesion tests);
-        // NaN would be refused by validate() rather than run.
-        let (force, energy) = b.map_or((f64::NAN, f64::NAN), |b| (b.pull_off_force, b.energy));
+        let (force, energy) = (5.915889357711552e-10, 1.169645723902958e-19);
         Scenario {
             surface: Surface {
                 friction: 1e-3,
