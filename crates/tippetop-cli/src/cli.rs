@@ -135,8 +135,10 @@ pub struct RunArgs {
     #[arg(value_name = "SCENARIO.toml")]
     pub scenario: Option<PathBuf>,
 
-    /// Start from a built-in scenario: "nano" (C60, the paper's Sec. 3) or
-    /// "classical" (the 15 g toy of the paper's App. A).
+    /// Start from a built-in scenario: "nano" (C60, the paper's Sec. 3),
+    /// "nano-physical" (the same C60 on graphene with van der Waals adhesion
+    /// and superlubric friction, docs/physics.md §18) or "classical" (the
+    /// 15 g toy of the paper's App. A).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
 

@@ -690,6 +690,7 @@ pub(crate) mod tests {
                 contact_lost_at: None,
                 negative_normal_fraction: 0.0,
                 rolling_fraction: 0.14,
+                pull_off_margin_min: None,
                 steps: 1234,
                 rejected_steps: 5,
                 rhs_evaluations: 15000,
@@ -1060,6 +1061,7 @@ pub(crate) mod tests {
             "contact_lost_at",
             "negative_normal_fraction",
             "rolling_fraction",
+            "pull_off_margin_min",
             "steps",
             "rejected_steps",
             "rhs_evaluations",
@@ -1072,6 +1074,7 @@ pub(crate) mod tests {
             assert!(v.get(key).is_some(), "missing {key}");
         }
         assert!(v["contact_lost_at"].is_null());
+        assert!(v["pull_off_margin_min"].is_null());
         assert_eq!(v["events"][0]["kind"], "theta_above_half_pi");
         assert_eq!(v["events"][0]["t"], 0.5);
         assert_eq!(v["wall_seconds"], 0.25);

@@ -9,7 +9,7 @@ use tippetop::{Scenario, analysis::regime};
 /// Long help of `tippetop regime`.
 pub const REGIME_LONG_ABOUT: &str = "The regime a scenario is in: dimensionless ratios from \
     its parameters and initial state, each with a verdict. adhesion_over_weight F_a/(m g) \
-    (null: no adhesion in the model yet); applied_over_weight max|H|/(m g); \
+    (F_a from the [adhesion] table; null without adhesion); applied_over_weight max|H|/(m g); \
     applied_over_friction_capacity max|H|/(mu (m g + F_a)); and with --temperature T: \
     rotational_energy_over_kT (1/2 C omega0^2 / kT), spin_over_thermal_spin (|omega0| / \
     sqrt(kT/C)), window_over_orientation_correlation_time (t_end / 9.1 ps, the C60 \
@@ -28,7 +28,7 @@ pub const REGIME_LONG_ABOUT: &str = "The regime a scenario is in: dimensionless 
 pub struct RegimeArgs {
     /// Scenario file (TOML); or give --preset.
     pub scenario: Option<PathBuf>,
-    /// Start from a preset: "nano" or "classical".
+    /// Start from a preset: "nano", "nano-physical" or "classical".
     #[arg(long)]
     pub preset: Option<String>,
     /// Override a scenario key, e.g. --set initial.spin=3e7 (repeatable).

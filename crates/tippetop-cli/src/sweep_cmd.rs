@@ -105,7 +105,7 @@ pub struct SweepArgs {
     #[arg(value_name = "SCENARIO.toml")]
     pub scenario: Option<PathBuf>,
 
-    /// Start from a built-in scenario: "nano" or "classical".
+    /// Start from a built-in scenario: "nano", "nano-physical" or "classical".
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
 

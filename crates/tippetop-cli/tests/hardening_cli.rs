@@ -326,3 +326,69 @@ fn fuzz_cli() {
     );
     assert!(codes[0] > 0 && codes[2] > 0 && codes[3] > 0, "{codes:?}");
 }
+
+/// The `[adhesion]` table (docs/physics.md §18): `force` and `energy` must
+/// be finite and `>= 0`, and both zero or both positive (a pull-off force
+/// without a binding energy, or an energy without a force, is bad input);
+/// exit 2, one line naming the key, nothing written.
+#[test]
+fn run_rejects_bad_adhesion() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let o = out.to_str().unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["adhesion.force=-1e-10", "adhesion.energy=1e-19"],
+            "adhesion.force",
+        ),
+        (
+            &["adhesion.force=nan", "adhesion.energy=1e-19"],
+            "adhesion.force",
+        ),
+        (
+            &["adhesion.force=inf", "adhesion.energy=1e-19"],
+            "adhesion.force",
+        ),
+        (
+            &["adhesion.force=1e-10", "adhesion.energy=-1e-19"],
+            "adhesion.energy",
+        ),
+        (
+            &["adhesion.force=1e-10", "adhesion.energy=inf"],
+            "adhesion.energy",
+        ),
+        (&["adhesion.force=1e-10"], "adhesion.energy"),
+        (&["adhesion.energy=1e-19"], "adhesion.force"),
+        (&["adhesion.pull=1"], "adhesion.pull"),
+        // Stiff friction with adhesion, explicit methods: refused with advice.
+        (
+            &[
+                "adhesion.force=5.9e-10",
+                "adhesion.energy=1.17e-19",
+                "surface.friction_law=regularized",
+                "surface.friction_eps=1e-6",
+            ],
+            "surface.friction_law",
+        ),
+        (
+            &[
+                "adhesion.force=5.9e-10",
+                "adhesion.energy=1.17e-19",
+                "surface.friction_law=viscous",
+                "surface.friction_eps=1e-6",
+                "solver.method=rk4",
+            ],
+            "surface.friction_law",
+        ),
+    ];
+    for (sets, key) in cases {
+        for model in ["vector", "reduced", "rigid"] {
+            let m = format!("solver.model={model}");
+            let mut args = vec!["run", "--preset", "nano", "--no-plot", "--out", o];
+            for s in sets.iter().copied().chain([m.as_str()]) {
+                args.extend(["--set", s]);
+            }
+            expect_input_error(&args, Some(&out), key);
+        }
+    }
+}

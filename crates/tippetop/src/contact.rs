@@ -196,3 +196,70 @@ impl Surface {
         Ok(())
     }
 }
+
+/// Van der Waals adhesion between the sphere and the plane (the
+/// `[adhesion]` table; docs/physics.md §18). Off when both are zero (the
+/// default); otherwise both must be positive.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Adhesion {
+    /// Pull-off force `F_a` \[N\], `>= 0`: the force the adhesion adds to the
+    /// contact reaction, and the largest pull it resists.
+    pub force: f64,
+    /// Binding energy `E_b` \[J\], `>= 0`: the work that separates the top
+    /// from the plane (rigid model, flight).
+    pub energy: f64,
+}
+
+/// Valid range of `adhesion.force`, as the error messages state it.
+pub const ADHESION_FORCE_RANGE: &str =
+    "a finite force >= 0 [N] (pull-off force); > 0 requires adhesion.energy > 0";
+/// Valid range of `adhesion.energy`, as the error messages state it.
+pub const ADHESION_ENERGY_RANGE: &str =
+    "a finite energy >= 0 [J] (binding energy); > 0 requires adhesion.force > 0";
+
+impl Adhesion {
+    /// No adhesion.
+    pub const NONE: Adhesion = Adhesion {
+        force: 0.0,
+        energy: 0.0,
+    };
+
+    /// True when the adhesion is on (`F_a > 0`).
+    pub fn is_on(&self) -> bool {
+        self.force > 0.0
+    }
+
+    /// Check the ranges: both finite and `>= 0`, and either both zero or
+    /// both positive (a pull-off force without a binding energy has no
+    /// flight potential; a binding energy without a force has no contact
+    /// load). The error names the key.
+    pub fn validate(&self) -> Result<(), Error> {
+        for (key, v, range) in [
+            ("adhesion.force", self.force, ADHESION_FORCE_RANGE),
+            ("adhesion.energy", self.energy, ADHESION_ENERGY_RANGE),
+        ] {
+            if !v.is_finite() || v < 0.0 {
+                return Err(Error::invalid(
+                    key,
+                    format!("{v} is not allowed"),
+                    range.into(),
+                ));
+            }
+        }
+        if self.force > 0.0 && self.energy == 0.0 {
+            return Err(Error::invalid(
+                "adhesion.energy",
+                "missing or 0 with adhesion.force > 0".into(),
+                ADHESION_ENERGY_RANGE.into(),
+            ));
+        }
+        if self.energy > 0.0 && self.force == 0.0 {
+            return Err(Error::invalid(
+                "adhesion.force",
+                "missing or 0 with adhesion.energy > 0".into(),
+                ADHESION_FORCE_RANGE.into(),
+            ));
+        }
+        Ok(())
+    }
+}

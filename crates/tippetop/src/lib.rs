@@ -28,7 +28,7 @@ pub mod state;
 pub mod top;
 pub mod trajectory;
 
-pub use contact::{ContactMode, FrictionLaw, Surface};
+pub use contact::{Adhesion, ContactMode, FrictionLaw, Surface};
 pub use error::{Error, Failure};
 pub use forcing::{ForceWindow, Forcing};
 pub use scenario::{Scenario, limits};

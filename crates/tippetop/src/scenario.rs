@@ -19,6 +19,9 @@
 //! # friction_eps = 1e-3       # [m/s], only (and required) with "regularized"/"viscous"
 //! contact = "bilateral"       # or "paper", "unilateral"
 //! restitution = 0.0           # [0, 1], rigid model touchdown only
+//! [adhesion]                  # van der Waals adhesion, off by default (docs/physics.md §18)
+//! force = 0.0                 # F_a [N], pull-off force (> 0 requires energy > 0)
+//! energy = 0.0                # E_b [J], binding energy (> 0 requires force > 0)
 //! [[force]]                   # applied force at the contact point, precessing frame [N]
 //! hx = 0.0                    # default 0
 //! hy = 0.0                    # default 0
@@ -55,7 +58,8 @@ use serde::Deserialize as _;
 use toml::{Table, Value};
 
 use crate::{
-    ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial, SolverSettings, Surface, Top,
+    Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial, SolverSettings,
+    Surface, Top,
     state::{Method, ModelKind},
 };
 
@@ -66,6 +70,8 @@ pub struct Scenario {
     pub top: Top,
     /// The plane.
     pub surface: Surface,
+    /// Van der Waals adhesion (off: [`Adhesion::NONE`]).
+    pub adhesion: Adhesion,
     /// Applied force schedule.
     pub forcing: Forcing,
     /// Initial state.
@@ -88,6 +94,7 @@ impl Scenario {
                 contact: ContactMode::Bilateral,
                 restitution: 0.0,
             },
+            adhesion: Adhesion::NONE,
             forcing: Forcing::constant(1e-22, 1e-22),
             initial: Initial::paper(),
             solver: SolverSettings::new(1e-4),
@@ -106,21 +113,46 @@ impl Scenario {
                 contact: ContactMode::Bilateral,
                 restitution: 0.0,
             },
+            adhesion: Adhesion::NONE,
             forcing: Forcing::none(),
             initial: Initial::paper(),
             solver: SolverSettings::new(10.0),
         }
     }
 
-    /// A preset by name (`"nano"` or `"classical"`).
+    /// C60 on graphene with van der Waals adhesion (issue #14,
+    /// docs/physics.md §18): the nano preset's top, applied force, initial
+    /// state and window, with the adhesion of one graphene sheet from
+    /// [`crate::physics::adhesion`] (`F_a = 5.92e-10 N`, `E_b = 0.73 eV`,
+    /// Girifalco–Hodak–Lee constants, §15) and superlubric friction: the
+    /// exact Coulomb law with `μ = 1e-3`, the upper bound measured for
+    /// graphene/C60/graphene (Sasaki et al., Tribology Online 7, 96 (2012)).
+    /// Deterministic (no thermal noise yet).
+    /// The two adhesion values are those `Adhesion::c60_on_graphene().binding()`
+    /// gives (`tippetop adhesion`), written out (the scenario module does not
+    /// import the physics; tests/scenario.rs checks they agree).
+    pub fn nano_physical() -> Self {
+        let (force, energy) = (5.915889357711552e-10, 1.169645723902958e-19);
+        Scenario {
+            surface: Surface {
+                friction: 1e-3,
+                ..Self::nano().surface
+            },
+            adhesion: Adhesion { force, energy },
+            ..Self::nano()
+        }
+    }
+
+    /// A preset by name (`"nano"`, `"nano-physical"` or `"classical"`).
     pub fn preset(name: &str) -> Result<Self, Error> {
         match name {
             "nano" => Ok(Self::nano()),
+            "nano-physical" => Ok(Self::nano_physical()),
             "classical" => Ok(Self::classical()),
             other => Err(Error::invalid(
                 "preset",
                 format!("unknown preset \"{other}\""),
-                "\"nano\" or \"classical\"".into(),
+                PRESET_RANGE.into(),
             )),
         }
     }
@@ -132,6 +164,7 @@ impl Scenario {
     pub fn validate(&self) -> Result<(), Error> {
         self.top.validate()?;
         self.surface.validate()?;
+        self.adhesion.validate()?;
         self.forcing.validate()?;
         self.initial
             .validate(self.solver.model == ModelKind::Reduced)?;
@@ -252,6 +285,12 @@ impl Scenario {
         }
         surface.insert("contact".into(), Value::String(s.contact.name().into()));
         surface.insert("restitution".into(), Value::Float(s.restitution));
+        // Written only when on, so scenarios without adhesion keep their
+        // text (scenario.toml, summary.json) unchanged.
+        let adhesion = self.adhesion.is_on() || self.adhesion.energy != 0.0;
+        let mut adh = Table::new();
+        adh.insert("force".into(), Value::Float(self.adhesion.force));
+        adh.insert("energy".into(), Value::Float(self.adhesion.energy));
 
         let force = self
             .forcing
@@ -312,6 +351,9 @@ impl Scenario {
         let mut t = Table::new();
         t.insert("top".into(), Value::Table(top));
         t.insert("surface".into(), Value::Table(surface));
+        if adhesion {
+            t.insert("adhesion".into(), Value::Table(adh));
+        }
         t.insert("force".into(), Value::Array(force));
         t.insert("initial".into(), Value::Table(initial));
         t.insert("solver".into(), Value::Table(solver));
@@ -324,7 +366,7 @@ impl Scenario {
 
 type Keys = &'static [(&'static str, &'static str)];
 
-const PRESET_RANGE: &str = "\"nano\" or \"classical\"";
+const PRESET_RANGE: &str = "\"nano\", \"nano-physical\" or \"classical\"";
 
 const TOP_KEYS: Keys = &[
     ("radius", "a finite length > 0 [m]"),
@@ -350,6 +392,11 @@ const SURFACE_KEYS: Keys = &[
     ),
     ("contact", "\"bilateral\", \"paper\" or \"unilateral\""),
     ("restitution", "0 <= restitution <= 1"),
+];
+
+const ADHESION_KEYS: Keys = &[
+    ("force", crate::contact::ADHESION_FORCE_RANGE),
+    ("energy", crate::contact::ADHESION_ENERGY_RANGE),
 ];
 
 const FORCE_KEYS: Keys = &[
@@ -392,13 +439,14 @@ const SOLVER_KEYS: Keys = &[
 const TABLES: &[(&str, Keys)] = &[
     ("top", TOP_KEYS),
     ("surface", SURFACE_KEYS),
+    ("adhesion", ADHESION_KEYS),
     ("force", FORCE_KEYS),
     ("initial", INITIAL_KEYS),
     ("solver", SOLVER_KEYS),
 ];
 
 const TOP_LEVEL_RANGE: &str =
-    "valid top-level entries: preset, [top], [surface], [[force]], [initial], [solver]";
+    "valid top-level entries: preset, [top], [surface], [adhesion], [[force]], [initial], [solver]";
 
 const LAWS: &[(&str, LawName)] = &[
     ("coulomb", LawName::Coulomb),
@@ -680,7 +728,7 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
         [table, ..] => Err(Error::invalid(
             key,
             format!("unknown table \"{table}\""),
-            "valid tables: top, surface, force, initial, solver".into(),
+            "valid tables: top, surface, adhesion, force, initial, solver".into(),
         )),
         [] => unreachable!("split always yields one part"),
     }
@@ -845,6 +893,12 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         restitution: s.f64("restitution", Some(0.0))?,
     };
 
+    let s = section(merged, "adhesion");
+    let adhesion = Adhesion {
+        force: s.f64("force", Some(0.0))?,
+        energy: s.f64("energy", Some(0.0))?,
+    };
+
     let mut windows = Vec::new();
     if let Some(Value::Array(list)) = merged.get("force") {
         for (k, w) in list.iter().enumerate() {
@@ -895,6 +949,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     Ok(Scenario {
         top,
         surface,
+        adhesion,
         forcing,
         initial,
         solver,

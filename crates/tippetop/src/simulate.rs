@@ -774,6 +774,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 rolling_time,
                 stats: self.stats,
                 error: self.error.as_ref(),
+                adhesive: self.m.adhesive(),
             },
         );
         Trajectory {

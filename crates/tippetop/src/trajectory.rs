@@ -161,6 +161,10 @@ pub struct Summary {
     pub negative_normal_fraction: f64,
     /// Fraction of the simulated time spent rolling (exact Coulomb law).
     pub rolling_fraction: f64,
+    /// Smallest contact reaction `N_c` over the output rows and the final
+    /// state \[N\]: how far the run stayed from pulling off (0 in flight);
+    /// `None` without adhesion (docs/physics.md §18).
+    pub pull_off_margin_min: Option<f64>,
     /// Accepted steps.
     pub steps: u64,
     /// Rejected steps.

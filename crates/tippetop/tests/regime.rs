@@ -109,3 +109,26 @@ fn max_applied_force_follows_the_schedule() {
     // starts after t_end = 1e-4 s.
     assert!(close(max_applied_force(&sc), 10f64.sqrt() * 1e-22));
 }
+
+/// Nano preset with the graphene adhesion of `tippetop adhesion`
+/// (F_a = 5.9159e-10 N, E_b = 0.73 eV): F_a/(m g) = 5.9159e-10 / 1.17208e-23
+/// = 5.04735e13 (nano-physics.md §2: ~5e13), and the friction capacity
+/// μ (m g + F_a) = 0.13 × 5.91590e-10 N = 7.69067e-11 N, so
+/// |H| / capacity = 1.41421e-22 / 7.69067e-11 = 1.83889e-12.
+#[test]
+fn nano_preset_with_adhesion_by_hand() {
+    let mut sc = Scenario::nano();
+    sc.adhesion = tippetop::Adhesion {
+        force: 5.9159e-10,
+        energy: 0.73 * 1.602176634e-19,
+    };
+    let r = regime(&sc, None).unwrap();
+    assert!(close(r.adhesion_over_weight.unwrap(), 5.04735e13));
+    assert!(close(
+        r.applied_over_friction_capacity.unwrap(),
+        1.83889e-12
+    ));
+    let table = lines(&sc, &r);
+    let verdict = |k: &str| &table.iter().find(|l| l.key == k).unwrap().verdict;
+    assert!(verdict("adhesion_over_weight").contains("dominates the weight"));
+}

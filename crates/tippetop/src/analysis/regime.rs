@@ -34,7 +34,7 @@ pub struct Regime {
     /// Temperature the thermal ratios use \[K\]; `None`: no temperature.
     pub temperature: Option<f64>,
     /// Pull-off force over weight, `F_a/(m g)`; `None` without adhesion
-    /// (no scenario has adhesion yet) or with g = 0.
+    /// or with g = 0.
     pub adhesion_over_weight: Option<f64>,
     /// Largest applied force over the weight, `max_t |H(t)|/(m g)`; `None`
     /// with g = 0.
@@ -85,14 +85,18 @@ pub fn regime(sc: &Scenario, temperature: Option<f64>) -> Result<Regime, Error> 
     let h = max_applied_force(sc);
     let positive = |x: f64| (x > 0.0 && x.is_finite()).then_some(x);
     let ratio = |num: f64, den: f64| positive(den).map(|d| num / d);
-    // No scenario carries adhesion yet (issue #14 adds it): F_a = 0.
-    let adhesion = 0.0;
+    // The scenario's pull-off force F_a (0 without adhesion).
+    let adhesion = sc.adhesion.force;
     let kt = temperature.map(|t| K_B * t).and_then(positive);
     let spin = sc.initial.spin;
     let c = top.inertia_axial;
     Ok(Regime {
         temperature,
-        adhesion_over_weight: None,
+        adhesion_over_weight: sc
+            .adhesion
+            .is_on()
+            .then(|| ratio(adhesion, weight))
+            .flatten(),
         applied_over_weight: ratio(h, weight),
         applied_over_friction_capacity: ratio(h, sc.surface.friction * (weight + adhesion)),
         rotational_energy_over_kt: kt.map(|kt| 0.5 * c * spin * spin / kt),
@@ -131,12 +135,20 @@ pub fn lines(sc: &Scenario, r: &Regime) -> Vec<Line> {
         line(
             "adhesion_over_weight",
             r.adhesion_over_weight,
-            if molecular {
-                "no adhesion in the model: the load is the weight (van der Waals adhesion holds a \
-                 C60 on graphene with ~5e13 m g: tippetop adhesion)"
-                    .into()
-            } else {
-                "no adhesion in the model: the load is the weight".into()
+            match r.adhesion_over_weight {
+                Some(x) if x > 1.0 => "adhesion dominates the weight: the load is the pull-off \
+                                       force, and a pull must exceed F_a + m g to lift the top off"
+                    .into(),
+                Some(_) => "adhesion is on but the weight dominates it".into(),
+                None if sc.adhesion.is_on() => {
+                    "adhesion is on; no weight (g = 0): the load is the pull-off force".into()
+                }
+                None if molecular => {
+                    "no adhesion in the model: the load is the weight (van der Waals adhesion \
+                     holds a C60 on graphene with ~5e13 m g: tippetop adhesion, [adhesion])"
+                        .into()
+                }
+                None => "no adhesion in the model: the load is the weight".into(),
             },
         ),
         line(

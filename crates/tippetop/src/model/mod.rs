@@ -165,10 +165,20 @@ impl OnPlane {
         self.forces.contact_point().h
     }
 
-    /// The latched contact-point force (H and the vertical load h_z), scaled.
+    /// The latched contact-point force (H and the vertical load h_z), scaled,
+    /// with the adhesion's load `F_a` added to `h_z` (the sphere is always
+    /// in contact here; docs/physics.md §18): the closure, the reaction `N_c`
+    /// and the friction all see it through this one value.
     #[inline(always)]
     pub fn contact_point(&self) -> ContactPointForce {
-        self.forces.contact_point()
+        self.forces
+            .contact_point()
+            .with_load(self.forces.centre_vertical().in_contact())
+    }
+
+    /// True when the scenario has adhesion (`F_a > 0`).
+    pub fn adhesive(&self) -> bool {
+        self.forces.centre_vertical().force > 0.0
     }
 
     /// Contact mode.
@@ -422,6 +432,11 @@ pub(crate) trait Model<const D: usize>: OdeSystem<D> + Sized {
     /// contact): the summary's contact entries then count flights, not
     /// zero crossings of N.
     fn flies(&self) -> bool {
+        false
+    }
+    /// True when the scenario has adhesion: the summary then reports
+    /// `pull_off_margin_min`.
+    fn adhesive(&self) -> bool {
         false
     }
     /// A force switch at `t` (the new force is not latched yet): latch it

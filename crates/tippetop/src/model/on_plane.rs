@@ -47,6 +47,10 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
         self.plane().evaluations
     }
 
+    fn adhesive(&self) -> bool {
+        self.plane().adhesive()
+    }
+
     fn step_hints(&self) -> (f64, bool) {
         (self.dop853_beta(), self.dop853_stability_cap())
     }

@@ -595,8 +595,18 @@ impl Rigid {
         let (k, n, r) = (kin.k, kin.n, kin.r);
         let fh = self.applied_world(&kin);
         let cp = self.forces.contact_point();
-        // The whole applied force at P: −H and the load −h_z Z (§17).
+        // The whole applied force at P: −H and the load −h_z Z (§17); its
+        // work is W_a.
         let fa = [fh[0], fh[1], cp.vertical_total(fh[2])];
+        // Adhesion (§18), along the vertical through P: the load F_a in
+        // contact, −U′(gap) in flight; applied as a load at P, no work in W_a
+        // (its potential is in the energy). `cp` itself without adhesion.
+        let cv = self.forces.centre_vertical();
+        let cp = cp.with_load(match self.phase {
+            Phase::Contact => cv.in_contact(),
+            Phase::Flight => cv.at_gap(self.gap(y)),
+        });
+        let fl = [fh[0], fh[1], cp.vertical_total(fh[2])];
         let wk = dot(n, k);
         // Gyroscopic angular acceleration (world): −I⁻¹ (n × I n).
         let ndot0 = scale(-1.0, self.inv_inertia(k, cross(n, self.inertia(k, n))));
@@ -618,7 +628,7 @@ impl Rigid {
                 );
                 let force = solve3(self.k_columns(k, r), b);
                 // Friction needed: the plane supplies F + H = F − fa.
-                let ff = [force[0] - fa[0], force[1] - fa[1], 0.0];
+                let ff = [force[0] - fl[0], force[1] - fl[1], 0.0];
                 // The plane's reaction: F_Z plus the load (§17).
                 (cp.reaction(force[2]), ff, Some(force))
             }
@@ -637,7 +647,7 @@ impl Rigid {
         };
         // While rolling, F is the constraint force itself (its horizontal
         // part is ff + fa up to rounding; use the solution as is).
-        let force = rolling_force.unwrap_or_else(|| add(add(scale(normal, Z), ff), fa));
+        let force = rolling_force.unwrap_or_else(|| add(add(scale(normal, Z), ff), fl));
         let mut dy = [0.0; DIM];
         // Translation.
         set3(&mut dy, POS, v3(y, VEL));
@@ -807,19 +817,36 @@ impl Rigid {
         }
     }
 
-    /// Total energy `½ m |v|² + ½ n·I n + m g z_O` (scaled).
+    /// Total energy `½ m |v|² + ½ n·I n + m g z_O`, plus in flight the
+    /// adhesion's potential counted from contact, `E_b (1 − exp(−F_a z/E_b))`
+    /// at the gap `z` (§18; zero in contact and without adhesion) (scaled).
     pub fn energy_scaled(&self, y: &[f64; DIM]) -> f64 {
         let kin = self.kin(y);
         let (z, _) = self.vertical(y, &kin);
         let v = self.output_velocity(y, &kin);
-        0.5 * dot(v, v) + 0.5 * dot(kin.n, self.inertia(kin.k, kin.n)) + self.g * z
+        let e = 0.5 * dot(v, v) + 0.5 * dot(kin.n, self.inertia(kin.k, kin.n)) + self.g * z;
+        self.with_gap_potential(e, y)
     }
 
-    /// Energy from the state as stored (scaled).
+    /// Energy from the state as stored (scaled), with the adhesion's
+    /// potential in flight as [`Rigid::energy_scaled`].
     fn energy_raw(&self, y: &[f64; DIM]) -> f64 {
         let kin = self.kin(y);
         let v = v3(y, VEL);
-        0.5 * dot(v, v) + 0.5 * dot(kin.n, self.inertia(kin.k, kin.n)) + self.g * y[POS + 2]
+        let e =
+            0.5 * dot(v, v) + 0.5 * dot(kin.n, self.inertia(kin.k, kin.n)) + self.g * y[POS + 2];
+        self.with_gap_potential(e, y)
+    }
+
+    /// `e` plus, in flight with adhesion, the potential `U(gap) − U(0)`
+    /// (`e` itself otherwise, bit for bit).
+    fn with_gap_potential(&self, e: f64, y: &[f64; DIM]) -> f64 {
+        let cv = self.forces.centre_vertical();
+        if self.phase == Phase::Flight && cv.force > 0.0 {
+            e + cv.potential(self.gap(y))
+        } else {
+            e
+        }
     }
 
     /// Spin ω = n·k (scaled).
@@ -1250,6 +1277,10 @@ impl Model<DIM> for Rigid {
 
     fn flies(&self) -> bool {
         self.contact == ContactMode::Unilateral
+    }
+
+    fn adhesive(&self) -> bool {
+        self.forces.centre_vertical().force > 0.0
     }
 
     fn on_force_switch(&mut self, t: f64, y: &mut [f64; DIM], log: &mut RunLog) -> Flow {

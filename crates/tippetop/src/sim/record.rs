@@ -147,6 +147,9 @@ pub(crate) struct RunEnd<'a> {
     pub stats: integrate::Stats,
     /// The run-time failure, if any.
     pub error: Option<&'a Error>,
+    /// True when the scenario has adhesion (`pull_off_margin_min` is then
+    /// reported).
+    pub adhesive: bool,
 }
 
 /// The run's [`Summary`] from its [`Track`] and its end.
@@ -168,6 +171,12 @@ pub(crate) fn summarize(track: &Track, end: RunEnd<'_>) -> Summary {
         contact_lost_at: end.contact.0,
         negative_normal_fraction: end.contact.1,
         rolling_fraction: if t > 0.0 { end.rolling_time / t } else { 0.0 },
+        pull_off_margin_min: end.adhesive.then(|| {
+            end.samples
+                .iter()
+                .map(|s| s.normal)
+                .fold(end.last.normal, f64::min)
+        }),
         steps: end.stats.steps,
         rejected_steps: end.stats.rejected,
         rhs_evaluations: end.stats.rhs_evals,

@@ -16,8 +16,10 @@
 //!   of μ|N| where N changes sign;
 //! - `crosscheck`: the models against each other;
 //! - `forces`: the applied force terms (the vertical load `force.K.hz`);
+//! - `adhesion`: van der Waals adhesion (`[adhesion]`, a centre-vertical term);
 //! - `rigid`: what only the rigid model has (attitude, flight, impacts).
 
+mod adhesion;
 mod closed_forms;
 mod convergence;
 mod crosscheck;

@@ -321,9 +321,16 @@ fn eig_list(e: &[Eig]) -> String {
 }
 
 /// Whether the analysis covers `sc`: the linearised model has no vertical
-/// load (`force.K.hz`, docs/physics.md §17), so a scenario with one is bad
-/// input naming the key.
+/// load (`force.K.hz`, docs/physics.md §17) and no adhesion (§18), so a
+/// scenario with one is bad input naming the key.
 pub fn supports(sc: &Scenario) -> Result<(), Error> {
+    if sc.adhesion.is_on() {
+        return Err(Error::invalid(
+            "adhesion.force",
+            "the stability analysis does not model adhesion".into(),
+            "0; use `tippetop run` for an adhesive top".into(),
+        ));
+    }
     match sc.forcing.windows.iter().position(|w| w.hz != 0.0) {
         Some(k) => Err(Error::invalid(
             &format!("force.{k}.hz"),

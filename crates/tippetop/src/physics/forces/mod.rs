@@ -12,11 +12,13 @@
 //!
 //! Wired today: [`Kind::ContactPoint`], with the terms [`retarding::Retarding`]
 //! (the paper's `H`) and [`vertical_load::VerticalLoad`] (`force.K.hz`,
-//! §17). The other kinds are declared so that their place is fixed; no
+//! §17), and [`Kind::CentreVertical`], with the term [`adhesion::Adhesion`]
+//! (van der Waals adhesion, §18). The other kinds are declared so that their place is fixed; no
 //! model applies them yet, and [`Applied`] has no slot for them (a term of
 //! such a kind cannot be built until its kind is wired). docs/architecture.md
 //! ("Forces as data") describes the seam.
 
+pub mod adhesion;
 pub mod retarding;
 pub mod vertical_load;
 
@@ -37,10 +39,14 @@ pub enum Kind {
     /// work `∫ F·v_P dt` is integrated in `W_a` (zero while rolling; the
     /// vertical part does work only in flight). Wired in every model.
     ContactPoint,
-    /// Not yet wired (issue #14, adhesion): a force along the vertical
-    /// through the sphere's centre that depends on the contact state: in
-    /// contact a load that adds to `N` directly (no torque about `P`, no
-    /// work), in flight a potential `U(gap)`. Conserves J.
+    /// A force along the vertical through the sphere's centre that depends
+    /// on the contact state (docs/physics.md §18): in contact a load `F_a`
+    /// that adds to the plane's reaction (`N_c = F_a + N`, where `N − F_a`
+    /// is what the closure gives the motion; no torque about `P`, no
+    /// work), in flight (rigid model) the force `−U′(gap)` of a potential
+    /// `U(gap)` that the energy includes. Its line passes through `P`, so
+    /// the models apply it as a vertical load at `P` ([`ContactPointForce::with_load`]).
+    /// Conserves J. Wired in every model.
     CentreVertical,
     /// Not yet wired: a force at a body point, lab frame (tips, field
     /// gradients). Enters `Q` through its torque's share; does not conserve
@@ -82,6 +88,51 @@ pub struct Applied {
     /// `(h_x, h_y, h_z)` \[N\] at the contact point, precessing frame; the
     /// force on the top is `−(h_x x̂ + h_y ŷ + h_z Z)` ([`Kind::ContactPoint`]).
     pub contact_point: [f64; 3],
+    /// The centre-vertical term ([`Kind::CentreVertical`]): pull-off force
+    /// `F_a` \[N\] and binding energy `E_b` \[J\]; zero without adhesion.
+    pub centre_vertical: CentreVertical,
+}
+
+/// A centre-vertical force: the pull-off force `F_a` and the binding
+/// energy `E_b` of the gap potential `U(z) = −E_b exp(−F_a z/E_b)` (so
+/// `U(0) = −E_b`, `−U′(0) = F_a`). SI in [`Applied`]; scaled (force unit,
+/// energy unit = force unit × R) when latched ([`Forces::centre_vertical`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CentreVertical {
+    /// `F_a`: the load in contact, and the attraction at zero gap.
+    pub force: f64,
+    /// `E_b`: the separation work (`U(∞) − U(0)`).
+    pub energy: f64,
+}
+
+impl CentreVertical {
+    /// The load in contact, `F_a` (`+0` without adhesion).
+    #[inline(always)]
+    pub fn in_contact(&self) -> f64 {
+        self.force
+    }
+
+    /// The attraction at gap `z >= 0`: `−U′(z) = F_a exp(−F_a z/E_b)`
+    /// (`0` without adhesion; continuous with [`Self::in_contact`] at `z = 0`).
+    #[inline(always)]
+    pub fn at_gap(&self, z: f64) -> f64 {
+        if self.force == 0.0 {
+            0.0
+        } else {
+            self.force * (-self.force * z / self.energy).exp()
+        }
+    }
+
+    /// The potential relative to contact, `U(z) − U(0) = E_b (1 − exp(−F_a z/E_b))`:
+    /// what the energy adds in flight (`0` in contact and without adhesion).
+    #[inline(always)]
+    pub fn potential(&self, z: f64) -> f64 {
+        if self.force == 0.0 {
+            0.0
+        } else {
+            -self.energy * (-self.force * z / self.energy).exp_m1()
+        }
+    }
 }
 
 /// One applied-force term.
@@ -109,6 +160,21 @@ pub struct ContactPointForce {
 }
 
 impl ContactPointForce {
+    /// The same force with `load` added to the vertical load `h_z`: how
+    /// the models apply a centre-vertical force `load` (its line passes
+    /// through `P`, §18). `self` itself when `load` is zero (bit for bit).
+    #[inline(always)]
+    pub fn with_load(self, load: f64) -> Self {
+        if load == 0.0 {
+            self
+        } else {
+            ContactPointForce {
+                hz: self.hz + load,
+                ..self
+            }
+        }
+    }
+
     /// `Q` of the closure `N D(σ) = Q` with the load: `Q + h_z D₀`, `D₀`
     /// the closure's `D(σ)` without friction (docs/physics.md §17). `Q`
     /// itself when there is no load (bit for bit).
@@ -144,6 +210,10 @@ pub struct Forces {
     /// The schedule's switch times \[s\], sorted.
     switch_times: Vec<f64>,
     latched: ContactPointForce,
+    /// The centre-vertical force, scaled ([`Forces::latch`]).
+    centre: CentreVertical,
+    /// The top's radius \[m\]: the length unit, for the energy unit.
+    radius: f64,
 }
 
 impl Forces {
@@ -155,10 +225,15 @@ impl Forces {
         if sc.forcing.has_load() {
             terms.push(Arc::new(vertical_load::VerticalLoad::of(&sc.forcing)));
         }
+        if sc.adhesion.is_on() {
+            terms.push(Arc::new(adhesion::Adhesion::of(&sc.adhesion)));
+        }
         Forces {
             terms,
             switch_times: sc.forcing.switch_times(),
             latched: ContactPointForce::default(),
+            centre: CentreVertical::default(),
+            radius: sc.top.radius,
         }
     }
 
@@ -194,11 +269,23 @@ impl Forces {
             .filter_map(|j| self.switch_times.get(j).copied())
             .find(|&s| near(s))
             .unwrap_or(t);
-        let [hx, hy, hz] = self.at(t).contact_point;
+        let applied = self.at(t);
+        let [hx, hy, hz] = applied.contact_point;
         self.latched = ContactPointForce {
             h: [hx / force_unit, hy / force_unit],
             hz: hz / force_unit,
         };
+        let cv = applied.centre_vertical;
+        self.centre = CentreVertical {
+            force: cv.force / force_unit,
+            energy: cv.energy / (force_unit * self.radius),
+        };
+    }
+
+    /// The latched centre-vertical force (scaled; zero without adhesion).
+    #[inline(always)]
+    pub fn centre_vertical(&self) -> CentreVertical {
+        self.centre
     }
 
     /// The latched contact-point force (scaled).
