@@ -1085,6 +1085,14 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
     let rolling = m.phase == Phase::Contact && m.mode == Mode::Rolling;
     let h = m.applied();
     let normal = ev.map(|e| e.normal).unwrap_or(f64::NAN);
+    // Position and attitude (docs/physics.md §18): the state's x_O (its
+    // height as for the energy: the contact constraint's value in contact);
+    // the quaternion turned onto the integrated axis k, which the dynamics,
+    // θ and every other column use.
+    let l = sc.length;
+    let (z, _) = m.vertical(y, &kin);
+    let q = crate::observe::attitude_with_axis(quat_of(y), k);
+    let (x, yy) = (y[POS] * l, y[POS + 1] * l);
     Sample {
         t: t * tu,
         theta,
@@ -1107,6 +1115,15 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
         hx: h[0] * sc.force(),
         hy: h[1] * sc.force(),
         rolling: rolling as u8,
+        x,
+        y: yy,
+        z: z * l,
+        qw: q[0],
+        qx: q[1],
+        qy: q[2],
+        qz: q[3],
+        xp: x + m.a * k[0] * l,
+        yp: yy + m.a * k[1] * l,
     }
 }
 
