@@ -556,7 +556,10 @@ impl Vector {
         // is the integrated one turned onto the integrated axis k (which the
         // dynamics, θ and every other column use).
         let (l, a) = (sc.length, self.a);
+        // The unit axis (|k| = 1 holds only to the integration error), as θ.
         let k = [y[K], y[K + 1], y[K + 2]];
+        let nk = (k[0] * k[0] + k[1] * k[1] + k[2] * k[2]).sqrt();
+        let k = [k[0] / nk, k[1] / nk, k[2] / nk];
         let q =
             crate::observe::attitude_with_axis([y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]], k);
         let (x, yy) = (y[POS] * l, y[POS + 1] * l);

@@ -16,6 +16,7 @@
 //!   of μ|N| where N changes sign;
 //! - `crosscheck`: the models against each other;
 //! - `forces`: the applied force terms (the vertical load `force.K.hz`);
+//! - `position`: where the top is (position, attitude, contact point);
 //! - `rigid`: what only the rigid model has (attitude, flight, impacts).
 
 mod closed_forms;
@@ -23,6 +24,7 @@ mod convergence;
 mod crosscheck;
 mod forces;
 mod invariants;
+mod position;
 mod rigid;
 mod spec;
 mod stick_slip;
