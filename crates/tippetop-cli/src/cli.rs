@@ -101,6 +101,15 @@ trajectory.csv columns (SI units; angles in rad; frames in docs/physics.md):
                  retarding force: the force on the top at the contact point is -H)
   rolling        1 while rolling (only with exact Coulomb friction: slip held at zero),
                  else 0
+  x, y           centre-of-mass position on the plane, lab frame [m]: Z up, the plane
+                 at Z = 0, the origin below the centre of mass at t = 0, X the initial
+                 heading (the axis tilts towards +X at t = 0)
+  z              centre-of-mass height above the plane [m] (R − a cos θ in contact)
+  qw, qx, qy, qz  attitude, unit quaternion body → lab (scalar first; the symmetry
+                 axis is the body's third axis, k = q e3 q*; q = (cos θ/2, 0, sin θ/2, 0)
+                 at t = 0) [1]
+  xp, yp         contact point on the plane, lab frame [m]: the sphere's lowest point,
+                 (x, y) + a (k_X, k_Y)
 
 The scenario is the preset (if given), then the scenario file over it, then each --set in
 order. Bad input exits with code 2 and touches nothing; a run that fails part-way writes what

@@ -107,18 +107,20 @@ pub fn trajectory_header() -> String {
 pub fn write_trajectory_csv(path: &Path, traj: &Trajectory) -> Result<()> {
     write_atomic(path, |w| {
         writeln!(w, "{}", trajectory_header())?;
-        let mut line = String::with_capacity(400);
+        let mut line = String::with_capacity(640);
+        let rolling = COLUMNS.iter().position(|c| *c == "rolling").unwrap();
         for s in &traj.samples {
             line.clear();
-            let vals = s.values();
-            for (i, v) in vals[..vals.len() - 1].iter().enumerate() {
+            for (i, v) in s.values().iter().enumerate() {
                 if i > 0 {
                     line.push(',');
                 }
-                push_f64(&mut line, *v);
+                if i == rolling {
+                    line.push_str(if s.rolling != 0 { "1" } else { "0" });
+                } else {
+                    push_f64(&mut line, *v);
+                }
             }
-            line.push(',');
-            line.push_str(if s.rolling != 0 { "1" } else { "0" });
             line.push('\n');
             w.write_all(line.as_bytes())?;
         }
@@ -659,6 +661,15 @@ pub(crate) mod tests {
                     hx: 1e-22,
                     hy: 1e-22,
                     rolling: u8::from(i % 7 == 0),
+                    x: 2e-12 * x,
+                    y: -3e-12 * x * x,
+                    z: 1.5e-7 - 1e-8 * x,
+                    qw: (0.5 * theta).cos(),
+                    qx: 0.0,
+                    qy: (0.5 * theta).sin(),
+                    qz: 0.0,
+                    xp: 2e-12 * x + 3e-8 * theta.sin(),
+                    yp: -3e-12 * x * x,
                 }
             })
             .collect();
@@ -1016,7 +1027,8 @@ pub(crate) mod tests {
             for (f, v) in fields.iter().zip(vals) {
                 assert_eq!(f.parse::<f64>().unwrap().to_bits(), v.to_bits(), "{f}");
             }
-            assert!(matches!(*fields.last().unwrap(), "0" | "1"));
+            let rolling = COLUMNS.iter().position(|c| *c == "rolling").unwrap();
+            assert!(matches!(fields[rolling], "0" | "1"));
         }
     }
 

@@ -243,9 +243,9 @@ pub const SIN_GUARD: f64 = 1e-8;
 pub const MAX_STEPS: u64 = 20_000_000;
 
 /// Largest number of output rows (`solver.samples`). One row takes
-/// [`BYTES_PER_SAMPLE`] (144) bytes in memory (and about 310 bytes of CSV),
-/// so 5 000 000 rows need 0.72 GB while the run is kept in memory (and a
-/// 1.5 GB trajectory.csv): under the few GB of an ordinary machine. A sweep
+/// [`BYTES_PER_SAMPLE`] (216) bytes in memory (and about 440 bytes of CSV),
+/// so 5 000 000 rows need 1.08 GB while the run is kept in memory (and a
+/// 2.2 GB trajectory.csv): under the few GB of an ordinary machine. A sweep
 /// keeps one run per thread: [`crate::limits::run_memory_bytes`] times the threads.
 pub const MAX_SAMPLES: usize = 5_000_000;
 

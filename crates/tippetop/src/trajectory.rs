@@ -44,6 +44,31 @@ pub struct Sample {
     pub hy: f64,
     /// 1 while rolling (exact Coulomb law, slip held at zero), 0 while sliding.
     pub rolling: u8,
+    /// Centre-of-mass position, lab X \[m\]. Lab frame: the plane is
+    /// `Z = 0`, `Z` up; the origin is below the centre of mass at `t = 0`
+    /// (`x = y = 0` there), and the lab `X` is the initial heading: the
+    /// axis `k` tilts towards `+X` at `t = 0` (the precessing frame's `x̂`
+    /// starts along `X`, `ŷ = Z × x̂`). docs/physics.md §19.
+    pub x: f64,
+    /// Centre-of-mass position, lab Y \[m\].
+    pub y: f64,
+    /// Centre-of-mass height above the plane \[m\] (`R − a cos θ` in contact).
+    pub z: f64,
+    /// Attitude, unit quaternion body → lab, scalar part `w` (the body's
+    /// symmetry axis is its `e3`: `k = q e3 q*`; at `t = 0` the rotation is
+    /// by θ about the lab `Y`, so `q = (cos θ/2, 0, sin θ/2, 0)`).
+    pub qw: f64,
+    /// Attitude quaternion, `x` part.
+    pub qx: f64,
+    /// Attitude quaternion, `y` part.
+    pub qy: f64,
+    /// Attitude quaternion, `z` part.
+    pub qz: f64,
+    /// Contact point (the sphere's lowest point) on the plane, lab X \[m\]:
+    /// `x + a k_X`.
+    pub xp: f64,
+    /// Contact point on the plane, lab Y \[m\]: `y + a k_Y`.
+    pub yp: f64,
 }
 
 impl Sample {
@@ -71,8 +96,8 @@ impl Sample {
 }
 
 /// The CSV column names, in order; the first twelve are fixed by the
-/// scenario-file contract.
-pub const COLUMNS: [&str; 17] = [
+/// scenario-file contract, and new columns are appended after `rolling`.
+pub const COLUMNS: [&str; 26] = [
     "t",
     "theta",
     "theta_dot",
@@ -90,11 +115,20 @@ pub const COLUMNS: [&str; 17] = [
     "hx",
     "hy",
     "rolling",
+    "x",
+    "y",
+    "z",
+    "qw",
+    "qx",
+    "qy",
+    "qz",
+    "xp",
+    "yp",
 ];
 
 impl Sample {
     /// The row's values in [`COLUMNS`] order.
-    pub fn values(&self) -> [f64; 17] {
+    pub fn values(&self) -> [f64; 26] {
         [
             self.t,
             self.theta,
@@ -113,6 +147,15 @@ impl Sample {
             self.hx,
             self.hy,
             self.rolling as f64,
+            self.x,
+            self.y,
+            self.z,
+            self.qw,
+            self.qx,
+            self.qy,
+            self.qz,
+            self.xp,
+            self.yp,
         ]
     }
 }

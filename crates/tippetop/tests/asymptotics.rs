@@ -25,6 +25,15 @@ fn sample(t: f64, omega: f64, precession: f64, ux: f64, uy: f64) -> Sample {
         hx: 0.0,
         hy: 0.0,
         rolling: 0,
+        x: 0.0,
+        y: 0.0,
+        z: 0.0,
+        qw: 1.0,
+        qx: 0.0,
+        qy: 0.0,
+        qz: 0.0,
+        xp: 0.0,
+        yp: 0.0,
     }
 }
 

@@ -107,7 +107,7 @@ fn samples_are_bounded_by_memory() {
     let bytes = limits::run_memory_bytes(&sc.solver);
     assert!(bytes <= limits::MAX_RUN_BYTES, "{bytes}");
     // One row is the size of a Sample and its time: at most a few hundred bytes.
-    const { assert!(limits::BYTES_PER_SAMPLE <= 200) };
+    const { assert!(limits::BYTES_PER_SAMPLE <= 256) };
 }
 
 /// Defect 3: the step limit fires on every model and method, counted over

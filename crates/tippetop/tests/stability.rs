@@ -43,7 +43,7 @@ fn axis_model_matches_reduced_model() {
         ] {
             let f = 1.0 / tu;
             let ysi = [th, thd * f, om * f, w * f, ux * vu, uy * vu];
-            let mut y = [0.0; 8];
+            let mut y = [0.0; tippetop::model::reduced::DIM];
             y[TH] = th;
             for i in 1..4 {
                 y[i] = ysi[i] * tu;

@@ -172,9 +172,16 @@ impl<const N: usize> Dop853<N> {
     /// step's end `y₁` and the 12th stage's state `ŷ` (both at `t + h`;
     /// `dop853.f`'s stiffness estimate, a lower bound of the Lipschitz
     /// constant along `y₁ − ŷ`); `+∞` when the two coincide.
-    fn stability_limit(&self, y_new: &[f64; N], y_hat: &[f64; N], f_new: &[f64; N]) -> f64 {
+    /// Over the controlled components `..controlled` only.
+    fn stability_limit(
+        &self,
+        y_new: &[f64; N],
+        y_hat: &[f64; N],
+        f_new: &[f64; N],
+        controlled: usize,
+    ) -> f64 {
         let (mut num, mut den) = (0.0, 0.0);
-        for n in 0..N {
+        for n in 0..controlled {
             num += (f_new[n] - self.k[11][n]).powi(2);
             den += (y_new[n] - y_hat[n]).powi(2);
         }
@@ -257,6 +264,12 @@ impl<const N: usize> Engine<N> for Dop853<N> {
             for n in 0..N {
                 y_new[n] = y[n] + hs * incr[n];
                 finite &= y_new[n].is_finite();
+            }
+            // The error norm over the controlled components only (the
+            // quadratures after them are carried along, see
+            // `OdeSystem::CONTROLLED`).
+            let controlled = S::CONTROLLED;
+            for n in 0..controlled {
                 let sk = self.atol + self.rtol * y[n].abs().max(y_new[n].abs());
                 err2 += ((incr[n] - bhh[n]) / sk).powi(2);
                 err += (e5[n] / sk).powi(2);
@@ -265,7 +278,7 @@ impl<const N: usize> Engine<N> for Dop853<N> {
             if deno <= 0.0 {
                 deno = 1.0;
             }
-            let err = hs.abs() * err * (1.0 / (N as f64 * deno)).sqrt();
+            let err = hs.abs() * err * (1.0 / (controlled as f64 * deno)).sqrt();
             if !finite || !err.is_finite() {
                 stats.rejected += 1;
                 self.rejected = true;
@@ -285,7 +298,10 @@ impl<const N: usize> Engine<N> for Dop853<N> {
                     h_new = h_new.min(hs);
                 }
                 if self.stability_cap {
-                    h_new = h_new.min(self.stability_limit(&y_new, &yt, &f_new).max(FAC1 * hs));
+                    h_new = h_new.min(
+                        self.stability_limit(&y_new, &yt, &f_new, controlled)
+                            .max(FAC1 * hs),
+                    );
                 }
                 if clipped && hs < self.h {
                     // A step shortened to land on a stop says little about

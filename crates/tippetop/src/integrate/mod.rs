@@ -41,8 +41,9 @@
 //!   `(y_k, f_k, y_{k+1}, f_{k+1})`.
 //! - DOP853 (`Stepper::Dop853`): Hairer's `dop853.f` algorithm: 12-stage
 //!   8th-order method with FSAL, error norm combining the 5th- and 3rd-order
-//!   estimates (`err = |h| e5² / sqrt(N (e5² + 0.01 e3²))`, with
-//!   `sk_i = atol + rtol max(|y_i|, |y_new_i|)`), automatic initial step
+//!   estimates (`err = |h| e5² / sqrt(C (e5² + 0.01 e3²))`, with
+//!   `sk_i = atol + rtol max(|y_i|, |y_new_i|)`, summed over the `C =
+//!   OdeSystem::CONTROLLED` controlled components), automatic initial step
 //!   (`hinit`), step-size control with safety 0.9, `fac1 = 0.333`,
 //!   `fac2 = 6.0` and `dop853.f`'s stabilised (PI) control with a
 //!   configurable `beta` (`Stepper::Dop853::beta`; `0`, Hairer's default, is
@@ -76,10 +77,11 @@
 //!   inside the step, or an event crossing):
 //!   `rhs_evals = segments + [h0 is None] + 12 * steps + 11 * rejected
 //!   + 3 * dense_steps`.
-//! - Rodas4P: 1 per segment start, 1 for `hinit` (as DOP853), `2 N + 7`
-//!   per accepted step (`2 N` for the Jacobian, 1 for `∂f/∂t`, 5 stages, 1
-//!   for `f(t_new, y_new)`), 5 per rejected attempt (the Jacobian is
-//!   reused): `rhs_evals = segments + [h0 is None] + (2 N + 7) * steps +
+//! - Rodas4P: 1 per segment start, 1 for `hinit` (as DOP853), `2 C + 7`
+//!   per accepted step (`2 C` for the Jacobian, `C` =
+//!   `OdeSystem::CONTROLLED`, 1 for `∂f/∂t`, 5 stages, 1 for
+//!   `f(t_new, y_new)`), 5 per rejected attempt (the Jacobian is reused):
+//!   `rhs_evals = segments + [h0 is None] + (2 C + 7) * steps +
 //!   5 * rejected`.
 //!
 //! `Stats::rejected` counts every rejected DOP853 or Rodas4P attempt (also
@@ -96,6 +98,30 @@ pub trait OdeSystem<const N: usize> {
     fn begin_segment(&mut self, _t: f64, _y: &[f64; N]) {}
     /// Evaluate `dy = f(t, y)`.
     fn rhs(&mut self, t: f64, y: &[f64; N], dy: &mut [f64; N]) -> Result<(), Self::Error>;
+
+    /// Number of leading components under error control: the adaptive
+    /// engines' error norm, Hairer's initial step (`hinit`) and DOP853's
+    /// stiffness estimate see `y[..CONTROLLED]` only, and Rodas4P
+    /// differentiates the right-hand side numerically with respect to these
+    /// components only. The components from `CONTROLLED` on are
+    /// *quadratures* (positions, orientation angles): integrated with the
+    /// same steps, dense output and events as the rest, but their errors do
+    /// not steer the step size. The contract: no derivative of a controlled
+    /// component reads a quadrature (so appending quadratures leaves the
+    /// controlled components, the step sequence and the counters bit for bit
+    /// as they were). Default: every component.
+    const CONTROLLED: usize = N;
+
+    /// The Jacobian's block among the quadratures, `∂f_i/∂y_j` for `i, j >=
+    /// CONTROLLED`, written into `jac[i][j]` (the caller has zeroed it), at
+    /// `(t, y)` with `f = f(t, y)`. Used by Rodas4P, which takes the other
+    /// columns by finite differences; a quadrature that reads another
+    /// quadrature (a position rotated by a precession angle) states the
+    /// dependence here, so the method keeps its order for the quadratures
+    /// without the `2 (N − CONTROLLED)` evaluations per step that finite
+    /// differences would cost. Default: zero (no quadrature reads another).
+    fn quadrature_jacobian(&self, _t: f64, _y: &[f64; N], _f: &[f64; N], _jac: &mut [[f64; N]; N]) {
+    }
 }
 
 /// Which stepper, with its settings.
@@ -139,8 +165,8 @@ pub enum Stepper {
     /// Rodas4P (linearly implicit, L-stable, order 4 with an order-3 error
     /// estimate and order-3 dense output) with error control
     /// `RMS(err_i / (atol + rtol * max(|y_i|, |y_new_i|))) <= 1`, for stiff
-    /// problems. Numerical Jacobian (central differences, `2 N + 1`
-    /// evaluations per step with `∂f/∂t`).
+    /// problems. Numerical Jacobian (central differences over the controlled
+    /// components, `2 C + 1` evaluations per step with `∂f/∂t`).
     Rosenbrock {
         /// Relative tolerance.
         rtol: f64,
@@ -379,7 +405,7 @@ fn hinit<S: OdeSystem<N>, const N: usize>(
 ) -> Result<f64, Fail<S::Error>> {
     let mut dnf = 0.0;
     let mut dny = 0.0;
-    for n in 0..N {
+    for n in 0..S::CONTROLLED {
         let sk = atol + rtol * y[n].abs();
         dnf += (f0[n] / sk).powi(2);
         dny += (y[n] / sk).powi(2);
@@ -397,7 +423,7 @@ fn hinit<S: OdeSystem<N>, const N: usize>(
     let mut f1 = [0.0; N];
     eval(sys, t + h, &y1, &mut f1, stats)?;
     let mut der2 = 0.0;
-    for n in 0..N {
+    for n in 0..S::CONTROLLED {
         let sk = atol + rtol * y[n].abs();
         der2 += ((f1[n] - f0[n]) / sk).powi(2);
     }

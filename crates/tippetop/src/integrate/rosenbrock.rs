@@ -173,18 +173,40 @@ const SQRT_EPS: f64 = 1.4901161193847656e-8;
 /// LU factorisation with partial pivoting of `a` in place (`L` unit lower,
 /// below the diagonal; `U` on and above it; row `k` was swapped with
 /// `piv[k]` at step `k`). Returns `false` if a pivot is zero or not finite.
+#[cfg(test)]
 pub(crate) fn lu_factor<const N: usize>(a: &mut [[f64; N]; N], piv: &mut [usize; N]) -> bool {
-    for k in 0..N {
+    lu_factor_block(a, piv, 0, N)
+}
+
+/// Solve `A x = b` in place from [`lu_factor`]'s output.
+#[cfg(test)]
+pub(crate) fn lu_solve<const N: usize>(lu: &[[f64; N]; N], piv: &[usize; N], b: &mut [f64; N]) {
+    lu_solve_block(lu, piv, b, 0, N);
+}
+
+/// [`lu_factor`] of the diagonal block `lo..hi` of `a` alone (pivot rows
+/// searched and swapped within `lo..hi`; a swap moves whole rows, so the
+/// block's rows left of `lo` move with it). For a block lower triangular
+/// matrix `[[A, 0], [B, D]]` (the Rosenbrock matrix of a system with
+/// quadratures, `OdeSystem::CONTROLLED`) the blocks `A` (`0..c`) and `D`
+/// (`c..N`) are factorised separately and [`lu_solve_block`] solves by
+/// block forward substitution; over `0..N` this is plain [`lu_factor`].
+pub(crate) fn lu_factor_block<const N: usize>(
+    a: &mut [[f64; N]; N],
+    piv: &mut [usize; N],
+    lo: usize,
+    hi: usize,
+) -> bool {
+    for k in lo..hi {
         let mut p = k;
         let mut m = a[k][k].abs();
-        for i in k + 1..N {
+        for i in k + 1..hi {
             let v = a[i][k].abs();
             if v > m {
                 m = v;
                 p = i;
             }
         }
-        // `!(m > 0)` also catches NaN.
         if !(m > 0.0 && m.is_finite()) {
             return false;
         }
@@ -193,11 +215,11 @@ pub(crate) fn lu_factor<const N: usize>(a: &mut [[f64; N]; N], piv: &mut [usize;
             a.swap(p, k);
         }
         let inv = 1.0 / a[k][k];
-        for i in k + 1..N {
+        for i in k + 1..hi {
             let l = a[i][k] * inv;
             a[i][k] = l;
             if l != 0.0 {
-                for j in k + 1..N {
+                for j in k + 1..hi {
                     a[i][j] -= l * a[k][j];
                 }
             }
@@ -206,25 +228,48 @@ pub(crate) fn lu_factor<const N: usize>(a: &mut [[f64; N]; N], piv: &mut [usize;
     true
 }
 
-/// Solve `A x = b` in place from `lu_factor`'s output.
-pub(crate) fn lu_solve<const N: usize>(lu: &[[f64; N]; N], piv: &[usize; N], b: &mut [f64; N]) {
-    for k in 0..N {
+/// Solve for the components `lo..hi` of `x` in place, the components
+/// `..lo` of `b` already holding the solution: `D x₂ = b₂ − B x₁` with
+/// the block `lo..hi` factorised by [`lu_factor_block`] and `B` the rows
+/// `lo..hi` left of `lo` (as permuted by the block's pivoting).
+pub(crate) fn lu_solve_block<const N: usize>(
+    lu: &[[f64; N]; N],
+    piv: &[usize; N],
+    b: &mut [f64; N],
+    lo: usize,
+    hi: usize,
+) {
+    for k in lo..hi {
         b.swap(k, piv[k]);
     }
-    for i in 0..N {
+    for i in lo..hi {
         let mut s = b[i];
         for j in 0..i {
             s -= lu[i][j] * b[j];
         }
         b[i] = s;
     }
-    for i in (0..N).rev() {
+    for i in (lo..hi).rev() {
         let mut s = b[i];
-        for j in i + 1..N {
+        for j in i + 1..hi {
             s -= lu[i][j] * b[j];
         }
         b[i] = s / lu[i][i];
     }
+}
+
+/// Factorise the Rosenbrock matrix of a system whose first `c` components
+/// are controlled and the rest quadratures (block lower triangular: no
+/// controlled derivative reads a quadrature), block by block; with `c = N`
+/// this is [`lu_factor`].
+fn factor<const N: usize>(a: &mut [[f64; N]; N], piv: &mut [usize; N], c: usize) -> bool {
+    lu_factor_block(a, piv, 0, c) && lu_factor_block(a, piv, c, N)
+}
+
+/// Solve with [`factor`]'s output (block forward substitution).
+fn solve<const N: usize>(lu: &[[f64; N]; N], piv: &[usize; N], b: &mut [f64; N], c: usize) {
+    lu_solve_block(lu, piv, b, 0, c);
+    lu_solve_block(lu, piv, b, c, N);
 }
 
 /// The Rodas4P stepper state.
@@ -288,7 +333,10 @@ impl<const N: usize> Rodas4p<N> {
         let mut fp = [0.0; N];
         let mut fm = [0.0; N];
         let mut yp = *y;
-        for j in 0..N {
+        // Finite differences over the controlled components; the
+        // quadratures' columns are zero but for their own block, which the
+        // system states (`OdeSystem::quadrature_jacobian`).
+        for j in 0..S::CONTROLLED {
             let yj = y[j];
             let dd = SQRT_EPS * yj.abs().max(1.0);
             yp[j] = yj + dd;
@@ -303,6 +351,7 @@ impl<const N: usize> Rodas4p<N> {
             }
             yp[j] = yj;
         }
+        sys.quadrature_jacobian(t, y, f0, &mut jac);
         let tp = t + SQRT_EPS * t.abs().max(1.0);
         let dt = tp - t;
         eval(sys, tp, y, &mut fp, stats)?;
@@ -383,7 +432,7 @@ impl<const N: usize> Engine<N> for Rodas4p<N> {
                 e[i][i] += 1.0 / (GAMMA * hs);
             }
             let mut piv = [0usize; N];
-            if !lu_factor(&mut e, &mut piv) {
+            if !factor(&mut e, &mut piv, S::CONTROLLED) {
                 stats.rejected += 1;
                 self.rejected = true;
                 last_nonfinite = !e.iter().flatten().all(|v| v.is_finite());
@@ -404,7 +453,7 @@ impl<const N: usize> Engine<N> for Rodas4p<N> {
             for n in 0..N {
                 k1[n] = f0[n] + hs * D1 * ft[n];
             }
-            lu_solve(&e, &piv, &mut k1);
+            solve(&e, &piv, &mut k1, S::CONTROLLED);
 
             for n in 0..N {
                 u[n] = y[n] + A21 * k1[n];
@@ -413,7 +462,7 @@ impl<const N: usize> Engine<N> for Rodas4p<N> {
             for n in 0..N {
                 k2[n] = du[n] + (C21 * inv_h) * k1[n] + hs * D2 * ft[n];
             }
-            lu_solve(&e, &piv, &mut k2);
+            solve(&e, &piv, &mut k2, S::CONTROLLED);
 
             for n in 0..N {
                 u[n] = y[n] + A31 * k1[n] + A32 * k2[n];
@@ -422,7 +471,7 @@ impl<const N: usize> Engine<N> for Rodas4p<N> {
             for n in 0..N {
                 k3[n] = du[n] + (C31 * inv_h) * k1[n] + (C32 * inv_h) * k2[n] + hs * D3 * ft[n];
             }
-            lu_solve(&e, &piv, &mut k3);
+            solve(&e, &piv, &mut k3, S::CONTROLLED);
 
             for n in 0..N {
                 u[n] = y[n] + A41 * k1[n] + A42 * k2[n] + A43 * k3[n];
@@ -435,7 +484,7 @@ impl<const N: usize> Engine<N> for Rodas4p<N> {
                     + (C43 * inv_h) * k3[n]
                     + hs * D4 * ft[n];
             }
-            lu_solve(&e, &piv, &mut k4);
+            solve(&e, &piv, &mut k4, S::CONTROLLED);
 
             for n in 0..N {
                 u[n] = y[n] + A51 * k1[n] + A52 * k2[n] + A53 * k3[n] + A54 * k4[n];
@@ -448,7 +497,7 @@ impl<const N: usize> Engine<N> for Rodas4p<N> {
                     + (C53 * inv_h) * k3[n]
                     + (C54 * inv_h) * k4[n];
             }
-            lu_solve(&e, &piv, &mut k5);
+            solve(&e, &piv, &mut k5, S::CONTROLLED);
 
             // Embedded (order 3) solution.
             for n in 0..N {
@@ -463,7 +512,7 @@ impl<const N: usize> Engine<N> for Rodas4p<N> {
                     + (C64 * inv_h) * k4[n]
                     + (C65 * inv_h) * k5[n];
             }
-            lu_solve(&e, &piv, &mut k6);
+            solve(&e, &piv, &mut k6, S::CONTROLLED);
 
             // Order-4 solution; k6 is the error estimate.
             let mut y_new = [0.0; N];
@@ -472,10 +521,14 @@ impl<const N: usize> Engine<N> for Rodas4p<N> {
             for n in 0..N {
                 y_new[n] = u[n] + k6[n];
                 finite &= y_new[n].is_finite();
+            }
+            // The error norm over the controlled components only.
+            let controlled = S::CONTROLLED;
+            for n in 0..controlled {
                 let sk = self.atol + self.rtol * y[n].abs().max(y_new[n].abs());
                 err += (k6[n] / sk).powi(2);
             }
-            let err = (err / N as f64).sqrt();
+            let err = (err / controlled as f64).sqrt();
             if !finite || !err.is_finite() {
                 stats.rejected += 1;
                 self.rejected = true;
@@ -561,7 +614,7 @@ impl<const N: usize> Engine<N> for Rodas4p<N> {
 
 #[cfg(test)]
 mod tests {
-    use super::{lu_factor, lu_solve};
+    use super::{factor, lu_factor, lu_solve, solve};
 
     /// A 4x4 system that needs pivoting (zero leading entry).
     #[test]
@@ -584,6 +637,35 @@ mod tests {
         assert!(lu_factor(&mut lu, &mut piv));
         lu_solve(&lu, &piv, &mut b);
         for i in 0..4 {
+            assert!((b[i] - x[i]).abs() < 1e-14, "{b:?} vs {x:?}");
+        }
+    }
+
+    /// A block lower triangular matrix `[[A, 0], [B, D]]` (quadratures
+    /// after the controlled components), factorised block by block, with a
+    /// pivot swap in each block (a[0][0] = 0, d[0][0] small).
+    #[test]
+    fn block_lu_solves_block_lower_triangular() {
+        let a = [
+            [0.0, 2.0, 1.0, 0.0, 0.0],
+            [3.0, -1.0, 0.5, 0.0, 0.0],
+            [1.0, 1.0, 4.0, 0.0, 0.0],
+            [-2.0, 0.5, 1.0, 0.1, 3.0],
+            [0.7, -1.5, 2.0, -2.0, 1.0],
+        ];
+        let x = [1.0, -2.0, 0.5, 3.0, -0.25];
+        let mut b = [0.0; 5];
+        for i in 0..5 {
+            for j in 0..5 {
+                b[i] += a[i][j] * x[j];
+            }
+        }
+        let mut lu = a;
+        let mut piv = [0; 5];
+        assert!(factor(&mut lu, &mut piv, 3));
+        assert_eq!((piv[0], piv[3]), (1, 4), "both blocks pivot");
+        solve(&lu, &piv, &mut b, 3);
+        for i in 0..5 {
             assert!((b[i] - x[i]).abs() < 1e-14, "{b:?} vs {x:?}");
         }
     }

@@ -609,3 +609,62 @@ mod tests {
         assert!(n > 100_000);
     }
 }
+
+#[cfg(test)]
+mod quadrature_tests {
+    use crate::Scenario;
+    use crate::integrate::OdeSystem;
+
+    /// `quadrature_jacobian` against central differences of `rhs` over the
+    /// quadrature columns, and no controlled derivative reads a quadrature
+    /// (their columns are zero in the controlled rows): the contract of
+    /// `OdeSystem::CONTROLLED`. Step 1e-6 on O(1) components: truncation
+    /// O(1e-12), cancellation O(1e-10); bound 1e-8.
+    fn check<S: OdeSystem<N>, const N: usize>(sys: &mut S, y: [f64; N]) {
+        let c = S::CONTROLLED;
+        assert!(c < N);
+        let mut f = [0.0; N];
+        sys.rhs(0.0, &y, &mut f).ok().unwrap();
+        let mut jac = [[0.0; N]; N];
+        sys.quadrature_jacobian(0.0, &y, &f, &mut jac);
+        for j in c..N {
+            let h = 1e-6;
+            let (mut yp, mut ym) = (y, y);
+            yp[j] += h;
+            ym[j] -= h;
+            let (mut fp, mut fm) = ([0.0; N], [0.0; N]);
+            sys.rhs(0.0, &yp, &mut fp).ok().unwrap();
+            sys.rhs(0.0, &ym, &mut fm).ok().unwrap();
+            for i in 0..N {
+                let fd = (fp[i] - fm[i]) / (2.0 * h);
+                if i < c {
+                    assert_eq!(fp[i], fm[i], "controlled {i} reads quadrature {j}");
+                } else {
+                    assert!(
+                        (fd - jac[i][j]).abs() <= 1e-8,
+                        "d{i}/d{j}: {fd} vs {}",
+                        jac[i][j]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn quadrature_jacobians_match_finite_differences() {
+        let sc = Scenario::classical();
+        let mut r = super::reduced::Reduced::new(&sc);
+        let mut y = r.scale_state(&sc.initial);
+        y[super::reduced::THD] = 0.3;
+        y[super::reduced::UX] = 0.2;
+        y[super::reduced::UY] = -0.1;
+        y[super::reduced::PHI] = 0.7;
+        y[super::reduced::PSI] = -1.1;
+        check(&mut r, y);
+        let mut v = super::vector::Vector::new(&sc);
+        let mut y = v.scale_state(&sc.initial);
+        y[super::vector::OMEGA + 1] = 0.4;
+        y[super::vector::QUAT..super::vector::QUAT + 4].copy_from_slice(&[0.5, -0.5, 0.1, 0.7]);
+        check(&mut v, y);
+    }
+}

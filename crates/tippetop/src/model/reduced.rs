@@ -1,10 +1,14 @@
 //! The paper's Euler-angle model (App. A), derived afresh in
 //! `docs/physics.md` §2–§4, with the normal force solved together with θ̈.
 //!
-//! State (scaled units, see [`Scales`]): `[θ, θ̇, Ω, ω, u_x, u_y, W_f, W_a]`
+//! State (scaled units, see [`Scales`]):
+//! `[θ, θ̇, Ω, ω, u_x, u_y, W_f, W_a, φ, ψ, x, y]`
 //! where `W_f`, `W_a` are the work done so far by friction and by the
 //! applied force (integrated alongside so the energy balance can be checked
-//! to the integrator's accuracy).
+//! to the integrator's accuracy), and `φ, ψ, x, y` are quadratures outside
+//! the error norm ([`CONTROLLED`]): the precession and spin angles
+//! (`φ̇ = Ω`, `ψ̇ = ω − Ω cos θ`) and the centre of mass's lab position
+//! (`ẋ + i ẏ = e^{iφ} (u_x + i u_y)`), docs/physics.md §19.
 //!
 //! Two modes: [`Mode::Sliding`] (friction from the friction law) and
 //! [`Mode::Rolling`] (exact Coulomb law only: slip held at zero, the
@@ -19,7 +23,10 @@ pub use crate::physics::units::Scales;
 use crate::{Scenario, Top, integrate::OdeSystem};
 
 /// Number of state components.
-pub const DIM: usize = 8;
+pub const DIM: usize = 12;
+/// Number of components under error control (`θ … W_a`); the quadratures
+/// `φ, ψ, x, y` follow ([`OdeSystem::CONTROLLED`]).
+pub const CONTROLLED: usize = 8;
 /// Index of θ.
 pub const TH: usize = 0;
 /// Index of θ̇.
@@ -36,6 +43,26 @@ pub const UY: usize = 5;
 pub const WF: usize = 6;
 /// Index of the applied-force work.
 pub const WA: usize = 7;
+/// Index of the precession angle φ (quadrature).
+pub const PHI: usize = 8;
+/// Index of the spin angle ψ (quadrature).
+pub const PSI: usize = 9;
+/// Index of the centre of mass's lab x (quadrature; y follows).
+pub const POS: usize = 10;
+
+/// The quadratures' derivatives `[φ̇, ψ̇, ẋ, ẏ]` at a state, with the
+/// centre-of-mass velocity `u` in the precessing frame (the constraint
+/// value while rolling) and `c = cos θ`.
+#[inline(always)]
+fn quadratures(y: &[f64; DIM], c: f64, u: [f64; 2]) -> [f64; 4] {
+    let (sp, cp) = y[PHI].sin_cos();
+    [
+        y[OM],
+        y[W] - y[OM] * c,
+        u[0] * cp - u[1] * sp,
+        u[0] * sp + u[1] * cp,
+    ]
+}
 
 /// Slip reversals between accepted steps after which the sliding-only law is
 /// declared to chatter (a genuine motion reverses its slip only at isolated
@@ -191,6 +218,11 @@ impl Reduced {
             i.uy / v,
             0.0,
             0.0,
+            // φ = ψ = 0 (the axis tilts towards the lab X), x = y = 0.
+            0.0,
+            0.0,
+            0.0,
+            0.0,
         ]
     }
 
@@ -292,6 +324,7 @@ impl Reduced {
         let thdd = (gyro - as_ * cp.vertical_total(normal) - h * fx) * inv_ia;
         let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
         let wd = s * fy * inv_ic;
+        let [dphi, dpsi, dx, dy_] = quadratures(y, c, [ux, uy]);
         let dy = [
             thd,
             thdd,
@@ -301,6 +334,10 @@ impl Reduced {
             -om * ux + fy,
             ff[0] * v[0] + ff[1] * v[1],
             -hx * v[0] - hy * v[1],
+            dphi,
+            dpsi,
+            dx,
+            dy_,
         ];
         Ok(Eval {
             dy,
@@ -341,7 +378,21 @@ impl Reduced {
         let ff = [fx + hx, fy + hy];
         let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
         let wd = s * fy * inv_ic;
-        let dy = [thd, thdd, omd, wd, om * uy + fx, -om * ux + fy, 0.0, 0.0];
+        let [dphi, dpsi, dx, dy_] = quadratures(y, c, [ux, uy]);
+        let dy = [
+            thd,
+            thdd,
+            omd,
+            wd,
+            om * uy + fx,
+            -om * ux + fy,
+            0.0,
+            0.0,
+            dphi,
+            dpsi,
+            dx,
+            dy_,
+        ];
         Eval {
             dy,
             normal,
@@ -381,6 +432,19 @@ impl Reduced {
 
 impl OdeSystem<DIM> for Reduced {
     type Error = ModelError;
+    const CONTROLLED: usize = CONTROLLED;
+
+    /// `∂(ẋ, ẏ)/∂φ = (−ẏ, ẋ)`; nothing else among the quadratures reads one.
+    fn quadrature_jacobian(
+        &self,
+        _t: f64,
+        _y: &[f64; DIM],
+        f: &[f64; DIM],
+        jac: &mut [[f64; DIM]; DIM],
+    ) {
+        jac[POS][PHI] = -f[POS + 1];
+        jac[POS + 1][PHI] = f[POS];
+    }
 
     fn begin_segment(&mut self, t: f64, _y: &[f64; DIM]) {
         self.latch_force(t);
@@ -462,6 +526,14 @@ impl super::ContactModel<DIM> for Reduced {
         let u_si = [u[0] * vu, u[1] * vu, u[2] * vu];
         let (theta, thd, om, w) = (y[TH], y[THD] / tu, y[OM] / tu, y[W] / tu);
         let h = m.applied();
+        // Position and attitude (docs/physics.md §19): the plane is z = 0,
+        // the centre of mass at height R − a cos θ, the contact point below
+        // the sphere's centre C = O + a k.
+        let (l, a) = (sc.length, m.a);
+        let (s, c) = theta.sin_cos();
+        let (sp, cp) = y[PHI].sin_cos();
+        let q = crate::observe::attitude_from_euler(y[PHI], theta, y[PSI]);
+        let (x, yy) = (y[POS] * l, y[POS + 1] * l);
         crate::Sample {
             t: t * tu,
             theta,
@@ -480,6 +552,15 @@ impl super::ContactModel<DIM> for Reduced {
             hx: h[0] * sc.force(),
             hy: h[1] * sc.force(),
             rolling: (m.plane.mode == Mode::Rolling) as u8,
+            x,
+            y: yy,
+            z: (1.0 - a * c) * l,
+            qw: q[0],
+            qx: q[1],
+            qy: q[2],
+            qz: q[3],
+            xp: x + a * s * cp * l,
+            yp: yy + a * s * sp * l,
         }
     }
     fn describe_state(&self, y: &[f64]) -> String {

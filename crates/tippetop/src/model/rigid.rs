@@ -1112,6 +1112,22 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
     let rolling = m.phase == Phase::Contact && m.mode == Mode::Rolling;
     let h = m.applied();
     let normal = ev.map(|e| e.normal).unwrap_or(f64::NAN);
+    // Position and attitude (docs/physics.md §19): the state's x_O (its
+    // height the contact constraint's value in contact, the state's in
+    // flight);
+    // the quaternion turned onto the integrated axis k, which the dynamics,
+    // θ and every other column use.
+    let l = sc.length;
+    // The unit axis (|k| = 1 holds only to the integration error between
+    // restarts), as θ.
+    let nk = dot(k, k).sqrt();
+    let ku = [k[0] / nk, k[1] / nk, k[2] / nk];
+    let z = match m.phase {
+        Phase::Contact => 1.0 - m.a * ku[2],
+        Phase::Flight => y[POS + 2],
+    };
+    let q = crate::observe::attitude_with_axis(quat_of(y), k);
+    let (x, yy) = (y[POS] * l, y[POS + 1] * l);
     Sample {
         t: t * tu,
         theta,
@@ -1134,6 +1150,15 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
         hx: h[0] * sc.force(),
         hy: h[1] * sc.force(),
         rolling: rolling as u8,
+        x,
+        y: yy,
+        z: z * l,
+        qw: q[0],
+        qx: q[1],
+        qy: q[2],
+        qz: q[3],
+        xp: x + m.a * ku[0] * l,
+        yp: yy + m.a * ku[1] * l,
     }
 }
 

@@ -20,7 +20,11 @@
 //! # State and units
 //!
 //! Scaled units of [`Scales`] (lengths by R, masses by m). State
-//! (`DIM = 10`): `[k (3), w (3), v_x, v_y, W_f, W_a]`.
+//! (`DIM = 16`): `[k (3), w (3), v_x, v_y, W_f, W_a, q (4), x, y]`; the last
+//! six are quadratures outside the error norm ([`CONTROLLED`]): the attitude
+//! quaternion `q` (body → lab, `q̇ = ½ (0, w) ⊗ q`, carried for the rotation
+//! about `k`, which the dynamics never needs) and the centre of mass's lab
+//! position (`ẋ = v_x`, `ẏ = v_y`), docs/physics.md §19.
 //!
 //! # Equations (m = R = 1)
 //!
@@ -56,7 +60,10 @@ use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
 use crate::{Initial, Sample, Scenario, Top, integrate::OdeSystem};
 
 /// Number of state components.
-pub const DIM: usize = 10;
+pub const DIM: usize = 16;
+/// Number of components under error control (`k … W_a`); the quadratures
+/// `q, x, y` follow ([`OdeSystem::CONTROLLED`]).
+pub const CONTROLLED: usize = 10;
 /// Index of the symmetry axis `k` (3 components).
 pub const K: usize = 0;
 /// Index of the angular velocity `w` (space frame, 3 components).
@@ -67,6 +74,22 @@ pub const VEL: usize = 6;
 pub const WF: usize = 8;
 /// Index of the applied-force work.
 pub const WA: usize = 9;
+/// Index of the attitude quaternion `(w, x, y, z)`, body → lab (quadrature).
+pub const QUAT: usize = 10;
+/// Index of the centre of mass's lab x (quadrature; y follows).
+pub const POS: usize = 14;
+
+/// `½ (0, w) ⊗ q`: the attitude's rate for the space-frame angular velocity `w`.
+#[inline(always)]
+fn quat_rate(w: V3, y: &[f64; DIM]) -> [f64; 4] {
+    let q = [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]];
+    [
+        0.5 * (-w[0] * q[1] - w[1] * q[2] - w[2] * q[3]),
+        0.5 * (w[0] * q[0] + w[1] * q[3] - w[2] * q[2]),
+        0.5 * (w[1] * q[0] + w[2] * q[1] - w[0] * q[3]),
+        0.5 * (w[2] * q[0] + w[0] * q[2] - w[1] * q[1]),
+    ]
+}
 /// DOP853's step-size control for this model
 /// ([`crate::integrate::Stepper::Dop853`]): `β` of the stabilised (PI)
 /// control and the cap of the step at the stability limit `6.1/ρ`. Without
@@ -202,7 +225,8 @@ impl Vector {
 
     /// Scaled state from SI initial values, with the precessing x along the
     /// space X: `k = (s, 0, c)`, `w = ((ω − Ω c) s, θ̇, Ω s² + ω c)`,
-    /// `v = (u_x, u_y)`.
+    /// `v = (u_x, u_y)`, `q = (cos θ/2, 0, sin θ/2, 0)` (a turn by θ about
+    /// the lab Y), `x = y = 0`.
     pub fn scale_state(&self, i: &Initial) -> [f64; DIM] {
         let t = self.scales.time;
         let vu = self.scales.velocity();
@@ -217,6 +241,12 @@ impl Vector {
             om * s * s + w * c,
             i.ux / vu,
             i.uy / vu,
+            0.0,
+            0.0,
+            (0.5 * i.theta).cos(),
+            0.0,
+            (0.5 * i.theta).sin(),
+            0.0,
             0.0,
             0.0,
         ]
@@ -335,7 +365,7 @@ impl Vector {
         let kn = self.kin(y);
         match self.plane.mode {
             Mode::Sliding => self.eval_sliding(y, &kn),
-            Mode::Rolling => Ok(self.eval_rolling(&kn)),
+            Mode::Rolling => Ok(self.eval_rolling(y, &kn)),
         }
     }
 
@@ -395,6 +425,7 @@ impl Vector {
         // The vertical force at P is N − h_z (§17).
         let force = [ff[0] - hw[0], ff[1] - hw[1], cp.vertical_total(normal)];
         let wd = add(w0, self.inv_inertia(k, cross(r, force)));
+        let qd = quat_rate(w, y);
         let dy = [
             kd[0],
             kd[1],
@@ -406,6 +437,12 @@ impl Vector {
             force[1],
             ff[0] * vp[0] + ff[1] * vp[1],
             -hw[0] * vp[0] - hw[1] * vp[1],
+            qd[0],
+            qd[1],
+            qd[2],
+            qd[3],
+            v[0],
+            v[1],
         ];
         Ok(Eval {
             dy,
@@ -419,7 +456,7 @@ impl Vector {
     /// Rolling: the slip held at zero; the whole contact force from one
     /// 3×3 symmetric positive definite system.
     #[inline(always)]
-    fn eval_rolling(&self, kn: &Kin) -> Eval {
+    fn eval_rolling(&self, y: &[f64; DIM], kn: &Kin) -> Eval {
         let a = self.a;
         let Kin {
             k,
@@ -445,8 +482,10 @@ impl Vector {
         let force = solve3(kmat, b);
         let hw = self.applied_world(k);
         let wd = add(w0, self.inv_inertia(k, cross(r, force)));
+        let qd = quat_rate(w, y);
         let dy = [
-            kd[0], kd[1], kd[2], wd[0], wd[1], wd[2], force[0], force[1], 0.0, 0.0,
+            kd[0], kd[1], kd[2], wd[0], wd[1], wd[2], force[0], force[1], 0.0, 0.0, qd[0], qd[1],
+            qd[2], qd[3], -wr[0], -wr[1],
         ];
         Eval {
             dy,
@@ -507,6 +546,17 @@ impl Vector {
                 f64::NAN,
             ),
         };
+        // Position and attitude (docs/physics.md §19): the output quaternion
+        // is the integrated one turned onto the integrated axis k (which the
+        // dynamics, θ and every other column use).
+        let (l, a) = (sc.length, self.a);
+        // The unit axis (|k| = 1 holds only to the integration error), as θ.
+        let k = [y[K], y[K + 1], y[K + 2]];
+        let nk = (k[0] * k[0] + k[1] * k[1] + k[2] * k[2]).sqrt();
+        let k = [k[0] / nk, k[1] / nk, k[2] / nk];
+        let q =
+            crate::observe::attitude_with_axis([y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]], k);
+        let (x, yy) = (y[POS] * l, y[POS + 1] * l);
         Sample {
             t: t * tu,
             theta,
@@ -525,6 +575,15 @@ impl Vector {
             hx: self.plane.applied()[0] * sc.force(),
             hy: self.plane.applied()[1] * sc.force(),
             rolling: (self.plane.mode == Mode::Rolling) as u8,
+            x,
+            y: yy,
+            z: (1.0 - a * k[2]) * l,
+            qw: q[0],
+            qx: q[1],
+            qy: q[2],
+            qz: q[3],
+            xp: x + a * k[0] * l,
+            yp: yy + a * k[1] * l,
         }
     }
 
@@ -548,6 +607,30 @@ impl Vector {
 
 impl OdeSystem<DIM> for Vector {
     type Error = ModelError;
+    const CONTROLLED: usize = CONTROLLED;
+
+    /// `∂q̇/∂q = ½ L(w)` (left multiplication by `(0, w)`); the position
+    /// reads no quadrature.
+    fn quadrature_jacobian(
+        &self,
+        _t: f64,
+        y: &[f64; DIM],
+        _f: &[f64; DIM],
+        jac: &mut [[f64; DIM]; DIM],
+    ) {
+        let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
+        let l = [
+            [0.0, -w[0], -w[1], -w[2]],
+            [w[0], 0.0, -w[2], w[1]],
+            [w[1], w[2], 0.0, -w[0]],
+            [w[2], -w[1], w[0], 0.0],
+        ];
+        for (i, row) in l.iter().enumerate() {
+            for (j, v) in row.iter().enumerate() {
+                jac[QUAT + i][QUAT + j] = 0.5 * v;
+            }
+        }
+    }
 
     fn begin_segment(&mut self, t: f64, _y: &[f64; DIM]) {
         self.latch_force(t);

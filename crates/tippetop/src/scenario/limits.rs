@@ -35,8 +35,10 @@ pub const MAX_SCALED_T_END: f64 = 1e9;
 pub const MAX_EVENTS: usize = 100_000;
 
 /// Largest memory one run may need for the rows and events it keeps
-/// \[bytes\]: 1 GiB. [`run_memory_bytes`] of a valid scenario stays below it.
-pub const MAX_RUN_BYTES: u64 = 1 << 30;
+/// \[bytes\]: 1.5 GiB (the largest run, [`crate::state::MAX_SAMPLES`] rows of
+/// 216 bytes, needs 1.08 GB). [`run_memory_bytes`] of a valid scenario stays
+/// below it.
+pub const MAX_RUN_BYTES: u64 = 3 << 29;
 
 /// The memory a run of `solver` keeps while it runs \[bytes\]: its samples
 /// (rows and sample times) and at most [`MAX_EVENTS`] events. The

@@ -17,6 +17,7 @@
 //! - `crosscheck`: the models against each other;
 //! - `forces`: the applied force terms (the vertical load `force.K.hz`);
 //! - `adhesion`: van der Waals adhesion (`[adhesion]`, a centre-vertical term);
+//! - `position`: where the top is (position, attitude, contact point);
 //! - `rigid`: what only the rigid model has (attitude, flight, impacts).
 
 mod adhesion;
@@ -25,6 +26,7 @@ mod convergence;
 mod crosscheck;
 mod forces;
 mod invariants;
+mod position;
 mod rigid;
 mod spec;
 mod stick_slip;
