@@ -37,6 +37,7 @@ fn state_at(sc: &Scenario, t: f64, mode: Mode) -> (Reduced, [f64; DIM]) {
         spin: s.spin,
         ux: s.ux,
         uy: s.uy,
+        heading: 0.0,
     });
     (m, y)
 }
@@ -113,6 +114,7 @@ fn bench_rhs_vector(c: &mut Criterion) {
             spin: yr[3] / s.time,
             ux: yr[4] * s.velocity(),
             uy: yr[5] * s.velocity(),
+            heading: 0.0,
         });
         assert!(m.eval(&y).is_ok(), "{name}: state not evaluable");
         let mut dy = [0.0; vector::DIM];

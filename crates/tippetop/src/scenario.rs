@@ -325,6 +325,9 @@ impl Scenario {
         ] {
             initial.insert(k.into(), Value::Float(v));
         }
+        if i.heading != 0.0 {
+            initial.insert("heading".into(), Value::Float(i.heading));
+        }
 
         let so = &self.solver;
         let mut solver = Table::new();
@@ -420,7 +423,54 @@ const INITIAL_KEYS: Keys = &[
     ("spin", "a finite number [rad/s]"),
     ("ux", "a finite number [m/s]"),
     ("uy", "a finite number [m/s]"),
+    (
+        "heading",
+        "a finite angle [rad] from the lab X axis (default 0)",
+    ),
+    (
+        "axis",
+        "[x, y, z], the symmetry axis in the lab frame (Z up; nonzero, normalised); with angular_velocity and velocity, instead of theta ... heading",
+    ),
+    (
+        "angular_velocity",
+        "[x, y, z] [rad/s], lab frame (default [0, 0, 0]; with axis)",
+    ),
+    (
+        "velocity",
+        "[x, y] [m/s], horizontal centre-of-mass velocity, lab frame (default [0, 0]; with axis)",
+    ),
 ];
+
+/// The `[initial]` keys of the Euler-angle form and of the lab-frame form.
+const INITIAL_EULER: [&str; 7] = [
+    "theta",
+    "theta_dot",
+    "precession",
+    "spin",
+    "ux",
+    "uy",
+    "heading",
+];
+const INITIAL_LAB: [&str; 3] = ["axis", "angular_velocity", "velocity"];
+
+/// Insert `[initial]` key `k`: a lab-frame key replaces the Euler-angle
+/// keys of earlier layers (the preset, a file); an Euler-angle key after
+/// a lab-frame key is an error (the two forms do not mix).
+fn insert_initial(dst: &mut Table, k: &str, v: Value) -> Result<(), Error> {
+    if INITIAL_LAB.contains(&k) {
+        for e in INITIAL_EULER {
+            dst.remove(e);
+        }
+    } else if let Some(lab) = INITIAL_LAB.iter().find(|l| dst.contains_key(**l)) {
+        return Err(Error::invalid(
+            &format!("initial.{k}"),
+            format!("cannot be combined with initial.{lab}"),
+            "the initial state either as theta, theta_dot, precession, spin, ux, uy, heading or as axis, angular_velocity, velocity".into(),
+        ));
+    }
+    dst.insert(k.to_string(), v);
+    Ok(())
+}
 
 const SOLVER_KEYS: Keys = &[
     ("method", "\"adaptive\", \"rk4\" or \"stiff\""),
@@ -636,9 +686,24 @@ fn merge_file(merged: &mut Table, file: &Table) -> Result<bool, Error> {
             if name == "surface" && t.contains_key("friction_eps") {
                 eps_explicit = true;
             }
+            if name == "initial" {
+                let euler = INITIAL_EULER.iter().find(|e| t.contains_key(**e));
+                let lab = INITIAL_LAB.iter().find(|l| t.contains_key(**l));
+                if let (Some(e), Some(l)) = (euler, lab) {
+                    return Err(Error::invalid(
+                        &format!("initial.{e}"),
+                        format!("cannot be combined with initial.{l}"),
+                        "the initial state either as theta, theta_dot, precession, spin, ux, uy, heading or as axis, angular_velocity, velocity".into(),
+                    ));
+                }
+            }
             let dst = table_mut(merged, name);
             for (k, v) in t {
-                dst.insert(k.clone(), v.clone());
+                if name == "initial" {
+                    insert_initial(dst, k, v.clone())?;
+                } else {
+                    dst.insert(k.clone(), v.clone());
+                }
             }
         }
     }
@@ -710,7 +775,11 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
             if !keys.iter().any(|(name, _)| name == k) {
                 return Err(unknown_key(key, keys));
             }
-            table_mut(merged, table).insert((*k).to_string(), value);
+            if *table == "initial" {
+                insert_initial(table_mut(merged, table), k, value)?;
+            } else {
+                table_mut(merged, table).insert((*k).to_string(), value);
+            }
             Ok(*table == "surface" && *k == "friction_eps")
         }
         [table, ..] if keys_of(table).is_some() => {
@@ -785,6 +854,41 @@ impl Section<'_> {
             ));
         }
         Ok(x)
+    }
+
+    /// An array of `N` finite numbers; `default` `None` = required.
+    fn f64s<const N: usize>(
+        &self,
+        key: &str,
+        default: Option<[f64; N]>,
+    ) -> Result<[f64; N], Error> {
+        let v = match self.get(key) {
+            None => return default.ok_or_else(|| self.missing(key)),
+            Some(v) => v,
+        };
+        let expected = format!("an array of {N} numbers");
+        let Value::Array(a) = v else {
+            return Err(self.wrong_type(key, &expected, v));
+        };
+        if a.len() != N {
+            return Err(self.wrong_type(key, &expected, v));
+        }
+        let mut out = [0.0; N];
+        for (o, x) in out.iter_mut().zip(a) {
+            *o = match x {
+                Value::Float(f) => *f,
+                Value::Integer(i) => *i as f64,
+                _ => return Err(self.wrong_type(key, &expected, v)),
+            };
+            if !o.is_finite() {
+                return Err(Error::invalid(
+                    &self.full(key),
+                    format!("{o} is not allowed"),
+                    range_of(self.keys, key).into(),
+                ));
+            }
+        }
+        Ok(out)
     }
 
     /// A non-negative whole number (a whole float is accepted).
@@ -919,13 +1023,31 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     let forcing = Forcing { windows };
 
     let s = section(merged, "initial");
-    let initial = Initial {
-        theta: s.f64("theta", req(0.0))?,
-        theta_dot: s.f64("theta_dot", Some(0.0))?,
-        precession: s.f64("precession", Some(0.0))?,
-        spin: s.f64("spin", req(0.0))?,
-        ux: s.f64("ux", Some(0.0))?,
-        uy: s.f64("uy", Some(0.0))?,
+    let initial = if s.get("axis").is_some() {
+        Initial::from_lab(
+            s.f64s("axis", None)?,
+            s.f64s("angular_velocity", Some([0.0; 3]))?,
+            s.f64s("velocity", Some([0.0; 2]))?,
+        )?
+    } else if let Some(l) = ["angular_velocity", "velocity"]
+        .into_iter()
+        .find(|l| s.get(l).is_some())
+    {
+        return Err(Error::invalid(
+            &format!("initial.{l}"),
+            "given without initial.axis".into(),
+            "the lab-frame initial state is axis (required), angular_velocity, velocity".into(),
+        ));
+    } else {
+        Initial {
+            theta: s.f64("theta", req(0.0))?,
+            theta_dot: s.f64("theta_dot", Some(0.0))?,
+            precession: s.f64("precession", Some(0.0))?,
+            spin: s.f64("spin", req(0.0))?,
+            ux: s.f64("ux", Some(0.0))?,
+            uy: s.f64("uy", Some(0.0))?,
+            heading: s.f64("heading", Some(0.0))?,
+        }
     };
 
     let s = section(merged, "solver");

@@ -218,8 +218,9 @@ impl Reduced {
             i.uy / v,
             0.0,
             0.0,
-            // φ = ψ = 0 (the axis tilts towards the lab X), x = y = 0.
-            0.0,
+            // φ = the heading (0: the axis tilts towards the lab X), ψ = 0,
+            // x = y = 0.
+            i.heading,
             0.0,
             0.0,
             0.0,

@@ -504,6 +504,17 @@ impl Rigid {
         y[QUAT..QUAT + 4].copy_from_slice(&q);
         set3(&mut y, OMEGA, n_w);
         set3(&mut y, AXIS, rotate(q, Z));
+        if i.heading != 0.0 {
+            // Turned by the heading about Z (the dynamics are the same;
+            // docs/physics.md §19): v, n, k, and the attitude q_Z(φ₀) ⊗ q.
+            let rz = super::vec3::RotZ::new(i.heading);
+            for at in [VEL, OMEGA, AXIS] {
+                let v = rz.apply(v3(&y, at));
+                set3(&mut y, at, v);
+            }
+            let q = rz.turn_quaternion(quat_of(&y));
+            y[QUAT..QUAT + 4].copy_from_slice(&q);
+        }
         y
     }
 

@@ -79,3 +79,43 @@ mod tests {
         }
     }
 }
+
+/// A rotation about the lab Z axis by an angle φ (the initial heading).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RotZ {
+    s: f64,
+    c: f64,
+    /// sin, cos of φ/2 (for quaternions).
+    hs: f64,
+    hc: f64,
+}
+
+impl RotZ {
+    /// The rotation by `phi` \[rad\].
+    pub(crate) fn new(phi: f64) -> Self {
+        let (s, c) = phi.sin_cos();
+        let (hs, hc) = (0.5 * phi).sin_cos();
+        RotZ { s, c, hs, hc }
+    }
+
+    /// `R_Z(φ) v`.
+    pub(crate) fn apply(&self, v: V3) -> V3 {
+        [
+            self.c * v[0] - self.s * v[1],
+            self.s * v[0] + self.c * v[1],
+            v[2],
+        ]
+    }
+
+    /// `q_Z(φ) ⊗ q` for a quaternion `(w, x, y, z)`: the attitude turned by
+    /// φ about the lab Z axis.
+    pub(crate) fn turn_quaternion(&self, q: [f64; 4]) -> [f64; 4] {
+        let (w1, z1) = (self.hc, self.hs);
+        [
+            w1 * q[0] - z1 * q[3],
+            w1 * q[1] - z1 * q[2],
+            w1 * q[2] + z1 * q[1],
+            w1 * q[3] + z1 * q[0],
+        ]
+    }
+}

@@ -232,7 +232,7 @@ impl Vector {
         let vu = self.scales.velocity();
         let (s, c) = axis(i.theta);
         let (thd, om, w) = (i.theta_dot * t, i.precession * t, i.spin * t);
-        [
+        let y = [
             s,
             0.0,
             c,
@@ -249,7 +249,23 @@ impl Vector {
             0.0,
             0.0,
             0.0,
-        ]
+        ];
+        if i.heading == 0.0 {
+            return y;
+        }
+        // Turned by the heading about Z: k, w, v, and the attitude
+        // q_Z(φ₀) ⊗ q (the dynamics are the same; docs/physics.md §19).
+        let mut y = y;
+        let rz = super::vec3::RotZ::new(i.heading);
+        for at in [K, OMEGA] {
+            let v = rz.apply([y[at], y[at + 1], y[at + 2]]);
+            y[at..at + 3].copy_from_slice(&v);
+        }
+        let v = rz.apply([y[VEL], y[VEL + 1], 0.0]);
+        y[VEL..VEL + 2].copy_from_slice(&v[..2]);
+        let q = rz.turn_quaternion([y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]]);
+        y[QUAT..QUAT + 4].copy_from_slice(&q);
+        y
     }
 
     #[inline(always)]

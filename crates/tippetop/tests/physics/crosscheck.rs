@@ -270,6 +270,7 @@ fn vector_same_instantaneous_dynamics_as_euler_angles() {
                     spin: (rnd() - 0.5) * 2.0 * rate,
                     ux: (rnd() - 0.5) * r_m * rate,
                     uy: (rnd() - 0.5) * r_m * rate,
+                    heading: 0.0,
                 };
                 let mut red = R::new(&sc);
                 let mut vec = V::new(&sc);

@@ -18,6 +18,7 @@
 //! - `forces`: the applied force terms (the vertical load `force.K.hz`);
 //! - `adhesion`: van der Waals adhesion (`[adhesion]`, a centre-vertical term);
 //! - `position`: where the top is (position, attitude, contact point);
+//! - `initial`: the lab-frame initial state and the heading (isotropy);
 //! - `rigid`: what only the rigid model has (attitude, flight, impacts).
 
 mod adhesion;
@@ -25,6 +26,7 @@ mod closed_forms;
 mod convergence;
 mod crosscheck;
 mod forces;
+mod initial;
 mod invariants;
 mod position;
 mod rigid;
