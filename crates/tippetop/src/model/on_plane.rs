@@ -20,17 +20,14 @@ fn settle_at_zero_slip<M: ContactModel<D>, const D: usize>(
 ) -> ([f64; D], bool) {
     let yr = m.to_rolling(y);
     m.plane_mut().mode = Mode::Rolling;
-    if let Ok((_, f)) = m.contact_forces(&yr) {
-        if m.stick_margin(&yr).is_some_and(|s| s >= 0.0) {
-            m.plane_mut().slip_hint = [0.0, 0.0];
-            return (yr, true);
-        }
-        // Slide off in the direction the needed friction dictates: friction
-        // keeps its direction (magnitude μN), the slip grows opposite to it.
-        m.plane_mut().slip_hint = unit([-f[0], -f[1]]);
+    let needed = m.contact_forces(&yr).ok().map(|(_, f)| f);
+    if needed.is_some() && m.stick_margin(&yr).is_some_and(|s| s >= 0.0) {
+        m.plane_mut().stick();
+        return (yr, true);
     }
-    m.plane_mut().mode = Mode::Sliding;
-    m.plane().slip_ref.set(m.plane().slip_hint);
+    // Slide off in the direction the needed friction dictates: friction
+    // keeps its direction (magnitude μN), the slip grows opposite to it.
+    m.plane_mut().slip_off(needed);
     (yr, false)
 }
 
@@ -72,7 +69,7 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                 self.plane().slip_ref.set(unit(v));
             }
         }
-        self.plane().last_slip.set(self.slip_of(&y));
+        self.plane().start_slip(self.slip_of(&y));
         let n0 = self.contact_forces(&y).map(|(n, _)| n).unwrap_or(f64::NAN);
         (y, n0)
     }
@@ -168,16 +165,7 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
     }
 
     fn accepted(&self, y: &[f64; D]) {
-        let plane = self.plane();
-        if plane.can_chatter() {
-            plane.count_reversal(self.slip_of(y));
-        }
-        if plane.mode == Mode::Sliding && plane.is_exact() {
-            let v = unit(self.slip_of(y));
-            if v != [0.0, 0.0] {
-                plane.slip_ref.set(v);
-            }
-        }
+        self.plane().accepted(|| self.slip_of(y));
     }
 
     fn track_point(&self, y: &[f64; D]) -> (f64, f64, f64, Option<f64>, f64) {
@@ -216,10 +204,7 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
         if self.plane().is_exact() && self.plane().mode == Mode::Rolling {
             if let Ok((_, f)) = self.contact_forces(y) {
                 if self.stick_margin(y).is_some_and(|s| s < 0.0) {
-                    let plane = self.plane_mut();
-                    plane.mode = Mode::Sliding;
-                    plane.slip_hint = unit([-f[0], -f[1]]);
-                    plane.slip_ref.set(plane.slip_hint);
+                    self.plane_mut().slip_off(Some(f));
                     log.stop_rolling(t);
                     log.push(t, Happened::Slip);
                 }
@@ -256,14 +241,9 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                         }
                     }
                     Mode::Rolling => {
-                        let forces = self.contact_forces(y).ok();
+                        let needed = self.contact_forces(y).ok().map(|(_, f)| f);
                         *y = self.to_rolling(y);
-                        let plane = self.plane_mut();
-                        plane.mode = Mode::Sliding;
-                        if let Some((_, f)) = forces {
-                            plane.slip_hint = unit([-f[0], -f[1]]);
-                        }
-                        plane.slip_ref.set(plane.slip_hint);
+                        self.plane_mut().slip_off(needed);
                         log.stop_rolling(t);
                         log.push(t, Happened::Slip);
                     }

@@ -16,7 +16,7 @@
 
 use std::cell::RefCell;
 
-use super::OnPlane;
+use super::ContactState;
 /// The shared types, re-exported where they used to live.
 pub use super::{Mode, ModelError};
 pub use crate::physics::units::Scales;
@@ -64,10 +64,8 @@ fn quadratures(y: &[f64; DIM], c: f64, u: [f64; 2]) -> [f64; 4] {
     ]
 }
 
-/// Slip reversals between accepted steps after which the sliding-only law is
-/// declared to chatter (a genuine motion reverses its slip only at isolated
-/// instants).
-pub const CHATTER_REVERSALS: u32 = 1000;
+/// The chatter criterion, re-exported where it used to live.
+pub use super::contact::CHATTER_REVERSALS;
 
 /// |sin θ| below which the reduced equations are declared singular
 /// (defined with the initial state, which is checked against it).
@@ -165,7 +163,7 @@ pub struct Reduced {
     g: f64,
     /// Friction law, contact, applied force, sliding/rolling and the
     /// driver's flags (shared with the vector model).
-    pub plane: OnPlane,
+    pub plane: ContactState,
     /// The SI top (for observables).
     pub top: Top,
     /// g \[m/s²\].
@@ -188,7 +186,7 @@ impl Reduced {
             inv_ia: 1.0 / ia,
             inv_ic: 1.0 / ic,
             g: sc.surface.gravity * scales.time * scales.time / scales.length,
-            plane: OnPlane::new(sc, &scales),
+            plane: ContactState::new(sc, &scales),
             top: sc.top,
             gravity_si: sc.surface.gravity,
             last: RefCell::new(None),
@@ -473,10 +471,10 @@ impl super::ContactModel<DIM> for Reduced {
     fn initial_state(&self, i: &crate::Initial) -> [f64; DIM] {
         self.scale_state(i)
     }
-    fn plane(&self) -> &OnPlane {
+    fn plane(&self) -> &ContactState {
         &self.plane
     }
-    fn plane_mut(&mut self) -> &mut OnPlane {
+    fn plane_mut(&mut self) -> &mut ContactState {
         &mut self.plane
     }
     fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {

@@ -71,7 +71,7 @@
 //! with `N_f = σ N` (per unit mass; `m = 1` in scaled units). For
 //! `k = (s, 0, c)` this is exactly the reduced model's
 //! `D = 1 + m a s (a s − σ h f_x)/A`. The branches are the on-plane models'
-//! (one shared `model::closure_normal`): bilateral takes the self-consistent
+//! (the contact state's `ContactState::closure`): bilateral takes the self-consistent
 //! sign (Painlevé error for 0 or 2 solutions) and, while sliding, latches it
 //! per segment with N = 0 a terminal event where it flips; paper uses `N`
 //! with its sign; unilateral flies when `N` falls through 0.
@@ -123,7 +123,7 @@
 //! There the state is projected onto rolling (`v = −n × r`; the tiny
 //! kinetic-energy change is booked into `W_f`) and the needed friction
 //! computed: roll if `|F_f| ≤ μ|N|`, else keep sliding with
-//! `f = μ · (−F_f/|F_f|)` at exactly zero slip ([`Rigid::slip_hint`]).
+//! `f = μ · (−F_f/|F_f|)` at exactly zero slip ([`ContactState::slip_hint`]).
 //! Rolling ends at the event `μ|N| − |F_f| = 0` (falling), sliding off with
 //! the friction continuous in direction; it is also re-checked at every
 //! force switch (the needed friction jumps with `H`). Zero slip at `t = 0`
@@ -135,10 +135,22 @@
 //!
 //! # Chattering of the sliding-only law
 //!
-//! As in the reduced driver: for `"coulomb_sliding"`, every accepted step
-//! in contact whose slip reverses direction (`v_P · v_P,prev < 0`) is
-//! counted; after [`CHATTER_REVERSALS`] the next evaluation fails with
-//! [`RigidError::Chattering`], whose message is the reduced model's.
+//! The on-plane models' detection, in `ContactState::accepted`: for
+//! `"coulomb_sliding"`, every accepted step in contact whose slip reverses
+//! direction (`v_P · v_P,prev < 0`) is counted; after [`CHATTER_REVERSALS`]
+//! the next evaluation fails with [`RigidError::Chattering`], whose message
+//! is the reduced model's.
+//!
+//! # The contact state
+//!
+//! The friction law, μ, the contact mode, the latched force terms,
+//! sliding/rolling, the slip hint and reference, the latched `N = 0` branch
+//! and the chatter detection are the [`ContactState`] the on-plane models
+//! hold ([`Rigid::contact`]); its horizontal vectors are the world `X, Y`
+//! components of this model's 3D vectors (z = 0). The friction coefficient
+//! is `ContactState::coefficient_per_component`, the same law as the
+//! on-plane models' `coefficient` in this model's order of operations
+//! (one division per component), which rounds differently.
 //!
 //! # Outputs
 //!
@@ -184,18 +196,16 @@
 //! `Happened::Touchdown`). For unilateral contact, `contact_lost_at` is the first
 //! lift-off and `negative_normal_fraction` the fraction of time in flight.
 
-use std::cell::Cell;
-
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
 use crate::sim::events::{Happened, Watch};
 use crate::sim::messages::painleve_why;
 use crate::sim::record::RunLog;
 use crate::{
-    ContactMode, Error, Failure, FrictionLaw, Sample, Scenario, Top,
+    ContactMode, Error, Failure, Sample, Scenario, Top,
     integrate::{Direction, Event, OdeSystem},
     model::reduced::{CHATTER_REVERSALS, ModelError, Scales},
-    model::{Flow, Model},
-    physics::forces::Forces,
+    model::{ContactState, Flow, Model},
+    sim::record::unit,
 };
 
 pub use crate::model::reduced::Mode;
@@ -258,14 +268,6 @@ pub enum Phase {
     Contact,
     /// Free flight (unilateral contact only): `N = 0`, no friction.
     Flight,
-}
-
-/// Friction law in scaled units.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Law {
-    Coulomb,
-    Regularized { eps: f64 },
-    Viscous { eps: f64 },
 }
 
 /// Why the right-hand side (or an impact) cannot be evaluated.
@@ -359,46 +361,16 @@ pub struct Rigid {
     ia: f64,
     ic: f64,
     g: f64,
-    mu: f64,
-    law: Law,
-    contact: ContactMode,
-    /// The applied force terms and the contact-point force
-    /// (h_x, h_y, h_z) latched for the segment, scaled.
-    forces: Forces,
     restitution: f64,
-    /// True for the exact stick/slip law (`"coulomb"`).
-    exact: bool,
+    /// The contact state (shared with the on-plane models): friction law,
+    /// μ, contact mode, the applied force terms latched for the segment,
+    /// sliding or rolling (always sliding in flight), the slip hint and
+    /// reference (world X, Y), the latched `N = 0` branch (bilateral
+    /// contact, sliding, in contact), chatter detection and the evaluation
+    /// count.
+    pub contact: ContactState,
     /// Current phase.
     pub phase: Phase,
-    /// Sliding or rolling (in contact; always sliding in flight).
-    pub mode: Mode,
-    /// Unit horizontal direction (world) used for `μ v/|v|` at exactly
-    /// `v_P = 0` (set when leaving rolling; zero otherwise, giving no
-    /// friction at zero slip).
-    pub slip_hint: V3,
-    /// Reference slip direction (world, unit, horizontal) for the slip-zero
-    /// event and the smooth continuation of the exact law through zero slip
-    /// (updated at every accepted step).
-    pub slip_ref: Cell<V3>,
-    /// Set by the driver when the sliding-only law chatters; the next
-    /// evaluation then fails with [`RigidError::Chattering`].
-    pub chattering: Cell<bool>,
-    /// Latched branch of the bilateral normal-force closure while sliding
-    /// in contact, as the on-plane models' [`super::OnPlane::normal_branch`]:
-    /// `Some(true)` solves `N D(+) = Q` and the friction sees `+N`,
-    /// `Some(false)` solves `N D(−) = Q` and it sees `−N`, whatever the sign
-    /// of `N` (while both `D(±) > 0`); `None` takes the self-consistent
-    /// branch at every evaluation. The driver latches the consistent branch
-    /// at the start of each segment and makes `N = 0` a terminal event
-    /// where it flips it (docs/physics.md §4), so that no step straddles
-    /// the kink of `μ|N|`.
-    pub normal_branch: Option<bool>,
-    /// Right-hand-side evaluations so far (all segments).
-    pub evaluations: u64,
-    /// Slip reversals counted at accepted steps (sliding-only law).
-    reversals: Cell<u32>,
-    /// The slip at the last accepted step (chatter detection).
-    last_slip: Cell<V3>,
     /// Lift-offs and touchdowns so far (bounded by [`MAX_TRANSITIONS`]).
     transitions: usize,
     /// Bounces since the last contact phase (Zeno guard, [`MAX_BOUNCES`]).
@@ -415,34 +387,15 @@ impl Rigid {
     /// Build the scaled model of a scenario.
     pub fn new(sc: &Scenario) -> Self {
         let scales = Scales::of(sc);
-        let v = scales.velocity();
-        let (law, exact) = match sc.surface.law {
-            FrictionLaw::Coulomb => (Law::Coulomb, true),
-            FrictionLaw::CoulombSliding => (Law::Coulomb, false),
-            FrictionLaw::Regularized { eps } => (Law::Regularized { eps: eps / v }, false),
-            FrictionLaw::Viscous { eps } => (Law::Viscous { eps: eps / v }, false),
-        };
         Rigid {
             scales,
             a: sc.top.offset / scales.length,
             ia: sc.top.inertia_transverse / scales.inertia(),
             ic: sc.top.inertia_axial / scales.inertia(),
             g: sc.surface.gravity * scales.time * scales.time / scales.length,
-            mu: sc.surface.friction,
-            law,
-            contact: sc.surface.contact,
-            forces: Forces::of(sc),
             restitution: sc.surface.restitution,
-            exact,
+            contact: ContactState::new(sc, &scales),
             phase: Phase::Contact,
-            mode: Mode::Sliding,
-            slip_hint: [0.0; 3],
-            slip_ref: Cell::new([0.0; 3]),
-            chattering: Cell::new(false),
-            normal_branch: None,
-            evaluations: 0,
-            reversals: Cell::new(0),
-            last_slip: Cell::new([0.0; 3]),
             transitions: 0,
             bounces: 0,
             flight_start: 0.0,
@@ -451,39 +404,14 @@ impl Rigid {
         }
     }
 
-    /// Contact mode.
-    pub fn contact_mode(&self) -> ContactMode {
-        self.contact
-    }
-
-    /// True for the exact stick/slip law (`friction_law = "coulomb"`).
-    pub fn is_exact(&self) -> bool {
-        self.exact
-    }
-
-    /// True for the sliding-only Coulomb law, which can chatter.
-    pub fn can_chatter(&self) -> bool {
-        !self.exact && self.law == Law::Coulomb
-    }
-
-    /// Friction coefficient μ.
-    pub fn mu(&self) -> f64 {
-        self.mu
-    }
-
     /// Gravity in scaled units.
     pub fn gravity(&self) -> f64 {
         self.g
     }
 
-    /// Latched applied force (h_x, h_y) in scaled units.
-    pub fn applied(&self) -> [f64; 2] {
-        self.forces.contact_point().h
-    }
-
     /// Latch the applied force in effect at scaled time `t`.
     pub fn latch_force(&mut self, t: f64) {
-        self.forces.latch(t * self.scales.time, self.scales.force());
+        self.contact.latch_force(t, &self.scales);
     }
 
     /// Scaled state (in contact) from the SI initial values, with the
@@ -560,43 +488,9 @@ impl Rigid {
         }
     }
 
-    fn law_f(&self, v: V3) -> V3 {
-        let mu = self.mu;
-        match self.law {
-            Law::Coulomb => {
-                let n = v[0].hypot(v[1]);
-                if n == 0.0 {
-                    return scale(mu, self.slip_hint);
-                }
-                // Exact law, sliding: as the reduced model, continue the
-                // friction smoothly through zero slip (keep its direction
-                // once v·d < 0, d the approach direction), so that the step
-                // that crosses zero is smooth and the slip-zero event is
-                // located to the step's accuracy; the stages past zero are
-                // discarded at the event.
-                let sgn = if self.exact {
-                    let d = self.slip_ref.get();
-                    if v[0] * d[0] + v[1] * d[1] < 0.0 {
-                        -1.0
-                    } else {
-                        1.0
-                    }
-                } else {
-                    1.0
-                };
-                [sgn * mu * v[0] / n, sgn * mu * v[1] / n, 0.0]
-            }
-            Law::Regularized { eps } => {
-                let d = (v[0] * v[0] + v[1] * v[1] + eps * eps).sqrt();
-                [mu * v[0] / d, mu * v[1] / d, 0.0]
-            }
-            Law::Viscous { eps } => [mu * v[0] / eps, mu * v[1] / eps, 0.0],
-        }
-    }
-
     /// Applied horizontal force on the top (world): −(h_x x̂ + h_y ŷ).
     fn applied_world(&self, kin: &Kin) -> V3 {
-        let h = self.applied();
+        let h = self.contact.applied();
         scale(-1.0, add(scale(h[0], kin.xh), scale(h[1], kin.yh)))
     }
 
@@ -605,14 +499,14 @@ impl Rigid {
         let kin = self.kin(y);
         let (k, n, r) = (kin.k, kin.n, kin.r);
         let fh = self.applied_world(&kin);
-        let cp = self.forces.contact_point();
+        let cp = self.contact.forces().contact_point();
         // The whole applied force at P: −H and the load −h_z Z (§17); its
         // work is W_a.
         let fa = [fh[0], fh[1], cp.vertical_total(fh[2])];
         // Adhesion (§18), along the vertical through P: the load F_a in
         // contact, −U′(gap) in flight; applied as a load at P, no work in W_a
         // (its potential is in the energy). `cp` itself without adhesion.
-        let cv = self.forces.centre_vertical();
+        let cv = self.contact.forces().centre_vertical();
         let cp = cp.with_load(match self.phase {
             Phase::Contact => cv.in_contact(),
             Phase::Flight => cv.at_gap(self.gap(y)),
@@ -628,7 +522,7 @@ impl Rigid {
         let q_free = self.g + self.a * (-dot(fh, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
         // The load h_z at P: Q + h_z D₀, D₀ = 1/m + a w_Z (§17).
         let q_free = cp.closure_q(q_free, 1.0 + self.a * w[2]);
-        let (normal, ff, rolling_force) = match (self.phase, self.mode) {
+        let (normal, ff, rolling_force) = match (self.phase, self.contact.mode) {
             (Phase::Flight, _) => (0.0, [0.0; 3], None),
             (Phase::Contact, Mode::Rolling) => {
                 // Rolling: the total contact force F is the constraint force
@@ -644,15 +538,21 @@ impl Rigid {
                 (cp.reaction(force[2]), ff, Some(force))
             }
             (Phase::Contact, Mode::Sliding) => {
-                let f = self.law_f(kin.vp);
+                // The friction coefficient in the horizontal plane (z = 0).
+                let f2 = self
+                    .contact
+                    .coefficient_per_component([kin.vp[0], kin.vp[1]]);
+                let f = [f2[0], f2[1], 0.0];
                 let fw = dot(f, w);
                 let dp = 1.0 + self.a * (w[2] - fw);
                 let dm = 1.0 + self.a * (w[2] + fw);
-                let theta = kin.kh.atan2(k[2]);
-                let normal =
-                    super::closure_normal(self.contact, self.normal_branch, q_free, dp, dm)
-                        .map_err(|solutions| RigidError::Painleve { theta, solutions })?;
-                let nf = super::friction_normal(self.contact, self.normal_branch, normal);
+                let normal = self.contact.closure(q_free, dp, dm).map_err(|solutions| {
+                    RigidError::Painleve {
+                        theta: kin.kh.atan2(k[2]),
+                        solutions,
+                    }
+                })?;
+                let nf = self.contact.friction_normal(normal);
                 (normal, scale(-nf, f), None)
             }
         };
@@ -714,17 +614,16 @@ impl Rigid {
     }
 
     /// True where the driver latches the normal-force branch
-    /// ([`Rigid::normal_branch`]): bilateral contact, in contact, sliding.
+    /// ([`ContactState::normal_branch`]): in contact, and where the contact
+    /// state latches it ([`ContactState::latches_normal`]).
     pub fn latches_normal(&self) -> bool {
-        self.contact == ContactMode::Bilateral
-            && self.phase == Phase::Contact
-            && self.mode == Mode::Sliding
+        self.phase == Phase::Contact && self.contact.latches_normal()
     }
 
-    /// Stick margin while rolling, `μ |N| − |F_f|` (scaled force): rolling
-    /// ends when it falls through zero.
-    pub fn stick_margin(&self, e: &Eval) -> f64 {
-        self.mu * e.normal.abs() - e.friction[0].hypot(e.friction[1])
+    /// Stick margin while rolling, `μ |N| − |F_f|` (scaled force), of an
+    /// evaluation ([`ContactState::stick_margin`]).
+    fn stick_margin(&self, e: &Eval) -> f64 {
+        self.contact.stick_margin(e.normal, horizontal(e.friction))
     }
 
     /// Horizontal slip velocity `v_P` (world, scaled) from the state's `v`.
@@ -763,7 +662,7 @@ impl Rigid {
     /// constraint value while rolling, the state's otherwise (with the
     /// contact constraint's vertical part in contact).
     fn output_velocity(&self, y: &[f64; DIM], kin: &Kin) -> V3 {
-        if self.phase == Phase::Contact && self.mode == Mode::Rolling {
+        if self.phase == Phase::Contact && self.contact.mode == Mode::Rolling {
             self.rolling_velocity(kin)
         } else {
             let (_, vz) = self.vertical(y, kin);
@@ -852,7 +751,7 @@ impl Rigid {
     /// `e` plus, in flight with adhesion, the potential `U(gap) − U(0)`
     /// (`e` itself otherwise, bit for bit).
     fn with_gap_potential(&self, e: f64, y: &[f64; DIM]) -> f64 {
-        let cv = self.forces.centre_vertical();
+        let cv = self.contact.forces().centre_vertical();
         if self.phase == Phase::Flight && cv.force > 0.0 {
             e + cv.potential(self.gap(y))
         } else {
@@ -887,7 +786,8 @@ impl Rigid {
         let target = [-vp[0], -vp[1], -(1.0 + e) * vn];
         let stick = solve3(cols, target);
         let pt = stick[0].hypot(stick[1]);
-        let stuck = pt <= self.mu * stick[2];
+        let mu = self.contact.mu();
+        let stuck = pt <= mu * stick[2];
         let imp = if stuck {
             stick
         } else {
@@ -899,7 +799,7 @@ impl Rigid {
             } else {
                 [0.0; 3]
             };
-            let dir = add(Z, scale(self.mu, d));
+            let dir = add(Z, scale(mu, d));
             let kn = kmul(dir)[2];
             if kn <= 0.0 {
                 return Err(RigidError::ImpactJam {
@@ -930,12 +830,11 @@ impl OdeSystem<DIM> for Rigid {
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), RigidError> {
-        self.evaluations += 1;
-        if self.chattering.get() {
-            return Err(RigidError::Chattering {
+        self.contact
+            .start_evaluation()
+            .map_err(|_| RigidError::Chattering {
                 reversals: CHATTER_REVERSALS,
-            });
-        }
+            })?;
         *dy = self.eval(y)?.dy;
         Ok(())
     }
@@ -976,7 +875,7 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
             },
         ),
     ];
-    match (m.phase, m.contact) {
+    match (m.phase, m.contact.contact_mode()) {
         (Phase::Flight, _) => {
             ev.push((
                 Watch::Touchdown,
@@ -1015,7 +914,7 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
             // that leaves the latched sign, and the restart state comes from
             // a step to the event (the right-hand side is smooth through the
             // zero on the latched branch).
-            let (direction, terminal) = match (m.latches_normal(), m.normal_branch) {
+            let (direction, terminal) = match (m.latches_normal(), m.contact.normal_branch) {
                 (true, Some(true)) => (Direction::Falling, true),
                 (true, Some(false)) => (Direction::Rising, true),
                 _ => (Direction::Either, false),
@@ -1031,14 +930,17 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
             ))
         }
     }
-    if m.phase == Phase::Contact && m.exact {
-        match m.mode {
+    if m.phase == Phase::Contact && m.contact.is_exact() {
+        match m.contact.mode {
             // v_P · d falls through zero, d the slip direction at the last
             // accepted step: the slip vector passes through zero along d.
             Mode::Sliding => ev.push((
                 Watch::SlipZero,
                 Event {
-                    g: Box::new(|m, _, y| dot(m.slip_of(y), m.slip_ref.get())),
+                    g: Box::new(|m, _, y| {
+                        let d = m.contact.slip_ref.get();
+                        dot(m.slip_of(y), [d[0], d[1], 0.0])
+                    }),
                     direction: Direction::Falling,
                     terminal: true,
                     step_to_event: false,
@@ -1060,13 +962,10 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
     ev
 }
 
-fn unit_h(v: V3) -> V3 {
-    let n = v[0].hypot(v[1]);
-    if n > 0.0 {
-        [v[0] / n, v[1] / n, 0.0]
-    } else {
-        [0.0; 3]
-    }
+/// The horizontal components `(x, y)` of a world vector, for the contact
+/// state's 2D slip and friction.
+fn horizontal(v: V3) -> [f64; 2] {
+    [v[0], v[1]]
 }
 
 /// Decide stick or slip at zero slip (exact law, in contact): project the
@@ -1075,20 +974,20 @@ fn unit_h(v: V3) -> V3 {
 /// otherwise slide off with the friction `μ|N|` along the needed friction's
 /// direction (the slip grows opposite to it). Returns true if it rolls.
 fn settle_at_zero_slip(m: &mut Rigid, y: &mut [f64; DIM]) -> bool {
-    m.mode = Mode::Sliding;
+    m.contact.mode = Mode::Sliding;
     let before = m.energy_scaled(y);
     m.project_rolling(y);
     y[WF] += m.energy_scaled(y) - before;
-    m.mode = Mode::Rolling;
+    m.contact.mode = Mode::Rolling;
+    let mut needed = None;
     if let Ok(e) = m.eval(y) {
         if m.stick_margin(&e) >= 0.0 {
-            m.slip_hint = [0.0; 3];
+            m.contact.stick();
             return true;
         }
-        m.slip_hint = unit_h(scale(-1.0, e.friction));
+        needed = Some(horizontal(e.friction));
     }
-    m.mode = Mode::Sliding;
-    m.slip_ref.set(m.slip_hint);
+    m.contact.slip_off(needed);
     false
 }
 
@@ -1096,13 +995,9 @@ fn settle_at_zero_slip(m: &mut Rigid, y: &mut [f64; DIM]) -> bool {
 /// cannot hold, or lift-off): put the state on the rolling constraint and
 /// slide off with the friction continuous in direction.
 fn slide_off(m: &mut Rigid, y: &mut [f64; DIM]) {
-    let e = m.eval(y).ok();
+    let needed = m.eval(y).ok().map(|e| horizontal(e.friction));
     m.project_rolling(y);
-    m.mode = Mode::Sliding;
-    if let Some(e) = e {
-        m.slip_hint = unit_h(scale(-1.0, e.friction));
-    }
-    m.slip_ref.set(m.slip_hint);
+    m.contact.slip_off(needed);
 }
 
 /// One output row from a scaled state.
@@ -1120,8 +1015,8 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
         0.0
     };
     let v = m.output_velocity(y, &kin);
-    let rolling = m.phase == Phase::Contact && m.mode == Mode::Rolling;
-    let h = m.applied();
+    let rolling = m.phase == Phase::Contact && m.contact.mode == Mode::Rolling;
+    let h = m.contact.applied();
     let normal = ev.map(|e| e.normal).unwrap_or(f64::NAN);
     // Position and attitude (docs/physics.md §19): the state's x_O (its
     // height the contact constraint's value in contact, the state's in
@@ -1202,7 +1097,7 @@ fn enter_contact(m: &mut Rigid, t: f64, y: &mut [f64; DIM]) -> Phase {
     m.project_contact(y);
     y[WF] += m.energy_raw(y) - before;
     m.phase = Phase::Contact;
-    if m.contact == ContactMode::Unilateral {
+    if m.contact.contact_mode() == ContactMode::Unilateral {
         if let Ok(e) = m.eval(y) {
             if e.normal < 0.0 {
                 m.phase = Phase::Flight;
@@ -1223,18 +1118,18 @@ impl Model<DIM> for Rigid {
     }
 
     fn evaluations(&self) -> u64 {
-        self.evaluations
+        self.contact.evaluations
     }
 
     fn start(&mut self, sc: &Scenario, log: &mut RunLog) -> ([f64; DIM], f64) {
         let mut y = self.scale_state(&sc.initial);
         let n_initial = self.eval(&y).map(|e| e.normal).unwrap_or(f64::NAN);
-        if self.contact == ContactMode::Unilateral && n_initial < 0.0 {
+        if self.contact.contact_mode() == ContactMode::Unilateral && n_initial < 0.0 {
             self.phase = Phase::Flight;
             self.flight_start = 0.0;
             log.lift_off(0.0);
         }
-        if self.exact && self.phase == Phase::Contact {
+        if self.contact.is_exact() && self.phase == Phase::Contact {
             let v = self.slip_of(&y);
             if self.slip_is_zero(&y) {
                 let stuck = settle_at_zero_slip(self, &mut y);
@@ -1250,10 +1145,10 @@ impl Model<DIM> for Rigid {
                     },
                 );
             } else {
-                self.slip_ref.set(unit_h(v));
+                self.contact.slip_ref.set(unit(horizontal(v)));
             }
         }
-        self.last_slip.set(self.slip_of(&y));
+        self.contact.start_slip(horizontal(self.slip_of(&y)));
         (y, n_initial)
     }
 
@@ -1263,11 +1158,11 @@ impl Model<DIM> for Rigid {
 
     fn latch_branch(&mut self, y: &[f64; DIM]) {
         if !self.latches_normal() {
-            self.normal_branch = None;
-        } else if self.normal_branch.is_none() {
+            self.contact.normal_branch = None;
+        } else if self.contact.normal_branch.is_none() {
             // The self-consistent branch at the segment's start.
             if let Ok(e) = self.eval(y) {
-                self.normal_branch = Some(e.normal >= 0.0);
+                self.contact.normal_branch = Some(e.normal >= 0.0);
             }
         }
     }
@@ -1280,25 +1175,7 @@ impl Model<DIM> for Rigid {
         if self.phase != Phase::Contact {
             return;
         }
-        if self.can_chatter() {
-            // As the on-plane models: a genuine motion reverses its slip
-            // only at isolated instants.
-            let v = self.slip_of(y);
-            if dot(v, self.last_slip.get()) < 0.0 {
-                let r = self.reversals.get() + 1;
-                self.reversals.set(r);
-                if r >= CHATTER_REVERSALS {
-                    self.chattering.set(true);
-                }
-            }
-            self.last_slip.set(v);
-        }
-        if self.exact && self.mode == Mode::Sliding {
-            let d = unit_h(self.slip_of(y));
-            if d != [0.0; 3] {
-                self.slip_ref.set(d);
-            }
-        }
+        self.contact.accepted(|| horizontal(self.slip_of(y)));
     }
 
     fn track_point(&self, y: &[f64; DIM]) -> (f64, f64, f64, Option<f64>, f64) {
@@ -1312,11 +1189,11 @@ impl Model<DIM> for Rigid {
     }
 
     fn flies(&self) -> bool {
-        self.contact == ContactMode::Unilateral
+        self.contact.contact_mode() == ContactMode::Unilateral
     }
 
     fn adhesive(&self) -> bool {
-        self.forces.centre_vertical().force > 0.0
+        self.contact.adhesive()
     }
 
     fn on_force_switch(&mut self, t: f64, y: &mut [f64; DIM], log: &mut RunLog) -> Flow {
@@ -1329,8 +1206,8 @@ impl Model<DIM> for Rigid {
             .then(|| self.eval(y).map(|e| e.normal).ok())
             .flatten();
         Rigid::latch_force(self, t);
-        self.normal_branch = None;
-        if self.phase == Phase::Contact && self.mode == Mode::Rolling {
+        self.contact.normal_branch = None;
+        if self.phase == Phase::Contact && self.contact.mode == Mode::Rolling {
             // Re-check stick with the new force (N does not depend on H
             // while rolling, the friction does).
             self.project_rolling(y);
@@ -1343,7 +1220,7 @@ impl Model<DIM> for Rigid {
             }
         }
         if self.phase == Phase::Contact {
-            if self.mode == Mode::Sliding {
+            if self.contact.mode == Mode::Sliding {
                 self.project_contact(y);
             }
             let n_after = self.eval(y).map(|e| e.normal).ok();
@@ -1353,7 +1230,7 @@ impl Model<DIM> for Rigid {
                 }
             }
             let n = n_after.unwrap_or(0.0);
-            if self.contact == ContactMode::Unilateral && n < 0.0 {
+            if self.contact.contact_mode() == ContactMode::Unilateral && n < 0.0 {
                 self.phase = Phase::Flight;
                 self.flight_start = t;
                 log.lift_off(t);
@@ -1367,7 +1244,7 @@ impl Model<DIM> for Rigid {
         match what {
             Watch::NormalZero if self.latches_normal() => {
                 // N = 0 (bilateral): continue on the other branch.
-                self.normal_branch = self.normal_branch.map(|pos| !pos);
+                self.contact.normal_branch = self.contact.normal_branch.map(|pos| !pos);
                 Flow::Continue
             }
             Watch::NormalZero | Watch::Touchdown | Watch::PenetrationGuard => {
@@ -1387,10 +1264,10 @@ impl Model<DIM> for Rigid {
                         // Lift-off: N fell through 0 (from sliding or
                         // rolling: the flight starts from the rolling
                         // velocity).
-                        if self.mode == Mode::Rolling {
+                        if self.contact.mode == Mode::Rolling {
                             self.project_rolling(y);
-                            self.mode = Mode::Sliding;
-                            self.slip_hint = [0.0; 3];
+                            self.contact.mode = Mode::Sliding;
+                            self.contact.slip_hint = [0.0; 2];
                             log.stop_rolling(t);
                         } else {
                             self.project_contact(y);
@@ -1404,7 +1281,7 @@ impl Model<DIM> for Rigid {
                 }
             }
             Watch::SlipZero | Watch::StickLimit => {
-                match self.mode {
+                match self.contact.mode {
                     Mode::Sliding => {
                         if settle_at_zero_slip(self, y) {
                             log.start_rolling(t);
@@ -1482,10 +1359,10 @@ impl Rigid {
             self.bounces = 0;
             if enter_contact(self, t, y) == Phase::Flight {
                 log.lift_off(t);
-            } else if self.exact {
+            } else if self.contact.is_exact() {
                 // Exact law: a sticking impulse leaves zero slip, where
                 // stick/slip is decided as at a slip-zero event.
-                self.slip_hint = [0.0; 3];
+                self.contact.slip_hint = [0.0; 2];
                 let v = self.slip_of(y);
                 if stuck || self.slip_is_zero(y) {
                     if settle_at_zero_slip(self, y) {
@@ -1493,7 +1370,7 @@ impl Rigid {
                         log.push(t, Happened::Stick);
                     }
                 } else {
-                    self.slip_ref.set(unit_h(v));
+                    self.contact.slip_ref.set(unit(horizontal(v)));
                 }
             }
         }

@@ -54,7 +54,7 @@
 
 use std::cell::RefCell;
 
-use super::OnPlane;
+use super::ContactState;
 use super::reduced::{Mode, ModelError, Scales};
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
 use crate::{Initial, Sample, Scenario, Top, integrate::OdeSystem};
@@ -133,7 +133,7 @@ pub struct Vector {
     g: f64,
     /// Friction law, contact, applied force, sliding/rolling and the
     /// driver's flags (shared with the Euler-angle model).
-    pub plane: OnPlane,
+    pub plane: ContactState,
     /// The SI top.
     pub top: Top,
     /// The last evaluation made by [`Vector::eval`] and its key (state bits,
@@ -207,7 +207,7 @@ impl Vector {
             dinv: 1.0 / ic - 1.0 / ia,
             gyro: (ic - ia) / ia,
             g: sc.surface.gravity * scales.time * scales.time / scales.length,
-            plane: OnPlane::new(sc, &scales),
+            plane: ContactState::new(sc, &scales),
             top: sc.top,
             last: RefCell::new(None),
         }
@@ -669,10 +669,10 @@ impl super::ContactModel<DIM> for Vector {
     fn initial_state(&self, i: &Initial) -> [f64; DIM] {
         self.scale_state(i)
     }
-    fn plane(&self) -> &OnPlane {
+    fn plane(&self) -> &ContactState {
         &self.plane
     }
-    fn plane_mut(&mut self) -> &mut OnPlane {
+    fn plane_mut(&mut self) -> &mut ContactState {
         &mut self.plane
     }
     fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {

@@ -120,7 +120,7 @@ fn normal_force_closure_holds_constraint() {
 fn rolling_world_velocities(sc: &Scenario) -> Vec<[f64; 2]> {
     let mut out = Vec::new();
     let tr = tippetop::simulate::simulate_rigid_observed(sc, &mut |m, _, y| {
-        if m.mode == Mode::Rolling {
+        if m.contact.mode == Mode::Rolling {
             let vu = m.scales.velocity();
             out.push([y[VEL] * vu, y[VEL + 1] * vu]);
         }
