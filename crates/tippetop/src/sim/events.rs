@@ -70,6 +70,7 @@ impl Happened {
     }
 
     /// Every kind, for documentation and tests.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub const ALL: [Happened; 9] = [
         Happened::ForceSwitch,
         Happened::Stick,

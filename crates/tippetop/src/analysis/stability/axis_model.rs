@@ -1,5 +1,5 @@
 //! The model the stability analysis linearises: the axis-vector form of the
-//! paper's physics with a smooth friction law, generic over [`Num`] so that
+//! paper's physics with a smooth friction law, generic over `Num` (`numeric::dual`) so that
 //! dual numbers give its exact Jacobian. See the module doc of
 //! [`super`] for the equations.
 

@@ -58,9 +58,9 @@
 //! # Layout
 //!
 //! - [`axis_model`]: the model that is linearised (generic over the number
-//!   type, for dual-number Jacobians from [`crate::numeric::dual`]);
+//!   type, for dual-number Jacobians from `numeric::dual`);
 //! - [`linearisation`]: the Jacobian at a steady motion, the structural zeros
-//!   removed, eigenvalues ([`crate::numeric::eigen`]) and verdict; the
+//!   removed, eigenvalues (`numeric::eigen`) and verdict; the
 //!   closed forms of the steady motions;
 //! - [`frozen`]: the frozen-spin analysis for H ≠ 0;
 //! - this module: [`analyse`], which finds the steady motions of a scenario
