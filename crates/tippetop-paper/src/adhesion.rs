@@ -230,9 +230,17 @@ impl Measures {
         }
     }
 
-    /// Lies down: the paper's criterion (claim `nano_lies_down_50us`): over
-    /// the second half mean θ within 0.1 rad of π/2 and half-range ≤ 0.15.
+    /// Lies down: over the second half the mean θ is within 0.25 rad of
+    /// π/2 (it oscillates about the lying state: the "partly" level of
+    /// claim `nano_lies_down_50us`).
     pub fn lies_down(&self) -> bool {
+        (self.lying_second_half.0 - FRAC_PI_2).abs() <= 0.25
+    }
+
+    /// Lies down stably: over the second half mean θ within 0.1 rad of π/2
+    /// and half-range ≤ 0.15 rad (claims `nano_lies_down_50us`,
+    /// `step_1us_no_stable_lying`).
+    pub fn lies_stably(&self) -> bool {
         let (mean, amp) = self.lying_second_half;
         (mean - FRAC_PI_2).abs() <= 0.1 && amp <= 0.15
     }
@@ -728,7 +736,7 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
     let v = verdict_of(st, 0, &Measures::lies_down);
     out.push(ClaimUnderAdhesion {
         claim: "The nano top lies down (θ → π/2) within ~50 µs (constant force)".into(),
-        criterion: "over the second half mean θ within 0.1 rad of π/2, half-range ≤ 0.15 rad (as claim nano_lies_down_50us)".into(),
+        criterion: "over the second half the mean θ is within 0.25 rad of π/2 (it oscillates about lying; the partly level of claim nano_lies_down_50us)".into(),
         without: with_word(lying(&st.baseline[0]), st.baseline[0].lies_down()),
         with: per_setting(st, 0, &lying),
         holds_without: st.baseline[0].lies_down(),
@@ -777,14 +785,13 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
     // 3. Retraction.
     let t_rev = runs.get(REVERSAL_BILATERAL).scenario.forcing.windows[0].stop;
     let retract = |tr: &Trajectory| {
-        let t_end = tr.samples.last().map_or(0.0, |s| s.t);
         let before = runs::lying(tr, 0.5 * t_rev, t_rev).0;
-        let after = runs::lying(tr, 0.75 * t_end, t_end).0;
+        let after = runs::window(tr, t_rev, f64::INFINITY, |s| s.theta).0;
         (before, after)
     };
-    let stands = |(before, after): (f64, f64)| (before - FRAC_PI_2).abs() <= 0.25 && after < 0.3;
+    let stands = |(before, after): (f64, f64)| (before - FRAC_PI_2).abs() <= 0.25 && after < 0.5;
     let fmt_r = |(before, after): (f64, f64)| {
-        format!("mean θ before reversal {before:.3}, over the last quarter {after:.3}")
+        format!("mean θ before the reversal {before:.3}, min θ after it {after:.3}")
     };
     let rows1: Vec<&Row> = st.case_rows(1).collect();
     let k = rows1
@@ -796,7 +803,7 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
     out.push(ClaimUnderAdhesion {
         claim: "While lying, the reversed force stands the top up again (force reversed)".into(),
         criterion: format!(
-            "it lay down before the reversal at {:.0} µs (mean θ over [{:.0}, {:.0}] µs within 0.25 rad of π/2) and the mean θ over the last quarter is < 0.3 rad",
+            "it lay down before the reversal at {:.0} µs (mean θ over [{:.0}, {:.0}] µs within 0.25 rad of π/2) and θ comes back below 0.5 rad after it (the partly level of claim reversal_stands_up)",
             t_rev * US,
             0.5 * t_rev * US,
             t_rev * US
@@ -819,15 +826,15 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
     let theta_21 = |tr: &Trajectory| runs::window(tr, 8e-6 * q, 2e-5 * q, |s| s.theta).1;
     let rows2: Vec<&Row> = st.case_rows(2).collect();
     let ok8 = |tr: &Trajectory, m: &Measures| {
-        (theta_21(tr) - 2.1).abs() <= 0.2 && (m.lying_second_half.0 - FRAC_PI_2).abs() <= 0.2
+        theta_21(tr) > FRAC_PI_2 && (m.lying_second_half.0 - FRAC_PI_2).abs() <= 0.3
     };
     let k = rows2
         .iter()
         .filter(|r| ok8(&r.run.trajectory, &r.m))
         .count();
     out.push(ClaimUnderAdhesion {
-        claim: "App. D: an 8 µs pulse sends θ to ~2.1, then θ oscillates about π/2".into(),
-        criterion: "max θ on [8, 20] µs within 0.2 of 2.1 and the mean θ over the second half within 0.2 of π/2 (as claim step_8us_theta_2_1)".into(),
+        claim: "App. D: an 8 µs pulse lays the top down (θ peaks at ~2.1 after the switch-off, then oscillates about π/2)".into(),
+        criterion: "max θ on [8, 20] µs above π/2 and the mean θ over the second half within 0.3 rad of π/2 (the partly level of claim step_8us_theta_2_1)".into(),
         without: with_word(
             format!(
                 "max θ on [8, 20] µs {:.3}, mean θ 2nd half {:.3}",
@@ -850,7 +857,7 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
         ),
     });
     // 5. App. D, 1 µs pulse.
-    let not_lying = |m: &Measures| !m.lies_down();
+    let not_lying = |m: &Measures| !m.lies_stably();
     let v = verdict_of(st, 3, &not_lying);
     out.push(ClaimUnderAdhesion {
         claim: "App. D: a 1 µs pulse does not make the top lie down stably".into(),
