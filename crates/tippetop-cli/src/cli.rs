@@ -189,7 +189,9 @@ pub struct ReproduceArgs {
     pub out: PathBuf,
 
     /// Also run the extended studies beyond the paper (slower): the ε study
-    /// of the friction law over 10 s and 150 s.
+    /// of the friction law over 10 s and 150 s, the classical inversion
+    /// maps, and the adhesion study (the nano scenarios with C60/graphene
+    /// van der Waals adhesion).
     #[arg(long)]
     pub extended: bool,
 

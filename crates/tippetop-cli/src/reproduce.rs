@@ -17,7 +17,8 @@ use crate::plot::{Legend, PlotOpts, RefLine, Series, line_plot};
 use crate::progress;
 
 /// Reproduce the paper's results into `args.out` (`args.extended` adds the
-/// ε study of the friction law). `quiet` silences everything but errors.
+/// ε study of the friction law, the inversion maps and the adhesion study).
+/// `quiet` silences everything but errors.
 pub fn run(args: &ReproduceArgs, quiet: bool) -> Result<()> {
     if args.out.exists() && !args.out.is_dir() {
         return Err(tippetop::Error::invalid(

@@ -591,6 +591,14 @@ fn reproduce_after_extended_leaves_only_figures_of_the_report() {
         .assert()
         .success();
     assert!(out.join("figeps_10s.png").is_file());
+    // The adhesion study (#14 item 4): its section and figures.
+    let ext = fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(ext.contains("## Adhesion: what van der Waals binding does to the paper's story"));
+    assert!(ext.contains("**The paper's claims under adhesion**"));
+    for f in ["constant", "reversal", "pulse8us", "pulse1us", "zoom"] {
+        assert!(out.join(format!("figadhesion_{f}.png")).is_file(), "{f}");
+        assert!(ext.contains(&format!("(figadhesion_{f}.png)")), "{f}");
+    }
     tippetop()
         .args(["reproduce", "--quick", "--quiet", "--out", o])
         .assert()
@@ -598,6 +606,11 @@ fn reproduce_after_extended_leaves_only_figures_of_the_report() {
     let report = fs::read_to_string(out.join("report.md")).unwrap();
     let names = visible(&out);
     assert!(!names.iter().any(|n| n.starts_with("figeps")), "{names:?}");
+    assert!(
+        !names.iter().any(|n| n.starts_with("figadhesion")),
+        "{names:?}"
+    );
+    assert!(!report.contains("Adhesion"));
     for n in names.iter().filter(|n| n.ends_with(".png")) {
         assert!(report.contains(n.as_str()), "{n} is not in report.md");
     }

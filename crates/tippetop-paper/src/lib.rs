@@ -14,7 +14,10 @@
 //! - [`figures`]: one function per figure of the paper;
 //! - [`claims`]: one function per claim, each with its criterion;
 //! - [`sections`]: the report's extra sections (stick/slip, App. C against
-//!   the numerics, and with `extended` the inversion maps and the ε study);
+//!   the numerics, and with `extended` the inversion maps, the ε study and
+//!   the adhesion study);
+//! - [`adhesion`]: the paper's nano scenarios rerun with van der Waals
+//!   adhesion (extended mode);
 //! - [`report`]: the Markdown report.
 //!
 //! Three ways of computing each nano result are compared:
@@ -26,6 +29,7 @@
 //! - **paper's method** (`rk4/500`): the same equations with classical RK4 on
 //!   500 steps over the window, the paper's numerics.
 
+pub mod adhesion;
 pub mod claims;
 pub mod figures;
 pub mod report;
@@ -203,7 +207,7 @@ pub struct Options {
     /// Shorten every window 10x (for tests; verdicts then are not meaningful).
     pub quick: bool,
     /// Also run the heavier studies (inversion maps, the ε study of the
-    /// friction law).
+    /// friction law, the adhesion study).
     pub extended: bool,
 }
 

@@ -1,6 +1,7 @@
 //! The report's sections beyond the claims table: exact Coulomb friction
 //! (stick/slip), App. C against the numerics, and in extended mode the
-//! classical inversion maps and the ε study of the friction law.
+//! classical inversion maps, the ε study of the friction law and the
+//! adhesion study ([`crate::adhesion`]).
 
 use tippetop::analysis::asymptotics::ErrorStat;
 use tippetop::analysis::friction::{self, EpsRow};
@@ -138,8 +139,8 @@ pub struct Extended {
     pub maps: Vec<MapData>,
 }
 
-/// The classical inversion maps (regularised and exact friction) and the ε
-/// study of the friction law over 10 s and 150 s.
+/// The classical inversion maps (regularised and exact friction), the ε
+/// study of the friction law over 10 s and 150 s, and the adhesion study.
 pub fn extended(
     runs: &Runs,
     opts: Options,
@@ -198,6 +199,9 @@ pub fn extended(
             note: "Regularised Coulomb μ N v/√(|v|² + ε²) for ε = 1e-2, 1e-3, 1e-4 m/s against the exact stick/slip law.".into(),
         });
     }
+    let study = crate::adhesion::study(runs, opts, progress)?;
+    out.sections.push(study.section());
+    out.figures.extend(study.figures(runs));
     Ok(out)
 }
 
