@@ -1,5 +1,7 @@
 //! General numerics with no physics in them: dual numbers for exact
-//! Jacobians and eigenvalues of small dense matrices.
+//! Jacobians, eigenvalues of small dense matrices and counter-based random
+//! streams.
 
 pub mod dual;
 pub mod eigen;
+pub mod random;

@@ -8,9 +8,12 @@
 //!   evaluation count, clean failures;
 //! - `driver`: the shared `solve` driver (events, tstops, samples,
 //!   determinism, limits) over every engine;
-//! - `dop853`: DOP853's own step-size control at the stability limit.
+//! - `dop853`: DOP853's own step-size control at the stability limit;
+//! - `random`: the counter-based random stream the fixed-step (Langevin)
+//!   engines draw from: known answers, purity, statistics.
 
 mod dop853;
 mod driver;
 mod engines;
 mod problems;
+mod random;
