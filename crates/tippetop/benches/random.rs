@@ -1,4 +1,4 @@
-//! The counter-based random stream (`tippetop::numeric::random`): normals per
+//! The counter-based random stream (`tippetop::random`): normals per
 //! second on one core, as a Langevin step would draw them (6 normals: the
 //! rigid model's 3 force and 3 torque components, one call per step), in
 //! bulk (1 024 per call), one at a time (`Stream::normal`, which pays a whole
@@ -11,7 +11,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use tippetop::numeric::random::Stream;
+use tippetop::random::Stream;
 
 fn bench(c: &mut Criterion) {
     let stream = Stream::new(0x5eed, 7);

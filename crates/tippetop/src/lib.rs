@@ -19,6 +19,9 @@ pub mod forcing;
 pub mod integrate;
 pub mod model;
 pub(crate) mod numeric;
+/// Counter-based random streams (Philox4x32-10) for stochastic runs: see
+/// [`random::Stream`].
+pub use numeric::random;
 pub mod observe;
 pub mod physics;
 pub mod scenario;

@@ -1,5 +1,5 @@
 //! The counter-based random stream the fixed-step (Langevin) engines draw
-//! from (`tippetop::numeric::random`): Random123's known-answer vectors
+//! from (`tippetop::random`): Random123's known-answer vectors
 //! through the key layout, purity (same key, same bits, in any order and on
 //! any thread), the limits, and statistics with stated error bars on fixed
 //! seeds. Each statistical check is a function that the last tests feed with
@@ -14,7 +14,7 @@
 //! 1e-3 (Kolmogorov's limit law with Stephens' finite-n correction).
 
 use std::f64::consts::SQRT_2;
-use tippetop::numeric::random::{BLOCKS_PER_STEP, MAX_RUN, Stream, box_muller, normals, unit_open};
+use tippetop::random::{BLOCKS_PER_STEP, MAX_RUN, Stream, box_muller, normals, unit_open};
 
 /// One million: the sample size of the statistical checks.
 const N: usize = 1_000_000;
