@@ -262,10 +262,17 @@ mod quadrature_tests {
         let mut r = super::reduced::Reduced::new(&sc);
         let mut y = r.scale_state(&sc.initial);
         y[super::reduced::THD] = 0.3;
+        y[super::reduced::OM] = 0.4;
         y[super::reduced::UX] = 0.2;
         y[super::reduced::UY] = -0.1;
         y[super::reduced::PHI] = 0.7;
         y[super::reduced::PSI] = -1.1;
+        // (c_φ, s_φ) off the unit circle, as the integration leaves them.
+        y[super::reduced::DIR] = 1.01 * 0.7f64.cos();
+        y[super::reduced::DIR + 1] = 0.99 * 0.7f64.sin();
+        check(&mut r, y);
+        // Rolling: the position's derivative reads the constraint velocity.
+        r.plane.mode = super::Mode::Rolling;
         check(&mut r, y);
         let mut v = super::vector::Vector::new(&sc);
         let mut y = v.scale_state(&sc.initial);

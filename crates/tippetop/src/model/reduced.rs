@@ -2,13 +2,16 @@
 //! `docs/physics.md` §2–§4, with the normal force solved together with θ̈.
 //!
 //! State (scaled units, see [`Scales`]):
-//! `[θ, θ̇, Ω, ω, u_x, u_y, W_f, W_a, φ, ψ, x, y]`
+//! `[θ, θ̇, Ω, ω, u_x, u_y, W_f, W_a, φ, ψ, x, y, c_φ, s_φ]`
 //! where `W_f`, `W_a` are the work done so far by friction and by the
 //! applied force (integrated alongside so the energy balance can be checked
-//! to the integrator's accuracy), and `φ, ψ, x, y` are quadratures outside
-//! the error norm ([`CONTROLLED`]): the precession and spin angles
-//! (`φ̇ = Ω`, `ψ̇ = ω − Ω cos θ`) and the centre of mass's lab position
-//! (`ẋ + i ẏ = e^{iφ} (u_x + i u_y)`), docs/physics.md §19.
+//! to the integrator's accuracy), and `φ, ψ, x, y, c_φ, s_φ` are quadratures
+//! outside the error norm ([`CONTROLLED`]): the precession and spin angles
+//! (`φ̇ = Ω`, `ψ̇ = ω − Ω cos θ`), the centre of mass's lab position
+//! (`ẋ + i ẏ = (c_φ + i s_φ)(u_x + i u_y)`) and the precession's direction
+//! `(c_φ, s_φ) ≈ (cos φ, sin φ)`, carried as `ċ_φ = −s_φ Ω`, `ṡ_φ = c_φ Ω` so
+//! that the right-hand side takes no sine or cosine of φ (docs/physics.md
+//! §19).
 //!
 //! Two modes: [`Mode::Sliding`] (friction from the friction law) and
 //! [`Mode::Rolling`] (exact Coulomb law only: slip held at zero, the
@@ -23,9 +26,9 @@ pub use crate::physics::units::Scales;
 use crate::{Scenario, Top, integrate::OdeSystem};
 
 /// Number of state components.
-pub const DIM: usize = 12;
+pub const DIM: usize = 14;
 /// Number of components under error control (`θ … W_a`); the quadratures
-/// `φ, ψ, x, y` follow ([`OdeSystem::CONTROLLED`]).
+/// `φ, ψ, x, y, c_φ, s_φ` follow ([`OdeSystem::CONTROLLED`]).
 pub const CONTROLLED: usize = 8;
 /// Index of θ.
 pub const TH: usize = 0;
@@ -49,18 +52,26 @@ pub const PHI: usize = 8;
 pub const PSI: usize = 9;
 /// Index of the centre of mass's lab x (quadrature; y follows).
 pub const POS: usize = 10;
+/// Index of `c_φ ≈ cos φ` (quadrature; `s_φ ≈ sin φ` follows). Not
+/// normalised: `c_φ² + s_φ²` drifts from 1 by the integration error
+/// (docs/physics.md §19 gives the measured size).
+pub const DIR: usize = 12;
 
-/// The quadratures' derivatives `[φ̇, ψ̇, ẋ, ẏ]` at a state, with the
-/// centre-of-mass velocity `u` in the precessing frame (the constraint
-/// value while rolling) and `c = cos θ`.
+/// The quadratures' derivatives `[φ̇, ψ̇, ẋ, ẏ, ċ_φ, ṡ_φ]` at a state, with
+/// the centre-of-mass velocity `u` in the precessing frame (the constraint
+/// value while rolling) and `c = cos θ`. Linear in the quadratures: the
+/// velocity is rotated by the carried `(c_φ, s_φ)`, not by `sin_cos(φ)`.
 #[inline(always)]
-fn quadratures(y: &[f64; DIM], c: f64, u: [f64; 2]) -> [f64; 4] {
-    let (sp, cp) = y[PHI].sin_cos();
+fn quadratures(y: &[f64; DIM], c: f64, u: [f64; 2]) -> [f64; 6] {
+    let (cp, sp) = (y[DIR], y[DIR + 1]);
+    let om = y[OM];
     [
-        y[OM],
-        y[W] - y[OM] * c,
+        om,
+        y[W] - om * c,
         u[0] * cp - u[1] * sp,
         u[0] * sp + u[1] * cp,
+        -sp * om,
+        cp * om,
     ]
 }
 
@@ -217,11 +228,13 @@ impl Reduced {
             0.0,
             0.0,
             // φ = the heading (0: the axis tilts towards the lab X), ψ = 0,
-            // x = y = 0.
+            // x = y = 0, (c_φ, s_φ) = (cos φ, sin φ).
             i.heading,
             0.0,
             0.0,
             0.0,
+            i.heading.cos(),
+            i.heading.sin(),
         ]
     }
 
@@ -323,7 +336,7 @@ impl Reduced {
         let thdd = (gyro - as_ * cp.vertical_total(normal) - h * fx) * inv_ia;
         let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
         let wd = s * fy * inv_ic;
-        let [dphi, dpsi, dx, dy_] = quadratures(y, c, [ux, uy]);
+        let [dphi, dpsi, dx, dy_, dcp, dsp] = quadratures(y, c, [ux, uy]);
         let dy = [
             thd,
             thdd,
@@ -337,6 +350,8 @@ impl Reduced {
             dpsi,
             dx,
             dy_,
+            dcp,
+            dsp,
         ];
         Ok(Eval {
             dy,
@@ -377,7 +392,7 @@ impl Reduced {
         let ff = [fx + hx, fy + hy];
         let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
         let wd = s * fy * inv_ic;
-        let [dphi, dpsi, dx, dy_] = quadratures(y, c, [ux, uy]);
+        let [dphi, dpsi, dx, dy_, dcp, dsp] = quadratures(y, c, [ux, uy]);
         let dy = [
             thd,
             thdd,
@@ -391,6 +406,8 @@ impl Reduced {
             dpsi,
             dx,
             dy_,
+            dcp,
+            dsp,
         ];
         Eval {
             dy,
@@ -433,16 +450,31 @@ impl OdeSystem<DIM> for Reduced {
     type Error = ModelError;
     const CONTROLLED: usize = CONTROLLED;
 
-    /// `∂(ẋ, ẏ)/∂φ = (−ẏ, ẋ)`; nothing else among the quadratures reads one.
+    /// With `(c, s) = (c_φ, s_φ)`: `ẋ = c u_x − s u_y`, `ẏ = s u_x + c u_y`
+    /// give `∂ẋ/∂c = u_x`, `∂ẋ/∂s = −u_y`, `∂ẏ/∂c = u_y`, `∂ẏ/∂s = u_x`;
+    /// `ċ = −s Ω`, `ṡ = c Ω` give `∂ċ/∂s = −Ω`, `∂ṡ/∂c = Ω`. Nothing reads
+    /// φ, ψ, x or y. (The dependence on the controlled Ω and u, the block
+    /// below the controlled columns, is in Rodas4P's finite differences.)
     fn quadrature_jacobian(
         &self,
         _t: f64,
-        _y: &[f64; DIM],
+        y: &[f64; DIM],
         f: &[f64; DIM],
         jac: &mut [[f64; DIM]; DIM],
     ) {
-        jac[POS][PHI] = -f[POS + 1];
-        jac[POS + 1][PHI] = f[POS];
+        // u as the right-hand side used it (the constraint value while
+        // rolling); Ω = φ̇.
+        let u = match self.plane.mode {
+            Mode::Rolling => self.rolling_velocity(y),
+            Mode::Sliding => [y[UX], y[UY]],
+        };
+        let om = f[PHI];
+        jac[POS][DIR] = u[0];
+        jac[POS][DIR + 1] = -u[1];
+        jac[POS + 1][DIR] = u[1];
+        jac[POS + 1][DIR + 1] = u[0];
+        jac[DIR][DIR + 1] = -om;
+        jac[DIR + 1][DIR] = om;
     }
 
     fn begin_segment(&mut self, t: f64, _y: &[f64; DIM]) {
