@@ -669,6 +669,18 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         self.done = true;
     }
 
+    /// A value of the output overflowed (in SI units) at scaled time `ts`
+    /// although the scaled state is finite: drop the rows from there on
+    /// and record the error (with the last accepted state).
+    fn stop_at_nonfinite_output(&mut self, ts: f64) {
+        let tu = self.tu;
+        self.samples.retain(|r| r.t < ts * tu);
+        self.error = Some(nonfinite_output_error(
+            ts * tu,
+            &self.m.describe(&self.last_accepted.1),
+        ));
+    }
+
     /// Handle the end of the active segment: merge its counters, check the
     /// output, and let the model handle a force switch or terminal event.
     fn handle_end(&mut self) {
@@ -676,14 +688,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let (index, t, y) = a.ended.expect("an ended segment");
         self.track.merge(&self.event_track);
         if let Some(ts) = self.nonfinite_at {
-            // A value of the output overflowed (in SI units) although the
-            // scaled state is finite: stop at the first such row.
-            let tu = self.tu;
-            self.samples.retain(|r| r.t < ts * tu);
-            self.error = Some(nonfinite_output_error(
-                ts * tu,
-                &self.m.describe(&self.last_accepted.1),
-            ));
+            self.stop_at_nonfinite_output(ts);
             (self.t, self.y) = self.last_accepted;
             self.stats.steps = self.steps_seen;
             self.stats.rhs_evals = self.m.evaluations();
@@ -740,12 +745,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             self.stats.rejected += a.st.stats.rejected;
             (self.t, self.y) = self.last_accepted;
             if let Some(ts) = self.nonfinite_at {
-                let tu = self.tu;
-                self.samples.retain(|r| r.t < ts * tu);
-                self.error = Some(nonfinite_output_error(
-                    ts * tu,
-                    &self.m.describe(&self.last_accepted.1),
-                ));
+                self.stop_at_nonfinite_output(ts);
             }
         }
         let (t, y, tu) = (self.t, self.y, self.tu);
