@@ -392,3 +392,75 @@ fn run_rejects_bad_adhesion() {
         }
     }
 }
+
+/// The `[[well]]` entries (docs/physics.md §20): every key finite and in
+/// range, every key required, no two wells overlapping (centres closer than
+/// 3 (w_i + w_j)): one line naming the key, exit 2, nothing written.
+#[test]
+fn run_rejects_bad_wells() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = out.to_str().unwrap();
+    let ok = ["well.0.theta=1.5", "well.0.depth=1e-21", "well.0.width=0.1"];
+    let with = |extra: &[&'static str], drop: &str| -> Vec<&'static str> {
+        ok.iter()
+            .copied()
+            .filter(|s| !s.starts_with(drop))
+            .chain(extra.iter().copied())
+            .collect()
+    };
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (with(&["well.0.theta=-0.1"], "well.0.theta"), "well.0.theta"),
+        (with(&["well.0.theta=3.2"], "well.0.theta"), "well.0.theta"),
+        (with(&["well.0.theta=nan"], "well.0.theta"), "well.0.theta"),
+        (with(&["well.0.depth=0"], "well.0.depth"), "well.0.depth"),
+        (
+            with(&["well.0.depth=-1e-21"], "well.0.depth"),
+            "well.0.depth",
+        ),
+        (with(&["well.0.depth=inf"], "well.0.depth"), "well.0.depth"),
+        (with(&["well.0.width=0"], "well.0.width"), "well.0.width"),
+        (with(&["well.0.width=-0.1"], "well.0.width"), "well.0.width"),
+        (with(&[], "well.0.width"), "well.0.width"),
+        (with(&[], "well.0.depth"), "well.0.depth"),
+        (
+            with(
+                &["well.1.theta=2.0", "well.1.depth=1e-21", "well.1.width=0.1"],
+                "none",
+            ),
+            "well.1.theta",
+        ),
+        (with(&["well.0.radius=1"], "none"), "well.0.radius"),
+        (with(&["well.2.theta=1"], "none"), "well.2.theta"),
+    ];
+    for (sets, key) in cases {
+        for model in ["vector", "reduced", "rigid"] {
+            let m = format!("solver.model={model}");
+            let mut args = vec!["run", "--preset", "nano", "--no-plot", "--out", o];
+            for s in sets.iter().copied().chain([m.as_str()]) {
+                args.extend(["--set", s]);
+            }
+            expect_input_error(&args, Some(&out), key);
+        }
+    }
+    // Centres 0.6 rad = 3 (0.1 + 0.1) apart: allowed (the bound itself).
+    let mut args = vec![
+        "run",
+        "--preset",
+        "classical",
+        "--no-plot",
+        "--quiet",
+        "--out",
+        o,
+        "--set",
+        "solver.t_end=0.1",
+    ];
+    for s in
+        ok.iter()
+            .copied()
+            .chain(["well.1.theta=2.1", "well.1.depth=1e-21", "well.1.width=0.1"])
+    {
+        args.extend(["--set", s]);
+    }
+    tippetop().args(&args).assert().success();
+}

@@ -81,8 +81,8 @@ fn validator_list(set: &str, marker: &str) -> Vec<String> {
 
 /// The valid keys of `table`, from the validator's unknown-key error.
 fn valid_keys(table: &str) -> Vec<String> {
-    let set = if table == "force" {
-        "force.0.no_such_key=1".to_string()
+    let set = if table == "force" || table == "well" {
+        format!("{table}.0.no_such_key=1")
     } else {
         format!("{table}.no_such_key=1")
     };

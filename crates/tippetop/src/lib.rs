@@ -30,6 +30,7 @@ pub mod simulate;
 pub mod state;
 pub mod top;
 pub mod trajectory;
+pub mod well;
 
 pub use contact::{Adhesion, ContactMode, FrictionLaw, Surface};
 pub use error::{Error, Failure};
@@ -39,3 +40,4 @@ pub use simulate::{Simulation, Snapshot, simulate, simulate_with_progress};
 pub use state::{Initial, Method, ModelKind, SolverSettings};
 pub use top::Top;
 pub use trajectory::{EventRecord, Sample, Summary, Trajectory};
+pub use well::Well;

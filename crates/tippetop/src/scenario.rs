@@ -28,6 +28,10 @@
 //! hz = 0.0                    # vertical load, > 0 pushes onto the plane; default 0
 //! start = 0.0                 # [s], default 0
 //! stop = 1e-5                 # [s], default: never
+//! [[well]]                    # orientation well U = -depth exp(-(theta - centre)^2/(2 width^2)), none by default
+//! theta = 1.5                 # centre [rad], 0 <= theta <= pi
+//! depth = 1e-20               # [J], > 0
+//! width = 0.1                 # [rad], > 0; centres at least 3 (width_i + width_j) apart
 //! [initial]
 //! theta = 0.1                 # [rad]
 //! theta_dot = 0.0             # [rad/s]
@@ -57,6 +61,7 @@ pub mod limits;
 use serde::Deserialize as _;
 use toml::{Table, Value};
 
+use crate::well::{self as wells, Well};
 use crate::{
     Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial, SolverSettings,
     Surface, Top,
@@ -74,6 +79,8 @@ pub struct Scenario {
     pub adhesion: Adhesion,
     /// Applied force schedule.
     pub forcing: Forcing,
+    /// Orientation wells (docs/physics.md §20; none by default).
+    pub wells: Vec<Well>,
     /// Initial state.
     pub initial: Initial,
     /// Solver settings.
@@ -95,6 +102,7 @@ impl Scenario {
                 restitution: 0.0,
             },
             adhesion: Adhesion::NONE,
+            wells: Vec::new(),
             forcing: Forcing::constant(1e-22, 1e-22),
             initial: Initial::paper(),
             solver: SolverSettings::new(1e-4),
@@ -114,6 +122,7 @@ impl Scenario {
                 restitution: 0.0,
             },
             adhesion: Adhesion::NONE,
+            wells: Vec::new(),
             forcing: Forcing::none(),
             initial: Initial::paper(),
             solver: SolverSettings::new(10.0),
@@ -139,6 +148,7 @@ impl Scenario {
                 ..Self::nano().surface
             },
             adhesion: Adhesion { force, energy },
+            wells: Vec::new(),
             ..Self::nano()
         }
     }
@@ -166,6 +176,7 @@ impl Scenario {
         self.surface.validate()?;
         self.adhesion.validate()?;
         self.forcing.validate()?;
+        wells::validate(&self.wells)?;
         self.initial
             .validate(self.solver.model == ModelKind::Reduced)?;
         self.solver.validate()?;
@@ -358,6 +369,22 @@ impl Scenario {
             t.insert("adhesion".into(), Value::Table(adh));
         }
         t.insert("force".into(), Value::Array(force));
+        // Written only when there are wells (scenario texts without them
+        // unchanged).
+        if !self.wells.is_empty() {
+            let wells = self
+                .wells
+                .iter()
+                .map(|w| {
+                    let mut t = Table::new();
+                    t.insert("theta".into(), Value::Float(w.theta));
+                    t.insert("depth".into(), Value::Float(w.depth));
+                    t.insert("width".into(), Value::Float(w.width));
+                    Value::Table(t)
+                })
+                .collect();
+            t.insert("well".into(), Value::Array(wells));
+        }
         t.insert("initial".into(), Value::Table(initial));
         t.insert("solver".into(), Value::Table(solver));
         t
@@ -411,6 +438,12 @@ const FORCE_KEYS: Keys = &[
     ),
     ("start", "a finite time >= 0 [s]"),
     ("stop", "a finite time > start [s], or omit stop for never"),
+];
+
+const WELL_KEYS: Keys = &[
+    ("theta", wells::THETA_RANGE),
+    ("depth", wells::DEPTH_RANGE),
+    ("width", wells::WIDTH_RANGE),
 ];
 
 const INITIAL_KEYS: Keys = &[
@@ -485,18 +518,18 @@ const SOLVER_KEYS: Keys = &[
     ("max_steps", crate::state::MAX_STEPS_RANGE),
 ];
 
-/// Tables in document order; `force` is an array of tables.
+/// Tables in document order; `force` and `well` are arrays of tables.
 const TABLES: &[(&str, Keys)] = &[
     ("top", TOP_KEYS),
     ("surface", SURFACE_KEYS),
     ("adhesion", ADHESION_KEYS),
     ("force", FORCE_KEYS),
+    ("well", WELL_KEYS),
     ("initial", INITIAL_KEYS),
     ("solver", SOLVER_KEYS),
 ];
 
-const TOP_LEVEL_RANGE: &str =
-    "valid top-level entries: preset, [top], [surface], [adhesion], [[force]], [initial], [solver]";
+const TOP_LEVEL_RANGE: &str = "valid top-level entries: preset, [top], [surface], [adhesion], [[force]], [[well]], [initial], [solver]";
 
 const LAWS: &[(&str, LawName)] = &[
     ("coulomb", LawName::Coulomb),
@@ -624,10 +657,10 @@ fn table_mut<'a>(merged: &'a mut Table, name: &str) -> &'a mut Table {
     }
 }
 
-/// The force-window list `merged["force"]`, created empty if absent.
-fn windows_mut(merged: &mut Table) -> &mut Vec<Value> {
+/// The list `merged[name]` (`force` windows, `well`s), created empty if absent.
+fn windows_mut<'a>(merged: &'a mut Table, name: &str) -> &'a mut Vec<Value> {
     let entry = merged
-        .entry("force".to_string())
+        .entry(name.to_string())
         .or_insert_with(|| Value::Array(Vec::new()));
     if !entry.is_array() {
         *entry = Value::Array(Vec::new());
@@ -655,25 +688,26 @@ fn merge_file(merged: &mut Table, file: &Table) -> Result<bool, Error> {
     let mut eps_explicit = false;
     for &(name, keys) in TABLES {
         let Some(v) = file.get(name) else { continue };
-        if name == "force" {
+        if name == "force" || name == "well" {
+            let one = if name == "force" { "window" } else { "well" };
             let Value::Array(windows) = v else {
                 return Err(Error::invalid(
-                    "force",
+                    name,
                     format!("expected an array of tables, found {}", describe(v)),
-                    "[[force]] sections, one per window".into(),
+                    format!("[[{name}]] sections, one per {one}"),
                 ));
             };
             for (k, w) in windows.iter().enumerate() {
                 let Value::Table(t) = w else {
                     return Err(Error::invalid(
-                        &format!("force.{k}"),
+                        &format!("{name}.{k}"),
                         format!("expected a table, found {}", describe(w)),
-                        "[[force]] sections, one per window".into(),
+                        format!("[[{name}]] sections, one per {one}"),
                     ));
                 };
-                check_keys(t, &format!("force.{k}"), keys)?;
+                check_keys(t, &format!("{name}.{k}"), keys)?;
             }
-            *windows_mut(merged) = windows.clone();
+            *windows_mut(merged, name) = windows.clone();
         } else {
             let Value::Table(t) = v else {
                 return Err(Error::invalid(
@@ -735,26 +769,35 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
             "cannot be given with --set".into(),
             "use --preset NAME, or preset = \"NAME\" in the file".into(),
         )),
-        ["force", idx, k] => {
-            let keys = FORCE_KEYS;
+        [list @ ("force" | "well"), idx, k] => {
+            let (keys, one) = if *list == "force" {
+                (FORCE_KEYS, "window")
+            } else {
+                (WELL_KEYS, "well")
+            };
             if !idx.bytes().all(|b| b.is_ascii_digit()) || idx.is_empty() {
                 return Err(Error::invalid(
                     key,
-                    format!("{idx:?} is not a window index"),
-                    "force.K.KEY with K = 0, 1, ... (0-based)".into(),
+                    format!("{idx:?} is not a {one} index"),
+                    format!("{list}.K.KEY with K = 0, 1, ... (0-based)"),
                 ));
             }
             if !keys.iter().any(|(name, _)| name == k) {
                 return Err(unknown_key(key, keys));
             }
-            let windows = windows_mut(merged);
+            let windows = windows_mut(merged, list);
             let n = windows.len();
             let kk = idx.parse::<usize>().unwrap_or(usize::MAX);
             if kk > n {
+                let what = if *list == "force" {
+                    "force window"
+                } else {
+                    "well"
+                };
                 return Err(Error::invalid(
                     key,
-                    format!("there is no force window {idx} ({n} defined)"),
-                    format!("K <= {n}: 0-based, K = {n} appends a new window"),
+                    format!("there is no {what} {idx} ({n} defined)"),
+                    format!("K <= {n}: 0-based, K = {n} appends a new {one}"),
                 ));
             }
             if kk == n {
@@ -769,6 +812,11 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
             key,
             "force windows are set one key at a time".into(),
             "force.K.KEY with K = 0, 1, ... and KEY one of hx, hy, hz, start, stop".into(),
+        )),
+        ["well", ..] => Err(Error::invalid(
+            key,
+            "wells are set one key at a time".into(),
+            "well.K.KEY with K = 0, 1, ... and KEY one of theta, depth, width".into(),
         )),
         [table, k] if keys_of(table).is_some() => {
             let keys = keys_of(table).unwrap_or(&[]);
@@ -797,7 +845,7 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
         [table, ..] => Err(Error::invalid(
             key,
             format!("unknown table \"{table}\""),
-            "valid tables: top, surface, adhesion, force, initial, solver".into(),
+            "valid tables: top, surface, adhesion, force, well, initial, solver".into(),
         )),
         [] => unreachable!("split always yields one part"),
     }
@@ -1022,6 +1070,36 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     }
     let forcing = Forcing { windows };
 
+    let mut wells = Vec::new();
+    if let Some(Value::Array(list)) = merged.get("well") {
+        for (k, w) in list.iter().enumerate() {
+            let s = Section {
+                prefix: format!("well.{k}"),
+                keys: WELL_KEYS,
+                table: w.as_table(),
+            };
+            // Every key of a well is required (no default well).
+            if let Some(key) = ["theta", "depth", "width"]
+                .into_iter()
+                .find(|k| s.get(k).is_none())
+            {
+                return Err(Error::invalid(
+                    &s.full(key),
+                    "missing".into(),
+                    format!(
+                        "every well needs theta, depth and width; {}",
+                        range_of(WELL_KEYS, key)
+                    ),
+                ));
+            }
+            wells.push(Well {
+                theta: s.f64("theta", None)?,
+                depth: s.f64("depth", None)?,
+                width: s.f64("width", None)?,
+            });
+        }
+    }
+
     let s = section(merged, "initial");
     let initial = if s.get("axis").is_some() {
         Initial::from_lab(
@@ -1073,6 +1151,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         surface,
         adhesion,
         forcing,
+        wells,
         initial,
         solver,
     })

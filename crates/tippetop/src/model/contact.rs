@@ -80,12 +80,14 @@ impl ContactState {
     /// The rules of `sc` in the units `scales`, sliding, no force latched.
     pub fn new(sc: &Scenario, scales: &Scales) -> Self {
         let law = sc.surface.law.scaled(scales.velocity());
+        let mut forces = Forces::of(sc);
+        forces.scale_wells(scales.energy());
         ContactState {
             exact: law == FrictionLaw::Coulomb,
             law,
             mu: sc.surface.friction,
             contact: sc.surface.contact,
-            forces: Forces::of(sc),
+            forces,
             mode: Mode::Sliding,
             slip_hint: [0.0, 0.0],
             slip_ref: Cell::new([0.0, 0.0]),
@@ -182,6 +184,13 @@ impl ContactState {
     /// adhesion folded in (the rigid model adds its phase's own).
     pub(crate) fn forces(&self) -> &Forces {
         &self.forces
+    }
+
+    /// The orientation wells, depths scaled (docs/physics.md §20; empty
+    /// without wells).
+    #[inline(always)]
+    pub fn wells(&self) -> &[crate::physics::forces::wells::Well] {
+        self.forces.wells()
     }
 
     /// True when the scenario has adhesion (`F_a > 0`).

@@ -179,6 +179,8 @@ pub struct Reduced {
     pub top: Top,
     /// g \[m/s²\].
     pub gravity_si: f64,
+    /// The orientation wells in SI (for the energy column; §20).
+    wells_si: Vec<crate::physics::forces::wells::Well>,
     /// The last evaluation made by `eval` (see [`LastEval`]).
     last: RefCell<Option<LastEval>>,
 }
@@ -200,6 +202,7 @@ impl Reduced {
             plane: ContactState::new(sc, &scales),
             top: sc.top,
             gravity_si: sc.surface.gravity,
+            wells_si: sc.wells.clone(),
             last: RefCell::new(None),
         }
     }
@@ -317,8 +320,9 @@ impl Reduced {
         let f = self.plane.coefficient(v);
         let cp = self.plane.contact_point();
         let [hx, hy] = cp.h;
-        // Gyroscopic term of A θ̈.
-        let gyro = -om * (ic * w - ia * om * c) * s;
+        // Gyroscopic term of A θ̈, with the wells' torque τ_y = −U′(θ)
+        // (docs/physics.md §20).
+        let gyro = self.with_wells(-om * (ic * w - ia * om * c) * s, th);
         let as_ = a * s;
         let q = self.g + a * c * thd * thd + as_ * (gyro + h * hx) * inv_ia;
         // The vertical load h_z at P: Q + h_z D₀, D₀ = 1 + a² s²/A
@@ -375,7 +379,7 @@ impl Reduced {
         let weff = w - om * c + a * om;
         let ux = h * thd;
         let uy = -s * weff;
-        let gyro = -om * (ic * w - ia * om * c) * s;
+        let gyro = self.with_wells(-om * (ic * w - ia * om * c) * s, y[TH]);
         let thdd = (gyro - a * s * self.g - a * s * thd * thd + h * om * uy)
             / (ia + a * a * s * s + h * h);
         // The plane's reaction: the vertical constraint force plus the
@@ -418,6 +422,27 @@ impl Reduced {
         }
     }
 
+    /// `gyro` plus the wells' torque about ŷ, `τ_y = −U′(θ)` (§20): it
+    /// enters `A θ̈` beside the gyroscopic term, and so the closure's `Q`
+    /// (`a s τ_y/A`) and the rolling equation. `gyro` itself without wells
+    /// (bit for bit).
+    #[inline(always)]
+    fn with_wells(&self, gyro: f64, theta: f64) -> f64 {
+        let wells = self.plane.wells();
+        if wells.is_empty() {
+            gyro
+        } else {
+            gyro + crate::physics::forces::wells::torque(wells, theta)
+        }
+    }
+
+    /// `e + U(θ)`, the wells' potential (scaled; `e` itself without
+    /// wells, §20).
+    #[inline]
+    fn with_well_potential(&self, e: f64, theta: f64) -> f64 {
+        crate::physics::forces::wells::with_potential(self.plane.wells(), e, theta)
+    }
+
     /// Stick margin while rolling: `μ |N| − |F_f|` (scaled force); rolling
     /// ends when it falls through zero.
     pub fn stick_margin(&self, e: &Eval) -> f64 {
@@ -434,10 +459,11 @@ impl Reduced {
     pub fn energy_scaled(&self, y: &[f64; DIM], e: &Eval) -> f64 {
         let (s, c) = self.sin_cos(y[TH]);
         let u = e.u;
-        0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+        let e = 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
             + 0.5 * self.ia * (y[THD] * y[THD] + y[OM] * y[OM] * s * s)
             + 0.5 * self.ic * y[W] * y[W]
-            + self.g * (1.0 - self.a * c)
+            + self.g * (1.0 - self.a * c);
+        self.with_well_potential(e, y[TH])
     }
 
     /// C · R in scaled units times the largest |ω| gives the J scale.
@@ -577,7 +603,11 @@ impl super::ContactModel<DIM> for Reduced {
             normal: normal * sc.force(),
             slip: slip[0].hypot(slip[1]) * vu,
             jellett: crate::observe::jellett(&m.top, theta, om, w),
-            energy: crate::observe::energy(&m.top, m.gravity_si, theta, thd, om, w, u_si),
+            energy: crate::physics::forces::wells::with_potential(
+                &m.wells_si,
+                crate::observe::energy(&m.top, m.gravity_si, theta, thd, om, w, u_si),
+                theta,
+            ),
             work_friction: y[WF] * sc.energy(),
             work_applied: y[WA] * sc.energy(),
             hx: h[0] * sc.force(),

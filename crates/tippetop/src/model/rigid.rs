@@ -515,6 +515,20 @@ impl Rigid {
         let wk = dot(n, k);
         // Gyroscopic angular acceleration (world): −I⁻¹ (n × I n).
         let ndot0 = scale(-1.0, self.inv_inertia(k, cross(n, self.inertia(k, n))));
+        // The wells' torque τ = −U′(θ) ŷ (§20), a couple: its angular
+        // acceleration τ/A (τ ⊥ k) joins the torque-free one, which the
+        // closure and the rolling constraint read. None without wells.
+        let wells = self.contact.wells();
+        let well_acc = (!wells.is_empty()).then(|| {
+            scale(
+                1.0 / self.ia,
+                crate::physics::forces::wells::torque_world(wells, k),
+            )
+        });
+        let ndot0 = match well_acc {
+            Some(acc) => add(ndot0, acc),
+            None => ndot0,
+        };
         let e = cross(k, Z);
         let w = cross(self.inv_inertia(k, e), r);
         let nn = dot(n, n);
@@ -567,13 +581,17 @@ impl Rigid {
         // İ n = (C − A)(n·k) k̇ (k̇ = n × k ⟂ n), so
         // ṅ = I⁻¹ (r × F − (C − A)(n·k) k̇).
         let kdot = cross(n, k);
+        let ndot = self.inv_inertia(
+            k,
+            sub(cross(r, force), scale((self.ic - self.ia) * wk, kdot)),
+        );
         set3(
             &mut dy,
             OMEGA,
-            self.inv_inertia(
-                k,
-                sub(cross(r, force), scale((self.ic - self.ia) * wk, kdot)),
-            ),
+            match well_acc {
+                Some(acc) => add(ndot, acc),
+                None => ndot,
+            },
         );
         // Attitude: q̇ = ½ (0, n) ⊗ q − κ (|q|² − 1) q.
         let qs = quat_of(y);
@@ -750,12 +768,19 @@ impl Rigid {
 
     /// `e` plus, in flight with adhesion, the potential `U(gap) − U(0)`
     /// (`e` itself otherwise, bit for bit).
+    /// Also adds the wells' potential `U(θ)` (§20; nothing without wells).
     fn with_gap_potential(&self, e: f64, y: &[f64; DIM]) -> f64 {
         let cv = self.contact.forces().centre_vertical();
-        if self.phase == Phase::Flight && cv.force > 0.0 {
+        let e = if self.phase == Phase::Flight && cv.force > 0.0 {
             e + cv.potential(self.gap(y))
         } else {
             e
+        };
+        let wells = self.contact.wells();
+        if wells.is_empty() {
+            e
+        } else {
+            crate::physics::forces::wells::with_potential(wells, e, self.theta(y))
         }
     }
 

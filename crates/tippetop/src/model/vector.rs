@@ -414,8 +414,9 @@ impl Vector {
             None => self.plane.coefficient(vp),
         };
         let hw = self.applied_world(k);
-        // Torque-free angular acceleration (k̇ ⊥ k, so I⁻¹ k̇ = k̇/A).
-        let w0 = scale(-self.gyro * wk, kd);
+        // Angular acceleration without the contact force (k̇ ⊥ k, so
+        // I⁻¹ k̇ = k̇/A), with the wells' torque (§20).
+        let w0 = self.with_wells(scale(-self.gyro * wk, kd), k);
         let e = [k[1], -k[0], 0.0];
         let u = scale(self.inv_ia, cross(e, r));
         let wkd_z = w[0] * kd[1] - w[1] * kd[0];
@@ -482,7 +483,7 @@ impl Vector {
             r,
             wr,
         } = *kn;
-        let w0 = scale(-self.gyro * wk, kd);
+        let w0 = self.with_wells(scale(-self.gyro * wk, kd), k);
         // K x = x − r × I⁻¹ (r × x) = (1 + |r|²/A) x − (r·x) r/A
         //       + (1/C − 1/A) (c·x) c,  c = k × r  (|k| = 1).
         let c = cross(k, r);
@@ -513,6 +514,21 @@ impl Vector {
         }
     }
 
+    /// `w0` plus the wells' torque over A, `τ/A` with `τ = −U′(θ) ŷ`
+    /// (`τ ⊥ k`, so `I⁻¹ τ = τ/A`; docs/physics.md §20): the closure reads
+    /// it through `ẇ₀·e`, the rolling constraint through `ẇ₀ × r`. `w0`
+    /// itself without wells (bit for bit).
+    #[inline(always)]
+    fn with_wells(&self, w0: V3, k: V3) -> V3 {
+        let wells = self.plane.wells();
+        if wells.is_empty() {
+            w0
+        } else {
+            let tau = crate::physics::forces::wells::torque_world(wells, k);
+            add(w0, scale(self.inv_ia, tau))
+        }
+    }
+
     /// Stick margin while rolling: `μ |N| − |F_f|` (scaled force).
     pub fn stick_margin(&self, e: &Eval) -> f64 {
         self.plane.stick_margin(e.normal, e.friction)
@@ -527,9 +543,11 @@ impl Vector {
     /// Total energy in scaled units, with the velocity `e.v`.
     pub fn energy_scaled(&self, y: &[f64; DIM], e: &Eval) -> f64 {
         let kn = self.kin(y);
-        0.5 * dot(e.v, e.v)
+        let en = 0.5 * dot(e.v, e.v)
             + 0.5 * dot(kn.w, self.inertia(kn.k, kn.w))
-            + self.g * (1.0 - self.a * kn.k[2])
+            + self.g * (1.0 - self.a * kn.k[2]);
+        // The wells' potential U(θ) (§20; nothing without wells).
+        crate::physics::forces::wells::with_potential(self.plane.wells(), en, Self::theta(y))
     }
 
     /// The Euler-angle quantities `(θ, θ̇, Ω, ω)` (scaled rates) and the

@@ -17,6 +17,8 @@
 //! - `crosscheck`: the models against each other;
 //! - `forces`: the applied force terms (the vertical load `force.K.hz`);
 //! - `adhesion`: van der Waals adhesion (`[adhesion]`, a centre-vertical term);
+//! - `wells`: orientation wells (`[[well]]`, a torque about `ŷ ⊥ k`):
+//!   small-oscillation period, energy with the potential, J, a barrier;
 //! - `position`: where the top is (position, attitude, contact point);
 //! - `initial`: the lab-frame initial state and the heading (isotropy);
 //! - `rigid`: what only the rigid model has (attitude, flight, impacts).
@@ -32,3 +34,4 @@ mod position;
 mod rigid;
 mod spec;
 mod stick_slip;
+mod wells;

@@ -13,7 +13,8 @@
 //! Wired today: [`Kind::ContactPoint`], with the terms [`retarding::Retarding`]
 //! (the paper's `H`) and [`vertical_load::VerticalLoad`] (`force.K.hz`,
 //! §17), and [`Kind::CentreVertical`], with the term [`adhesion::Adhesion`]
-//! (van der Waals adhesion, §18). The other kinds are declared so that their place is fixed; no
+//! (van der Waals adhesion, §18), and [`Kind::Torque`], with the term
+//! [`wells::Wells`] (orientation wells, §20). The other kinds are declared so that their place is fixed; no
 //! model applies them yet, and [`Applied`] has no slot for them (a term of
 //! such a kind cannot be built until its kind is wired). docs/architecture.md
 //! ("Forces as data") describes the seam.
@@ -21,6 +22,7 @@
 pub mod adhesion;
 pub mod retarding;
 pub mod vertical_load;
+pub mod wells;
 
 use std::sync::Arc;
 
@@ -52,9 +54,14 @@ pub enum Kind {
     /// gradients). Enters `Q` through its torque's share; does not conserve
     /// J in general; work integrated.
     BodyPoint,
-    /// Not yet wired: a pure torque (field torques, drilling, rolling
-    /// resistance). Enters `Q` through `ṅ`; J not conserved in general;
-    /// work integrated.
+    /// A pure torque (a couple). Wired for torques about the horizontal
+    /// axis `ŷ ⊥ k` that derive from a potential in θ
+    /// ([`wells::Wells`], docs/physics.md §20): it adds `τ/A` to the
+    /// torque-free angular acceleration, so it enters `Q` through `ṅ`
+    /// (`Q += a s τ_y/A`); J conserved (`τ ⊥ k`, `τ ⊥ Z`); potential `U(θ)`
+    /// in the energy. Other torques (field torques, drilling, rolling
+    /// resistance) are not wired: in general J is not conserved and the
+    /// work is integrated.
     Torque,
     /// Not yet wired: linear damping with a hook for its noise (the thermal
     /// issue fills it). Dissipative; J not conserved in general; work
@@ -83,7 +90,7 @@ pub struct Properties {
 }
 
 /// The applied physics in effect at one time, summed by kind (SI).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Applied {
     /// `(h_x, h_y, h_z)` \[N\] at the contact point, precessing frame; the
     /// force on the top is `−(h_x x̂ + h_y ŷ + h_z Z)` ([`Kind::ContactPoint`]).
@@ -91,6 +98,8 @@ pub struct Applied {
     /// The centre-vertical term ([`Kind::CentreVertical`]): pull-off force
     /// `F_a` \[N\] and binding energy `E_b` \[J\]; zero without adhesion.
     pub centre_vertical: CentreVertical,
+    /// The orientation wells ([`Kind::Torque`]), SI; empty without wells.
+    pub wells: Vec<wells::Well>,
 }
 
 /// A centre-vertical force: the pull-off force `F_a` and the binding
@@ -214,6 +223,9 @@ pub struct Forces {
     centre: CentreVertical,
     /// The top's radius \[m\]: the length unit, for the energy unit.
     radius: f64,
+    /// The orientation wells, depths scaled ([`Forces::scale_wells`]);
+    /// empty without wells.
+    wells: Vec<wells::Well>,
 }
 
 impl Forces {
@@ -228,12 +240,16 @@ impl Forces {
         if sc.adhesion.is_on() {
             terms.push(Arc::new(adhesion::Adhesion::of(&sc.adhesion)));
         }
+        if !sc.wells.is_empty() {
+            terms.push(Arc::new(wells::Wells::of(&sc.wells)));
+        }
         Forces {
             terms,
             switch_times: sc.forcing.switch_times(),
             latched: ContactPointForce::default(),
             centre: CentreVertical::default(),
             radius: sc.top.radius,
+            wells: Vec::new(),
         }
     }
 
@@ -280,6 +296,26 @@ impl Forces {
             force: cv.force / force_unit,
             energy: cv.energy / (force_unit * self.radius),
         };
+    }
+
+    /// Scale the wells' depths by `energy_unit` \[J\] (once, when the model
+    /// is built: the wells do not change during a run).
+    pub fn scale_wells(&mut self, energy_unit: f64) {
+        self.wells = self
+            .at(0.0)
+            .wells
+            .iter()
+            .map(|w| wells::Well {
+                depth: w.depth / energy_unit,
+                ..*w
+            })
+            .collect();
+    }
+
+    /// The latched orientation wells (depths scaled; empty without wells).
+    #[inline(always)]
+    pub fn wells(&self) -> &[wells::Well] {
+        &self.wells
     }
 
     /// The latched centre-vertical force (scaled; zero without adhesion).
