@@ -9,7 +9,7 @@
 //! misses).
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::Mutex;
+use std::sync::{Mutex, MutexGuard, TryLockError};
 use std::time::Instant;
 
 use numpy::PyArray1;
@@ -438,7 +438,17 @@ fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
 /// A copy of a `Simulation` at one instant (`Simulation.snapshot()`).
 #[pyclass(module = "tippetop", frozen)]
 struct Snapshot {
+    /// Not `Sync` by itself (the models cache evaluations in cells); locked
+    /// only briefly, with the GIL held.
     inner: Mutex<tippetop::Snapshot>,
+    wall: f64,
+}
+
+/// The state of a `Simulation` behind its lock.
+struct SimState {
+    /// `None` after an internal error left the run unusable.
+    sim: Option<tippetop::Simulation>,
+    /// Seconds spent integrating so far.
     wall: f64,
 }
 
@@ -449,25 +459,33 @@ struct Snapshot {
 #[pyclass(module = "tippetop", frozen)]
 struct Simulation {
     sc: tippetop::Scenario,
-    /// `None` after an internal error left the run unusable.
-    inner: Mutex<Option<tippetop::Simulation>>,
-    /// Seconds spent integrating so far.
-    wall: Mutex<f64>,
+    /// Taken with `try_lock` only: a thread that waited for it while
+    /// holding the GIL would deadlock with `integrate_to`, which holds it
+    /// with the GIL released.
+    state: Mutex<SimState>,
 }
 
 impl Simulation {
+    fn lock(&self) -> PyResult<MutexGuard<'_, SimState>> {
+        self.state.try_lock().map_err(|e| match e {
+            TryLockError::WouldBlock => PyRuntimeError::new_err(
+                "the simulation is busy (integrate_to is running in another thread)",
+            ),
+            TryLockError::Poisoned(_) => PyRuntimeError::new_err("the simulation is unusable"),
+        })
+    }
+
     fn with<T>(&self, f: impl FnOnce(&mut tippetop::Simulation) -> T) -> PyResult<T> {
-        let mut g = self
-            .inner
-            .lock()
-            .map_err(|_| PyRuntimeError::new_err("the simulation is unusable"))?;
-        match g.as_mut() {
+        let mut g = self.lock()?;
+        match g.sim.as_mut() {
             Some(s) => Ok(f(s)),
-            None => Err(PyRuntimeError::new_err(
-                "the simulation is unusable after an internal error",
-            )),
+            None => Err(unusable()),
         }
     }
+}
+
+fn unusable() -> PyErr {
+    PyRuntimeError::new_err("the simulation is unusable after an internal error")
 }
 
 #[pymethods]
@@ -478,8 +496,10 @@ impl Simulation {
         let sim = guarded(|| tippetop::Simulation::new(&scenario.sc))?.map_err(to_py_err)?;
         Ok(Simulation {
             sc: scenario.sc.clone(),
-            inner: Mutex::new(Some(sim)),
-            wall: Mutex::new(0.0),
+            state: Mutex::new(SimState {
+                sim: Some(sim),
+                wall: 0.0,
+            }),
         })
     }
 
@@ -487,24 +507,18 @@ impl Simulation {
     /// `error`), with the GIL released. ValueError if `t` is before the last
     /// time integrated to or after `solver.t_end`.
     fn integrate_to(&self, py: Python<'_>, t: f64) -> PyResult<()> {
-        let mut g = self
-            .inner
-            .lock()
-            .map_err(|_| PyRuntimeError::new_err("the simulation is unusable"))?;
-        let Some(sim) = g.as_mut() else {
-            return Err(PyRuntimeError::new_err(
-                "the simulation is unusable after an internal error",
-            ));
+        let mut g = self.lock()?;
+        let st = &mut *g;
+        let Some(sim) = st.sim.as_mut() else {
+            return Err(unusable());
         };
         let start = Instant::now();
         let r = py.detach(|| guarded(|| sim.integrate_to(t)));
-        if let Ok(mut w) = self.wall.lock() {
-            *w += start.elapsed().as_secs_f64();
-        }
+        st.wall += start.elapsed().as_secs_f64();
         match r {
             Ok(r) => r.map_err(to_py_err),
             Err(e) => {
-                *g = None;
+                st.sim = None;
                 Err(e)
             }
         }
@@ -543,10 +557,11 @@ impl Simulation {
 
     /// A copy of the whole run as it stands (exact floats).
     fn snapshot(&self) -> PyResult<Snapshot> {
-        let snap = self.with(|s| s.snapshot())?;
+        let g = self.lock()?;
+        let sim = g.sim.as_ref().ok_or_else(unusable)?;
         Ok(Snapshot {
-            inner: Mutex::new(snap),
-            wall: self.wall.lock().map(|w| *w).unwrap_or(0.0),
+            inner: Mutex::new(sim.snapshot()),
+            wall: g.wall,
         })
     }
 
@@ -556,21 +571,16 @@ impl Simulation {
             .inner
             .lock()
             .map_err(|_| PyRuntimeError::new_err("the snapshot is unusable"))?;
-        let mut g = self
-            .inner
-            .lock()
-            .map_err(|_| PyRuntimeError::new_err("the simulation is unusable"))?;
-        match g.as_mut() {
+        let mut g = self.lock()?;
+        match g.sim.as_mut() {
             Some(s) => s.restore(&snap),
             None => {
                 let mut s = tippetop::Simulation::new(&self.sc).map_err(to_py_err)?;
                 s.restore(&snap);
-                *g = Some(s);
+                g.sim = Some(s);
             }
         }
-        if let Ok(mut w) = self.wall.lock() {
-            *w = snapshot.wall;
-        }
+        g.wall = snapshot.wall;
         Ok(())
     }
 
@@ -581,7 +591,10 @@ impl Simulation {
     // The name of the Rust API (and the issue); in Python it copies.
     #[allow(clippy::wrong_self_convention)]
     fn into_trajectory(&self, py: Python<'_>) -> PyResult<Trajectory> {
-        let snap = self.with(|s| s.snapshot())?;
+        let (snap, wall) = {
+            let g = self.lock()?;
+            (g.sim.as_ref().ok_or_else(unusable)?.snapshot(), g.wall)
+        };
         let sc = &self.sc;
         let traj = py.detach(move || {
             guarded(move || {
@@ -591,7 +604,6 @@ impl Simulation {
                 })
             })
         })?;
-        let wall = self.wall.lock().map(|w| *w).unwrap_or(0.0);
         Trajectory::new(py, sc, traj.map_err(to_py_err)?, wall)
     }
 

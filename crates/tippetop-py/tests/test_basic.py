@@ -255,6 +255,26 @@ def test_run_releases_the_gil(nano):
     assert c2 > c1, "the counter stood still while tt.run ran: the GIL was held"
 
 
+def test_simulation_used_from_two_threads_never_deadlocks(nano):
+    """While one thread is in integrate_to (GIL released, the simulation
+    locked), another that touches the simulation gets RuntimeError at once
+    (never waits for the lock while holding the GIL)."""
+    sc = nano.set("solver.t_end", 1e-3)
+    sim = tt.Simulation(sc)
+    th = threading.Thread(target=sim.integrate_to, args=(1e-3,))
+    th.start()
+    busy = 0
+    while th.is_alive():
+        try:
+            sim.time
+        except RuntimeError as e:
+            assert "busy" in str(e)
+            busy += 1
+    th.join(timeout=60)
+    assert not th.is_alive()
+    assert sim.is_finished and sim.error is None
+
+
 def test_to_pandas(nano_run):
     pd = pytest.importorskip("pandas")
     df = nano_run.to_pandas()
