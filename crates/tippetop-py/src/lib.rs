@@ -1,0 +1,634 @@
+//! Python bindings of tippetop: the module `tippetop` (built by maturin,
+//! see `pyproject.toml`). Scenarios as the CLI resolves them (preset, file,
+//! `--set`), runs with the GIL released, trajectories as numpy float64
+//! arrays, and the steppable `Simulation`.
+//!
+//! Errors: bad input raises `ValueError` with the CLI's line without its
+//! `error: ` prefix; a panic inside the library raises `RuntimeError` (never
+//! pyo3's `PanicException`, a `BaseException` that `except Exception`
+//! misses).
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::{Mutex, MutexGuard, TryLockError};
+use std::time::Instant;
+
+use numpy::PyArray1;
+use pyo3::exceptions::{PyAttributeError, PyKeyError, PyRuntimeError, PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyList, PyString, PyTuple};
+use serde::Serialize;
+use tippetop::trajectory::COLUMNS;
+use tippetop::{EventRecord, Summary};
+
+/// A library error as a Python exception: bad input is `ValueError`
+/// (`"<key>: <what> (<range>)"`), a run-time failure `RuntimeError`.
+fn to_py_err(e: tippetop::Error) -> PyErr {
+    if e.is_input() {
+        PyValueError::new_err(e.to_string())
+    } else {
+        PyRuntimeError::new_err(e.to_string())
+    }
+}
+
+/// Run `f`, turning a panic into a `RuntimeError`.
+fn guarded<T>(f: impl FnOnce() -> T) -> PyResult<T> {
+    catch_unwind(AssertUnwindSafe(f)).map_err(|p| {
+        let msg = p
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| p.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into());
+        PyRuntimeError::new_err(format!("internal error in tippetop (a bug): {msg}"))
+    })
+}
+
+/// A float as TOML text that parses back to exactly `x` (Rust's shortest
+/// round-trip digits; `nan`, `inf`, `-inf` for the rest, which the scenario
+/// checks then reject by name).
+fn toml_float(x: f64) -> String {
+    if x.is_nan() {
+        "nan".into()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf".into() } else { "-inf".into() }
+    } else {
+        format!("{x:?}")
+    }
+}
+
+/// A Python value as the text after `=` of a `--set KEY=VALUE`: bool →
+/// `true`/`false`, int → its digits, float (and numpy scalars) → exact
+/// shortest digits, str → as given (as on the command line: TOML if it
+/// parses as TOML, else the string), list/tuple/array → `[a, b, c]`.
+fn set_value_text(v: &Bound<'_, PyAny>) -> PyResult<String> {
+    if v.is_instance_of::<PyBool>() {
+        return Ok(if v.extract::<bool>()? {
+            "true"
+        } else {
+            "false"
+        }
+        .into());
+    }
+    if v.is_instance_of::<PyString>() {
+        return v.extract::<String>();
+    }
+    if v.is_instance_of::<PyFloat>() {
+        return Ok(toml_float(v.extract::<f64>()?));
+    }
+    if let Ok(i) = v.extract::<i64>() {
+        return Ok(i.to_string());
+    }
+    if let Ok(x) = v.extract::<f64>() {
+        return Ok(toml_float(x));
+    }
+    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() || v.hasattr("tolist")? {
+        let items = if v.hasattr("tolist")? {
+            v.call_method0("tolist")?
+        } else {
+            v.clone()
+        };
+        let mut parts = Vec::new();
+        for item in items.try_iter()? {
+            parts.push(set_value_text(&item?)?);
+        }
+        return Ok(format!("[{}]", parts.join(", ")));
+    }
+    Err(PyTypeError::new_err(format!(
+        "cannot use a value of type {} in a scenario (a number, bool, str or list of numbers)",
+        v.get_type().name()?
+    )))
+}
+
+/// A TOML value as a Python object.
+fn toml_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match v {
+        toml::Value::Float(x) => x.into_pyobject(py)?.into_any(),
+        toml::Value::Integer(i) => i.into_pyobject(py)?.into_any(),
+        toml::Value::Boolean(b) => PyBool::new(py, *b).to_owned().into_any(),
+        toml::Value::String(s) => s.into_pyobject(py)?.into_any(),
+        toml::Value::Array(a) => {
+            let items = a
+                .iter()
+                .map(|x| toml_to_py(py, x))
+                .collect::<PyResult<Vec<_>>>()?;
+            PyList::new(py, items)?.into_any()
+        }
+        toml::Value::Table(t) => {
+            let d = PyDict::new(py);
+            for (k, x) in t {
+                d.set_item(k, toml_to_py(py, x)?)?;
+            }
+            d.into_any()
+        }
+        toml::Value::Datetime(d) => d.to_string().into_pyobject(py)?.into_any(),
+    })
+}
+
+/// A tippe-top scenario: the top, the surface, forces, initial state and
+/// solver settings (SI units; see `to_toml()` for every key). Immutable:
+/// `set` returns a new scenario.
+#[pyclass(module = "tippetop", frozen)]
+struct Scenario {
+    /// How it was made, as the CLI's arguments: `--preset`, the file's
+    /// text, the `--set`s in order (so `set` has exactly the CLI's rules).
+    preset: Option<String>,
+    toml: Option<String>,
+    sets: Vec<String>,
+    sc: tippetop::Scenario,
+}
+
+impl Scenario {
+    fn load(preset: Option<String>, toml: Option<String>, sets: Vec<String>) -> PyResult<Self> {
+        let sc = guarded(|| tippetop::Scenario::load(preset.as_deref(), toml.as_deref(), &sets))?
+            .map_err(to_py_err)?;
+        Ok(Scenario {
+            preset,
+            toml,
+            sets,
+            sc,
+        })
+    }
+}
+
+#[pymethods]
+impl Scenario {
+    /// A built-in scenario: `"nano"` (the C60 nano tippe top of the paper),
+    /// `"nano-physical"` or `"classical"` (the 15 g toy).
+    #[staticmethod]
+    fn preset(name: &str) -> PyResult<Self> {
+        Scenario::load(Some(name.to_string()), None, Vec::new())
+    }
+
+    /// A scenario from a TOML file (the CLI's `tippetop run FILE`; the file
+    /// may name a `preset` to start from).
+    #[staticmethod]
+    fn from_file(path: std::path::PathBuf) -> PyResult<Self> {
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            to_py_err(tippetop::Error::invalid(
+                "scenario",
+                format!("cannot read {}: {e}", path.display()),
+                "a readable TOML file".into(),
+            ))
+        })?;
+        Scenario::load(None, Some(text), Vec::new())
+    }
+
+    /// A scenario from TOML text (the format of scenario files).
+    #[staticmethod]
+    fn from_toml(text: String) -> PyResult<Self> {
+        Scenario::load(None, Some(text), Vec::new())
+    }
+
+    /// A new scenario with `key` (`"table.key"`, e.g. `"surface.friction"`,
+    /// `"force.0.hx"`) set to `value`: the CLI's `--set key=value`, same
+    /// keys and checks (ValueError naming the key). Floats are passed with
+    /// the digits that give back exactly the same float.
+    fn set(&self, key: &str, value: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let mut sets = self.sets.clone();
+        sets.push(format!("{key}={}", set_value_text(value)?));
+        Scenario::load(self.preset.clone(), self.toml.clone(), sets)
+    }
+
+    /// The value of `key` (`"top.radius"`, `"force.0.hx"`, ...) as
+    /// `to_toml()` writes it.
+    fn get<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
+        let doc: toml::Table = toml::from_str(&self.sc.to_toml_string())
+            .map_err(|e| PyRuntimeError::new_err(format!("internal error: {e}")))?;
+        let mut v: Option<&toml::Value> = None;
+        for part in key.split('.') {
+            v = match v {
+                None => doc.get(part),
+                Some(toml::Value::Table(t)) => t.get(part),
+                Some(toml::Value::Array(a)) => part.parse::<usize>().ok().and_then(|i| a.get(i)),
+                Some(_) => None,
+            };
+            if v.is_none() {
+                break;
+            }
+        }
+        match v {
+            Some(v) => toml_to_py(py, v),
+            None => Err(PyValueError::new_err(format!(
+                "{key}: not a key of this scenario (the keys of Scenario.to_toml(), as table.key)"
+            ))),
+        }
+    }
+
+    /// The complete scenario as TOML (every key explicit; floats exact):
+    /// what the CLI writes to `scenario.toml`.
+    fn to_toml(&self) -> PyResult<String> {
+        guarded(|| self.sc.to_toml_string())
+    }
+
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
+        other
+            .cast::<Scenario>()
+            .map(|o| o.get().sc == self.sc)
+            .unwrap_or(false)
+    }
+
+    fn __repr__(&self) -> String {
+        let mut s = String::from("tippetop.Scenario(");
+        let mut parts = Vec::new();
+        if let Some(p) = &self.preset {
+            parts.push(format!("preset={p:?}"));
+        }
+        if self.toml.is_some() {
+            parts.push("toml=...".into());
+        }
+        for set in &self.sets {
+            parts.push(format!("{set:?}"));
+        }
+        s.push_str(&parts.join(", "));
+        s.push(')');
+        s
+    }
+}
+
+/// `summary.json` of the CLI (crates/tippetop-cli/src/output.rs
+/// `SummaryDoc`): the library's summary flattened, the wall time, the
+/// resolved scenario's TOML, the events, the regime.
+#[derive(Serialize)]
+struct SummaryDoc<'a> {
+    #[serde(flatten)]
+    summary: &'a Summary,
+    wall_seconds: f64,
+    scenario: &'a str,
+    events: &'a [EventRecord],
+    regime: Option<tippetop::analysis::regime::Regime>,
+}
+
+/// The summary dict of `traj` (the keys of the CLI's summary.json).
+fn summary_dict<'py>(
+    py: Python<'py>,
+    sc: &tippetop::Scenario,
+    traj: &tippetop::Trajectory,
+    wall_seconds: f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mut summary = traj.summary.clone();
+    if let Some(e) = &traj.error {
+        if summary.status.is_empty() || summary.status == "ok" {
+            summary.status = e.to_string();
+        }
+    }
+    let toml = sc.to_toml_string();
+    let doc = SummaryDoc {
+        summary: &summary,
+        wall_seconds,
+        scenario: &toml,
+        events: &traj.events,
+        regime: tippetop::analysis::regime::regime(sc, None).ok(),
+    };
+    let text = serde_json::to_string(&doc)
+        .map_err(|e| PyRuntimeError::new_err(format!("internal error: {e}")))?;
+    py.import("json")?.call_method1("loads", (text,))
+}
+
+/// `None`, or `{"time": t [s], "kind": "painleve" | ..., "message": ...}`
+/// for a run that failed part-way.
+fn error_obj<'py>(py: Python<'py>, e: Option<&tippetop::Error>) -> PyResult<Bound<'py, PyAny>> {
+    match e {
+        None => Ok(py.None().into_bound(py)),
+        Some(e) => {
+            let d = PyDict::new(py);
+            match e {
+                tippetop::Error::Runtime { t, kind, .. } => {
+                    d.set_item("time", *t)?;
+                    d.set_item("kind", kind.as_str())?;
+                }
+                tippetop::Error::Invalid { key, .. } => {
+                    d.set_item("time", py.None())?;
+                    d.set_item("kind", format!("invalid:{key}"))?;
+                }
+            }
+            d.set_item("message", e.to_string())?;
+            Ok(d.into_any())
+        }
+    }
+}
+
+/// The result of a run: one numpy float64 array per trajectory.csv column
+/// (`tr.t`, `tr.theta`, `tr["Omega"]`, ...; `tr.columns` lists them, SI
+/// units, radians), `tr.summary` (summary.json as a dict) and `tr.error`.
+#[pyclass(module = "tippetop", frozen)]
+struct Trajectory {
+    arrays: Py<PyDict>,
+    summary: Py<PyAny>,
+    error: Py<PyAny>,
+    len: usize,
+}
+
+impl Trajectory {
+    fn new(
+        py: Python<'_>,
+        sc: &tippetop::Scenario,
+        traj: tippetop::Trajectory,
+        wall_seconds: f64,
+    ) -> PyResult<Self> {
+        let n = traj.samples.len();
+        let mut cols = vec![Vec::with_capacity(n); COLUMNS.len()];
+        for s in &traj.samples {
+            for (c, v) in cols.iter_mut().zip(s.values()) {
+                c.push(v);
+            }
+        }
+        let arrays = PyDict::new(py);
+        for (name, c) in COLUMNS.iter().zip(cols) {
+            arrays.set_item(*name, PyArray1::from_vec(py, c))?;
+        }
+        Ok(Trajectory {
+            arrays: arrays.unbind(),
+            summary: summary_dict(py, sc, &traj, wall_seconds)?.unbind(),
+            error: error_obj(py, traj.error.as_ref())?.unbind(),
+            len: n,
+        })
+    }
+}
+
+#[pymethods]
+impl Trajectory {
+    /// The column names, in trajectory.csv order.
+    #[getter]
+    fn columns(&self) -> Vec<&'static str> {
+        COLUMNS.to_vec()
+    }
+
+    /// summary.json of the CLI as a dict (`theta_final`, `status`, ...).
+    #[getter]
+    fn summary(&self, py: Python<'_>) -> Py<PyAny> {
+        self.summary.clone_ref(py)
+    }
+
+    /// `None`, or for a run that failed part-way a dict `time` [s], `kind`
+    /// (`"painleve"`, `"step_limit"`, ...), `message`; the arrays then hold
+    /// the samples up to the failure.
+    #[getter]
+    fn error(&self, py: Python<'_>) -> Py<PyAny> {
+        self.error.clone_ref(py)
+    }
+
+    /// All columns as a dict of arrays.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.arrays.bind(py).copy()
+    }
+
+    /// The columns as a pandas DataFrame (needs pandas).
+    fn to_pandas<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let pd = py.import("pandas")?;
+        pd.call_method1("DataFrame", (self.arrays.bind(py),))
+    }
+
+    fn __getitem__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+        self.arrays.bind(py).get_item(name)?.ok_or_else(|| {
+            PyKeyError::new_err(format!(
+                "{name:?}: not a column (columns: {})",
+                COLUMNS.join(", ")
+            ))
+        })
+    }
+
+    fn __getattr__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+        self.arrays.bind(py).get_item(name)?.ok_or_else(|| {
+            PyAttributeError::new_err(format!(
+                "'Trajectory' has no attribute {name:?} (columns: {})",
+                COLUMNS.join(", ")
+            ))
+        })
+    }
+
+    fn __contains__(&self, name: &str) -> bool {
+        COLUMNS.contains(&name)
+    }
+
+    /// The number of samples (rows).
+    fn __len__(&self) -> usize {
+        self.len
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let status = self
+            .summary
+            .bind(py)
+            .get_item("status")
+            .and_then(|s| s.extract::<String>())
+            .unwrap_or_default();
+        Ok(format!(
+            "tippetop.Trajectory({} samples, {} columns, status {status:?})",
+            self.len,
+            COLUMNS.len()
+        ))
+    }
+}
+
+/// Run `scenario` to its end (the CLI's `tippetop run`), with the GIL
+/// released. Bad input raises ValueError; a run that fails part-way
+/// returns its partial trajectory with `error` set.
+#[pyfunction]
+fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
+    let sc = &scenario.sc;
+    let (traj, wall) = py.detach(|| {
+        guarded(|| {
+            let start = Instant::now();
+            let r = tippetop::simulate(sc);
+            (r, start.elapsed().as_secs_f64())
+        })
+    })?;
+    Trajectory::new(py, sc, traj.map_err(to_py_err)?, wall)
+}
+
+/// A copy of a `Simulation` at one instant (`Simulation.snapshot()`).
+#[pyclass(module = "tippetop", frozen)]
+struct Snapshot {
+    /// Not `Sync` by itself (the models cache evaluations in cells); locked
+    /// only briefly, with the GIL held.
+    inner: Mutex<tippetop::Snapshot>,
+    wall: f64,
+}
+
+/// The state of a `Simulation` behind its lock.
+struct SimState {
+    /// `None` after an internal error left the run unusable.
+    sim: Option<tippetop::Simulation>,
+    /// Seconds spent integrating so far.
+    wall: f64,
+}
+
+/// A run you can step, inspect, copy and continue: `integrate_to(t)`
+/// (seconds) integrates until the run has passed `t` without ever
+/// shortening a step, so stepping in pieces gives the same trajectory, bit
+/// for bit, as `run`; `state` is the state at `time`.
+#[pyclass(module = "tippetop", frozen)]
+struct Simulation {
+    sc: tippetop::Scenario,
+    /// Taken with `try_lock` only: a thread that waited for it while
+    /// holding the GIL would deadlock with `integrate_to`, which holds it
+    /// with the GIL released.
+    state: Mutex<SimState>,
+}
+
+impl Simulation {
+    fn lock(&self) -> PyResult<MutexGuard<'_, SimState>> {
+        self.state.try_lock().map_err(|e| match e {
+            TryLockError::WouldBlock => PyRuntimeError::new_err(
+                "the simulation is busy (integrate_to is running in another thread)",
+            ),
+            TryLockError::Poisoned(_) => PyRuntimeError::new_err("the simulation is unusable"),
+        })
+    }
+
+    fn with<T>(&self, f: impl FnOnce(&mut tippetop::Simulation) -> T) -> PyResult<T> {
+        let mut g = self.lock()?;
+        match g.sim.as_mut() {
+            Some(s) => Ok(f(s)),
+            None => Err(unusable()),
+        }
+    }
+}
+
+fn unusable() -> PyErr {
+    PyRuntimeError::new_err("the simulation is unusable after an internal error")
+}
+
+#[pymethods]
+impl Simulation {
+    /// A run of `scenario` at `t = 0` (ValueError for bad input).
+    #[new]
+    fn new(scenario: &Scenario) -> PyResult<Self> {
+        let sim = guarded(|| tippetop::Simulation::new(&scenario.sc))?.map_err(to_py_err)?;
+        Ok(Simulation {
+            sc: scenario.sc.clone(),
+            state: Mutex::new(SimState {
+                sim: Some(sim),
+                wall: 0.0,
+            }),
+        })
+    }
+
+    /// Integrate until the run has passed `t` [s] (or ended, or failed: see
+    /// `error`), with the GIL released. ValueError if `t` is before the last
+    /// time integrated to or after `solver.t_end`.
+    fn integrate_to(&self, py: Python<'_>, t: f64) -> PyResult<()> {
+        let mut g = self.lock()?;
+        let st = &mut *g;
+        let Some(sim) = st.sim.as_mut() else {
+            return Err(unusable());
+        };
+        let start = Instant::now();
+        let r = py.detach(|| guarded(|| sim.integrate_to(t)));
+        st.wall += start.elapsed().as_secs_f64();
+        match r {
+            Ok(r) => r.map_err(to_py_err),
+            Err(e) => {
+                st.sim = None;
+                Err(e)
+            }
+        }
+    }
+
+    /// The time [s] `state` refers to: the last time integrated to (earlier
+    /// if the run failed before it).
+    #[getter]
+    fn time(&self) -> PyResult<f64> {
+        self.with(|s| s.time())
+    }
+
+    /// The state at `time` as a dict: one trajectory.csv row (SI units).
+    #[getter]
+    fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let row = self.with(|s| guarded(|| s.state()))??;
+        let d = PyDict::new(py);
+        for (name, v) in COLUMNS.iter().zip(row.values()) {
+            d.set_item(*name, v)?;
+        }
+        Ok(d)
+    }
+
+    /// `None`, or the failure that ended the run (as `Trajectory.error`).
+    #[getter]
+    fn error(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        let e = self.with(|s| s.error().cloned())?;
+        Ok(error_obj(py, e.as_ref())?.unbind())
+    }
+
+    /// True once the run has reached `solver.t_end` or failed.
+    #[getter]
+    fn is_finished(&self) -> PyResult<bool> {
+        self.with(|s| s.is_finished())
+    }
+
+    /// A copy of the whole run as it stands (exact floats).
+    fn snapshot(&self) -> PyResult<Snapshot> {
+        let g = self.lock()?;
+        let sim = g.sim.as_ref().ok_or_else(unusable)?;
+        Ok(Snapshot {
+            inner: Mutex::new(sim.snapshot()),
+            wall: g.wall,
+        })
+    }
+
+    /// Go back to `snapshot` (it replaces the run entirely).
+    fn restore(&self, snapshot: &Snapshot) -> PyResult<()> {
+        let snap = snapshot
+            .inner
+            .lock()
+            .map_err(|_| PyRuntimeError::new_err("the snapshot is unusable"))?;
+        let mut g = self.lock()?;
+        match g.sim.as_mut() {
+            Some(s) => s.restore(&snap),
+            None => {
+                let mut s = tippetop::Simulation::new(&self.sc).map_err(to_py_err)?;
+                s.restore(&snap);
+                g.sim = Some(s);
+            }
+        }
+        g.wall = snapshot.wall;
+        Ok(())
+    }
+
+    /// The run so far as a `Trajectory` (samples up to the last accepted
+    /// step, summary, error); after `integrate_to(t_end)` it equals
+    /// `run(scenario)`. The simulation itself is left as it is (it is
+    /// copied), so it can go on.
+    // The name of the Rust API (and the issue); in Python it copies.
+    #[allow(clippy::wrong_self_convention)]
+    fn into_trajectory(&self, py: Python<'_>) -> PyResult<Trajectory> {
+        let (snap, wall) = {
+            let g = self.lock()?;
+            (g.sim.as_ref().ok_or_else(unusable)?.snapshot(), g.wall)
+        };
+        let sc = &self.sc;
+        let traj = py.detach(move || {
+            guarded(move || {
+                tippetop::Simulation::new(sc).map(|mut s| {
+                    s.restore(&snap);
+                    s.into_trajectory()
+                })
+            })
+        })?;
+        Trajectory::new(py, sc, traj.map_err(to_py_err)?, wall)
+    }
+
+    fn __repr__(&self) -> PyResult<String> {
+        let (t, done) = self.with(|s| (s.time(), s.is_finished()))?;
+        Ok(format!(
+            "tippetop.Simulation(time={}, finished={})",
+            toml_float(t),
+            if done { "True" } else { "False" }
+        ))
+    }
+}
+
+/// tippetop: tippe-top dynamics (the classical toy to the C60 nano tippe
+/// top) from Python. `Scenario.preset("nano")`, `run(sc)` → `Trajectory`
+/// of numpy arrays, `Simulation(sc)` to step a run.
+#[pymodule]
+#[pyo3(name = "tippetop")]
+fn tippetop_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Scenario>()?;
+    m.add_class::<Trajectory>()?;
+    m.add_class::<Simulation>()?;
+    m.add_class::<Snapshot>()?;
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add("COLUMNS", COLUMNS.to_vec())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

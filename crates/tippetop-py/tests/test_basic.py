@@ -1,0 +1,283 @@
+"""Tests of the Python package `tippetop` (crates/tippetop-py).
+
+Run from a virtual environment with the package installed:
+    python3 -m venv .venv && .venv/bin/pip install ./crates/tippetop-py pytest
+    .venv/bin/python -m pytest crates/tippetop-py/tests
+
+The comparison with the CLI uses the `tippetop` binary of the workspace
+(TIPPETOP_BIN, else target/release/tippetop or target/debug/tippetop, as
+`cargo build` or `cargo test --workspace` leave it); it is skipped if there
+is none.
+"""
+
+import csv
+import json
+import os
+import pathlib
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import tippetop as tt
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+
+
+def cli_binary():
+    env = os.environ.get("TIPPETOP_BIN")
+    if env:
+        return pathlib.Path(env)
+    for profile in ("release", "debug"):
+        p = ROOT / "target" / profile / "tippetop"
+        if p.is_file():
+            return p
+    return None
+
+
+def bits(a):
+    """The bit patterns of a float64 array (NaN payloads included)."""
+    return np.asarray(a, dtype=np.float64).view(np.uint64)
+
+
+def assert_same_arrays(a, b):
+    assert a.columns == b.columns
+    assert len(a) == len(b)
+    for c in a.columns:
+        assert np.array_equal(bits(a[c]), bits(b[c])), c
+
+
+def summary_without_wall(tr):
+    s = dict(tr.summary)
+    s.pop("wall_seconds")
+    return s
+
+
+@pytest.fixture(scope="module")
+def nano():
+    return tt.Scenario.preset("nano")
+
+
+@pytest.fixture(scope="module")
+def nano_run(nano):
+    return tt.run(nano)
+
+
+def test_arrays_are_float64_one_per_column(nano, nano_run):
+    tr = nano_run
+    n = nano.get("solver.samples")
+    assert n == 1001
+    assert tr.columns == list(tt.COLUMNS)
+    assert tr.columns[:5] == ["t", "theta", "theta_dot", "Omega", "omega"]
+    assert len(tr) == n
+    for c in tr.columns:
+        a = tr[c]
+        assert isinstance(a, np.ndarray) and a.dtype == np.float64 and a.shape == (n,), c
+        assert getattr(tr, c) is a or np.array_equal(bits(getattr(tr, c)), bits(a))
+    assert tr.t[0] == 0.0 and tr.t[-1] == nano.get("solver.t_end")
+    assert tr.theta[0] == 0.1
+    assert tr.error is None
+    assert tr.summary["status"] == "ok" and tr.summary["failure"] is None
+    assert tr.summary["theta_final"] == tr.theta[-1]
+    with pytest.raises(KeyError):
+        tr["nope"]
+    with pytest.raises(AttributeError):
+        tr.nope
+
+
+def test_run_is_deterministic(nano, nano_run):
+    again = tt.run(nano)
+    assert_same_arrays(nano_run, again)
+    assert summary_without_wall(nano_run) == summary_without_wall(again)
+
+
+def test_matches_the_cli_bit_for_bit(nano_run, tmp_path):
+    exe = cli_binary()
+    if exe is None:
+        pytest.skip("no tippetop binary (cargo build first, or set TIPPETOP_BIN)")
+    out = tmp_path / "out"
+    subprocess.run(
+        [str(exe), "run", "--preset", "nano", "--no-plot", "--out", str(out)],
+        check=True,
+        stdout=subprocess.DEVNULL,
+    )
+    with open(out / "trajectory.csv", newline="") as f:
+        rows = list(csv.reader(f))
+    assert rows[0] == nano_run.columns
+    for j, c in enumerate(rows[0]):
+        col = np.array([float(r[j]) for r in rows[1:]])
+        assert np.array_equal(bits(col), bits(nano_run[c])), c
+    cli = json.loads((out / "summary.json").read_text())
+    mine = nano_run.summary
+    assert set(cli) == set(mine)
+    for k in cli:
+        if k != "wall_seconds":
+            assert cli[k] == mine[k], k
+    assert cli["theta_final"] == mine["theta_final"] == nano_run.theta[-1]
+
+
+def test_simulation_in_pieces_equals_run(nano, nano_run):
+    sim = tt.Simulation(nano)
+    t_end = nano.get("solver.t_end")
+    for t in np.linspace(0.0, t_end, 7)[1:]:
+        sim.integrate_to(float(t))
+        state = sim.state
+        assert set(state) == set(tt.COLUMNS)
+        assert state["t"] == sim.time
+    assert sim.is_finished and sim.error is None
+    tr = sim.into_trajectory()
+    assert_same_arrays(tr, nano_run)
+    assert summary_without_wall(tr) == summary_without_wall(nano_run)
+
+
+def test_snapshot_restore_continues_as_uninterrupted(nano, nano_run):
+    t_end = nano.get("solver.t_end")
+    sim = tt.Simulation(nano)
+    sim.integrate_to(0.3 * t_end)
+    saved = sim.snapshot()
+    theta_mid = sim.state["theta"]
+    sim.integrate_to(0.8 * t_end)
+    sim.restore(saved)
+    assert sim.state["theta"] == theta_mid
+    # The run so far is a prefix of the whole run.
+    part = sim.into_trajectory()
+    assert 0 < len(part) < len(nano_run)
+    assert np.array_equal(bits(part.theta), bits(nano_run.theta[: len(part)]))
+    sim.integrate_to(t_end)
+    assert_same_arrays(sim.into_trajectory(), nano_run)
+    # A restored copy in another simulation continues the same way.
+    other = tt.Simulation(nano)
+    other.restore(saved)
+    other.integrate_to(t_end)
+    assert_same_arrays(other.into_trajectory(), nano_run)
+
+
+def test_bad_input_raises_value_error_naming_the_key(nano):
+    with pytest.raises(ValueError) as e:
+        nano.set("top.radius", -1)
+    assert str(e.value) == "top.radius: -1 is not allowed (a finite number > 0)"
+    with pytest.raises(ValueError, match=r"^top\.radiu: unknown key"):
+        nano.set("top.radiu", 1.0)
+    with pytest.raises(ValueError, match=r"^surface\.friction: "):
+        nano.set("surface.friction", float("nan"))
+    with pytest.raises(ValueError, match=r"^preset: unknown preset \"big\""):
+        tt.Scenario.preset("big")
+    with pytest.raises(ValueError, match=r"^scenario: cannot read "):
+        tt.Scenario.from_file("/no/such/file.toml")
+    with pytest.raises(ValueError, match=r"^top\.radius: "):
+        tt.Scenario.from_toml(nano.to_toml().replace("radius = 3.55e-10", "radius = -2.0"))
+    with pytest.raises(ValueError, match=r"^t: "):
+        tt.Simulation(nano).integrate_to(1.0)
+    with pytest.raises(TypeError):
+        nano.set("surface.friction", object())
+    # All of them are Exceptions (never a BaseException that `except
+    # Exception` misses).
+    assert issubclass(ValueError, Exception)
+
+
+def test_set_is_exact_and_returns_a_new_scenario(nano):
+    x = 0.1 + 0.2  # 0.30000000000000004
+    sc = nano.set("surface.friction", x)
+    assert sc.get("surface.friction") == x
+    assert nano.get("surface.friction") == 0.13
+    assert sc.set("surface.friction", np.float64(x)) == sc
+    assert sc != nano
+    tiny = 1.196e-24 * (1 + 2**-52)
+    assert nano.set("top.mass", tiny).get("top.mass") == tiny
+    assert nano.set("solver.samples", np.int64(11)).get("solver.samples") == 11
+    assert nano.set("solver.model", "rigid").get("solver.model") == "rigid"
+    assert len(tt.run(nano.set("solver.samples", 11))) == 11
+    # to_toml round-trips; the same as the CLI's --set.
+    assert tt.Scenario.from_toml(sc.to_toml()) == sc
+    assert "friction = 0.30000000000000004" in sc.to_toml()
+
+
+def test_scenario_from_file(tmp_path, nano):
+    p = tmp_path / "s.toml"
+    p.write_text('preset = "nano"\n[surface]\nfriction = 0.2\n')
+    sc = tt.Scenario.from_file(p)
+    assert sc == nano.set("surface.friction", 0.2)
+    assert tt.Scenario.from_file(str(p)) == sc
+
+
+def test_partial_run_has_error_and_samples_up_to_it(nano):
+    sc = nano.set("solver.max_steps", 50)
+    tr = tt.run(sc)
+    err = tr.error
+    assert err["kind"] == "step_limit"
+    assert 0 < err["time"] < sc.get("solver.t_end")
+    assert err["message"].startswith("at t = ")
+    assert 0 < len(tr) < 1001 and tr.t[-1] <= err["time"]
+    assert tr.summary["status"] == err["message"]
+    assert tr.summary["failure"] == "step_limit"
+    sim = tt.Simulation(sc)
+    sim.integrate_to(sc.get("solver.t_end"))
+    assert sim.is_finished and sim.error == err
+
+
+def test_run_releases_the_gil(nano):
+    """A Python thread counts while tt.run is in Rust. With a switch interval
+    far longer than the test, the main thread gives the GIL up only where it
+    releases it itself: a pure-Python loop lets the counter stand still, a
+    run lets it advance."""
+    sc = nano.set("solver.t_end", 3e-4)
+    counter = [0]
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            counter[0] += 1
+            time.sleep(0)  # releases the GIL, so the main thread can take it
+
+    old = sys.getswitchinterval()
+    th = threading.Thread(target=count)
+    th.start()
+    try:
+        while counter[0] == 0:
+            time.sleep(0.001)
+        sys.setswitchinterval(100.0)
+        c0 = counter[0]
+        x = 0
+        for i in range(200_000):
+            x += i
+        c1 = counter[0]
+        tr = tt.run(sc)
+        c2 = counter[0]
+    finally:
+        sys.setswitchinterval(old)
+        stop.set()
+        th.join()
+    assert tr.error is None
+    assert c1 == c0, "the control loop let the thread run: the test cannot tell"
+    assert c2 > c1, "the counter stood still while tt.run ran: the GIL was held"
+
+
+def test_simulation_used_from_two_threads_never_deadlocks(nano):
+    """While one thread is in integrate_to (GIL released, the simulation
+    locked), another that touches the simulation gets RuntimeError at once
+    (never waits for the lock while holding the GIL)."""
+    sc = nano.set("solver.t_end", 1e-3)
+    sim = tt.Simulation(sc)
+    th = threading.Thread(target=sim.integrate_to, args=(1e-3,))
+    th.start()
+    busy = 0
+    while th.is_alive():
+        try:
+            sim.time
+        except RuntimeError as e:
+            assert "busy" in str(e)
+            busy += 1
+    th.join(timeout=60)
+    assert not th.is_alive()
+    assert sim.is_finished and sim.error is None
+
+
+def test_to_pandas(nano_run):
+    pd = pytest.importorskip("pandas")
+    df = nano_run.to_pandas()
+    assert isinstance(df, pd.DataFrame)
+    assert list(df.columns) == nano_run.columns
+    assert np.array_equal(bits(df["omega"].to_numpy()), bits(nano_run.omega))
