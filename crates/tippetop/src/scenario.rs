@@ -40,13 +40,21 @@
 //! ux = 0.0                    # [m/s]
 //! uy = 0.0                    # [m/s]
 //! [solver]
-//! method = "adaptive"         # or "rk4", "stiff"
+//! method = "adaptive"         # or "rk4", "stiff", "langevin"
 //! t_end = 10.0                # [s]
 //! steps = 1000                # rk4 only; default samples - 1
 //! rtol = 1e-10
 //! samples = 1001              # output rows, evenly spaced from 0 to t_end
 //! model = "reduced"           # or "rigid", "vector"
 //! max_steps = 20000000        # step limit of the run (default; 2e6 with "stiff")
+//! # dt = 1e-14                # [s], the fixed step of method = "langevin" (only there)
+//! [thermal]                   # Langevin dynamics, off by default (docs/physics.md §21)
+//! temperature = 300.0         # T [K]
+//! damping_translational = 1e11  # gamma_t [1/s]: force -m gamma_t v on the centre of mass
+//! damping_rotational = 1e11   # gamma_r [1/s]: torque -gamma_r I w
+//! damping_contact = 0.0       # c [N s/m]: force -c v_P at the contact point
+//! seed = 1                    # key of the random stream (required at T > 0)
+//! run = 0                     # index of this run in the stream
 //! ```
 //!
 //! Without a preset the required keys are the five `[top]` keys,
@@ -64,7 +72,7 @@ use toml::{Table, Value};
 use crate::well::{self as wells, Well};
 use crate::{
     Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial, SolverSettings,
-    Surface, Top,
+    Surface, Thermal, Top,
     state::{Method, ModelKind},
 };
 
@@ -85,6 +93,8 @@ pub struct Scenario {
     pub initial: Initial,
     /// Solver settings.
     pub solver: SolverSettings,
+    /// Temperature and damping ([`Thermal::NONE`]: none; docs/physics.md §21).
+    pub thermal: Thermal,
 }
 
 impl Scenario {
@@ -106,6 +116,7 @@ impl Scenario {
             forcing: Forcing::constant(1e-22, 1e-22),
             initial: Initial::paper(),
             solver: SolverSettings::new(1e-4),
+            thermal: Thermal::NONE,
         }
     }
 
@@ -126,6 +137,7 @@ impl Scenario {
             forcing: Forcing::none(),
             initial: Initial::paper(),
             solver: SolverSettings::new(10.0),
+            thermal: Thermal::NONE,
         }
     }
 
@@ -180,6 +192,8 @@ impl Scenario {
         self.initial
             .validate(self.solver.model == ModelKind::Reduced)?;
         self.solver.validate()?;
+        self.thermal.validate()?;
+        crate::thermal::check_langevin(self)?;
         crate::limits::check_run(self)?;
         Ok(())
     }
@@ -361,6 +375,9 @@ impl Scenario {
         if let Some(n) = so.max_steps {
             solver.insert("max_steps".into(), Value::Integer(to_i64(n as usize)));
         }
+        if let Some(dt) = so.dt {
+            solver.insert("dt".into(), Value::Float(dt));
+        }
 
         let mut t = Table::new();
         t.insert("top".into(), Value::Table(top));
@@ -387,6 +404,24 @@ impl Scenario {
         }
         t.insert("initial".into(), Value::Table(initial));
         t.insert("solver".into(), Value::Table(solver));
+        // Written only when set (scenario texts without it unchanged).
+        let th = &self.thermal;
+        if th.is_set() {
+            let mut thermal = Table::new();
+            for (k, v) in [
+                ("temperature", th.temperature),
+                ("damping_translational", th.damping_translational),
+                ("damping_rotational", th.damping_rotational),
+                ("damping_contact", th.damping_contact),
+            ] {
+                thermal.insert(k.into(), Value::Float(v));
+            }
+            if let Some(seed) = th.seed {
+                thermal.insert("seed".into(), Value::Integer(seed as i64));
+            }
+            thermal.insert("run".into(), Value::Integer(th.run as i64));
+            t.insert("thermal".into(), Value::Table(thermal));
+        }
         t
     }
 }
@@ -506,7 +541,7 @@ fn insert_initial(dst: &mut Table, k: &str, v: Value) -> Result<(), Error> {
 }
 
 const SOLVER_KEYS: Keys = &[
-    ("method", "\"adaptive\", \"rk4\" or \"stiff\""),
+    ("method", "\"adaptive\", \"rk4\", \"stiff\" or \"langevin\""),
     ("t_end", "a finite time > 0 [s]"),
     (
         "steps",
@@ -516,6 +551,19 @@ const SOLVER_KEYS: Keys = &[
     ("samples", "an integer, 2 <= samples <= 5000000"),
     ("model", "\"reduced\", \"vector\" or \"rigid\""),
     ("max_steps", crate::state::MAX_STEPS_RANGE),
+    (
+        "dt",
+        "a finite time > 0 [s], the fixed step of method = \"langevin\" (only there)",
+    ),
+];
+
+const THERMAL_KEYS: Keys = &[
+    ("temperature", crate::thermal::TEMPERATURE_RANGE),
+    ("damping_translational", crate::thermal::DAMPING_T_RANGE),
+    ("damping_rotational", crate::thermal::DAMPING_R_RANGE),
+    ("damping_contact", crate::thermal::DAMPING_C_RANGE),
+    ("seed", crate::thermal::SEED_RANGE),
+    ("run", crate::thermal::RUN_RANGE),
 ];
 
 /// Tables in document order; `force` and `well` are arrays of tables.
@@ -527,9 +575,10 @@ const TABLES: &[(&str, Keys)] = &[
     ("well", WELL_KEYS),
     ("initial", INITIAL_KEYS),
     ("solver", SOLVER_KEYS),
+    ("thermal", THERMAL_KEYS),
 ];
 
-const TOP_LEVEL_RANGE: &str = "valid top-level entries: preset, [top], [surface], [adhesion], [[force]], [[well]], [initial], [solver]";
+const TOP_LEVEL_RANGE: &str = "valid top-level entries: preset, [top], [surface], [adhesion], [[force]], [[well]], [initial], [solver], [thermal]";
 
 const LAWS: &[(&str, LawName)] = &[
     ("coulomb", LawName::Coulomb),
@@ -548,6 +597,7 @@ const METHODS: &[(&str, Method)] = &[
     ("adaptive", Method::Adaptive),
     ("rk4", Method::Rk4),
     ("stiff", Method::Stiff),
+    ("langevin", Method::Langevin),
 ];
 
 const MODELS: &[(&str, ModelKind)] = &[
@@ -845,7 +895,7 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
         [table, ..] => Err(Error::invalid(
             key,
             format!("unknown table \"{table}\""),
-            "valid tables: top, surface, adhesion, force, well, initial, solver".into(),
+            "valid tables: top, surface, adhesion, force, well, initial, solver, thermal".into(),
         )),
         [] => unreachable!("split always yields one part"),
     }
@@ -1144,6 +1194,23 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
             None => None,
             Some(_) => Some(s.usize("max_steps", 0)? as u64),
         },
+        dt: match s.get("dt") {
+            None => None,
+            Some(_) => Some(s.f64("dt", None)?),
+        },
+    };
+
+    let s = section(merged, "thermal");
+    let thermal = Thermal {
+        temperature: s.f64("temperature", Some(0.0))?,
+        damping_translational: s.f64("damping_translational", Some(0.0))?,
+        damping_rotational: s.f64("damping_rotational", Some(0.0))?,
+        damping_contact: s.f64("damping_contact", Some(0.0))?,
+        seed: match s.get("seed") {
+            None => None,
+            Some(_) => Some(s.usize("seed", 0)? as u64),
+        },
+        run: s.usize("run", 0)? as u64,
     };
 
     Ok(Scenario {
@@ -1154,6 +1221,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         wells,
         initial,
         solver,
+        thermal,
     })
 }
 

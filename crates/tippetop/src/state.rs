@@ -178,6 +178,11 @@ pub enum Method {
     /// numerical Jacobian), for the stiff regularised friction law near
     /// rolling (time scale `ε / (μ g)`).
     Stiff,
+    /// Langevin dynamics with the fixed step `solver.dt`: the exact
+    /// Ornstein–Uhlenbeck step of the damping and its noise around an RK4
+    /// step of the deterministic forces (a symmetric splitting, weak order
+    /// 2; docs/physics.md §21). Vector model, no Coulomb friction.
+    Langevin,
 }
 
 /// Which equations of motion.
@@ -219,6 +224,9 @@ pub struct SolverSettings {
     /// `None` for the method's default, [`max_steps_for`].
     /// A run that reaches it stops with a run-time error.
     pub max_steps: Option<u64>,
+    /// The fixed step \[s\] of `method = "langevin"` (`solver.dt`; the run
+    /// takes [`crate::thermal::langevin_steps`] equal steps); `None` otherwise.
+    pub dt: Option<f64>,
 }
 
 impl SolverSettings {
@@ -235,6 +243,7 @@ impl SolverSettings {
             samples: 1001,
             model: ModelKind::Vector,
             max_steps: None,
+            dt: None,
         }
     }
 
@@ -355,6 +364,6 @@ pub const BYTES_PER_SAMPLE: u64 = (std::mem::size_of::<Sample>() + 8) as u64;
 pub fn max_steps_for(method: Method) -> u64 {
     match method {
         Method::Stiff => MAX_STEPS / 10,
-        Method::Adaptive | Method::Rk4 => MAX_STEPS,
+        Method::Adaptive | Method::Rk4 | Method::Langevin => MAX_STEPS,
     }
 }

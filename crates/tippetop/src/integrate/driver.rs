@@ -94,6 +94,12 @@ pub(super) fn run<S: OdeSystem<N>, const N: usize>(
         Stepper::Rosenbrock { rtol, atol } => {
             drive_with!(Rodas4p::new(rtol, atol, opts.h0, h_max))
         }
+        Stepper::Langevin {
+            h,
+            seed,
+            run,
+            first_step,
+        } => drive_with!(super::langevin::Langevin::new(h, seed, run, first_step)),
     }
 }
 
@@ -192,6 +198,8 @@ pub(crate) enum AnyEngine<const N: usize> {
     Dop853(Dop853<N>),
     /// Rodas4P.
     Rodas4p(Rodas4p<N>),
+    /// The Langevin splitting.
+    Langevin(super::langevin::Langevin<N>),
 }
 
 impl<const N: usize> AnyEngine<N> {
@@ -210,6 +218,12 @@ impl<const N: usize> AnyEngine<N> {
             Stepper::Rosenbrock { rtol, atol } => {
                 AnyEngine::Rodas4p(Rodas4p::new(rtol, atol, opts.h0, h_max))
             }
+            Stepper::Langevin {
+                h,
+                seed,
+                run,
+                first_step,
+            } => AnyEngine::Langevin(super::langevin::Langevin::new(h, seed, run, first_step)),
         }
     }
 }
@@ -220,6 +234,7 @@ macro_rules! each_engine {
             AnyEngine::Rk4($e) => $body,
             AnyEngine::Dop853($e) => $body,
             AnyEngine::Rodas4p($e) => $body,
+            AnyEngine::Langevin($e) => $body,
         }
     };
 }

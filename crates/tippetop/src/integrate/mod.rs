@@ -122,6 +122,18 @@ pub trait OdeSystem<const N: usize> {
     /// differences would cost. Default: zero (no quadrature reads another).
     fn quadrature_jacobian(&self, _t: f64, _y: &[f64; N], _f: &[f64; N], _jac: &mut [[f64; N]; N]) {
     }
+
+    /// Number of standard normals [`OdeSystem::thermostat`] takes per half
+    /// step of the Langevin engine ([`Stepper::Langevin`]); at most 16.
+    /// Default 0: no thermostat.
+    const NOISE: usize = 0;
+
+    /// The exact Ornstein–Uhlenbeck step over `h` of the velocities at
+    /// fixed configuration (damping and its fluctuation–dissipation noise),
+    /// with the standard normals `xi` (`NOISE` of them), applied to `y` in
+    /// place. Called by the Langevin engine before and after each RK4 step
+    /// of `rhs`. Default: nothing (no damping).
+    fn thermostat(&mut self, _y: &mut [f64; N], _h: f64, _xi: &[f64]) {}
 }
 
 /// Which stepper, with its settings.
@@ -172,6 +184,21 @@ pub enum Stepper {
         rtol: f64,
         /// Absolute tolerance.
         atol: f64,
+    },
+    /// The Langevin engine: `O(h/2) Φ(h) O(h/2)` with `O` the system's
+    /// [`OdeSystem::thermostat`] and `Φ` an RK4 step, on the grid `k h`
+    /// (a segment start off the grid takes one shorter step to it); dense
+    /// output by linear interpolation (`integrate::langevin`).
+    Langevin {
+        /// Grid step (same time unit as `t`).
+        h: f64,
+        /// Key of the random stream.
+        seed: u64,
+        /// Run index of the random stream.
+        run: u64,
+        /// Global number of the first step (the stream's counter), so a
+        /// run restarted at a segment continues its stream.
+        first_step: u64,
     },
 }
 
@@ -348,6 +375,8 @@ mod dop853;
 mod dop853_coefficients;
 mod driver;
 pub(crate) use driver::{AnyEngine, Stepped, Stepping};
+mod langevin;
+pub(crate) use langevin::nearest_grid;
 mod rk4;
 mod roots;
 mod rosenbrock;

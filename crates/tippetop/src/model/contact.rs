@@ -74,12 +74,25 @@ pub struct ContactState {
     last_slip: Cell<[f64; 2]>,
     /// Right-hand-side evaluations so far (all segments).
     pub evaluations: u64,
+    /// A Langevin run (`solver.method = "langevin"`, μ = 0): the normal
+    /// force has one branch (no friction in the closure: nothing to latch)
+    /// and θ's maxima are not located between steps (the noise makes θ̇
+    /// change sign at almost every step; the step ends are tracked).
+    pub langevin: bool,
 }
 
 impl ContactState {
     /// The rules of `sc` in the units `scales`, sliding, no force latched.
     pub fn new(sc: &Scenario, scales: &Scales) -> Self {
-        let law = sc.surface.law.scaled(scales.velocity());
+        // Langevin (μ = 0 checked at validation): the thermostat holds the
+        // contact's dissipation; the law is a smooth one that never sticks
+        // and never counts slip reversals (the noise reverses the slip at
+        // every step).
+        let law = if sc.solver.method == crate::Method::Langevin {
+            FrictionLaw::Viscous { eps: 1.0 }
+        } else {
+            sc.surface.law.scaled(scales.velocity())
+        };
         let mut forces = Forces::of(sc);
         forces.scale_wells(scales.energy());
         ContactState {
@@ -96,6 +109,7 @@ impl ContactState {
             reversals: Cell::new(0),
             last_slip: Cell::new([0.0, 0.0]),
             evaluations: 0,
+            langevin: sc.solver.method == crate::Method::Langevin,
         }
     }
 
@@ -211,7 +225,7 @@ impl ContactState {
     /// True where the driver latches the normal-force branch
     /// ([`ContactState::normal_branch`]): bilateral contact, sliding.
     pub fn latches_normal(&self) -> bool {
-        self.contact == ContactMode::Bilateral && self.mode == Mode::Sliding
+        self.contact == ContactMode::Bilateral && self.mode == Mode::Sliding && !self.langevin
     }
 
     /// True for the sliding-only Coulomb law, which can chatter.

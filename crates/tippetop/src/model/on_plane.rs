@@ -135,6 +135,9 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                 }
             }),
         ];
+        if self.plane().langevin {
+            ev.retain(|(w, _)| *w != Watch::ThetaMax);
+        }
         if self.plane().is_exact() {
             match self.plane().mode {
                 Mode::Sliding => ev.push((

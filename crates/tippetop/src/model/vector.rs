@@ -141,6 +141,18 @@ pub struct Vector {
     /// accepted step (N event, energy, samples) are computed once. The key
     /// is compared bit for bit: the result is what a fresh evaluation gives.
     last: RefCell<Option<([u64; DIM + 9], Eval)>>,
+    /// The Langevin thermostat (scaled), `None` unless `method = "langevin"`.
+    thermal: Option<Bath>,
+}
+
+/// The heat bath of a Langevin run in scaled units (m = R = 1, the model's
+/// time unit): kT, γ_t, γ_r and the contact damping c/m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Bath {
+    kt: f64,
+    gt: f64,
+    gr: f64,
+    c: f64,
 }
 
 /// `(sin θ, cos θ)` for the initial axis, moved by a few ulps so that the
@@ -210,7 +222,77 @@ impl Vector {
             plane: ContactState::new(sc, &scales),
             top: sc.top,
             last: RefCell::new(None),
+            thermal: (sc.solver.method == crate::Method::Langevin).then(|| {
+                let th = &sc.thermal;
+                Bath {
+                    kt: th.kt() / scales.energy(),
+                    gt: th.damping_translational * scales.time,
+                    gr: th.damping_rotational * scales.time,
+                    c: th.damping_contact * scales.time / scales.mass,
+                }
+            }),
         }
+    }
+
+    /// Kinetic energy (scaled) of the generalised velocities of a state:
+    /// `½ (|v_h|² + v_Z²) + ½ w·I w` with `v_Z = −a (w × k)_Z`.
+    fn kinetic(&self, y: &[f64; DIM]) -> f64 {
+        let k = [y[K], y[K + 1], y[K + 2]];
+        let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
+        let vz = -self.a * cross(w, k)[2];
+        0.5 * (y[VEL] * y[VEL] + y[VEL + 1] * y[VEL + 1] + vz * vz)
+            + 0.5 * dot(w, self.inertia(k, w))
+    }
+
+    /// The exact Ornstein–Uhlenbeck step over `h` (scaled) of the
+    /// generalised velocities `u = (v_x, v_y, w)` at fixed axis `k`
+    /// (docs/physics.md §21): `du = −M⁻¹Γ u dt + M⁻¹ dF`, `⟨dF dFᵀ⟩ =
+    /// 2 kT Γ dt`. Without contact damping `M` and `Γ` are diagonal in the
+    /// basis `(X, Y | k, ê, f̂)`, `ê = k × Z/|k × Z|`, `f̂ = k × ê`:
+    /// `M = (1, 1 | C, A + a² sin²θ, A)`, `Γ = (γ_t, γ_t | γ_r C,
+    /// γ_r A + γ_t a² sin²θ, γ_r A)`; each mode relaxes at `λ = Γ_i/M_i`
+    /// with the variance `kT (1 − e^{−2λh})/M_i` added. The change of the
+    /// kinetic energy is added to the friction work `W_f` (the bath's work).
+    fn ou_step(&self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {
+        let Some(b) = self.thermal else { return };
+        let e0 = self.kinetic(y);
+        // One mode: relax `x` (velocity along a mode of mass `mass`) at `rate`.
+        let mode = |x: f64, rate: f64, mass: f64, z: f64| {
+            let decay = (-rate * h).exp();
+            let var = -(b.kt / mass) * (-2.0 * rate * h).exp_m1();
+            decay * x + var.sqrt() * z
+        };
+        for j in 0..2 {
+            y[VEL + j] = mode(y[VEL + j], b.gt, 1.0, xi[j]);
+        }
+        let kr = [y[K], y[K + 1], y[K + 2]];
+        let kn = scale(1.0 / dot(kr, kr).sqrt(), kr);
+        let e = [kn[1], -kn[0], 0.0];
+        let s2 = e[0] * e[0] + e[1] * e[1];
+        let eh = if s2 > 0.0 {
+            scale(1.0 / s2.sqrt(), e)
+        } else {
+            [1.0, 0.0, 0.0]
+        };
+        let fh = cross(kn, eh);
+        let beta = self.a * self.a * s2;
+        let modes = [
+            (kn, b.gr, self.ic),
+            (
+                eh,
+                (b.gr * self.ia + b.gt * beta) / (self.ia + beta),
+                self.ia + beta,
+            ),
+            (fh, b.gr, self.ia),
+        ];
+        let mut w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
+        for (j, (dir, rate, mass)) in modes.into_iter().enumerate() {
+            let x = dot(w, dir);
+            let dx = mode(x, rate, mass, xi[2 + j]) - x;
+            w = add(w, scale(dx, dir));
+        }
+        y[OMEGA..OMEGA + 3].copy_from_slice(&w);
+        y[WF] += self.kinetic(y) - e0;
     }
 
     /// Latch the applied force in effect at scaled time `t`.
@@ -668,6 +750,14 @@ impl OdeSystem<DIM> for Vector {
 
     fn begin_segment(&mut self, t: f64, _y: &[f64; DIM]) {
         self.latch_force(t);
+    }
+
+    /// Five normals per half step: `v_x, v_y` and the three rotational
+    /// modes (see `ou_step`).
+    const NOISE: usize = 5;
+
+    fn thermostat(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {
+        self.ou_step(y, h, xi);
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {

@@ -52,7 +52,7 @@ pub fn run_memory_bytes(solver: &SolverSettings) -> u64 {
 
 /// The rates that define the time unit `T_ref` \[1/s\], each with the scenario
 /// key it comes from and a description.
-fn rates(sc: &Scenario) -> [(f64, String, &'static str); 6] {
+fn rates(sc: &Scenario) -> [(f64, String, &'static str); 9] {
     let top = &sc.top;
     let i = &sc.initial;
     // The force window with the largest applied force names the key.
@@ -90,6 +90,22 @@ fn rates(sc: &Scenario) -> [(f64, String, &'static str); 6] {
             "sqrt(|(H, hz)| / (mass radius))",
         ),
         (1.0 / sc.solver.t_end, "solver.t_end".into(), "1 / t_end"),
+        // The thermal rates (zero without `[thermal]`: nothing changes).
+        (
+            (sc.thermal.kt() / top.inertia_transverse).sqrt(),
+            "thermal.temperature".into(),
+            "sqrt(kT / inertia_transverse)",
+        ),
+        (
+            sc.thermal.damping_translational,
+            "thermal.damping_translational".into(),
+            "damping_translational",
+        ),
+        (
+            sc.thermal.damping_rotational,
+            "thermal.damping_rotational".into(),
+            "damping_rotational",
+        ),
     ]
 }
 
@@ -367,7 +383,7 @@ fn check_adhesive_friction(sc: &Scenario) -> Result<(), Error> {
                 );
             }
         }
-        crate::Method::Stiff => {}
+        crate::Method::Stiff | crate::Method::Langevin => {}
     }
     Ok(())
 }

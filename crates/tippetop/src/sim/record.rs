@@ -272,6 +272,11 @@ pub struct RunSetup {
     pub opts: Options,
 }
 
+/// Number of steps of a Langevin run of `sc` (`solver.dt` set).
+fn langevin_steps(sc: &Scenario) -> u64 {
+    crate::thermal::langevin_steps(sc.solver.t_end, sc.solver.dt.unwrap_or(sc.solver.t_end))
+}
+
 impl RunSetup {
     /// The setup of `sc` with time unit `time_unit` \[s\].
     pub fn new(sc: &Scenario, time_unit: f64) -> Self {
@@ -308,6 +313,12 @@ impl RunSetup {
                 Method::Rk4 => Stepper::Rk4 {
                     h: t_end / sc.solver.steps as f64,
                 },
+                Method::Langevin => Stepper::Langevin {
+                    h: t_end / langevin_steps(sc) as f64,
+                    seed: sc.thermal.seed.unwrap_or(0),
+                    run: sc.thermal.run,
+                    first_step: 0,
+                },
             },
             max_steps: sc.solver.step_limit(),
             h0: None,
@@ -319,6 +330,21 @@ impl RunSetup {
             // longer than the sample spacing keeps the dense output at the
             // step-error level.
             h_max: Some(t_end / (ns - 1) as f64),
+        };
+        // Langevin: samples on the nearest step end (the engine's grid `k h`;
+        // the last one is `t_end`, where the last step lands).
+        let sample_times = match opts.stepper {
+            Stepper::Langevin { h, .. } => {
+                let mut st: Vec<f64> = sample_times;
+                let last = st.len() - 1;
+                for (i, t) in st.iter_mut().enumerate() {
+                    if i < last {
+                        *t = crate::integrate::nearest_grid(*t, h).min(t_end);
+                    }
+                }
+                st
+            }
+            _ => sample_times,
         };
         RunSetup {
             t_end,

@@ -11,6 +11,7 @@ pub fn name(opts: &Options) -> &'static str {
         Stepper::Rk4 { .. } => "RK4",
         Stepper::Dop853 { .. } => "DOP853",
         Stepper::Rosenbrock { .. } => "Rodas4P",
+        Stepper::Langevin { .. } => "Langevin",
     }
 }
 
