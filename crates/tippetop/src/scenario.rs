@@ -64,6 +64,7 @@
 //! replaces the preset's list. Precedence: preset < file < `--set`.
 //! Whole numbers are accepted wherever a float is expected.
 
+pub mod langevin;
 pub mod limits;
 
 use serde::Deserialize as _;
@@ -193,7 +194,7 @@ impl Scenario {
             .validate(self.solver.model == ModelKind::Reduced)?;
         self.solver.validate()?;
         self.thermal.validate()?;
-        crate::thermal::check_langevin(self)?;
+        langevin::check(self)?;
         crate::limits::check_run(self)?;
         Ok(())
     }

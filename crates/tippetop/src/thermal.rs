@@ -1,5 +1,6 @@
 //! Temperature and damping, the scenario's `[thermal]` table: the data,
-//! its validation and the step-size rule of `solver.method = "langevin"`
+//! its validation (the cross-key rules and the step-size rule of
+//! `solver.method = "langevin"` are `scenario::langevin`'s)
 //! (the physics and the integrator: docs/physics.md §21,
 //! `integrate::langevin` and `model::vector`'s thermostat).
 //!
@@ -17,7 +18,7 @@
 //! plane (its exact Ornstein–Uhlenbeck step, docs/physics.md §21), so the
 //! velocities have the Maxwell distribution of the constrained top.
 
-use crate::{Error, Scenario};
+use crate::Error;
 
 /// Boltzmann's constant \[J/K\] (exact since the 2019 SI).
 pub const BOLTZMANN: f64 = 1.380649e-23;
@@ -101,7 +102,7 @@ impl Thermal {
     }
 
     /// Check each key's own range (the cross-key rules are
-    /// [`check_langevin`]'s).
+    /// [`crate::scenario::langevin::check`]'s).
     pub fn validate(&self) -> Result<(), Error> {
         for (key, v, range) in [
             ("temperature", self.temperature, TEMPERATURE_RANGE),
@@ -152,242 +153,4 @@ pub fn langevin_steps(t_end: f64, dt: f64) -> u64 {
     } else {
         1
     }
-}
-
-/// The rates \[1/s\] the step of a Langevin run must resolve, each with the
-/// key that sets it and a description: γ_t, γ_r, the contact damping's
-/// `c/m` and `c (R + a)²/A`, the thermal angular velocities `sqrt(kT/A)`
-/// and `sqrt(kT/C)`, the initial spin, precession and tilt rate, the tilt
-/// oscillation under the vertical forces `sqrt((m g + F_a + |h_z|) (R + a)
-/// / A)` and each well's curvature `sqrt(depth / width² / A)`. (The
-/// horizontal translation has no length scale on the plane: its only rate
-/// is γ_t.)
-pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
-    let th = &sc.thermal;
-    let top = &sc.top;
-    let (m, a_in, c_in) = (top.mass, top.inertia_transverse, top.inertia_axial);
-    let lever = top.radius + top.offset;
-    let load = top.mass * sc.surface.gravity
-        + sc.adhesion.force
-        + sc.forcing
-            .windows
-            .iter()
-            .map(|w| w.hz.abs())
-            .fold(0.0, f64::max);
-    let mut out = vec![
-        (
-            th.damping_translational,
-            "thermal.damping_translational",
-            "damping_translational",
-        ),
-        (
-            th.damping_rotational,
-            "thermal.damping_rotational",
-            "damping_rotational",
-        ),
-        (
-            th.damping_contact / m,
-            "thermal.damping_contact",
-            "damping_contact / mass",
-        ),
-        (
-            th.damping_contact * lever * lever / a_in,
-            "thermal.damping_contact",
-            "damping_contact (radius + offset)^2 / inertia_transverse",
-        ),
-        (
-            (th.kt() / a_in).sqrt(),
-            "thermal.temperature",
-            "sqrt(kT / inertia_transverse) (thermal tilt rate)",
-        ),
-        (
-            (th.kt() / c_in).sqrt(),
-            "thermal.temperature",
-            "sqrt(kT / inertia_axial) (thermal spin)",
-        ),
-        (sc.initial.spin.abs(), "initial.spin", "|spin|"),
-        (
-            sc.initial.precession.abs(),
-            "initial.precession",
-            "|precession|",
-        ),
-        (
-            sc.initial.theta_dot.abs(),
-            "initial.theta_dot",
-            "|theta_dot|",
-        ),
-        (
-            (load * lever / a_in).sqrt(),
-            "surface.gravity",
-            "sqrt((mass gravity + adhesion force + |hz|) (radius + offset) / inertia_transverse)",
-        ),
-    ];
-    for w in &sc.wells {
-        out.push((
-            (w.depth / (w.width * w.width * a_in)).sqrt(),
-            "well",
-            "sqrt(depth / width^2 / inertia_transverse) of a well",
-        ));
-    }
-    out
-}
-
-/// The cross-key rules of the thermal keys and `solver.method =
-/// "langevin"` (docs/physics.md §21):
-///
-/// - `[thermal]` keys other than the defaults, and `solver.dt`, only with
-///   `method = "langevin"`; `"langevin"` needs `solver.dt` and the vector
-///   model (the rigid model's scheme does not exist yet);
-/// - no Coulomb friction (`surface.friction = 0`: dry friction has no
-///   thermal partner; a viscous contact is `thermal.damping_contact`);
-/// - at `T > 0`: a seed, and `γ_t > 0`, `γ_r > 0` (every degree of
-///   freedom coupled to the bath: contact damping alone leaves the spin of
-///   an upright top undamped);
-/// - the step rule `dt · max(step_rates) <= MAX_STEP_RATE`, the number of
-///   steps within the step limit and at least `samples − 1`.
-pub fn check_langevin(sc: &Scenario) -> Result<(), Error> {
-    let so = &sc.solver;
-    let th = &sc.thermal;
-    let langevin = so.method == crate::Method::Langevin;
-    if !langevin {
-        if let Some(dt) = so.dt {
-            return Err(Error::invalid(
-                "solver.dt",
-                format!("{dt} given with a deterministic method"),
-                "only with solver.method = \"langevin\" (rk4 takes solver.steps)".into(),
-            ));
-        }
-        let set = [
-            ("temperature", th.temperature != 0.0),
-            ("damping_translational", th.damping_translational != 0.0),
-            ("damping_rotational", th.damping_rotational != 0.0),
-            ("damping_contact", th.damping_contact != 0.0),
-            ("seed", th.seed.is_some()),
-            ("run", th.run != 0),
-        ];
-        if let Some((key, _)) = set.iter().find(|(_, on)| *on) {
-            return Err(Error::invalid(
-                &format!("thermal.{key}"),
-                "needs solver.method = \"langevin\"".into(),
-                "temperature and damping are integrated by the Langevin method only: set solver.method = \"langevin\" and solver.dt".into(),
-            ));
-        }
-        return Ok(());
-    }
-    if so.model != crate::ModelKind::Vector {
-        let name = match so.model {
-            crate::ModelKind::Reduced => "reduced",
-            crate::ModelKind::Rigid => "rigid",
-            crate::ModelKind::Vector => "vector",
-        };
-        return Err(Error::invalid(
-            "solver.model",
-            format!("\"{name}\" has no Langevin scheme yet"),
-            "model = \"vector\" with method = \"langevin\"".into(),
-        ));
-    }
-    let Some(dt) = so.dt else {
-        return Err(Error::invalid(
-            "solver.dt",
-            "missing".into(),
-            "required with method = \"langevin\": the fixed step, a finite time > 0 [s]".into(),
-        ));
-    };
-    if !dt.is_finite() || dt <= 0.0 {
-        return Err(Error::invalid(
-            "solver.dt",
-            format!("{dt} is not allowed"),
-            "a finite time > 0 [s]".into(),
-        ));
-    }
-    if sc.surface.friction != 0.0 {
-        return Err(Error::invalid(
-            "surface.friction",
-            format!(
-                "{} with method = \"langevin\": Coulomb friction has no thermal partner",
-                sc.surface.friction
-            ),
-            "0 with method = \"langevin\"; a viscous contact is thermal.damping_contact [N s/m]"
-                .into(),
-        ));
-    }
-    if th.damping_contact > 0.0 {
-        return Err(Error::invalid(
-            "thermal.damping_contact",
-            "not implemented yet".into(),
-            "0 (the viscous contact's thermostat is not written yet)".into(),
-        ));
-    }
-    if th.is_hot() {
-        if th.seed.is_none() {
-            return Err(Error::invalid(
-                "thermal.seed",
-                "missing".into(),
-                SEED_RANGE.into(),
-            ));
-        }
-        for (key, v) in [
-            ("damping_translational", th.damping_translational),
-            ("damping_rotational", th.damping_rotational),
-        ] {
-            if v <= 0.0 {
-                return Err(Error::invalid(
-                    &format!("thermal.{key}"),
-                    format!("{v} at temperature {} K", th.temperature),
-                    "> 0 at temperature > 0 [1/s]: every degree of freedom needs its heat bath"
-                        .into(),
-                ));
-            }
-        }
-    }
-    let (rate, key, what) = step_rates(sc)
-        .into_iter()
-        .fold(
-            (0.0, "solver.dt", ""),
-            |best, r| {
-                if r.0 > best.0 { r } else { best }
-            },
-        );
-    if !rate.is_finite() {
-        return Err(Error::invalid(
-            key,
-            format!("the rate {what} overflows"),
-            "a value whose rate (1/s) is finite".into(),
-        ));
-    }
-    if dt * rate > MAX_STEP_RATE {
-        return Err(Error::invalid(
-            "solver.dt",
-            format!(
-                "{dt} s is too long: {what} = {rate:e} 1/s (from {key}) gives dt * rate = {:.3}",
-                dt * rate
-            ),
-            format!(
-                "dt * rate <= {MAX_STEP_RATE}: dt <= {:e} s",
-                MAX_STEP_RATE / rate
-            ),
-        ));
-    }
-    let n = langevin_steps(so.t_end, dt);
-    if n > so.step_limit() {
-        return Err(Error::invalid(
-            "solver.dt",
-            format!(
-                "{dt} s needs {n} steps over t_end, beyond the step limit {}",
-                so.step_limit()
-            ),
-            "t_end / dt <= solver.max_steps (default 20000000): a shorter t_end or an ensemble of shorter runs".into(),
-        ));
-    }
-    if (so.samples as u64 - 1) > n {
-        return Err(Error::invalid(
-            "solver.samples",
-            format!("{} rows for {n} steps", so.samples),
-            format!(
-                "samples <= steps + 1 = {} with method = \"langevin\" (each row is a step's end)",
-                n + 1
-            ),
-        ));
-    }
-    Ok(())
 }

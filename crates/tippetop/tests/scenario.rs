@@ -756,3 +756,88 @@ fn nano_physical_preset() {
         p
     );
 }
+
+/// The `[thermal]` table and `solver.method = "langevin"` (issue #15): a
+/// valid hot run, its round trip, and each bad input named by its key.
+#[test]
+fn thermal_keys_and_their_rules() {
+    let hot = [
+        "surface.friction=0",
+        "solver.method=\"langevin\"",
+        "solver.dt=1e-14",
+        "solver.t_end=1e-11",
+        "solver.samples=11",
+        "thermal.temperature=300",
+        "thermal.damping_translational=1e11",
+        "thermal.damping_rotational=1e11",
+        "thermal.seed=3",
+    ];
+    let sc = Scenario::load(Some("nano"), None, &sets(&hot)).expect("valid");
+    assert_eq!(sc.solver.method, Method::Langevin);
+    assert_eq!(sc.thermal.seed, Some(3));
+    let back = Scenario::from_toml_str(&sc.to_toml_string()).unwrap();
+    assert_eq!(back, sc);
+    // Without [thermal] the text has no such table (old files unchanged).
+    assert!(!Scenario::nano().to_toml_string().contains("thermal"));
+
+    let with = |extra: &[&'static str]| -> Vec<&'static str> {
+        let mut v: Vec<&'static str> = hot.to_vec();
+        v.extend_from_slice(extra);
+        v
+    };
+    let cases: &[(&[&str], &str)] = &[
+        (&["thermal.temperature=-1"], "thermal.temperature"),
+        (
+            &["thermal.damping_rotational=0"],
+            "thermal.damping_rotational",
+        ),
+        (
+            &["thermal.damping_translational=0"],
+            "thermal.damping_translational",
+        ),
+        (&["surface.friction=0.1"], "surface.friction"),
+        (&["solver.dt=1e-12"], "solver.dt"),
+        (&["solver.model=\"rigid\""], "solver.model"),
+        (&["solver.samples=2000"], "solver.samples"),
+        (&["thermal.run=4294967296"], "thermal.run"),
+        (&["thermal.bogus=1"], "thermal.bogus"),
+        (&["solver.method=\"adaptive\""], "solver.dt"),
+    ];
+    for (extra, key) in cases {
+        expect_err(Some("nano"), None, &with(extra), key);
+    }
+    // Missing seed at T > 0.
+    let no_seed: Vec<&str> = hot
+        .iter()
+        .copied()
+        .filter(|s| !s.starts_with("thermal.seed"))
+        .collect();
+    expect_err(Some("nano"), None, &no_seed, "thermal.seed");
+    // Temperature without the Langevin method.
+    expect_err(
+        Some("nano"),
+        None,
+        &["thermal.temperature=300"],
+        "thermal.temperature",
+    );
+    // Langevin without dt.
+    expect_err(
+        Some("nano"),
+        None,
+        &["surface.friction=0", "solver.method=\"langevin\""],
+        "solver.dt",
+    );
+    // T = 0 with damping: a valid deterministic run; no seed needed.
+    Scenario::load(
+        Some("nano"),
+        None,
+        &sets(&[
+            "surface.friction=0",
+            "solver.method=\"langevin\"",
+            "solver.dt=1e-9",
+            "solver.t_end=1e-6",
+            "thermal.damping_rotational=1e6",
+        ]),
+    )
+    .expect("T = 0 with damping is valid");
+}

@@ -21,7 +21,9 @@
 //!   small-oscillation period, energy with the potential, J, a barrier;
 //! - `position`: where the top is (position, attitude, contact point);
 //! - `initial`: the lab-frame initial state and the heading (isotropy);
-//! - `rigid`: what only the rigid model has (attitude, flight, impacts).
+//! - `rigid`: what only the rigid model has (attitude, flight, impacts);
+//! - `thermal`: Langevin dynamics (vector model): equipartition, the
+//!   orientation density, diffusion, the damped energy, replay.
 
 mod adhesion;
 mod closed_forms;
@@ -34,4 +36,5 @@ mod position;
 mod rigid;
 mod spec;
 mod stick_slip;
+mod thermal;
 mod wells;

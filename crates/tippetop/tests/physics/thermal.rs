@@ -1,0 +1,342 @@
+//! Langevin dynamics (`solver.method = "langevin"`, `[thermal]`,
+//! docs/physics.md §21), vector model: equipartition of the constrained
+//! top, the orientation density at `g = 0` (not uniform: the centre's
+//! height follows the tilt), the Ornstein–Uhlenbeck mean-square
+//! displacement, the exact energy decay at `T = 0`, the splitting without
+//! damping equal to RK4 bit for bit, and replay by (seed, run).
+//!
+//! Statistics: time averages over one long run with a fixed seed; the
+//! standard error from 40 batch means (each batch is hundreds of
+//! correlation times, so the batch means are independent to a good
+//! approximation); every check is `|mean − exact| < 5 SE` with the SE
+//! itself bounded (so the test has the power to fail a wrong model).
+
+use std::sync::OnceLock;
+use tippetop::thermal::BOLTZMANN;
+use tippetop::{ForceWindow, Forcing, Method, Scenario, Simulation, Trajectory, simulate};
+
+/// An eccentric light top (`m a²/A = 2`: the mass matrix's tilt mode
+/// `A + m a² sin²θ` is up to three times `A`, so a model that forgot the
+/// centre's vertical motion is far outside the error bars), no gravity, no
+/// applied force, frictionless, at `T`, with `γ_t = γ_r = γ`.
+fn hot_top(temperature: f64, gamma: f64, dt: f64, t_end: f64, samples: usize) -> Scenario {
+    let mut sc = Scenario::nano();
+    sc.top.offset = 0.6 * sc.top.radius;
+    let ma2 = sc.top.mass * sc.top.offset * sc.top.offset;
+    sc.top.inertia_transverse = ma2 / 2.0;
+    sc.top.inertia_axial = ma2 / 2.0;
+    sc.surface.friction = 0.0;
+    sc.surface.gravity = 0.0;
+    sc.forcing = Forcing { windows: vec![] };
+    sc.initial.theta = 1.0;
+    sc.initial.spin = 0.0;
+    sc.solver.method = Method::Langevin;
+    sc.solver.dt = Some(dt);
+    sc.solver.t_end = t_end;
+    sc.solver.samples = samples;
+    sc.thermal.temperature = temperature;
+    sc.thermal.damping_translational = gamma;
+    sc.thermal.damping_rotational = gamma;
+    sc.thermal.seed = Some(20261124);
+    sc
+}
+
+const T: f64 = 300.0;
+
+/// The fastest rate of [`hot_top`] at 300 K: `sqrt(kT/A)` (A = C).
+fn thermal_rate(sc: &Scenario) -> f64 {
+    (BOLTZMANN * T / sc.top.inertia_transverse).sqrt()
+}
+
+/// The long equilibrium run shared by the equipartition, density and
+/// diffusion tests: γ at the thermal rate, the step at the rule's limit
+/// (`dt · rate = 0.02`), 2 000 000 steps (40 000 relaxation times),
+/// a row every 10 steps. About 2 s.
+fn long_run() -> &'static (Scenario, Trajectory) {
+    static RUN: OnceLock<(Scenario, Trajectory)> = OnceLock::new();
+    RUN.get_or_init(|| {
+        let probe = hot_top(T, 1.0, 1.0, 1.0, 2);
+        let rate = thermal_rate(&probe);
+        let dt = 0.02 / rate;
+        let n = 2_000_000usize;
+        let sc = hot_top(T, rate, dt, dt * n as f64, n / 10 + 1);
+        let tr = simulate(&sc).expect("valid");
+        assert!(tr.error.is_none(), "{:?}", tr.error);
+        (sc, tr)
+    })
+}
+
+/// Mean and standard error (40 batch means) of `f` over the rows after
+/// the first 5 % (burn-in: the run starts at rest, far from equilibrium).
+fn batch_mean(tr: &Trajectory, f: impl Fn(&tippetop::Sample) -> f64) -> (f64, f64) {
+    let rows = &tr.samples[tr.samples.len() / 20..];
+    let nb = 40;
+    let per = rows.len() / nb;
+    let means: Vec<f64> = (0..nb)
+        .map(|b| rows[b * per..(b + 1) * per].iter().map(&f).sum::<f64>() / per as f64)
+        .collect();
+    let m = means.iter().sum::<f64>() / nb as f64;
+    let var = means.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (nb - 1) as f64;
+    (m, (var / nb as f64).sqrt())
+}
+
+fn check(what: &str, (mean, se): (f64, f64), want: f64, max_rel_se: f64) {
+    eprintln!(
+        "{what}: {mean:e} ± {se:e} (want {want:e}, {:+.2} SE)",
+        (mean - want) / se
+    );
+    assert!(
+        se < max_rel_se * want.abs(),
+        "{what}: standard error {se:e} too large for a test with power"
+    );
+    assert!(
+        (mean - want).abs() < 5.0 * se,
+        "{what}: {mean:e} ± {se:e}, want {want:e}"
+    );
+}
+
+/// Equipartition of the constrained top (exact for the invariant measure
+/// of the Langevin dynamics, any configuration): `⟨C ω²⟩ = kT`,
+/// `⟨m |u_h|²⟩ = 2 kT`, `⟨(A + m a² sin²θ) θ̇²⟩ = kT`,
+/// `⟨A Ω² sin²θ⟩ = kT`. The splitting's bias is `O((dt·rate)²) = 4e-4`,
+/// below the SE (~1 %).
+#[test]
+fn equipartition_on_the_plane() {
+    let (sc, tr) = long_run();
+    let kt = BOLTZMANN * T;
+    let (m, a) = (sc.top.mass, sc.top.offset);
+    let (ia, ic) = (sc.top.inertia_transverse, sc.top.inertia_axial);
+    check(
+        "<C w^2>",
+        batch_mean(tr, |s| ic * s.spin * s.spin),
+        kt,
+        0.02,
+    );
+    check(
+        "<m |u_h|^2>",
+        batch_mean(tr, |s| m * (s.ux * s.ux + s.uy * s.uy)),
+        2.0 * kt,
+        0.02,
+    );
+    check(
+        "<(A + m a^2 sin^2) thd^2>",
+        batch_mean(tr, |s| {
+            let sn = s.theta.sin();
+            (ia + m * a * a * sn * sn) * s.theta_dot * s.theta_dot
+        }),
+        kt,
+        0.02,
+    );
+    check(
+        "<A Omega^2 sin^2>",
+        batch_mean(tr, |s| {
+            let sn = s.theta.sin();
+            ia * s.precession * s.precession * sn * sn
+        }),
+        kt,
+        0.02,
+    );
+    // A model without the centre's vertical motion would give
+    // ⟨A θ̇²⟩ = kT: here it is well below (m a²/A = 2).
+    let (wrong, se) = batch_mean(tr, |s| ia * s.theta_dot * s.theta_dot);
+    assert!(
+        wrong < kt - 10.0 * se,
+        "<A thd^2> = {wrong:e} should be far below kT"
+    );
+}
+
+/// At `g = 0` without wells the orientation's density is
+/// `p(θ) ∝ sin θ sqrt(1 + (m a²/A) sin²θ)` (the configuration marginal of
+/// `exp(−H/kT)`: `sqrt(det M(θ))`). Checked on `⟨cos²θ⟩` against the
+/// quadrature of that density (uniform would be 1/3, 7 % higher here) and
+/// on `⟨cos θ⟩ = 0`.
+#[test]
+fn orientation_density_at_zero_gravity() {
+    let (sc, tr) = long_run();
+    let r = sc.top.mass * sc.top.offset * sc.top.offset / sc.top.inertia_transverse;
+    let p = |th: f64| th.sin() * (1.0 + r * th.sin().powi(2)).sqrt();
+    let n = 20_000;
+    let h = std::f64::consts::PI / n as f64;
+    let (mut num, mut den) = (0.0, 0.0);
+    for i in 0..=n {
+        let th = i as f64 * h;
+        let w = if i == 0 || i == n {
+            1.0
+        } else if i % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
+        num += w * p(th) * th.cos().powi(2);
+        den += w * p(th);
+    }
+    let want = num / den;
+    assert!(
+        (want - 1.0 / 3.0).abs() > 0.02,
+        "the density must not be uniform"
+    );
+    check(
+        "<cos^2 theta>",
+        batch_mean(tr, |s| s.theta.cos().powi(2)),
+        want,
+        0.03,
+    );
+    let (c1, se) = batch_mean(tr, |s| s.theta.cos());
+    assert!(c1.abs() < 5.0 * se, "<cos theta> = {c1} ± {se}");
+}
+
+/// The centre's horizontal motion is a free Ornstein–Uhlenbeck process
+/// (no friction, no horizontal force): mean-square displacement over a lag
+/// `τ` in equilibrium `4 D [τ − (1 − e^{−γτ})/γ]`, `D = kT/(m γ_t)`. Lags
+/// of 1 and 10 relaxation times (the ballistic and the diffusive regime),
+/// from displacements `x(t + τ) − x(t)` over the run after the burn-in.
+#[test]
+fn ornstein_uhlenbeck_mean_square_displacement() {
+    let (sc, tr) = long_run();
+    let g = sc.thermal.damping_translational;
+    let d = BOLTZMANN * T / (sc.top.mass * g);
+    let rows = &tr.samples[tr.samples.len() / 20..];
+    let dt_row = tr.samples[1].t - tr.samples[0].t;
+    for relax in [1.0, 10.0] {
+        let lag = (relax / g / dt_row).round() as usize;
+        let tau = lag as f64 * dt_row;
+        let want = 4.0 * d * (tau - (1.0 - (-g * tau).exp()) / g);
+        // Batches of displacements: the squared displacement starting at
+        // each row of a batch.
+        let disp: Vec<f64> = rows
+            .windows(lag + 1)
+            .map(|w| {
+                let (a, b) = (&w[0], &w[lag]);
+                (b.x - a.x).powi(2) + (b.y - a.y).powi(2)
+            })
+            .collect();
+        let nb = 40;
+        let per = disp.len() / nb;
+        let means: Vec<f64> = (0..nb)
+            .map(|b| disp[b * per..(b + 1) * per].iter().sum::<f64>() / per as f64)
+            .collect();
+        let m = means.iter().sum::<f64>() / nb as f64;
+        let var = means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (nb - 1) as f64;
+        check(
+            &format!("MSD at {relax} relaxation times"),
+            (m, (var / nb as f64).sqrt()),
+            want,
+            0.03,
+        );
+    }
+}
+
+/// At `T = 0` with `γ_t = γ_r = γ` the friction matrix is `γ M`: every
+/// velocity decays at `γ`, and with no potential (g = 0, no force) the
+/// constraint does no work, so `E(t) = E(0) e^{−2γt}` exactly; the run
+/// reproduces it to the RK4 step's energy error (`(h·rate)^5` per step,
+/// ~1e-9 over 1000 steps at `h·rate = 0.02`). The balance
+/// `E − E0 = W_f` (the bath's work) holds to the same order.
+#[test]
+fn damped_energy_decays_exactly_at_zero_temperature() {
+    let probe = hot_top(T, 1.0, 1.0, 1.0, 2);
+    let rate = thermal_rate(&probe);
+    let gamma = 0.3 * rate;
+    let dt = 0.02 / rate;
+    let mut sc = hot_top(0.0, gamma, dt, 1000.0 * dt, 101);
+    sc.thermal.seed = None;
+    // A tumbling, sliding top: every mode moving.
+    sc.initial.theta_dot = 0.5 * rate;
+    sc.initial.precession = 0.7 * rate;
+    sc.initial.spin = 0.9 * rate;
+    sc.initial.ux = 1.0;
+    sc.initial.uy = -0.5;
+    let tr = simulate(&sc).expect("valid");
+    assert!(tr.error.is_none());
+    let e0 = tr.samples[0].energy;
+    let mut worst: f64 = 0.0;
+    for s in &tr.samples {
+        let want = e0 * (-2.0 * gamma * s.t).exp();
+        worst = worst.max(((s.energy - want) / e0).abs());
+        let bal = (s.energy - e0 - s.work_friction) / e0;
+        assert!(bal.abs() < 1e-9, "balance {bal:e} at {}", s.t);
+    }
+    let last = tr.samples.last().unwrap();
+    assert!(last.energy < 0.01 * e0, "it decayed: {}", last.energy / e0);
+    assert!(worst < 1e-8, "E(t) vs E0 exp(-2 gamma t): {worst:e}");
+}
+
+/// Without damping and at `T = 0` the splitting's `O` steps are the
+/// identity and the run is the RK4 run with the same steps, bit for bit
+/// (the classical top without friction: the normal force stays positive,
+/// so both methods have the same segments).
+#[test]
+fn langevin_without_bath_is_rk4() {
+    let mut sc = Scenario::classical();
+    sc.surface.friction = 0.0;
+    sc.solver.t_end = 0.1;
+    sc.solver.samples = 101;
+    let mut lv = sc.clone();
+    lv.solver.method = Method::Langevin;
+    lv.solver.dt = Some(1e-4);
+    let mut rk = sc.clone();
+    rk.solver.method = Method::Rk4;
+    rk.solver.steps = 1000;
+    let (a, b) = (simulate(&lv).unwrap(), simulate(&rk).unwrap());
+    assert!(a.error.is_none() && b.error.is_none());
+    assert_eq!(a.samples.len(), b.samples.len());
+    // Both land on t_end: the same step sequence gives the same bits.
+    assert_eq!(a.samples.last(), b.samples.last());
+    // Inside, the Langevin rows sit on the step ends `k h`, RK4's at
+    // `t_end i/(n − 1)` read from its Hermite interpolant: a few ulps apart
+    // in t. Every quantity compared changes at most at 100 × its size per
+    // second (the spin is 100 rad/s), so they agree to 100 |Δt| + rounding.
+    for (x, y) in a.samples.iter().zip(&b.samples) {
+        let dt = (x.t - y.t).abs();
+        assert!(dt <= 4.0 * f64::EPSILON * x.t, "{} vs {}", x.t, y.t);
+        for (u, v) in [
+            (x.theta, y.theta),
+            (x.qx, y.qx),
+            (x.qz, y.qz),
+            (x.spin / 100.0, y.spin / 100.0),
+            (x.energy / y.energy, 1.0),
+        ] {
+            assert!((u - v).abs() <= 100.0 * dt + 1e-15, "{u} vs {v} at {}", x.t);
+        }
+    }
+}
+
+/// Same (seed, run): the same bits; another run index or seed: another
+/// path; a run paused, snapshotted and continued is the run in one go
+/// (the stream's counter is the global step number).
+#[test]
+fn replay_by_seed_and_run() {
+    let probe = hot_top(T, 1.0, 1.0, 1.0, 2);
+    let rate = thermal_rate(&probe);
+    let dt = 0.02 / rate;
+    // A force window that switches off mid-run: a segment boundary off the
+    // grid, where the engine restarts.
+    let mut sc = hot_top(T, rate, dt, 2000.0 * dt, 21);
+    sc.forcing = Forcing {
+        windows: vec![ForceWindow {
+            hx: 1e-12,
+            hy: 0.0,
+            hz: 0.0,
+            start: 0.0,
+            stop: 700.3 * dt,
+        }],
+    };
+    let a = simulate(&sc).unwrap();
+    let b = simulate(&sc).unwrap();
+    assert_eq!(a.samples, b.samples);
+    let mut other = sc.clone();
+    other.thermal.run = 1;
+    let c = simulate(&other).unwrap();
+    assert_ne!(a.samples.last(), c.samples.last());
+    let mut other = sc.clone();
+    other.thermal.seed = Some(7);
+    assert_ne!(a.samples.last(), simulate(&other).unwrap().samples.last());
+
+    let mut sim = Simulation::new(&sc).unwrap();
+    sim.integrate_to(333.7 * dt).unwrap();
+    let snap = sim.snapshot();
+    sim.integrate_to(1500.0 * dt).unwrap();
+    sim.restore(&snap);
+    sim.integrate_to(sc.solver.t_end).unwrap();
+    assert_eq!(sim.into_trajectory().samples, a.samples);
+}
