@@ -255,6 +255,9 @@ impl Vector {
     /// kinetic energy is added to the friction work `W_f` (the bath's work).
     fn ou_step(&self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {
         let Some(b) = self.thermal else { return };
+        if b.c > 0.0 {
+            return self.ou_step_coupled(y, h, xi, b);
+        }
         let e0 = self.kinetic(y);
         // One mode: relax `x` (velocity along a mode of mass `mass`) at `rate`.
         let mode = |x: f64, rate: f64, mass: f64, z: f64| {
@@ -265,16 +268,7 @@ impl Vector {
         for j in 0..2 {
             y[VEL + j] = mode(y[VEL + j], b.gt, 1.0, xi[j]);
         }
-        let kr = [y[K], y[K + 1], y[K + 2]];
-        let kn = scale(1.0 / dot(kr, kr).sqrt(), kr);
-        let e = [kn[1], -kn[0], 0.0];
-        let s2 = e[0] * e[0] + e[1] * e[1];
-        let eh = if s2 > 0.0 {
-            scale(1.0 / s2.sqrt(), e)
-        } else {
-            [1.0, 0.0, 0.0]
-        };
-        let fh = cross(kn, eh);
+        let ([kn, eh, fh], s2) = Self::modes_basis(y);
         let beta = self.a * self.a * s2;
         let modes = [
             (kn, b.gr, self.ic),
@@ -292,6 +286,79 @@ impl Vector {
             w = add(w, scale(dx, dir));
         }
         y[OMEGA..OMEGA + 3].copy_from_slice(&w);
+        y[WF] += self.kinetic(y) - e0;
+    }
+
+    /// The orthonormal basis `(k̂, ê, f̂)` of the rotational modes and
+    /// `sin²θ` (see `ou_step`).
+    fn modes_basis(y: &[f64; DIM]) -> ([V3; 3], f64) {
+        let kr = [y[K], y[K + 1], y[K + 2]];
+        let kn = scale(1.0 / dot(kr, kr).sqrt(), kr);
+        let e = [kn[1], -kn[0], 0.0];
+        let s2 = e[0] * e[0] + e[1] * e[1];
+        let eh = if s2 > 0.0 {
+            scale(1.0 / s2.sqrt(), e)
+        } else {
+            [1.0, 0.0, 0.0]
+        };
+        ([kn, eh, cross(kn, eh)], s2)
+    }
+
+    /// The exact Ornstein–Uhlenbeck step with the contact damping `−c v_P`
+    /// (docs/physics.md §21): `Γ` gains `c Pᵀ P`, `P` the map from
+    /// `p = (v_x, v_y, w·k̂, w·ê, w·f̂)` to the horizontal slip
+    /// `v_P = v_h + (w × r)_h`, which couples translation and rotation.
+    /// With `M = diag(m_i)` in that basis, `z = M^{1/2} p` obeys
+    /// `dz = −S z dt + sqrt(2 kT) S^{1/2} dW`, `S = M^{−1/2} Γ M^{−1/2}`:
+    /// in the eigenbasis of `S` (`S = V Λ Vᵀ`) each component relaxes at
+    /// `λ_j` with the variance `kT (1 − e^{−2 λ_j h})` added.
+    fn ou_step_coupled(&self, y: &mut [f64; DIM], h: f64, xi: &[f64], b: Bath) {
+        use nalgebra::{Matrix5, SymmetricEigen, Vector5};
+        let e0 = self.kinetic(y);
+        let ([kn, eh, fh], s2) = Self::modes_basis(y);
+        let beta = self.a * self.a * s2;
+        let m = [1.0, 1.0, self.ic, self.ia + beta, self.ia];
+        let g = [
+            b.gt,
+            b.gt,
+            b.gr * self.ic,
+            b.gr * self.ia + b.gt * beta,
+            b.gr * self.ia,
+        ];
+        let r = [self.a * kn[0], self.a * kn[1], self.a * kn[2] - 1.0];
+        let cols: [[f64; 2]; 5] = {
+            let c = |d: V3| {
+                let x = cross(d, r);
+                [x[0], x[1]]
+            };
+            [[1.0, 0.0], [0.0, 1.0], c(kn), c(eh), c(fh)]
+        };
+        let sq: [f64; 5] = m.map(f64::sqrt);
+        let smat = Matrix5::from_fn(|i, j| {
+            let pp = cols[i][0] * cols[j][0] + cols[i][1] * cols[j][1];
+            let gij = if i == j { g[i] } else { 0.0 } + b.c * pp;
+            gij / (sq[i] * sq[j])
+        });
+        let eig = SymmetricEigen::new(smat);
+        let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
+        let dirs = [kn, eh, fh];
+        let p = [y[VEL], y[VEL + 1], dot(w, kn), dot(w, eh), dot(w, fh)];
+        let z = Vector5::from_fn(|i, _| sq[i] * p[i]);
+        let mut q = eig.eigenvectors.transpose() * z;
+        for j in 0..5 {
+            let lam = eig.eigenvalues[j].max(0.0);
+            let decay = (-lam * h).exp();
+            let var = -b.kt * (-2.0 * lam * h).exp_m1();
+            q[j] = decay * q[j] + var.sqrt() * xi[j];
+        }
+        let z = eig.eigenvectors * q;
+        y[VEL] = z[0] / sq[0];
+        y[VEL + 1] = z[1] / sq[1];
+        let mut wn = w;
+        for j in 0..3 {
+            wn = add(wn, scale(z[2 + j] / sq[2 + j] - p[2 + j], dirs[j]));
+        }
+        y[OMEGA..OMEGA + 3].copy_from_slice(&wn);
         y[WF] += self.kinetic(y) - e0;
     }
 

@@ -162,13 +162,6 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
                 .into(),
         ));
     }
-    if th.damping_contact > 0.0 {
-        return Err(Error::invalid(
-            "thermal.damping_contact",
-            "not implemented yet".into(),
-            "0 (the viscous contact's thermostat is not written yet)".into(),
-        ));
-    }
     if th.is_hot() {
         if th.seed.is_none() {
             return Err(Error::invalid(

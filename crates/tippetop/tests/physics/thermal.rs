@@ -340,3 +340,94 @@ fn replay_by_seed_and_run() {
     sim.integrate_to(sc.solver.t_end).unwrap();
     assert_eq!(sim.into_trajectory().samples, a.samples);
 }
+
+/// The contact damping `−c v_P` on a uniform sphere (`a = 0`,
+/// `A = C = 2/5 m R²`) at `T = 0`, no other damping: `m v̇ = −c v_P`,
+/// `I ẇ = r × (−c v_P)` with `r = −R Z`, so the slip obeys
+/// `v̇_P = −c (1/m + R²/A) v_P = −(7c/2m) v_P` and decays as
+/// `|v_P(0)| e^{−7ct/(2m)}` exactly (nothing else moves the slip: the normal
+/// force passes through the centre). The O step is exact and Φ leaves the
+/// slip alone, so the run follows it to rounding.
+#[test]
+fn contact_damping_relaxes_the_slip_of_a_sphere() {
+    let mut sc = Scenario::nano();
+    sc.top.offset = 0.0;
+    let i = 0.4 * sc.top.mass * sc.top.radius * sc.top.radius;
+    sc.top.inertia_transverse = i;
+    sc.top.inertia_axial = i;
+    sc.surface.friction = 0.0;
+    sc.forcing = Forcing { windows: vec![] };
+    sc.initial.theta = 0.5;
+    sc.initial.ux = 1.0;
+    sc.initial.uy = -0.3;
+    sc.initial.theta_dot = 2e9;
+    sc.initial.spin = 3e9;
+    let c = sc.top.mass * 1e11;
+    sc.thermal.damping_contact = c;
+    sc.solver.method = Method::Langevin;
+    sc.solver.dt = Some(2e-14);
+    sc.solver.t_end = 4e-12;
+    sc.solver.samples = 41;
+    let tr = simulate(&sc).expect("valid");
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let s0 = tr.samples[0].slip;
+    assert!(s0 > 0.1, "it slides: {s0}");
+    let rate = 3.5 * c / sc.top.mass;
+    for s in &tr.samples {
+        let want = s0 * (-rate * s.t).exp();
+        assert!(
+            (s.slip - want).abs() <= 1e-12 * s0,
+            "slip {} vs {want} at {}",
+            s.slip,
+            s.t
+        );
+    }
+    assert!(tr.samples.last().unwrap().slip < 0.3 * s0);
+}
+
+/// Equipartition with the contact damping on (`c/m = γ`): the
+/// Ornstein–Uhlenbeck step with the coupled friction matrix
+/// `Γ + c Pᵀ P` must leave the same Maxwell distribution. 3 000 000 steps
+/// (the step is 2.6 times shorter than without the contact damping).
+#[test]
+fn equipartition_with_contact_damping() {
+    let probe = hot_top(T, 1.0, 1.0, 1.0, 2);
+    let rate = thermal_rate(&probe);
+    let mut sc = hot_top(T, rate, 1.0, 1.0, 2);
+    sc.thermal.damping_contact = sc.top.mass * rate;
+    // The contact's rotational rate c (R + a)²/A is the fastest: the step
+    // at the rule's limit for it.
+    let lever = sc.top.radius + sc.top.offset;
+    let fastest = sc.thermal.damping_contact * lever * lever / sc.top.inertia_transverse;
+    let dt = 0.02 / fastest.max(rate);
+    let n = 3_000_000usize;
+    sc.solver.dt = Some(dt);
+    sc.solver.t_end = dt * n as f64;
+    sc.solver.samples = n / 10 + 1;
+    let tr = simulate(&sc).expect("valid");
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let kt = BOLTZMANN * T;
+    let (m, a) = (sc.top.mass, sc.top.offset);
+    let (ia, ic) = (sc.top.inertia_transverse, sc.top.inertia_axial);
+    check(
+        "c: <C w^2>",
+        batch_mean(&tr, |s| ic * s.spin * s.spin),
+        kt,
+        0.03,
+    );
+    check(
+        "c: <m |u_h|^2>",
+        batch_mean(&tr, |s| m * (s.ux * s.ux + s.uy * s.uy)),
+        2.0 * kt,
+        0.03,
+    );
+    check(
+        "c: <(A + m a^2 sin^2) thd^2>",
+        batch_mean(&tr, |s| {
+            let sn = s.theta.sin();
+            (ia + m * a * a * sn * sn) * s.theta_dot * s.theta_dot
+        }),
+        kt,
+        0.03,
+    );
+}
