@@ -145,8 +145,10 @@ pub struct RunArgs {
     pub scenario: Option<PathBuf>,
 
     /// Start from a built-in scenario: "nano" (C60, the paper's Sec. 3),
-    /// "nano-physical" (the same C60 on graphene with van der Waals adhesion
-    /// and superlubric friction, docs/physics.md §18) or "classical" (the
+    /// "nano-physical" (the same C60 on graphene at 300 K: van der Waals
+    /// adhesion, a stem's lying well, Langevin damping and noise, 1 ns,
+    /// docs/physics.md §21), "nano-adhesive" (the same without temperature:
+    /// adhesion and superlubric Coulomb friction, §18) or "classical" (the
     /// 15 g toy of the paper's App. A).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,

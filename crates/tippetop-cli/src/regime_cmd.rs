@@ -28,7 +28,7 @@ pub const REGIME_LONG_ABOUT: &str = "The regime a scenario is in: dimensionless 
 pub struct RegimeArgs {
     /// Scenario file (TOML); or give --preset.
     pub scenario: Option<PathBuf>,
-    /// Start from a preset: "nano", "nano-physical" or "classical".
+    /// Start from a preset: "nano", "nano-physical" (C60 on graphene at 300 K), "nano-adhesive" (the same, deterministic) or "classical".
     #[arg(long)]
     pub preset: Option<String>,
     /// Override a scenario key, e.g. --set initial.spin=3e7 (repeatable).

@@ -37,7 +37,7 @@ Exit codes: 0 done; 2 bad input (scenario key, --spin, --eps or --tol out of ran
 pub struct StabilityArgs {
     /// Scenario file (TOML); or give --preset.
     pub scenario: Option<PathBuf>,
-    /// Start from a preset: "nano", "nano-physical" or "classical".
+    /// Start from a preset: "nano", "nano-physical" (C60 on graphene at 300 K), "nano-adhesive" (the same, deterministic) or "classical".
     #[arg(long)]
     pub preset: Option<String>,
     /// Override a scenario key, e.g. --set surface.friction=0 (repeatable).

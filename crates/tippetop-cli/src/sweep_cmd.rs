@@ -105,7 +105,7 @@ pub struct SweepArgs {
     #[arg(value_name = "SCENARIO.toml")]
     pub scenario: Option<PathBuf>,
 
-    /// Start from a built-in scenario: "nano", "nano-physical" or "classical".
+    /// Start from a built-in scenario: "nano", "nano-physical" (C60 on graphene at 300 K), "nano-adhesive" (the same, deterministic) or "classical".
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
 

@@ -5,7 +5,7 @@
 //!
 //! The adhesion is C60 on one graphene sheet from the continuum
 //! Lennard-Jones helper (`physics::adhesion`, docs/physics.md §15), the
-//! values the `nano-physical` preset carries. Four settings per scenario:
+//! values the `nano-adhesive` preset carries. Four settings per scenario:
 //! exact Coulomb friction with the paper's μ = 0.13 and with the preset's
 //! superlubric μ, each on the vector model (bilateral contact, as the
 //! scenario files) and on the rigid body with unilateral contact (the top
@@ -124,9 +124,9 @@ pub fn settings() -> [Setting; 4] {
     ]
 }
 
-/// The superlubric μ of the `nano-physical` preset.
+/// The superlubric μ of the `nano-adhesive` preset.
 pub fn superlubric_mu() -> f64 {
-    Scenario::nano_physical().surface.friction
+    Scenario::nano_adhesive().surface.friction
 }
 
 /// (F_a \[N\], E_b \[J\]) of C60 on graphene from the continuum LJ helper.
@@ -428,7 +428,7 @@ impl Study {
         b.push_str(&format!(
             "The paper presses the C60 onto the graphene with its weight m g = {:.3e} N. Van der Waals adhesion adds a pull-off force \
              F_a = {:.4e} N and a binding energy E_b = {:.4e} J ({:.3} eV) (C60 on one graphene sheet, continuum Lennard-Jones, \
-             `physics::adhesion`, docs/physics.md §15; the `nano-physical` preset's values): F_a/(m g) = {:.2e}, F_a/max|H| = {:.2e}. \
+             `physics::adhesion`, docs/physics.md §15; the `nano-adhesive` preset's values): F_a/(m g) = {:.2e}, F_a/max|H| = {:.2e}. \
              With adhesion the contact reaction is N_c = F_a + N (docs/physics.md §18), and the friction it can hold, μ N_c, is \
              {:.2e} |H| at the paper's μ = {PAPER_MU} and {:.2e} |H| at the superlubric μ = {:e} (the preset's). \
              Each of the paper's nano scenarios is rerun with adhesion under exact Coulomb friction (`coulomb`) in four settings: \

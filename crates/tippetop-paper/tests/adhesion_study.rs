@@ -42,9 +42,9 @@ fn lies_stably(m: &Measures) -> bool {
 fn adhesion_study_verdicts_follow_from_the_numbers() {
     let t0 = std::time::Instant::now();
     let (st, runs) = full_study();
-    // The adhesion is the helper's, the nano-physical preset's values, and
+    // The adhesion is the helper's, the nano-adhesive preset's values, and
     // the superlubric μ is the preset's.
-    let p = Scenario::nano_physical();
+    let p = Scenario::nano_adhesive();
     assert!((st.force / p.adhesion.force - 1.0).abs() < 1e-12);
     assert!((st.energy / p.adhesion.energy - 1.0).abs() < 1e-12);
     assert_eq!(settings()[1].mu, p.surface.friction);
@@ -165,7 +165,7 @@ fn adhesion_study_verdicts_follow_from_the_numbers() {
 #[test]
 fn applied_force_at_rolling_contact_does_no_work() {
     for model in [ModelKind::Reduced, ModelKind::Vector, ModelKind::Rigid] {
-        let mut sc = Scenario::nano_physical();
+        let mut sc = Scenario::nano_adhesive();
         sc.surface.friction = PAPER_MU;
         sc.solver.model = model;
         let tr = simulate(&sc).unwrap();

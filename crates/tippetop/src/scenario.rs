@@ -40,14 +40,14 @@
 //! ux = 0.0                    # [m/s]
 //! uy = 0.0                    # [m/s]
 //! [solver]
-//! method = "adaptive"         # or "rk4", "stiff", "langevin"
+//! method = "adaptive"         # or "rk4", "stiff", "langevin", "brownian"
 //! t_end = 10.0                # [s]
 //! steps = 1000                # rk4 only; default samples - 1
 //! rtol = 1e-10
 //! samples = 1001              # output rows, evenly spaced from 0 to t_end
 //! model = "reduced"           # or "rigid", "vector"
 //! max_steps = 20000000        # step limit of the run (default; 2e6 with "stiff")
-//! # dt = 1e-14                # [s], the fixed step of method = "langevin" (only there)
+//! # dt = 1e-14                # [s], the fixed step of method = "langevin" or "brownian" (only there)
 //! [thermal]                   # Langevin dynamics, off by default (docs/physics.md §21)
 //! temperature = 300.0         # T [K]
 //! damping_translational = 1e11  # gamma_t [1/s]: force -m gamma_t v on the centre of mass
@@ -142,18 +142,19 @@ impl Scenario {
         }
     }
 
-    /// C60 on graphene with van der Waals adhesion (issue #14,
-    /// docs/physics.md §18): the nano preset's top, applied force, initial
-    /// state and window, with the adhesion of one graphene sheet from
-    /// [`crate::physics::adhesion`] (`F_a = 5.92e-10 N`, `E_b = 0.73 eV`,
-    /// Girifalco–Hodak–Lee constants, §15) and superlubric friction: the
-    /// exact Coulomb law with `μ = 1e-3`, the upper bound measured for
+    /// C60 on graphene with van der Waals adhesion, deterministic (issue
+    /// #14, docs/physics.md §18): the nano preset's top, applied force,
+    /// initial state and window, with the adhesion of one graphene sheet
+    /// from [`crate::physics::adhesion`] (`F_a = 5.92e-10 N`, `E_b = 0.73
+    /// eV`, Girifalco–Hodak–Lee constants, §15) and superlubric friction:
+    /// the exact Coulomb law with `μ = 1e-3`, the upper bound measured for
     /// graphene/C60/graphene (Sasaki et al., Tribology Online 7, 96 (2012)).
-    /// Deterministic (no thermal noise yet).
+    /// No temperature (`--preset nano-adhesive`; [`Scenario::nano_physical`]
+    /// is the same top at 300 K).
     /// The two adhesion values are those `Adhesion::c60_on_graphene().binding()`
     /// gives (`tippetop adhesion`), written out (the scenario module does not
     /// import the physics; tests/scenario.rs checks they agree).
-    pub fn nano_physical() -> Self {
+    pub fn nano_adhesive() -> Self {
         let (force, energy) = (5.915889357711552e-10, 1.169645723902958e-19);
         Scenario {
             surface: Surface {
@@ -166,11 +167,51 @@ impl Scenario {
         }
     }
 
-    /// A preset by name (`"nano"`, `"nano-physical"` or `"classical"`).
+    /// C60 on graphene at 300 K (issue #15, docs/physics.md §21): the
+    /// [`Scenario::nano_adhesive`] top, adhesion, applied force and initial
+    /// state, as a Langevin run:
+    ///
+    /// - no Coulomb friction (it has no thermal partner); damping
+    ///   `γ_t = γ_r = 2.2e12 s⁻¹`, the rotational damping that C60's
+    ///   reorientation time in the solid implies (NMR, 9.1 ps at 283 K:
+    ///   `γ_r = kT/(A D_r)`, research note §1.5); the translational one is
+    ///   not measured and taken equal;
+    /// - the lying well of a 1 nm nanotube stem adhering to the plane:
+    ///   `θ = π/2`, depth 1.1 eV (0.11 eV/Å of stem, continuum LJ, §20),
+    ///   width 0.3 rad (geometry, not a measurement);
+    /// - `dt = 4 fs` (`dt · rate = 0.018` for the well's curvature rate
+    ///   `sqrt(d/(w² A)) = 4.4e12 s⁻¹`, the fastest), 1 ns (250 000
+    ///   steps), 1001 samples, seed 1.
+    pub fn nano_physical() -> Self {
+        let ev = 1.602176634e-19;
+        let mut sc = Self::nano_adhesive();
+        sc.surface.friction = 0.0;
+        sc.wells = vec![Well {
+            theta: std::f64::consts::FRAC_PI_2,
+            depth: 1.1 * ev,
+            width: 0.3,
+        }];
+        sc.thermal = Thermal {
+            temperature: 300.0,
+            damping_translational: 2.2e12,
+            damping_rotational: 2.2e12,
+            damping_contact: 0.0,
+            seed: Some(1),
+            run: 0,
+        };
+        sc.solver.method = Method::Langevin;
+        sc.solver.dt = Some(4e-15);
+        sc.solver.t_end = 1e-9;
+        sc
+    }
+
+    /// A preset by name (`"nano"`, `"nano-physical"`, `"nano-adhesive"` or
+    /// `"classical"`).
     pub fn preset(name: &str) -> Result<Self, Error> {
         match name {
             "nano" => Ok(Self::nano()),
             "nano-physical" => Ok(Self::nano_physical()),
+            "nano-adhesive" => Ok(Self::nano_adhesive()),
             "classical" => Ok(Self::classical()),
             other => Err(Error::invalid(
                 "preset",
@@ -432,7 +473,7 @@ impl Scenario {
 
 type Keys = &'static [(&'static str, &'static str)];
 
-const PRESET_RANGE: &str = "\"nano\", \"nano-physical\" or \"classical\"";
+const PRESET_RANGE: &str = "\"nano\", \"nano-physical\", \"nano-adhesive\" or \"classical\"";
 
 const TOP_KEYS: Keys = &[
     ("radius", "a finite length > 0 [m]"),
@@ -542,7 +583,10 @@ fn insert_initial(dst: &mut Table, k: &str, v: Value) -> Result<(), Error> {
 }
 
 const SOLVER_KEYS: Keys = &[
-    ("method", "\"adaptive\", \"rk4\", \"stiff\" or \"langevin\""),
+    (
+        "method",
+        "\"adaptive\", \"rk4\", \"stiff\", \"langevin\" or \"brownian\"",
+    ),
     ("t_end", "a finite time > 0 [s]"),
     (
         "steps",
@@ -554,7 +598,7 @@ const SOLVER_KEYS: Keys = &[
     ("max_steps", crate::state::MAX_STEPS_RANGE),
     (
         "dt",
-        "a finite time > 0 [s], the fixed step of method = \"langevin\" (only there)",
+        "a finite time > 0 [s], the fixed step of method = \"langevin\" or \"brownian\" (only there)",
     ),
 ];
 
@@ -599,6 +643,7 @@ const METHODS: &[(&str, Method)] = &[
     ("rk4", Method::Rk4),
     ("stiff", Method::Stiff),
     ("langevin", Method::Langevin),
+    ("brownian", Method::Brownian),
 ];
 
 const MODELS: &[(&str, ModelKind)] = &[

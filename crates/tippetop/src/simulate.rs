@@ -512,7 +512,9 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let (watches, events): (Vec<_>, Vec<_>) = self.m.events().into_iter().unzip();
         self.opts.max_steps = self.step_cap.saturating_sub(self.steps_seen);
         // The Langevin stream's counter continues over the segments.
-        if let Stepper::Langevin { first_step, .. } = &mut self.opts.stepper {
+        if let Stepper::Langevin { first_step, .. } | Stepper::Brownian { first_step, .. } =
+            &mut self.opts.stepper
+        {
             *first_step = self.steps_seen;
         }
         let eng = AnyEngine::new(&self.opts, t, seg_end);

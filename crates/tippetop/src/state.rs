@@ -183,6 +183,20 @@ pub enum Method {
     /// step of the deterministic forces (a symmetric splitting, weak order
     /// 2; docs/physics.md §21). Vector model, no Coulomb friction.
     Langevin,
+    /// The overdamped limit of the Langevin dynamics (Brownian motion of
+    /// the axis and the centre with the same damping and forces), fixed step
+    /// `solver.dt`, Euler–Maruyama (weak order 1; docs/physics.md §21): for
+    /// windows of microseconds and more, where the Langevin step would need
+    /// 1e10 steps.
+    Brownian,
+}
+
+impl Method {
+    /// Whether the method is one of the thermal ones (`"langevin"`,
+    /// `"brownian"`): fixed step `solver.dt`, `[thermal]`, noise.
+    pub fn is_stochastic(self) -> bool {
+        matches!(self, Method::Langevin | Method::Brownian)
+    }
 }
 
 /// Which equations of motion.
@@ -224,7 +238,7 @@ pub struct SolverSettings {
     /// `None` for the method's default, [`max_steps_for`].
     /// A run that reaches it stops with a run-time error.
     pub max_steps: Option<u64>,
-    /// The fixed step \[s\] of `method = "langevin"` (`solver.dt`; the run
+    /// The fixed step \[s\] of `method = "langevin"` or `"brownian"` (`solver.dt`; the run
     /// takes [`crate::thermal::langevin_steps`] equal steps); `None` otherwise.
     pub dt: Option<f64>,
 }
@@ -364,6 +378,6 @@ pub const BYTES_PER_SAMPLE: u64 = (std::mem::size_of::<Sample>() + 8) as u64;
 pub fn max_steps_for(method: Method) -> u64 {
     match method {
         Method::Stiff => MAX_STEPS / 10,
-        Method::Adaptive | Method::Rk4 | Method::Langevin => MAX_STEPS,
+        Method::Adaptive | Method::Rk4 | Method::Langevin | Method::Brownian => MAX_STEPS,
     }
 }

@@ -30,6 +30,13 @@ pub const BOLTZMANN: f64 = 1.380649e-23;
 /// order measured in tests/physics/thermal.rs).
 pub const MAX_STEP_RATE: f64 = 0.02;
 
+/// Largest product of the step and the fastest rate of a Brownian run
+/// ([`crate::scenario::langevin::brownian_rates`]): `dt · rate <= 0.002`,
+/// so the rms angle of one step, `sqrt(2 D_r dt)`, is at most 0.063 rad
+/// (Euler–Maruyama is weak order 1: its bias is proportional to this
+/// product; measured in tests/physics/thermal.rs).
+pub const MAX_BROWNIAN_STEP_RATE: f64 = 0.002;
+
 /// Valid range of `thermal.temperature`.
 pub const TEMPERATURE_RANGE: &str =
     "a finite temperature >= 0 [K] (> 0 needs solver.method = \"langevin\")";

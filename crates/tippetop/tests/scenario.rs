@@ -587,7 +587,7 @@ fn theta_outside_reduced_range() {
 fn unknown_preset() {
     let e = expect_err(Some("mega"), None, &[], "preset");
     assert!(
-        e.contains("\"nano\", \"nano-physical\" or \"classical\""),
+        e.contains("\"nano\", \"nano-physical\", \"nano-adhesive\" or \"classical\""),
         "{e}"
     );
     expect_err(None, Some("preset = \"mega\""), &[], "preset");
@@ -716,17 +716,17 @@ fn coulomb_with_paper_contact() {
     );
 }
 
-/// The `nano-physical` preset (docs/physics.md §18): the nano preset with
+/// The `nano-adhesive` preset (docs/physics.md §18): the nano preset with
 /// graphene adhesion and superlubric friction, everything else unchanged.
 /// Its adhesion is the continuum-LJ helper's C60-on-graphene binding, which
 /// lies where the literature puts it (nano-physics.md §1.2: E_b 0.73–0.96
 /// eV from theory, pull-off ~0.6 nN); μ = 1e-3 is the superlubric bound
 /// (μ < 0.001, Sasaki et al. 2012). It validates, round-trips through TOML,
-/// and is what `preset = "nano-physical"` loads.
+/// and is what `preset = "nano-adhesive"` loads.
 #[test]
-fn nano_physical_preset() {
+fn nano_adhesive_preset() {
     use tippetop::physics::adhesion::{Adhesion, EV};
-    let p = Scenario::nano_physical();
+    let p = Scenario::nano_adhesive();
     let nano = Scenario::nano();
     let b = Adhesion::c60_on_graphene().binding().unwrap();
     // The preset writes the helper's values out: equal to a few roundings
@@ -749,6 +749,32 @@ fn nano_physical_preset() {
         (p.top, p.forcing.clone(), p.initial),
         (nano.top, nano.forcing, nano.initial)
     );
+    p.validate().unwrap();
+    assert_eq!(Scenario::from_toml_str(&p.to_toml_string()).unwrap(), p);
+    assert_eq!(
+        Scenario::from_toml_str("preset = \"nano-adhesive\"").unwrap(),
+        p
+    );
+}
+
+/// The `nano-physical` preset (docs/physics.md §21): the `nano-adhesive`
+/// top at 300 K as a Langevin run, with a 1.1 eV lying well (a 1 nm stem at
+/// 0.11 eV/Å) and the NMR damping; valid (so within the step rule), round
+/// trip, loaded by name.
+#[test]
+fn nano_physical_preset() {
+    let p = Scenario::nano_physical();
+    let a = Scenario::nano_adhesive();
+    assert_eq!(p.solver.method, Method::Langevin);
+    assert_eq!(p.surface.friction, 0.0);
+    assert_eq!(
+        (p.top, p.adhesion, p.initial),
+        (a.top, a.adhesion, a.initial)
+    );
+    assert_eq!(p.thermal.temperature, 300.0);
+    assert_eq!(p.wells.len(), 1);
+    let depth_ev = p.wells[0].depth / 1.602176634e-19;
+    assert!((depth_ev - 1.1).abs() < 1e-12, "{depth_ev}");
     p.validate().unwrap();
     assert_eq!(Scenario::from_toml_str(&p.to_toml_string()).unwrap(), p);
     assert_eq!(
@@ -827,6 +853,26 @@ fn thermal_keys_and_their_rules() {
         &["surface.friction=0", "solver.method=\"langevin\""],
         "solver.dt",
     );
+    // The Brownian mode: the same keys, its own step rule and rules.
+    let brown = |extra: &[&'static str]| -> Vec<&'static str> {
+        let mut v = with(&["solver.method=\"brownian\"", "solver.dt=1e-15"]);
+        v.extend_from_slice(extra);
+        v
+    };
+    Scenario::load(Some("nano"), None, &sets(&brown(&[]))).expect("valid brownian");
+    for (extra, key) in [
+        (
+            &["thermal.damping_contact=1e-13"][..],
+            "thermal.damping_contact",
+        ),
+        (&["solver.dt=1e-13"][..], "solver.dt"),
+        (
+            &["thermal.damping_rotational=0"][..],
+            "thermal.damping_rotational",
+        ),
+    ] {
+        expect_err(Some("nano"), None, &brown(extra), key);
+    }
     // T = 0 with damping: a valid deterministic run; no seed needed.
     Scenario::load(
         Some("nano"),

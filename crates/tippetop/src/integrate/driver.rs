@@ -99,7 +99,17 @@ pub(super) fn run<S: OdeSystem<N>, const N: usize>(
             seed,
             run,
             first_step,
-        } => drive_with!(super::langevin::Langevin::new(h, seed, run, first_step)),
+        } => drive_with!(super::langevin::Langevin::new(
+            h, seed, run, first_step, false
+        )),
+        Stepper::Brownian {
+            h,
+            seed,
+            run,
+            first_step,
+        } => drive_with!(super::langevin::Langevin::new(
+            h, seed, run, first_step, true
+        )),
     }
 }
 
@@ -223,7 +233,17 @@ impl<const N: usize> AnyEngine<N> {
                 seed,
                 run,
                 first_step,
-            } => AnyEngine::Langevin(super::langevin::Langevin::new(h, seed, run, first_step)),
+            } => AnyEngine::Langevin(super::langevin::Langevin::new(
+                h, seed, run, first_step, false,
+            )),
+            Stepper::Brownian {
+                h,
+                seed,
+                run,
+                first_step,
+            } => AnyEngine::Langevin(super::langevin::Langevin::new(
+                h, seed, run, first_step, true,
+            )),
         }
     }
 }

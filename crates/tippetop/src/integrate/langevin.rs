@@ -23,6 +23,10 @@
 //! velocity distribution for any configuration (docs/physics.md §21; the
 //! order is measured in tests/physics/thermal.rs).
 //!
+//! `solver.method = "brownian"` uses the same engine with one
+//! [`OdeSystem::overdamped_step`] per step (Euler–Maruyama, weak order 1)
+//! fed `NOISE` normals of the step.
+//!
 //! Grid: the run's steps end at `k h` (global `k`); a segment start off
 //! the grid (a force switch, a terminal event) takes one shorter step to
 //! the next grid point, and a step lands exactly on the segment's end.
@@ -50,6 +54,8 @@ pub(crate) struct Langevin<const N: usize> {
     stream: Stream,
     /// Global number of the next step (the stream's counter).
     step: u64,
+    /// Overdamped: one `overdamped_step` per step instead of `O Φ O`.
+    overdamped: bool,
     t0: f64,
     y0: [f64; N],
     t1: f64,
@@ -59,7 +65,7 @@ pub(crate) struct Langevin<const N: usize> {
 impl<const N: usize> Langevin<N> {
     /// New engine with grid step `h > 0`, stream (seed, run) and the global
     /// number of its first step.
-    pub(super) fn new(h: f64, seed: u64, run: u64, first_step: u64) -> Self {
+    pub(super) fn new(h: f64, seed: u64, run: u64, first_step: u64, overdamped: bool) -> Self {
         assert!(
             h.is_finite() && h > 0.0,
             "Langevin step must be finite and positive, got {h}"
@@ -68,6 +74,7 @@ impl<const N: usize> Langevin<N> {
             h,
             stream: Stream::new(seed, run),
             step: first_step,
+            overdamped,
             t0: 0.0,
             y0: [0.0; N],
             t1: 0.0,
@@ -119,6 +126,24 @@ impl<const N: usize> Engine<N> for Langevin<N> {
             grid
         };
         let hs = t_next - t;
+        if self.overdamped {
+            let mut xi = [0.0; MAX_NOISE];
+            let xi = &mut xi[..S::NOISE];
+            self.stream.normals(self.step, xi);
+            let mut y = self.y1;
+            sys.overdamped_step(t, &mut y, hs, xi)
+                .map_err(|err| Fail::Rhs { t, err })?;
+            stats.rhs_evals += 1;
+            if !y.iter().all(|v| v.is_finite()) {
+                return Err(Fail::NonFinite { t });
+            }
+            self.t0 = t;
+            self.y0 = self.y1;
+            self.t1 = t_next;
+            self.y1 = y;
+            self.step += 1;
+            return Ok(());
+        }
         let mut xi = [0.0; 2 * MAX_NOISE];
         let xi = &mut xi[..2 * S::NOISE];
         self.stream.normals(self.step, xi);

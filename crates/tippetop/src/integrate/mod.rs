@@ -134,6 +134,19 @@ pub trait OdeSystem<const N: usize> {
     /// place. Called by the Langevin engine before and after each RK4 step
     /// of `rhs`. Default: nothing (no damping).
     fn thermostat(&mut self, _y: &mut [f64; N], _h: f64, _xi: &[f64]) {}
+
+    /// One step over `h` of the overdamped (Brownian) dynamics from
+    /// `(t, y)`, in place, with `NOISE` standard normals `xi`
+    /// ([`Stepper::Brownian`]). Default: nothing.
+    fn overdamped_step(
+        &mut self,
+        _t: f64,
+        _y: &mut [f64; N],
+        _h: f64,
+        _xi: &[f64],
+    ) -> Result<(), Self::Error> {
+        Ok(())
+    }
 }
 
 /// Which stepper, with its settings.
@@ -198,6 +211,19 @@ pub enum Stepper {
         run: u64,
         /// Global number of the first step (the stream's counter), so a
         /// run restarted at a segment continues its stream.
+        first_step: u64,
+    },
+    /// The overdamped (Brownian) engine: one [`OdeSystem::overdamped_step`]
+    /// per step on the grid `k h`, the same grid, stream and dense output
+    /// as [`Stepper::Langevin`].
+    Brownian {
+        /// Grid step (same time unit as `t`).
+        h: f64,
+        /// Key of the random stream.
+        seed: u64,
+        /// Run index of the random stream.
+        run: u64,
+        /// Global number of the first step (the stream's counter).
         first_step: u64,
     },
 }

@@ -88,7 +88,7 @@ impl ContactState {
         // contact's dissipation; the law is a smooth one that never sticks
         // and never counts slip reversals (the noise reverses the slip at
         // every step).
-        let law = if sc.solver.method == crate::Method::Langevin {
+        let law = if sc.solver.method.is_stochastic() {
             FrictionLaw::Viscous { eps: 1.0 }
         } else {
             sc.surface.law.scaled(scales.velocity())
@@ -109,7 +109,7 @@ impl ContactState {
             reversals: Cell::new(0),
             last_slip: Cell::new([0.0, 0.0]),
             evaluations: 0,
-            langevin: sc.solver.method == crate::Method::Langevin,
+            langevin: sc.solver.method.is_stochastic(),
         }
     }
 

@@ -119,3 +119,38 @@ impl RotZ {
         ]
     }
 }
+
+/// `v` turned by the rotation vector `rv` (axis `rv/|rv|`, angle `|rv|`
+/// \[rad\]): Rodrigues' formula, `|v|` kept to rounding.
+pub(crate) fn rotate(rv: V3, v: V3) -> V3 {
+    let th = dot(rv, rv).sqrt();
+    if th == 0.0 {
+        return v;
+    }
+    let n = scale(1.0 / th, rv);
+    let (s, c) = th.sin_cos();
+    add(
+        add(scale(c, v), scale(s, cross(n, v))),
+        scale((1.0 - c) * dot(n, v), n),
+    )
+}
+
+/// The attitude `q` (body → lab, `(w, x, y, z)`) after the lab-frame
+/// rotation by the rotation vector `rv`: `(cos(|rv|/2), sin(|rv|/2) rv/|rv|)
+/// ⊗ q`, renormalised.
+pub(crate) fn turn_quaternion_by(rv: V3, q: [f64; 4]) -> [f64; 4] {
+    let th = dot(rv, rv).sqrt();
+    if th == 0.0 {
+        return q;
+    }
+    let (s, c) = (0.5 * th).sin_cos();
+    let u = scale(s / th, rv);
+    let r = [
+        c * q[0] - u[0] * q[1] - u[1] * q[2] - u[2] * q[3],
+        c * q[1] + u[0] * q[0] + u[1] * q[3] - u[2] * q[2],
+        c * q[2] + u[1] * q[0] + u[2] * q[1] - u[0] * q[3],
+        c * q[3] + u[2] * q[0] + u[0] * q[2] - u[1] * q[1],
+    ];
+    let n = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]).sqrt();
+    [r[0] / n, r[1] / n, r[2] / n, r[3] / n]
+}

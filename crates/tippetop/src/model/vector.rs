@@ -222,7 +222,7 @@ impl Vector {
             plane: ContactState::new(sc, &scales),
             top: sc.top,
             last: RefCell::new(None),
-            thermal: (sc.solver.method == crate::Method::Langevin).then(|| {
+            thermal: sc.solver.method.is_stochastic().then(|| {
                 let th = &sc.thermal;
                 Bath {
                     kt: th.kt() / scales.energy(),
@@ -287,6 +287,85 @@ impl Vector {
         }
         y[OMEGA..OMEGA + 3].copy_from_slice(&w);
         y[WF] += self.kinetic(y) - e0;
+    }
+
+    /// One Euler–Maruyama step over `h` (scaled) of the overdamped
+    /// (Brownian) dynamics, `solver.method = "brownian"` (docs/physics.md
+    /// §21): the generalised velocity is `p = Γ⁻¹ Q + sqrt(2 kT/h) Γ^{−1/2} ξ`
+    /// in the basis `(X, Y | k̂, ê, f̂)` (`Γ` diagonal there, no contact
+    /// damping), `Q` the generalised force at rest (the right-hand side at
+    /// zero velocity times `M`: gravity, the applied force, wells, the
+    /// constraint); plus the drift along θ that makes the stationary density
+    /// the Langevin run's configuration marginal `e^{−U/kT} sin θ
+    /// sqrt(1 + m a² sin²θ/A)`: `kT [(μ_θ − μ_φ) cot θ + μ_θ ∂_θ ln s +
+    /// ∂_θ μ_θ]` with `μ_θ = 1/Γ_ê`, `μ_φ = 1/Γ_f̂` (the geodesic step itself
+    /// supplies `kT μ_φ cot θ`). The configuration moves by the rotation
+    /// vector `w h` (Rodrigues, exact on the sphere) and `v h`; the state's
+    /// velocities are set to the drift part (the noise has no velocity),
+    /// and `W_f` takes the energy change (the bath's work).
+    fn brownian_step(
+        &mut self,
+        t: f64,
+        y: &mut [f64; DIM],
+        h: f64,
+        xi: &[f64],
+    ) -> Result<(), ModelError> {
+        let Some(b) = self.thermal else { return Ok(()) };
+        let e0 = self.eval_now(y)?;
+        let en0 = self.energy_scaled(y, &e0);
+        // The generalised force at rest.
+        let mut rest = *y;
+        rest[OMEGA..OMEGA + 3].fill(0.0);
+        rest[VEL..VEL + 2].fill(0.0);
+        let mut dy = [0.0; DIM];
+        <Self as OdeSystem<DIM>>::rhs(self, t, &rest, &mut dy)?;
+        let ([kn, eh, fh], s2) = Self::modes_basis(y);
+        let (a2, ia) = (self.a * self.a, self.ia);
+        let beta = a2 * s2;
+        let m = [1.0, 1.0, self.ic, ia + beta, ia];
+        let g = [
+            b.gt,
+            b.gt,
+            b.gr * self.ic,
+            b.gr * ia + b.gt * beta,
+            b.gr * ia,
+        ];
+        let wd = [dy[OMEGA], dy[OMEGA + 1], dy[OMEGA + 2]];
+        let acc = [dy[VEL], dy[VEL + 1], dot(wd, kn), dot(wd, eh), dot(wd, fh)];
+        let mut drift = [0.0; 5];
+        let mut p = [0.0; 5];
+        for i in 0..5 {
+            drift[i] = m[i] * acc[i] / g[i];
+            p[i] = drift[i] + (2.0 * b.kt / (g[i] * h)).sqrt() * xi[i];
+        }
+        // θ = atan2(|k_h|, k_Z): sin θ, cos θ of the unit axis.
+        let (sn, cs) = (s2.sqrt(), kn[2]);
+        let (mu_t, mu_p) = (1.0 / g[3], 1.0 / g[4]);
+        let dmu_t = -2.0 * b.gt * a2 * sn * cs * mu_t * mu_t;
+        let dln_s = a2 * sn * cs / (ia + beta);
+        let corr = -b.gt * a2 * sn * cs * mu_t * mu_p + mu_t * dln_s + dmu_t;
+        // w·ê = −θ̇.
+        p[3] -= b.kt * corr;
+        drift[3] -= b.kt * corr;
+        let w = add(add(scale(p[2], kn), scale(p[3], eh)), scale(p[4], fh));
+        let rv = scale(h, w);
+        let k = super::vec3::rotate(rv, [y[K], y[K + 1], y[K + 2]]);
+        y[K..K + 3].copy_from_slice(&k);
+        let q =
+            super::vec3::turn_quaternion_by(rv, [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]]);
+        y[QUAT..QUAT + 4].copy_from_slice(&q);
+        y[POS] += h * p[0];
+        y[POS + 1] += h * p[1];
+        let wdrift = add(
+            add(scale(drift[2], kn), scale(drift[3], eh)),
+            scale(drift[4], fh),
+        );
+        y[OMEGA..OMEGA + 3].copy_from_slice(&wdrift);
+        y[VEL] = drift[0];
+        y[VEL + 1] = drift[1];
+        let e1 = self.eval_now(y)?;
+        y[WF] += self.energy_scaled(y, &e1) - en0;
+        Ok(())
     }
 
     /// The orthonormal basis `(k̂, ê, f̂)` of the rotational modes and
@@ -825,6 +904,16 @@ impl OdeSystem<DIM> for Vector {
 
     fn thermostat(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {
         self.ou_step(y, h, xi);
+    }
+
+    fn overdamped_step(
+        &mut self,
+        t: f64,
+        y: &mut [f64; DIM],
+        h: f64,
+        xi: &[f64],
+    ) -> Result<(), ModelError> {
+        self.brownian_step(t, y, h, xi)
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {

@@ -2,7 +2,7 @@
 //! and the step-size rule (docs/physics.md §21; the keys themselves:
 //! [`crate::thermal`]).
 
-use crate::thermal::{MAX_STEP_RATE, SEED_RANGE, langevin_steps};
+use crate::thermal::{MAX_BROWNIAN_STEP_RATE, MAX_STEP_RATE, SEED_RANGE, langevin_steps};
 use crate::{Error, Scenario};
 
 /// The rates \[1/s\] the step of a Langevin run must resolve, each with the
@@ -83,6 +83,51 @@ pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
     out
 }
 
+/// The rates \[1/s\] the step of a Brownian run must resolve: the
+/// rotational diffusion rates `kT/(γ_r A)` and `kT/(γ_r C)`, and the
+/// relaxation rates of the orientation under the torques, `(curvature)/(γ_r
+/// A)`: the tilt under the vertical forces `(m g + F_a + |h_z|)(R + a)` and
+/// each well's `d/w²`. (No inertia: the initial rates do not enter.)
+pub fn brownian_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
+    let th = &sc.thermal;
+    let top = &sc.top;
+    let (a_in, c_in) = (top.inertia_transverse, top.inertia_axial);
+    let lever = top.radius + top.offset;
+    let load = top.mass * sc.surface.gravity
+        + sc.adhesion.force
+        + sc.forcing
+            .windows
+            .iter()
+            .map(|w| w.hz.abs())
+            .fold(0.0, f64::max);
+    let gr = th.damping_rotational;
+    let mut out = vec![
+        (
+            th.kt() / (gr * a_in),
+            "thermal.temperature",
+            "kT / (damping_rotational inertia_transverse) (rotational diffusion)",
+        ),
+        (
+            th.kt() / (gr * c_in),
+            "thermal.temperature",
+            "kT / (damping_rotational inertia_axial) (spin diffusion)",
+        ),
+        (
+            load * lever / (gr * a_in),
+            "surface.gravity",
+            "(mass gravity + adhesion force + |hz|) (radius + offset) / (damping_rotational inertia_transverse)",
+        ),
+    ];
+    for w in &sc.wells {
+        out.push((
+            w.depth / (w.width * w.width * gr * a_in),
+            "well",
+            "depth / width^2 / (damping_rotational inertia_transverse) of a well",
+        ));
+    }
+    out
+}
+
 /// The cross-key rules of the thermal keys and `solver.method =
 /// "langevin"` (docs/physics.md §21):
 ///
@@ -99,13 +144,15 @@ pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
 pub fn check(sc: &Scenario) -> Result<(), Error> {
     let so = &sc.solver;
     let th = &sc.thermal;
-    let langevin = so.method == crate::Method::Langevin;
-    if !langevin {
+    let brownian = so.method == crate::Method::Brownian;
+    let method = if brownian { "brownian" } else { "langevin" };
+    if !so.method.is_stochastic() {
         if let Some(dt) = so.dt {
             return Err(Error::invalid(
                 "solver.dt",
                 format!("{dt} given with a deterministic method"),
-                "only with solver.method = \"langevin\" (rk4 takes solver.steps)".into(),
+                "only with solver.method = \"langevin\" or \"brownian\" (rk4 takes solver.steps)"
+                    .into(),
             ));
         }
         let set = [
@@ -119,8 +166,8 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
         if let Some((key, _)) = set.iter().find(|(_, on)| *on) {
             return Err(Error::invalid(
                 &format!("thermal.{key}"),
-                "needs solver.method = \"langevin\"".into(),
-                "temperature and damping are integrated by the Langevin method only: set solver.method = \"langevin\" and solver.dt".into(),
+                "needs solver.method = \"langevin\" or \"brownian\"".into(),
+                "temperature and damping are integrated by the Langevin and Brownian methods only: set solver.method = \"langevin\" and solver.dt".into(),
             ));
         }
         return Ok(());
@@ -133,8 +180,8 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
         };
         return Err(Error::invalid(
             "solver.model",
-            format!("\"{name}\" has no Langevin scheme yet"),
-            "model = \"vector\" with method = \"langevin\"".into(),
+            format!("\"{name}\" has no {method} scheme yet"),
+            format!("model = \"vector\" with method = \"{method}\""),
         ));
     }
     let Some(dt) = so.dt else {
@@ -162,6 +209,27 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
                 .into(),
         ));
     }
+    if brownian {
+        if th.damping_contact != 0.0 {
+            return Err(Error::invalid(
+                "thermal.damping_contact",
+                format!("{} with method = \"brownian\"", th.damping_contact),
+                "0 with method = \"brownian\" (its mobility with the contact damping is not written yet; method = \"langevin\" has it)".into(),
+            ));
+        }
+        for (key, v) in [
+            ("damping_translational", th.damping_translational),
+            ("damping_rotational", th.damping_rotational),
+        ] {
+            if v <= 0.0 {
+                return Err(Error::invalid(
+                    &format!("thermal.{key}"),
+                    format!("{v} with method = \"brownian\""),
+                    "> 0 [1/s] with method = \"brownian\" (the mobility is its inverse)".into(),
+                ));
+            }
+        }
+    }
     if th.is_hot() {
         if th.seed.is_none() {
             return Err(Error::invalid(
@@ -184,9 +252,18 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
             }
         }
     }
-    let (rate, key, what) = step_rates(sc)
-        .into_iter()
-        .fold(
+    let rates = if brownian {
+        brownian_rates(sc)
+    } else {
+        step_rates(sc)
+    };
+    let limit = if brownian {
+        MAX_BROWNIAN_STEP_RATE
+    } else {
+        MAX_STEP_RATE
+    };
+    let (rate, key, what) =
+        rates.into_iter().fold(
             (0.0, "solver.dt", ""),
             |best, r| {
                 if r.0 > best.0 { r } else { best }
@@ -199,7 +276,7 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
             "a value whose rate (1/s) is finite".into(),
         ));
     }
-    if dt * rate > MAX_STEP_RATE {
+    if dt * rate > limit {
         return Err(Error::invalid(
             "solver.dt",
             format!(
@@ -207,8 +284,8 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
                 dt * rate
             ),
             format!(
-                "dt * rate <= {MAX_STEP_RATE}: dt <= {:e} s",
-                MAX_STEP_RATE / rate
+                "dt * rate <= {limit} with method = \"{method}\": dt <= {:e} s",
+                limit / rate
             ),
         ));
     }

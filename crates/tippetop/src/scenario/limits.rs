@@ -383,7 +383,7 @@ fn check_adhesive_friction(sc: &Scenario) -> Result<(), Error> {
                 );
             }
         }
-        crate::Method::Stiff | crate::Method::Langevin => {}
+        crate::Method::Stiff | crate::Method::Langevin | crate::Method::Brownian => {}
     }
     Ok(())
 }

@@ -319,6 +319,12 @@ impl RunSetup {
                     run: sc.thermal.run,
                     first_step: 0,
                 },
+                Method::Brownian => Stepper::Brownian {
+                    h: t_end / langevin_steps(sc) as f64,
+                    seed: sc.thermal.seed.unwrap_or(0),
+                    run: sc.thermal.run,
+                    first_step: 0,
+                },
             },
             max_steps: sc.solver.step_limit(),
             h0: None,
@@ -334,7 +340,7 @@ impl RunSetup {
         // Langevin: samples on the nearest step end (the engine's grid `k h`;
         // the last one is `t_end`, where the last step lands).
         let sample_times = match opts.stepper {
-            Stepper::Langevin { h, .. } => {
+            Stepper::Langevin { h, .. } | Stepper::Brownian { h, .. } => {
                 let mut st: Vec<f64> = sample_times;
                 let last = st.len() - 1;
                 for (i, t) in st.iter_mut().enumerate() {

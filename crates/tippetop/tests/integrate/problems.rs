@@ -12,6 +12,7 @@ pub fn name(opts: &Options) -> &'static str {
         Stepper::Dop853 { .. } => "DOP853",
         Stepper::Rosenbrock { .. } => "Rodas4P",
         Stepper::Langevin { .. } => "Langevin",
+        Stepper::Brownian { .. } => "Brownian",
     }
 }
 

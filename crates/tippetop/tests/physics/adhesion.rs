@@ -262,21 +262,21 @@ fn rigid_separation_costs_the_binding_energy() {
     assert!(s.jellett_max_rel_drift <= 1e-10);
 }
 
-/// The `nano-physical` preset (graphene adhesion, superlubric μ = 1e-3)
+/// The `nano-adhesive` preset (graphene adhesion, superlubric μ = 1e-3)
 /// runs in every model with J and the energy balance at the usual nano
 /// bars, and the contact reaction stays `F_a` up to the motion's own part,
 /// which is of the order of the weight and the paper's H (8.5 m g per
 /// component): `|N_c − F_a| <= 100 m g` (the adhesion is 5e13 m g).
 #[test]
-fn nano_physical_preset_holds_its_contact() {
+fn nano_adhesive_preset_holds_its_contact() {
     each_model(&[], |model| {
-        let sc = Scenario::nano_physical();
+        let sc = Scenario::nano_adhesive();
         let tr = run_as(&sc, model);
         let s = &tr.summary;
         let w = sc.top.mass * sc.surface.gravity;
         let margin = s.pull_off_margin_min.expect("adhesion on");
         println!(
-            "{model:?} nano-physical: J drift {:.1e}, energy balance {:.1e}, F_a − min N_c = {:.2} m g, rolling {}",
+            "{model:?} nano-adhesive: J drift {:.1e}, energy balance {:.1e}, F_a − min N_c = {:.2} m g, rolling {}",
             s.jellett_max_rel_drift,
             s.energy_balance_max_rel_error,
             (sc.adhesion.force - margin) / w,

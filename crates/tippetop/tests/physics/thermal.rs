@@ -431,3 +431,159 @@ fn equipartition_with_contact_damping() {
         0.03,
     );
 }
+
+/// The `nano-physical` preset (C60 on graphene at 300 K with a 1.1 eV lying
+/// well, 1 ns): the top, started at θ = 0.1, diffuses in orientation
+/// (`D_r = kT/(γ_r A)` = 1.9e10 s⁻¹: ~25 ps to wander a radian) into the
+/// well and stays there: the well is 43 kT deep (escape ~e^{−43} per
+/// attempt), its thermal width `w sqrt(kT/d)` = 0.046 rad. So after 0.2 ns
+/// every row is within `π/2 ± 0.3` (6.5 thermal widths), and the contact
+/// holds (the reaction never reaches the pull-off force).
+#[test]
+fn nano_physical_lies_down_into_its_well() {
+    let sc = Scenario::nano_physical();
+    let tr = simulate(&sc).expect("valid");
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    for s in tr.samples.iter().filter(|s| s.t >= 2e-10) {
+        assert!(
+            (s.theta - half_pi).abs() < 0.3,
+            "theta {} at {} s",
+            s.theta,
+            s.t
+        );
+    }
+    let margin = tr.summary.pull_off_margin_min.expect("adhesion on");
+    assert!(margin > 0.0, "pull-off margin {margin}");
+}
+
+/// `method = "brownian"` version of [`hot_top`]: the step at the Brownian
+/// rule's limit for the rotational diffusion `kT/(γ A)`.
+fn brownian_top(gamma: f64, steps: usize, every: usize) -> Scenario {
+    let probe = hot_top(T, gamma, 1.0, 1.0, 2);
+    let d_r = BOLTZMANN * T / (gamma * probe.top.inertia_transverse);
+    let dt = tippetop::thermal::MAX_BROWNIAN_STEP_RATE / d_r;
+    let mut sc = hot_top(T, gamma, dt, dt * steps as f64, steps / every + 1);
+    sc.solver.method = Method::Brownian;
+    sc
+}
+
+/// The Brownian mode has the Langevin run's stationary orientation density
+/// at g = 0, `p(θ) ∝ sin θ sqrt(1 + (m a²/A) sin²θ)` (the same eccentric
+/// top, `m a²/A = 2`): this checks the drift that the mobility's
+/// dependence on θ and the metric's volume need (without it the density
+/// would be that of `μ_θ`'s walk). Euler–Maruyama's bias is
+/// `O(dt · D_r) = O(0.002)`, below the SE. 2 500 000 steps.
+#[test]
+fn brownian_orientation_density_at_zero_gravity() {
+    let probe = hot_top(T, 1.0, 1.0, 1.0, 2);
+    let gamma = thermal_rate(&probe);
+    let sc = brownian_top(gamma, 2_500_000, 10);
+    let tr = simulate(&sc).expect("valid");
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let r = sc.top.mass * sc.top.offset * sc.top.offset / sc.top.inertia_transverse;
+    let p = |th: f64| th.sin() * (1.0 + r * th.sin().powi(2)).sqrt();
+    let n = 20_000;
+    let h = std::f64::consts::PI / n as f64;
+    let (mut num, mut den) = (0.0, 0.0);
+    for i in 0..=n {
+        let th = i as f64 * h;
+        let w = if i == 0 || i == n {
+            1.0
+        } else if i % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
+        num += w * p(th) * th.cos().powi(2);
+        den += w * p(th);
+    }
+    check(
+        "brownian <cos^2 theta>",
+        batch_mean(&tr, |s| s.theta.cos().powi(2)),
+        num / den,
+        0.03,
+    );
+    // The centre: free Brownian motion, MSD = 4 D τ at every lag,
+    // D = kT/(m γ_t) (the Langevin MSD's long-time limit).
+    let d = BOLTZMANN * T / (sc.top.mass * gamma);
+    let rows = &tr.samples[tr.samples.len() / 20..];
+    let lag = 100;
+    let tau = rows[lag].t - rows[0].t;
+    let disp: Vec<f64> = rows
+        .windows(lag + 1)
+        .map(|w| (w[lag].x - w[0].x).powi(2) + (w[lag].y - w[0].y).powi(2))
+        .collect();
+    let nb = 40;
+    let per = disp.len() / nb;
+    let means: Vec<f64> = (0..nb)
+        .map(|b| disp[b * per..(b + 1) * per].iter().sum::<f64>() / per as f64)
+        .collect();
+    let m = means.iter().sum::<f64>() / nb as f64;
+    let var = means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (nb - 1) as f64;
+    check(
+        "brownian MSD",
+        (m, (var / nb as f64).sqrt()),
+        4.0 * d * tau,
+        0.03,
+    );
+}
+
+/// Rotational diffusion of a free body (a = 0, A = C, g = 0): the axis
+/// correlation `⟨k(0)·k(τ)⟩ = e^{−2 D_r τ}`, `D_r = kT/(γ_r A)`, at
+/// `τ = 1/(4 D_r)` and `1/D_r` (`e^{−1/2}`, `e^{−2}`). The axis is read
+/// from the attitude quaternion's third column. 2 000 000 steps.
+#[test]
+fn brownian_rotational_diffusion_of_a_free_body() {
+    let probe = hot_top(T, 1.0, 1.0, 1.0, 2);
+    let gamma = thermal_rate(&probe);
+    let mut sc = brownian_top(gamma, 2_000_000, 10);
+    sc.top.offset = 0.0;
+    let tr = simulate(&sc).expect("valid");
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let d_r = BOLTZMANN * T / (gamma * sc.top.inertia_transverse);
+    let axis = |s: &tippetop::Sample| {
+        let (w, x, y, z) = (s.qw, s.qx, s.qy, s.qz);
+        [
+            2.0 * (x * z + w * y),
+            2.0 * (y * z - w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ]
+    };
+    // The quaternion's axis is the state's axis.
+    for s in tr.samples.iter().step_by(1000) {
+        let k = axis(s);
+        assert!(
+            (k[2] - s.theta.cos()).abs() < 1e-9,
+            "{} vs {}",
+            k[2],
+            s.theta.cos()
+        );
+    }
+    let rows = &tr.samples;
+    let dt_row = rows[1].t - rows[0].t;
+    for tau_dr in [0.25, 1.0] {
+        let lag = (tau_dr / d_r / dt_row).round() as usize;
+        let tau = lag as f64 * dt_row;
+        let c: Vec<f64> = rows
+            .windows(lag + 1)
+            .map(|w| {
+                let (a, b) = (axis(&w[0]), axis(&w[lag]));
+                a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+            })
+            .collect();
+        let nb = 40;
+        let per = c.len() / nb;
+        let means: Vec<f64> = (0..nb)
+            .map(|b| c[b * per..(b + 1) * per].iter().sum::<f64>() / per as f64)
+            .collect();
+        let m = means.iter().sum::<f64>() / nb as f64;
+        let var = means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (nb - 1) as f64;
+        check(
+            &format!("brownian <k(0).k(tau)> at D_r tau = {tau_dr}"),
+            (m, (var / nb as f64).sqrt()),
+            (-2.0 * d_r * tau).exp(),
+            0.05,
+        );
+    }
+}
