@@ -17,17 +17,28 @@ use pyo3::exceptions::{PyAttributeError, PyKeyError, PyRuntimeError, PyTypeError
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyList, PyString, PyTuple};
 use serde::Serialize;
+use tippetop::analysis;
+use tippetop::analysis::sweep::{Axis, Sweep, Table};
 use tippetop::trajectory::COLUMNS;
 use tippetop::{EventRecord, Summary};
 
 /// A library error as a Python exception: bad input is `ValueError`
 /// (`"<key>: <what> (<range>)"`), a run-time failure `RuntimeError`.
+/// The message is on one line, as the CLI prints it (line breaks, e.g. in
+/// a TOML parse error, become spaces).
 fn to_py_err(e: tippetop::Error) -> PyErr {
+    let msg = one_line(&e.to_string());
     if e.is_input() {
-        PyValueError::new_err(e.to_string())
+        PyValueError::new_err(msg)
     } else {
-        PyRuntimeError::new_err(e.to_string())
+        PyRuntimeError::new_err(msg)
     }
+}
+
+/// `s` with every run of white space (line breaks included) collapsed to
+/// one space: the CLI's one-line error messages.
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 /// Run `f`, turning a panic into a `RuntimeError`.
@@ -435,6 +446,145 @@ fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
     Trajectory::new(py, sc, traj.map_err(to_py_err)?, wall)
 }
 
+/// The axis of `vary[key]`: a tuple `(lo, hi, n)` or `(lo, hi, n, "log")`
+/// is the CLI's `--vary KEY=LO:HI:N[:log]` (parsed by the library's
+/// `Axis::parse`, so with the CLI's checks and messages); anything else
+/// iterable (a list, a numpy array) is the values as given.
+fn vary_axis(key: &str, spec: &Bound<'_, PyAny>) -> PyResult<Axis> {
+    if spec.is_instance_of::<PyTuple>() {
+        let parts = spec
+            .try_iter()?
+            .map(|x| set_value_text(&x?))
+            .collect::<PyResult<Vec<_>>>()?;
+        let axis = Axis::parse(&format!("{key}={}", parts.join(":"))).map_err(to_py_err)?;
+        if axis.key != key.trim() {
+            return Err(PyValueError::new_err(format!(
+                "{key}: not a scenario key (table.key as in Scenario.set, e.g. top.offset)"
+            )));
+        }
+        return Ok(axis);
+    }
+    if spec.is_instance_of::<PyString>() {
+        return Err(PyValueError::new_err(format!(
+            "{key}: {:?} is not a grid or values (a tuple (lo, hi, n) or (lo, hi, n, \"log\"), \
+             or a list or array of numbers)",
+            spec.extract::<String>()?
+        )));
+    }
+    let items = if spec.hasattr("tolist")? {
+        spec.call_method0("tolist")?
+    } else {
+        spec.clone()
+    };
+    let Ok(iter) = items.try_iter() else {
+        return Err(PyValueError::new_err(format!(
+            "{key}: a value of type {} is not a grid or values (a tuple (lo, hi, n) or \
+             (lo, hi, n, \"log\"), or a list or array of numbers)",
+            spec.get_type().name()?
+        )));
+    };
+    let mut values = Vec::new();
+    for (i, item) in iter.enumerate() {
+        let item = item?;
+        match item.extract::<f64>() {
+            Ok(v) if !item.is_instance_of::<PyString>() => values.push(v),
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "{key}: value {i} ({}) is not a number (finite numbers)",
+                    item.repr()?
+                )));
+            }
+        }
+    }
+    Axis::of_values(key, values).map_err(to_py_err)
+}
+
+/// Run a grid of scenarios (the CLI's `tippetop sweep`) on `threads`
+/// threads with the GIL released: one case per point of the grid over
+/// `vary`'s keys, the first key varying slowest. Returns a dict of numpy
+/// arrays, one per `sweep.csv` column in its order (the varied keys, then
+/// `theta_final` ... `rhs_evaluations` as float64, NaN where the CSV field
+/// is empty, then `status`, str: `"ok"` or the case's error). Bit for bit
+/// the CLI's `sweep.csv`, whatever `threads`.
+#[pyfunction]
+#[pyo3(signature = (scenario, vary, threads = None))]
+fn sweep<'py>(
+    py: Python<'py>,
+    scenario: &Scenario,
+    vary: &Bound<'py, PyDict>,
+    threads: Option<i64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut axes = Vec::new();
+    for (k, v) in vary.iter() {
+        let key: String = k.extract().map_err(|_| {
+            PyTypeError::new_err("the keys of vary are scenario keys (str, e.g. \"top.offset\")")
+        })?;
+        axes.push(vary_axis(&key, &v)?);
+    }
+    if axes.is_empty() {
+        return Err(PyValueError::new_err(
+            "vary: no keys given (one or more, e.g. {\"top.offset\": (3e-4, 6e-3, 20)})",
+        ));
+    }
+    let threads = match threads {
+        None => None,
+        Some(t) => Some(usize::try_from(t).map_err(|_| {
+            PyValueError::new_err(format!(
+                "--threads: {t} threads (1 to {}; more threads than cores only add overhead)",
+                analysis::sweep::MAX_THREADS
+            ))
+        })?),
+    };
+    let threads = analysis::sweep::threads(threads).map_err(to_py_err)?;
+    let sw = Sweep {
+        preset: scenario.preset.clone(),
+        toml_text: scenario.toml.clone(),
+        sets: scenario.sets.clone(),
+        axes,
+    };
+    guarded(|| sw.validate())?.map_err(to_py_err)?;
+
+    // The rows, with the GIL released; Ctrl-C (checked about every 0.1 s,
+    // with the GIL taken for a moment) stops the sweep.
+    let mut rows = Vec::with_capacity(sw.total().min(1 << 20));
+    let mut interrupted: Option<PyErr> = None;
+    let run = py.detach(|| {
+        let mut last = Instant::now();
+        sw.run_streaming(0..sw.total(), Some(threads), &mut |row| {
+            rows.push(row);
+            if last.elapsed().as_secs_f64() >= 0.1 {
+                last = Instant::now();
+                if let Err(e) = Python::attach(|py| py.check_signals()) {
+                    interrupted = Some(e);
+                    return false;
+                }
+            }
+            true
+        })
+    });
+    if let Some(e) = interrupted {
+        return Err(e);
+    }
+    run.map_err(|e| PyRuntimeError::new_err(one_line(&e.to_string())))?;
+
+    let table = Table::from_rows(&sw.axes, &rows);
+    let out = PyDict::new(py);
+    for key in &table.keys {
+        let col = table.column(key).unwrap_or_default();
+        out.set_item(key, PyArray1::from_vec(py, col))?;
+    }
+    for name in analysis::sweep::FIELDS {
+        let col = table.column(name).unwrap_or_default();
+        out.set_item(name, PyArray1::from_vec(py, col))?;
+    }
+    let status = PyList::new(py, &table.status)?;
+    out.set_item(
+        "status",
+        py.import("numpy")?.call_method1("array", (status,))?,
+    )?;
+    Ok(out)
+}
+
 /// A copy of a `Simulation` at one instant (`Simulation.snapshot()`).
 #[pyclass(module = "tippetop", frozen)]
 struct Snapshot {
@@ -628,6 +778,7 @@ fn tippetop_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Simulation>()?;
     m.add_class::<Snapshot>()?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add("COLUMNS", COLUMNS.to_vec())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

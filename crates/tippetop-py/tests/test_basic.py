@@ -12,8 +12,6 @@ is none.
 
 import csv
 import json
-import os
-import pathlib
 import subprocess
 import sys
 import threading
@@ -23,24 +21,7 @@ import numpy as np
 import pytest
 
 import tippetop as tt
-
-ROOT = pathlib.Path(__file__).resolve().parents[3]
-
-
-def cli_binary():
-    env = os.environ.get("TIPPETOP_BIN")
-    if env:
-        return pathlib.Path(env)
-    for profile in ("release", "debug"):
-        p = ROOT / "target" / profile / "tippetop"
-        if p.is_file():
-            return p
-    return None
-
-
-def bits(a):
-    """The bit patterns of a float64 array (NaN payloads included)."""
-    return np.asarray(a, dtype=np.float64).view(np.uint64)
+from _helpers import bits, cli_binary
 
 
 def assert_same_arrays(a, b):
