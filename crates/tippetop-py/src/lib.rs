@@ -230,6 +230,7 @@ impl Scenario {
         guarded(|| self.sc.to_toml_string())
     }
 
+    /// True if `other` is a Scenario with exactly the same values.
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
         other
             .cast::<Scenario>()
@@ -318,8 +319,13 @@ fn error_obj<'py>(py: Python<'py>, e: Option<&tippetop::Error>) -> PyResult<Boun
 }
 
 /// The result of a run: one numpy float64 array per trajectory.csv column
-/// (`tr.t`, `tr.theta`, `tr["Omega"]`, ...; `tr.columns` lists them, SI
-/// units, radians), `tr.summary` (summary.json as a dict) and `tr.error`.
+/// (`tr.t`, `tr.theta`, `tr["Omega"]`, ...; `tr.columns` lists them), one
+/// element per sample; `tr.summary` (summary.json as a dict) and
+/// `tr.error`. Columns (SI units): t [s], theta [rad], theta_dot [rad/s],
+/// Omega (precession) [rad/s], omega (spin) [rad/s], ux, uy, uz [m/s],
+/// N [N], slip [m/s], J [kg m^3/s], energy, work_friction, work_applied
+/// [J], hx, hy [N], rolling [0 or 1], x, y, z [m], qw, qx, qy, qz [1],
+/// xp, yp [m] (definitions: `tippetop run --help`).
 #[pyclass(module = "tippetop", frozen)]
 struct Trajectory {
     arrays: Py<PyDict>,
@@ -357,13 +363,15 @@ impl Trajectory {
 
 #[pymethods]
 impl Trajectory {
-    /// The column names, in trajectory.csv order.
+    /// The column names, in trajectory.csv order (`COLUMNS`).
     #[getter]
     fn columns(&self) -> Vec<&'static str> {
         COLUMNS.to_vec()
     }
 
-    /// summary.json of the CLI as a dict (`theta_final`, `status`, ...).
+    /// summary.json of the CLI as a dict: `theta_final` [rad],
+    /// `omega_final` [rad/s], `steps`, `status`, `events`, `scenario`
+    /// (TOML), `wall_seconds` [s], ...
     #[getter]
     fn summary(&self, py: Python<'_>) -> Py<PyAny> {
         self.summary.clone_ref(py)
@@ -377,7 +385,7 @@ impl Trajectory {
         self.error.clone_ref(py)
     }
 
-    /// All columns as a dict of arrays.
+    /// All columns as a new dict of arrays, in column order.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         self.arrays.bind(py).copy()
     }
@@ -388,6 +396,7 @@ impl Trajectory {
         pd.call_method1("DataFrame", (self.arrays.bind(py),))
     }
 
+    /// The column `name` (KeyError if there is none).
     fn __getitem__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
         self.arrays.bind(py).get_item(name)?.ok_or_else(|| {
             PyKeyError::new_err(format!(
@@ -397,6 +406,7 @@ impl Trajectory {
         })
     }
 
+    /// The column `name` (AttributeError if there is none).
     fn __getattr__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
         self.arrays.bind(py).get_item(name)?.ok_or_else(|| {
             PyAttributeError::new_err(format!(
@@ -406,6 +416,7 @@ impl Trajectory {
         })
     }
 
+    /// True if `name` is a column.
     fn __contains__(&self, name: &str) -> bool {
         COLUMNS.contains(&name)
     }
@@ -430,9 +441,10 @@ impl Trajectory {
     }
 }
 
-/// Run `scenario` to its end (the CLI's `tippetop run`), with the GIL
-/// released. Bad input raises ValueError; a run that fails part-way
-/// returns its partial trajectory with `error` set.
+/// Run `scenario` to `solver.t_end` [s] (the CLI's `tippetop run`), with
+/// the GIL released: bit for bit the CLI's trajectory.csv and summary.json.
+/// Bad input raises ValueError; a run that fails part-way returns its
+/// partial trajectory with `error` set.
 #[pyfunction]
 fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
     let sc = &scenario.sc;
@@ -500,12 +512,22 @@ fn vary_axis(key: &str, spec: &Bound<'_, PyAny>) -> PyResult<Axis> {
 }
 
 /// Run a grid of scenarios (the CLI's `tippetop sweep`) on `threads`
-/// threads with the GIL released: one case per point of the grid over
-/// `vary`'s keys, the first key varying slowest. Returns a dict of numpy
-/// arrays, one per `sweep.csv` column in its order (the varied keys, then
-/// `theta_final` ... `rhs_evaluations` as float64, NaN where the CSV field
-/// is empty, then `status`, str: `"ok"` or the case's error). Bit for bit
-/// the CLI's `sweep.csv`, whatever `threads`.
+/// threads (1 to 1024; default one per core) with the GIL released.
+///
+/// `vary` maps scenario keys (as in `Scenario.set`) to values in the key's
+/// SI unit: a tuple `(lo, hi, n)` or `(lo, hi, n, "log")` is the CLI's
+/// `--vary KEY=LO:HI:N[:log]`, a list or numpy array is taken as given. The
+/// cases are the grid over all keys, the first varying slowest.
+///
+/// Returns a dict of numpy arrays, one per `sweep.csv` column in its order:
+/// the varied keys, then `theta_final`, `theta_max` [rad], `omega_final`,
+/// `Omega_final` [rad/s], `first_time_theta_above_half_pi`,
+/// `contact_lost_at` [s], `negative_normal_fraction`, `rolling_fraction`,
+/// `J_max_rel_drift` [1], `energy_final` [J], `steps`, `rhs_evaluations`
+/// (counts), all float64, NaN where the CSV field is empty; then `status`
+/// (str: `"ok"` or the case's error; a failing case does not stop the
+/// sweep). Bit for bit the CLI's `sweep.csv`, whatever `threads`. Bad input
+/// raises ValueError naming the key; Ctrl-C stops the sweep.
 #[pyfunction]
 #[pyo3(signature = (scenario, vary, threads = None))]
 fn sweep<'py>(
@@ -585,7 +607,8 @@ fn sweep<'py>(
     Ok(out)
 }
 
-/// A copy of a `Simulation` at one instant (`Simulation.snapshot()`).
+/// A copy of a `Simulation` at one instant (`Simulation.snapshot()`),
+/// exact to the bit; `Simulation.restore` goes back to it.
 #[pyclass(module = "tippetop", frozen)]
 struct Snapshot {
     /// Not `Sync` by itself (the models cache evaluations in cells); locked
@@ -769,7 +792,9 @@ impl Simulation {
 
 /// tippetop: tippe-top dynamics (the classical toy to the C60 nano tippe
 /// top) from Python. `Scenario.preset("nano")`, `run(sc)` → `Trajectory`
-/// of numpy arrays, `Simulation(sc)` to step a run.
+/// of numpy float64 arrays (SI units, radians), `sweep(sc, vary=...)` → a
+/// dict of arrays (one row per case), `Simulation(sc)` to step a run. Bad
+/// input raises ValueError with the CLI's line (`key: what (range)`).
 #[pymodule]
 #[pyo3(name = "tippetop")]
 fn tippetop_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
