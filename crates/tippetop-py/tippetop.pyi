@@ -17,10 +17,12 @@ error (a bug) raises ``RuntimeError``.
 """
 
 from os import PathLike
-from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 from numpy.typing import NDArray
+
+__all__ = ["Scenario", "Trajectory", "Simulation", "Snapshot", "run", "sweep", "COLUMNS", "__version__"]
 
 __version__: str
 """The package version (that of the Rust crates)."""
@@ -33,6 +35,7 @@ COLUMNS: List[str]
 ``rolling`` [0 or 1], ``x``, ``y``, ``z`` [m], ``qw``, ``qx``, ``qy``, ``qz`` [1],
 ``xp``, ``yp`` [m]."""
 
+@final
 class Scenario:
     """A tippe-top scenario: the top, the surface, forces, initial state and
     solver settings (SI units; ``to_toml()`` lists every key). Immutable:
@@ -65,9 +68,10 @@ class Scenario:
     def to_toml(self) -> str:
         """The complete scenario as TOML (every key explicit, floats exact):
         what the CLI writes to ``scenario.toml``."""
-    def __eq__(self, other: object) -> bool:
+    def __eq__(self, other: object, /) -> bool:
         """True if ``other`` is a Scenario with exactly the same values."""
 
+@final
 class Trajectory:
     """The result of a run: one numpy float64 array per trajectory.csv
     column, one element per sample (``solver.samples`` rows, fewer for a
@@ -149,11 +153,9 @@ class Trajectory:
         """All columns as a new dict of arrays, in column order."""
     def to_pandas(self) -> Any:
         """The columns as a pandas DataFrame (needs pandas)."""
-    def __getitem__(self, name: str) -> NDArray[np.float64]:
+    def __getitem__(self, name: str, /) -> NDArray[np.float64]:
         """The column ``name`` (KeyError if there is none)."""
-    def __getattr__(self, name: str) -> NDArray[np.float64]:
-        """The column ``name`` (AttributeError if there is none)."""
-    def __contains__(self, name: str) -> bool:
+    def __contains__(self, name: str, /) -> bool:
         """True if ``name`` is a column."""
     def __len__(self) -> int:
         """The number of samples (rows)."""
@@ -195,10 +197,12 @@ def sweep(
     ``threads``. Bad input raises ValueError naming the key; Ctrl-C
     (KeyboardInterrupt) stops the sweep."""
 
+@final
 class Snapshot:
     """A copy of a ``Simulation`` at one instant (``Simulation.snapshot()``),
     exact to the bit; ``Simulation.restore`` goes back to it."""
 
+@final
 class Simulation:
     """A run you can step, inspect, copy and continue. ``integrate_to(t)``
     integrates until the run has passed ``t`` [s] without ever shortening a
@@ -206,7 +210,7 @@ class Simulation:
     ``run``; ``state`` is the state at ``time``. Used from two threads at
     once, the second gets RuntimeError (busy) instead of waiting."""
 
-    def __init__(self, scenario: Scenario) -> None:
+    def __new__(cls, scenario: Scenario) -> "Simulation":
         """A run of ``scenario`` at t = 0 (ValueError for bad input)."""
     def integrate_to(self, t: float) -> None:
         """Integrate until the run has passed ``t`` [s] (or ended, or failed:
