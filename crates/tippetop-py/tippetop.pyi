@@ -17,7 +17,7 @@ error (a bug) raises ``RuntimeError``.
 """
 
 from os import PathLike
-from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union, final
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -61,6 +61,15 @@ class Scenario:
         SI unit: the CLI's ``--set key=value``, same keys and checks
         (ValueError naming the key and its valid range). Floats are passed
         exactly; a str is taken as on the command line."""
+    def set_many(
+        self, values: Mapping[str, Union[float, int, bool, str, Sequence[float], NDArray[Any]]]
+    ) -> "Scenario":
+        """A new scenario with every ``key: value`` of ``values`` (in its
+        order) set at once: the CLI's ``--set k1=v1 --set k2=v2 ...``,
+        checked together, for keys that depend on each other (e.g.
+        ``{"surface.friction_law": "regularized", "surface.friction_eps":
+        1e-2}`` [m/s], which ``set`` one at a time rejects). Values as in
+        ``set``."""
     def get(self, key: str) -> Any:
         """The value of ``key`` (``"top.radius"`` [m], ``"force.0.hx"`` [N],
         ...) as ``to_toml()`` writes it: float, int, bool, str, list or dict.

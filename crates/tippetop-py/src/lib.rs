@@ -199,6 +199,20 @@ impl Scenario {
         Scenario::load(self.preset.clone(), self.toml.clone(), sets)
     }
 
+    /// A new scenario with every `key: value` of `values` (a dict, in its
+    /// order) set at once: the CLI's `--set k1=v1 --set k2=v2 ...`, checked
+    /// together, for keys that depend on each other (e.g.
+    /// `{"surface.friction_law": "regularized", "surface.friction_eps":
+    /// 1e-2}` [m/s], which `set` one at a time rejects). Values as in `set`.
+    fn set_many(&self, values: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let mut sets = self.sets.clone();
+        for item in values.call_method0("items")?.try_iter()? {
+            let (key, value): (String, Bound<'_, PyAny>) = item?.extract()?;
+            sets.push(format!("{key}={}", set_value_text(&value)?));
+        }
+        Scenario::load(self.preset.clone(), self.toml.clone(), sets)
+    }
+
     /// The value of `key` (`"top.radius"`, `"force.0.hx"`, ...) as
     /// `to_toml()` writes it.
     fn get<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {

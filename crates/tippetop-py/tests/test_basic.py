@@ -176,6 +176,23 @@ def test_set_is_exact_and_returns_a_new_scenario(nano):
     assert "friction = 0.30000000000000004" in sc.to_toml()
 
 
+def test_set_many_sets_keys_that_depend_on_each_other(nano):
+    with pytest.raises(ValueError, match=r"^surface\.friction_eps: "):
+        nano.set("surface.friction_eps", 1e-2)
+    with pytest.raises(ValueError, match=r"^surface\.friction_eps: missing"):
+        nano.set("surface.friction_law", "regularized")
+    sc = nano.set_many({"surface.friction_law": "regularized", "surface.friction_eps": 1e-2})
+    assert sc.get("surface.friction_law") == "regularized"
+    assert sc.get("surface.friction_eps") == 1e-2
+    text = nano.to_toml().replace('friction_law = "coulomb"', 'friction_law = "regularized"\nfriction_eps = 0.01')
+    assert tt.Scenario.from_toml(text) == sc
+    # In order, as repeated --set: the last wins; the result is one new scenario.
+    assert nano.set_many({"surface.friction": 0.2}) == nano.set("surface.friction", 0.2)
+    assert nano.set_many({}) == nano
+    with pytest.raises(ValueError, match=r"^top\.radiu: unknown key"):
+        nano.set_many({"surface.friction": 0.2, "top.radiu": 1.0})
+
+
 def test_scenario_from_file(tmp_path, nano):
     p = tmp_path / "s.toml"
     p.write_text('preset = "nano"\n[surface]\nfriction = 0.2\n')
