@@ -76,15 +76,15 @@ for law, sc in laws.items():
     )
 
 # %% The maps
-fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
+fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True, constrained_layout=True)
 cmap = plt.get_cmap("viridis").copy()
 cmap.set_bad("grey")  # a failed case
 for ax, (law, (A_C, a_R, z)) in zip(axes, maps.items()):
-    mesh = ax.pcolormesh(A_C, a_R, np.ma.masked_invalid(z.T), cmap=cmap,
-                         vmin=0, vmax=np.pi, shading="nearest")
+    mesh = ax.pcolormesh(
+        A_C, a_R, np.ma.masked_invalid(z.T), cmap=cmap, vmin=0, vmax=np.pi, shading="nearest"
+    )
     for sign in (-1, 1):
         ax.plot(1 + sign * a_R, a_R, color="white", lw=1.5)
-    ax.set_xlim(A_C[0], A_C[-1])
     ax.set_xlabel("A/C")
     ax.set_title(f"θ after {t_end:g} s, {law} friction")
 axes[0].set_ylabel("a/R")
