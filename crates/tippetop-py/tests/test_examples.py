@@ -75,3 +75,16 @@ def test_notebook_runs_tiny(tmp_path):
     p = run([str(script)], cwd=EXAMPLES)
     assert p.returncode == 0, p.stdout + p.stderr
     assert "g=9.8 bilateral" in p.stdout and "regularized: 20 tops" in p.stdout
+
+
+def test_readme_python_example_runs():
+    """The README's ```python block of "From Python", as written."""
+    text = (ROOT / "README.md").read_text()
+    section = text[text.index("## From Python") :]
+    block = section[section.index("```python\n") + len("```python\n") :]
+    block = block[: block.index("```\n")]
+    assert "tt.sweep(" in block
+    env = {}
+    exec(compile(block, "README.md", "exec"), env)
+    assert env["tr"].error is None
+    assert list(env["sw"]["status"]) == ["ok"] * 20
