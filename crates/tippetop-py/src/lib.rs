@@ -477,18 +477,26 @@ fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
 /// `Axis::parse`, so with the CLI's checks and messages); anything else
 /// iterable (a list, a numpy array) is the values as given.
 fn vary_axis(key: &str, spec: &Bound<'_, PyAny>) -> PyResult<Axis> {
+    if key.contains('=') || key.trim().is_empty() {
+        return Err(PyValueError::new_err(format!(
+            "{key}: not a scenario key (table.key as in Scenario.set, e.g. top.offset)"
+        )));
+    }
     if spec.is_instance_of::<PyTuple>() {
-        let parts = spec
-            .try_iter()?
-            .map(|x| set_value_text(&x?))
-            .collect::<PyResult<Vec<_>>>()?;
-        let axis = Axis::parse(&format!("{key}={}", parts.join(":"))).map_err(to_py_err)?;
-        if axis.key != key.trim() {
-            return Err(PyValueError::new_err(format!(
-                "{key}: not a scenario key (table.key as in Scenario.set, e.g. top.offset)"
-            )));
+        let mut parts = Vec::new();
+        for item in spec.try_iter()? {
+            let item = item?;
+            let text = set_value_text(&item)?;
+            if text.contains(':') {
+                // One element must not pass for several of FROM:TO:N.
+                return Err(PyValueError::new_err(format!(
+                    "{key}: {} in (lo, hi, n) is not a number ((lo, hi, n) or (lo, hi, n, \"log\"))",
+                    item.repr()?
+                )));
+            }
+            parts.push(text);
         }
-        return Ok(axis);
+        return Axis::parse(&format!("{key}={}", parts.join(":"))).map_err(to_py_err);
     }
     if spec.is_instance_of::<PyString>() {
         return Err(PyValueError::new_err(format!(
