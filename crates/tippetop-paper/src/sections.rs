@@ -270,6 +270,7 @@ pub fn inversion_map(law: &str, sets: &[String], q: f64) -> Result<(MapData, Str
                 to: 1.5 * c,
                 n: nx,
                 log: false,
+                given: None,
             },
             Axis {
                 key: "top.offset".into(),
@@ -277,6 +278,7 @@ pub fn inversion_map(law: &str, sets: &[String], q: f64) -> Result<(MapData, Str
                 to: 0.4 * r,
                 n: ny,
                 log: false,
+                given: None,
             },
         ],
     };

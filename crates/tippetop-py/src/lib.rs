@@ -17,17 +17,28 @@ use pyo3::exceptions::{PyAttributeError, PyKeyError, PyRuntimeError, PyTypeError
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyList, PyString, PyTuple};
 use serde::Serialize;
+use tippetop::analysis;
+use tippetop::analysis::sweep::{Axis, Sweep, Table};
 use tippetop::trajectory::COLUMNS;
 use tippetop::{EventRecord, Summary};
 
 /// A library error as a Python exception: bad input is `ValueError`
 /// (`"<key>: <what> (<range>)"`), a run-time failure `RuntimeError`.
+/// The message is on one line, as the CLI prints it (line breaks, e.g. in
+/// a TOML parse error, become spaces).
 fn to_py_err(e: tippetop::Error) -> PyErr {
+    let msg = one_line(&e.to_string());
     if e.is_input() {
-        PyValueError::new_err(e.to_string())
+        PyValueError::new_err(msg)
     } else {
-        PyRuntimeError::new_err(e.to_string())
+        PyRuntimeError::new_err(msg)
     }
+}
+
+/// `s` with every run of white space (line breaks included) collapsed to
+/// one space: the CLI's one-line error messages.
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 /// Run `f`, turning a panic into a `RuntimeError`.
@@ -152,7 +163,9 @@ impl Scenario {
 #[pymethods]
 impl Scenario {
     /// A built-in scenario: `"nano"` (the C60 nano tippe top of the paper),
-    /// `"nano-physical"` or `"classical"` (the 15 g toy).
+    /// `"nano-physical"` (C60 on graphene at 300 K, a Langevin run),
+    /// `"nano-adhesive"` (the same without temperature) or `"classical"`
+    /// (the 15 g toy).
     #[staticmethod]
     fn preset(name: &str) -> PyResult<Self> {
         Scenario::load(Some(name.to_string()), None, Vec::new())
@@ -188,6 +201,20 @@ impl Scenario {
         Scenario::load(self.preset.clone(), self.toml.clone(), sets)
     }
 
+    /// A new scenario with every `key: value` of `values` (a dict, in its
+    /// order) set at once: the CLI's `--set k1=v1 --set k2=v2 ...`, checked
+    /// together, for keys that depend on each other (e.g.
+    /// `{"surface.friction_law": "regularized", "surface.friction_eps":
+    /// 1e-2}` [m/s], which `set` one at a time rejects). Values as in `set`.
+    fn set_many(&self, values: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let mut sets = self.sets.clone();
+        for item in values.call_method0("items")?.try_iter()? {
+            let (key, value): (String, Bound<'_, PyAny>) = item?.extract()?;
+            sets.push(format!("{key}={}", set_value_text(&value)?));
+        }
+        Scenario::load(self.preset.clone(), self.toml.clone(), sets)
+    }
+
     /// The value of `key` (`"top.radius"`, `"force.0.hx"`, ...) as
     /// `to_toml()` writes it.
     fn get<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
@@ -219,6 +246,7 @@ impl Scenario {
         guarded(|| self.sc.to_toml_string())
     }
 
+    /// True if `other` is a Scenario with exactly the same values.
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
         other
             .cast::<Scenario>()
@@ -307,8 +335,13 @@ fn error_obj<'py>(py: Python<'py>, e: Option<&tippetop::Error>) -> PyResult<Boun
 }
 
 /// The result of a run: one numpy float64 array per trajectory.csv column
-/// (`tr.t`, `tr.theta`, `tr["Omega"]`, ...; `tr.columns` lists them, SI
-/// units, radians), `tr.summary` (summary.json as a dict) and `tr.error`.
+/// (`tr.t`, `tr.theta`, `tr["Omega"]`, ...; `tr.columns` lists them), one
+/// element per sample; `tr.summary` (summary.json as a dict) and
+/// `tr.error`. Columns (SI units): t [s], theta [rad], theta_dot [rad/s],
+/// Omega (precession) [rad/s], omega (spin) [rad/s], ux, uy, uz [m/s],
+/// N [N], slip [m/s], J [kg m^3/s], energy, work_friction, work_applied
+/// [J], hx, hy [N], rolling [0 or 1], x, y, z [m], qw, qx, qy, qz [1],
+/// xp, yp [m] (definitions: `tippetop run --help`).
 #[pyclass(module = "tippetop", frozen)]
 struct Trajectory {
     arrays: Py<PyDict>,
@@ -346,13 +379,15 @@ impl Trajectory {
 
 #[pymethods]
 impl Trajectory {
-    /// The column names, in trajectory.csv order.
+    /// The column names, in trajectory.csv order (`COLUMNS`).
     #[getter]
     fn columns(&self) -> Vec<&'static str> {
         COLUMNS.to_vec()
     }
 
-    /// summary.json of the CLI as a dict (`theta_final`, `status`, ...).
+    /// summary.json of the CLI as a dict: `theta_final` [rad],
+    /// `omega_final` [rad/s], `steps`, `status`, `events`, `scenario`
+    /// (TOML), `wall_seconds` [s], ...
     #[getter]
     fn summary(&self, py: Python<'_>) -> Py<PyAny> {
         self.summary.clone_ref(py)
@@ -366,7 +401,7 @@ impl Trajectory {
         self.error.clone_ref(py)
     }
 
-    /// All columns as a dict of arrays.
+    /// All columns as a new dict of arrays, in column order.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         self.arrays.bind(py).copy()
     }
@@ -377,6 +412,7 @@ impl Trajectory {
         pd.call_method1("DataFrame", (self.arrays.bind(py),))
     }
 
+    /// The column `name` (KeyError if there is none).
     fn __getitem__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
         self.arrays.bind(py).get_item(name)?.ok_or_else(|| {
             PyKeyError::new_err(format!(
@@ -386,6 +422,7 @@ impl Trajectory {
         })
     }
 
+    /// The column `name` (AttributeError if there is none).
     fn __getattr__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
         self.arrays.bind(py).get_item(name)?.ok_or_else(|| {
             PyAttributeError::new_err(format!(
@@ -395,6 +432,7 @@ impl Trajectory {
         })
     }
 
+    /// True if `name` is a column.
     fn __contains__(&self, name: &str) -> bool {
         COLUMNS.contains(&name)
     }
@@ -419,9 +457,10 @@ impl Trajectory {
     }
 }
 
-/// Run `scenario` to its end (the CLI's `tippetop run`), with the GIL
-/// released. Bad input raises ValueError; a run that fails part-way
-/// returns its partial trajectory with `error` set.
+/// Run `scenario` to `solver.t_end` [s] (the CLI's `tippetop run`), with
+/// the GIL released: bit for bit the CLI's trajectory.csv and summary.json.
+/// Bad input raises ValueError; a run that fails part-way returns its
+/// partial trajectory with `error` set.
 #[pyfunction]
 fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
     let sc = &scenario.sc;
@@ -435,7 +474,165 @@ fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
     Trajectory::new(py, sc, traj.map_err(to_py_err)?, wall)
 }
 
-/// A copy of a `Simulation` at one instant (`Simulation.snapshot()`).
+/// The axis of `vary[key]`: a tuple `(lo, hi, n)` or `(lo, hi, n, "log")`
+/// is the CLI's `--vary KEY=LO:HI:N[:log]` (parsed by the library's
+/// `Axis::parse`, so with the CLI's checks and messages); anything else
+/// iterable (a list, a numpy array) is the values as given.
+fn vary_axis(key: &str, spec: &Bound<'_, PyAny>) -> PyResult<Axis> {
+    if key.contains('=') || key.trim().is_empty() {
+        return Err(PyValueError::new_err(format!(
+            "{key}: not a scenario key (table.key as in Scenario.set, e.g. top.offset)"
+        )));
+    }
+    if spec.is_instance_of::<PyTuple>() {
+        let mut parts = Vec::new();
+        for item in spec.try_iter()? {
+            let item = item?;
+            let text = set_value_text(&item)?;
+            if text.contains(':') {
+                // One element must not pass for several of FROM:TO:N.
+                return Err(PyValueError::new_err(format!(
+                    "{key}: {} in (lo, hi, n) is not a number ((lo, hi, n) or (lo, hi, n, \"log\"))",
+                    item.repr()?
+                )));
+            }
+            parts.push(text);
+        }
+        return Axis::parse(&format!("{key}={}", parts.join(":"))).map_err(to_py_err);
+    }
+    if spec.is_instance_of::<PyString>() {
+        return Err(PyValueError::new_err(format!(
+            "{key}: {:?} is not a grid or values (a tuple (lo, hi, n) or (lo, hi, n, \"log\"), \
+             or a list or array of numbers)",
+            spec.extract::<String>()?
+        )));
+    }
+    let items = if spec.hasattr("tolist")? {
+        spec.call_method0("tolist")?
+    } else {
+        spec.clone()
+    };
+    let Ok(iter) = items.try_iter() else {
+        return Err(PyValueError::new_err(format!(
+            "{key}: a value of type {} is not a grid or values (a tuple (lo, hi, n) or \
+             (lo, hi, n, \"log\"), or a list or array of numbers)",
+            spec.get_type().name()?
+        )));
+    };
+    let mut values = Vec::new();
+    for (i, item) in iter.enumerate() {
+        let item = item?;
+        match item.extract::<f64>() {
+            Ok(v) if !item.is_instance_of::<PyString>() => values.push(v),
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "{key}: value {i} ({}) is not a number (finite numbers)",
+                    item.repr()?
+                )));
+            }
+        }
+    }
+    Axis::of_values(key, values).map_err(to_py_err)
+}
+
+/// Run a grid of scenarios (the CLI's `tippetop sweep`) on `threads`
+/// threads (1 to 1024; default one per core) with the GIL released.
+///
+/// `vary` maps scenario keys (as in `Scenario.set`) to values in the key's
+/// SI unit: a tuple `(lo, hi, n)` or `(lo, hi, n, "log")` is the CLI's
+/// `--vary KEY=LO:HI:N[:log]`, a list or numpy array is taken as given. The
+/// cases are the grid over all keys, the first varying slowest.
+///
+/// Returns a dict of numpy arrays, one per `sweep.csv` column in its order:
+/// the varied keys, then `theta_final`, `theta_max` [rad], `omega_final`,
+/// `Omega_final` [rad/s], `first_time_theta_above_half_pi`,
+/// `contact_lost_at` [s], `negative_normal_fraction`, `rolling_fraction`,
+/// `J_max_rel_drift` [1], `energy_final` [J], `steps`, `rhs_evaluations`
+/// (counts), all float64, NaN where the CSV field is empty; then `status`
+/// (str: `"ok"` or the case's error; a failing case does not stop the
+/// sweep). Bit for bit the CLI's `sweep.csv`, whatever `threads`. Bad input
+/// raises ValueError naming the key; Ctrl-C stops the sweep.
+#[pyfunction]
+#[pyo3(signature = (scenario, vary, threads = None))]
+fn sweep<'py>(
+    py: Python<'py>,
+    scenario: &Scenario,
+    vary: &Bound<'py, PyDict>,
+    threads: Option<i64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut axes = Vec::new();
+    for (k, v) in vary.iter() {
+        let key: String = k.extract().map_err(|_| {
+            PyTypeError::new_err("the keys of vary are scenario keys (str, e.g. \"top.offset\")")
+        })?;
+        axes.push(vary_axis(&key, &v)?);
+    }
+    if axes.is_empty() {
+        return Err(PyValueError::new_err(
+            "vary: no keys given (one or more, e.g. {\"top.offset\": (3e-4, 6e-3, 20)})",
+        ));
+    }
+    let threads = match threads {
+        None => None,
+        Some(t) => Some(usize::try_from(t).map_err(|_| {
+            PyValueError::new_err(format!(
+                "--threads: {t} threads (1 to {}; more threads than cores only add overhead)",
+                analysis::sweep::MAX_THREADS
+            ))
+        })?),
+    };
+    let threads = analysis::sweep::threads(threads).map_err(to_py_err)?;
+    let sw = Sweep {
+        preset: scenario.preset.clone(),
+        toml_text: scenario.toml.clone(),
+        sets: scenario.sets.clone(),
+        axes,
+    };
+    guarded(|| sw.validate())?.map_err(to_py_err)?;
+
+    // The rows, with the GIL released; Ctrl-C (checked about every 0.1 s,
+    // with the GIL taken for a moment) stops the sweep.
+    let mut rows = Vec::with_capacity(sw.total().min(1 << 20));
+    let mut interrupted: Option<PyErr> = None;
+    let run = py.detach(|| {
+        let mut last = Instant::now();
+        sw.run_streaming(0..sw.total(), Some(threads), &mut |row| {
+            rows.push(row);
+            if last.elapsed().as_secs_f64() >= 0.1 {
+                last = Instant::now();
+                if let Err(e) = Python::attach(|py| py.check_signals()) {
+                    interrupted = Some(e);
+                    return false;
+                }
+            }
+            true
+        })
+    });
+    if let Some(e) = interrupted {
+        return Err(e);
+    }
+    run.map_err(|e| PyRuntimeError::new_err(one_line(&e.to_string())))?;
+
+    let table = Table::from_rows(&sw.axes, &rows);
+    let out = PyDict::new(py);
+    for key in &table.keys {
+        let col = table.column(key).unwrap_or_default();
+        out.set_item(key, PyArray1::from_vec(py, col))?;
+    }
+    for name in analysis::sweep::FIELDS {
+        let col = table.column(name).unwrap_or_default();
+        out.set_item(name, PyArray1::from_vec(py, col))?;
+    }
+    let status = PyList::new(py, &table.status)?;
+    out.set_item(
+        "status",
+        py.import("numpy")?.call_method1("array", (status,))?,
+    )?;
+    Ok(out)
+}
+
+/// A copy of a `Simulation` at one instant (`Simulation.snapshot()`),
+/// exact to the bit; `Simulation.restore` goes back to it.
 #[pyclass(module = "tippetop", frozen)]
 struct Snapshot {
     /// Not `Sync` by itself (the models cache evaluations in cells); locked
@@ -619,7 +816,9 @@ impl Simulation {
 
 /// tippetop: tippe-top dynamics (the classical toy to the C60 nano tippe
 /// top) from Python. `Scenario.preset("nano")`, `run(sc)` → `Trajectory`
-/// of numpy arrays, `Simulation(sc)` to step a run.
+/// of numpy float64 arrays (SI units, radians), `sweep(sc, vary=...)` → a
+/// dict of arrays (one row per case), `Simulation(sc)` to step a run. Bad
+/// input raises ValueError with the CLI's line (`key: what (range)`).
 #[pymodule]
 #[pyo3(name = "tippetop")]
 fn tippetop_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -628,6 +827,7 @@ fn tippetop_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Simulation>()?;
     m.add_class::<Snapshot>()?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add("COLUMNS", COLUMNS.to_vec())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -12,8 +12,6 @@ is none.
 
 import csv
 import json
-import os
-import pathlib
 import subprocess
 import sys
 import threading
@@ -23,24 +21,7 @@ import numpy as np
 import pytest
 
 import tippetop as tt
-
-ROOT = pathlib.Path(__file__).resolve().parents[3]
-
-
-def cli_binary():
-    env = os.environ.get("TIPPETOP_BIN")
-    if env:
-        return pathlib.Path(env)
-    for profile in ("release", "debug"):
-        p = ROOT / "target" / profile / "tippetop"
-        if p.is_file():
-            return p
-    return None
-
-
-def bits(a):
-    """The bit patterns of a float64 array (NaN payloads included)."""
-    return np.asarray(a, dtype=np.float64).view(np.uint64)
+from _helpers import bits, cli_binary
 
 
 def assert_same_arrays(a, b):
@@ -193,6 +174,23 @@ def test_set_is_exact_and_returns_a_new_scenario(nano):
     # to_toml round-trips; the same as the CLI's --set.
     assert tt.Scenario.from_toml(sc.to_toml()) == sc
     assert "friction = 0.30000000000000004" in sc.to_toml()
+
+
+def test_set_many_sets_keys_that_depend_on_each_other(nano):
+    with pytest.raises(ValueError, match=r"^surface\.friction_eps: "):
+        nano.set("surface.friction_eps", 1e-2)
+    with pytest.raises(ValueError, match=r"^surface\.friction_eps: missing"):
+        nano.set("surface.friction_law", "regularized")
+    sc = nano.set_many({"surface.friction_law": "regularized", "surface.friction_eps": 1e-2})
+    assert sc.get("surface.friction_law") == "regularized"
+    assert sc.get("surface.friction_eps") == 1e-2
+    text = nano.to_toml().replace('friction_law = "coulomb"', 'friction_law = "regularized"\nfriction_eps = 0.01')
+    assert tt.Scenario.from_toml(text) == sc
+    # In order, as repeated --set: the last wins; the result is one new scenario.
+    assert nano.set_many({"surface.friction": 0.2}) == nano.set("surface.friction", 0.2)
+    assert nano.set_many({}) == nano
+    with pytest.raises(ValueError, match=r"^top\.radiu: unknown key"):
+        nano.set_many({"surface.friction": 0.2, "top.radiu": 1.0})
 
 
 def test_scenario_from_file(tmp_path, nano):

@@ -556,3 +556,46 @@ fn complete_prefix_of_an_interrupted_csv() {
     swapped.push_str(&full[ends[2]..ends[3]]);
     assert_eq!(s.complete_prefix(0, &swapped).rows, 1);
 }
+
+#[test]
+fn axis_of_given_values() {
+    let a = Axis::of_values("top.offset", vec![2e-3, 1e-3, 0.1 + 0.2]).unwrap();
+    assert_eq!(a.values(), vec![2e-3, 1e-3, 0.1 + 0.2]);
+    assert_eq!((a.from, a.to, a.n, a.log), (2e-3, 0.1 + 0.2, 3, false));
+    assert_eq!(a.spec(), "top.offset=[0.002, 0.001, 0.30000000000000004]");
+    // A --vary axis serializes as before (no `given` key, so shard.json is
+    // unchanged); a given axis round-trips.
+    let p = Axis::parse("top.offset=0.001:0.004:4").unwrap();
+    assert!(!toml::to_string(&p).unwrap().contains("given"));
+    let text = toml::to_string(&a).unwrap();
+    assert_eq!(toml::from_str::<Axis>(&text).unwrap(), a);
+
+    // A given axis in a grid: the same rows as the --vary axis of the same values.
+    let mut given = cheap(&["surface.friction=0.1:0.2:2"]);
+    given.axes.insert(
+        0,
+        Axis::of_values(
+            "top.offset",
+            Axis::parse("top.offset=1e-3:3e-3:3").unwrap().values(),
+        )
+        .unwrap(),
+    );
+    let vary = cheap(&["top.offset=1e-3:3e-3:3", "surface.friction=0.1:0.2:2"]);
+    given.validate().unwrap();
+    assert_eq!(run_csv(&given, 2), run_csv(&vary, 1));
+
+    for (values, what) in [
+        (vec![], "no values"),
+        (vec![1e-3, f64::NAN], "value 1 = NaN"),
+        (vec![f64::INFINITY], "value 0 = inf"),
+    ] {
+        let e = Axis::of_values("top.offset", values).unwrap_err();
+        let msg = e.to_string();
+        assert_eq!(key_of(e), "top.offset", "{msg}");
+        assert!(msg.contains(what), "{msg}");
+    }
+    // A hand-made axis whose bounds disagree with its values.
+    let mut bad = a.clone();
+    bad.n = 2;
+    assert_eq!(key_of(bad.check().unwrap_err()), "top.offset");
+}

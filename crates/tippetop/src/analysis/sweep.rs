@@ -124,7 +124,8 @@ const VARY_SYNTAX: &str = "KEY=FROM:TO:N or KEY=FROM:TO:N:log, e.g. top.offset=0
 // Axes.
 
 /// One varied scenario key: `n` values from `from` to `to` (both included),
-/// evenly spaced, or geometrically spaced with `log`. The values have the
+/// evenly spaced, or geometrically spaced with `log`; or, with `given`
+/// (made by [`Axis::of_values`]), exactly the values listed. The values have the
 /// key's units (e.g. \[m\] for `top.offset`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Axis {
@@ -138,6 +139,12 @@ pub struct Axis {
     pub n: usize,
     /// Geometric spacing (`from` and `to` must then be > 0).
     pub log: bool,
+    /// The values as given (`None` for the CLI's `--vary`, whose values
+    /// `from`, `to`, `n`, `log` define); with them, `from` and `to` are the
+    /// first and last, `n` their number and `log` false. Not written to
+    /// `shard.json` when `None`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub given: Option<Vec<f64>>,
 }
 
 impl Axis {
@@ -196,14 +203,62 @@ impl Axis {
             to,
             n,
             log,
+            given: None,
         };
         axis.check()?;
         Ok(axis)
     }
 
-    /// Check the ranges: finite bounds, `n >= 1`, positive bounds with `log`.
+    /// An axis of exactly `values`, in the order given (the key's units),
+    /// e.g. from a list in Python. Error (naming `key`): no values, or one
+    /// that is not finite. The scenario checks each value when a case loads.
+    pub fn of_values(key: &str, values: Vec<f64>) -> Result<Axis, Error> {
+        let axis = Axis {
+            key: key.trim().to_string(),
+            from: values.first().copied().unwrap_or(f64::NAN),
+            to: values.last().copied().unwrap_or(f64::NAN),
+            n: values.len(),
+            log: false,
+            given: Some(values),
+        };
+        axis.check()?;
+        Ok(axis)
+    }
+
+    /// Check the ranges: finite bounds, `n >= 1`, positive bounds with `log`;
+    /// for given values, at least one, all finite, and `from`, `to`, `n`
+    /// agreeing with them.
     pub fn check(&self) -> Result<(), Error> {
         let key = self.key.as_str();
+        if let Some(values) = &self.given {
+            if values.is_empty() {
+                return Err(Error::invalid(
+                    key,
+                    "no values given".into(),
+                    "one or more finite numbers".into(),
+                ));
+            }
+            if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+                return Err(Error::invalid(
+                    key,
+                    format!("value {i} = {v} is not allowed"),
+                    "finite numbers".into(),
+                ));
+            }
+            let (first, last) = (values[0], values[values.len() - 1]);
+            if self.n != values.len()
+                || self.log
+                || first.to_bits() != self.from.to_bits()
+                || last.to_bits() != self.to.to_bits()
+            {
+                return Err(Error::invalid(
+                    key,
+                    "from, to, n or log do not match the given values".into(),
+                    "an axis made by Axis::of_values".into(),
+                ));
+            }
+            return Ok(());
+        }
         for (name, v) in [("FROM", self.from), ("TO", self.to)] {
             if !v.is_finite() {
                 return Err(Error::invalid(
@@ -235,8 +290,12 @@ impl Axis {
 
     /// Value `i` (0-based, `i < n`): `from + (to - from) i / (n - 1)`, or
     /// `from (to / from)^(i / (n - 1))` with `log`; `from` for `n = 1`. The
-    /// first and last values are exactly `from` and `to`.
+    /// first and last values are exactly `from` and `to`. With given values,
+    /// the `i`-th of them.
     pub fn value(&self, i: usize) -> f64 {
+        if let Some(values) = &self.given {
+            return values[i];
+        }
         if i == 0 || self.n <= 1 {
             return self.from;
         }
@@ -257,8 +316,13 @@ impl Axis {
     }
 
     /// The axis as `--vary` text (`KEY=FROM:TO:N[:log]`, floats in shortest
-    /// round-trip form); `Axis::parse(&a.spec())` gives `a` back.
+    /// round-trip form); `Axis::parse(&a.spec())` gives `a` back. With given
+    /// values, `KEY=[v0, v1, ...]` (which `--vary` does not take).
     pub fn spec(&self) -> String {
+        if let Some(values) = &self.given {
+            let vs: Vec<String> = values.iter().map(|v| format!("{v:?}")).collect();
+            return format!("{}=[{}]", self.key, vs.join(", "));
+        }
         format!(
             "{}={:?}:{:?}:{}{}",
             self.key,
