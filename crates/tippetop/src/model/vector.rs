@@ -143,6 +143,43 @@ pub struct Vector {
     last: RefCell<Option<([u64; DIM + 9], Eval)>>,
     /// The Langevin thermostat (scaled), `None` unless `method = "langevin"`.
     thermal: Option<Bath>,
+    /// The Ornstein–Uhlenbeck step's coefficients from the last call
+    /// (`ou_step`), reused where their inputs are the same bits.
+    ou: OuCache,
+}
+
+/// What `ou_step` and `ou_step_coupled` computed last, with the bits of
+/// their inputs, so a call with the same inputs reuses them: the same
+/// expressions on the same bits, hence the same results. The factors of the
+/// modes whose rate is constant (`v_x`, `v_y`, `k̂`, `f̂`) depend on the
+/// step `h` only; the basis, the `ê` mode's factors and the coupled step's
+/// eigendecomposition on the axis `k` (and `h`), which the two half steps
+/// between two RK4 steps share (the `O` step does not move `k`).
+#[derive(Debug, Clone, Default)]
+struct OuCache {
+    /// `h.to_bits()` of `consts`.
+    h: Option<u64>,
+    /// `(e^{−λh}, sqrt(kT (1 − e^{−2λh})/M))` of the modes `v_x` (and
+    /// `v_y`), `k̂` and `f̂`.
+    consts: [(f64, f64); 3],
+    /// The uncoupled step's `(k, h)` bits, basis `(k̂, ê, f̂)` and `ê`
+    /// mode's factors.
+    axis: Option<([u64; 4], [V3; 3], (f64, f64))>,
+    /// The coupled step's basis, `sqrt(M_i)`, eigenvectors and per-mode
+    /// `(e^{−λ_j h}, sqrt(kT (1 − e^{−2λ_j h})))`.
+    coupled: Option<Box<Coupled>>,
+}
+
+/// The contact-damped step's factors at one axis and step (see
+/// `Vector::ou_step_coupled`).
+#[derive(Debug, Clone)]
+struct Coupled {
+    /// `(k, h)` bits these are for.
+    key: [u64; 4],
+    dirs: [V3; 3],
+    sq: [f64; 5],
+    vecs: nalgebra::Matrix5<f64>,
+    factors: [(f64, f64); 5],
 }
 
 /// The heat bath of a Langevin run in scaled units (m = R = 1, the model's
@@ -231,6 +268,7 @@ impl Vector {
                     c: th.damping_contact * scales.time / scales.mass,
                 }
             }),
+            ou: OuCache::default(),
         }
     }
 
@@ -253,36 +291,50 @@ impl Vector {
     /// γ_r A + γ_t a² sin²θ, γ_r A)`; each mode relaxes at `λ = Γ_i/M_i`
     /// with the variance `kT (1 − e^{−2λh})/M_i` added. The change of the
     /// kinetic energy is added to the friction work `W_f` (the bath's work).
-    fn ou_step(&self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {
+    fn ou_step(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {
         let Some(b) = self.thermal else { return };
         if b.c > 0.0 {
             return self.ou_step_coupled(y, h, xi, b);
         }
         let e0 = self.kinetic(y);
-        // One mode: relax `x` (velocity along a mode of mass `mass`) at `rate`.
-        let mode = |x: f64, rate: f64, mass: f64, z: f64| {
+        // One mode: `(e^{−λh}, sqrt(var))` of a mode of mass `mass` relaxing
+        // at `rate`, and the update of its velocity `x`.
+        let factors = |rate: f64, mass: f64| {
             let decay = (-rate * h).exp();
             let var = -(b.kt / mass) * (-2.0 * rate * h).exp_m1();
-            decay * x + var.sqrt() * z
+            (decay, var.sqrt())
         };
-        for j in 0..2 {
-            y[VEL + j] = mode(y[VEL + j], b.gt, 1.0, xi[j]);
+        let mode = |x: f64, (decay, amp): (f64, f64), z: f64| decay * x + amp * z;
+        let hb = h.to_bits();
+        if self.ou.h != Some(hb) {
+            self.ou.consts = [
+                factors(b.gt, 1.0),
+                factors(b.gr, self.ic),
+                factors(b.gr, self.ia),
+            ];
+            self.ou.h = Some(hb);
         }
-        let ([kn, eh, fh], s2) = Self::modes_basis(y);
-        let beta = self.a * self.a * s2;
-        let modes = [
-            (kn, b.gr, self.ic),
-            (
-                eh,
-                (b.gr * self.ia + b.gt * beta) / (self.ia + beta),
-                self.ia + beta,
-            ),
-            (fh, b.gr, self.ia),
-        ];
+        let [ft, fk, ff] = self.ou.consts;
+        for j in 0..2 {
+            y[VEL + j] = mode(y[VEL + j], ft, xi[j]);
+        }
+        let key = [y[K].to_bits(), y[K + 1].to_bits(), y[K + 2].to_bits(), hb];
+        let ([kn, eh, fh], fe) = match self.ou.axis {
+            Some((k, basis, fe)) if k == key => (basis, fe),
+            _ => {
+                let (basis, s2) = Self::modes_basis(y);
+                let beta = self.a * self.a * s2;
+                let rate = (b.gr * self.ia + b.gt * beta) / (self.ia + beta);
+                let fe = factors(rate, self.ia + beta);
+                self.ou.axis = Some((key, basis, fe));
+                (basis, fe)
+            }
+        };
+        let modes = [(kn, fk), (eh, fe), (fh, ff)];
         let mut w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
-        for (j, (dir, rate, mass)) in modes.into_iter().enumerate() {
+        for (j, (dir, f)) in modes.into_iter().enumerate() {
             let x = dot(w, dir);
-            let dx = mode(x, rate, mass, xi[2 + j]) - x;
+            let dx = mode(x, f, xi[2 + j]) - x;
             w = add(w, scale(dx, dir));
         }
         y[OMEGA..OMEGA + 3].copy_from_slice(&w);
@@ -391,9 +443,53 @@ impl Vector {
     /// `dz = −S z dt + sqrt(2 kT) S^{1/2} dW`, `S = M^{−1/2} Γ M^{−1/2}`:
     /// in the eigenbasis of `S` (`S = V Λ Vᵀ`) each component relaxes at
     /// `λ_j` with the variance `kT (1 − e^{−2 λ_j h})` added.
-    fn ou_step_coupled(&self, y: &mut [f64; DIM], h: f64, xi: &[f64], b: Bath) {
-        use nalgebra::{Matrix5, SymmetricEigen, Vector5};
+    fn ou_step_coupled(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64], b: Bath) {
+        use nalgebra::Vector5;
         let e0 = self.kinetic(y);
+        let key = [
+            y[K].to_bits(),
+            y[K + 1].to_bits(),
+            y[K + 2].to_bits(),
+            h.to_bits(),
+        ];
+        if self.ou.coupled.as_ref().is_none_or(|c| c.key != key) {
+            self.ou.coupled = Some(Box::new(self.coupled_factors(y, key, h, b)));
+        }
+        let Coupled {
+            key: _,
+            dirs,
+            sq,
+            vecs,
+            factors,
+        } = self.ou.coupled.as_deref().expect("just set");
+        let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
+        let p = [
+            y[VEL],
+            y[VEL + 1],
+            dot(w, dirs[0]),
+            dot(w, dirs[1]),
+            dot(w, dirs[2]),
+        ];
+        let z = Vector5::from_fn(|i, _| sq[i] * p[i]);
+        let mut q = vecs.transpose() * z;
+        for j in 0..5 {
+            let (decay, amp) = factors[j];
+            q[j] = decay * q[j] + amp * xi[j];
+        }
+        let z = vecs * q;
+        y[VEL] = z[0] / sq[0];
+        y[VEL + 1] = z[1] / sq[1];
+        let mut wn = w;
+        for j in 0..3 {
+            wn = add(wn, scale(z[2 + j] / sq[2 + j] - p[2 + j], dirs[j]));
+        }
+        y[OMEGA..OMEGA + 3].copy_from_slice(&wn);
+        y[WF] += self.kinetic(y) - e0;
+    }
+
+    /// The factors of `ou_step_coupled` at the axis of `y` and step `h`.
+    fn coupled_factors(&self, y: &[f64; DIM], key: [u64; 4], h: f64, b: Bath) -> Coupled {
+        use nalgebra::{Matrix5, SymmetricEigen};
         let ([kn, eh, fh], s2) = Self::modes_basis(y);
         let beta = self.a * self.a * s2;
         let m = [1.0, 1.0, self.ic, self.ia + beta, self.ia];
@@ -419,26 +515,19 @@ impl Vector {
             gij / (sq[i] * sq[j])
         });
         let eig = SymmetricEigen::new(smat);
-        let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
-        let dirs = [kn, eh, fh];
-        let p = [y[VEL], y[VEL + 1], dot(w, kn), dot(w, eh), dot(w, fh)];
-        let z = Vector5::from_fn(|i, _| sq[i] * p[i]);
-        let mut q = eig.eigenvectors.transpose() * z;
-        for j in 0..5 {
+        let factors = std::array::from_fn(|j| {
             let lam = eig.eigenvalues[j].max(0.0);
             let decay = (-lam * h).exp();
             let var = -b.kt * (-2.0 * lam * h).exp_m1();
-            q[j] = decay * q[j] + var.sqrt() * xi[j];
+            (decay, var.sqrt())
+        });
+        Coupled {
+            key,
+            dirs: [kn, eh, fh],
+            sq,
+            vecs: eig.eigenvectors,
+            factors,
         }
-        let z = eig.eigenvectors * q;
-        y[VEL] = z[0] / sq[0];
-        y[VEL + 1] = z[1] / sq[1];
-        let mut wn = w;
-        for j in 0..3 {
-            wn = add(wn, scale(z[2 + j] / sq[2 + j] - p[2 + j], dirs[j]));
-        }
-        y[OMEGA..OMEGA + 3].copy_from_slice(&wn);
-        y[WF] += self.kinetic(y) - e0;
     }
 
     /// Latch the applied force in effect at scaled time `t`.
