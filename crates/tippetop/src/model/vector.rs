@@ -148,37 +148,61 @@ pub struct Vector {
     ou: OuCache,
 }
 
-/// What `ou_step` and `ou_step_coupled` computed last, with the bits of
-/// their inputs, so a call with the same inputs reuses them: the same
-/// expressions on the same bits, hence the same results. The factors of the
-/// modes whose rate is constant (`v_x`, `v_y`, `k̂`, `f̂`) depend on the
-/// step `h` only; the basis, the `ê` mode's factors and the coupled step's
-/// eigendecomposition on the axis `k` (and `h`), which the two half steps
-/// between two RK4 steps share (the `O` step does not move `k`).
+/// What `ou_step` and `ou_step_coupled` computed, with the bits of their
+/// inputs, so a call with the same inputs reuses it: the same expressions on
+/// the same bits, hence the same results.
+///
+/// - The factors of the modes whose rate is constant (`v_x`, `v_y`, `k̂`,
+///   `f̂`) depend on the half step `h` only. The engine's steps are
+///   differences of grid times `(j + 1) h₀ − j h₀`, which take a few
+///   distinct values an ulp apart, so the last [`OU_H_SLOTS`] are kept.
+/// - The basis, the `ê` mode's rate and mass and the coupled step's
+///   eigendecomposition depend on the axis `k` only: the two half steps
+///   between two RK4 steps (the second of step n, the first of step n + 1)
+///   share it (`O` does not move `k`); their factors depend on `h` too and
+///   are redone when `h` differs.
 #[derive(Debug, Clone, Default)]
 struct OuCache {
-    /// `h.to_bits()` of `consts`.
-    h: Option<u64>,
-    /// `(e^{−λh}, sqrt(kT (1 − e^{−2λh})/M))` of the modes `v_x` (and
-    /// `v_y`), `k̂` and `f̂`.
-    consts: [(f64, f64); 3],
-    /// The uncoupled step's `(k, h)` bits, basis `(k̂, ê, f̂)` and `ê`
-    /// mode's factors.
-    axis: Option<([u64; 4], [V3; 3], (f64, f64))>,
-    /// The coupled step's basis, `sqrt(M_i)`, eigenvectors and per-mode
-    /// `(e^{−λ_j h}, sqrt(kT (1 − e^{−2λ_j h})))`.
+    /// `(h bits, [(e^{−λh}, sqrt(kT (1 − e^{−2λh})/M)) of v_x (and v_y), k̂,
+    /// f̂])`, most recent in slot `next − 1`.
+    consts: [Option<(u64, [(f64, f64); 3])>; OU_H_SLOTS],
+    /// The slot the next new `h` goes into (round robin).
+    next: usize,
+    /// The uncoupled step's data at one axis.
+    axis: Option<AxisModes>,
+    /// The coupled step's data at one axis.
     coupled: Option<Box<Coupled>>,
 }
 
-/// The contact-damped step's factors at one axis and step (see
-/// `Vector::ou_step_coupled`).
+/// Number of half steps `h` whose constant-rate factors [`OuCache`] keeps.
+const OU_H_SLOTS: usize = 4;
+
+/// The uncoupled step at one axis: the basis `(k̂, ê, f̂)`, the `ê` mode's
+/// rate and mass, and its factors at one `h`.
+#[derive(Debug, Clone, Copy)]
+struct AxisModes {
+    /// `k` bits.
+    key: [u64; 3],
+    basis: [V3; 3],
+    rate: f64,
+    mass: f64,
+    /// `(h bits, (e^{−λh}, sqrt(var)))`.
+    factors: (u64, (f64, f64)),
+}
+
+/// The contact-damped step at one axis (see `Vector::ou_step_coupled`):
+/// the basis, `sqrt(M_i)`, the eigenvectors and rates `λ_j`, and the
+/// per-mode `(e^{−λ_j h}, sqrt(kT (1 − e^{−2λ_j h})))` at one `h`.
 #[derive(Debug, Clone)]
 struct Coupled {
-    /// `(k, h)` bits these are for.
-    key: [u64; 4],
+    /// `k` bits.
+    key: [u64; 3],
     dirs: [V3; 3],
     sq: [f64; 5],
     vecs: nalgebra::Matrix5<f64>,
+    lams: [f64; 5],
+    /// `h` bits of `factors`.
+    h: u64,
     factors: [(f64, f64); 5],
 }
 
@@ -306,31 +330,52 @@ impl Vector {
         };
         let mode = |x: f64, (decay, amp): (f64, f64), z: f64| decay * x + amp * z;
         let hb = h.to_bits();
-        if self.ou.h != Some(hb) {
-            self.ou.consts = [
-                factors(b.gt, 1.0),
-                factors(b.gr, self.ic),
-                factors(b.gr, self.ia),
-            ];
-            self.ou.h = Some(hb);
-        }
-        let [ft, fk, ff] = self.ou.consts;
+        let c = &mut self.ou;
+        let cached = c.consts.iter().flatten().find(|(k, _)| *k == hb);
+        let [ft, fk, ff] = match cached {
+            Some((_, f)) => *f,
+            None => {
+                let f = [
+                    factors(b.gt, 1.0),
+                    factors(b.gr, self.ic),
+                    factors(b.gr, self.ia),
+                ];
+                c.consts[c.next] = Some((hb, f));
+                c.next = (c.next + 1) % OU_H_SLOTS;
+                f
+            }
+        };
         for j in 0..2 {
             y[VEL + j] = mode(y[VEL + j], ft, xi[j]);
         }
-        let key = [y[K].to_bits(), y[K + 1].to_bits(), y[K + 2].to_bits(), hb];
-        let ([kn, eh, fh], fe) = match self.ou.axis {
-            Some((k, basis, fe)) if k == key => (basis, fe),
+        let key = [y[K].to_bits(), y[K + 1].to_bits(), y[K + 2].to_bits()];
+        let ax = match c.axis {
+            Some(ax) if ax.key == key => ax,
             _ => {
                 let (basis, s2) = Self::modes_basis(y);
                 let beta = self.a * self.a * s2;
                 let rate = (b.gr * self.ia + b.gt * beta) / (self.ia + beta);
-                let fe = factors(rate, self.ia + beta);
-                self.ou.axis = Some((key, basis, fe));
-                (basis, fe)
+                let mass = self.ia + beta;
+                AxisModes {
+                    key,
+                    basis,
+                    rate,
+                    mass,
+                    factors: (hb, factors(rate, mass)),
+                }
             }
         };
-        let modes = [(kn, fk), (eh, fe), (fh, ff)];
+        let ax = if ax.factors.0 == hb {
+            ax
+        } else {
+            AxisModes {
+                factors: (hb, factors(ax.rate, ax.mass)),
+                ..ax
+            }
+        };
+        c.axis = Some(ax);
+        let [kn, eh, fh] = ax.basis;
+        let modes = [(kn, fk), (eh, ax.factors.1), (fh, ff)];
         let mut w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
         for (j, (dir, f)) in modes.into_iter().enumerate() {
             let x = dot(w, dir);
@@ -446,21 +491,23 @@ impl Vector {
     fn ou_step_coupled(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64], b: Bath) {
         use nalgebra::Vector5;
         let e0 = self.kinetic(y);
-        let key = [
-            y[K].to_bits(),
-            y[K + 1].to_bits(),
-            y[K + 2].to_bits(),
-            h.to_bits(),
-        ];
-        if self.ou.coupled.as_ref().is_none_or(|c| c.key != key) {
-            self.ou.coupled = Some(Box::new(self.coupled_factors(y, key, h, b)));
+        let key = [y[K].to_bits(), y[K + 1].to_bits(), y[K + 2].to_bits()];
+        let hb = h.to_bits();
+        match &mut self.ou.coupled {
+            Some(c) if c.key == key => {
+                if c.h != hb {
+                    c.factors = Self::coupled_factors(&c.lams, h, b);
+                    c.h = hb;
+                }
+            }
+            _ => self.ou.coupled = Some(Box::new(self.coupled_modes(y, key, h, b))),
         }
         let Coupled {
-            key: _,
             dirs,
             sq,
             vecs,
             factors,
+            ..
         } = self.ou.coupled.as_deref().expect("just set");
         let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
         let p = [
@@ -487,8 +534,9 @@ impl Vector {
         y[WF] += self.kinetic(y) - e0;
     }
 
-    /// The factors of `ou_step_coupled` at the axis of `y` and step `h`.
-    fn coupled_factors(&self, y: &[f64; DIM], key: [u64; 4], h: f64, b: Bath) -> Coupled {
+    /// The modes of `ou_step_coupled` at the axis of `y` (bits `key`), with
+    /// their factors at step `h`.
+    fn coupled_modes(&self, y: &[f64; DIM], key: [u64; 3], h: f64, b: Bath) -> Coupled {
         use nalgebra::{Matrix5, SymmetricEigen};
         let ([kn, eh, fh], s2) = Self::modes_basis(y);
         let beta = self.a * self.a * s2;
@@ -515,19 +563,25 @@ impl Vector {
             gij / (sq[i] * sq[j])
         });
         let eig = SymmetricEigen::new(smat);
-        let factors = std::array::from_fn(|j| {
-            let lam = eig.eigenvalues[j].max(0.0);
-            let decay = (-lam * h).exp();
-            let var = -b.kt * (-2.0 * lam * h).exp_m1();
-            (decay, var.sqrt())
-        });
+        let lams = std::array::from_fn(|j| eig.eigenvalues[j].max(0.0));
         Coupled {
             key,
             dirs: [kn, eh, fh],
             sq,
             vecs: eig.eigenvectors,
-            factors,
+            lams,
+            h: h.to_bits(),
+            factors: Self::coupled_factors(&lams, h, b),
         }
+    }
+
+    /// `(e^{−λ_j h}, sqrt(kT (1 − e^{−2λ_j h})))` of the coupled modes.
+    fn coupled_factors(lams: &[f64; 5], h: f64, b: Bath) -> [(f64, f64); 5] {
+        lams.map(|lam| {
+            let decay = (-lam * h).exp();
+            let var = -b.kt * (-2.0 * lam * h).exp_m1();
+            (decay, var.sqrt())
+        })
     }
 
     /// Latch the applied force in effect at scaled time `t`.
