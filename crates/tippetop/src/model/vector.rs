@@ -172,6 +172,10 @@ struct OuCache {
     axis: Option<AxisModes>,
     /// The coupled step's data at one axis.
     coupled: Option<Box<Coupled>>,
+    /// The kinetic energy at the end of the last step and the bits of what
+    /// it reads (`k`, `w`, `v_x`, `v_y`): the next call's starting energy
+    /// when nothing moved in between (the first half step after the second).
+    kinetic: Option<([u64; 8], f64)>,
 }
 
 /// Number of half steps `h` whose constant-rate factors [`OuCache`] keeps.
@@ -296,6 +300,29 @@ impl Vector {
         }
     }
 
+    /// [`Self::kinetic`] from the cache of the last `ou_step` if `y`'s
+    /// velocities and axis are the same bits.
+    fn kinetic_cached(&self, y: &[f64; DIM]) -> f64 {
+        match self.ou.kinetic {
+            Some((key, e)) if key == Self::kinetic_key(y) => e,
+            _ => self.kinetic(y),
+        }
+    }
+
+    /// The bits of what [`Self::kinetic`] reads (`k`, `w`, `v_x`, `v_y`:
+    /// `y[0..8]`).
+    fn kinetic_key(y: &[f64; DIM]) -> [u64; 8] {
+        const _: () = assert!(K == 0 && OMEGA == 3 && VEL == 6);
+        std::array::from_fn(|i| y[K + i].to_bits())
+    }
+
+    /// The kinetic energy of `y`, kept for [`Self::kinetic_cached`].
+    fn kinetic_keep(&mut self, y: &[f64; DIM]) -> f64 {
+        let e = self.kinetic(y);
+        self.ou.kinetic = Some((Self::kinetic_key(y), e));
+        e
+    }
+
     /// Kinetic energy (scaled) of the generalised velocities of a state:
     /// `½ (|v_h|² + v_Z²) + ½ w·I w` with `v_Z = −a (w × k)_Z`.
     fn kinetic(&self, y: &[f64; DIM]) -> f64 {
@@ -320,7 +347,7 @@ impl Vector {
         if b.c > 0.0 {
             return self.ou_step_coupled(y, h, xi, b);
         }
-        let e0 = self.kinetic(y);
+        let e0 = self.kinetic_cached(y);
         // One mode: `(e^{−λh}, sqrt(var))` of a mode of mass `mass` relaxing
         // at `rate`, and the update of its velocity `x`.
         let factors = |rate: f64, mass: f64| {
@@ -383,7 +410,7 @@ impl Vector {
             w = add(w, scale(dx, dir));
         }
         y[OMEGA..OMEGA + 3].copy_from_slice(&w);
-        y[WF] += self.kinetic(y) - e0;
+        y[WF] += self.kinetic_keep(y) - e0;
     }
 
     /// One Euler–Maruyama step over `h` (scaled) of the overdamped
@@ -490,7 +517,7 @@ impl Vector {
     /// `λ_j` with the variance `kT (1 − e^{−2 λ_j h})` added.
     fn ou_step_coupled(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64], b: Bath) {
         use nalgebra::Vector5;
-        let e0 = self.kinetic(y);
+        let e0 = self.kinetic_cached(y);
         let key = [y[K].to_bits(), y[K + 1].to_bits(), y[K + 2].to_bits()];
         let hb = h.to_bits();
         match &mut self.ou.coupled {
@@ -531,7 +558,7 @@ impl Vector {
             wn = add(wn, scale(z[2 + j] / sq[2 + j] - p[2 + j], dirs[j]));
         }
         y[OMEGA..OMEGA + 3].copy_from_slice(&wn);
-        y[WF] += self.kinetic(y) - e0;
+        y[WF] += self.kinetic_keep(y) - e0;
     }
 
     /// The modes of `ou_step_coupled` at the axis of `y` (bits `key`), with
