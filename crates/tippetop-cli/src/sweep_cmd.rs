@@ -144,7 +144,9 @@ pub struct SweepArgs {
 
 /// Long help of `tippetop merge` (set on the subcommand in `cli.rs`).
 pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of one sweep (tippetop sweep \
-                  --shard K/N) into --out: sweep.csv, byte for byte the file a one-shot run \
+                  --shard K/N) or of one ensemble (tippetop ensemble --shard K/N; its \
+                  rows concatenated, its histograms added, the statistics recomputed: the \
+                  files of a one-shot run) into --out: sweep.csv, byte for byte the file a one-shot run \
                   of the sweep writes, and shard.json. The shards may come in any order and \
                   from different layouts (e.g. 1/2 with 3/4 and 4/4); merge checks that \
                   they belong to the same sweep and cover every case exactly once. On any \
@@ -401,6 +403,13 @@ pub const MAX_PLOT_CASES: usize = 100_000;
 /// overlap): one line on stderr and exit code 2 (returned as `Ok`),
 /// nothing written; `Err` for I/O failures while writing.
 pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
+    if args
+        .dirs
+        .first()
+        .is_some_and(|d| crate::ensemble_cmd::is_ensemble_dir(d))
+    {
+        return crate::ensemble_cmd::merge(args, quiet);
+    }
     let mut shards: Vec<(ShardInfo, String)> = Vec::new();
     for dir in &args.dirs {
         // Not while a sweep writes into it (e.g. a task still running):

@@ -1060,65 +1060,93 @@ pub struct EnsembleStats {
 
 impl EnsembleStats {
     /// From an `ensemble.csv`, in its row order (so the same file gives
-    /// the same bits). Holds 16 bytes per run (the passage times, for the
-    /// Kaplan–Meier estimate). Error: a line that is not an ensemble row.
+    /// the same bits). Error: a line that is not an ensemble row.
     pub fn from_csv(text: &str) -> Result<EnsembleStats, Error> {
-        let bad = |what: String| {
-            Error::invalid(
-                "ensemble.csv",
-                what,
-                "a file written by tippetop ensemble or merge".into(),
-            )
-        };
         let mut lines = text.lines();
         if lines.next().map(|h| format!("{h}\n")) != Some(csv_header()) {
-            return Err(bad("unexpected header".into()));
+            return Err(bad_csv("unexpected header".into()));
         }
-        let (mut runs, mut ok) = (0u64, 0u64);
-        let mut acc = [MeanAcc::default(); 4];
-        let mut passage = MeanAcc::default();
-        let mut entries = Vec::new();
+        let mut acc = StatsAcc::default();
         for (j, line) in lines.enumerate() {
-            let r = parse_row(line).ok_or_else(|| bad(format!("line {} is not a row", j + 2)))?;
-            runs += 1;
-            let get = |n: &str| r.get(n).unwrap_or(f64::NAN);
-            if r.status == "ok" {
-                ok += 1;
-                for (a, n) in acc.iter_mut().zip([
-                    "theta_final",
-                    "omega_final",
-                    "Omega_final",
-                    "energy_final",
-                ]) {
-                    a.push(get(n));
-                }
-            }
-            let (fp, reached) = (get("first_passage_time"), get("t_reached"));
-            if !fp.is_nan() {
-                entries.push((fp, true));
-                passage.push(fp);
-            } else if !reached.is_nan() {
-                entries.push((reached, false));
+            acc.push_line(j + 2, line)?;
+        }
+        Ok(acc.finish())
+    }
+}
+
+fn bad_csv(what: String) -> Error {
+    Error::invalid(
+        "ensemble.csv",
+        what,
+        "a file written by tippetop ensemble or merge".into(),
+    )
+}
+
+/// [`EnsembleStats`] accumulated row by row (in run order), for an
+/// `ensemble.csv` read line by line. Holds 16 bytes per run (the passage
+/// or censoring times, for the Kaplan–Meier estimate), nothing else per run.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StatsAcc {
+    runs: u64,
+    ok: u64,
+    acc: [MeanAcc; 4],
+    passage: MeanAcc,
+    entries: Vec<(f64, bool)>,
+}
+
+impl StatsAcc {
+    /// Add data line `line` (number `lineno` in the file, for the error)
+    /// of `ensemble.csv`. Error: not an ensemble row.
+    pub fn push_line(&mut self, lineno: usize, line: &str) -> Result<(), Error> {
+        let r = parse_row(line).ok_or_else(|| bad_csv(format!("line {lineno} is not a row")))?;
+        self.push(&r);
+        Ok(())
+    }
+
+    /// Add a parsed row.
+    pub fn push(&mut self, r: &ParsedRow) {
+        self.runs += 1;
+        let get = |n: &str| r.get(n).unwrap_or(f64::NAN);
+        if r.status == "ok" {
+            self.ok += 1;
+            for (a, n) in self.acc.iter_mut().zip([
+                "theta_final",
+                "omega_final",
+                "Omega_final",
+                "energy_final",
+            ]) {
+                a.push(get(n));
             }
         }
-        let observed = passage.n;
-        let censored = entries.len() as u64 - observed;
-        Ok(EnsembleStats {
-            runs,
-            ok,
-            failed: runs - ok,
-            theta_final: acc[0].result(),
-            omega_final: acc[1].result(),
-            precession_final: acc[2].result(),
-            energy_final: acc[3].result(),
+        let (fp, reached) = (get("first_passage_time"), get("t_reached"));
+        if !fp.is_nan() {
+            self.entries.push((fp, true));
+            self.passage.push(fp);
+        } else if !reached.is_nan() {
+            self.entries.push((reached, false));
+        }
+    }
+
+    /// The statistics of the rows added.
+    pub fn finish(&self) -> EnsembleStats {
+        let observed = self.passage.n;
+        let n = self.entries.len() as u64;
+        let censored = n - observed;
+        EnsembleStats {
+            runs: self.runs,
+            ok: self.ok,
+            failed: self.runs - self.ok,
+            theta_final: self.acc[0].result(),
+            omega_final: self.acc[1].result(),
+            precession_final: self.acc[2].result(),
+            energy_final: self.acc[3].result(),
             first_passage: FirstPassage {
                 observed,
                 censored,
-                censored_fraction: (!entries.is_empty())
-                    .then(|| censored as f64 / entries.len() as f64),
-                kaplan_meier_median: kaplan_meier_median(&entries),
-                mean_observed: passage.result(),
+                censored_fraction: (n > 0).then(|| censored as f64 / n as f64),
+                kaplan_meier_median: kaplan_meier_median(&self.entries),
+                mean_observed: self.passage.result(),
             },
-        })
+        }
     }
 }
