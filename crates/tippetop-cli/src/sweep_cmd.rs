@@ -144,9 +144,7 @@ pub struct SweepArgs {
 
 /// Long help of `tippetop merge` (set on the subcommand in `cli.rs`).
 pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of one sweep (tippetop sweep \
-                  --shard K/N) or of one ensemble (tippetop ensemble --shard K/N; its \
-                  rows concatenated, its histograms added, the statistics recomputed: the \
-                  files of a one-shot run) into --out: sweep.csv, byte for byte the file a one-shot run \
+                  --shard K/N) into --out: sweep.csv, byte for byte the file a one-shot run \
                   of the sweep writes, and shard.json. The shards may come in any order and \
                   from different layouts (e.g. 1/2 with 3/4 and 4/4); merge checks that \
                   they belong to the same sweep and cover every case exactly once. On any \
@@ -155,7 +153,11 @@ pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of
                   unit as for tippetop sweep (another command writing into it exits with \
                   code 1). A shard directory that a sweep is still writing into (its lock \
                   is held) is not read: merge exits with code 1 (\"DIR is in use by \
-                  another tippetop process (pid N); wait until it ends\").";
+                  another tippetop process (pid N); wait until it ends\"). The shards of an \
+                  ensemble (tippetop ensemble --shard K/N; told apart by their shard.json) \
+                  merge the same way: ensemble.csv rows joined in run order, histograms.csv \
+                  counts added, quantiles.csv, summary.json and the fan chart recomputed: \
+                  the bytes of a one-shot run.";
 
 /// `tippetop merge`.
 #[derive(Debug, Args)]

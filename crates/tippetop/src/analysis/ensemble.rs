@@ -125,7 +125,7 @@ pub fn check_scenario(sc: &Scenario) -> Result<(), Error> {
             "\"langevin\" with thermal.temperature > 0 for an ensemble".into(),
         ));
     }
-    if !(sc.thermal.temperature > 0.0) {
+    if !sc.thermal.is_hot() {
         return Err(Error::invalid(
             "thermal.temperature",
             format!(
