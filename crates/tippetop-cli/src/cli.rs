@@ -67,6 +67,9 @@ pub enum Command {
     /// The regime a scenario is in: weight, adhesion, friction and thermal ratios.
     #[command(long_about = crate::regime_cmd::REGIME_LONG_ABOUT)]
     Regime(crate::regime_cmd::RegimeArgs),
+    /// Retention time at a temperature, from ensembles' escape rates (Arrhenius).
+    #[command(long_about = crate::retention_cmd::RETENTION_LONG_ABOUT)]
+    Retention(crate::retention_cmd::RetentionArgs),
 }
 
 /// Long help of `tippetop run`: the files, every `trajectory.csv` column

@@ -33,8 +33,9 @@ thermal.run = r0 + K, r0 its own thermal.run, default 0) on all cores and write 
                   theta_max        largest theta over every step [rad]
                   theta_min, N_min smallest theta [rad] and normal force [N] over the output rows
                   negative_normal_fraction   fraction of the time with N < 0
-                  first_passage_time         first time theta > pi/2 [s]; empty if never
-                  censored         1: theta stayed below pi/2 up to t_reached; 0: it passed
+                  first_passage_time         first time theta > pi/2 [s] (or the
+                                   --first-passage criterion holds); empty if never
+                  censored         1: no passage up to t_reached; 0: it passed
                   t_reached        time the run reached [s] (t_end unless it failed)
   histograms.csv  per sample time t and quantity (theta, omega, Omega): the range lower,
                   upper, then integer counts: underflow, bin0..bin63 (64 equal bins),
@@ -45,8 +46,9 @@ thermal.run = r0 + K, r0 its own thermal.run, default 0) on all cores and write 
                   from the histograms (linear within a bin; empty outside the range)
   summary.json    runs, ok and failed runs; mean, standard deviation and 95 % confidence
                   interval (mean +- 1.96 s/sqrt(n), over the ok runs) of the final theta,
-                  omega, Omega and energy; first passages theta > pi/2: observed, censored,
-                  censored fraction, Kaplan-Meier median; the histogram ranges
+                  omega, Omega and energy; first passages (theta > pi/2 or --first-passage):
+                  observed, censored, censored fraction, Kaplan-Meier median, the escape
+                  rate (passages / time at risk, 95 % CI); temperature; the histogram ranges
   fan.png, fan.svg   theta(t): median and the 25-75 % and 5-95 % quantile bands
   shard.json      which runs the files hold, for tippetop merge
 
@@ -112,6 +114,16 @@ pub struct EnsembleArgs {
     /// start from the first run.
     #[arg(long)]
     pub resume: bool,
+
+    /// First-passage criterion over trajectory.csv columns (SI units):
+    /// `COLUMN>VALUE` or `COLUMN<VALUE`, several joined by ',' (any of
+    /// them), e.g. `theta<1.07,theta>2.07` (leaving a lying well). Each run
+    /// stops at its first output row where it holds (resolution: the
+    /// sample spacing); first_passage_time and censored refer to it, and
+    /// summary.json gains the escape rate (passages / time at risk, for
+    /// `tippetop retention`). Default: theta > pi/2, runs to t_end.
+    #[arg(long, value_name = "SPEC")]
+    pub first_passage: Option<String>,
 }
 
 /// The file the rows stream into while the ensemble runs.
@@ -165,8 +177,17 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
         Ok(t) => t,
         Err(e) => return Ok(input_error(e)),
     };
-    let ens = match Ensemble::new(args.preset.clone(), toml_text, args.sets.clone(), args.runs) {
+    let exit = match args
+        .first_passage
+        .as_deref()
+        .map(ensemble::Exit::parse)
+        .transpose()
+    {
         Ok(e) => e,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let ens = match Ensemble::new(args.preset.clone(), toml_text, args.sets.clone(), args.runs) {
+        Ok(e) => e.with_exit(exit),
         Err(e) => return Ok(input_error(e)),
     };
     let info = match ens.shard_info(shard) {
@@ -370,8 +391,14 @@ fn print_stats(stats: &EnsembleStats) {
     show("Omega_final", &stats.precession_final, "rad/s");
     show("energy_final", &stats.energy_final, "J");
     let fp = &stats.first_passage;
+    if let Some(r) = &fp.escape_rate {
+        println!(
+            "escape rate    {:.6e} 1/s (95 % CI {:.6e} .. {:.6e}; {} passages in {:.6e} s at risk)",
+            r.rate, r.ci95[0], r.ci95[1], r.passages, r.exposure
+        );
+    }
     println!(
-        "theta > pi/2   {} passed, {} censored; Kaplan-Meier median {}",
+        "first passage  {} passed, {} censored; Kaplan-Meier median {}",
         fp.observed,
         fp.censored,
         fp.kaplan_meier_median
@@ -401,6 +428,16 @@ fn write_results(
     if let serde_json::Value::Object(m) = &mut summary {
         m.insert("fingerprint".into(), info.fingerprint.clone().into());
         m.insert("first_run".into(), info.first_run.into());
+        m.insert(
+            "first_passage_criterion".into(),
+            info.exit
+                .clone()
+                .unwrap_or_else(|| "theta>pi/2 (the run's event; runs go to t_end)".into())
+                .into(),
+        );
+        if let Some(t) = info.temperature {
+            m.insert("temperature".into(), t.into());
+        }
         m.insert("seed".into(), info.seed.into());
         m.insert(
             "shard".into(),

@@ -12,6 +12,7 @@ pub mod plot;
 pub mod progress;
 pub mod regime_cmd;
 pub mod reproduce;
+pub mod retention_cmd;
 pub mod run;
 pub mod scenario_load;
 pub mod stability_cmd;

@@ -307,3 +307,160 @@ fn bad_input_is_one_line_and_writes_nothing() {
     assert!(!d.join("out").exists());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// `--first-passage`: each run stops at its first output row where the
+/// criterion holds. Replayed alone with `tippetop run`, the run's
+/// trajectory.csv reaches the criterion first at exactly that row's time,
+/// and its rows up to there are the ensemble run's (the same stream):
+/// `t_reached` equals the passage time, the `_final` values are that row.
+/// Bad specs are input errors naming `--first-passage`.
+#[test]
+fn first_passage_stops_each_run_at_its_exit() {
+    let d = scratch("exit");
+    // |spin| above 1e11 rad/s: thermal spin sqrt(kT/C) = 2.9e11, so most
+    // runs pass within the 10 ps, at different rows.
+    let spec = "omega>1e11,omega<-1e11";
+    ok(&ensemble(
+        &d,
+        "e",
+        &["--runs", "6", "--first-passage", spec],
+    ));
+    let csv = read(&d.join("e/ensemble.csv"));
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let mut passed = 0;
+    for (k, line) in csv.lines().skip(1).enumerate() {
+        let row: Vec<&str> = line.split(',').collect();
+        let out = d.join(format!("run{k}"));
+        ok(&bin()
+            .arg("run")
+            .arg(d.join("lang.toml"))
+            .args([
+                "--set",
+                &format!("thermal.run={k}"),
+                "--no-plot",
+                "--quiet",
+                "--out",
+            ])
+            .arg(&out)
+            .output()
+            .unwrap());
+        let traj = read(&out.join("trajectory.csv"));
+        let cols: Vec<&str> = traj.lines().next().unwrap().split(',').collect();
+        let iw = cols.iter().position(|c| *c == "omega").unwrap();
+        let first = traj.lines().skip(1).find(|l| {
+            let w = parse(l.split(',').nth(iw).unwrap());
+            !(-1e11..=1e11).contains(&w)
+        });
+        match first {
+            Some(l) => {
+                passed += 1;
+                let t = parse(l.split(',').next().unwrap());
+                assert_eq!(parse(row[at("first_passage_time")]), t, "run {k}");
+                assert_eq!(parse(row[at("t_reached")]), t, "run {k}");
+                assert_eq!(parse(row[at("censored")]), 0.0);
+                assert_eq!(
+                    parse(row[at("omega_final")]),
+                    parse(l.split(',').nth(iw).unwrap())
+                );
+            }
+            None => {
+                assert!(parse(row[at("first_passage_time")]).is_nan());
+                assert_eq!(parse(row[at("censored")]), 1.0);
+                assert_eq!(parse(row[at("t_reached")]), 1e-11);
+            }
+        }
+    }
+    assert!(
+        passed >= 2,
+        "only {passed} runs passed: the test needs passages"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&read(&d.join("e/summary.json"))).unwrap();
+    assert_eq!(
+        summary["first_passage_criterion"],
+        "omega>100000000000.0,omega<-100000000000.0"
+    );
+    assert_eq!(summary["temperature"], 300.0);
+    for bad in ["omega", "bogus>1", "theta>x", "theta>inf"] {
+        let out = d.join("bad");
+        let o = bin()
+            .arg("ensemble")
+            .arg(d.join("lang.toml"))
+            .args(["--runs", "2", "--first-passage", bad, "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_input_error(&o, "error: --first-passage: ");
+        assert!(!out.exists());
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// `tippetop retention` on two ensembles: with two temperatures the fit is
+/// exact, `E = ln(k2/k1) / (1/(k_B T1) − 1/(k_B T2))`, and the rate at the
+/// target follows from either point; checked against that closed form from
+/// the two summary.json files. Bad input: one directory, a bad
+/// temperature.
+#[test]
+fn retention_extrapolates_two_ensembles() {
+    let d = scratch("retention");
+    let spec = "omega>1e11,omega<-1e11";
+    for t in ["300", "600"] {
+        ok(&ensemble(
+            &d,
+            &format!("e{t}"),
+            &[
+                "--runs",
+                "8",
+                "--first-passage",
+                spec,
+                "--set",
+                &format!("thermal.temperature={t}"),
+            ],
+        ));
+    }
+    let rate = |t: &str| {
+        let s: serde_json::Value =
+            serde_json::from_str(&read(&d.join(format!("e{t}/summary.json")))).unwrap();
+        s["first_passage"]["escape_rate"]["rate"]
+            .as_f64()
+            .expect("passages")
+    };
+    let (k1, k2) = (rate("300"), rate("600"));
+    let kb = 1.380649e-23;
+    let (b1, b2) = (1.0 / (kb * 300.0), 1.0 / (kb * 600.0));
+    let e = (k2 / k1).ln() / (b1 - b2);
+    let b = 1.0 / (kb * 450.0);
+    let want = k1 * (-e * (b - b1)).exp();
+    let o = bin()
+        .arg("retention")
+        .arg(d.join("e300"))
+        .arg(d.join("e600"))
+        .args(["--temperature", "450", "--quiet", "--out"])
+        .arg(d.join("r"))
+        .output()
+        .unwrap();
+    ok(&o);
+    let r: serde_json::Value = serde_json::from_str(&read(&d.join("r/retention.json"))).unwrap();
+    let got = r["target"]["rate"].as_f64().unwrap();
+    assert!((got / want - 1.0).abs() < 1e-12, "{got} vs {want}");
+    let eb = r["fit"]["barrier"].as_f64().unwrap();
+    assert!((eb - e).abs() <= 1e-12 * e.abs().max(1e-30), "{eb} vs {e}");
+    let o = bin()
+        .arg("retention")
+        .arg(d.join("e300"))
+        .args(["--temperature", "450"])
+        .output()
+        .unwrap();
+    assert_input_error(&o, "error: --rates: ");
+    let o = bin()
+        .arg("retention")
+        .arg(d.join("e300"))
+        .arg(d.join("e600"))
+        .args(["--temperature", "-1"])
+        .output()
+        .unwrap();
+    assert_input_error(&o, "error: --temperature: ");
+    let _ = std::fs::remove_dir_all(&d);
+}

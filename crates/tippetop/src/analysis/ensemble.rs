@@ -107,6 +107,76 @@ pub struct Ensemble {
     pub runs: usize,
     /// The loaded base scenario (its `thermal.run` is the first run's).
     pub scenario: Scenario,
+    /// The first-passage criterion (`--first-passage`): each run stops at
+    /// the first output row where it holds. `None`: the runs go to
+    /// `t_end`, and the passage is θ > π/2 (the run's event).
+    pub exit: Option<Exit>,
+}
+
+/// Valid form of `--first-passage`.
+pub const EXIT_RANGE: &str = "COLUMN>VALUE or COLUMN<VALUE over trajectory.csv columns (SI units), several joined by ',' (any of them), e.g. theta<1.07,theta>2.07";
+
+/// A first-passage criterion over the output rows: any of its terms
+/// `column > value` or `column < value` (trajectory.csv columns, SI).
+/// Checked at the output rows only: the passage time is the first row's
+/// time where it holds (resolution: the sample spacing).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Exit {
+    terms: Vec<(usize, bool, f64)>,
+}
+
+impl Exit {
+    /// Parse `theta>1.2`, `theta<1.07,theta>2.07` (error key
+    /// `--first-passage`).
+    pub fn parse(spec: &str) -> Result<Exit, Error> {
+        let bad = |what: String| Error::invalid("--first-passage", what, EXIT_RANGE.into());
+        let mut terms = Vec::new();
+        for term in spec.split(',') {
+            let term = term.trim();
+            let (col, above, val) = if let Some((c, v)) = term.split_once('>') {
+                (c, true, v)
+            } else if let Some((c, v)) = term.split_once('<') {
+                (c, false, v)
+            } else {
+                return Err(bad(format!("{term:?} has no > or <")));
+            };
+            let col = col.trim();
+            let Some(i) = COLUMNS.iter().position(|c| *c == col) else {
+                return Err(bad(format!("{col:?} is not a trajectory.csv column")));
+            };
+            let v: f64 = val
+                .trim()
+                .parse()
+                .map_err(|_| bad(format!("{:?} is not a number", val.trim())))?;
+            if !v.is_finite() {
+                return Err(bad(format!("{v} is not a finite threshold")));
+            }
+            terms.push((i, above, v));
+        }
+        Ok(Exit { terms })
+    }
+
+    /// Whether an output row (values in [`COLUMNS`] order) has passed.
+    pub fn hit(&self, values: &[f64; 26]) -> bool {
+        self.terms.iter().any(
+            |&(i, above, v)| {
+                if above { values[i] > v } else { values[i] < v }
+            },
+        )
+    }
+}
+
+impl std::fmt::Display for Exit {
+    /// The canonical spec (`theta>1.2,theta<0.5`, shortest round-trip
+    /// floats).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let parts: Vec<String> = self
+            .terms
+            .iter()
+            .map(|&(i, above, v)| format!("{}{}{v:?}", COLUMNS[i], if above { '>' } else { '<' }))
+            .collect();
+        f.write_str(&parts.join(","))
+    }
 }
 
 /// Check that `sc` is a stochastic run: `solver.method = "langevin"` or
@@ -193,6 +263,33 @@ impl RunRow {
     }
 }
 
+/// Run `sc` sample by sample until the first output row where `exit`
+/// holds (or `t_end`, or a failure): the trajectory up to there.
+fn run_to_exit(sc: &Scenario, exit: &Exit) -> Result<crate::Trajectory, Error> {
+    let mut sim = crate::Simulation::new(sc)?;
+    let (n, t_end) = (sc.solver.samples, sc.solver.t_end);
+    let mut seen = 0;
+    'run: for i in 0..n {
+        let t = if i + 1 == n {
+            t_end
+        } else {
+            t_end * i as f64 / (n - 1) as f64
+        };
+        sim.integrate_to(t)?;
+        let rows = sim.samples();
+        for r in &rows[seen..] {
+            if exit.hit(&r.values()) {
+                break 'run;
+            }
+        }
+        seen = rows.len();
+        if sim.is_finished() {
+            break;
+        }
+    }
+    Ok(sim.into_trajectory())
+}
+
 /// What [`Ensemble::complete_prefix`] keeps of an interrupted
 /// `ensemble.csv`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -227,6 +324,12 @@ pub struct EnsembleShard {
     pub first_run: u64,
     /// `thermal.seed`.
     pub seed: u64,
+    /// The first-passage criterion (`--first-passage`), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exit: Option<String>,
+    /// `thermal.temperature` \[K\] (for `tippetop retention`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub temperature: Option<f64>,
 }
 
 impl Ensemble {
@@ -255,7 +358,15 @@ impl Ensemble {
             sets,
             runs,
             scenario,
+            exit: None,
         })
+    }
+
+    /// The same ensemble with a first-passage criterion: each run stops
+    /// at its first output row where `exit` holds ([`Ensemble::exit`]).
+    pub fn with_exit(mut self, exit: Option<Exit>) -> Ensemble {
+        self.exit = exit;
+        self
     }
 
     /// `thermal.run` of the first run.
@@ -293,7 +404,10 @@ impl Ensemble {
             t_reached: None,
             samples: Vec::new(),
         };
-        let outcome = catch_unwind(AssertUnwindSafe(|| simulate(&sc)));
+        let outcome = catch_unwind(AssertUnwindSafe(|| match &self.exit {
+            None => simulate(&sc),
+            Some(exit) => run_to_exit(&sc, exit),
+        }));
         match outcome {
             Ok(Ok(traj)) => {
                 let s = &traj.summary;
@@ -305,7 +419,14 @@ impl Ensemble {
                 row.theta_min = min(|x| x.theta);
                 row.normal_min = min(|x| x.normal);
                 row.negative_normal_fraction = Some(s.negative_normal_fraction);
-                row.first_passage = s.first_time_theta_above_half_pi;
+                row.first_passage = match &self.exit {
+                    None => s.first_time_theta_above_half_pi,
+                    Some(exit) => traj
+                        .samples
+                        .iter()
+                        .find(|x| exit.hit(&x.values()))
+                        .map(|x| x.t),
+                };
                 row.t_reached = Some(s.t_end);
                 row.samples = traj
                     .samples
@@ -382,6 +503,8 @@ impl Ensemble {
             end_index: r.end,
             first_run: self.first_run(),
             seed: self.seed(),
+            exit: self.exit.as_ref().map(|e| e.to_string()),
+            temperature: Some(self.scenario.thermal.temperature),
         })
     }
 
@@ -403,6 +526,9 @@ impl Ensemble {
             field("set", s);
         }
         field("runs", &self.runs.to_string());
+        if let Some(e) = &self.exit {
+            field("exit", &e.to_string());
+        }
         format!("{:016x}", fnv1a(text.as_bytes()))
     }
 
@@ -1035,6 +1161,51 @@ pub struct FirstPassage {
     /// Mean passage time of the observed passages only \[s\] (biased low
     /// when runs are censored).
     pub mean_observed: MeanCi,
+    /// The escape rate if passages are a Poisson process (escape over a
+    /// barrier of many kT after the top has settled in its well, Kramers):
+    /// the maximum-likelihood estimate with right censoring,
+    /// `k = passages / exposure` (exposure: the sum of the passage times
+    /// and of the censoring times) \[1/s\]. `None` without a passage.
+    pub escape_rate: Option<EscapeRate>,
+}
+
+/// An escape rate with its 95 % confidence interval ([`escape_rate`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct EscapeRate {
+    /// Passages observed.
+    pub passages: u64,
+    /// Total time at risk \[s\].
+    pub exposure: f64,
+    /// `passages / exposure` \[1/s\].
+    pub rate: f64,
+    /// Standard error of `ln rate`: `1/sqrt(passages)`.
+    pub ln_rate_se: f64,
+    /// `rate · exp(∓1.96/sqrt(passages))` \[1/s\] (normal on the log scale).
+    pub ci95: [f64; 2],
+    /// The mean residence time `1/rate` \[s\].
+    pub mean_time: f64,
+}
+
+/// The maximum-likelihood escape rate of an exponential law from `entries`
+/// `(time, observed)` (as for [`kaplan_meier_median`]): `d / Σ time`, with
+/// `ln` rate's standard error `1/sqrt(d)` (Fisher information). `None` for
+/// `d = 0` or no exposure.
+pub fn escape_rate(entries: &[(f64, bool)]) -> Option<EscapeRate> {
+    let d = entries.iter().filter(|e| e.1 && !e.0.is_nan()).count() as u64;
+    let exposure: f64 = entries.iter().filter(|e| !e.0.is_nan()).map(|e| e.0).sum();
+    if d == 0 || exposure <= 0.0 {
+        return None;
+    }
+    let rate = d as f64 / exposure;
+    let se = 1.0 / (d as f64).sqrt();
+    Some(EscapeRate {
+        passages: d,
+        exposure,
+        rate,
+        ln_rate_se: se,
+        ci95: [rate * (-Z95 * se).exp(), rate * (Z95 * se).exp()],
+        mean_time: 1.0 / rate,
+    })
 }
 
 /// The ensemble's statistics (the core of `summary.json`).
@@ -1148,6 +1319,7 @@ impl StatsAcc {
                 censored_fraction: (n > 0).then(|| censored as f64 / n as f64),
                 kaplan_meier_median: kaplan_meier_median(&self.entries),
                 mean_observed: self.passage.result(),
+                escape_rate: escape_rate(&self.entries),
             },
         }
     }

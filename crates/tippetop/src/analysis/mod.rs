@@ -6,5 +6,6 @@ pub mod asymptotics;
 pub mod ensemble;
 pub mod friction;
 pub mod regime;
+pub mod retention;
 pub mod stability;
 pub mod sweep;
