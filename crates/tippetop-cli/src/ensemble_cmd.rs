@@ -393,7 +393,7 @@ fn print_stats(stats: &EnsembleStats) {
     let fp = &stats.first_passage;
     if let Some(r) = &fp.escape_rate {
         println!(
-            "escape rate    {:.6e} 1/s (95 % CI {:.6e} .. {:.6e}; {} passages in {:.6e} s at risk)",
+            "passage rate   {:.6e} 1/s (95 % CI {:.6e} .. {:.6e}; {} passages in {:.6e} s at risk; an escape rate if passages are Poisson)",
             r.rate, r.ci95[0], r.ci95[1], r.passages, r.exposure
         );
     }
