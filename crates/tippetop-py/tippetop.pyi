@@ -22,7 +22,7 @@ from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple,
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["Scenario", "Trajectory", "Simulation", "Snapshot", "run", "sweep", "COLUMNS", "__version__"]
+__all__ = ["Scenario", "Trajectory", "Simulation", "Snapshot", "run", "sweep", "ensemble", "COLUMNS", "__version__"]
 
 __version__: str
 """The package version (that of the Rust crates)."""
@@ -207,6 +207,32 @@ def sweep(
     does not stop the sweep). Bit for bit the CLI's sweep.csv, whatever
     ``threads``. Bad input raises ValueError naming the key; Ctrl-C
     (KeyboardInterrupt) stops the sweep."""
+
+def ensemble(
+    scenario: Scenario,
+    runs: int,
+    threads: Optional[int] = None,
+    first_passage: Optional[str] = None,
+) -> Dict[str, Any]:
+    """Run a Langevin (or Brownian) scenario ``runs`` times with independent
+    noise (the CLI's ``tippetop ensemble``) on ``threads`` threads, with the
+    GIL released. Run K is the scenario with ``thermal.run = r0 + K``
+    (``r0`` its own ``thermal.run``), so
+    ``run(scenario.set("thermal.run", r0 + K))`` replays it bit for bit.
+    ``first_passage`` is the CLI's ``--first-passage`` (e.g.
+    ``"theta<1.07,theta>2.07"``: each run stops at its first output row
+    where it holds).
+
+    Returns one numpy array per ensemble.csv column, in its order: ``run``,
+    ``seed``, ``<col>_final`` for every trajectory column (its SI unit),
+    ``theta_max``, ``theta_min`` [rad], ``N_min`` [N],
+    ``negative_normal_fraction``, ``first_passage_time`` [s], ``censored``
+    (1 or 0), ``t_reached`` [s] (float64, NaN where empty), ``status``
+    (str), and ``summary`` (dict): the statistics of summary.json (means
+    with 95 % intervals of the final theta, omega, Omega, energy; first
+    passages with the Kaplan-Meier median and the escape rate [1/s]). Bit
+    for bit the CLI's ensemble.csv, whatever ``threads``. Bad input raises
+    ValueError naming the key; Ctrl-C (KeyboardInterrupt) stops it."""
 
 @final
 class Snapshot:

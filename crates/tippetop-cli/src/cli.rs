@@ -53,7 +53,10 @@ pub enum Command {
     /// Run a parameter sweep (a grid of scenarios) on all cores.
     #[command(long_about = crate::sweep_cmd::SWEEP_LONG_ABOUT)]
     Sweep(crate::sweep_cmd::SweepArgs),
-    /// Join the outputs of a sweep's shards into one sweep.csv.
+    /// Run a Langevin scenario N times (an ensemble) and write statistics.
+    #[command(long_about = crate::ensemble_cmd::ENSEMBLE_LONG_ABOUT)]
+    Ensemble(crate::ensemble_cmd::EnsembleArgs),
+    /// Join the outputs of a sweep's (or an ensemble's) shards.
     #[command(long_about = crate::sweep_cmd::MERGE_LONG_ABOUT)]
     Merge(crate::sweep_cmd::MergeArgs),
     /// Stability of the steady motions (θ = 0, π/2, π) beside the paper's App. B.
@@ -64,6 +67,9 @@ pub enum Command {
     /// The regime a scenario is in: weight, adhesion, friction and thermal ratios.
     #[command(long_about = crate::regime_cmd::REGIME_LONG_ABOUT)]
     Regime(crate::regime_cmd::RegimeArgs),
+    /// Retention time at a temperature, from ensembles' escape rates (Arrhenius).
+    #[command(long_about = crate::retention_cmd::RETENTION_LONG_ABOUT)]
+    Retention(crate::retention_cmd::RetentionArgs),
 }
 
 /// Long help of `tippetop run`: the files, every `trajectory.csv` column

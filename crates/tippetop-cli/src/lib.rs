@@ -6,11 +6,13 @@
 
 pub mod adhesion_cmd;
 pub mod cli;
+pub mod ensemble_cmd;
 pub mod output;
 pub mod plot;
 pub mod progress;
 pub mod regime_cmd;
 pub mod reproduce;
+pub mod retention_cmd;
 pub mod run;
 pub mod scenario_load;
 pub mod stability_cmd;

@@ -10,7 +10,9 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use tippetop_cli::cli::{Cli, Command};
-use tippetop_cli::{adhesion_cmd, regime_cmd, reproduce, run, stability_cmd, sweep_cmd};
+use tippetop_cli::{
+    adhesion_cmd, ensemble_cmd, regime_cmd, reproduce, retention_cmd, run, stability_cmd, sweep_cmd,
+};
 
 fn main() -> ExitCode {
     // Behave like a Unix filter when the reader goes away (`tippetop ... | head`):
@@ -26,10 +28,12 @@ fn main() -> ExitCode {
         Command::Run(args) => run::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),
         Command::Reproduce(args) => reproduce::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),
         Command::Sweep(args) => sweep_cmd::sweep(args, cli.quiet),
+        Command::Ensemble(args) => ensemble_cmd::ensemble(args, cli.quiet),
         Command::Merge(args) => sweep_cmd::merge(args, cli.quiet),
         Command::Stability(args) => stability_cmd::run(args, cli.quiet),
         Command::Adhesion(args) => adhesion_cmd::run(args),
         Command::Regime(args) => regime_cmd::run(args),
+        Command::Retention(args) => retention_cmd::run(args, cli.quiet),
     };
     match result {
         Ok(code) => code,

@@ -34,7 +34,8 @@ pub struct RegimeArgs {
     /// Override a scenario key, e.g. --set initial.spin=3e7 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Temperature for the thermal ratios [K], 0 to 1e5.
+    /// Temperature for the thermal ratios [K], 0 to 1e5 (default: the
+    /// scenario's thermal.temperature if it has one).
     #[arg(long, allow_negative_numbers = true)]
     pub temperature: Option<f64>,
     /// Print JSON.
@@ -55,7 +56,12 @@ fn load(args: &RegimeArgs) -> Result<Scenario, tippetop::Error> {
 /// Run `tippetop regime`: exit 0, or 2 with one line for bad input.
 pub fn run(args: &RegimeArgs) -> anyhow::Result<ExitCode> {
     let rep = load(args).and_then(|sc| {
-        let r = regime::regime(&sc, args.temperature).map_err(|e| match e {
+        // Without --temperature, a scenario with a temperature (a Langevin
+        // or Brownian run) gives its own.
+        let temperature = args
+            .temperature
+            .or((sc.thermal.temperature > 0.0).then_some(sc.thermal.temperature));
+        let r = regime::regime(&sc, temperature).map_err(|e| match e {
             tippetop::Error::Invalid { key, what, range } if key == "temperature" => {
                 tippetop::Error::Invalid {
                     key: "--temperature".into(),

@@ -153,7 +153,11 @@ pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of
                   unit as for tippetop sweep (another command writing into it exits with \
                   code 1). A shard directory that a sweep is still writing into (its lock \
                   is held) is not read: merge exits with code 1 (\"DIR is in use by \
-                  another tippetop process (pid N); wait until it ends\").";
+                  another tippetop process (pid N); wait until it ends\"). The shards of an \
+                  ensemble (tippetop ensemble --shard K/N; told apart by their shard.json) \
+                  merge the same way: ensemble.csv rows joined in run order, histograms.csv \
+                  counts added, quantiles.csv, summary.json and the fan chart recomputed: \
+                  the bytes of a one-shot run.";
 
 /// `tippetop merge`.
 #[derive(Debug, Args)]
@@ -401,6 +405,13 @@ pub const MAX_PLOT_CASES: usize = 100_000;
 /// overlap): one line on stderr and exit code 2 (returned as `Ok`),
 /// nothing written; `Err` for I/O failures while writing.
 pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
+    if args
+        .dirs
+        .first()
+        .is_some_and(|d| crate::ensemble_cmd::is_ensemble_dir(d))
+    {
+        return crate::ensemble_cmd::merge(args, quiet);
+    }
     let mut shards: Vec<(ShardInfo, String)> = Vec::new();
     for dir in &args.dirs {
         // Not while a sweep writes into it (e.g. a task still running):

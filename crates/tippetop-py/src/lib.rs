@@ -631,6 +631,122 @@ fn sweep<'py>(
     Ok(out)
 }
 
+/// Run a Langevin (or Brownian) scenario `runs` times with independent
+/// noise: run K is the scenario with `thermal.run = r0 + K` (`r0` its own
+/// `thermal.run`), so `tt.run(sc.set("thermal.run", r0 + K))` replays it.
+/// `first_passage` is the CLI's `--first-passage` (e.g.
+/// `"theta<1.07,theta>2.07"`: each run stops at its first output row where
+/// it holds). The GIL is released; Ctrl-C stops the ensemble.
+///
+/// Returns a dict of numpy arrays, one per `ensemble.csv` column in its
+/// order (`run`, `seed`, then `<col>_final` for every trajectory column in
+/// its SI unit, `theta_max`, `theta_min` [rad], `N_min` [N],
+/// `negative_normal_fraction`, `first_passage_time` [s], `censored`,
+/// `t_reached` [s]; float64, NaN where empty), `status` (str), and
+/// `summary`: the ensemble's statistics as in `summary.json` (means with
+/// 95 % intervals of the final θ, ω, Ω, energy; first passages with the
+/// Kaplan–Meier median and the escape rate). Bit for bit the CLI's
+/// `ensemble.csv`, whatever `threads`. Bad input raises ValueError naming
+/// the key.
+#[pyfunction]
+#[pyo3(signature = (scenario, runs, threads = None, first_passage = None))]
+fn ensemble<'py>(
+    py: Python<'py>,
+    scenario: &Scenario,
+    runs: i64,
+    threads: Option<i64>,
+    first_passage: Option<String>,
+) -> PyResult<Bound<'py, PyDict>> {
+    use tippetop::analysis::ensemble as ens;
+    let runs = usize::try_from(runs).map_err(|_| {
+        PyValueError::new_err(format!(
+            "--runs: {runs} runs (N >= 1, with the run indices below 4294967296)"
+        ))
+    })?;
+    let threads = match threads {
+        None => None,
+        Some(t) => Some(usize::try_from(t).map_err(|_| {
+            PyValueError::new_err(format!(
+                "--threads: {t} threads (1 to {}; more threads than cores only add overhead)",
+                analysis::sweep::MAX_THREADS
+            ))
+        })?),
+    };
+    let threads = analysis::sweep::threads(threads).map_err(to_py_err)?;
+    let exit = first_passage
+        .as_deref()
+        .map(ens::Exit::parse)
+        .transpose()
+        .map_err(to_py_err)?;
+    let e = guarded(|| {
+        ens::Ensemble::new(
+            scenario.preset.clone(),
+            scenario.toml.clone(),
+            scenario.sets.clone(),
+            runs,
+        )
+    })?
+    .map_err(to_py_err)?
+    .with_exit(exit);
+
+    let mut lines: Vec<String> = Vec::with_capacity(runs.min(1 << 20));
+    let mut interrupted: Option<PyErr> = None;
+    let done = py.detach(|| {
+        let mut last = Instant::now();
+        e.run_streaming(0..runs, Some(threads), &mut |row| {
+            lines.push(ens::csv_row(&row));
+            if last.elapsed().as_secs_f64() >= 0.1 {
+                last = Instant::now();
+                if let Err(err) = Python::attach(|py| py.check_signals()) {
+                    interrupted = Some(err);
+                    return false;
+                }
+            }
+            true
+        })
+    });
+    if let Some(err) = interrupted {
+        return Err(err);
+    }
+    done.map_err(|err| PyRuntimeError::new_err(one_line(&err.to_string())))?;
+
+    let header = ens::csv_header();
+    let names: Vec<&str> = header.trim_end().split(',').collect();
+    let mut acc = ens::StatsAcc::default();
+    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(lines.len()); names.len()];
+    let mut status = Vec::with_capacity(lines.len());
+    for (j, line) in lines.iter().enumerate() {
+        acc.push_line(j + 2, line.trim_end()).map_err(to_py_err)?;
+        let r = ens::parse_row(line.trim_end())
+            .ok_or_else(|| PyRuntimeError::new_err("internal: an ensemble row did not parse"))?;
+        for (c, name) in cols.iter_mut().zip(&names) {
+            c.push(match *name {
+                "run" => r.run as f64,
+                "seed" => r.seed as f64,
+                "status" => f64::NAN,
+                n => r.get(n).unwrap_or(f64::NAN),
+            });
+        }
+        status.push(r.status.clone());
+    }
+    let out = PyDict::new(py);
+    for (c, name) in cols.into_iter().zip(&names) {
+        if *name == "status" {
+            let st = PyList::new(py, &status)?;
+            out.set_item("status", py.import("numpy")?.call_method1("array", (st,))?)?;
+        } else {
+            out.set_item(*name, PyArray1::from_vec(py, c))?;
+        }
+    }
+    let stats = serde_json::to_string(&acc.finish())
+        .map_err(|err| PyRuntimeError::new_err(err.to_string()))?;
+    out.set_item(
+        "summary",
+        py.import("json")?.call_method1("loads", (stats,))?,
+    )?;
+    Ok(out)
+}
+
 /// A copy of a `Simulation` at one instant (`Simulation.snapshot()`),
 /// exact to the bit; `Simulation.restore` goes back to it.
 #[pyclass(module = "tippetop", frozen)]
@@ -828,6 +944,7 @@ fn tippetop_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Snapshot>()?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(ensemble, m)?)?;
     m.add("COLUMNS", COLUMNS.to_vec())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

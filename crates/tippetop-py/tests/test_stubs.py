@@ -28,6 +28,7 @@ def test_all_lists_the_api():
         "Snapshot",
         "run",
         "sweep",
+        "ensemble",
         "COLUMNS",
     }
 

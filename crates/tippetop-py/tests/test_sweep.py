@@ -267,3 +267,66 @@ def test_ctrl_c_stops_a_sweep(base):
     tt.sweep(sc, vary={"top.offset": (3e-4, 6e-3, 20)}, threads=1)
     whole = (time.perf_counter() - t0) * 20
     assert stopped < whole / 2, (stopped, whole)
+
+
+# --- ensembles (tt.ensemble) ------------------------------------------------
+
+ENSEMBLE_TOML = """preset = "nano"
+[surface]
+friction = 0.0
+[solver]
+method = "langevin"
+dt = 1e-14
+t_end = 1e-11
+samples = 11
+[thermal]
+temperature = 300.0
+damping_translational = 1e11
+damping_rotational = 1e11
+seed = 1
+"""
+
+
+def test_ensemble_equals_the_cli(tmp_path):
+    """tt.ensemble's arrays are the CLI's ensemble.csv, bit for bit (floats
+    parsed from their shortest round-trip text), whatever the threads; run K
+    replays alone with tt.run."""
+    import subprocess, csv, math
+    f = tmp_path / "lang.toml"
+    f.write_text(ENSEMBLE_TOML)
+    sc = tt.Scenario.from_file(str(f))
+    a = tt.ensemble(sc, runs=6, threads=1, first_passage="omega>1e11,omega<-1e11")
+    b = tt.ensemble(sc, runs=6, threads=2, first_passage="omega>1e11,omega<-1e11")
+    out = tmp_path / "e"
+    subprocess.run(
+        [str(cli_binary()), "ensemble", str(f), "--runs", "6", "--quiet", "--first-passage",
+         "omega>1e11,omega<-1e11", "--out", str(out)],
+        check=True,
+    )
+    rows = list(csv.reader(open(out / "ensemble.csv")))
+    header, rows = rows[0], rows[1:]
+    for j, name in enumerate(header):
+        if name == "status":
+            assert list(a["status"]) == [r[j] for r in rows]
+            continue
+        want = [float(r[j]) if r[j] != "" else math.nan for r in rows]
+        for x, y, w in zip(a[name], b[name], want):
+            assert (x == w or (math.isnan(x) and math.isnan(w))), (name, x, w)
+            assert (x == y or (math.isnan(x) and math.isnan(y))), name
+    assert a["summary"]["runs"] == 6
+    # Run 2 replayed alone.
+    tr = tt.run(sc.set("thermal.run", 2))
+    stop = a["t_reached"][2]
+    i = list(tr.t).index(stop)
+    assert tr["omega"][i] == a["omega_final"][2]
+
+
+def test_ensemble_bad_input():
+    sc = tt.Scenario.preset("nano")
+    with pytest.raises(ValueError, match="solver.method"):
+        tt.ensemble(sc, runs=3)
+    f = tt.Scenario.from_toml(ENSEMBLE_TOML)
+    with pytest.raises(ValueError, match="--first-passage"):
+        tt.ensemble(f, runs=3, first_passage="bogus>1")
+    with pytest.raises(ValueError, match="--runs"):
+        tt.ensemble(f, runs=-1)

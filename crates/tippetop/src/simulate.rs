@@ -233,6 +233,12 @@ impl Simulation {
         with_sim!(&self.inner, s => s.error.as_ref())
     }
 
+    /// The output rows emitted so far (the samples up to the last
+    /// accepted step), in time order.
+    pub fn samples(&self) -> &[Sample] {
+        with_sim!(&self.inner, s => &s.samples)
+    }
+
     /// True once the run has reached `solver.t_end` or failed.
     pub fn is_finished(&self) -> bool {
         with_sim!(&self.inner, s => s.done)

@@ -823,7 +823,11 @@ fn thermal_keys_and_their_rules() {
         ),
         (&["surface.friction=0.1"], "surface.friction"),
         (&["solver.dt=1e-12"], "solver.dt"),
-        (&["solver.model=\"rigid\""], "solver.model"),
+        (&["solver.model=\"reduced\""], "solver.model"),
+        (
+            &["solver.model=\"rigid\"", "surface.contact=\"unilateral\""],
+            "surface.contact",
+        ),
         (&["solver.samples=2000"], "solver.samples"),
         (&["thermal.run=4294967296"], "thermal.run"),
         (&["thermal.bogus=1"], "thermal.bogus"),
@@ -853,6 +857,13 @@ fn thermal_keys_and_their_rules() {
         &["surface.friction=0", "solver.method=\"langevin\""],
         "solver.dt",
     );
+    // The rigid model's Langevin method in bilateral contact: valid.
+    Scenario::load(
+        Some("nano"),
+        None,
+        &sets(&with(&["solver.model=\"rigid\""])),
+    )
+    .expect("rigid Langevin on the plane");
     // The Brownian mode: the same keys, its own step rule and rules.
     let brown = |extra: &[&'static str]| -> Vec<&'static str> {
         let mut v = with(&["solver.method=\"brownian\"", "solver.dt=1e-15"]);

@@ -1,9 +1,11 @@
 //! Analyses built on runs: the friction-law (ε) study,
 //! stability of the steady motions (App. B), the asymptotic laws while
-//! lying (App. C), and parallel sweeps.
+//! lying (App. C), parallel sweeps, and ensembles of Langevin runs.
 
 pub mod asymptotics;
+pub mod ensemble;
 pub mod friction;
 pub mod regime;
+pub mod retention;
 pub mod stability;
 pub mod sweep;

@@ -670,75 +670,7 @@ impl Sweep {
                 format!("within 0..{}", self.total()),
             ));
         }
-        let t = self::threads(threads)?;
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build()
-            .map_err(|e| {
-                Error::invalid(
-                    "--threads",
-                    format!("cannot start the thread pool: {e}"),
-                    "fewer threads".into(),
-                )
-            })?;
-        let window = window(t);
-        let next = AtomicUsize::new(range.start);
-        let stop = AtomicBool::new(false);
-        // The next index to deliver; workers wait on it for the window.
-        let delivered = Mutex::new(range.start);
-        let moved = Condvar::new();
-        let (tx, rx) = mpsc::channel::<Row>();
-        let mut complete = true;
-        pool.in_place_scope(|scope| {
-            for _ in 0..t {
-                let tx = tx.clone();
-                let (next, stop, delivered, moved) = (&next, &stop, &delivered, &moved);
-                let end = range.end;
-                scope.spawn(move |_| {
-                    loop {
-                        if stop.load(Ordering::Relaxed) {
-                            break;
-                        }
-                        let i = next.fetch_add(1, Ordering::Relaxed);
-                        if i >= end {
-                            break;
-                        }
-                        {
-                            let mut d = delivered.lock().unwrap_or_else(|e| e.into_inner());
-                            while i >= *d + window && !stop.load(Ordering::Relaxed) {
-                                d = moved.wait(d).unwrap_or_else(|e| e.into_inner());
-                            }
-                        }
-                        if stop.load(Ordering::Relaxed) || tx.send(self.run_case(i)).is_err() {
-                            break;
-                        }
-                    }
-                });
-            }
-            drop(tx);
-            let mut pending: BTreeMap<usize, Row> = BTreeMap::new();
-            let mut expect = range.start;
-            'rows: for row in &rx {
-                pending.insert(row.index, row);
-                while let Some(r) = pending.remove(&expect) {
-                    expect += 1;
-                    if !sink(r) {
-                        complete = false;
-                        break 'rows;
-                    }
-                    *delivered.lock().unwrap_or_else(|e| e.into_inner()) = expect;
-                    moved.notify_all();
-                }
-            }
-            if !complete {
-                stop.store(true, Ordering::Relaxed);
-                // Take the lock so no worker misses the wake-up between its
-                // check of `stop` and its wait.
-                drop(delivered.lock().unwrap_or_else(|e| e.into_inner()));
-                moved.notify_all();
-            }
-        });
-        Ok(complete)
+        run_ordered(range, threads, &|i| self.run_case(i), sink)
     }
 
     /// How much of an interrupted `sweep.csv` of the cases from
@@ -807,13 +739,104 @@ impl Sweep {
     }
 }
 
-fn fnv1a(bytes: &[u8]) -> u64 {
+pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for &b in bytes {
         h ^= u64::from(b);
         h = h.wrapping_mul(0x0100_0000_01b3);
     }
     h
+}
+
+/// Run `job(i)` for every index in `range` on `threads` threads (`None`:
+/// see [`threads`]) and hand each result to `sink`, in index order, as soon
+/// as it and all results before it are done: the machinery of
+/// [`Sweep::run_streaming`] for any kind of job (an ensemble's runs, say).
+/// `sink` runs on the calling thread; when it returns `false` no further
+/// index is started and the call returns `Ok(false)` (`Ok(true)`: every
+/// result was delivered).
+///
+/// Memory is flat in the number of indices: an index starts only when it is
+/// less than [`window`]`(threads)` past the next result to deliver. Each
+/// thread takes the next index when it is free. The sequence of results
+/// handed to `sink` does not depend on the thread count (as long as `job`
+/// is a function of its index). Errors: a thread count out of
+/// `1..=`[`MAX_THREADS`], or a thread pool that cannot be built.
+pub fn run_ordered<T: Send>(
+    range: Range<usize>,
+    threads: Option<usize>,
+    job: &(dyn Fn(usize) -> T + Sync),
+    sink: &mut dyn FnMut(T) -> bool,
+) -> Result<bool, Error> {
+    let t = self::threads(threads)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(t)
+        .build()
+        .map_err(|e| {
+            Error::invalid(
+                "--threads",
+                format!("cannot start the thread pool: {e}"),
+                "fewer threads".into(),
+            )
+        })?;
+    let window = window(t);
+    let next = AtomicUsize::new(range.start);
+    let stop = AtomicBool::new(false);
+    // The next index to deliver; workers wait on it for the window.
+    let delivered = Mutex::new(range.start);
+    let moved = Condvar::new();
+    let (tx, rx) = mpsc::channel::<(usize, T)>();
+    let mut complete = true;
+    pool.in_place_scope(|scope| {
+        for _ in 0..t {
+            let tx = tx.clone();
+            let (next, stop, delivered, moved) = (&next, &stop, &delivered, &moved);
+            let end = range.end;
+            scope.spawn(move |_| {
+                loop {
+                    if stop.load(Ordering::Relaxed) {
+                        break;
+                    }
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    if i >= end {
+                        break;
+                    }
+                    {
+                        let mut d = delivered.lock().unwrap_or_else(|e| e.into_inner());
+                        while i >= *d + window && !stop.load(Ordering::Relaxed) {
+                            d = moved.wait(d).unwrap_or_else(|e| e.into_inner());
+                        }
+                    }
+                    if stop.load(Ordering::Relaxed) || tx.send((i, job(i))).is_err() {
+                        break;
+                    }
+                }
+            });
+        }
+        drop(tx);
+        let mut pending: BTreeMap<usize, T> = BTreeMap::new();
+        let mut expect = range.start;
+        'rows: for (i, item) in &rx {
+            pending.insert(i, item);
+            while let Some(r) = pending.remove(&expect) {
+                expect += 1;
+                if !sink(r) {
+                    complete = false;
+                    break 'rows;
+                }
+                *delivered.lock().unwrap_or_else(|e| e.into_inner()) = expect;
+                moved.notify_all();
+            }
+        }
+        if !complete {
+            stop.store(true, Ordering::Relaxed);
+            // Take the lock so no worker misses the wake-up between its
+            // check of `stop` and its wait.
+            drop(delivered.lock().unwrap_or_else(|e| e.into_inner()));
+            moved.notify_all();
+        }
+    });
+    Ok(complete)
 }
 
 // ---------------------------------------------------------------------------
@@ -840,7 +863,7 @@ fn opt(x: Option<f64>) -> String {
 
 /// The status as one CSV field: line breaks become spaces, and the field
 /// is quoted (quotes doubled) when it contains a comma or a quote.
-fn status_field(status: &str) -> String {
+pub(crate) fn status_field(status: &str) -> String {
     let one_line: String = status
         .chars()
         .map(|c| if c == '\n' || c == '\r' { ' ' } else { c })

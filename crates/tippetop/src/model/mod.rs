@@ -4,6 +4,7 @@ pub mod contact;
 pub(crate) mod on_plane;
 pub mod reduced;
 pub mod rigid;
+pub(crate) mod thermostat;
 pub(crate) mod vec3;
 pub mod vector;
 

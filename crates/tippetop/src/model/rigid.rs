@@ -381,6 +381,10 @@ pub struct Rigid {
     pub top: Top,
     /// g \[m/s²\].
     pub gravity_si: f64,
+    /// The Langevin heat bath (scaled), `None` unless `method = "langevin"`
+    /// (in contact only: the validation keeps a Langevin rigid run on the
+    /// plane, bilateral contact).
+    thermal: Option<super::thermostat::Bath>,
 }
 
 impl Rigid {
@@ -401,6 +405,7 @@ impl Rigid {
             flight_start: 0.0,
             top: sc.top,
             gravity_si: sc.surface.gravity,
+            thermal: super::thermostat::Bath::of(sc, &scales),
         }
     }
 
@@ -850,6 +855,43 @@ fn y_normalize(y: &mut [f64; DIM], q: [f64; 4]) {
 impl OdeSystem<DIM> for Rigid {
     type Error = RigidError;
 
+    /// Five normals per half step (contact: `v_x, v_y` and the three
+    /// rotational modes).
+    const NOISE: usize = 5;
+
+    /// The exact Ornstein–Uhlenbeck step in contact
+    /// ([`super::thermostat::ou_on_plane`], the vector model's step): the
+    /// horizontal velocity and `n` relax with their noise at fixed axis,
+    /// the vertical velocity is the constraint's, and `W_f` takes the
+    /// kinetic energy's change (the bath's work).
+    fn thermostat(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {
+        let Some(b) = self.thermal else { return };
+        if self.phase != Phase::Contact {
+            return;
+        }
+        let kinetic = |y: &[f64; DIM]| {
+            let (k, n) = (v3(y, AXIS), v3(y, OMEGA));
+            let vz = -self.a * cross(n, k)[2];
+            0.5 * (y[VEL] * y[VEL] + y[VEL + 1] * y[VEL + 1] + vz * vz)
+                + 0.5 * dot(n, self.inertia(k, n))
+        };
+        let e0 = kinetic(y);
+        let k = v3(y, AXIS);
+        let mut vh = [y[VEL], y[VEL + 1]];
+        let mut w = v3(y, OMEGA);
+        let body = super::thermostat::Body {
+            a: self.a,
+            ia: self.ia,
+            ic: self.ic,
+        };
+        super::thermostat::ou_on_plane(&b, &body, k, &mut vh, &mut w, h, xi);
+        y[VEL] = vh[0];
+        y[VEL + 1] = vh[1];
+        set3(y, OMEGA, w);
+        y[VEL + 2] = -self.a * cross(w, k)[2];
+        y[WF] += kinetic(y) - e0;
+    }
+
     fn begin_segment(&mut self, t: f64, _y: &[f64; DIM]) {
         self.latch_force(t);
     }
@@ -900,6 +942,11 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
             },
         ),
     ];
+    if m.contact.langevin {
+        // θ's maxima are the step ends' (the noise reverses θ̇ at almost
+        // every step).
+        ev.retain(|(w, _)| *w != Watch::ThetaMax);
+    }
     match (m.phase, m.contact.contact_mode()) {
         (Phase::Flight, _) => {
             ev.push((

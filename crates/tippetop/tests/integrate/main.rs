@@ -10,10 +10,13 @@
 //!   determinism, limits) over every engine;
 //! - `dop853`: DOP853's own step-size control at the stability limit;
 //! - `random`: the counter-based random stream the fixed-step (Langevin)
-//!   engines draw from: known answers, purity, statistics.
+//!   engines draw from: known answers, purity, statistics;
+//! - `langevin`: the Langevin engine's weak order on the thermostatted
+//!   harmonic oscillator (closed-form moments).
 
 mod dop853;
 mod driver;
 mod engines;
+mod langevin;
 mod problems;
 mod random;

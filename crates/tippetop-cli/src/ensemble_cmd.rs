@@ -1,0 +1,608 @@
+//! `tippetop ensemble` (and `tippetop merge` of its shards): a Langevin
+//! scenario run N times with independent noise, on all cores, cut into
+//! shards that merge back byte for byte. The library part is
+//! [`tippetop::analysis::ensemble`]; the streaming, the shards, `--resume`
+//! and the output directory work as for `tippetop sweep`
+//! ([`crate::sweep_cmd`]).
+
+use std::io::{BufRead, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::{ArgGroup, Args};
+use serde::{Deserialize, Serialize};
+use tippetop::analysis::ensemble::{
+    self, BINS, Ensemble, EnsembleShard, EnsembleStats, Histograms, QUANTILES, SPREAD, StatsAcc,
+};
+use tippetop::analysis::sweep::{self, Shard};
+
+use crate::output::{OutDir, write_bytes_atomic};
+
+/// Long help of `tippetop ensemble` (set on the subcommand in `cli.rs`).
+pub const ENSEMBLE_LONG_ABOUT: &str =
+    "Run a Langevin scenario N times with independent noise (run K is the scenario with
+thermal.run = r0 + K, r0 its own thermal.run, default 0) on all cores and write into --out:
+  ensemble.csv    one row per run, in run order:
+                  run, seed        thermal.run and thermal.seed of the run: `tippetop run
+                                   FILE --set thermal.run=RUN` replays it alone
+                  status           ok, or the error of a run that failed part-way
+                  <col>_final      every trajectory.csv column (see tippetop run --help) at
+                                   the last output row, in its units (t_final, theta_final,
+                                   ..., yp_final)
+                  theta_max        largest theta over every step [rad]
+                  theta_min, N_min smallest theta [rad] and normal force [N] over the output rows
+                  negative_normal_fraction   fraction of the time with N < 0
+                  first_passage_time         first time theta > pi/2 [s] (or the
+                                   --first-passage criterion holds); empty if never
+                  censored         1: no passage up to t_reached; 0: it passed
+                  t_reached        time the run reached [s] (t_end unless it failed)
+  histograms.csv  per sample time t and quantity (theta, omega, Omega): the range lower,
+                  upper, then integer counts: underflow, bin0..bin63 (64 equal bins),
+                  overflow, missing (runs that ended before t). Ranges: theta [0, pi];
+                  omega [min(omega0, 0) - 6 sqrt(kT/C), max(omega0, 0) + 6 sqrt(kT/C)],
+                  Omega likewise with the initial precession and sqrt(kT/A)
+  quantiles.csv   per sample time and quantity: n (values counted), q05 q25 q50 q75 q95
+                  from the histograms (linear within a bin; empty outside the range)
+  summary.json    runs, ok and failed runs; mean, standard deviation and 95 % confidence
+                  interval (mean +- 1.96 s/sqrt(n), over the ok runs) of the final theta,
+                  omega, Omega and energy; first passages (theta > pi/2 or --first-passage):
+                  observed, censored, censored fraction, Kaplan-Meier median, the escape
+                  rate (passages / time at risk, 95 % CI); temperature; the histogram ranges
+  fan.png, fan.svg   theta(t): median and the 25-75 % and 5-95 % quantile bands
+  shard.json      which runs the files hold, for tippetop merge
+
+The scenario must be a Langevin run at a temperature > 0 (solver.method = \"langevin\",
+solver.dt, surface.friction = 0, a [thermal] table with temperature, damping_translational,
+damping_rotational and seed); anything else exits with code 2. --runs N: N >= 1, the run
+indices below 2^32. The files are byte for byte the same whatever --threads and however the
+runs are cut with --shard K/N (the K-th of N contiguous blocks of runs; join the shards'
+directories with tippetop merge: counts add, rows concatenate). A run that fails part-way is a
+row with its error in status; the ensemble goes on. Bad input exits with code 2 and writes
+nothing.
+
+Streaming and --resume as for tippetop sweep: rows are written in run order into
+DIR/ensemble.csv.partial as the runs finish, memory stays flat in N (the histograms are
+counts; summary.json's Kaplan-Meier estimate keeps 16 bytes per run); a killed ensemble
+continues with the same command plus --resume and ends with the same bytes. The output
+directory is locked while the command runs.";
+
+/// `tippetop ensemble`.
+#[derive(Debug, Args)]
+#[command(
+    group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
+    after_help = "Examples:\n  \
+                  tippetop ensemble scenarios/thermal.toml --runs 1000 --out out/ens\n  \
+                  tippetop ensemble scenarios/thermal.toml --runs 100000 --shard 3/8 --out shards/3 --quiet\n  \
+                  tippetop merge shards/* --out result\n  \
+                  tippetop run scenarios/thermal.toml --set thermal.run=17 --out out/run17   (replay run 17)"
+)]
+pub struct EnsembleArgs {
+    /// Scenario file (TOML): a Langevin run at temperature > 0.
+    #[arg(value_name = "SCENARIO.toml")]
+    pub scenario: Option<PathBuf>,
+
+    /// Start from a built-in scenario ("nano", "nano-physical", "classical").
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+
+    /// Override one scenario value for every run, e.g. `--set
+    /// thermal.temperature=77`; repeatable, applied in order after the file.
+    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
+    pub sets: Vec<String>,
+
+    /// Number of runs N (>= 1; run K uses thermal.run = r0 + K).
+    #[arg(long, value_name = "N")]
+    pub runs: usize,
+
+    /// Output directory (created if missing; locked while the ensemble
+    /// runs; the previous command's files in it are replaced or removed).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+
+    /// Number of threads, 1 to 1024 (default: one per core).
+    #[arg(long, value_name = "T")]
+    pub threads: Option<usize>,
+
+    /// Run only the K-th of N contiguous blocks of runs (1 <= K <= N);
+    /// join the outputs with `tippetop merge`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+
+    /// Continue an interrupted run of the same ensemble (same scenario,
+    /// --set, --runs, --shard) from DIR/ensemble.csv.partial; without one,
+    /// start from the first run.
+    #[arg(long)]
+    pub resume: bool,
+
+    /// First-passage criterion over trajectory.csv columns (SI units):
+    /// `COLUMN>VALUE` or `COLUMN<VALUE`, several joined by ',' (any of
+    /// them), e.g. `theta<1.07,theta>2.07` (leaving a lying well). Each run
+    /// stops at its first output row where it holds (resolution: the
+    /// sample spacing); first_passage_time and censored refer to it, and
+    /// summary.json gains the escape rate (passages / time at risk, for
+    /// `tippetop retention`). Default: theta > pi/2, runs to t_end.
+    #[arg(long, value_name = "SPEC")]
+    pub first_passage: Option<String>,
+}
+
+/// The file the rows stream into while the ensemble runs.
+pub const PARTIAL_CSV: &str = "ensemble.csv.partial";
+/// The running ensemble's `shard.json`.
+pub const PARTIAL_INFO: &str = "shard.json.partial";
+/// The histograms of the rows flushed so far (a checkpoint for `--resume`,
+/// written after each flush of the CSV).
+pub const PARTIAL_HIST: &str = "histograms.json.partial";
+
+/// The checkpoint of the histograms: the counts of the first `rows` runs
+/// of the shard.
+#[derive(Debug, Serialize, Deserialize)]
+struct Checkpoint {
+    fingerprint: String,
+    first_index: usize,
+    rows: usize,
+    hist: Histograms,
+}
+
+/// Bad input: `error: ...` on one line, exit code 2.
+fn input_error(e: impl std::fmt::Display) -> ExitCode {
+    let msg = e.to_string();
+    eprintln!(
+        "error: {}",
+        msg.split_whitespace().collect::<Vec<_>>().join(" ")
+    );
+    ExitCode::from(2)
+}
+
+/// Run `tippetop ensemble`. Bad input: one line on stderr and exit code 2
+/// (returned as `Ok`), nothing written; `Err` for I/O failures.
+pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
+    let toml_text = match &args.scenario {
+        Some(path) => match std::fs::read_to_string(path) {
+            Ok(t) => Some(t),
+            Err(e) => {
+                return Ok(input_error(format!(
+                    "{}: cannot read it: {e} (a readable scenario file)",
+                    path.display()
+                )));
+            }
+        },
+        None => None,
+    };
+    let shard = match args.shard.as_deref().map(Shard::parse).transpose() {
+        Ok(s) => s.unwrap_or(Shard::ALL),
+        Err(e) => return Ok(input_error(e)),
+    };
+    let threads = match sweep::threads(args.threads) {
+        Ok(t) => t,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let exit = match args
+        .first_passage
+        .as_deref()
+        .map(ensemble::Exit::parse)
+        .transpose()
+    {
+        Ok(e) => e,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let ens = match Ensemble::new(args.preset.clone(), toml_text, args.sets.clone(), args.runs) {
+        Ok(e) => e.with_exit(exit),
+        Err(e) => return Ok(input_error(e)),
+    };
+    let info = match ens.shard_info(shard) {
+        Ok(i) => i,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let mut info_json = serde_json::to_string_pretty(&info)?;
+    info_json.push('\n');
+
+    let mut out = OutDir::open(&args.out)?;
+    let dir = args.out.clone();
+    let csv_partial = dir.join(PARTIAL_CSV);
+    let info_partial = dir.join(PARTIAL_INFO);
+    let hist_partial = dir.join(PARTIAL_HIST);
+    let range = info.first_index..info.end_index;
+
+    let mut kept = ensemble::Prefix::default();
+    let mut checkpoint: Option<Checkpoint> = None;
+    if args.resume {
+        match std::fs::read_to_string(&info_partial) {
+            Ok(old) if old == info_json => {
+                if let Ok(text) = std::fs::read_to_string(&csv_partial) {
+                    kept = ens.complete_prefix(info.first_index, &text);
+                }
+                if kept.rows > range.len() {
+                    kept = ensemble::Prefix::default();
+                }
+                checkpoint = std::fs::read_to_string(&hist_partial)
+                    .ok()
+                    .and_then(|t| serde_json::from_str::<Checkpoint>(&t).ok())
+                    .filter(|c| {
+                        c.fingerprint == info.fingerprint
+                            && c.first_index == info.first_index
+                            && c.rows <= kept.rows
+                            && c.hist.bins == BINS
+                            && c.hist.ranges == ens.ranges()
+                            && c.hist.times.len() == ens.scenario.solver.samples
+                    });
+            }
+            Ok(_) => {
+                out.abandon();
+                return Ok(input_error(format!(
+                    "--resume: the partial ensemble in {} is another one, not this one \
+                     (fingerprint {}, runs {}..{} of {}) (the same scenario, --set, --runs \
+                     and --shard as the interrupted run; without --resume a new ensemble \
+                     starts over)",
+                    dir.display(),
+                    info.fingerprint,
+                    info.first_index,
+                    info.end_index,
+                    info.total_runs
+                )));
+            }
+            Err(_) => {
+                if !quiet {
+                    eprintln!(
+                        "note: no partial ensemble to resume in {}: starting from the first run",
+                        dir.display()
+                    );
+                }
+            }
+        }
+    }
+
+    out.claim(&[PARTIAL_CSV, PARTIAL_INFO, PARTIAL_HIST])?;
+    write_bytes_atomic(&info_partial, info_json.as_bytes())?;
+    let pb = crate::progress::bar(quiet, range.len() as u64, "ensemble");
+    // The histograms of the kept rows: the checkpoint's, and the rows it
+    // does not cover run again (their counts only; the rows stay as kept).
+    let (mut hist, covered) = match checkpoint {
+        Some(c) => (c.hist, c.rows),
+        None => (ens.histograms(), 0),
+    };
+    if kept.rows > covered {
+        let again = range.start + covered..range.start + kept.rows;
+        let run = ens.run_streaming(again, Some(threads), &mut |row| {
+            hist.add(&row);
+            true
+        });
+        if let Err(e) = run {
+            anyhow::bail!("{e}");
+        }
+    }
+
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(&csv_partial)
+        .with_context(|| format!("writing {}", csv_partial.display()))?;
+    file.set_len(kept.bytes as u64)
+        .and_then(|()| file.seek(SeekFrom::End(0)).map(|_| ()))
+        .with_context(|| format!("writing {}", csv_partial.display()))?;
+    let mut w = std::io::BufWriter::new(file);
+    if kept.bytes == 0 {
+        w.write_all(ensemble::csv_header().as_bytes())
+            .with_context(|| format!("writing {}", csv_partial.display()))?;
+    }
+    if !quiet && kept.rows > 0 {
+        eprintln!(
+            "resuming: {} of {} runs already in {}",
+            kept.rows,
+            range.len(),
+            csv_partial.display()
+        );
+    }
+    pb.inc(kept.rows as u64);
+    let start = std::time::Instant::now();
+    let mut rows_done = kept.rows;
+    let mut write_error: Option<anyhow::Error> = None;
+    let mut since_flush = std::time::Instant::now();
+    let todo = range.start + kept.rows..range.end;
+    let run = ens.run_streaming(todo, Some(threads), &mut |row| {
+        hist.add(&row);
+        rows_done += 1;
+        let mut result = w
+            .write_all(ensemble::csv_row(&row).as_bytes())
+            .map_err(anyhow::Error::from);
+        // About once a second: the rows on disk, then the histograms of
+        // exactly those rows (what --resume starts from).
+        if result.is_ok() && since_flush.elapsed().as_secs_f64() >= 1.0 {
+            result = w.flush().map_err(anyhow::Error::from).and_then(|()| {
+                let c = Checkpoint {
+                    fingerprint: info.fingerprint.clone(),
+                    first_index: info.first_index,
+                    rows: rows_done,
+                    hist: hist.clone(),
+                };
+                write_bytes_atomic(&hist_partial, serde_json::to_string(&c)?.as_bytes())
+            });
+            since_flush = std::time::Instant::now();
+        }
+        pb.inc(1);
+        match result {
+            Ok(()) => true,
+            Err(e) => {
+                write_error = Some(e);
+                false
+            }
+        }
+    });
+    pb.finish_and_clear();
+    if let Err(e) = run {
+        anyhow::bail!("{e}");
+    }
+    let flushed = w.flush();
+    if let Some(e) = write_error {
+        return Err(e).with_context(|| format!("writing {}", csv_partial.display()));
+    }
+    flushed.with_context(|| format!("writing {}", csv_partial.display()))?;
+    drop(w);
+
+    // The statistics, from the file as written (kept rows included), line
+    // by line.
+    let mut acc = StatsAcc::default();
+    let f = std::fs::File::open(&csv_partial)
+        .with_context(|| format!("reading {}", csv_partial.display()))?;
+    for (j, line) in std::io::BufReader::new(f).lines().enumerate().skip(1) {
+        let line = line.with_context(|| format!("reading {}", csv_partial.display()))?;
+        acc.push_line(j + 1, &line).map_err(anyhow::Error::new)?;
+    }
+    let stats = acc.finish();
+    out.adopt(PARTIAL_CSV, "ensemble.csv");
+    out.adopt(PARTIAL_INFO, "shard.json");
+    write_results(out.stage(), &info, &hist, &stats)?;
+    out.commit(&["summary.json"])?;
+    if !quiet {
+        let what = if shard == Shard::ALL {
+            format!("{} runs", range.len())
+        } else {
+            format!(
+                "shard {}/{}: runs {}..{} of {}",
+                shard.k, shard.n, range.start, range.end, info.total_runs
+            )
+        };
+        println!(
+            "{what} ({} ok, {} failed) in {:.1} s -> {}",
+            stats.ok,
+            stats.failed,
+            start.elapsed().as_secs_f64(),
+            dir.join("ensemble.csv").display()
+        );
+        print_stats(&stats);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn print_stats(stats: &EnsembleStats) {
+    let show = |name: &str, m: &ensemble::MeanCi, unit: &str| match (m.mean, m.ci95) {
+        (Some(mean), Some([lo, hi])) => {
+            println!(
+                "{name:<14} {mean:.6e} {unit} (95 % CI {lo:.6e} .. {hi:.6e}, n = {})",
+                m.n
+            )
+        }
+        (Some(mean), None) => println!("{name:<14} {mean:.6e} {unit} (n = {})", m.n),
+        _ => {}
+    };
+    show("theta_final", &stats.theta_final, "rad");
+    show("omega_final", &stats.omega_final, "rad/s");
+    show("Omega_final", &stats.precession_final, "rad/s");
+    show("energy_final", &stats.energy_final, "J");
+    let fp = &stats.first_passage;
+    if let Some(r) = &fp.escape_rate {
+        println!(
+            "passage rate   {:.6e} 1/s (95 % CI {:.6e} .. {:.6e}; {} passages in {:.6e} s at risk; an escape rate if passages are Poisson)",
+            r.rate, r.ci95[0], r.ci95[1], r.passages, r.exposure
+        );
+    }
+    println!(
+        "first passage  {} passed, {} censored; Kaplan-Meier median {}",
+        fp.observed,
+        fp.censored,
+        fp.kaplan_meier_median
+            .map_or("not reached (over half censored)".to_string(), |t| {
+                format!("{t:.6e} s")
+            })
+    );
+}
+
+/// Write `histograms.csv`, `quantiles.csv`, `summary.json` and the fan
+/// chart into `dir`.
+fn write_results(
+    dir: &Path,
+    info: &EnsembleShard,
+    hist: &Histograms,
+    stats: &EnsembleStats,
+) -> Result<()> {
+    write_bytes_atomic(&dir.join("histograms.csv"), hist.csv().as_bytes())?;
+    write_bytes_atomic(&dir.join("quantiles.csv"), hist.quantiles_csv().as_bytes())?;
+    let names = ensemble::QUANTITIES;
+    let ranges: serde_json::Map<String, serde_json::Value> = names
+        .iter()
+        .zip(hist.ranges)
+        .map(|(n, r)| (n.to_string(), serde_json::json!(r)))
+        .collect();
+    let mut summary = serde_json::to_value(stats)?;
+    if let serde_json::Value::Object(m) = &mut summary {
+        m.insert("fingerprint".into(), info.fingerprint.clone().into());
+        m.insert("first_run".into(), info.first_run.into());
+        m.insert(
+            "first_passage_criterion".into(),
+            info.exit
+                .clone()
+                .unwrap_or_else(|| "theta>pi/2 (the run's event; runs go to t_end)".into())
+                .into(),
+        );
+        if let Some(t) = info.temperature {
+            m.insert("temperature".into(), t.into());
+        }
+        m.insert("seed".into(), info.seed.into());
+        m.insert(
+            "shard".into(),
+            serde_json::json!({
+                "k": info.k, "n": info.n, "total_runs": info.total_runs,
+                "first_index": info.first_index, "end_index": info.end_index,
+            }),
+        );
+        m.insert(
+            "histograms".into(),
+            serde_json::json!({
+                "bins": hist.bins,
+                "spread_thermal_widths": SPREAD,
+                "ranges": ranges,
+                "quantiles": QUANTILES,
+            }),
+        );
+    }
+    let mut json = serde_json::to_string_pretty(&summary)?;
+    json.push('\n');
+    write_bytes_atomic(&dir.join("summary.json"), json.as_bytes())?;
+    write_fan(dir, hist, stats.runs)
+}
+
+/// The fan chart of θ(t): median, 25–75 % and 5–95 % bands (as their
+/// bounding curves), from the histograms.
+fn write_fan(dir: &Path, hist: &Histograms, runs: u64) -> Result<()> {
+    use crate::plot::{PlotOpts, RefLine, Series, line_plot};
+    let idx: Vec<usize> = (0..hist.times.len())
+        .filter(|&i| hist.times[i].is_some())
+        .collect();
+    if idx.len() < 2 {
+        return Ok(());
+    }
+    let t_end = idx
+        .iter()
+        .filter_map(|&i| hist.times[i])
+        .fold(0.0, f64::max);
+    let (scale, unit) = crate::run::time_unit(t_end);
+    let xs: Vec<f64> = idx
+        .iter()
+        .map(|&i| hist.times[i].unwrap_or(f64::NAN) * scale)
+        .collect();
+    let q = |p: f64| -> Vec<f64> {
+        idx.iter()
+            .map(|&i| hist.quantile(i, 0, p).unwrap_or(f64::NAN))
+            .collect()
+    };
+    let band = (110, 150, 210);
+    let inner = (40, 90, 170);
+    let series = vec![
+        Series::new("5 %, 95 %", xs.clone(), q(0.05))
+            .color(band)
+            .dashed(),
+        Series::new("", xs.clone(), q(0.95)).color(band).dashed(),
+        Series::new("25 %, 75 %", xs.clone(), q(0.25)).color(inner),
+        Series::new("", xs.clone(), q(0.75)).color(inner),
+        Series::new("median", xs.clone(), q(0.5))
+            .color((200, 30, 30))
+            .width(3),
+    ];
+    line_plot(
+        &dir.join("fan"),
+        &format!("θ(t) over {runs} runs: quantiles"),
+        &format!("t [{unit}]"),
+        "θ [rad]",
+        &series,
+        &PlotOpts {
+            hlines: vec![
+                RefLine::new(std::f64::consts::FRAC_PI_2, "π/2"),
+                RefLine::new(std::f64::consts::PI, "π"),
+            ],
+            y_range: Some((0.0, std::f64::consts::PI * 1.05)),
+            ..Default::default()
+        },
+    )
+}
+
+/// Whether `dir` holds an ensemble's output (rather than a sweep's), for
+/// `tippetop merge`.
+pub fn is_ensemble_dir(dir: &Path) -> bool {
+    std::fs::read_to_string(dir.join("shard.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .is_some_and(|v| v["kind"] == "ensemble")
+}
+
+/// `tippetop merge` of an ensemble's shards: `ensemble.csv` concatenated,
+/// `histograms.csv` added, the rest recomputed from them: byte for byte the
+/// files of a one-shot run (the plots aside). Bad input: one line, exit
+/// code 2, nothing written.
+pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode> {
+    let mut shards: Vec<(EnsembleShard, String)> = Vec::new();
+    let mut hists: Vec<(usize, Histograms)> = Vec::new();
+    for dir in &args.dirs {
+        let _reading = crate::output::read_lock(dir)?;
+        match read_shard(dir) {
+            Ok((info, csv, h)) => {
+                hists.push((info.first_index, h));
+                shards.push((info, csv));
+            }
+            Err(msg) => return Ok(input_error(msg)),
+        }
+    }
+    let csv = match ensemble::merge_csv(&shards) {
+        Ok(c) => c,
+        Err(e) => return Ok(input_error(e)),
+    };
+    hists.sort_by_key(|(i, _)| *i);
+    let mut hist = hists[0].1.clone();
+    for (_, h) in &hists[1..] {
+        if let Err(e) = hist.merge(h) {
+            return Ok(input_error(e));
+        }
+    }
+    let stats = match EnsembleStats::from_csv(&csv) {
+        Ok(s) => s,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let first = &shards[0].0;
+    let info = EnsembleShard {
+        k: 1,
+        n: 1,
+        first_index: 0,
+        end_index: first.total_runs,
+        ..first.clone()
+    };
+    let mut info_json = serde_json::to_string_pretty(&info)?;
+    info_json.push('\n');
+    let out = OutDir::open(&args.out)?;
+    write_bytes_atomic(&out.stage().join("ensemble.csv"), csv.as_bytes())?;
+    write_bytes_atomic(&out.stage().join("shard.json"), info_json.as_bytes())?;
+    write_results(out.stage(), &info, &hist, &stats)?;
+    out.commit(&["summary.json"])?;
+    if !quiet {
+        println!(
+            "merged {} shards: {} runs ({} ok, {} failed) -> {}",
+            shards.len(),
+            stats.runs,
+            stats.ok,
+            stats.failed,
+            args.out.join("ensemble.csv").display()
+        );
+        print_stats(&stats);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A shard directory's `shard.json`, `ensemble.csv` and `histograms.csv`;
+/// `Err` is the one-line message for bad input.
+fn read_shard(dir: &Path) -> std::result::Result<(EnsembleShard, String, Histograms), String> {
+    let what = "a directory written by tippetop ensemble, with shard.json, ensemble.csv and \
+                histograms.csv";
+    let read = |name: &str| {
+        let path = dir.join(name);
+        std::fs::read_to_string(&path)
+            .map_err(|e| format!("{}: cannot read it: {e} ({what})", path.display()))
+    };
+    let info: EnsembleShard = serde_json::from_str(&read("shard.json")?).map_err(|e| {
+        format!(
+            "{}: not an ensemble's shard description: {e} ({what})",
+            dir.join("shard.json").display()
+        )
+    })?;
+    let hist = Histograms::parse_csv(&read("histograms.csv")?)
+        .map_err(|e| format!("{}: {e}", dir.display()))?;
+    Ok((info, read("ensemble.csv")?, hist))
+}
