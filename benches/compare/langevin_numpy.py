@@ -18,8 +18,9 @@ Usage (from the repository root, after `cargo build --release`):
    equipartition of the five modes (M_i p_i^2 = kT) over an ensemble;
 2. timing: steps x runs per second for N = 1 ... 1e5 (nano-physical preset; and the preset
    without adhesion and well) against tippetop's single-core steps per second (in process,
-   `wall_seconds` of summary.json, best of --repeats) and two tippetop processes at once;
-   the N where numpy's rate reaches tippetop's.
+   `wall_seconds` of summary.json, best of --repeats; the vector model and the rigid one,
+   whose Langevin scheme in contact solves the same equations) and two tippetop processes at
+   once; the N where numpy's rate reaches tippetop's.
 
 Writes langevin_numpy.json and langevin_numpy.md into --out. Not part of CI.
 """
@@ -330,13 +331,17 @@ def main():
         ns = [1, 10, 100, 1000, 10000] if args.quick else [1, 10, 100, 1000, 10000, 100000]
         timing = {}
         for name, cargs in case_args.items():
-            # tippetop, one process (in process: wall_seconds), best of --repeats.
-            best, steps = math.inf, None
-            for r in range(args.repeats):
-                s, sc = tippetop(args.tippetop, cargs, os.path.join(tmp, f"tt_{name}"))
-                best = min(best, s["wall_seconds"])
-                steps = s["steps"]
-            tt1 = steps / best
+            # tippetop, one process (in process: wall_seconds), best of --repeats; the vector
+            # model, then the rigid one (its Langevin scheme in bilateral contact).
+            def best_rate(extra, label):
+                best, steps, sc = math.inf, None, None
+                for r in range(args.repeats):
+                    s, sc = tippetop(args.tippetop, [*cargs, *extra], os.path.join(tmp, f"tt_{label}"))
+                    best = min(best, s["wall_seconds"])
+                    steps = s["steps"]
+                return steps / best, steps, sc
+            tt_rigid, _, _ = best_rate(["--set", 'solver.model="rigid"'], f"{name}_rigid")
+            tt1, steps, sc = best_rate([], name)
             # Two processes at once (2 cores): their summed rate, best of --repeats.
             best2 = 0.0
             for r in range(args.repeats):
@@ -362,7 +367,10 @@ def main():
                              "tippetop_1_over_numpy": tt1 / rate})
                 print(f"{name} numpy N = {n}: {rate:.3e} steps*runs/s (tippetop 1 core {tt1:.3e}: x{tt1 / rate:.1f})")
             catch = next((r["n"] for r in rows if r["steps_runs_per_s"] >= tt1), None)
+            catch_rigid = next((r["n"] for r in rows if r["steps_runs_per_s"] >= tt_rigid), None)
             timing[name] = {"tippetop_steps": steps, "tippetop_1_core_steps_per_s": tt1,
+                            "tippetop_rigid_1_core_steps_per_s": tt_rigid,
+                            "numpy_catches_up_with_rigid_at_n": catch_rigid,
                             "tippetop_2_processes_steps_per_s": best2,
                             "two_process_speedup": best2 / tt1, "numpy": rows,
                             "numpy_catches_up_at_n": catch}
@@ -391,7 +399,9 @@ def main():
         md += [f"## {name}", "",
                f"tippetop: {t['tippetop_1_core_steps_per_s']:.3e} steps/s (1 process), "
                f"{t['tippetop_2_processes_steps_per_s']:.3e} (2 processes, x{t['two_process_speedup']:.2f}); "
-               f"numpy catches up at N = {t['numpy_catches_up_at_n']}", "",
+               f"numpy catches up at N = {t['numpy_catches_up_at_n']}; rigid model "
+               f"{t['tippetop_rigid_1_core_steps_per_s']:.3e} steps/s (1 process), numpy catches up at "
+               f"N = {t['numpy_catches_up_with_rigid_at_n']}", "",
                "| N | numpy steps x runs / s | tippetop (1 core) / numpy |", "|---|---|---|"]
         md += [f"| {r['n']} | {r['steps_runs_per_s']:.3e} | {r['tippetop_1_over_numpy']:.2f} |" for r in t["numpy"]]
         md.append("")

@@ -11,6 +11,10 @@
 //!     step, a 5×5 symmetric eigendecomposition per half step);
 //!   - `simple`: the preset without adhesion and well (gravity and the
 //!     applied force only), and `simple_contact` with contact damping;
+//!   - `nano_physical_rigid`, `simple_rigid`: the same with the rigid
+//!     model (its Langevin scheme in bilateral contact: the same
+//!     Ornstein–Uhlenbeck step, RK4 of the 3D body with the contact
+//!     constraint); whole runs only;
 //! - `langevin_engine`: the same steps through `integrate::solve` alone (no
 //!   samples, no events, no diagnostics): what the splitting costs without
 //!   the driver;
@@ -28,7 +32,7 @@ use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use tippetop::{
-    Adhesion, Scenario,
+    Adhesion, ModelKind, Scenario,
     integrate::{self, OdeSystem, Options, Stepper},
     model::vector::{DIM, Vector},
     random::Stream,
@@ -58,6 +62,12 @@ fn simple() -> Scenario {
     let mut sc = nano_physical();
     sc.adhesion = Adhesion::NONE;
     sc.wells.clear();
+    sc
+}
+
+/// With the rigid model.
+fn rigid(mut sc: Scenario) -> Scenario {
+    sc.solver.model = ModelKind::Rigid;
     sc
 }
 
@@ -120,7 +130,11 @@ fn bench_runs(c: &mut Criterion) {
     g.sample_size(20);
     g.measurement_time(Duration::from_secs(4));
     g.throughput(Throughput::Elements(STEPS));
-    for (name, sc) in &cases() {
+    let rigid_cases = [
+        ("nano_physical_rigid", rigid(nano_physical())),
+        ("simple_rigid", rigid(simple())),
+    ];
+    for (name, sc) in cases().iter().chain(&rigid_cases) {
         check(sc);
         g.bench_function(*name, |b| b.iter(|| simulate(black_box(sc))));
     }
