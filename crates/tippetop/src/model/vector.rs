@@ -165,7 +165,7 @@ pub struct Vector {
 struct OuCache {
     /// `(h bits, [(e^{−λh}, sqrt(kT (1 − e^{−2λh})/M)) of v_x (and v_y), k̂,
     /// f̂])`, most recent in slot `next − 1`.
-    consts: [Option<(u64, [(f64, f64); 3])>; OU_H_SLOTS],
+    consts: [Option<(u64, [Factors; 3])>; OU_H_SLOTS],
     /// The slot the next new `h` goes into (round robin).
     next: usize,
     /// The uncoupled step's data at one axis.
@@ -177,6 +177,11 @@ struct OuCache {
     /// when nothing moved in between (the first half step after the second).
     kinetic: Option<([u64; 8], f64)>,
 }
+
+/// A mode's `(e^{−λh}, sqrt(kT (1 − e^{−2λh})/M))` over a step `h`: its
+/// velocity decays by the first and gains the second times a standard
+/// normal (scaled velocity units).
+type Factors = (f64, f64);
 
 /// Number of half steps `h` whose constant-rate factors [`OuCache`] keeps.
 const OU_H_SLOTS: usize = 4;
