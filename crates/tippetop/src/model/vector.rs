@@ -195,8 +195,8 @@ struct AxisModes {
     basis: [V3; 3],
     rate: f64,
     mass: f64,
-    /// `(h bits, (e^{−λh}, sqrt(var)))`.
-    factors: (u64, (f64, f64)),
+    /// `(h bits, the ê mode's factors at that h)`.
+    factors: (u64, Factors),
 }
 
 /// The contact-damped step at one axis (see `Vector::ou_step_coupled`):
@@ -212,7 +212,7 @@ struct Coupled {
     lams: [f64; 5],
     /// `h` bits of `factors`.
     h: u64,
-    factors: [(f64, f64); 5],
+    factors: [Factors; 5],
 }
 
 /// The heat bath of a Langevin run in scaled units (m = R = 1, the model's
@@ -360,7 +360,7 @@ impl Vector {
             let var = -(b.kt / mass) * (-2.0 * rate * h).exp_m1();
             (decay, var.sqrt())
         };
-        let mode = |x: f64, (decay, amp): (f64, f64), z: f64| decay * x + amp * z;
+        let mode = |x: f64, (decay, amp): Factors, z: f64| decay * x + amp * z;
         let hb = h.to_bits();
         let c = &mut self.ou;
         let cached = c.consts.iter().flatten().find(|(k, _)| *k == hb);
@@ -608,7 +608,7 @@ impl Vector {
     }
 
     /// `(e^{−λ_j h}, sqrt(kT (1 − e^{−2λ_j h})))` of the coupled modes.
-    fn coupled_factors(lams: &[f64; 5], h: f64, b: Bath) -> [(f64, f64); 5] {
+    fn coupled_factors(lams: &[f64; 5], h: f64, b: Bath) -> [Factors; 5] {
         lams.map(|lam| {
             let decay = (-lam * h).exp();
             let var = -b.kt * (-2.0 * lam * h).exp_m1();
