@@ -702,6 +702,7 @@ pub(crate) mod tests {
                 negative_normal_fraction: 0.0,
                 rolling_fraction: 0.14,
                 pull_off_margin_min: None,
+                normal_intervals: None,
                 steps: 1234,
                 rejected_steps: 5,
                 rhs_evaluations: 15000,

@@ -1383,6 +1383,13 @@ impl Model<DIM> for Rigid {
         }
     }
 
+    fn normal_force(&self, y: &[f64; DIM]) -> Option<f64> {
+        match self.phase {
+            Phase::Flight => Some(0.0),
+            Phase::Contact => self.eval(y).ok().map(|e| e.normal * self.scales.force()),
+        }
+    }
+
     fn row(&self, t: f64, y: &[f64; DIM]) -> Sample {
         sample_of(self, t, y)
     }

@@ -663,3 +663,54 @@ fn rigid_langevin_follows_the_vector_path() {
         0.03,
     );
 }
+
+/// The normal force averaged over each output interval (stochastic runs,
+/// `Summary::normal_intervals`): over the run its mean is `m g + F_a` by
+/// the vertical momentum balance (the bath's vertical force has zero
+/// mean, and `m Δv_z / t_end` ~ 1e-14 N is negligible), checked on the
+/// `nano-physical` preset (1 ns, 1000 intervals) within 5 standard errors
+/// of the time average (40 batch means of the output rows' N); the interval
+/// means' range brackets it, none negative (the adhesion holds). A
+/// deterministic run has no such entry.
+#[test]
+fn interval_averaged_normal_force_balances_the_load() {
+    let sc = Scenario::nano_physical();
+    let tr = simulate(&sc).unwrap();
+    let ni = tr.summary.normal_intervals.expect("stochastic run");
+    let want = sc.top.mass * sc.surface.gravity + sc.adhesion.force;
+    let rows = &tr.samples;
+    let nb = 40;
+    let per = rows.len() / nb;
+    let means: Vec<f64> = (0..nb)
+        .map(|b| {
+            rows[b * per..(b + 1) * per]
+                .iter()
+                .map(|s| s.normal)
+                .sum::<f64>()
+                / per as f64
+        })
+        .collect();
+    let m = means.iter().sum::<f64>() / nb as f64;
+    let se =
+        (means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (nb - 1) as f64 / nb as f64).sqrt();
+    eprintln!(
+        "interval mean {:e}, rows' mean {m:e} ± {se:e}, want {want:e}; min {:e}, max {:e}",
+        ni.mean, ni.mean_min, ni.mean_max
+    );
+    assert_eq!(ni.intervals, sc.solver.samples - 1);
+    assert!(se < 0.01 * want, "SE {se}");
+    assert!(
+        (ni.mean - want).abs() < 5.0 * se,
+        "{} vs {want} (SE {se})",
+        ni.mean
+    );
+    assert!(ni.mean_min < want && want < ni.mean_max);
+    assert_eq!(ni.negative_fraction, 0.0);
+    assert!(
+        simulate(&Scenario::nano())
+            .unwrap()
+            .summary
+            .normal_intervals
+            .is_none()
+    );
+}
