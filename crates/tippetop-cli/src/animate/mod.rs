@@ -49,7 +49,9 @@ stochastic Langevin/Brownian runs replay bit for bit) and each frame is the stat
 from the integrator's dense output; otherwise frames are interpolated between rows. The
 contact trace is drawn from the rows. A spin faster than the frames can show (more than a
 small angle per frame) is drawn with the band smeared over the angle it turns through in a
-frame's interval (motion blur), as a camera would, instead of a strobing stripe.
+frame's interval (motion blur), as a camera would, instead of a strobing stripe. A GIF
+frame lasts a whole number of hundredths of a second: 100/fps rounded (exact for 1, 2, 4, 5,
+10, 20, 25 and 50 fps).
 
 The files are written aside and moved in together; the run's files are kept (a later `run`
 into DIR removes the animation, which belongs to the run it replaced). Bad input (a DIR
@@ -65,7 +67,7 @@ pub const MAX_FRAMES: usize = 600;
 /// Arguments of `tippetop animate`.
 #[derive(Debug, Clone, clap::Args)]
 #[command(after_help = "Example:\n  \
-    tippetop run --preset classical --set surface.friction_law=regularized --out out/classical\n  \
+    tippetop run --preset classical --set surface.friction_law=regularized \\\n      --set surface.friction_eps=0.01 --out out/classical\n  \
     tippetop animate out/classical\n  \
     tippetop animate out/classical --fps 25 --duration 8 --size 640x480\n\n\
     Exit codes: 0 ok, 2 bad input (one line), 1 I/O failure or DIR in use.")]
