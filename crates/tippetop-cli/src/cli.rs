@@ -16,7 +16,8 @@ use clap::{ArgGroup, Args, Parser, Subcommand};
     after_help = "Examples:\n  \
                   tippetop run --preset nano --out out/nano\n  \
                   tippetop run my-top.toml --set surface.friction=0.2 --out out/mine\n  \
-                  tippetop reproduce --out out\n\n\
+                  tippetop reproduce --out out\n  \
+                  tippetop animate out/nano   (then open out/nano/viewer.html in a browser)\n\n\
                   Exit codes: 0 ok, 1 other failure (e.g. I/O), 2 bad input, 3 the run failed."
 )]
 pub struct Cli {
@@ -70,6 +71,9 @@ pub enum Command {
     /// Retention time at a temperature, from ensembles' escape rates (Arrhenius).
     #[command(long_about = crate::retention_cmd::RETENTION_LONG_ABOUT)]
     Retention(crate::retention_cmd::RetentionArgs),
+    /// Animate a run: DIR/animation.gif and DIR/viewer.html (a 3D view in the browser).
+    #[command(long_about = crate::animate::ANIMATE_LONG_ABOUT)]
+    Animate(crate::animate::AnimateArgs),
 }
 
 /// Long help of `tippetop run`: the files, every `trajectory.csv` column

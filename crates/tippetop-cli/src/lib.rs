@@ -5,6 +5,7 @@
 #![warn(missing_docs)]
 
 pub mod adhesion_cmd;
+pub mod animate;
 pub mod cli;
 pub mod ensemble_cmd;
 pub mod output;

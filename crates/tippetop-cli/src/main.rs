@@ -11,7 +11,8 @@ use std::process::ExitCode;
 use clap::Parser;
 use tippetop_cli::cli::{Cli, Command};
 use tippetop_cli::{
-    adhesion_cmd, ensemble_cmd, regime_cmd, reproduce, retention_cmd, run, stability_cmd, sweep_cmd,
+    adhesion_cmd, animate, ensemble_cmd, regime_cmd, reproduce, retention_cmd, run, stability_cmd,
+    sweep_cmd,
 };
 
 fn main() -> ExitCode {
@@ -34,6 +35,7 @@ fn main() -> ExitCode {
         Command::Adhesion(args) => adhesion_cmd::run(args),
         Command::Regime(args) => regime_cmd::run(args),
         Command::Retention(args) => retention_cmd::run(args, cli.quiet),
+        Command::Animate(args) => animate::run(args, cli.quiet),
     };
     match result {
         Ok(code) => code,

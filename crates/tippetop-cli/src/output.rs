@@ -226,6 +226,8 @@ pub struct OutDir {
     previous: BTreeSet<String>,
     /// Files already in `DIR` to move into place at the commit: (from, to).
     adopted: Vec<(String, String)>,
+    /// Keep the previous command's files at the commit ([`OutDir::keep_previous`]).
+    keep: bool,
     done: bool,
 }
 
@@ -293,6 +295,7 @@ impl OutDir {
             created_lock,
             previous: BTreeSet::new(),
             adopted: Vec::new(),
+            keep: false,
             done: false,
         };
         match out.prepare() {
@@ -350,6 +353,14 @@ impl OutDir {
         write_manifest(&self.dir, &self.previous)
     }
 
+    /// Add to the directory rather than replace its contents: at the
+    /// commit, keep the previous command's files (and list them in the
+    /// manifest with the new ones), e.g. `animate` adding its files beside
+    /// the run's.
+    pub fn keep_previous(&mut self) {
+        self.keep = true;
+    }
+
     /// At the commit, rename `DIR/from` (a file written directly into the
     /// directory, see [`OutDir::claim`]) to `DIR/to`.
     pub fn adopt(&mut self, from: &str, to: &str) {
@@ -395,6 +406,9 @@ impl OutDir {
             fs::rename(source(name), &to).with_context(|| format!("writing {}", to.display()))?;
         }
         let mut removed = Vec::new();
+        if self.keep {
+            names = all;
+        }
         for stale in self.previous.difference(&names) {
             let p = self.dir.join(stale);
             if p.is_file() {
@@ -702,6 +716,7 @@ pub(crate) mod tests {
                 negative_normal_fraction: 0.0,
                 rolling_fraction: 0.14,
                 pull_off_margin_min: None,
+                normal_intervals: None,
                 steps: 1234,
                 rejected_steps: 5,
                 rhs_evaluations: 15000,

@@ -357,6 +357,15 @@ pub fn human_summary(
             v(100.0 * s.negative_normal_fraction)
         ));
     }
+    if let Some(ni) = &s.normal_intervals {
+        o.push_str(&format!(
+            "contact:     N averaged over each output interval ({} intervals): min {} N, max {} N, negative in {}% of them\n",
+            ni.intervals,
+            v(ni.mean_min),
+            v(ni.mean_max),
+            v(100.0 * ni.negative_fraction)
+        ));
+    }
     o.push_str(&format!("wall time:   {} s\n", v(wall_seconds)));
     let name = |p: &PathBuf| {
         p.file_name()

@@ -464,3 +464,72 @@ fn run_rejects_bad_wells() {
     }
     tippetop().args(&args).assert().success();
 }
+
+/// Bad thermal input (issue #15): negative temperature, zero damping at
+/// T > 0, Coulomb friction with mu > 0 at T > 0, a dt above the step rule,
+/// a missing seed, temperature without the Langevin method: one line naming
+/// the key, exit 2, nothing written.
+#[test]
+fn run_rejects_bad_thermal_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = out.to_str().unwrap();
+    let ok = [
+        "surface.friction=0",
+        "solver.method=\"langevin\"",
+        "solver.dt=1e-14",
+        "solver.t_end=1e-11",
+        "solver.samples=11",
+        "thermal.temperature=300",
+        "thermal.damping_translational=1e11",
+        "thermal.damping_rotational=1e11",
+        "thermal.seed=1",
+    ];
+    let with = |extra: &[&'static str], drop: &str| -> Vec<&'static str> {
+        ok.iter()
+            .copied()
+            .filter(|s| drop.is_empty() || !s.starts_with(drop))
+            .chain(extra.iter().copied())
+            .collect()
+    };
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (with(&["thermal.temperature=-1"], ""), "thermal.temperature"),
+        (
+            with(&["thermal.damping_rotational=0"], ""),
+            "thermal.damping_rotational",
+        ),
+        (
+            with(&["thermal.damping_translational=0"], ""),
+            "thermal.damping_translational",
+        ),
+        (with(&["surface.friction=0.1"], ""), "surface.friction"),
+        (with(&["solver.dt=1e-12"], ""), "solver.dt"),
+        (with(&[], "thermal.seed"), "thermal.seed"),
+        (with(&[], "solver.dt"), "solver.dt"),
+        (vec!["thermal.temperature=300"], "thermal.temperature"),
+    ];
+    for (sets, key) in cases {
+        let mut args = vec!["run", "--preset", "nano", "--no-plot", "--out", o];
+        for s in &sets {
+            args.push("--set");
+            args.push(s);
+        }
+        expect_input_error(&args, Some(&out), key);
+    }
+    // The valid run writes its files.
+    let mut args = vec![
+        "run",
+        "--preset",
+        "nano",
+        "--no-plot",
+        "--quiet",
+        "--out",
+        o,
+    ];
+    for s in ok {
+        args.push("--set");
+        args.push(s);
+    }
+    tippetop().args(&args).assert().success();
+    assert!(out.join("trajectory.csv").exists());
+}

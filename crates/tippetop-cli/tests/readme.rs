@@ -210,11 +210,22 @@ fn readme_commands_run() {
     assert!(commands.len() >= 6, "found only {commands:?}");
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let base = tmp("commands");
+    // The README's --out directories, redirected (for `animate DIR`).
+    let mut outs: std::collections::HashMap<String, PathBuf> = std::collections::HashMap::new();
     for (i, args) in commands.iter().enumerate() {
         let mut args = args.clone();
         let out = base.join(format!("c{i}"));
+        if args[0] == "animate" {
+            let dir = outs
+                .get(&args[1])
+                .unwrap_or_else(|| panic!("README: animate {} before a run into it", args[1]));
+            args[1] = dir.display().to_string();
+        }
         match args.iter().position(|a| a == "--out") {
-            Some(p) => args[p + 1] = out.display().to_string(),
+            Some(p) => {
+                outs.insert(args[p + 1].clone(), out.clone());
+                args[p + 1] = out.display().to_string()
+            }
             None if ["run", "sweep", "reproduce"].contains(&args[0].as_str()) => {
                 args.push("--out".into());
                 args.push(out.display().to_string());

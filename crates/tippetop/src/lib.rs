@@ -41,5 +41,5 @@ pub use simulate::{Simulation, Snapshot, simulate, simulate_with_progress};
 pub use state::{Initial, Method, ModelKind, SolverSettings};
 pub use thermal::Thermal;
 pub use top::Top;
-pub use trajectory::{EventRecord, Sample, Summary, Trajectory};
+pub use trajectory::{EventRecord, NormalIntervals, Sample, Summary, Trajectory};
 pub use well::Well;

@@ -333,6 +333,11 @@ struct Sim<M, const D: usize> {
     logs_crossings: bool,
     active: Option<Active<M, D>>,
     done: bool,
+    /// Stochastic runs: `∫ N dt` over each output interval (index `i`:
+    /// `(s_{i−1}, s_i]`, SI N times scaled time) and the end of the last
+    /// step (scaled).
+    normal_buckets: Option<Vec<f64>>,
+    last_step_t: f64,
 }
 
 impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
@@ -376,6 +381,8 @@ impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
                 }
             }),
             done: self.done,
+            normal_buckets: self.normal_buckets.clone(),
+            last_step_t: self.last_step_t,
         }
     }
 }
@@ -434,6 +441,12 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             logs_crossings: !m.flies(),
             active: None,
             done: false,
+            normal_buckets: sc
+                .solver
+                .method
+                .is_stochastic()
+                .then(|| vec![0.0; sc.solver.samples]),
+            last_step_t: 0.0,
             m,
         };
         sim.begin_segment();
@@ -582,6 +595,9 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let first_above = &mut self.first_above;
         let log = &mut self.log;
         let logs_crossings = self.logs_crossings;
+        let buckets = &mut self.normal_buckets;
+        let last_step_t = &mut self.last_step_t;
+        let sample_times = &self.sample_times;
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
             let row = s.row(t, y);
             if nonfinite_at.is_none() && !row.is_finite() {
@@ -598,6 +614,14 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             s.accepted(y);
             visit(track, s, y);
             observe(s, t, y);
+            if let Some(b) = buckets.as_mut() {
+                // The step (last, t] falls in the interval (s_{i−1}, s_i]
+                // with i the first sample time >= t.
+                let i = sample_times.partition_point(|&st| st < t).min(b.len() - 1);
+                let n = s.normal_force(y).unwrap_or(f64::NAN);
+                b[i] += n * (t - *last_step_t);
+                *last_step_t = t;
+            }
         };
         // The events as they fire (also those before a failure). θ maxima
         // go into their own track, merged at the segment's end (the maxima
@@ -787,6 +811,10 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 stats: self.stats,
                 error: self.error.as_ref(),
                 adhesive: self.m.adhesive(),
+                normal_buckets: self
+                    .normal_buckets
+                    .as_deref()
+                    .map(|b| (b, &self.sample_times[..])),
             },
         );
         Trajectory {

@@ -170,6 +170,26 @@ pub struct EventRecord {
     pub kind: String,
 }
 
+/// The normal force of a stochastic run averaged over each output interval
+/// (`(t_{i−1}, t_i]`, from its value at every step end weighted by the
+/// step): what the contact carries on the output's time scale, where the
+/// instantaneous reaction is noise-dominated (docs/physics.md §21).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct NormalIntervals {
+    /// Number of intervals averaged (those the run completed).
+    pub intervals: usize,
+    /// Mean over those intervals \[N\] (the time average of N; in a
+    /// stationary run `m g + F_a` plus the loads: vertical momentum balance).
+    pub mean: f64,
+    /// Smallest interval mean \[N\] (with adhesion: the pull-off margin on
+    /// interval averages).
+    pub mean_min: f64,
+    /// Largest interval mean \[N\].
+    pub mean_max: f64,
+    /// Fraction of the intervals whose mean is negative.
+    pub negative_fraction: f64,
+}
+
 /// Scalar summary of a run (the `summary.json` of the CLI, minus wall time).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Summary {
@@ -208,6 +228,12 @@ pub struct Summary {
     /// state \[N\]: how far the run stayed from pulling off (0 in flight);
     /// `None` without adhesion (docs/physics.md §18).
     pub pull_off_margin_min: Option<f64>,
+    /// Stochastic runs (`solver.method = "langevin"` or `"brownian"`): the
+    /// normal force averaged over each output interval (the instantaneous
+    /// reaction carries the noise); `None` (and absent from summary.json)
+    /// for deterministic runs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normal_intervals: Option<NormalIntervals>,
     /// Accepted steps.
     pub steps: u64,
     /// Rejected steps.

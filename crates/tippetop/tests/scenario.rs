@@ -824,10 +824,6 @@ fn thermal_keys_and_their_rules() {
         (&["surface.friction=0.1"], "surface.friction"),
         (&["solver.dt=1e-12"], "solver.dt"),
         (&["solver.model=\"reduced\""], "solver.model"),
-        (
-            &["solver.model=\"rigid\"", "surface.contact=\"unilateral\""],
-            "surface.contact",
-        ),
         (&["solver.samples=2000"], "solver.samples"),
         (&["thermal.run=4294967296"], "thermal.run"),
         (&["thermal.bogus=1"], "thermal.bogus"),

@@ -126,9 +126,10 @@ impl<const N: usize> Engine<N> for Langevin<N> {
             grid
         };
         let hs = t_next - t;
+        let (nm, ne) = (S::NOISE, S::NOISE_EXTRA);
         if self.overdamped {
             let mut xi = [0.0; MAX_NOISE];
-            let xi = &mut xi[..S::NOISE];
+            let xi = &mut xi[..nm + ne];
             self.stream.normals(self.step, xi);
             let mut y = self.y1;
             sys.overdamped_step(t, &mut y, hs, xi)
@@ -144,10 +145,14 @@ impl<const N: usize> Engine<N> for Langevin<N> {
             self.step += 1;
             return Ok(());
         }
-        let mut xi = [0.0; 2 * MAX_NOISE];
-        let xi = &mut xi[..2 * S::NOISE];
-        self.stream.normals(self.step, xi);
-        let (first, second) = xi.split_at(S::NOISE);
+        let mut all = [0.0; 2 * MAX_NOISE];
+        self.stream.normals(self.step, &mut all[..2 * (nm + ne)]);
+        let (mut a, mut b) = ([0.0; MAX_NOISE], [0.0; MAX_NOISE]);
+        a[..nm].copy_from_slice(&all[..nm]);
+        a[nm..nm + ne].copy_from_slice(&all[2 * nm..2 * nm + ne]);
+        b[..nm].copy_from_slice(&all[nm..2 * nm]);
+        b[nm..nm + ne].copy_from_slice(&all[2 * nm + ne..2 * (nm + ne)]);
+        let (first, second) = (&a[..nm + ne], &b[..nm + ne]);
 
         let mut y = self.y1;
         sys.thermostat(&mut y, 0.5 * hs, first);

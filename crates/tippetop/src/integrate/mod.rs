@@ -124,9 +124,17 @@ pub trait OdeSystem<const N: usize> {
     }
 
     /// Number of standard normals [`OdeSystem::thermostat`] takes per half
-    /// step of the Langevin engine ([`Stepper::Langevin`]); at most 16.
-    /// Default 0: no thermostat.
+    /// step of the Langevin engine ([`Stepper::Langevin`]); with
+    /// [`OdeSystem::NOISE_EXTRA`] at most 16. Default 0: no thermostat.
+    /// The engine draws `2 (NOISE + NOISE_EXTRA)` normals per step: the
+    /// first half gets numbers `0 .. NOISE` and `2 NOISE .. 2 NOISE +
+    /// NOISE_EXTRA`, the second `NOISE .. 2 NOISE` and the rest, so a
+    /// system that needs more normals in some states (the rigid model in
+    /// flight) shares the first `NOISE` of each half with one that does not.
     const NOISE: usize = 0;
+    /// Extra normals per half step, after the `NOISE` ones (see
+    /// [`OdeSystem::NOISE`]). Default 0.
+    const NOISE_EXTRA: usize = 0;
 
     /// The exact Ornstein–Uhlenbeck step over `h` of the velocities at
     /// fixed configuration (damping and its fluctuation–dissipation noise),

@@ -121,6 +121,11 @@ pub(crate) trait Model<const D: usize>: OdeSystem<D> + Sized {
     /// and the work done by friction and the applied force (scaled): what
     /// the run's [`Track`] follows.
     fn track_point(&self, y: &[f64; D]) -> (f64, f64, f64, Option<f64>, f64);
+    /// The plane's reaction N \[N\] at a state, as the output row's `N`
+    /// column has it (`None` where it cannot be evaluated; 0 in flight).
+    /// The driver averages it over each output interval of a stochastic
+    /// run ([`crate::Summary::normal_intervals`]).
+    fn normal_force(&self, y: &[f64; D]) -> Option<f64>;
     /// True where the top can leave the plane (rigid model, unilateral
     /// contact): the summary's contact entries then count flights, not
     /// zero crossings of N.

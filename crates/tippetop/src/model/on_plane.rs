@@ -272,6 +272,11 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
         self.sample(t, y)
     }
 
+    fn normal_force(&self, y: &[f64; D]) -> Option<f64> {
+        let f = self.scales().force();
+        self.contact_forces(y).ok().map(|(n, _)| n * f)
+    }
+
     fn describe(&self, y: &[f64]) -> String {
         ContactModel::describe_state(self, y)
     }

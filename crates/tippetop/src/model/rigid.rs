@@ -855,18 +855,35 @@ fn y_normalize(y: &mut [f64; DIM], q: [f64; 4]) {
 impl OdeSystem<DIM> for Rigid {
     type Error = RigidError;
 
-    /// Five normals per half step (contact: `v_x, v_y` and the three
-    /// rotational modes).
+    /// Five normals per half step in contact (`v_x, v_y` and the three
+    /// rotational modes: the vector model's), one more in flight (`v_z`).
     const NOISE: usize = 5;
+    const NOISE_EXTRA: usize = 1;
 
-    /// The exact Ornstein–Uhlenbeck step in contact
-    /// ([`super::thermostat::ou_on_plane`], the vector model's step): the
-    /// horizontal velocity and `n` relax with their noise at fixed axis,
-    /// the vertical velocity is the constraint's, and `W_f` takes the
-    /// kinetic energy's change (the bath's work).
+    /// The exact Ornstein–Uhlenbeck step: in contact
+    /// ([`super::thermostat::ou_on_plane`], the vector model's step) the
+    /// horizontal velocity and `n` relax with their noise at fixed axis and
+    /// the vertical velocity is the constraint's; in flight
+    /// ([`super::thermostat::ou_free`]) all six velocities relax. `W_f`
+    /// takes the kinetic energy's change (the bath's work).
     fn thermostat(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {
         let Some(b) = self.thermal else { return };
-        if self.phase != Phase::Contact {
+        let body = super::thermostat::Body {
+            a: self.a,
+            ia: self.ia,
+            ic: self.ic,
+        };
+        if self.phase == Phase::Flight {
+            let free = |y: &[f64; DIM]| {
+                let (v, k, n) = (v3(y, VEL), v3(y, AXIS), v3(y, OMEGA));
+                0.5 * dot(v, v) + 0.5 * dot(n, self.inertia(k, n))
+            };
+            let e0 = free(y);
+            let (k, mut v, mut w) = (v3(y, AXIS), v3(y, VEL), v3(y, OMEGA));
+            super::thermostat::ou_free(&b, &body, k, &mut v, &mut w, h, xi);
+            set3(y, VEL, v);
+            set3(y, OMEGA, w);
+            y[WF] += free(y) - e0;
             return;
         }
         let kinetic = |y: &[f64; DIM]| {
@@ -879,11 +896,6 @@ impl OdeSystem<DIM> for Rigid {
         let k = v3(y, AXIS);
         let mut vh = [y[VEL], y[VEL + 1]];
         let mut w = v3(y, OMEGA);
-        let body = super::thermostat::Body {
-            a: self.a,
-            ia: self.ia,
-            ic: self.ic,
-        };
         super::thermostat::ou_on_plane(&b, &body, k, &mut vh, &mut w, h, xi);
         y[VEL] = vh[0];
         y[VEL + 1] = vh[1];
@@ -1380,6 +1392,13 @@ impl Model<DIM> for Rigid {
             ),
             RigidError::ImpactJam { .. } => (Failure::Painleve, err.to_string()),
             RigidError::Chattering { .. } => (Failure::Chattering, err.to_string()),
+        }
+    }
+
+    fn normal_force(&self, y: &[f64; DIM]) -> Option<f64> {
+        match self.phase {
+            Phase::Flight => Some(0.0),
+            Phase::Contact => self.eval(y).ok().map(|e| e.normal * self.scales.force()),
         }
     }
 

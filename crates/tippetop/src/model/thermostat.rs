@@ -150,3 +150,31 @@ fn ou_on_plane_coupled(
     }
     *w = wn;
 }
+
+/// The exact Ornstein–Uhlenbeck step over `h` of a free body (in flight):
+/// the centre's velocity `v` (3 modes of mass 1 at γ_t) and the angular
+/// velocity `w` in the basis `(k̂, ê, f̂)` (masses `C, A, A`, each at γ_r),
+/// with 6 standard normals `xi` (`v_x, v_y`, the three rotational modes,
+/// `v_z`: the first five in the order the contact step uses them). No
+/// contact damping (no contact).
+pub(crate) fn ou_free(b: &Bath, body: &Body, k: V3, v: &mut V3, w: &mut V3, h: f64, xi: &[f64]) {
+    let mode = |x: f64, rate: f64, mass: f64, z: f64| {
+        let decay = (-rate * h).exp();
+        let var = -(b.kt / mass) * (-2.0 * rate * h).exp_m1();
+        decay * x + var.sqrt() * z
+    };
+    v[0] = mode(v[0], b.gt, 1.0, xi[0]);
+    v[1] = mode(v[1], b.gt, 1.0, xi[1]);
+    v[2] = mode(v[2], b.gt, 1.0, xi[5]);
+    let ([kn, eh, fh], _) = modes_basis(k);
+    let mut wn = *w;
+    for (j, (dir, mass)) in [(kn, body.ic), (eh, body.ia), (fh, body.ia)]
+        .into_iter()
+        .enumerate()
+    {
+        let x = dot(wn, dir);
+        let dx = mode(x, b.gr, mass, xi[2 + j]) - x;
+        wn = add(wn, scale(dx, dir));
+    }
+    *w = wn;
+}

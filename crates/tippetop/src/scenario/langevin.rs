@@ -172,20 +172,8 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
         }
         return Ok(());
     }
-    let rigid_in_contact = !brownian
-        && so.model == crate::ModelKind::Rigid
-        && sc.surface.contact == crate::ContactMode::Bilateral;
-    if so.model == crate::ModelKind::Rigid && !brownian && !rigid_in_contact {
-        return Err(Error::invalid(
-            "surface.contact",
-            format!(
-                "\"{}\" with model = \"rigid\" and method = \"langevin\": the noise in flight is not written yet",
-                sc.surface.contact.name()
-            ),
-            "\"bilateral\" (the top stays on the plane) with the rigid model's Langevin method; model = \"vector\" for the other contact modes".into(),
-        ));
-    }
-    if so.model != crate::ModelKind::Vector && !rigid_in_contact {
+    let rigid_langevin = !brownian && so.model == crate::ModelKind::Rigid;
+    if so.model != crate::ModelKind::Vector && !rigid_langevin {
         let name = match so.model {
             crate::ModelKind::Reduced => "reduced",
             crate::ModelKind::Rigid => "rigid",

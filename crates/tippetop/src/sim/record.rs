@@ -150,6 +150,9 @@ pub(crate) struct RunEnd<'a> {
     /// True when the scenario has adhesion (`pull_off_margin_min` is then
     /// reported).
     pub adhesive: bool,
+    /// Stochastic runs: `∫ N dt` \[N, scaled time\] over each output
+    /// interval `(s_{i−1}, s_i]` (index `i`, from 1) and the sample times.
+    pub normal_buckets: Option<(&'a [f64], &'a [f64])>,
 }
 
 /// The run's [`Summary`] from its [`Track`] and its end.
@@ -176,6 +179,36 @@ pub(crate) fn summarize(track: &Track, end: RunEnd<'_>) -> Summary {
                 .iter()
                 .map(|s| s.normal)
                 .fold(end.last.normal, f64::min)
+        }),
+        normal_intervals: end.normal_buckets.map(|(sums, times)| {
+            let mut acc = crate::trajectory::NormalIntervals {
+                intervals: 0,
+                mean: 0.0,
+                mean_min: f64::INFINITY,
+                mean_max: f64::NEG_INFINITY,
+                negative_fraction: 0.0,
+            };
+            let mut negative = 0usize;
+            for i in 1..times.len() {
+                if times[i] > t {
+                    break;
+                }
+                let mean = sums[i] / (times[i] - times[i - 1]);
+                acc.intervals += 1;
+                acc.mean_min = acc.mean_min.min(mean);
+                acc.mean_max = acc.mean_max.max(mean);
+                acc.mean += mean;
+                negative += usize::from(mean < 0.0);
+            }
+            if acc.intervals > 0 {
+                acc.negative_fraction = negative as f64 / acc.intervals as f64;
+                acc.mean /= acc.intervals as f64;
+            } else {
+                acc.mean = f64::NAN;
+                acc.mean_min = f64::NAN;
+                acc.mean_max = f64::NAN;
+            }
+            acc
         }),
         steps: end.stats.steps,
         rejected_steps: end.stats.rejected,
