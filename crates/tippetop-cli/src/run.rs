@@ -338,9 +338,16 @@ pub fn human_summary(
         Some(t) => o.push_str(&format!(", above π/2 from t = {} s\n", v(t))),
         None => o.push_str(", never above π/2\n"),
     }
+    // A stochastic run (it has interval-averaged N): the bath's torques
+    // change J, so its drift is not an accuracy figure.
+    let j_note = if s.normal_intervals.is_some() {
+        " (not conserved: the heat bath's torques)"
+    } else {
+        ""
+    };
     o.push_str(&format!(
         "spin:        omega_final {} rad/s, Omega_final {} rad/s\n\
-         Jellett J:   J0 = {} kg m³/s, max relative drift {}\n\
+         Jellett J:   J0 = {} kg m³/s, max relative drift {}{j_note}\n\
          energy:      {} -> {} J, max balance error {}\n",
         v(s.omega_final),
         v(s.precession_final),
