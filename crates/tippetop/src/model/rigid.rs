@@ -385,6 +385,8 @@ pub struct Rigid {
     /// (in contact only: the validation keeps a Langevin rigid run on the
     /// plane, bilateral contact).
     thermal: Option<super::thermostat::Bath>,
+    /// The Ornstein–Uhlenbeck step's coefficients from the last call.
+    ou: super::thermostat::OuCache,
 }
 
 impl Rigid {
@@ -406,6 +408,7 @@ impl Rigid {
             top: sc.top,
             gravity_si: sc.surface.gravity,
             thermal: super::thermostat::Bath::of(sc, &scales),
+            ou: super::thermostat::OuCache::default(),
         }
     }
 
@@ -717,6 +720,15 @@ impl Rigid {
         }
     }
 
+    /// Kinetic energy (scaled) in contact: `½ (|v_h|² + v_Z²) + ½ n·I n`
+    /// with the constraint's `v_Z = −a (n × k)_Z`.
+    fn kinetic_on_plane(&self, y: &[f64; DIM]) -> f64 {
+        let (k, n) = (v3(y, AXIS), v3(y, OMEGA));
+        let vz = -self.a * cross(n, k)[2];
+        0.5 * (y[VEL] * y[VEL] + y[VEL + 1] * y[VEL + 1] + vz * vz)
+            + 0.5 * dot(n, self.inertia(k, n))
+    }
+
     /// Project onto the contact constraint: normalise q and k, `z_C = R`, `v_Cz = 0`.
     pub fn project_contact(&self, y: &mut [f64; DIM]) {
         let q = normalized(quat_of(y));
@@ -861,7 +873,7 @@ impl OdeSystem<DIM> for Rigid {
     const NOISE_EXTRA: usize = 1;
 
     /// The exact Ornstein–Uhlenbeck step: in contact
-    /// ([`super::thermostat::ou_on_plane`], the vector model's step) the
+    /// ([`super::thermostat::ou_on_plane_cached`], the vector model's step) the
     /// horizontal velocity and `n` relax with their noise at fixed axis and
     /// the vertical velocity is the constraint's; in flight
     /// ([`super::thermostat::ou_free`]) all six velocities relax. `W_f`
@@ -886,22 +898,16 @@ impl OdeSystem<DIM> for Rigid {
             y[WF] += free(y) - e0;
             return;
         }
-        let kinetic = |y: &[f64; DIM]| {
-            let (k, n) = (v3(y, AXIS), v3(y, OMEGA));
-            let vz = -self.a * cross(n, k)[2];
-            0.5 * (y[VEL] * y[VEL] + y[VEL + 1] * y[VEL + 1] + vz * vz)
-                + 0.5 * dot(n, self.inertia(k, n))
-        };
-        let e0 = kinetic(y);
+        let e0 = self.kinetic_on_plane(y);
         let k = v3(y, AXIS);
         let mut vh = [y[VEL], y[VEL + 1]];
         let mut w = v3(y, OMEGA);
-        super::thermostat::ou_on_plane(&b, &body, k, &mut vh, &mut w, h, xi);
+        super::thermostat::ou_on_plane_cached(&b, &body, &mut self.ou, k, &mut vh, &mut w, h, xi);
         y[VEL] = vh[0];
         y[VEL + 1] = vh[1];
         set3(y, OMEGA, w);
         y[VEL + 2] = -self.a * cross(w, k)[2];
-        y[WF] += kinetic(y) - e0;
+        y[WF] += self.kinetic_on_plane(y) - e0;
     }
 
     fn begin_segment(&mut self, t: f64, _y: &[f64; DIM]) {

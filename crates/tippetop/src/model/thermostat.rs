@@ -2,7 +2,8 @@
 //! Ornstein–Uhlenbeck step of its generalised velocities `(v_x, v_y, w)` at
 //! fixed axis `k` (docs/physics.md §21), written over plain vectors so the
 //! models that keep the sphere on the plane share it (the rigid model in
-//! contact; the vector model has the same step inline, bit for bit).
+//! contact and in flight, and the vector model), with a cache of its
+//! coefficients ([`OuCache`]).
 
 use super::vec3::{V3, add, cross, dot, scale};
 use crate::Scenario;
@@ -56,101 +57,6 @@ pub(crate) struct Body {
     pub ic: f64,
 }
 
-/// The exact Ornstein–Uhlenbeck step over `h` of `(v_h, w)` on the plane
-/// at axis `k`, with 5 standard normals `xi` (docs/physics.md §21). Without
-/// contact damping `M` and `Γ` are diagonal in `(X, Y | k̂, ê, f̂)`; with it,
-/// the 5×5 problem is solved in the eigenbasis of `M^{−1/2} Γ M^{−1/2}`.
-pub(crate) fn ou_on_plane(
-    b: &Bath,
-    body: &Body,
-    k: V3,
-    vh: &mut [f64; 2],
-    w: &mut V3,
-    h: f64,
-    xi: &[f64],
-) {
-    if b.c > 0.0 {
-        return ou_on_plane_coupled(b, body, k, vh, w, h, xi);
-    }
-    let mode = |x: f64, rate: f64, mass: f64, z: f64| {
-        let decay = (-rate * h).exp();
-        let var = -(b.kt / mass) * (-2.0 * rate * h).exp_m1();
-        decay * x + var.sqrt() * z
-    };
-    for j in 0..2 {
-        vh[j] = mode(vh[j], b.gt, 1.0, xi[j]);
-    }
-    let ([kn, eh, fh], s2) = modes_basis(k);
-    let beta = body.a * body.a * s2;
-    let modes = [
-        (kn, b.gr, body.ic),
-        (
-            eh,
-            (b.gr * body.ia + b.gt * beta) / (body.ia + beta),
-            body.ia + beta,
-        ),
-        (fh, b.gr, body.ia),
-    ];
-    let mut wn = *w;
-    for (j, (dir, rate, mass)) in modes.into_iter().enumerate() {
-        let x = dot(wn, dir);
-        let dx = mode(x, rate, mass, xi[2 + j]) - x;
-        wn = add(wn, scale(dx, dir));
-    }
-    *w = wn;
-}
-
-/// [`ou_on_plane`] with the contact damping (`Γ` gains `c Pᵀ P`).
-fn ou_on_plane_coupled(
-    b: &Bath,
-    body: &Body,
-    k: V3,
-    vh: &mut [f64; 2],
-    w: &mut V3,
-    h: f64,
-    xi: &[f64],
-) {
-    use nalgebra::{Matrix5, SymmetricEigen, Vector5};
-    let ([kn, eh, fh], s2) = modes_basis(k);
-    let (a, ia, ic) = (body.a, body.ia, body.ic);
-    let beta = a * a * s2;
-    let m = [1.0, 1.0, ic, ia + beta, ia];
-    let g = [b.gt, b.gt, b.gr * ic, b.gr * ia + b.gt * beta, b.gr * ia];
-    let r = [a * kn[0], a * kn[1], a * kn[2] - 1.0];
-    let cols: [[f64; 2]; 5] = {
-        let c = |d: V3| {
-            let x = cross(d, r);
-            [x[0], x[1]]
-        };
-        [[1.0, 0.0], [0.0, 1.0], c(kn), c(eh), c(fh)]
-    };
-    let sq: [f64; 5] = m.map(f64::sqrt);
-    let smat = Matrix5::from_fn(|i, j| {
-        let pp = cols[i][0] * cols[j][0] + cols[i][1] * cols[j][1];
-        let gij = if i == j { g[i] } else { 0.0 } + b.c * pp;
-        gij / (sq[i] * sq[j])
-    });
-    let eig = SymmetricEigen::new(smat);
-    let dirs = [kn, eh, fh];
-    let p = [vh[0], vh[1], dot(*w, kn), dot(*w, eh), dot(*w, fh)];
-    let z = Vector5::from_fn(|i, _| sq[i] * p[i]);
-    let mut q = eig.eigenvectors.transpose() * z;
-    for j in 0..5 {
-        let lam = eig.eigenvalues[j].max(0.0);
-        let decay = (-lam * h).exp();
-        let var = -b.kt * (-2.0 * lam * h).exp_m1();
-        q[j] = decay * q[j] + var.sqrt() * xi[j];
-    }
-    let z = eig.eigenvectors * q;
-    vh[0] = z[0] / sq[0];
-    vh[1] = z[1] / sq[1];
-    let mut wn = *w;
-    for j in 0..3 {
-        wn = add(wn, scale(z[2 + j] / sq[2 + j] - p[2 + j], dirs[j]));
-    }
-    *w = wn;
-}
-
 /// The exact Ornstein–Uhlenbeck step over `h` of a free body (in flight):
 /// the centre's velocity `v` (3 modes of mass 1 at γ_t) and the angular
 /// velocity `w` in the basis `(k̂, ê, f̂)` (masses `C, A, A`, each at γ_r),
@@ -177,4 +83,258 @@ pub(crate) fn ou_free(b: &Bath, body: &Body, k: V3, v: &mut V3, w: &mut V3, h: f
         wn = add(wn, scale(dx, dir));
     }
     *w = wn;
+}
+
+/// What [`ou_on_plane_cached`] computed, with the bits of their
+/// inputs, so a call with the same inputs reuses it: the same expressions on
+/// the same bits, hence the same results.
+///
+/// - The factors of the modes whose rate is constant (`v_x`, `v_y`, `k̂`,
+///   `f̂`) depend on the half step `h` only. The engine's steps are
+///   differences of grid times `(j + 1) h₀ − j h₀`, which take a few
+///   distinct values an ulp apart, so the last [`OU_H_SLOTS`] are kept.
+/// - The basis, the `ê` mode's rate and mass and the coupled step's
+///   eigendecomposition depend on the axis `k` only: the two half steps
+///   between two RK4 steps (the second of step n, the first of step n + 1)
+///   share it (`O` does not move `k`); their factors depend on `h` too and
+///   are redone when `h` differs.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct OuCache {
+    /// `(h bits, [(e^{−λh}, sqrt(kT (1 − e^{−2λh})/M)) of v_x (and v_y), k̂,
+    /// f̂])`, most recent in slot `next − 1`.
+    consts: [Option<(u64, [Factors; 3])>; OU_H_SLOTS],
+    /// The slot the next new `h` goes into (round robin).
+    next: usize,
+    /// The uncoupled step's data at one axis.
+    axis: Option<AxisModes>,
+    /// The coupled step's data at one axis.
+    coupled: Option<Box<Coupled>>,
+    /// The kinetic energy at the end of the last step and the bits of what
+    /// it reads (`k`, `w`, `v_x`, `v_y`): the next call's starting energy
+    /// when nothing moved in between (the first half step after the second;
+    /// kept by the vector model).
+    pub kinetic: Option<([u64; 8], f64)>,
+}
+
+/// A mode's `(e^{−λh}, sqrt(kT (1 − e^{−2λh})/M))` over a step `h`: its
+/// velocity decays by the first and gains the second times a standard
+/// normal (scaled velocity units).
+type Factors = (f64, f64);
+
+/// Number of half steps `h` whose constant-rate factors [`OuCache`] keeps.
+const OU_H_SLOTS: usize = 4;
+
+/// The uncoupled step at one axis: the basis `(k̂, ê, f̂)`, the `ê` mode's
+/// rate and mass, and its factors at one `h`.
+#[derive(Debug, Clone, Copy)]
+struct AxisModes {
+    /// `k` bits.
+    key: [u64; 3],
+    basis: [V3; 3],
+    rate: f64,
+    mass: f64,
+    /// `(h bits, the ê mode's factors at that h)`.
+    factors: (u64, Factors),
+}
+
+/// The contact-damped step at one axis (see [`ou_on_plane_cached`]):
+/// the basis, `sqrt(M_i)`, the eigenvectors and rates `λ_j`, and the
+/// per-mode `(e^{−λ_j h}, sqrt(kT (1 − e^{−2λ_j h})))` at one `h`.
+#[derive(Debug, Clone)]
+struct Coupled {
+    /// `k` bits.
+    key: [u64; 3],
+    dirs: [V3; 3],
+    sq: [f64; 5],
+    vecs: nalgebra::Matrix5<f64>,
+    lams: [f64; 5],
+    /// `h` bits of `factors`.
+    h: u64,
+    factors: [Factors; 5],
+}
+
+/// The exact Ornstein–Uhlenbeck step over `h` of `(v_h, w)` on the plane
+/// at axis `k`, with 5 standard normals `xi` (docs/physics.md §21). Without
+/// contact damping `M` and `Γ` are diagonal in `(X, Y | k̂, ê, f̂)`; with it,
+/// the 5×5 problem is solved in the eigenbasis of `M^{−1/2} Γ M^{−1/2}`
+/// (`Γ` gains `c Pᵀ P`, `P` the map to the horizontal slip
+/// `v_h + (w × r)_h`). Its coefficients are kept in `cache` between calls:
+/// the same expressions on the same bits, so the same results (the
+/// constant-rate modes' factors per `h`; the basis, the `ê` mode and the
+/// coupled step's eigendecomposition per axis `k`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn ou_on_plane_cached(
+    b: &Bath,
+    body: &Body,
+    cache: &mut OuCache,
+    k: V3,
+    vh: &mut [f64; 2],
+    w: &mut V3,
+    h: f64,
+    xi: &[f64],
+) {
+    if b.c > 0.0 {
+        return ou_coupled_cached(b, body, cache, k, vh, w, h, xi);
+    }
+    // One mode: `(e^{−λh}, sqrt(var))` of a mode of mass `mass` relaxing
+    // at `rate`, and the update of its velocity `x`.
+    let factors = |rate: f64, mass: f64| {
+        let decay = (-rate * h).exp();
+        let var = -(b.kt / mass) * (-2.0 * rate * h).exp_m1();
+        (decay, var.sqrt())
+    };
+    let mode = |x: f64, (decay, amp): Factors, z: f64| decay * x + amp * z;
+    let hb = h.to_bits();
+    let c = cache;
+    let cached = c.consts.iter().flatten().find(|(k, _)| *k == hb);
+    let [ft, fk, ff] = match cached {
+        Some((_, f)) => *f,
+        None => {
+            let f = [
+                factors(b.gt, 1.0),
+                factors(b.gr, body.ic),
+                factors(b.gr, body.ia),
+            ];
+            c.consts[c.next] = Some((hb, f));
+            c.next = (c.next + 1) % OU_H_SLOTS;
+            f
+        }
+    };
+    for j in 0..2 {
+        vh[j] = mode(vh[j], ft, xi[j]);
+    }
+    let key = [k[0].to_bits(), k[1].to_bits(), k[2].to_bits()];
+    let ax = match c.axis {
+        Some(ax) if ax.key == key => ax,
+        _ => {
+            let (basis, s2) = modes_basis(k);
+            let beta = body.a * body.a * s2;
+            let rate = (b.gr * body.ia + b.gt * beta) / (body.ia + beta);
+            let mass = body.ia + beta;
+            AxisModes {
+                key,
+                basis,
+                rate,
+                mass,
+                factors: (hb, factors(rate, mass)),
+            }
+        }
+    };
+    let ax = if ax.factors.0 == hb {
+        ax
+    } else {
+        AxisModes {
+            factors: (hb, factors(ax.rate, ax.mass)),
+            ..ax
+        }
+    };
+    c.axis = Some(ax);
+    let [kn, eh, fh] = ax.basis;
+    let modes = [(kn, fk), (eh, ax.factors.1), (fh, ff)];
+    let mut wn = *w;
+    for (j, (dir, f)) in modes.into_iter().enumerate() {
+        let x = dot(wn, dir);
+        let dx = mode(x, f, xi[2 + j]) - x;
+        wn = add(wn, scale(dx, dir));
+    }
+    *w = wn;
+}
+
+/// The contact-damped step of [`ou_on_plane_cached`].
+#[allow(clippy::too_many_arguments)]
+fn ou_coupled_cached(
+    b: &Bath,
+    body: &Body,
+    cache: &mut OuCache,
+    k: V3,
+    vh: &mut [f64; 2],
+    w: &mut V3,
+    h: f64,
+    xi: &[f64],
+) {
+    use nalgebra::Vector5;
+    let key = [k[0].to_bits(), k[1].to_bits(), k[2].to_bits()];
+    let hb = h.to_bits();
+    match &mut cache.coupled {
+        Some(c) if c.key == key => {
+            if c.h != hb {
+                c.factors = coupled_factors(&c.lams, h, b);
+                c.h = hb;
+            }
+        }
+        _ => cache.coupled = Some(Box::new(coupled_modes(b, body, k, key, h))),
+    }
+    let Coupled {
+        dirs,
+        sq,
+        vecs,
+        factors,
+        ..
+    } = cache.coupled.as_deref().expect("just set");
+    let p = [
+        vh[0],
+        vh[1],
+        dot(*w, dirs[0]),
+        dot(*w, dirs[1]),
+        dot(*w, dirs[2]),
+    ];
+    let z = Vector5::from_fn(|i, _| sq[i] * p[i]);
+    let mut q = vecs.transpose() * z;
+    for j in 0..5 {
+        let (decay, amp) = factors[j];
+        q[j] = decay * q[j] + amp * xi[j];
+    }
+    let z = vecs * q;
+    vh[0] = z[0] / sq[0];
+    vh[1] = z[1] / sq[1];
+    let mut wn = *w;
+    for j in 0..3 {
+        wn = add(wn, scale(z[2 + j] / sq[2 + j] - p[2 + j], dirs[j]));
+    }
+    *w = wn;
+}
+
+/// The coupled step's modes at the axis `k` (bits `key`), with their
+/// factors at step `h`.
+fn coupled_modes(b: &Bath, body: &Body, k: V3, key: [u64; 3], h: f64) -> Coupled {
+    use nalgebra::{Matrix5, SymmetricEigen};
+    let ([kn, eh, fh], s2) = modes_basis(k);
+    let (a, ia, ic) = (body.a, body.ia, body.ic);
+    let beta = a * a * s2;
+    let m = [1.0, 1.0, ic, ia + beta, ia];
+    let g = [b.gt, b.gt, b.gr * ic, b.gr * ia + b.gt * beta, b.gr * ia];
+    let r = [a * kn[0], a * kn[1], a * kn[2] - 1.0];
+    let cols: [[f64; 2]; 5] = {
+        let c = |d: V3| {
+            let x = cross(d, r);
+            [x[0], x[1]]
+        };
+        [[1.0, 0.0], [0.0, 1.0], c(kn), c(eh), c(fh)]
+    };
+    let sq: [f64; 5] = m.map(f64::sqrt);
+    let smat = Matrix5::from_fn(|i, j| {
+        let pp = cols[i][0] * cols[j][0] + cols[i][1] * cols[j][1];
+        let gij = if i == j { g[i] } else { 0.0 } + b.c * pp;
+        gij / (sq[i] * sq[j])
+    });
+    let eig = SymmetricEigen::new(smat);
+    let lams = std::array::from_fn(|j| eig.eigenvalues[j].max(0.0));
+    Coupled {
+        key,
+        dirs: [kn, eh, fh],
+        sq,
+        vecs: eig.eigenvectors,
+        lams,
+        h: h.to_bits(),
+        factors: coupled_factors(&lams, h, b),
+    }
+}
+
+/// `(e^{−λ_j h}, sqrt(kT (1 − e^{−2λ_j h})))` of the coupled modes.
+fn coupled_factors(lams: &[f64; 5], h: f64, b: &Bath) -> [Factors; 5] {
+    lams.map(|lam| {
+        let decay = (-lam * h).exp();
+        let var = -b.kt * (-2.0 * lam * h).exp_m1();
+        (decay, var.sqrt())
+    })
 }

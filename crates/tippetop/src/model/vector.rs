@@ -142,87 +142,10 @@ pub struct Vector {
     /// is compared bit for bit: the result is what a fresh evaluation gives.
     last: RefCell<Option<([u64; DIM + 9], Eval)>>,
     /// The Langevin thermostat (scaled), `None` unless `method = "langevin"`.
-    thermal: Option<Bath>,
+    thermal: Option<super::thermostat::Bath>,
     /// The Ornstein–Uhlenbeck step's coefficients from the last call
     /// (`ou_step`), reused where their inputs are the same bits.
-    ou: OuCache,
-}
-
-/// What `ou_step` and `ou_step_coupled` computed, with the bits of their
-/// inputs, so a call with the same inputs reuses it: the same expressions on
-/// the same bits, hence the same results.
-///
-/// - The factors of the modes whose rate is constant (`v_x`, `v_y`, `k̂`,
-///   `f̂`) depend on the half step `h` only. The engine's steps are
-///   differences of grid times `(j + 1) h₀ − j h₀`, which take a few
-///   distinct values an ulp apart, so the last [`OU_H_SLOTS`] are kept.
-/// - The basis, the `ê` mode's rate and mass and the coupled step's
-///   eigendecomposition depend on the axis `k` only: the two half steps
-///   between two RK4 steps (the second of step n, the first of step n + 1)
-///   share it (`O` does not move `k`); their factors depend on `h` too and
-///   are redone when `h` differs.
-#[derive(Debug, Clone, Default)]
-struct OuCache {
-    /// `(h bits, [(e^{−λh}, sqrt(kT (1 − e^{−2λh})/M)) of v_x (and v_y), k̂,
-    /// f̂])`, most recent in slot `next − 1`.
-    consts: [Option<(u64, [Factors; 3])>; OU_H_SLOTS],
-    /// The slot the next new `h` goes into (round robin).
-    next: usize,
-    /// The uncoupled step's data at one axis.
-    axis: Option<AxisModes>,
-    /// The coupled step's data at one axis.
-    coupled: Option<Box<Coupled>>,
-    /// The kinetic energy at the end of the last step and the bits of what
-    /// it reads (`k`, `w`, `v_x`, `v_y`): the next call's starting energy
-    /// when nothing moved in between (the first half step after the second).
-    kinetic: Option<([u64; 8], f64)>,
-}
-
-/// A mode's `(e^{−λh}, sqrt(kT (1 − e^{−2λh})/M))` over a step `h`: its
-/// velocity decays by the first and gains the second times a standard
-/// normal (scaled velocity units).
-type Factors = (f64, f64);
-
-/// Number of half steps `h` whose constant-rate factors [`OuCache`] keeps.
-const OU_H_SLOTS: usize = 4;
-
-/// The uncoupled step at one axis: the basis `(k̂, ê, f̂)`, the `ê` mode's
-/// rate and mass, and its factors at one `h`.
-#[derive(Debug, Clone, Copy)]
-struct AxisModes {
-    /// `k` bits.
-    key: [u64; 3],
-    basis: [V3; 3],
-    rate: f64,
-    mass: f64,
-    /// `(h bits, the ê mode's factors at that h)`.
-    factors: (u64, Factors),
-}
-
-/// The contact-damped step at one axis (see `Vector::ou_step_coupled`):
-/// the basis, `sqrt(M_i)`, the eigenvectors and rates `λ_j`, and the
-/// per-mode `(e^{−λ_j h}, sqrt(kT (1 − e^{−2λ_j h})))` at one `h`.
-#[derive(Debug, Clone)]
-struct Coupled {
-    /// `k` bits.
-    key: [u64; 3],
-    dirs: [V3; 3],
-    sq: [f64; 5],
-    vecs: nalgebra::Matrix5<f64>,
-    lams: [f64; 5],
-    /// `h` bits of `factors`.
-    h: u64,
-    factors: [Factors; 5],
-}
-
-/// The heat bath of a Langevin run in scaled units (m = R = 1, the model's
-/// time unit): kT, γ_t, γ_r and the contact damping c/m.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Bath {
-    kt: f64,
-    gt: f64,
-    gr: f64,
-    c: f64,
+    ou: super::thermostat::OuCache,
 }
 
 /// `(sin θ, cos θ)` for the initial axis, moved by a few ulps so that the
@@ -292,16 +215,8 @@ impl Vector {
             plane: ContactState::new(sc, &scales),
             top: sc.top,
             last: RefCell::new(None),
-            thermal: sc.solver.method.is_stochastic().then(|| {
-                let th = &sc.thermal;
-                Bath {
-                    kt: th.kt() / scales.energy(),
-                    gt: th.damping_translational * scales.time,
-                    gr: th.damping_rotational * scales.time,
-                    c: th.damping_contact * scales.time / scales.mass,
-                }
-            }),
-            ou: OuCache::default(),
+            thermal: super::thermostat::Bath::of(sc, &scales),
+            ou: super::thermostat::OuCache::default(),
         }
     }
 
@@ -349,71 +264,18 @@ impl Vector {
     /// kinetic energy is added to the friction work `W_f` (the bath's work).
     fn ou_step(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {
         let Some(b) = self.thermal else { return };
-        if b.c > 0.0 {
-            return self.ou_step_coupled(y, h, xi, b);
-        }
         let e0 = self.kinetic_cached(y);
-        // One mode: `(e^{−λh}, sqrt(var))` of a mode of mass `mass` relaxing
-        // at `rate`, and the update of its velocity `x`.
-        let factors = |rate: f64, mass: f64| {
-            let decay = (-rate * h).exp();
-            let var = -(b.kt / mass) * (-2.0 * rate * h).exp_m1();
-            (decay, var.sqrt())
+        let body = super::thermostat::Body {
+            a: self.a,
+            ia: self.ia,
+            ic: self.ic,
         };
-        let mode = |x: f64, (decay, amp): Factors, z: f64| decay * x + amp * z;
-        let hb = h.to_bits();
-        let c = &mut self.ou;
-        let cached = c.consts.iter().flatten().find(|(k, _)| *k == hb);
-        let [ft, fk, ff] = match cached {
-            Some((_, f)) => *f,
-            None => {
-                let f = [
-                    factors(b.gt, 1.0),
-                    factors(b.gr, self.ic),
-                    factors(b.gr, self.ia),
-                ];
-                c.consts[c.next] = Some((hb, f));
-                c.next = (c.next + 1) % OU_H_SLOTS;
-                f
-            }
-        };
-        for j in 0..2 {
-            y[VEL + j] = mode(y[VEL + j], ft, xi[j]);
-        }
-        let key = [y[K].to_bits(), y[K + 1].to_bits(), y[K + 2].to_bits()];
-        let ax = match c.axis {
-            Some(ax) if ax.key == key => ax,
-            _ => {
-                let (basis, s2) = Self::modes_basis(y);
-                let beta = self.a * self.a * s2;
-                let rate = (b.gr * self.ia + b.gt * beta) / (self.ia + beta);
-                let mass = self.ia + beta;
-                AxisModes {
-                    key,
-                    basis,
-                    rate,
-                    mass,
-                    factors: (hb, factors(rate, mass)),
-                }
-            }
-        };
-        let ax = if ax.factors.0 == hb {
-            ax
-        } else {
-            AxisModes {
-                factors: (hb, factors(ax.rate, ax.mass)),
-                ..ax
-            }
-        };
-        c.axis = Some(ax);
-        let [kn, eh, fh] = ax.basis;
-        let modes = [(kn, fk), (eh, ax.factors.1), (fh, ff)];
+        let k = [y[K], y[K + 1], y[K + 2]];
+        let mut vh = [y[VEL], y[VEL + 1]];
         let mut w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
-        for (j, (dir, f)) in modes.into_iter().enumerate() {
-            let x = dot(w, dir);
-            let dx = mode(x, f, xi[2 + j]) - x;
-            w = add(w, scale(dx, dir));
-        }
+        super::thermostat::ou_on_plane_cached(&b, &body, &mut self.ou, k, &mut vh, &mut w, h, xi);
+        y[VEL] = vh[0];
+        y[VEL + 1] = vh[1];
         y[OMEGA..OMEGA + 3].copy_from_slice(&w);
         y[WF] += self.kinetic_keep(y) - e0;
     }
@@ -448,7 +310,7 @@ impl Vector {
         rest[VEL..VEL + 2].fill(0.0);
         let mut dy = [0.0; DIM];
         <Self as OdeSystem<DIM>>::rhs(self, t, &rest, &mut dy)?;
-        let ([kn, eh, fh], s2) = Self::modes_basis(y);
+        let ([kn, eh, fh], s2) = super::thermostat::modes_basis([y[K], y[K + 1], y[K + 2]]);
         let (a2, ia) = (self.a * self.a, self.ia);
         let beta = a2 * s2;
         let m = [1.0, 1.0, self.ic, ia + beta, ia];
@@ -495,125 +357,6 @@ impl Vector {
         let e1 = self.eval_now(y)?;
         y[WF] += self.energy_scaled(y, &e1) - en0;
         Ok(())
-    }
-
-    /// The orthonormal basis `(k̂, ê, f̂)` of the rotational modes and
-    /// `sin²θ` (see `ou_step`).
-    fn modes_basis(y: &[f64; DIM]) -> ([V3; 3], f64) {
-        let kr = [y[K], y[K + 1], y[K + 2]];
-        let kn = scale(1.0 / dot(kr, kr).sqrt(), kr);
-        let e = [kn[1], -kn[0], 0.0];
-        let s2 = e[0] * e[0] + e[1] * e[1];
-        let eh = if s2 > 0.0 {
-            scale(1.0 / s2.sqrt(), e)
-        } else {
-            [1.0, 0.0, 0.0]
-        };
-        ([kn, eh, cross(kn, eh)], s2)
-    }
-
-    /// The exact Ornstein–Uhlenbeck step with the contact damping `−c v_P`
-    /// (docs/physics.md §21): `Γ` gains `c Pᵀ P`, `P` the map from
-    /// `p = (v_x, v_y, w·k̂, w·ê, w·f̂)` to the horizontal slip
-    /// `v_P = v_h + (w × r)_h`, which couples translation and rotation.
-    /// With `M = diag(m_i)` in that basis, `z = M^{1/2} p` obeys
-    /// `dz = −S z dt + sqrt(2 kT) S^{1/2} dW`, `S = M^{−1/2} Γ M^{−1/2}`:
-    /// in the eigenbasis of `S` (`S = V Λ Vᵀ`) each component relaxes at
-    /// `λ_j` with the variance `kT (1 − e^{−2 λ_j h})` added.
-    fn ou_step_coupled(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64], b: Bath) {
-        use nalgebra::Vector5;
-        let e0 = self.kinetic_cached(y);
-        let key = [y[K].to_bits(), y[K + 1].to_bits(), y[K + 2].to_bits()];
-        let hb = h.to_bits();
-        match &mut self.ou.coupled {
-            Some(c) if c.key == key => {
-                if c.h != hb {
-                    c.factors = Self::coupled_factors(&c.lams, h, b);
-                    c.h = hb;
-                }
-            }
-            _ => self.ou.coupled = Some(Box::new(self.coupled_modes(y, key, h, b))),
-        }
-        let Coupled {
-            dirs,
-            sq,
-            vecs,
-            factors,
-            ..
-        } = self.ou.coupled.as_deref().expect("just set");
-        let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
-        let p = [
-            y[VEL],
-            y[VEL + 1],
-            dot(w, dirs[0]),
-            dot(w, dirs[1]),
-            dot(w, dirs[2]),
-        ];
-        let z = Vector5::from_fn(|i, _| sq[i] * p[i]);
-        let mut q = vecs.transpose() * z;
-        for j in 0..5 {
-            let (decay, amp) = factors[j];
-            q[j] = decay * q[j] + amp * xi[j];
-        }
-        let z = vecs * q;
-        y[VEL] = z[0] / sq[0];
-        y[VEL + 1] = z[1] / sq[1];
-        let mut wn = w;
-        for j in 0..3 {
-            wn = add(wn, scale(z[2 + j] / sq[2 + j] - p[2 + j], dirs[j]));
-        }
-        y[OMEGA..OMEGA + 3].copy_from_slice(&wn);
-        y[WF] += self.kinetic_keep(y) - e0;
-    }
-
-    /// The modes of `ou_step_coupled` at the axis of `y` (bits `key`), with
-    /// their factors at step `h`.
-    fn coupled_modes(&self, y: &[f64; DIM], key: [u64; 3], h: f64, b: Bath) -> Coupled {
-        use nalgebra::{Matrix5, SymmetricEigen};
-        let ([kn, eh, fh], s2) = Self::modes_basis(y);
-        let beta = self.a * self.a * s2;
-        let m = [1.0, 1.0, self.ic, self.ia + beta, self.ia];
-        let g = [
-            b.gt,
-            b.gt,
-            b.gr * self.ic,
-            b.gr * self.ia + b.gt * beta,
-            b.gr * self.ia,
-        ];
-        let r = [self.a * kn[0], self.a * kn[1], self.a * kn[2] - 1.0];
-        let cols: [[f64; 2]; 5] = {
-            let c = |d: V3| {
-                let x = cross(d, r);
-                [x[0], x[1]]
-            };
-            [[1.0, 0.0], [0.0, 1.0], c(kn), c(eh), c(fh)]
-        };
-        let sq: [f64; 5] = m.map(f64::sqrt);
-        let smat = Matrix5::from_fn(|i, j| {
-            let pp = cols[i][0] * cols[j][0] + cols[i][1] * cols[j][1];
-            let gij = if i == j { g[i] } else { 0.0 } + b.c * pp;
-            gij / (sq[i] * sq[j])
-        });
-        let eig = SymmetricEigen::new(smat);
-        let lams = std::array::from_fn(|j| eig.eigenvalues[j].max(0.0));
-        Coupled {
-            key,
-            dirs: [kn, eh, fh],
-            sq,
-            vecs: eig.eigenvectors,
-            lams,
-            h: h.to_bits(),
-            factors: Self::coupled_factors(&lams, h, b),
-        }
-    }
-
-    /// `(e^{−λ_j h}, sqrt(kT (1 − e^{−2λ_j h})))` of the coupled modes.
-    fn coupled_factors(lams: &[f64; 5], h: f64, b: Bath) -> [Factors; 5] {
-        lams.map(|lam| {
-            let decay = (-lam * h).exp();
-            let var = -b.kt * (-2.0 * lam * h).exp_m1();
-            (decay, var.sqrt())
-        })
     }
 
     /// Latch the applied force in effect at scaled time `t`.
