@@ -52,7 +52,8 @@ thermal.run = r0 + K, r0 its own thermal.run, default 0) on all cores and write 
   fan.png, fan.svg   theta(t): median and the 25-75 % and 5-95 % quantile bands
   shard.json      which runs the files hold, for tippetop merge
 
-The scenario must be a Langevin run at a temperature > 0 (solver.method = \"langevin\",
+The scenario must be a Langevin or Brownian run at a temperature > 0 (solver.method =
+\"langevin\" or \"brownian\",
 solver.dt, surface.friction = 0, a [thermal] table with temperature, damping_translational,
 damping_rotational and seed); anything else exits with code 2. --runs N: N >= 1, the run
 indices below 2^32. The files are byte for byte the same whatever --threads and however the
