@@ -867,6 +867,12 @@ fn thermal_keys_and_their_rules() {
         v
     };
     Scenario::load(Some("nano"), None, &sets(&brown(&[]))).expect("valid brownian");
+    Scenario::load(
+        Some("nano"),
+        None,
+        &sets(&brown(&["solver.model=\"rigid\""])),
+    )
+    .expect("rigid brownian on the plane");
     for (extra, key) in [
         (
             &["thermal.damping_contact=1e-13"][..],
@@ -876,6 +882,11 @@ fn thermal_keys_and_their_rules() {
         (
             &["thermal.damping_rotational=0"][..],
             "thermal.damping_rotational",
+        ),
+        (&["solver.model=\"reduced\""][..], "solver.model"),
+        (
+            &["solver.model=\"rigid\"", "surface.contact=\"unilateral\""][..],
+            "surface.contact",
         ),
     ] {
         expect_err(Some("nano"), None, &brown(extra), key);

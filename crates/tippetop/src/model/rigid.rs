@@ -720,6 +720,102 @@ impl Rigid {
         }
     }
 
+    /// One Euler–Maruyama step of the overdamped dynamics
+    /// (`solver.method = "brownian"`, docs/physics.md §21). In contact: the
+    /// vector model's step (`Vector::brownian_step`: the same basis, mobility
+    /// and θ drift, the same normals), the generalised force at rest from
+    /// this model's right-hand side, the constraint's height and vertical
+    /// velocity. In flight: a free body, `p_i = a_i/γ + sqrt(2 kT/(γ M_i h))
+    /// ξ_i` for the three translations (γ_t) and the rotational modes
+    /// `(k̂, ê, f̂)` (γ_r, masses `C, A, A`; the mobility is constant in the
+    /// body frame, so the geodesic step needs no drift correction). The
+    /// state's velocities are set to the drift part, `W_f` takes the energy
+    /// change.
+    fn brownian_step(
+        &mut self,
+        t: f64,
+        y: &mut [f64; DIM],
+        h: f64,
+        xi: &[f64],
+    ) -> Result<(), RigidError> {
+        let Some(b) = self.thermal else { return Ok(()) };
+        let en0 = self.energy_scaled(y);
+        let mut rest = *y;
+        rest[VEL..VEL + 3].fill(0.0);
+        rest[OMEGA..OMEGA + 3].fill(0.0);
+        let mut dy = [0.0; DIM];
+        <Self as OdeSystem<DIM>>::rhs(self, t, &rest, &mut dy)?;
+        let ([kn, eh, fh], s2) = super::thermostat::modes_basis(v3(y, AXIS));
+        let (a2, ia, ic) = (self.a * self.a, self.ia, self.ic);
+        let nd = v3(&dy, OMEGA);
+        let (p, drift, vz_noise) = match self.phase {
+            Phase::Contact => {
+                let beta = a2 * s2;
+                let m = [1.0, 1.0, ic, ia + beta, ia];
+                let g = [b.gt, b.gt, b.gr * ic, b.gr * ia + b.gt * beta, b.gr * ia];
+                let acc = [dy[VEL], dy[VEL + 1], dot(nd, kn), dot(nd, eh), dot(nd, fh)];
+                let mut drift = [0.0; 5];
+                let mut p = [0.0; 5];
+                for i in 0..5 {
+                    drift[i] = m[i] * acc[i] / g[i];
+                    p[i] = drift[i] + (2.0 * b.kt / (g[i] * h)).sqrt() * xi[i];
+                }
+                let (sn, cs) = (s2.sqrt(), kn[2]);
+                let (mu_t, mu_p) = (1.0 / g[3], 1.0 / g[4]);
+                let dmu_t = -2.0 * b.gt * a2 * sn * cs * mu_t * mu_t;
+                let dln_s = a2 * sn * cs / (ia + beta);
+                let corr = -b.gt * a2 * sn * cs * mu_t * mu_p + mu_t * dln_s + dmu_t;
+                p[3] -= b.kt * corr;
+                drift[3] -= b.kt * corr;
+                (p, drift, None)
+            }
+            Phase::Flight => {
+                let m = [1.0, 1.0, ic, ia, ia];
+                let g = [b.gt, b.gt, b.gr * ic, b.gr * ia, b.gr * ia];
+                let acc = [dy[VEL], dy[VEL + 1], dot(nd, kn), dot(nd, eh), dot(nd, fh)];
+                let mut drift = [0.0; 5];
+                let mut p = [0.0; 5];
+                for i in 0..5 {
+                    drift[i] = m[i] * acc[i] / g[i];
+                    p[i] = drift[i] + (2.0 * b.kt / (g[i] * h)).sqrt() * xi[i];
+                }
+                let dz = dy[VEL + 2] / b.gt;
+                (
+                    p,
+                    drift,
+                    Some((dz, dz + (2.0 * b.kt / (b.gt * h)).sqrt() * xi[5])),
+                )
+            }
+        };
+        let w = add(add(scale(p[2], kn), scale(p[3], eh)), scale(p[4], fh));
+        let rv = scale(h, w);
+        let k = super::vec3::rotate(rv, v3(y, AXIS));
+        set3(y, AXIS, k);
+        let q = super::vec3::turn_quaternion_by(rv, quat_of(y));
+        y[QUAT..QUAT + 4].copy_from_slice(&q);
+        y[POS] += h * p[0];
+        y[POS + 1] += h * p[1];
+        let wdrift = add(
+            add(scale(drift[2], kn), scale(drift[3], eh)),
+            scale(drift[4], fh),
+        );
+        set3(y, OMEGA, wdrift);
+        y[VEL] = drift[0];
+        y[VEL + 1] = drift[1];
+        match vz_noise {
+            None => {
+                y[POS + 2] = 1.0 - self.a * k[2];
+                y[VEL + 2] = -self.a * cross(wdrift, k)[2];
+            }
+            Some((vz_drift, vz)) => {
+                y[POS + 2] += h * vz;
+                y[VEL + 2] = vz_drift;
+            }
+        }
+        y[WF] += self.energy_scaled(y) - en0;
+        Ok(())
+    }
+
     /// Kinetic energy (scaled) in contact: `½ (|v_h|² + v_Z²) + ½ n·I n`
     /// with the constraint's `v_Z = −a (n × k)_Z`.
     fn kinetic_on_plane(&self, y: &[f64; DIM]) -> f64 {
@@ -908,6 +1004,16 @@ impl OdeSystem<DIM> for Rigid {
         set3(y, OMEGA, w);
         y[VEL + 2] = -self.a * cross(w, k)[2];
         y[WF] += self.kinetic_on_plane(y) - e0;
+    }
+
+    fn overdamped_step(
+        &mut self,
+        t: f64,
+        y: &mut [f64; DIM],
+        h: f64,
+        xi: &[f64],
+    ) -> Result<(), RigidError> {
+        self.brownian_step(t, y, h, xi)
     }
 
     fn begin_segment(&mut self, t: f64, _y: &[f64; DIM]) {

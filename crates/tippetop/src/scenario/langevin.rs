@@ -172,7 +172,17 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
         }
         return Ok(());
     }
-    let rigid_langevin = !brownian && so.model == crate::ModelKind::Rigid;
+    let rigid_langevin = so.model == crate::ModelKind::Rigid;
+    if rigid_langevin && brownian && sc.surface.contact != crate::ContactMode::Bilateral {
+        return Err(Error::invalid(
+            "surface.contact",
+            format!(
+                "\"{}\" with model = \"rigid\" and method = \"brownian\": the overdamped free body in flight is not validated yet",
+                sc.surface.contact.name()
+            ),
+            "\"bilateral\" with the rigid model's Brownian method; method = \"langevin\" for flights".into(),
+        ));
+    }
     if so.model != crate::ModelKind::Vector && !rigid_langevin {
         let name = match so.model {
             crate::ModelKind::Reduced => "reduced",

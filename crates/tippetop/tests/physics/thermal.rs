@@ -860,3 +860,33 @@ fn free_body_in_flight_is_uniform() {
         0.03,
     );
 }
+
+/// The rigid model's Brownian mode (bilateral contact) takes the vector
+/// model's step with its own generalised force at rest: with the same seed
+/// its path is the vector model's to rounding (measured |Δθ| <= 1.1e-16
+/// over 100 000 steps of nano-physical; bar 1e-12).
+#[test]
+fn rigid_brownian_follows_the_vector_path() {
+    let mut sc = Scenario::nano_physical();
+    sc.solver.method = Method::Brownian;
+    sc.solver.dt = Some(1e-16);
+    sc.solver.t_end = 1e-11;
+    sc.solver.samples = 101;
+    let v = simulate(&sc).unwrap();
+    let mut r = sc.clone();
+    r.solver.model = tippetop::ModelKind::Rigid;
+    let r = simulate(&r).unwrap();
+    assert!(v.error.is_none() && r.error.is_none());
+    let worst = v
+        .samples
+        .iter()
+        .zip(&r.samples)
+        .map(|(a, b)| (a.theta - b.theta).abs())
+        .fold(0.0, f64::max);
+    eprintln!("rigid vs vector brownian: max |dtheta| = {worst:e}");
+    assert!(worst < 1e-12, "{worst}");
+    assert!(
+        (v.samples.last().unwrap().theta - 0.1).abs() > 0.1,
+        "it moved"
+    );
+}
