@@ -98,7 +98,7 @@ fn run_results_follow_the_rows() {
             Some(Mode::Left | Mode::NeverEntered | Mode::TooLate)
         ));
     }
-    let rep = bit::report(&bs, &[r.clone()], true);
+    let rep = bit::report(&bs, std::slice::from_ref(&r), true);
     assert_eq!(rep.write.successes, usize::from(r.write.success()));
     assert_eq!(rep.erase_given_write.runs, usize::from(r.write.success()));
 }

@@ -173,7 +173,7 @@ fn phase_energy(traj: &Trajectory, t0: f64, t1: f64) -> Option<f64> {
         .iter()
         .filter(|s| s.t >= t0 - tol && s.t <= t1 + tol);
     let first = rows.next()?;
-    let last = rows.last().unwrap_or(first);
+    let last = rows.next_back().unwrap_or(first);
     Some(last.work_applied - first.work_applied)
 }
 
