@@ -33,7 +33,8 @@ pub const BIT_LONG_ABOUT: &str = "Run a memory bit: write (phase 1, target bit.o
                  [J], max_applied_force (largest total of the windows acting at once) [N],
                  failures per mode (never_entered, left, too_late, run_failed, lifted_off);
                  pull_off_margin_min over the runs [N] (with adhesion); the bit and protocols
-  bit.md         the same in words
+  bit.md         the same in words, with theta.png
+  theta.png, theta.svg   theta(t) of a typical run (the first with the most frequent outcome)
   runs.csv       one row per run: run (thermal.run), status, then for write and erase:
                  outcome (ok or the failure mode), time [s], energy [J]; pull_off_margin_min
   scenario.toml  the run's scenario (run 0): `tippetop run scenario.toml --set thermal.run=R`
@@ -173,7 +174,20 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         &stage.join("scenario.toml"),
         bs.scenario.to_toml_string().as_bytes(),
     )?;
-    write_bytes_atomic(&stage.join("bit.md"), bit_md(&bs, &report).as_bytes())?;
+    let typical = typical_run(&results);
+    let figure = match theta_figure(&stage, &bs, typical) {
+        Ok(()) => Some(typical),
+        Err(e) => {
+            if !quiet {
+                eprintln!("warning: no theta figure: {e:#}");
+            }
+            None
+        }
+    };
+    write_bytes_atomic(
+        &stage.join("bit.md"),
+        bit_md(&bs, &report, figure.map(|k| &results[k])).as_bytes(),
+    )?;
     out.commit(&["bit.json"])?;
     if !quiet {
         for (name, b) in [
@@ -282,7 +296,59 @@ fn runs_csv(results: &[RunResult]) -> String {
     s
 }
 
-fn bit_md(bs: &BitScenario, r: &Report) -> String {
+/// The index of a typical run: the first whose (write, erase) outcome is
+/// the most frequent one (ties: the outcome seen first).
+pub fn typical_run(results: &[RunResult]) -> usize {
+    let key = |r: &RunResult| (outcome(&r.write), outcome(&r.erase));
+    let mut best = (0, 0);
+    for (i, r) in results.iter().enumerate() {
+        if results[..i].iter().any(|q| key(q) == key(r)) {
+            continue;
+        }
+        let n = results.iter().filter(|q| key(q) == key(r)).count();
+        if n > best.1 {
+            best = (i, n);
+        }
+    }
+    best.0
+}
+
+/// `theta.png`/`theta.svg` in `dir`: θ(t) of run `k` (run again), with
+/// the edges of the two states marked.
+fn theta_figure(dir: &std::path::Path, bs: &BitScenario, k: usize) -> Result<()> {
+    use crate::plot::{self, Legend, PlotOpts, RefLine, Series};
+    let traj = tippetop::simulate(&bs.run_scenario(k as u64))?;
+    let t_end = 2.0 * bs.bit.phase;
+    let (scale, unit) = crate::run::time_unit(t_end);
+    let t: Vec<f64> = traj.samples.iter().map(|x| x.t * scale).collect();
+    let th: Vec<f64> = traj.samples.iter().map(|x| x.theta).collect();
+    let b = &bs.bit;
+    plot::line_plot(
+        &dir.join("theta"),
+        &format!(
+            "θ(t) of run {}: write to {} {unit}, then erase",
+            bs.scenario.thermal.run + k as u64,
+            fmt_f64(b.phase * scale)
+        ),
+        &format!("t [{unit}]"),
+        "θ [rad]",
+        &[Series::new("θ", t, th)],
+        &PlotOpts {
+            hlines: vec![
+                RefLine::new(b.zero[0], "zero"),
+                RefLine::new(b.zero[1], "zero"),
+                RefLine::new(b.one[0], "one"),
+                RefLine::new(b.one[1], "one"),
+            ],
+            x_range: Some((0.0, t_end * scale)),
+            y_range: Some((0.0, std::f64::consts::PI)),
+            legend: Legend::None,
+            ..PlotOpts::default()
+        },
+    )
+}
+
+fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
     let b = &bs.bit;
     let mut s = String::from("# Memory bit\n\n");
     let _ = writeln!(
@@ -342,6 +408,17 @@ fn bit_md(bs: &BitScenario, r: &Report) -> String {
             s,
             "- largest total applied force: {} N\n",
             fmt_f64(blk.max_applied_force)
+        );
+    }
+    if let Some(t) = typical {
+        let _ = writeln!(
+            s,
+            "![theta(t)](theta.png)\n\nθ(t) of run {} (a typical run: the first with the most \
+             frequent outcome, write {}, erase {}); the horizontal lines are the edges of the \
+             two states.\n",
+            t.run,
+            outcome(&t.write),
+            outcome(&t.erase)
         );
     }
     match r.pull_off_margin_min {

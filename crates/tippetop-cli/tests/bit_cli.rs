@@ -128,6 +128,8 @@ fn nano_write_succeeds_and_the_reversal_does_not_erase() {
     assert!((f - 2f64.sqrt() * 1e-22).abs() < 1e-36, "{f}");
     let md = std::fs::read_to_string(d.join("bit/bit.md")).unwrap();
     assert!(md.contains("## Write") && md.contains("## Cycle"), "{md}");
+    assert!(md.contains("(theta.png)"), "{md}");
+    assert!(d.join("bit/theta.png").is_file() && d.join("bit/theta.svg").is_file());
 }
 
 /// A Langevin bit of 2000 steps per run (milliseconds).
@@ -174,7 +176,7 @@ fn ensemble_counts_add_up_replay_and_threads() {
     std::fs::write(d.join("hot.toml"), HOT).unwrap();
     ok(&hot(&d, "t1", &["--runs", "12", "--threads", "1"]));
     ok(&hot(&d, "t2", &["--runs", "12", "--threads", "2"]));
-    for f in ["bit.json", "runs.csv", "bit.md", "scenario.toml"] {
+    for f in ["bit.json", "runs.csv", "bit.md", "scenario.toml", "theta.svg"] {
         assert_eq!(
             std::fs::read(d.join("t1").join(f)).unwrap(),
             std::fs::read(d.join("t2").join(f)).unwrap(),
