@@ -306,6 +306,8 @@ fn bad_input_names_the_key() {
     // hold, phase and the rows per hold.
     expect_input_error(&d, GOOD, &["--set", "bit.hold=0"], "bit.hold");
     expect_input_error(&d, GOOD, &["--set", "bit.phase=1e-5"], "bit.phase");
+    // A run of 2 x phase too long for the scaled units: named as bit.phase.
+    expect_input_error(&d, GOOD, &["--set", "bit.phase=1e3"], "bit.phase");
     expect_input_error(&d, GOOD, &["--set", "solver.samples=100"], "solver.samples");
     // Several runs of a deterministic scenario.
     expect_input_error(&d, GOOD, &["--runs", "5"], "--runs");

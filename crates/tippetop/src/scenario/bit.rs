@@ -231,11 +231,20 @@ impl BitScenario {
         let t_end = 2.0 * bit.phase;
         rest.push(format!("solver.t_end={t_end:?}"));
         file.insert("force".into(), Value::Array(Vec::new()));
-        let mut scenario = Scenario::load_table(preset, &file, &rest)?;
+        // solver.t_end is 2 x bit.phase: its range errors are bit.phase's.
+        let phase_key = |e: Error| match e {
+            Error::Invalid { key, what, range } if key == "solver.t_end" => Error::invalid(
+                "bit.phase",
+                format!("2 x phase = {t_end:e} s as solver.t_end: {what}"),
+                range,
+            ),
+            other => other,
+        };
+        let mut scenario = Scenario::load_table(preset, &file, &rest).map_err(phase_key)?;
         scenario.forcing = Forcing {
             windows: run_windows(&write, &erase, bit.phase),
         };
-        scenario.validate()?;
+        scenario.validate().map_err(phase_key)?;
 
         let theta0 = scenario.initial.theta;
         if !(bit.zero[0] <= theta0 && theta0 <= bit.zero[1]) {
