@@ -176,7 +176,13 @@ fn ensemble_counts_add_up_replay_and_threads() {
     std::fs::write(d.join("hot.toml"), HOT).unwrap();
     ok(&hot(&d, "t1", &["--runs", "12", "--threads", "1"]));
     ok(&hot(&d, "t2", &["--runs", "12", "--threads", "2"]));
-    for f in ["bit.json", "runs.csv", "bit.md", "scenario.toml", "theta.svg"] {
+    for f in [
+        "bit.json",
+        "runs.csv",
+        "bit.md",
+        "scenario.toml",
+        "theta.svg",
+    ] {
         assert_eq!(
             std::fs::read(d.join("t1").join(f)).unwrap(),
             std::fs::read(d.join("t2").join(f)).unwrap(),
@@ -311,6 +317,21 @@ fn bad_input_names_the_key() {
     expect_input_error(&d, GOOD, &["--set", "solver.samples=100"], "solver.samples");
     // Several runs of a deterministic scenario.
     expect_input_error(&d, GOOD, &["--runs", "5"], "--runs");
+    // A bit file through `tippetop run`: one line naming the table.
+    let o = bin()
+        .arg("run")
+        .arg(repo("scenarios/bit/nano.toml"))
+        .arg("--out")
+        .arg(d.join("run"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.starts_with("error: bit: ") && err.lines().count() == 1,
+        "{err}"
+    );
+    assert!(!d.join("run").exists());
     // No [bit] at all.
     expect_input_error(&d, "preset = \"nano\"\n", &[], "bit.hold");
 }

@@ -777,6 +777,13 @@ fn windows_mut<'a>(merged: &'a mut Table, name: &str) -> &'a mut Vec<Value> {
 fn merge_file(merged: &mut Table, file: &Table) -> Result<bool, Error> {
     // Unknown top-level entries first.
     for (name, v) in file {
+        if matches!(name.as_str(), "bit" | "write" | "erase") {
+            return Err(Error::invalid(
+                name,
+                "a memory bit's table: this command runs plain scenarios".into(),
+                "run a file with [bit], [[write]], [[erase]] with tippetop bit".into(),
+            ));
+        }
         if name != "preset" && keys_of(name).is_none() {
             let what = if v.is_table() {
                 "unknown table"
