@@ -114,8 +114,10 @@ pub fn evaluate_phase(
         time: None,
         energy: None,
     };
-    let reached = phase.last().is_some_and(|&(t, _)| t >= t1 - tol);
-    if !reached {
+    // A run that did not fail reached t1 (the rows need not fall on t1:
+    // with an odd number of intervals none falls on `phase`).
+    let reached = failure.is_none() || rows.last().is_some_and(|&(t, _)| t >= t1 - tol);
+    if !reached || phase.is_empty() {
         return fail(match failure {
             Some(Failure::LiftOff) => Mode::LiftedOff,
             _ => Mode::RunFailed,
@@ -475,6 +477,28 @@ mod tests {
         assert_eq!(p.failure, Some(Mode::RunFailed));
         let p = evaluate_phase(cut, [0.0, 0.5], 0.0, 5.0, 2.0, Some(Failure::StepLimit));
         assert_eq!((p.failure, p.time), (Some(Mode::Left), None));
+    }
+
+    #[test]
+    fn rows_need_not_fall_on_the_phase_end() {
+        // Rows every 0.3 s; the phase [0, 10] ends between 9.9 and 10.2.
+        let r: Vec<(f64, f64)> = (0..70)
+            .map(|i| {
+                let t = 0.3 * i as f64;
+                (t, if t < 6.0 { 0.1 } else { 1.5 })
+            })
+            .collect();
+        let p = evaluate_phase(&r, W, 0.0, 10.0, 3.0, None);
+        assert_eq!(p.failure, None);
+        assert!((p.time.unwrap() - 6.0).abs() < 1e-12, "{:?}", p.time);
+        // The second phase [10, 20] starts at the row at 10.2.
+        let p = evaluate_phase(&r, W, 10.0, 20.0, 3.0, None);
+        assert!((p.time.unwrap() - 0.2).abs() < 1e-12, "{:?}", p.time);
+        // A run that failed at 9.9 did not reach 10.
+        let cut = &r[..34];
+        assert_eq!(cut.last().unwrap().0, 0.3 * 33.0);
+        let p = evaluate_phase(cut, W, 0.0, 10.0, 3.0, Some(Failure::NonFinite));
+        assert_eq!(p.failure, Some(Mode::RunFailed));
     }
 
     /// The Wilson interval's closed form on hand values.
