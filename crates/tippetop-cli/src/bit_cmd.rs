@@ -37,6 +37,8 @@ pub const BIT_LONG_ABOUT: &str = "Run a memory bit: write (phase 1, target bit.o
   theta.png, theta.svg   theta(t) of a typical run (the first with the most frequent outcome)
   runs.csv       one row per run: run (thermal.run), status, then for write and erase:
                  outcome (ok or the failure mode), time [s], energy [J]; pull_off_margin_min
+  bit.toml       the resolved bit scenario, every key explicit: `tippetop bit bit.toml`
+                 runs it again
   scenario.toml  the run's scenario (run 0): `tippetop run scenario.toml --set thermal.run=R`
                  replays run R alone
 
@@ -170,6 +172,7 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     text.push('\n');
     write_bytes_atomic(&stage.join("bit.json"), text.as_bytes())?;
     write_bytes_atomic(&stage.join("runs.csv"), runs_csv(&results).as_bytes())?;
+    write_bytes_atomic(&stage.join("bit.toml"), bs.to_toml_string().as_bytes())?;
     write_bytes_atomic(
         &stage.join("scenario.toml"),
         bs.scenario.to_toml_string().as_bytes(),

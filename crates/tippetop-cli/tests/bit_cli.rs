@@ -217,6 +217,22 @@ fn ensemble_counts_add_up_replay_and_threads() {
     assert_eq!(b["erase_given_write"]["runs"], b["write"]["successes"]);
     assert!(b["cycle"]["successes"].as_u64() <= b["erase_given_write"]["successes"].as_u64());
 
+    // bit.toml runs the same bit again.
+    let o = bin()
+        .arg("bit")
+        .arg(d.join("t1/bit.toml"))
+        .args(["--runs", "12", "--quiet", "--out"])
+        .arg(d.join("again"))
+        .output()
+        .unwrap();
+    ok(&o);
+    for f in ["bit.json", "runs.csv", "bit.toml"] {
+        assert_eq!(
+            std::fs::read(d.join("t1").join(f)).unwrap(),
+            std::fs::read(d.join("again").join(f)).unwrap(),
+            "{f}"
+        );
+    }
     // Run 4 alone (thermal.run = 4) gives the row of run 4.
     ok(&hot(&d, "r4", &["--set", "thermal.run=4", "--runs", "1"]));
     let rows = std::fs::read_to_string(d.join("t1/runs.csv")).unwrap();

@@ -102,3 +102,45 @@ fn run_results_follow_the_rows() {
     assert_eq!(rep.write.successes, usize::from(r.write.success()));
     assert_eq!(rep.erase_given_write.runs, usize::from(r.write.success()));
 }
+
+#[test]
+fn bit_text_round_trips() {
+    let nano = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenarios/bit/nano.toml"
+    ))
+    .unwrap();
+    let hot = [
+        "solver.method=\"langevin\"",
+        "solver.dt=1e-14",
+        "surface.friction=0",
+    ]
+    .iter()
+    .chain(&[
+        "thermal.temperature=300",
+        "thermal.damping_translational=1e11",
+        "thermal.damping_rotational=1e11",
+        "thermal.seed=3",
+        "thermal.run=5",
+        "bit.phase=1e-11",
+        "bit.hold=2e-12",
+        "bit.one=[0.9, 3.0]",
+        "write.0.stop=5e-12",
+        "erase.0.stop=5e-12",
+        "erase.0.start=1e-12",
+    ])
+    .map(|s| s.to_string())
+    .collect::<Vec<_>>();
+    for (text, sets) in [
+        (FILE, vec![]),
+        (nano.as_str(), vec![]),
+        (nano.as_str(), hot),
+    ] {
+        let bs = BitScenario::load(None, Some(text), &sets).unwrap();
+        let again = bs.to_toml_string();
+        assert!(!again.contains("[[force]]"), "{again}");
+        let back = BitScenario::load(None, Some(&again), &[]).unwrap();
+        assert_eq!(back, bs, "{again}");
+        assert_eq!(back.to_toml_string(), again);
+    }
+}

@@ -280,6 +280,44 @@ impl BitScenario {
         })
     }
 
+    /// A complete TOML document for this bit scenario: the run's scenario
+    /// without its `[[force]]` windows (every key explicit, as
+    /// [`Scenario::to_toml_string`]), then `[bit]`, `[[write]]`, `[[erase]]`
+    /// with every key. `BitScenario::load(None, Some(&text), &[])` gives the
+    /// same bit scenario back.
+    pub fn to_toml_string(&self) -> String {
+        let mut plain = self.scenario.clone();
+        plain.forcing = Forcing::none();
+        let mut out = plain.to_toml_string();
+        let b = &self.bit;
+        let mut t = Table::new();
+        let pair = |w: [f64; 2]| Value::Array(vec![Value::Float(w[0]), Value::Float(w[1])]);
+        t.insert("zero".into(), pair(b.zero));
+        t.insert("one".into(), pair(b.one));
+        t.insert("hold".into(), Value::Float(b.hold));
+        t.insert("phase".into(), Value::Float(b.phase));
+        out.push_str("\n[bit]\n");
+        super::render_keys(&mut out, &t, BIT_KEYS);
+        for (name, list) in [("write", &self.write), ("erase", &self.erase)] {
+            for a in list {
+                let mut t = Table::new();
+                t.insert("kind".into(), Value::String(a.kind.name().into()));
+                for (k, v) in [
+                    ("hx", a.hx),
+                    ("hy", a.hy),
+                    ("hz", a.hz),
+                    ("start", a.start),
+                    ("stop", a.stop),
+                ] {
+                    t.insert(k.into(), Value::Float(v));
+                }
+                out.push_str(&format!("\n[[{name}]]\n"));
+                super::render_keys(&mut out, &t, WINDOW_KEYS);
+            }
+        }
+        out
+    }
+
     /// The scenario of run `k` of an ensemble: `thermal.run = r0 + k`, `r0`
     /// the scenario's own `thermal.run`.
     pub fn run_scenario(&self, k: u64) -> Scenario {
