@@ -147,22 +147,42 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     };
 
     let out = OutDir::open(&args.out)?;
-    let pb = crate::progress::bar(quiet, runs as u64, "bit");
     let mut results: Vec<RunResult> = Vec::with_capacity(runs);
-    let done = sweep::run_ordered(
-        0..runs,
-        Some(threads),
-        &|k| bit::run_one(&bs, k as u64),
-        &mut |r| {
-            results.push(r);
-            pb.inc(1);
-            true
-        },
-    );
-    pb.finish_and_clear();
-    if let Err(e) = done {
-        out.abandon();
-        anyhow::bail!("{e}");
+    // The deterministic run is kept for the figure; an ensemble's typical
+    // run is run again.
+    let mut kept: Option<tippetop::Trajectory> = None;
+    if stochastic {
+        let pb = crate::progress::bar(quiet, runs as u64, "bit");
+        let done = sweep::run_ordered(
+            0..runs,
+            Some(threads),
+            &|k| bit::run_one(&bs, k as u64),
+            &mut |r| {
+                results.push(r);
+                pb.inc(1);
+                true
+            },
+        );
+        pb.finish_and_clear();
+        if let Err(e) = done {
+            out.abandon();
+            anyhow::bail!("{e}");
+        }
+    } else {
+        let sc = bs.run_scenario(0);
+        let mut progress = crate::progress::RunProgress::new(quiet, sc.solver.t_end);
+        let traj = tippetop::simulate_with_progress(&sc, &mut |f| progress.update(f));
+        progress.finish();
+        match traj {
+            Ok(traj) => {
+                results.push(bit::evaluate_run(&bs, sc.thermal.run, &traj));
+                kept = Some(traj);
+            }
+            Err(e) => {
+                out.abandon();
+                return Ok(input_error(e));
+            }
+        }
     }
     let report = bit::report(&bs, &results, !stochastic);
 
@@ -178,7 +198,14 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         bs.scenario.to_toml_string().as_bytes(),
     )?;
     let typical = typical_run(&results);
-    let figure = match theta_figure(&stage, &bs, typical) {
+    let traj = match kept {
+        Some(t) => Ok(t),
+        None => tippetop::simulate(&bs.run_scenario(typical as u64)),
+    };
+    let figure = match traj
+        .map_err(anyhow::Error::from)
+        .and_then(|t| theta_figure(&stage, &bs, results[typical].run, &t))
+    {
         Ok(()) => Some(typical),
         Err(e) => {
             if !quiet {
@@ -316,11 +343,15 @@ pub fn typical_run(results: &[RunResult]) -> usize {
     best.0
 }
 
-/// `theta.png`/`theta.svg` in `dir`: θ(t) of run `k` (run again), with
-/// the edges of the two states marked.
-fn theta_figure(dir: &std::path::Path, bs: &BitScenario, k: usize) -> Result<()> {
+/// `theta.png`/`theta.svg` in `dir`: θ(t) of `traj` (`thermal.run` =
+/// `run`), with the edges of the two states marked.
+fn theta_figure(
+    dir: &std::path::Path,
+    bs: &BitScenario,
+    run: u64,
+    traj: &tippetop::Trajectory,
+) -> Result<()> {
     use crate::plot::{self, Legend, PlotOpts, RefLine, Series};
-    let traj = tippetop::simulate(&bs.run_scenario(k as u64))?;
     let t_end = 2.0 * bs.bit.phase;
     let (scale, unit) = crate::run::time_unit(t_end);
     let t: Vec<f64> = traj.samples.iter().map(|x| x.t * scale).collect();
@@ -329,8 +360,7 @@ fn theta_figure(dir: &std::path::Path, bs: &BitScenario, k: usize) -> Result<()>
     plot::line_plot(
         &dir.join("theta"),
         &format!(
-            "θ(t) of run {}: write to {} {unit}, then erase",
-            bs.scenario.thermal.run + k as u64,
+            "θ(t) of run {run}: write to {} {unit}, then erase",
             fmt_f64(b.phase * scale)
         ),
         &format!("t [{unit}]"),
