@@ -52,7 +52,9 @@ replaced by the protocols), the initial theta must lie in zero. A phase succeeds
 its target window at every output row of its last hold seconds (resolution: the sample spacing;
 at least 10 rows per hold). --set reaches bit.KEY, write.K.KEY and erase.K.KEY. At T > 0
 (solver.method = \"langevin\" or \"brownian\") --runs N runs (default 100), run K with
-thermal.run = r0 + K, independent of --threads. Bad input exits with code 2 and writes nothing.";
+thermal.run = r0 + K, independent of --threads. A run that fails part-way is a result (its
+phases from the failure on are run_failed or lifted_off; exit code 0). Bad input exits with
+code 2 and writes nothing.";
 
 /// `tippetop bit`.
 #[derive(Debug, Args)]
@@ -304,24 +306,9 @@ fn outcome(p: &bit::PhaseResult) -> &'static str {
 }
 
 fn runs_csv(results: &[RunResult]) -> String {
-    let mut s = String::from(
-        "run,status,write,write_time,write_energy,erase,erase_time,erase_energy,pull_off_margin_min\n",
-    );
-    let o = |v: Option<f64>| v.map(fmt_f64).unwrap_or_default();
+    let mut s = format!("{}\n", bit::CSV_HEADER);
     for r in results {
-        let status = r.status.replace(['"', ','], ";").replace('\n', " ");
-        let _ = writeln!(
-            s,
-            "{},{status},{},{},{},{},{},{},{}",
-            r.run,
-            outcome(&r.write),
-            o(r.write.time),
-            o(r.write.energy),
-            outcome(&r.erase),
-            o(r.erase.time),
-            o(r.erase.energy),
-            o(r.pull_off_margin_min),
-        );
+        s.push_str(&bit::csv_row(r));
     }
     s
 }

@@ -132,6 +132,40 @@ fn nano_write_succeeds_and_the_reversal_does_not_erase() {
     assert!(d.join("bit/theta.png").is_file() && d.join("bit/theta.svg").is_file());
 }
 
+/// With a contact that may let go (`unilateral`) the vector model stops
+/// where N falls to zero, at 3.08 µs (README: N < 0 at 3.08 µs): both
+/// phases are `lifted_off`, the command still exits 0 with its files.
+#[test]
+fn lift_off_is_a_failure_mode() {
+    let d = scratch("lift");
+    let o = bin()
+        .arg("bit")
+        .arg(repo("scenarios/bit/nano.toml"))
+        .args([
+            "--set",
+            "surface.contact=\"unilateral\"",
+            "--quiet",
+            "--out",
+        ])
+        .arg(d.join("bit"))
+        .output()
+        .unwrap();
+    ok(&o);
+    let b = json(&d.join("bit/bit.json"));
+    assert_eq!(b["write"]["failures"]["lifted_off"], 1);
+    assert_eq!(b["erase"]["failures"]["lifted_off"], 1);
+    assert_eq!(b["cycle"]["failures"]["lifted_off"], 1);
+    assert_eq!(b["erase_given_write"]["runs"], 0);
+    assert_eq!(
+        b["erase_given_write"]["probability"],
+        serde_json::Value::Null
+    );
+    let rows = std::fs::read_to_string(d.join("bit/runs.csv")).unwrap();
+    let row = rows.lines().nth(1).unwrap();
+    assert!(row.starts_with("0,\"at t = 3.08"), "{row}");
+    assert!(row.contains("lift-off"), "{row}");
+}
+
 /// A Langevin bit of 2000 steps per run (milliseconds).
 const HOT: &str = r#"preset = "nano"
 [surface]

@@ -27,6 +27,7 @@
 
 use serde::Serialize;
 
+use crate::analysis::sweep::{fmt_f64, status_field};
 use crate::scenario::bit::{Actuator, BitScenario};
 use crate::{Failure, Trajectory};
 
@@ -165,6 +166,32 @@ pub struct RunResult {
     pub erase: PhaseResult,
     /// Smallest pull-off margin of the run \[N\] (with adhesion).
     pub pull_off_margin_min: Option<f64>,
+}
+
+/// The header of `runs.csv` (one row per run, [`csv_row`]).
+pub const CSV_HEADER: &str =
+    "run,status,write,write_time,write_energy,erase,erase_time,erase_energy,pull_off_margin_min";
+
+/// One line of `runs.csv` (with its `\n`): `thermal.run`, the status (a
+/// CSV field, quoted when needed), then for write and erase the outcome
+/// (`ok` or the [`Mode`]), the switching time \[s\] and the energy \[J\],
+/// and the smallest pull-off margin \[N\]; an empty field is a missing
+/// value, floats in the shortest round-trip form.
+pub fn csv_row(r: &RunResult) -> String {
+    let o = |v: Option<f64>| v.map(fmt_f64).unwrap_or_default();
+    let outcome = |p: &PhaseResult| p.failure.map(Mode::as_str).unwrap_or("ok");
+    format!(
+        "{},{},{},{},{},{},{},{},{}\n",
+        r.run,
+        status_field(&r.status),
+        outcome(&r.write),
+        o(r.write.time),
+        o(r.write.energy),
+        outcome(&r.erase),
+        o(r.erase.time),
+        o(r.erase.energy),
+        o(r.pull_off_margin_min),
+    )
 }
 
 /// Net work of the applied force over the rows of `[t0, t1]` \[J\].
