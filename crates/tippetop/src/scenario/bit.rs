@@ -424,6 +424,16 @@ fn parse_bit(t: &Table) -> Result<Bit, Error> {
         keys: BIT_KEYS,
         table: Some(t),
     };
+    if let Some(key) = ["hold", "phase"].into_iter().find(|k| s.get(k).is_none()) {
+        return Err(Error::invalid(
+            &s.full(key),
+            "missing".into(),
+            format!(
+                "a bit needs [bit] with hold and phase; {}",
+                range_of(BIT_KEYS, key)
+            ),
+        ));
+    }
     let zero = s.f64s("zero", Some(ZERO_DEFAULT))?;
     let one = s.f64s("one", Some(ONE_DEFAULT))?;
     let hold = s.f64("hold", None)?;
