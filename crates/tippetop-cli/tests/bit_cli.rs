@@ -166,6 +166,38 @@ fn lift_off_is_a_failure_mode() {
     assert!(row.contains("lift-off"), "{row}");
 }
 
+/// With C60/graphene adhesion (the nano-adhesive preset's F_a, E_b) the
+/// top rolls and never lies down (docs/physics.md §18: θ_max 0.100, min
+/// N_c = F_a (1 + 2.0e-14)): the write never enters `one`, the erase
+/// holds `zero` trivially (from its first row), and the smallest pull-off
+/// margin is just above F_a.
+#[test]
+fn adhesion_keeps_the_bit_at_zero() {
+    let d = scratch("adh");
+    let fa = 5.915889357711552e-10;
+    let o = bin()
+        .arg("bit")
+        .arg(repo("scenarios/bit/nano.toml"))
+        .args([
+            "--set",
+            &format!("adhesion.force={fa:?}"),
+            "--set",
+            "adhesion.energy=1.169645723902958e-19",
+            "--quiet",
+            "--out",
+        ])
+        .arg(d.join("bit"))
+        .output()
+        .unwrap();
+    ok(&o);
+    let b = json(&d.join("bit/bit.json"));
+    assert_eq!(b["write"]["failures"]["never_entered"], 1);
+    assert_eq!(b["erase"]["probability"], 1.0);
+    assert_eq!(b["erase"]["time_median"], 0.0);
+    let m = b["pull_off_margin_min"].as_f64().unwrap();
+    assert!(m > fa && m / fa - 1.0 < 1e-12, "{m}");
+}
+
 /// A Langevin bit of 2000 steps per run (milliseconds).
 const HOT: &str = r#"preset = "nano"
 [surface]
