@@ -71,6 +71,9 @@ pub enum Command {
     /// Retention time at a temperature, from ensembles' escape rates (Arrhenius).
     #[command(long_about = crate::retention_cmd::RETENTION_LONG_ABOUT)]
     Retention(crate::retention_cmd::RetentionArgs),
+    /// A memory bit: write and erase protocols, success probabilities, switching times.
+    #[command(long_about = crate::bit_cmd::BIT_LONG_ABOUT)]
+    Bit(crate::bit_cmd::BitArgs),
     /// Animate a run: DIR/animation.gif and DIR/viewer.html (a 3D view in the browser).
     #[command(long_about = crate::animate::ANIMATE_LONG_ABOUT)]
     Animate(crate::animate::AnimateArgs),

@@ -64,6 +64,7 @@
 //! replaces the preset's list. Precedence: preset < file < `--set`.
 //! Whole numbers are accepted wherever a float is expected.
 
+pub mod bit;
 pub mod langevin;
 pub mod limits;
 
@@ -259,7 +260,11 @@ impl Scenario {
             Some(text) => parse_document(text)?,
             None => Table::new(),
         };
+        Scenario::load_table(preset, &file, sets)
+    }
 
+    /// [`Scenario::load`] from an already parsed document.
+    fn load_table(preset: Option<&str>, file: &Table, sets: &[String]) -> Result<Scenario, Error> {
         // The preset: command line and file must agree.
         let file_preset = match file.get("preset") {
             None => None,
@@ -288,7 +293,7 @@ impl Scenario {
             None => Table::new(),
         };
 
-        let mut eps_explicit = merge_file(&mut merged, &file)?;
+        let mut eps_explicit = merge_file(&mut merged, file)?;
         for set in sets {
             eps_explicit |= apply_set(&mut merged, set)?;
         }
@@ -772,6 +777,13 @@ fn windows_mut<'a>(merged: &'a mut Table, name: &str) -> &'a mut Vec<Value> {
 fn merge_file(merged: &mut Table, file: &Table) -> Result<bool, Error> {
     // Unknown top-level entries first.
     for (name, v) in file {
+        if matches!(name.as_str(), "bit" | "write" | "erase") {
+            return Err(Error::invalid(
+                name,
+                "a memory bit's table: this command runs plain scenarios".into(),
+                "run a file with [bit], [[write]], [[erase]] with tippetop bit".into(),
+            ));
+        }
         if name != "preset" && keys_of(name).is_none() {
             let what = if v.is_table() {
                 "unknown table"

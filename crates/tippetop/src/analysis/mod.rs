@@ -3,6 +3,7 @@
 //! lying (App. C), parallel sweeps, and ensembles of Langevin runs.
 
 pub mod asymptotics;
+pub mod bit;
 pub mod ensemble;
 pub mod friction;
 pub mod regime;

@@ -1,0 +1,457 @@
+//! `tippetop bit`: a memory bit's write and erase protocols, run once at
+//! T = 0 or as an ensemble of Langevin runs at T > 0, with success
+//! probabilities, switching times and energies. The library part is
+//! [`tippetop::scenario::bit`] (the tables) and [`tippetop::analysis::bit`]
+//! (the evaluation and statistics); the runs go through the sweep's
+//! ordered parallel runner ([`sweep::run_ordered`]).
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Result;
+use clap::{ArgGroup, Args};
+use tippetop::analysis::bit::{self, Block, Mode, Report, RunResult};
+use tippetop::analysis::sweep;
+use tippetop::scenario::bit::BitScenario;
+use tippetop::thermal::MAX_RUNS;
+
+use crate::output::{OutDir, fmt_f64, write_bytes_atomic};
+
+/// Runs of an ensemble when `--runs` is not given (T > 0).
+pub const DEFAULT_RUNS: usize = 100;
+
+/// Long help of `tippetop bit`.
+pub const BIT_LONG_ABOUT: &str = "Run a memory bit: write (phase 1, target bit.one), then erase
+(phase 2, target bit.zero), and write into --out:
+  bit.json       for write, erase (all runs), erase_given_write (runs whose write succeeded)
+                 and cycle (both succeeded): runs, successes, probability, ci95 (Wilson 95 %
+                 at T > 0; [p, p] with deterministic = true for the single run at T = 0),
+                 time_median, time_q25, time_q75 (switching time: the start of the final stay
+                 in the target window, from the phase start; cycle: from the write's start)
+                 [s], energy_median (net work of the applied force on the top over the phase)
+                 [J], max_applied_force (largest total of the windows acting at once) [N],
+                 failures per mode (never_entered, left, too_late, run_failed, lifted_off);
+                 pull_off_margin_min over the runs [N] (with adhesion); the bit and protocols
+  bit.md         the same in words, with theta.png
+  theta.png, theta.svg   theta(t) of a typical run (the first with the most frequent outcome)
+  runs.csv       one row per run: run (thermal.run), status, then for write and erase:
+                 outcome (ok or the failure mode), time [s], energy [J]; pull_off_margin_min
+  bit.toml       the resolved bit scenario, every key explicit: `tippetop bit bit.toml`
+                 runs it again
+  scenario.toml  the run's scenario (run 0): `tippetop run scenario.toml --set thermal.run=R`
+                 replays run R alone
+
+The scenario file has a [bit] table (zero = [lo, hi], one = [lo, hi] [rad], defaults [0, 0.5]
+and [pi/2 - 0.35, pi/2 + 0.35], disjoint; hold [s] > 0; phase [s] > hold) and [[write]],
+[[erase]] windows (kind = \"contact\", the default and the only kind so far: hx, hy, optional hz
+[N], the paper's force at the contact point in the precessing frame; start, stop [s] from the
+start of the phase, start < stop <= phase, stop default phase). The run lasts 2 x phase
+(solver.t_end is replaced), the scenario's own [[force]] list must be empty (a preset's is
+replaced by the protocols), the initial theta must lie in zero. A phase succeeds iff theta is in
+its target window at every output row of its last hold seconds (resolution: the sample spacing;
+at least 10 rows per hold). --set reaches bit.KEY, write.K.KEY and erase.K.KEY. At T > 0
+(solver.method = \"langevin\" or \"brownian\") --runs N runs (default 100), run K with
+thermal.run = r0 + K, independent of --threads. A run that fails part-way is a result (its
+phases from the failure on are run_failed or lifted_off; exit code 0). Bad input exits with
+code 2 and writes nothing.";
+
+/// `tippetop bit`.
+#[derive(Debug, Args)]
+#[command(
+    group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
+    after_help = "Examples:\n  \
+                  tippetop bit scenarios/bit_nano.toml --out out/bit\n  \
+                  tippetop bit scenarios/bit_nano.toml --set write.0.hy=2e-22 --out out/bit2"
+)]
+pub struct BitArgs {
+    /// Scenario file (TOML) with [bit], [[write]] and [[erase]].
+    #[arg(value_name = "SCENARIO.toml")]
+    pub scenario: Option<PathBuf>,
+
+    /// Start from a built-in scenario ("nano", "nano-physical", "nano-adhesive", "classical").
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+
+    /// Override one value, e.g. `--set write.0.hy=2e-22` or `--set
+    /// bit.hold=1e-5`; repeatable, applied in order after the file.
+    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
+    pub sets: Vec<String>,
+
+    /// Number of runs at T > 0 (default 100); at T = 0 only 1.
+    #[arg(long, value_name = "N")]
+    pub runs: Option<usize>,
+
+    /// Output directory (created if missing; locked while the command runs).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+
+    /// Number of threads, 1 to 1024 (default: one per core).
+    #[arg(long, value_name = "T")]
+    pub threads: Option<usize>,
+}
+
+/// Bad input: `error: ...` on one line, exit code 2.
+fn input_error(e: impl std::fmt::Display) -> ExitCode {
+    let msg = e.to_string();
+    eprintln!(
+        "error: {}",
+        msg.split_whitespace().collect::<Vec<_>>().join(" ")
+    );
+    ExitCode::from(2)
+}
+
+/// Run `tippetop bit`. Bad input: one line on stderr and exit code 2
+/// (returned as `Ok`), nothing written; `Err` for I/O failures.
+pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
+    let toml_text = match &args.scenario {
+        Some(path) => match std::fs::read_to_string(path) {
+            Ok(t) => Some(t),
+            Err(e) => {
+                return Ok(input_error(format!(
+                    "{}: cannot read it: {e} (a readable scenario file)",
+                    path.display()
+                )));
+            }
+        },
+        None => None,
+    };
+    let threads = match sweep::threads(args.threads) {
+        Ok(t) => t,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let bs = match BitScenario::load(args.preset.as_deref(), toml_text.as_deref(), &args.sets) {
+        Ok(b) => b,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let sc = &bs.scenario;
+    let stochastic = sc.solver.method.is_stochastic() && sc.thermal.is_hot();
+    let runs = match (stochastic, args.runs) {
+        (false, None | Some(1)) => 1,
+        (false, Some(n)) => {
+            return Ok(input_error(format!(
+                "--runs: {n} runs of a deterministic scenario would all be the same \
+                 (1, or omit it, at T = 0; N >= 1 with solver.method = \"langevin\" at T > 0)"
+            )));
+        }
+        (true, n) => {
+            let n = n.unwrap_or(DEFAULT_RUNS);
+            let room = MAX_RUNS - sc.thermal.run.min(MAX_RUNS);
+            if n == 0 || n as u64 > room {
+                return Ok(input_error(format!(
+                    "--runs: {n} runs from thermal.run = {} (N >= 1, with the run indices \
+                     thermal.run .. thermal.run + N - 1 below 4294967296)",
+                    sc.thermal.run
+                )));
+            }
+            n
+        }
+    };
+
+    let out = OutDir::open(&args.out)?;
+    let mut results: Vec<RunResult> = Vec::with_capacity(runs);
+    // The deterministic run is kept for the figure; an ensemble's typical
+    // run is run again.
+    let mut kept: Option<tippetop::Trajectory> = None;
+    if stochastic {
+        let pb = crate::progress::bar(quiet, runs as u64, "bit");
+        let done = sweep::run_ordered(
+            0..runs,
+            Some(threads),
+            &|k| bit::run_one(&bs, k as u64),
+            &mut |r| {
+                results.push(r);
+                pb.inc(1);
+                true
+            },
+        );
+        pb.finish_and_clear();
+        if let Err(e) = done {
+            out.abandon();
+            anyhow::bail!("{e}");
+        }
+    } else {
+        let sc = bs.run_scenario(0);
+        let mut progress = crate::progress::RunProgress::new(quiet, sc.solver.t_end);
+        let traj = tippetop::simulate_with_progress(&sc, &mut |f| progress.update(f));
+        progress.finish();
+        match traj {
+            Ok(traj) => {
+                results.push(bit::evaluate_run(&bs, sc.thermal.run, &traj));
+                kept = Some(traj);
+            }
+            Err(e) => {
+                out.abandon();
+                return Ok(input_error(e));
+            }
+        }
+    }
+    let report = bit::report(&bs, &results, !stochastic);
+
+    let stage = out.stage().to_path_buf();
+    let json = bit_json(&bs, &report);
+    let mut text = serde_json::to_string_pretty(&json)?;
+    text.push('\n');
+    write_bytes_atomic(&stage.join("bit.json"), text.as_bytes())?;
+    write_bytes_atomic(&stage.join("runs.csv"), runs_csv(&results).as_bytes())?;
+    write_bytes_atomic(&stage.join("bit.toml"), bs.to_toml_string().as_bytes())?;
+    write_bytes_atomic(
+        &stage.join("scenario.toml"),
+        bs.scenario.to_toml_string().as_bytes(),
+    )?;
+    let typical = typical_run(&results);
+    let traj = match kept {
+        Some(t) => Ok(t),
+        None => tippetop::simulate(&bs.run_scenario(typical as u64)),
+    };
+    let figure = match traj
+        .map_err(anyhow::Error::from)
+        .and_then(|t| theta_figure(&stage, &bs, results[typical].run, &t))
+    {
+        Ok(()) => Some(typical),
+        Err(e) => {
+            if !quiet {
+                eprintln!("warning: no theta figure: {e:#}");
+            }
+            None
+        }
+    };
+    write_bytes_atomic(
+        &stage.join("bit.md"),
+        bit_md(&bs, &report, figure.map(|k| &results[k])).as_bytes(),
+    )?;
+    out.commit(&["bit.json"])?;
+    if !quiet {
+        for (name, b) in [
+            ("write", &report.write),
+            ("erase", &report.erase),
+            ("erase_given_write", &report.erase_given_write),
+            ("cycle", &report.cycle),
+        ] {
+            println!("{name}: {}", one_line(b));
+        }
+        println!("wrote {}", args.out.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map(fmt_f64).unwrap_or_else(|| "-".into())
+}
+
+/// A block in one line: `P = 1 [1, 1] (1 of 1 runs), time median 4.1e-5 s`.
+fn one_line(b: &Block) -> String {
+    let ci = b
+        .ci95
+        .map(|[lo, hi]| format!(" [{}, {}]", fmt_f64(lo), fmt_f64(hi)))
+        .unwrap_or_default();
+    let fails: Vec<String> = b
+        .failures
+        .iter()
+        .filter(|(_, n)| **n > 0)
+        .map(|(m, n)| format!("{m} {n}"))
+        .collect();
+    format!(
+        "P = {}{ci} ({} of {} runs){}, time median {} s, energy median {} J{}",
+        opt(b.probability),
+        b.successes,
+        b.runs,
+        if b.deterministic {
+            ", deterministic"
+        } else {
+            ""
+        },
+        opt(b.time_median),
+        opt(b.energy_median),
+        if fails.is_empty() {
+            String::new()
+        } else {
+            format!("; failures: {}", fails.join(", "))
+        }
+    )
+}
+
+fn bit_json(bs: &BitScenario, report: &Report) -> serde_json::Value {
+    let windows = |list: &[tippetop::scenario::bit::Actuator]| -> serde_json::Value {
+        list.iter()
+            .map(|a| {
+                serde_json::json!({
+                    "kind": a.kind.name(), "hx": a.hx, "hy": a.hy, "hz": a.hz,
+                    "start": a.start, "stop": a.stop,
+                })
+            })
+            .collect()
+    };
+    let b = &bs.bit;
+    let mut v = serde_json::to_value(report).unwrap_or_default();
+    if let Some(m) = v.as_object_mut() {
+        m.insert(
+            "bit".into(),
+            serde_json::json!({
+                "zero": b.zero, "one": b.one, "hold": b.hold, "phase": b.phase,
+                "temperature": bs.scenario.thermal.temperature,
+                "first_run": bs.scenario.thermal.run,
+                "seed": bs.scenario.thermal.seed,
+                "sample_spacing": 2.0 * b.phase / (bs.scenario.solver.samples - 1) as f64,
+            }),
+        );
+        m.insert("write_protocol".into(), windows(&bs.write));
+        m.insert("erase_protocol".into(), windows(&bs.erase));
+    }
+    v
+}
+
+fn outcome(p: &bit::PhaseResult) -> &'static str {
+    p.failure.map(Mode::as_str).unwrap_or("ok")
+}
+
+fn runs_csv(results: &[RunResult]) -> String {
+    let mut s = format!("{}\n", bit::CSV_HEADER);
+    for r in results {
+        s.push_str(&bit::csv_row(r));
+    }
+    s
+}
+
+/// The index of a typical run: the first whose (write, erase) outcome is
+/// the most frequent one (ties: the outcome seen first).
+pub fn typical_run(results: &[RunResult]) -> usize {
+    let key = |r: &RunResult| (outcome(&r.write), outcome(&r.erase));
+    let mut best = (0, 0);
+    for (i, r) in results.iter().enumerate() {
+        if results[..i].iter().any(|q| key(q) == key(r)) {
+            continue;
+        }
+        let n = results.iter().filter(|q| key(q) == key(r)).count();
+        if n > best.1 {
+            best = (i, n);
+        }
+    }
+    best.0
+}
+
+/// `theta.png`/`theta.svg` in `dir`: θ(t) of `traj` (`thermal.run` =
+/// `run`), with the edges of the two states marked.
+fn theta_figure(
+    dir: &std::path::Path,
+    bs: &BitScenario,
+    run: u64,
+    traj: &tippetop::Trajectory,
+) -> Result<()> {
+    use crate::plot::{self, Legend, PlotOpts, RefLine, Series};
+    let t_end = 2.0 * bs.bit.phase;
+    let (scale, unit) = crate::run::time_unit(t_end);
+    let t: Vec<f64> = traj.samples.iter().map(|x| x.t * scale).collect();
+    let th: Vec<f64> = traj.samples.iter().map(|x| x.theta).collect();
+    let b = &bs.bit;
+    plot::line_plot(
+        &dir.join("theta"),
+        &format!(
+            "θ(t) of run {run}: write to {} {unit}, then erase",
+            fmt_f64(b.phase * scale)
+        ),
+        &format!("t [{unit}]"),
+        "θ [rad]",
+        &[Series::new("θ", t, th)],
+        &PlotOpts {
+            hlines: vec![
+                RefLine::new(b.zero[0], "zero"),
+                RefLine::new(b.zero[1], "zero"),
+                RefLine::new(b.one[0], "one"),
+                RefLine::new(b.one[1], "one"),
+            ],
+            x_range: Some((0.0, t_end * scale)),
+            y_range: Some((0.0, std::f64::consts::PI)),
+            legend: Legend::None,
+            ..PlotOpts::default()
+        },
+    )
+}
+
+fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
+    let b = &bs.bit;
+    let mut s = String::from("# Memory bit\n\n");
+    let _ = writeln!(
+        s,
+        "States: zero = θ in [{}, {}] rad, one = θ in [{}, {}] rad. Each phase lasts {} s; a \
+         phase succeeds iff θ is in its target window at every output row of its last {} s \
+         (sample spacing {} s).\n",
+        fmt_f64(b.zero[0]),
+        fmt_f64(b.zero[1]),
+        fmt_f64(b.one[0]),
+        fmt_f64(b.one[1]),
+        fmt_f64(b.phase),
+        fmt_f64(b.hold),
+        fmt_f64(2.0 * b.phase / (bs.scenario.solver.samples - 1) as f64),
+    );
+    if r.deterministic {
+        let _ = writeln!(
+            s,
+            "One deterministic run (T = 0): probabilities are 0 or 1.\n"
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "{} Langevin runs at T = {} K (seed {}, thermal.run {} to {}); intervals are \
+             Wilson 95 %.\n",
+            r.runs,
+            fmt_f64(bs.scenario.thermal.temperature),
+            bs.scenario.thermal.seed.unwrap_or(0),
+            bs.scenario.thermal.run,
+            bs.scenario.thermal.run + r.runs as u64 - 1,
+        );
+    }
+    for (name, what, blk) in [
+        ("Write", "standing to lying (target one)", &r.write),
+        (
+            "Erase",
+            "back to standing (target zero), all runs",
+            &r.erase,
+        ),
+        (
+            "Erase after a successful write",
+            "runs whose write succeeded",
+            &r.erase_given_write,
+        ),
+        ("Cycle", "write and erase both succeeded", &r.cycle),
+    ] {
+        let _ = writeln!(s, "## {name}: {what}\n");
+        let _ = writeln!(s, "- {}", one_line(blk));
+        let _ = writeln!(
+            s,
+            "- switching time quartiles: {} s, {} s, {} s",
+            opt(blk.time_q25),
+            opt(blk.time_median),
+            opt(blk.time_q75)
+        );
+        let _ = writeln!(
+            s,
+            "- largest total applied force: {} N\n",
+            fmt_f64(blk.max_applied_force)
+        );
+    }
+    if let Some(t) = typical {
+        let _ = writeln!(
+            s,
+            "![theta(t)](theta.png)\n\nθ(t) of run {} (a typical run: the first with the most \
+             frequent outcome, write {}, erase {}); the horizontal lines are the edges of the \
+             two states.\n",
+            t.run,
+            outcome(&t.write),
+            outcome(&t.erase)
+        );
+    }
+    match r.pull_off_margin_min {
+        Some(m) => {
+            let _ = writeln!(
+                s,
+                "Smallest pull-off margin over the runs: {} N.",
+                fmt_f64(m)
+            );
+        }
+        None => {
+            let _ = writeln!(s, "No adhesion: no pull-off margin.");
+        }
+    }
+    s
+}

@@ -1,0 +1,630 @@
+//! The memory bit (issue #16): whether each phase of a bit run succeeded,
+//! its switching time and energy, and the statistics over runs (success
+//! probabilities with Wilson 95 % intervals). The scenario side (`[bit]`,
+//! `[[write]]`, `[[erase]]`) is [`crate::scenario::bit`]. No I/O.
+//!
+//! # Success of a phase
+//!
+//! A phase `[t0, t1]` (write: `[0, phase]`, erase: `[phase, 2 phase]`)
+//! succeeds iff θ lies in the target window (`one` for write, `zero` for
+//! erase; closed intervals) at every output row of the last `hold` seconds
+//! of the phase, `t1 − hold <= t <= t1`. The test is on the output rows:
+//! its resolution is the sample spacing `2 phase / (samples − 1)` (at
+//! least [`crate::scenario::bit::MIN_ROWS_PER_HOLD`] rows per hold), and an
+//! excursion between two rows is not seen. The switching time is the start
+//! of the final stay, measured from `t0`: the time of the first row of the
+//! last unbroken run of in-window rows. Failure modes ([`Mode`]):
+//! - `never_entered`: no row of the phase is in the window;
+//! - `left`: θ was in the window at some row but not at the phase's end;
+//! - `too_late`: θ is in the window at the end, but its final stay began
+//!   less than `hold` before the end;
+//! - `run_failed` / `lifted_off`: the run failed before the phase's end
+//!   (`lifted_off` when the failure is a lift-off, [`crate::Failure::LiftOff`]).
+//!
+//! The energy of a phase is the change of `work_applied` (net work of the
+//! applied force on the top, J) from its first to its last row (up to the
+//! failure for a run that failed in it).
+
+use serde::Serialize;
+
+use crate::analysis::sweep::{fmt_f64, status_field};
+use crate::scenario::bit::{Actuator, BitScenario};
+use crate::{Failure, Trajectory};
+
+/// z of the two-sided 95 % interval.
+pub const Z95: f64 = 1.959963984540054;
+
+/// Why a phase failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Mode {
+    /// θ never was in the target window during the phase.
+    NeverEntered,
+    /// θ was in the window but not at the end of the phase.
+    Left,
+    /// θ is in the window at the end, but entered it less than `hold` before.
+    TooLate,
+    /// The run failed (any run-time failure but lift-off) before the end.
+    RunFailed,
+    /// The run failed by lift-off before the end.
+    LiftedOff,
+}
+
+impl Mode {
+    /// All modes, in report order.
+    pub const ALL: [Mode; 5] = [
+        Mode::NeverEntered,
+        Mode::Left,
+        Mode::TooLate,
+        Mode::RunFailed,
+        Mode::LiftedOff,
+    ];
+
+    /// The mode's name in `bit.json`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Mode::NeverEntered => "never_entered",
+            Mode::Left => "left",
+            Mode::TooLate => "too_late",
+            Mode::RunFailed => "run_failed",
+            Mode::LiftedOff => "lifted_off",
+        }
+    }
+}
+
+/// The outcome of one phase of one run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhaseResult {
+    /// `None` on success, else why it failed.
+    pub failure: Option<Mode>,
+    /// Switching time from the phase start \[s\] (success only).
+    pub time: Option<f64>,
+    /// Net work of the applied force on the top over the phase \[J\]
+    /// (`None` when the run has no row in the phase).
+    pub energy: Option<f64>,
+}
+
+impl PhaseResult {
+    /// Whether the phase succeeded.
+    pub fn success(&self) -> bool {
+        self.failure.is_none()
+    }
+}
+
+/// Evaluate a phase on output rows `(t, θ)` \[s, rad\] in time order.
+/// `window` \[rad\], the phase `[t0, t1]` \[s\], `hold` \[s\]; `failure`:
+/// the run's failure if it failed (its rows end there). Rows count as in
+/// the phase within `1e-9 × (t1 − t0)` of its ends (row times carry
+/// rounding).
+pub fn evaluate_phase(
+    rows: &[(f64, f64)],
+    window: [f64; 2],
+    t0: f64,
+    t1: f64,
+    hold: f64,
+    failure: Option<Failure>,
+) -> PhaseResult {
+    let tol = 1e-9 * (t1 - t0);
+    let phase: Vec<(f64, f64)> = rows
+        .iter()
+        .copied()
+        .filter(|&(t, _)| t >= t0 - tol && t <= t1 + tol)
+        .collect();
+    let fail = |mode| PhaseResult {
+        failure: Some(mode),
+        time: None,
+        energy: None,
+    };
+    // A run that did not fail reached t1 (the rows need not fall on t1:
+    // with an odd number of intervals none falls on `phase`).
+    let reached = failure.is_none() || rows.last().is_some_and(|&(t, _)| t >= t1 - tol);
+    if !reached || phase.is_empty() {
+        return fail(match failure {
+            Some(Failure::LiftOff) => Mode::LiftedOff,
+            _ => Mode::RunFailed,
+        });
+    }
+    let inside = |th: f64| window[0] <= th && th <= window[1];
+    let Some(last_out) = phase.iter().rposition(|&(_, th)| !inside(th)) else {
+        // In the window at every row of the phase.
+        return PhaseResult {
+            failure: None,
+            time: Some(phase[0].0 - t0),
+            energy: None,
+        };
+    };
+    if last_out == phase.len() - 1 {
+        let mode = if phase.iter().any(|&(_, th)| inside(th)) {
+            Mode::Left
+        } else {
+            Mode::NeverEntered
+        };
+        return fail(mode);
+    }
+    let stay = phase[last_out + 1].0;
+    if stay <= t1 - hold + tol {
+        PhaseResult {
+            failure: None,
+            time: Some(stay - t0),
+            energy: None,
+        }
+    } else {
+        fail(Mode::TooLate)
+    }
+}
+
+/// The outcome of one bit run (write, then erase).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunResult {
+    /// `thermal.run` of the run.
+    pub run: u64,
+    /// `"ok"` or the run's error.
+    pub status: String,
+    /// The write phase.
+    pub write: PhaseResult,
+    /// The erase phase.
+    pub erase: PhaseResult,
+    /// Smallest pull-off margin of the run \[N\] (with adhesion).
+    pub pull_off_margin_min: Option<f64>,
+}
+
+/// The header of `runs.csv` (one row per run, [`csv_row`]).
+pub const CSV_HEADER: &str =
+    "run,status,write,write_time,write_energy,erase,erase_time,erase_energy,pull_off_margin_min";
+
+/// One line of `runs.csv` (with its `\n`): `thermal.run`, the status (a
+/// CSV field, quoted when needed), then for write and erase the outcome
+/// (`ok` or the [`Mode`]), the switching time \[s\] and the energy \[J\],
+/// and the smallest pull-off margin \[N\]; an empty field is a missing
+/// value, floats in the shortest round-trip form.
+pub fn csv_row(r: &RunResult) -> String {
+    let o = |v: Option<f64>| v.map(fmt_f64).unwrap_or_default();
+    let outcome = |p: &PhaseResult| p.failure.map(Mode::as_str).unwrap_or("ok");
+    format!(
+        "{},{},{},{},{},{},{},{},{}\n",
+        r.run,
+        status_field(&r.status),
+        outcome(&r.write),
+        o(r.write.time),
+        o(r.write.energy),
+        outcome(&r.erase),
+        o(r.erase.time),
+        o(r.erase.energy),
+        o(r.pull_off_margin_min),
+    )
+}
+
+/// Net work of the applied force over the rows of `[t0, t1]` \[J\].
+fn phase_energy(traj: &Trajectory, t0: f64, t1: f64) -> Option<f64> {
+    let tol = 1e-9 * (t1 - t0);
+    let mut rows = traj
+        .samples
+        .iter()
+        .filter(|s| s.t >= t0 - tol && s.t <= t1 + tol);
+    let first = rows.next()?;
+    let last = rows.next_back().unwrap_or(first);
+    Some(last.work_applied - first.work_applied)
+}
+
+/// Evaluate run `traj` of the bit scenario `bs` (its `thermal.run` is `run`).
+pub fn evaluate_run(bs: &BitScenario, run: u64, traj: &Trajectory) -> RunResult {
+    let rows: Vec<(f64, f64)> = traj.samples.iter().map(|s| (s.t, s.theta)).collect();
+    let failure = traj.error.as_ref().and_then(|e| e.failure());
+    let b = &bs.bit;
+    let mut write = evaluate_phase(&rows, b.one, 0.0, b.phase, b.hold, failure);
+    write.energy = phase_energy(traj, 0.0, b.phase);
+    let mut erase = evaluate_phase(&rows, b.zero, b.phase, 2.0 * b.phase, b.hold, failure);
+    erase.energy = phase_energy(traj, b.phase, 2.0 * b.phase);
+    RunResult {
+        run,
+        status: traj.summary.status.clone(),
+        write,
+        erase,
+        pull_off_margin_min: traj.summary.pull_off_margin_min,
+    }
+}
+
+/// Run `k` of the bit scenario (`thermal.run = r0 + k`) and evaluate it.
+/// Never fails: bad input (which [`BitScenario::load`] has excluded) and
+/// panics become a failed run.
+pub fn run_one(bs: &BitScenario, k: u64) -> RunResult {
+    let sc = bs.run_scenario(k);
+    let run = sc.thermal.run;
+    let failed = |status: String| RunResult {
+        run,
+        status,
+        write: PhaseResult {
+            failure: Some(Mode::RunFailed),
+            time: None,
+            energy: None,
+        },
+        erase: PhaseResult {
+            failure: Some(Mode::RunFailed),
+            time: None,
+            energy: None,
+        },
+        pull_off_margin_min: None,
+    };
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| crate::simulate(&sc))) {
+        Ok(Ok(traj)) => evaluate_run(bs, run, &traj),
+        Ok(Err(e)) => failed(e.to_string()),
+        Err(_) => failed("panicked".into()),
+    }
+}
+
+/// The Wilson score interval for `successes` of `n` at `z` (`None` for
+/// `n = 0`): the `p` with `|p̂ − p| <= z sqrt(p (1 − p)/n)`.
+pub fn wilson(successes: usize, n: usize, z: f64) -> Option<[f64; 2]> {
+    if n == 0 {
+        return None;
+    }
+    let nf = n as f64;
+    let p = successes as f64 / nf;
+    let z2 = z * z;
+    let denom = 1.0 + z2 / nf;
+    let centre = (p + z2 / (2.0 * nf)) / denom;
+    let half = z / denom * (p * (1.0 - p) / nf + z2 / (4.0 * nf * nf)).sqrt();
+    Some([(centre - half).max(0.0), (centre + half).min(1.0)])
+}
+
+/// The `q` quantile (`0 <= q <= 1`) of `values` by linear interpolation
+/// between order statistics (position `q (n − 1)`); `None` if empty.
+pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let pos = q * (v.len() - 1) as f64;
+    let i = pos.floor() as usize;
+    let frac = pos - i as f64;
+    Some(match v.get(i + 1) {
+        Some(next) => v[i] + frac * (next - v[i]),
+        None => v[i],
+    })
+}
+
+/// Statistics of one phase (or the cycle) over runs, as in `bit.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Block {
+    /// Runs counted.
+    pub runs: usize,
+    /// Runs that succeeded.
+    pub successes: usize,
+    /// `successes / runs` (`None` without runs).
+    pub probability: Option<f64>,
+    /// 95 % interval of the probability: Wilson for an ensemble, `[p, p]`
+    /// for a single deterministic run.
+    pub ci95: Option<[f64; 2]>,
+    /// A single run at T = 0.
+    pub deterministic: bool,
+    /// Median switching time of the successful runs \[s\] from the phase
+    /// start (the cycle: from the write's start to the erase's switch).
+    pub time_median: Option<f64>,
+    /// 25 % quantile of the switching time \[s\].
+    pub time_q25: Option<f64>,
+    /// 75 % quantile of the switching time \[s\].
+    pub time_q75: Option<f64>,
+    /// Median net work of the applied force on the top over the phase, over
+    /// the runs that have it \[J\].
+    pub energy_median: Option<f64>,
+    /// Largest total applied force `|Σ (h_x, h_y, h_z)|` of the windows
+    /// acting at once \[N\].
+    pub max_applied_force: f64,
+    /// Failed runs per [`Mode`], every mode listed.
+    pub failures: std::collections::BTreeMap<&'static str, usize>,
+}
+
+/// The statistics of `bit.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Report {
+    /// Runs.
+    pub runs: usize,
+    /// A single run at T = 0.
+    pub deterministic: bool,
+    /// The write phase over all runs.
+    pub write: Block,
+    /// The erase phase over all runs.
+    pub erase: Block,
+    /// The erase phase over the runs whose write succeeded.
+    pub erase_given_write: Block,
+    /// Write and erase both succeeded.
+    pub cycle: Block,
+    /// Smallest pull-off margin over the runs \[N\] (`None` without adhesion).
+    pub pull_off_margin_min: Option<f64>,
+}
+
+/// Largest `|Σ h|` of windows acting at the same time \[N\] (the total is
+/// piecewise constant and changes only at window starts and stops, so its
+/// largest value is taken at some start).
+pub fn max_applied_force(windows: &[Actuator]) -> f64 {
+    windows
+        .iter()
+        .map(|w| {
+            let (mut x, mut y, mut z) = (0.0, 0.0, 0.0);
+            for v in windows
+                .iter()
+                .filter(|v| v.start <= w.start && w.start < v.stop)
+            {
+                x += v.hx;
+                y += v.hy;
+                z += v.hz;
+            }
+            (x * x + y * y + z * z).sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+fn block(results: &[PhaseResult], deterministic: bool, max_force: f64) -> Block {
+    let runs = results.len();
+    let successes = results.iter().filter(|r| r.success()).count();
+    let probability = (runs > 0).then(|| successes as f64 / runs as f64);
+    let ci95 = if deterministic {
+        probability.map(|p| [p, p])
+    } else {
+        wilson(successes, runs, Z95)
+    };
+    let times: Vec<f64> = results.iter().filter_map(|r| r.time).collect();
+    let energies: Vec<f64> = results.iter().filter_map(|r| r.energy).collect();
+    let failures = Mode::ALL
+        .iter()
+        .map(|m| {
+            (
+                m.as_str(),
+                results.iter().filter(|r| r.failure == Some(*m)).count(),
+            )
+        })
+        .collect();
+    Block {
+        runs,
+        successes,
+        probability,
+        ci95,
+        deterministic,
+        time_median: quantile(&times, 0.5),
+        time_q25: quantile(&times, 0.25),
+        time_q75: quantile(&times, 0.75),
+        energy_median: quantile(&energies, 0.5),
+        max_applied_force: max_force,
+        failures,
+    }
+}
+
+/// The cycle of one run: both phases succeeded; time from the write's
+/// start to the start of the erase's final stay; energy the sum; the
+/// failure that of the first failed phase.
+pub fn cycle(r: &RunResult, phase: f64) -> PhaseResult {
+    let energy = match (r.write.energy, r.erase.energy) {
+        (Some(a), Some(b)) => Some(a + b),
+        _ => None,
+    };
+    PhaseResult {
+        failure: r.write.failure.or(r.erase.failure),
+        time: match (r.write.success(), r.erase.time) {
+            (true, Some(t)) => Some(phase + t),
+            _ => None,
+        },
+        energy,
+    }
+}
+
+/// The statistics over `results` (in any order) of the bit scenario `bs`;
+/// `deterministic`: a single run at T = 0.
+pub fn report(bs: &BitScenario, results: &[RunResult], deterministic: bool) -> Report {
+    let fw = max_applied_force(&bs.write);
+    let fe = max_applied_force(&bs.erase);
+    let write: Vec<PhaseResult> = results.iter().map(|r| r.write).collect();
+    let erase: Vec<PhaseResult> = results.iter().map(|r| r.erase).collect();
+    let given: Vec<PhaseResult> = results
+        .iter()
+        .filter(|r| r.write.success())
+        .map(|r| r.erase)
+        .collect();
+    let cycles: Vec<PhaseResult> = results.iter().map(|r| cycle(r, bs.bit.phase)).collect();
+    Report {
+        runs: results.len(),
+        deterministic,
+        write: block(&write, deterministic, fw),
+        erase: block(&erase, deterministic, fe),
+        erase_given_write: block(&given, deterministic, fe),
+        cycle: block(&cycles, deterministic, fw.max(fe)),
+        pull_off_margin_min: results
+            .iter()
+            .filter_map(|r| r.pull_off_margin_min)
+            .reduce(f64::min),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// θ(t) on rows 0, 1, ..., 10 s.
+    fn rows(theta: &[f64]) -> Vec<(f64, f64)> {
+        theta
+            .iter()
+            .enumerate()
+            .map(|(i, &th)| (i as f64, th))
+            .collect()
+    }
+
+    const W: [f64; 2] = [1.0, 2.0];
+
+    #[test]
+    fn held_from_an_entry_mid_phase() {
+        // In from t = 4 to the end (10): held over the last 3 s.
+        let r = rows(&[0.1, 0.5, 0.9, 0.99, 1.0, 1.5, 1.9, 2.0, 1.2, 1.1, 1.3]);
+        let p = evaluate_phase(&r, W, 0.0, 10.0, 3.0, None);
+        assert_eq!(p.failure, None);
+        assert_eq!(p.time, Some(4.0));
+    }
+
+    #[test]
+    fn entered_late_still_in_time_and_too_late() {
+        // Enters at 7, hold 3: exactly in time (t1 - hold = 7).
+        let th = [0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5];
+        let p = evaluate_phase(&rows(&th), W, 0.0, 10.0, 3.0, None);
+        assert_eq!((p.failure, p.time), (None, Some(7.0)));
+        // Hold 4: the stay began less than 4 s before the end.
+        let p = evaluate_phase(&rows(&th), W, 0.0, 10.0, 4.0, None);
+        assert_eq!((p.failure, p.time), (Some(Mode::TooLate), None));
+    }
+
+    #[test]
+    fn re_entry_counts_from_the_last_stay() {
+        // In at 2..3, out at 4, in again from 5: switching time 5.
+        let th = [0.1, 0.1, 1.5, 1.5, 2.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5];
+        let p = evaluate_phase(&rows(&th), W, 0.0, 10.0, 3.0, None);
+        assert_eq!((p.failure, p.time), (None, Some(5.0)));
+    }
+
+    #[test]
+    fn left_and_never_entered() {
+        let left = [0.1, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 0.9];
+        let p = evaluate_phase(&rows(&left), W, 0.0, 10.0, 3.0, None);
+        assert_eq!((p.failure, p.time), (Some(Mode::Left), None));
+        let never = [0.1, 0.5, 0.9, 2.1, 2.5, 3.0, 0.99, 0.2, 0.3, 0.4, 0.5];
+        let p = evaluate_phase(&rows(&never), W, 0.0, 10.0, 3.0, None);
+        assert_eq!((p.failure, p.time), (Some(Mode::NeverEntered), None));
+    }
+
+    #[test]
+    fn phase_limits_and_failed_runs() {
+        // Second phase [5, 10]: rows before 5 do not count; the last stay
+        // starts with the phase (at 5) -> time 0.
+        let th = [0.1, 0.1, 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5];
+        let p = evaluate_phase(&rows(&th), W, 5.0, 10.0, 2.0, None);
+        assert_eq!((p.failure, p.time), (None, Some(0.0)));
+        // A run that failed at 8: the phase [5, 10] is not reached; one
+        // that failed after the first phase [0, 5] leaves that one judged.
+        let cut = &rows(&th)[..9];
+        let p = evaluate_phase(cut, W, 5.0, 10.0, 2.0, Some(Failure::LiftOff));
+        assert_eq!(p.failure, Some(Mode::LiftedOff));
+        let p = evaluate_phase(cut, W, 5.0, 10.0, 2.0, Some(Failure::StepLimit));
+        assert_eq!(p.failure, Some(Mode::RunFailed));
+        let p = evaluate_phase(cut, [0.0, 0.5], 0.0, 5.0, 2.0, Some(Failure::StepLimit));
+        assert_eq!((p.failure, p.time), (Some(Mode::Left), None));
+    }
+
+    #[test]
+    fn rows_need_not_fall_on_the_phase_end() {
+        // Rows every 0.3 s; the phase [0, 10] ends between 9.9 and 10.2.
+        let r: Vec<(f64, f64)> = (0..70)
+            .map(|i| {
+                let t = 0.3 * i as f64;
+                (t, if t < 6.0 { 0.1 } else { 1.5 })
+            })
+            .collect();
+        let p = evaluate_phase(&r, W, 0.0, 10.0, 3.0, None);
+        assert_eq!(p.failure, None);
+        assert!((p.time.unwrap() - 6.0).abs() < 1e-12, "{:?}", p.time);
+        // The second phase [10, 20] starts at the row at 10.2.
+        let p = evaluate_phase(&r, W, 10.0, 20.0, 3.0, None);
+        assert!((p.time.unwrap() - 0.2).abs() < 1e-12, "{:?}", p.time);
+        // A run that failed at 9.9 did not reach 10.
+        let cut = &r[..34];
+        assert_eq!(cut.last().unwrap().0, 0.3 * 33.0);
+        let p = evaluate_phase(cut, W, 0.0, 10.0, 3.0, Some(Failure::NonFinite));
+        assert_eq!(p.failure, Some(Mode::RunFailed));
+    }
+
+    /// The Wilson interval's closed form on hand values.
+    #[test]
+    fn wilson_hand_values() {
+        // n = 10, 5 successes, z = 2: centre (0.5 + 0.2)/1.4 = 0.5,
+        // half = 2/1.4 sqrt(0.025 + 0.01) = 0.267261...
+        let [lo, hi] = wilson(5, 10, 2.0).unwrap();
+        let half = 2.0 / 1.4 * 0.035f64.sqrt();
+        assert!((lo - (0.5 - half)).abs() < 1e-15 && (hi - (0.5 + half)).abs() < 1e-15);
+        // 0 of 10 at z = 2: [0, z^2/(n + z^2)] = [0, 4/14].
+        let [lo, hi] = wilson(0, 10, 2.0).unwrap();
+        assert!(lo.abs() < 1e-15, "{lo}");
+        assert!((hi - 4.0 / 14.0).abs() < 1e-15, "{hi}");
+        // 10 of 10: [n/(n + z^2), 1] = [10/14, 1].
+        let [lo, hi] = wilson(10, 10, 2.0).unwrap();
+        assert!((lo - 10.0 / 14.0).abs() < 1e-15 && hi == 1.0, "{lo} {hi}");
+        // Every endpoint solves the score equation (p̂ − p)² = z² p (1 − p)/n.
+        for (s, n) in [(3, 7), (17, 40), (1, 100)] {
+            let [lo, hi] = wilson(s, n, Z95).unwrap();
+            let ph = s as f64 / n as f64;
+            for p in [lo, hi] {
+                let lhs = (ph - p).powi(2);
+                let rhs = Z95 * Z95 * p * (1.0 - p) / n as f64;
+                assert!((lhs - rhs).abs() < 1e-14, "{s}/{n}: {lhs} vs {rhs}");
+            }
+        }
+        assert_eq!(wilson(0, 0, Z95), None);
+    }
+
+    fn binomial_pmf(n: usize, k: usize, p: f64) -> f64 {
+        // ln C(n, k) by sums of logs (exact enough for n <= 200).
+        let ln_c: f64 = (1..=k)
+            .map(|i| ((n - k + i) as f64).ln() - (i as f64).ln())
+            .sum();
+        (ln_c + k as f64 * p.ln() + (n - k) as f64 * (1.0 - p).ln()).exp()
+    }
+
+    /// Exact coverage: Σ_k P(X = k) [p ∈ CI(k)].
+    fn coverage(n: usize, p: f64) -> f64 {
+        (0..=n)
+            .filter(|&k| {
+                let [lo, hi] = wilson(k, n, Z95).unwrap();
+                lo <= p && p <= hi
+            })
+            .map(|k| binomial_pmf(n, k, p))
+            .sum()
+    }
+
+    /// The coverage against the exact binomial coverage: p ∈ CI(k) iff
+    /// |k − n p| <= z sqrt(n p (1 − p)) (the score test the interval
+    /// inverts), so for n = 20, p = 1/2 the interval covers exactly for
+    /// k = 6..14 (|k − 10| <= 4.38): 1 − 2 P(X <= 5) = 1 − 2 × 21700/2^20.
+    #[test]
+    fn wilson_coverage_is_the_exact_binomial_coverage() {
+        let exact = 1.0 - 2.0 * 21700.0 / 1048576.0;
+        assert!(
+            (coverage(20, 0.5) - exact).abs() < 1e-12,
+            "{}",
+            coverage(20, 0.5)
+        );
+        // Other (n, p): the covered k are those of the score test.
+        for (n, p) in [(50, 0.3), (100, 0.1), (100, 0.5), (37, 0.8)] {
+            let score: f64 = (0..=n)
+                .filter(|&k| {
+                    (k as f64 - n as f64 * p).abs() <= Z95 * (n as f64 * p * (1.0 - p)).sqrt()
+                })
+                .map(|k| binomial_pmf(n, k, p))
+                .sum();
+            let c = coverage(n, p);
+            assert!((c - score).abs() < 1e-12, "n {n} p {p}: {c} vs {score}");
+            // Wilson is near nominal for these (n, p).
+            assert!((0.92..0.98).contains(&c), "n {n} p {p}: coverage {c}");
+        }
+    }
+
+    #[test]
+    fn quantiles_and_forces() {
+        assert_eq!(quantile(&[3.0, 1.0, 2.0, 4.0], 0.5), Some(2.5));
+        assert_eq!(quantile(&[3.0, 1.0, 2.0, 4.0], 0.25), Some(1.75));
+        assert_eq!(quantile(&[], 0.5), None);
+        let w = |hx: f64, start: f64, stop: f64| Actuator {
+            kind: crate::scenario::bit::ActuatorKind::Contact,
+            hx,
+            hy: 0.0,
+            hz: 0.0,
+            start,
+            stop,
+        };
+        // Overlapping windows add: 3 + 4 on [1, 2).
+        assert_eq!(
+            max_applied_force(&[w(3.0, 0.0, 2.0), w(4.0, 1.0, 3.0)]),
+            7.0
+        );
+        // Disjoint windows do not.
+        assert_eq!(
+            max_applied_force(&[w(3.0, 0.0, 1.0), w(4.0, 1.0, 3.0)]),
+            4.0
+        );
+        assert_eq!(max_applied_force(&[]), 0.0);
+    }
+}
