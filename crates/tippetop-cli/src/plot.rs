@@ -186,6 +186,10 @@ pub struct PlotOpts {
     pub y_range: Option<(f64, f64)>,
     /// Legend position.
     pub legend: Legend,
+    /// Equal scales on x and y (a circle is drawn as a circle): the y
+    /// range keeps its lower end and is extended or cut to the plotting
+    /// area's aspect, computed from the layout of each backend.
+    pub equal_aspect: bool,
 }
 
 impl Default for PlotOpts {
@@ -197,6 +201,7 @@ impl Default for PlotOpts {
             x_range: None,
             y_range: None,
             legend: Legend::UpperRight,
+            equal_aspect: false,
         }
     }
 }
@@ -524,6 +529,17 @@ fn draw_panel<DB: DrawingBackend>(
         rest
     } else {
         area.clone()
+    };
+    // Equal scales: the plotting area is the panel minus the margins and
+    // label areas of `draw_panel_in` (8 + 24 px across plus the y label
+    // area; 8 px above plus the x label area).
+    let (y0, y1) = if o.equal_aspect && !o.log_y {
+        let (w, h) = area.dim_in_pixel();
+        let plot_w = w as f64 - 8.0 - 24.0 - if bitmap { 90.0 } else { 115.0 };
+        let plot_h = h as f64 - 8.0 - if x_label.is_some() { 50.0 } else { 24.0 };
+        (y0, y0 + (x_range.1 - x_range.0) * plot_h / plot_w)
+    } else {
+        (y0, y1)
     };
     // plotters' key points break down for spans far from 1 (it compares
     // with an absolute f64::EPSILON): draw in rescaled coordinates and

@@ -204,13 +204,13 @@ fn write_fig05(dir: &Path, rep: &Reproduction) -> Result<()> {
     let n = rep.snapshots.len() as f64;
     let x_range = (-1.5 * rr, (n - 1.0) * spacing + 1.5 * rr);
     let size = (1500u32, 480u32);
-    // Equal scales in x and z (approximately: plot area ≈ size minus margins).
-    let aspect = (size.1 as f64 - 150.0) / (size.0 as f64 - 120.0);
-    let height = (x_range.1 - x_range.0) * aspect;
+    // Equal scales in x and z: the y range's top follows the plotting
+    // area's aspect (computed by the plot from its layout, per backend).
     let opts = PlotOpts {
         size,
         x_range: Some(x_range),
-        y_range: Some((-0.3 * rr, -0.3 * rr + height)),
+        y_range: Some((-0.3 * rr, 3.0 * rr)),
+        equal_aspect: true,
         hlines: vec![RefLine::new(0.0, "plane")],
         legend: Legend::UpperRight,
         ..Default::default()
