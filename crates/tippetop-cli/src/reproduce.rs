@@ -131,6 +131,9 @@ fn write_figure(dir: &Path, f: &Figure) -> Result<()> {
     let c: Vec<&[f64]> = cols.iter().map(|v| v.as_slice()).collect();
     write_series_csv(&dir.join(format!("fig{}.csv", f.id)), &h, &c)?;
 
+    if f.id == "02" {
+        return write_fig02(dir, f);
+    }
     let series: Vec<Series> = f
         .curves
         .iter()
@@ -158,6 +161,106 @@ fn write_figure(dir: &Path, f: &Figure) -> Result<()> {
         &f.x_label,
         &f.y_label,
         &series,
+        &opts,
+    )
+}
+
+/// The envelope of a curve: its smallest and largest value in each of
+/// `bins` equal time windows over `[t0, t1]`, at the windows' centres
+/// (windows without points are skipped).
+fn envelope(t: &[f64], y: &[f64], (t0, t1): (f64, f64), bins: usize) -> [Vec<(f64, f64)>; 2] {
+    let mut lo = vec![f64::INFINITY; bins];
+    let mut hi = vec![f64::NEG_INFINITY; bins];
+    for (&ti, &yi) in t.iter().zip(y) {
+        if !yi.is_finite() || ti < t0 || ti > t1 {
+            continue;
+        }
+        let k = (((ti - t0) / (t1 - t0)) * bins as f64).floor() as usize;
+        let k = k.min(bins - 1);
+        lo[k] = lo[k].min(yi);
+        hi[k] = hi[k].max(yi);
+    }
+    let w = (t1 - t0) / bins as f64;
+    let pick = |v: &[f64]| {
+        v.iter()
+            .enumerate()
+            .filter(|(_, x)| x.is_finite())
+            .map(|(k, &x)| (t0 + (k as f64 + 0.5) * w, x))
+            .collect()
+    };
+    [pick(&lo), pick(&hi)]
+}
+
+/// Fig. 2, readable: five oscillating θ(t) overlap, so `fig02.png` draws
+/// each curve's envelope (its min and max over 150 windows of the run;
+/// the curves themselves are in fig02.csv), and `fig02_zoom.png` the
+/// curves themselves over the first 10 µs, where they part.
+fn write_fig02(dir: &Path, f: &Figure) -> Result<()> {
+    let t_end = f
+        .curves
+        .iter()
+        .filter_map(|c| c.t.last().copied())
+        .fold(0.0, f64::max);
+    let mut series = Vec::new();
+    for (i, c) in f.curves.iter().enumerate() {
+        let color = crate::plot::PALETTE[i % crate::plot::PALETTE.len()];
+        let [lo, hi] = envelope(&c.t, &c.y, (0.0, t_end), 150);
+        for (j, env) in [hi, lo].into_iter().enumerate() {
+            let (xs, ys): (Vec<f64>, Vec<f64>) =
+                env.into_iter().map(|(t, y)| (t * f.x_scale, y)).unzip();
+            let name = if j == 0 { c.name.clone() } else { String::new() };
+            let s = Series::new(name, xs, ys).color(color);
+            series.push(if c.dashed { s.dashed() } else { s });
+        }
+    }
+    let hlines: Vec<RefLine> = f
+        .hlines
+        .iter()
+        .map(|(y, l)| RefLine::new(*y, l.clone()))
+        .collect();
+    let opts = PlotOpts {
+        hlines: hlines.clone(),
+        legend: Legend::LowerRight,
+        ..Default::default()
+    };
+    line_plot(
+        &dir.join("fig02"),
+        "Fig. 2: θ envelopes (min, max over 0.67 µs), g = 0, 9.8, 100 m/s²",
+        &f.x_label,
+        &f.y_label,
+        &series,
+        &opts,
+    )?;
+    let zoom_end = 10e-6;
+    let zoom: Vec<Series> = f
+        .curves
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let (xs, ys): (Vec<f64>, Vec<f64>) = c
+                .t
+                .iter()
+                .zip(&c.y)
+                .filter(|(t, _)| **t <= zoom_end)
+                .map(|(t, y)| (t * f.x_scale, *y))
+                .unzip();
+            let s = Series::new(c.name.clone(), xs, ys)
+                .color(crate::plot::PALETTE[i % crate::plot::PALETTE.len()]);
+            if c.dashed { s.dashed() } else { s }
+        })
+        .collect();
+    let opts = PlotOpts {
+        hlines,
+        legend: Legend::LowerRight,
+        x_range: Some((0.0, zoom_end * f.x_scale)),
+        ..Default::default()
+    };
+    line_plot(
+        &dir.join("fig02_zoom"),
+        &format!("{}: the first 10 µs", f.title),
+        &f.x_label,
+        &f.y_label,
+        &zoom,
         &opts,
     )
 }
