@@ -208,7 +208,11 @@ fn write_fig02(dir: &Path, f: &Figure) -> Result<()> {
         for (j, env) in [hi, lo].into_iter().enumerate() {
             let (xs, ys): (Vec<f64>, Vec<f64>) =
                 env.into_iter().map(|(t, y)| (t * f.x_scale, y)).unzip();
-            let name = if j == 0 { c.name.clone() } else { String::new() };
+            let name = if j == 0 {
+                c.name.clone()
+            } else {
+                String::new()
+            };
             let s = Series::new(name, xs, ys).color(color);
             series.push(if c.dashed { s.dashed() } else { s });
         }
@@ -237,13 +241,12 @@ fn write_fig02(dir: &Path, f: &Figure) -> Result<()> {
         .iter()
         .enumerate()
         .map(|(i, c)| {
-            let (xs, ys): (Vec<f64>, Vec<f64>) = c
-                .t
-                .iter()
-                .zip(&c.y)
-                .filter(|(t, _)| **t <= zoom_end)
-                .map(|(t, y)| (t * f.x_scale, *y))
-                .unzip();
+            let (xs, ys): (Vec<f64>, Vec<f64>) =
+                c.t.iter()
+                    .zip(&c.y)
+                    .filter(|(t, _)| **t <= zoom_end)
+                    .map(|(t, y)| (t * f.x_scale, *y))
+                    .unzip();
             let s = Series::new(c.name.clone(), xs, ys)
                 .color(crate::plot::PALETTE[i % crate::plot::PALETTE.len()]);
             if c.dashed { s.dashed() } else { s }
