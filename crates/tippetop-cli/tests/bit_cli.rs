@@ -417,3 +417,42 @@ fn bad_input_names_the_key() {
     // No [bit] at all.
     expect_input_error(&d, "preset = \"nano\"\n", &[], "bit.hold");
 }
+
+/// `scenarios/bit/nano_300K.toml`: at 300 K with the stem's 1.1 eV lying
+/// well (43 kT) the orientation diffuses into the well within tens of ps
+/// (D_r = kT/(γ_r A) ≈ 1.9e10 s⁻¹, ≪ the 0.5 ns phase) and cannot leave it
+/// (escape ~e^{−43} per attempt): every run's write succeeds and every
+/// erase fails (never entered `zero`), with the paper's force and with no
+/// force at all (the force is 1e11 times below kT/R), and the two give the
+/// same outcome counts.
+#[test]
+fn bit_at_300k_is_decided_by_the_well() {
+    let d = scratch("300k");
+    let file = repo("scenarios/bit/nano_300K.toml");
+    for (name, sets) in [
+        ("force", vec![]),
+        (
+            "none",
+            vec![
+                "write.0.hx=0",
+                "write.0.hy=0",
+                "erase.0.hx=0",
+                "erase.0.hy=0",
+            ],
+        ),
+    ] {
+        let mut cmd = bin();
+        cmd.arg("bit")
+            .arg(&file)
+            .args(["--runs", "6", "--quiet", "--out"]);
+        cmd.arg(d.join(name));
+        for s in sets {
+            cmd.args(["--set", s]);
+        }
+        ok(&cmd.output().unwrap());
+        let b = json(&d.join(format!("{name}/bit.json")));
+        assert_eq!(b["write"]["successes"], 6, "{name}: {}", b["write"]);
+        assert_eq!(b["erase"]["successes"], 0, "{name}: {}", b["erase"]);
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
