@@ -720,17 +720,13 @@ impl Rigid {
         }
     }
 
-    /// One Euler–Maruyama step of the overdamped dynamics
-    /// (`solver.method = "brownian"`, docs/physics.md §21). In contact: the
-    /// vector model's step (`Vector::brownian_step`: the same basis, mobility
-    /// and θ drift, the same normals), the generalised force at rest from
-    /// this model's right-hand side, the constraint's height and vertical
-    /// velocity. In flight: a free body, `p_i = a_i/γ + sqrt(2 kT/(γ M_i h))
-    /// ξ_i` for the three translations (γ_t) and the rotational modes
-    /// `(k̂, ê, f̂)` (γ_r, masses `C, A, A`; the mobility is constant in the
-    /// body frame, so the geodesic step needs no drift correction). The
-    /// state's velocities are set to the drift part, `W_f` takes the energy
-    /// change.
+    /// One Euler–Maruyama step of the overdamped dynamics in contact
+    /// (`solver.method = "brownian"`, docs/physics.md §21): the vector
+    /// model's step ([`super::thermostat::overdamped_on_plane`]: the same
+    /// basis, mobility, θ drift and normals) with the generalised force at
+    /// rest from this model's right-hand side, the constraint's height and
+    /// vertical velocity. The state's velocities are set to the drift part,
+    /// `W_f` takes the energy change.
     fn brownian_step(
         &mut self,
         t: f64,
@@ -739,6 +735,11 @@ impl Rigid {
         xi: &[f64],
     ) -> Result<(), RigidError> {
         let Some(b) = self.thermal else { return Ok(()) };
+        // The validation keeps a rigid Brownian run in bilateral contact:
+        // it never flies (the free body's overdamped step is not written).
+        if self.phase != Phase::Contact {
+            return Ok(());
+        }
         let en0 = self.energy_scaled(y);
         let mut rest = *y;
         rest[VEL..VEL + 3].fill(0.0);
@@ -746,47 +747,14 @@ impl Rigid {
         let mut dy = [0.0; DIM];
         <Self as OdeSystem<DIM>>::rhs(self, t, &rest, &mut dy)?;
         let ([kn, eh, fh], s2) = super::thermostat::modes_basis(v3(y, AXIS));
-        let (a2, ia, ic) = (self.a * self.a, self.ia, self.ic);
-        let nd = v3(&dy, OMEGA);
-        let (p, drift, vz_noise) = match self.phase {
-            Phase::Contact => {
-                let beta = a2 * s2;
-                let m = [1.0, 1.0, ic, ia + beta, ia];
-                let g = [b.gt, b.gt, b.gr * ic, b.gr * ia + b.gt * beta, b.gr * ia];
-                let acc = [dy[VEL], dy[VEL + 1], dot(nd, kn), dot(nd, eh), dot(nd, fh)];
-                let mut drift = [0.0; 5];
-                let mut p = [0.0; 5];
-                for i in 0..5 {
-                    drift[i] = m[i] * acc[i] / g[i];
-                    p[i] = drift[i] + (2.0 * b.kt / (g[i] * h)).sqrt() * xi[i];
-                }
-                let (sn, cs) = (s2.sqrt(), kn[2]);
-                let (mu_t, mu_p) = (1.0 / g[3], 1.0 / g[4]);
-                let dmu_t = -2.0 * b.gt * a2 * sn * cs * mu_t * mu_t;
-                let dln_s = a2 * sn * cs / (ia + beta);
-                let corr = -b.gt * a2 * sn * cs * mu_t * mu_p + mu_t * dln_s + dmu_t;
-                p[3] -= b.kt * corr;
-                drift[3] -= b.kt * corr;
-                (p, drift, None)
-            }
-            Phase::Flight => {
-                let m = [1.0, 1.0, ic, ia, ia];
-                let g = [b.gt, b.gt, b.gr * ic, b.gr * ia, b.gr * ia];
-                let acc = [dy[VEL], dy[VEL + 1], dot(nd, kn), dot(nd, eh), dot(nd, fh)];
-                let mut drift = [0.0; 5];
-                let mut p = [0.0; 5];
-                for i in 0..5 {
-                    drift[i] = m[i] * acc[i] / g[i];
-                    p[i] = drift[i] + (2.0 * b.kt / (g[i] * h)).sqrt() * xi[i];
-                }
-                let dz = dy[VEL + 2] / b.gt;
-                (
-                    p,
-                    drift,
-                    Some((dz, dz + (2.0 * b.kt / (b.gt * h)).sqrt() * xi[5])),
-                )
-            }
+        let body = super::thermostat::Body {
+            a: self.a,
+            ia: self.ia,
+            ic: self.ic,
         };
+        let nd = v3(&dy, OMEGA);
+        let acc = [dy[VEL], dy[VEL + 1], dot(nd, kn), dot(nd, eh), dot(nd, fh)];
+        let (p, drift) = super::thermostat::overdamped_on_plane(&b, &body, (s2, kn[2]), acc, h, xi);
         let w = add(add(scale(p[2], kn), scale(p[3], eh)), scale(p[4], fh));
         let rv = scale(h, w);
         let k = super::vec3::rotate(rv, v3(y, AXIS));
@@ -802,16 +770,8 @@ impl Rigid {
         set3(y, OMEGA, wdrift);
         y[VEL] = drift[0];
         y[VEL + 1] = drift[1];
-        match vz_noise {
-            None => {
-                y[POS + 2] = 1.0 - self.a * k[2];
-                y[VEL + 2] = -self.a * cross(wdrift, k)[2];
-            }
-            Some((vz_drift, vz)) => {
-                y[POS + 2] += h * vz;
-                y[VEL + 2] = vz_drift;
-            }
-        }
+        y[POS + 2] = 1.0 - self.a * k[2];
+        y[VEL + 2] = -self.a * cross(wdrift, k)[2];
         y[WF] += self.energy_scaled(y) - en0;
         Ok(())
     }

@@ -57,6 +57,45 @@ pub(crate) struct Body {
     pub ic: f64,
 }
 
+/// The generalised velocities of one Euler–Maruyama step of the
+/// overdamped dynamics on the plane (`solver.method = "brownian"`,
+/// docs/physics.md §21), in the basis `(X, Y | k̂, ê, f̂)` where `Γ` is
+/// diagonal: `p_i = M_i a_i/Γ_i + sqrt(2 kT/(Γ_i h)) ξ_i` with `a` the
+/// acceleration at rest in that basis, plus along `ê` the drift
+/// `−kT [(μ_θ − μ_φ) cot θ + μ_θ ∂_θ ln s + ∂_θ μ_θ]` that makes the Langevin
+/// run's configuration density stationary (`μ_θ = 1/Γ_ê`, `μ_φ = 1/Γ_f̂`,
+/// `s = sqrt(1 + m a² sin²θ/A)`; the geodesic step supplies `kT μ_φ cot θ`).
+/// `s2 = sin²θ`, `cos_theta` of the unit axis. Returns `(p, drift)`: the
+/// velocities with noise and their drift part.
+pub(crate) fn overdamped_on_plane(
+    b: &Bath,
+    body: &Body,
+    (s2, cos_theta): (f64, f64),
+    acc: [f64; 5],
+    h: f64,
+    xi: &[f64],
+) -> ([f64; 5], [f64; 5]) {
+    let (a2, ia, ic) = (body.a * body.a, body.ia, body.ic);
+    let beta = a2 * s2;
+    let m = [1.0, 1.0, ic, ia + beta, ia];
+    let g = [b.gt, b.gt, b.gr * ic, b.gr * ia + b.gt * beta, b.gr * ia];
+    let mut drift = [0.0; 5];
+    let mut p = [0.0; 5];
+    for i in 0..5 {
+        drift[i] = m[i] * acc[i] / g[i];
+        p[i] = drift[i] + (2.0 * b.kt / (g[i] * h)).sqrt() * xi[i];
+    }
+    let (sn, cs) = (s2.sqrt(), cos_theta);
+    let (mu_t, mu_p) = (1.0 / g[3], 1.0 / g[4]);
+    let dmu_t = -2.0 * b.gt * a2 * sn * cs * mu_t * mu_t;
+    let dln_s = a2 * sn * cs / (ia + beta);
+    let corr = -b.gt * a2 * sn * cs * mu_t * mu_p + mu_t * dln_s + dmu_t;
+    // w·ê = −θ̇.
+    p[3] -= b.kt * corr;
+    drift[3] -= b.kt * corr;
+    (p, drift)
+}
+
 /// The exact Ornstein–Uhlenbeck step over `h` of a free body (in flight):
 /// the centre's velocity `v` (3 modes of mass 1 at γ_t) and the angular
 /// velocity `w` in the basis `(k̂, ê, f̂)` (masses `C, A, A`, each at γ_r),

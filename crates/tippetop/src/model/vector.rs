@@ -311,33 +311,14 @@ impl Vector {
         let mut dy = [0.0; DIM];
         <Self as OdeSystem<DIM>>::rhs(self, t, &rest, &mut dy)?;
         let ([kn, eh, fh], s2) = super::thermostat::modes_basis([y[K], y[K + 1], y[K + 2]]);
-        let (a2, ia) = (self.a * self.a, self.ia);
-        let beta = a2 * s2;
-        let m = [1.0, 1.0, self.ic, ia + beta, ia];
-        let g = [
-            b.gt,
-            b.gt,
-            b.gr * self.ic,
-            b.gr * ia + b.gt * beta,
-            b.gr * ia,
-        ];
+        let body = super::thermostat::Body {
+            a: self.a,
+            ia: self.ia,
+            ic: self.ic,
+        };
         let wd = [dy[OMEGA], dy[OMEGA + 1], dy[OMEGA + 2]];
         let acc = [dy[VEL], dy[VEL + 1], dot(wd, kn), dot(wd, eh), dot(wd, fh)];
-        let mut drift = [0.0; 5];
-        let mut p = [0.0; 5];
-        for i in 0..5 {
-            drift[i] = m[i] * acc[i] / g[i];
-            p[i] = drift[i] + (2.0 * b.kt / (g[i] * h)).sqrt() * xi[i];
-        }
-        // θ = atan2(|k_h|, k_Z): sin θ, cos θ of the unit axis.
-        let (sn, cs) = (s2.sqrt(), kn[2]);
-        let (mu_t, mu_p) = (1.0 / g[3], 1.0 / g[4]);
-        let dmu_t = -2.0 * b.gt * a2 * sn * cs * mu_t * mu_t;
-        let dln_s = a2 * sn * cs / (ia + beta);
-        let corr = -b.gt * a2 * sn * cs * mu_t * mu_p + mu_t * dln_s + dmu_t;
-        // w·ê = −θ̇.
-        p[3] -= b.kt * corr;
-        drift[3] -= b.kt * corr;
+        let (p, drift) = super::thermostat::overdamped_on_plane(&b, &body, (s2, kn[2]), acc, h, xi);
         let w = add(add(scale(p[2], kn), scale(p[3], eh)), scale(p[4], fh));
         let rv = scale(h, w);
         let k = super::vec3::rotate(rv, [y[K], y[K + 1], y[K + 2]]);

@@ -66,18 +66,47 @@ fn long_run() -> &'static (Scenario, Trajectory) {
     })
 }
 
-/// Mean and standard error (40 batch means) of `f` over the rows after
-/// the first 5 % (burn-in: the run starts at rest, far from equilibrium).
-fn batch_mean(tr: &Trajectory, f: impl Fn(&tippetop::Sample) -> f64) -> (f64, f64) {
-    let rows = &tr.samples[tr.samples.len() / 20..];
+/// Mean and standard error of a time series from 40 batch means (each
+/// batch much longer than the correlation time, so the batch means are
+/// independent to a good approximation).
+fn mean_se(values: &[f64]) -> (f64, f64) {
     let nb = 40;
-    let per = rows.len() / nb;
+    let per = values.len() / nb;
     let means: Vec<f64> = (0..nb)
-        .map(|b| rows[b * per..(b + 1) * per].iter().map(&f).sum::<f64>() / per as f64)
+        .map(|b| values[b * per..(b + 1) * per].iter().sum::<f64>() / per as f64)
         .collect();
     let m = means.iter().sum::<f64>() / nb as f64;
     let var = means.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (nb - 1) as f64;
     (m, (var / nb as f64).sqrt())
+}
+
+/// [`mean_se`] of `f` over the rows after the first 5 % (burn-in: the run
+/// starts at rest, far from equilibrium).
+fn batch_mean(tr: &Trajectory, f: impl Fn(&tippetop::Sample) -> f64) -> (f64, f64) {
+    let rows = &tr.samples[tr.samples.len() / 20..];
+    mean_se(&rows.iter().map(f).collect::<Vec<f64>>())
+}
+
+/// `∫ g p dθ / ∫ p dθ` over `[0, π]` (composite Simpson, 20 000
+/// intervals: error far below the Monte Carlo's): the mean of `g` under the
+/// orientation density `p`.
+fn density_mean(p: impl Fn(f64) -> f64, g: impl Fn(f64) -> f64) -> f64 {
+    let n = 20_000;
+    let h = std::f64::consts::PI / n as f64;
+    let (mut num, mut den) = (0.0, 0.0);
+    for i in 0..=n {
+        let th = i as f64 * h;
+        let w = if i == 0 || i == n {
+            1.0
+        } else if i % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
+        num += w * p(th) * g(th);
+        den += w * p(th);
+    }
+    num / den
 }
 
 fn check(what: &str, (mean, se): (f64, f64), want: f64, max_rel_se: f64) {
@@ -155,22 +184,7 @@ fn orientation_density_at_zero_gravity() {
     let (sc, tr) = long_run();
     let r = sc.top.mass * sc.top.offset * sc.top.offset / sc.top.inertia_transverse;
     let p = |th: f64| th.sin() * (1.0 + r * th.sin().powi(2)).sqrt();
-    let n = 20_000;
-    let h = std::f64::consts::PI / n as f64;
-    let (mut num, mut den) = (0.0, 0.0);
-    for i in 0..=n {
-        let th = i as f64 * h;
-        let w = if i == 0 || i == n {
-            1.0
-        } else if i % 2 == 1 {
-            4.0
-        } else {
-            2.0
-        };
-        num += w * p(th) * th.cos().powi(2);
-        den += w * p(th);
-    }
-    let want = num / den;
+    let want = density_mean(p, |th| th.cos().powi(2));
     assert!(
         (want - 1.0 / 3.0).abs() > 0.02,
         "the density must not be uniform"
@@ -210,16 +224,10 @@ fn ornstein_uhlenbeck_mean_square_displacement() {
                 (b.x - a.x).powi(2) + (b.y - a.y).powi(2)
             })
             .collect();
-        let nb = 40;
-        let per = disp.len() / nb;
-        let means: Vec<f64> = (0..nb)
-            .map(|b| disp[b * per..(b + 1) * per].iter().sum::<f64>() / per as f64)
-            .collect();
-        let m = means.iter().sum::<f64>() / nb as f64;
-        let var = means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (nb - 1) as f64;
+        let (m, se) = mean_se(&disp);
         check(
             &format!("MSD at {relax} relaxation times"),
-            (m, (var / nb as f64).sqrt()),
+            (m, se),
             want,
             0.03,
         );
@@ -483,25 +491,11 @@ fn brownian_orientation_density_at_zero_gravity() {
     assert!(tr.error.is_none(), "{:?}", tr.error);
     let r = sc.top.mass * sc.top.offset * sc.top.offset / sc.top.inertia_transverse;
     let p = |th: f64| th.sin() * (1.0 + r * th.sin().powi(2)).sqrt();
-    let n = 20_000;
-    let h = std::f64::consts::PI / n as f64;
-    let (mut num, mut den) = (0.0, 0.0);
-    for i in 0..=n {
-        let th = i as f64 * h;
-        let w = if i == 0 || i == n {
-            1.0
-        } else if i % 2 == 1 {
-            4.0
-        } else {
-            2.0
-        };
-        num += w * p(th) * th.cos().powi(2);
-        den += w * p(th);
-    }
+    let want = density_mean(p, |th| th.cos().powi(2));
     check(
         "brownian <cos^2 theta>",
         batch_mean(&tr, |s| s.theta.cos().powi(2)),
-        num / den,
+        want,
         0.03,
     );
     // The centre: free Brownian motion, MSD = 4 D τ at every lag,
@@ -514,19 +508,8 @@ fn brownian_orientation_density_at_zero_gravity() {
         .windows(lag + 1)
         .map(|w| (w[lag].x - w[0].x).powi(2) + (w[lag].y - w[0].y).powi(2))
         .collect();
-    let nb = 40;
-    let per = disp.len() / nb;
-    let means: Vec<f64> = (0..nb)
-        .map(|b| disp[b * per..(b + 1) * per].iter().sum::<f64>() / per as f64)
-        .collect();
-    let m = means.iter().sum::<f64>() / nb as f64;
-    let var = means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (nb - 1) as f64;
-    check(
-        "brownian MSD",
-        (m, (var / nb as f64).sqrt()),
-        4.0 * d * tau,
-        0.03,
-    );
+    let (m, se) = mean_se(&disp);
+    check("brownian MSD", (m, se), 4.0 * d * tau, 0.03);
 }
 
 /// Rotational diffusion of a free body (a = 0, A = C, g = 0): the axis
@@ -572,16 +555,10 @@ fn brownian_rotational_diffusion_of_a_free_body() {
                 a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
             })
             .collect();
-        let nb = 40;
-        let per = c.len() / nb;
-        let means: Vec<f64> = (0..nb)
-            .map(|b| c[b * per..(b + 1) * per].iter().sum::<f64>() / per as f64)
-            .collect();
-        let m = means.iter().sum::<f64>() / nb as f64;
-        let var = means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (nb - 1) as f64;
+        let (m, se) = mean_se(&c);
         check(
             &format!("brownian <k(0).k(tau)> at D_r tau = {tau_dr}"),
-            (m, (var / nb as f64).sqrt()),
+            (m, se),
             (-2.0 * d_r * tau).exp(),
             0.05,
         );
@@ -679,20 +656,7 @@ fn interval_averaged_normal_force_balances_the_load() {
     let ni = tr.summary.normal_intervals.expect("stochastic run");
     let want = sc.top.mass * sc.surface.gravity + sc.adhesion.force;
     let rows = &tr.samples;
-    let nb = 40;
-    let per = rows.len() / nb;
-    let means: Vec<f64> = (0..nb)
-        .map(|b| {
-            rows[b * per..(b + 1) * per]
-                .iter()
-                .map(|s| s.normal)
-                .sum::<f64>()
-                / per as f64
-        })
-        .collect();
-    let m = means.iter().sum::<f64>() / nb as f64;
-    let se =
-        (means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (nb - 1) as f64 / nb as f64).sqrt();
+    let (m, se) = mean_se(&rows.iter().map(|s| s.normal).collect::<Vec<f64>>());
     eprintln!(
         "interval mean {:e}, rows' mean {m:e} ± {se:e}, want {want:e}; min {:e}, max {:e}",
         ni.mean, ni.mean_min, ni.mean_max
@@ -736,23 +700,8 @@ fn boltzmann_density_with_a_well() {
     let r = probe.top.mass * probe.top.offset * probe.top.offset / ia;
     let u = |th: f64| -well.depth * (-0.5 * ((th - well.theta) / well.width).powi(2)).exp();
     let p = |th: f64| th.sin() * (1.0 + r * th.sin().powi(2)).sqrt() * (-u(th) / kt).exp();
-    let n = 20_000;
-    let h = std::f64::consts::PI / n as f64;
-    let (mut c1, mut c2, mut den) = (0.0, 0.0, 0.0);
-    for i in 0..=n {
-        let th = i as f64 * h;
-        let w = if i == 0 || i == n {
-            1.0
-        } else if i % 2 == 1 {
-            4.0
-        } else {
-            2.0
-        };
-        c1 += w * p(th) * th.cos();
-        c2 += w * p(th) * th.cos().powi(2);
-        den += w * p(th);
-    }
-    let (want1, want2) = (c1 / den, c2 / den);
+    let want1 = density_mean(p, f64::cos);
+    let want2 = density_mean(p, |th| th.cos().powi(2));
     eprintln!("Boltzmann with the well: <cos> = {want1}, <cos^2> = {want2}");
     assert!(
         want1 > 0.1,
