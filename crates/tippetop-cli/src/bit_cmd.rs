@@ -91,30 +91,14 @@ pub struct BitArgs {
     pub threads: Option<usize>,
 }
 
-/// Bad input: `error: ...` on one line, exit code 2.
-fn input_error(e: impl std::fmt::Display) -> ExitCode {
-    let msg = e.to_string();
-    eprintln!(
-        "error: {}",
-        msg.split_whitespace().collect::<Vec<_>>().join(" ")
-    );
-    ExitCode::from(2)
-}
+use crate::scenario_load::input_error;
 
 /// Run `tippetop bit`. Bad input: one line on stderr and exit code 2
 /// (returned as `Ok`), nothing written; `Err` for I/O failures.
 pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
-    let toml_text = match &args.scenario {
-        Some(path) => match std::fs::read_to_string(path) {
-            Ok(t) => Some(t),
-            Err(e) => {
-                return Ok(input_error(format!(
-                    "{}: cannot read it: {e} (a readable scenario file)",
-                    path.display()
-                )));
-            }
-        },
-        None => None,
+    let toml_text = match crate::scenario_load::read_text(args.scenario.as_deref()) {
+        Ok(t) => t,
+        Err(code) => return Ok(code),
     };
     let threads = match sweep::threads(args.threads) {
         Ok(t) => t,

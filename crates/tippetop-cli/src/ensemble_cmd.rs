@@ -145,30 +145,14 @@ struct Checkpoint {
     hist: Histograms,
 }
 
-/// Bad input: `error: ...` on one line, exit code 2.
-fn input_error(e: impl std::fmt::Display) -> ExitCode {
-    let msg = e.to_string();
-    eprintln!(
-        "error: {}",
-        msg.split_whitespace().collect::<Vec<_>>().join(" ")
-    );
-    ExitCode::from(2)
-}
+use crate::scenario_load::input_error;
 
 /// Run `tippetop ensemble`. Bad input: one line on stderr and exit code 2
 /// (returned as `Ok`), nothing written; `Err` for I/O failures.
 pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
-    let toml_text = match &args.scenario {
-        Some(path) => match std::fs::read_to_string(path) {
-            Ok(t) => Some(t),
-            Err(e) => {
-                return Ok(input_error(format!(
-                    "{}: cannot read it: {e} (a readable scenario file)",
-                    path.display()
-                )));
-            }
-        },
-        None => None,
+    let toml_text = match crate::scenario_load::read_text(args.scenario.as_deref()) {
+        Ok(t) => t,
+        Err(code) => return Ok(code),
     };
     let shard = match args.shard.as_deref().map(Shard::parse).transpose() {
         Ok(s) => s.unwrap_or(Shard::ALL),

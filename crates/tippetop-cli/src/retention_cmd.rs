@@ -48,10 +48,7 @@ pub struct RetentionArgs {
     pub out: Option<PathBuf>,
 }
 
-fn input_error(msg: String) -> ExitCode {
-    eprintln!("error: {msg}");
-    ExitCode::from(2)
-}
+use crate::scenario_load::input_error;
 
 /// Run `tippetop retention`.
 pub fn run(args: &RetentionArgs, quiet: bool) -> Result<ExitCode> {

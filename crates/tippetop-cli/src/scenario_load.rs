@@ -1,7 +1,36 @@
-//! Loading the scenario for `run`: preset, scenario file and `--set`
-//! overrides, resolved and validated by the library.
+//! Loading the scenario of a command: preset, scenario file and `--set`
+//! overrides, resolved and validated by the library; the one-line bad-input
+//! message every command prints.
+
+use std::path::Path;
+use std::process::ExitCode;
 
 use tippetop::{Error, Scenario};
+
+/// Bad input of a command: `error: ...` on one line (whitespace collapsed)
+/// on stderr; the exit code 2 to return.
+pub fn input_error(e: impl std::fmt::Display) -> ExitCode {
+    let msg = e.to_string();
+    eprintln!(
+        "error: {}",
+        msg.split_whitespace().collect::<Vec<_>>().join(" ")
+    );
+    ExitCode::from(2)
+}
+
+/// The text of an optional scenario file; `Err` (after the one-line
+/// message, [`input_error`]) with exit code 2 if it cannot be read.
+pub fn read_text(path: Option<&Path>) -> Result<Option<String>, ExitCode> {
+    match path {
+        None => Ok(None),
+        Some(path) => std::fs::read_to_string(path).map(Some).map_err(|e| {
+            input_error(format!(
+                "{}: cannot read it: {e} (a readable scenario file)",
+                path.display()
+            ))
+        }),
+    }
+}
 
 /// Resolve the scenario: `preset` as the base, the TOML text of a scenario
 /// file over it, then the `TABLE.KEY=VALUE` overrides. Validated.
