@@ -74,6 +74,9 @@ pub enum Command {
     /// A memory bit: write and erase protocols, success probabilities, switching times.
     #[command(long_about = crate::bit_cmd::BIT_LONG_ABOUT)]
     Bit(crate::bit_cmd::BitArgs),
+    /// Can the nano tippe top be a memory bit? A report with numbers (minutes).
+    #[command(long_about = crate::device_cmd::DEVICE_LONG_ABOUT)]
+    Device(crate::device_cmd::DeviceArgs),
     /// Animate a run: DIR/animation.gif and DIR/viewer.html (a 3D view in the browser).
     #[command(long_about = crate::animate::ANIMATE_LONG_ABOUT)]
     Animate(crate::animate::AnimateArgs),

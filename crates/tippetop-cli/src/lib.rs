@@ -8,6 +8,7 @@ pub mod adhesion_cmd;
 pub mod animate;
 pub mod bit_cmd;
 pub mod cli;
+pub mod device_cmd;
 pub mod ensemble_cmd;
 pub mod output;
 pub mod plot;

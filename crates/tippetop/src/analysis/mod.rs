@@ -4,6 +4,7 @@
 
 pub mod asymptotics;
 pub mod bit;
+pub mod device;
 pub mod ensemble;
 pub mod friction;
 pub mod regime;

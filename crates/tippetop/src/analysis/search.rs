@@ -10,7 +10,8 @@
 //! its distance to it on top (so the simplex comes back). The first start
 //! is the box's centre, restart `r >= 1` starts at Philox uniforms
 //! `(seed, r)`; each start's simplex steps 0.25 along every axis (inwards).
-//! Restarts go on until `budget` evaluations are spent; the best point ever
+//! Restarts go on until `budget` evaluations are spent (or fewer than a
+//! simplex's `n + 1` are left); the best point ever
 //! evaluated is the answer. Deterministic: same input, same bits.
 //!
 //! **Merit** (dimensionless; `P` = `bit.phase`): on success in the target
@@ -122,7 +123,8 @@ impl Boxed<'_> {
 }
 
 /// Minimise `f` over the box `[lo, hi]` (per coordinate, `lo <= hi`) with
-/// Nelder–Mead and restarts (module docs) in at most `budget` evaluations.
+/// Nelder–Mead and restarts (module docs) in at most `budget` evaluations
+/// (the last `n` may stay unspent: a start needs `n + 1`).
 /// `None` if `budget` is 0 or the box has no coordinate.
 pub fn minimize_box(
     f: &mut dyn FnMut(&[f64]) -> f64,
@@ -145,7 +147,9 @@ pub fn minimize_box(
     };
     let stream = Stream::new(seed, 0);
     let mut starts = 0;
-    while problem.evals.get() < budget {
+    // A start needs n + 1 evaluations for its simplex (argmin's Nelder–Mead
+    // cannot stop inside its initialisation): fewer left ends the search.
+    while budget - problem.evals.get() > n {
         let u0: Vec<f64> = if starts == 0 {
             vec![0.5; n]
         } else {

@@ -221,6 +221,16 @@ impl SearchSpec {
         }
         let seed = integer(t, "seed", 1, 0, i64::MAX)? as u64;
         let budget = integer(t, "budget", 200, 1, MAX_BUDGET as i64)? as usize;
+        if budget < 4 * windows + 1 {
+            return Err(Error::invalid(
+                "search.budget",
+                format!(
+                    "{budget} runs cannot start a simplex over {} parameters",
+                    4 * windows
+                ),
+                format!("at least 4 windows + 1 = {} runs", 4 * windows + 1),
+            ));
+        }
         let perturbations = integer(t, "perturbations", 20, 0, MAX_PERTURBATIONS as i64)? as usize;
         Ok(SearchSpec {
             phase,
