@@ -376,15 +376,10 @@ fn bad_input_names_the_key() {
         "write.0.stop",
     );
     expect_input_error(&d, GOOD, &["--set", "erase.0.stop=2e-4"], "erase.0.stop");
-    // Unknown and not yet implemented kinds, unknown keys.
+    // Unknown kinds, keys of another kind, unknown keys.
     expect_input_error(&d, GOOD, &["--set", "write.0.kind=laser"], "write.0.kind");
-    expect_input_error(&d, GOOD, &["--set", "erase.0.kind=tip"], "erase.0.kind");
-    expect_input_error(
-        &d,
-        GOOD,
-        &["--set", "write.0.kind=magnetic"],
-        "write.0.kind",
-    );
+    expect_input_error(&d, GOOD, &["--set", "erase.0.kind=tip"], "erase.0.hx");
+    expect_input_error(&d, GOOD, &["--set", "write.0.kind=magnetic"], "write.0.hx");
     expect_input_error(&d, &with("point = 1\n"), &[], "erase.0.point");
     expect_input_error(&d, GOOD, &["--set", "write.3.hx=1"], "write.3.hx");
     expect_input_error(&d, GOOD, &["--set", "bit.size=1"], "bit.size");
@@ -416,6 +411,141 @@ fn bad_input_names_the_key() {
     assert!(!d.join("run").exists());
     // No [bit] at all.
     expect_input_error(&d, "preset = \"nano\"\n", &[], "bit.hold");
+}
+
+/// The tip and magnetic windows (docs/physics.md §22): missing and
+/// unknown keys, keys of another kind, non-finite values, a gradient that
+/// is not 3x3, stop <= start, and what a model cannot apply (the reduced
+/// model no body actuator, the vector model a tip off the axis): exit 2,
+/// one line naming the key, nothing written.
+#[test]
+fn bad_actuator_input_names_the_key() {
+    let d = scratch("bad-act");
+    let base = r#"preset = "nano"
+[solver]
+samples = 201
+[bit]
+hold = 2e-5
+phase = 1e-4
+"#;
+    let tip = |body: &str| format!("{base}[[write]]\nkind = \"tip\"\n{body}");
+    let magnet = |body: &str| format!("{base}[[erase]]\nkind = \"magnetic\"\n{body}");
+    let good_tip = "point = [0.0, 0.0, 3.9e-10]\nforce = [1e-24, 0.0, 0.0]\n";
+    let good_magnet = "moment = 9.2740100783e-24\nfield = [0.0, 0.0, 1.0]\n";
+    // The good ones are good.
+    for (name, text) in [("tip", tip(good_tip)), ("magnet", magnet(good_magnet))] {
+        std::fs::write(d.join("good.toml"), text).unwrap();
+        let o = bin()
+            .arg("bit")
+            .arg(d.join("good.toml"))
+            .args([
+                "--quiet",
+                "--set",
+                "bit.phase=4e-5",
+                "--set",
+                "bit.hold=8e-6",
+            ])
+            .arg("--out")
+            .arg(d.join(format!("good-{name}")))
+            .output()
+            .unwrap();
+        ok(&o);
+    }
+    expect_input_error(
+        &d,
+        &tip("force = [1e-24, 0.0, 0.0]\n"),
+        &[],
+        "write.0.point",
+    );
+    expect_input_error(
+        &d,
+        &tip("point = [0.0, 0.0, 1e-10]\n"),
+        &[],
+        "write.0.force",
+    );
+    expect_input_error(
+        &d,
+        &magnet("field = [0.0, 0.0, 1.0]\n"),
+        &[],
+        "erase.0.moment",
+    );
+    expect_input_error(
+        &d,
+        &tip(good_tip),
+        &["--set", "write.0.moment=1"],
+        "write.0.moment",
+    );
+    expect_input_error(
+        &d,
+        &tip(good_tip),
+        &["--set", "write.0.polarity=1"],
+        "write.0.polarity",
+    );
+    expect_input_error(
+        &d,
+        &magnet(good_magnet),
+        &["--set", "erase.0.point=[0, 0, 0]"],
+        "erase.0.point",
+    );
+    expect_input_error(
+        &d,
+        &tip("point = [0.0, 0.0]\nforce = [1e-24, 0.0, 0.0]\n"),
+        &[],
+        "write.0.point",
+    );
+    expect_input_error(
+        &d,
+        &tip("point = [0.0, 0.0, nan]\nforce = [1e-24, 0.0, 0.0]\n"),
+        &[],
+        "write.0.point",
+    );
+    expect_input_error(
+        &d,
+        &tip("point = [0.0, 0.0, 0.0]\nforce = [inf, 0.0, 0.0]\n"),
+        &[],
+        "write.0.force",
+    );
+    expect_input_error(&d, &magnet("moment = nan\n"), &[], "erase.0.moment");
+    expect_input_error(
+        &d,
+        &magnet(&format!(
+            "{good_magnet}gradient = [[0.0, 0.0], [0.0, 0.0]]\n"
+        )),
+        &[],
+        "erase.0.gradient",
+    );
+    expect_input_error(
+        &d,
+        &magnet(&format!("{good_magnet}gradient = [0.0, 0.0, 0.0]\n")),
+        &[],
+        "erase.0.gradient",
+    );
+    expect_input_error(
+        &d,
+        &magnet(&format!(
+            "{good_magnet}gradient = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, inf]]\n"
+        )),
+        &[],
+        "erase.0.gradient",
+    );
+    expect_input_error(
+        &d,
+        &tip(good_tip),
+        &["--set", "write.0.start=2e-5", "--set", "write.0.stop=1e-5"],
+        "write.0.stop",
+    );
+    expect_input_error(
+        &d,
+        &tip(good_tip),
+        &["--set", "solver.model=reduced"],
+        "write.0.kind",
+    );
+    expect_input_error(
+        &d,
+        &tip("point = [1e-10, 0.0, 0.0]\nforce = [1e-24, 0.0, 0.0]\n"),
+        &[],
+        "write.0.point",
+    );
 }
 
 /// `scenarios/bit/nano_300K.toml`: at 300 K with the stem's 1.1 eV lying
