@@ -132,6 +132,54 @@ fn nano_write_succeeds_and_the_reversal_does_not_erase() {
     assert!(d.join("bit/theta.png").is_file() && d.join("bit/theta.svg").is_file());
 }
 
+/// `scenarios/bit/nano_tip.toml` (docs/physics.md §24): a tip at the top
+/// of the nano top's sphere (`p = (0, 0, R + a)`) pushing along X with
+/// `F_h` holds it at `tan(θ/2) = F_h R/(m g a)` (torques about P), 1.674
+/// rad for `F_h = 1.3e-24 N`, inside `one`: the write succeeds and over
+/// its hold θ stays within the swing left after the brake about that
+/// equilibrium (checked on a plain run of the same scenario: every row of
+/// the hold within 0.25 rad of θ_eq, and the largest force is the sum of
+/// the two tips' while both act, |Σ F| = 1e-23 − 1.3e-24 N).
+#[test]
+fn nano_tip_writes() {
+    let d = scratch("tip");
+    let o = bin()
+        .arg("bit")
+        .arg(repo("scenarios/bit/nano_tip.toml"))
+        .arg("--out")
+        .arg(d.join("bit"))
+        .output()
+        .unwrap();
+    ok(&o);
+    let b = json(&d.join("bit/bit.json"));
+    assert_eq!(b["write"]["probability"], 1.0);
+    assert_eq!(b["erase"]["probability"], 0.0);
+    assert_eq!(b["write_protocol"][0]["kind"], "tip");
+    assert_eq!(
+        b["write_protocol"][0]["point"],
+        serde_json::json!([0.0, 0.0, 3.905e-10])
+    );
+    // While hold and brake act together the tips' total is |1.3e-24 − 1e-23|.
+    let f = b["write"]["max_applied_force"].as_f64().unwrap();
+    assert!((f - (1e-23 - 1.3e-24)).abs() < 1e-36, "{f}");
+    let (m, g, r) = (1.196e-24_f64, 9.8, 3.55e-10);
+    let theta_eq = 2.0 * (1.3e-24 * r / (m * g * 0.1 * r)).atan();
+    assert!((theta_eq - 1.674).abs() < 1e-3);
+    ok(&bin()
+        .arg("run")
+        .arg(d.join("bit/scenario.toml"))
+        .args(["--no-plot", "--quiet", "--out"])
+        .arg(d.join("run"))
+        .output()
+        .unwrap());
+    let rows = theta_rows(&d.join("run/trajectory.csv"));
+    let dev = rows[800..=1000]
+        .iter()
+        .map(|r| (r.1 - theta_eq).abs())
+        .fold(0.0, f64::max);
+    assert!(dev < 0.25, "theta leaves theta_eq by {dev} over the hold");
+}
+
 /// With a contact that may let go (`unilateral`) the vector model stops
 /// where N falls to zero, at 3.08 µs (README: N < 0 at 3.08 µs): both
 /// phases are `lifted_off`, the command still exits 0 with its files.
@@ -413,7 +461,7 @@ fn bad_input_names_the_key() {
     expect_input_error(&d, "preset = \"nano\"\n", &[], "bit.hold");
 }
 
-/// The tip and magnetic windows (docs/physics.md §22): missing and
+/// The tip and magnetic windows (docs/physics.md §24): missing and
 /// unknown keys, keys of another kind, non-finite values, a gradient that
 /// is not 3x3, stop <= start, and what a model cannot apply (the reduced
 /// model no body actuator, the vector model a tip off the axis): exit 2,

@@ -154,10 +154,10 @@ impl Forcing {
 }
 
 /// One Bohr magneton \[A m²\] (J/T), CODATA 2018: a moment of `n` μ_B is
-/// `moment = n × BOHR_MAGNETON` (docs/physics.md §22).
+/// `moment = n × BOHR_MAGNETON` (docs/physics.md §24).
 pub const BOHR_MAGNETON: f64 = 9.2740100783e-24;
 
-/// A body actuator (docs/physics.md §22): what a `[[force]]`,
+/// A body actuator (docs/physics.md §24): what a `[[force]]`,
 /// `[[write]]` or `[[erase]]` window of `kind = "tip"` or `"magnetic"`
 /// applies. Lab frame: `X, Y` horizontal, `Z` up. Body frame: origin at the
 /// centre of mass, `z` along the symmetry axis `k`, `x, y` the body's
@@ -177,7 +177,7 @@ pub enum BodyActuator {
     /// A magnetic dipole `μ k` (moment along the symmetry axis) in the lab
     /// field `B(x) = field + gradient · x`: the torque `μ k × field` and the
     /// force `F_j = μ k_i G_ij` at the centre of mass (`G_ij = ∂B_i/∂x_j`,
-    /// the gradient's torque `μ k × G x` is neglected, docs/physics.md §22).
+    /// the gradient's torque `μ k × G x` is neglected, docs/physics.md §24).
     /// Its work is integrated (`W_a`).
     Magnetic {
         /// `μ` \[A m²\] along `k` ([`BOHR_MAGNETON`] per μ_B).

@@ -92,7 +92,7 @@ pub struct Scenario {
     /// Applied force schedule.
     pub forcing: Forcing,
     /// The body actuators (`[[force]]` windows of `kind = "tip"` or
-    /// `"magnetic"`, docs/physics.md §22; none by default), in the order
+    /// `"magnetic"`, docs/physics.md §24; none by default), in the order
     /// given; written after the contact windows.
     pub actuators: Vec<ActuatorWindow>,
     /// Orientation wells (docs/physics.md §20; none by default).

@@ -906,7 +906,7 @@ fn thermal_keys_and_their_rules() {
     .expect("T = 0 with damping is valid");
 }
 
-/// `[[force]]` windows of kind "tip" and "magnetic" (docs/physics.md §22)
+/// `[[force]]` windows of kind "tip" and "magnetic" (docs/physics.md §24)
 /// parse into `Scenario::actuators` and round-trip through the TOML text.
 #[test]
 fn round_trip_tip_and_magnetic_windows() {

@@ -533,7 +533,7 @@ impl Rigid {
                 crate::physics::forces::wells::torque_world(wells, k),
             )
         });
-        // The body actuators' wrench (§22): its angular acceleration I⁻¹τ
+        // The body actuators' wrench (§24): its angular acceleration I⁻¹τ
         // joins the torque-free one as the wells' does, its force F the
         // free acceleration (gravity g Z − F in Q and the rolling b).
         let body = self.body_wrench(y, k);
@@ -634,7 +634,7 @@ impl Rigid {
             dy[WA] = dot(fa, kin.vp);
         }
         if let Some((fb, tb)) = body {
-            // The actuators' power F·v_O + τ·n (§22), rolling or not, with
+            // The actuators' power F·v_O + τ·n (§24), rolling or not, with
             // the velocity the energy uses.
             dy[WA] += dot(fb, self.output_velocity(y, &kin)) + dot(tb, n);
         }
@@ -648,7 +648,7 @@ impl Rigid {
     }
 
     /// The body actuators' wrench `(F, τ)` at a state (scaled, lab;
-    /// docs/physics.md §22), `None` without actuators; an off-axis tip's
+    /// docs/physics.md §24), `None` without actuators; an off-axis tip's
     /// material axes from the attitude quaternion.
     #[inline]
     fn body_wrench(&self, y: &[f64; DIM], k: V3) -> Option<(V3, V3)> {

@@ -490,7 +490,7 @@ impl Vector {
                 Some(true) => 2,
             },
             p.contact_point().hz.to_bits(),
-            // The body actuators change only at a latch (§22).
+            // The body actuators change only at a latch (§24).
             p.forces().generation(),
         ];
         key[DIM..].copy_from_slice(&inputs);
@@ -546,7 +546,7 @@ impl Vector {
         // Angular acceleration without the contact force (k̇ ⊥ k, so
         // I⁻¹ k̇ = k̇/A), with the wells' torque (§20).
         let w0 = self.with_wells(scale(-self.gyro * wk, kd), k);
-        // The body actuators' wrench (§22): F adds to the free
+        // The body actuators' wrench (§24): F adds to the free
         // acceleration (g_z = g − F_Z in Q), I⁻¹τ to ẇ₀.
         let body = self.body_wrench(y, k);
         let (w0, g_z) = match body {
@@ -598,7 +598,7 @@ impl Vector {
             v[1],
         ];
         if let Some((fb, tb)) = body {
-            // Its horizontal force and its power F·v_O + τ·w (§22).
+            // Its horizontal force and its power F·v_O + τ·w (§24).
             dy[VEL] += fb[0];
             dy[VEL + 1] += fb[1];
             dy[WA] += dot(fb, [v[0], v[1], -a * kd[2]]) + dot(tb, w);
@@ -626,7 +626,7 @@ impl Vector {
             wr,
         } = *kn;
         let w0 = self.with_wells(scale(-self.gyro * wk, kd), k);
-        // The body actuators' wrench (§22): I⁻¹τ joins ẇ₀, F the right-hand
+        // The body actuators' wrench (§24): I⁻¹τ joins ẇ₀, F the right-hand
         // side (b = (g Z − F) − ẇ₀ × r − a w × k̇).
         let body = self.body_wrench(y, k);
         let (w0, gv) = match body {
@@ -655,7 +655,7 @@ impl Vector {
         ];
         if let Some((fb, tb)) = body {
             // The centre of mass accelerates with F + the contact force;
-            // the actuators' power F·v_O + τ·w (§22; the contact force does
+            // the actuators' power F·v_O + τ·w (§24; the contact force does
             // no work while rolling).
             dy[VEL] += fb[0];
             dy[VEL + 1] += fb[1];
@@ -687,7 +687,7 @@ impl Vector {
     }
 
     /// The body actuators' wrench `(F, τ)` at a state (scaled, lab;
-    /// docs/physics.md §22), `None` without actuators. The material axes
+    /// docs/physics.md §24), `None` without actuators. The material axes
     /// an off-axis tip needs come from the quaternion (a quadrature), which
     /// the scenario's validation never lets happen in this model
     /// (`scenario::actuator::check_model`).

@@ -80,7 +80,7 @@ pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
             "sqrt(depth / width^2 / inertia_transverse) of a well",
         ));
     }
-    // The body actuators (docs/physics.md §22): each window's rate.
+    // The body actuators (docs/physics.md §24): each window's rate.
     for w in &sc.actuators {
         out.push((
             w.actuator.rate(m, top.radius, a_in),

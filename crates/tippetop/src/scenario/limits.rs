@@ -71,7 +71,7 @@ fn rates(sc: &Scenario) -> [(f64, String, &'static str); 10] {
         .fold((String::from("force.0.hx"), -1.0), |best, (k, v)| {
             if v.abs() > best.1 { (k, v.abs()) } else { best }
         });
-    // The body actuators (docs/physics.md §22): the sum of each window's
+    // The body actuators (docs/physics.md §24): the sum of each window's
     // largest rate bounds what any combination of them sets (zero without).
     let nf = sc.forcing.windows.len();
     let (act_key, act_rate) = sc

@@ -1,4 +1,4 @@
-//! The body actuators (docs/physics.md §22): a tip at a body point and a
+//! The body actuators (docs/physics.md §24): a tip at a body point and a
 //! magnetic dipole `μ k` in a lab field, `[[force]]` windows of
 //! `kind = "tip"` and `"magnetic"`, in the vector and rigid models. Closed
 //! forms in flight (rigid), the comparison with the contact-point force

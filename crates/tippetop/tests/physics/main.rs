@@ -17,7 +17,7 @@
 //! - `crosscheck`: the models against each other;
 //! - `forces`: the applied force terms (the vertical load `force.K.hz`);
 //! - `actuators`: the body actuators (a tip at a body point, a magnetic
-//!   dipole in a field; §22): closed forms in flight, the contact-point
+//!   dipole in a field; §24): closed forms in flight, the contact-point
 //!   force through P, the energy balance, Jellett's J;
 //! - `adhesion`: van der Waals adhesion (`[adhesion]`, a centre-vertical term);
 //! - `wells`: orientation wells (`[[well]]`, a torque about `ŷ ⊥ k`):

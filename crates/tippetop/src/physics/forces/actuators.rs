@@ -1,4 +1,4 @@
-//! The body actuators (docs/physics.md §22): a tip pushing at a body point
+//! The body actuators (docs/physics.md §24): a tip pushing at a body point
 //! and a magnetic dipole along the symmetry axis in a lab field, the
 //! `[[force]]`, `[[write]]` and `[[erase]]` windows of `kind = "tip"` and
 //! `kind = "magnetic"`. Both are [`Kind::BodyPoint`] terms: each applies a
@@ -201,7 +201,7 @@ impl ForceTerm for Actuators {
     }
     fn properties(&self) -> Properties {
         Properties {
-            closure: "a wrench: v' += F/m, w0' += I^-1 tau, so Q -= F_Z/m + a (I^-1 tau).e and the rolling b -= F/m (docs/physics.md §22)",
+            closure: "a wrench: v' += F/m, w0' += I^-1 tau, so Q -= F_Z/m + a (I^-1 tau).e and the rolling b -= F/m (docs/physics.md §24)",
             conserves_jellett: false,
             energy: Energy::Integrated,
         }

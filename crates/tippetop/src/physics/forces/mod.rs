@@ -15,7 +15,7 @@
 //! §17), and [`Kind::CentreVertical`], with the term [`adhesion::Adhesion`]
 //! (van der Waals adhesion, §18), [`Kind::Torque`], with the term
 //! [`wells::Wells`] (orientation wells, §20), and [`Kind::BodyPoint`], with
-//! the terms [`actuators::Actuators`] (tips and magnetic dipoles, §22;
+//! the terms [`actuators::Actuators`] (tips and magnetic dipoles, §24;
 //! vector and rigid models). The other kinds are declared so that their place is fixed; no
 //! model applies them yet, and [`Applied`] has no slot for them (a term of
 //! such a kind cannot be built until its kind is wired). docs/architecture.md
@@ -56,7 +56,7 @@ pub enum Kind {
     /// A wrench from the body: a force `F` at the centre of mass and a
     /// torque `τ` about it, lab frame (a tip at a body point: `F` and
     /// `ρ × F`; a magnetic dipole: `μ k × B` and `∇(μ k·B)`;
-    /// [`actuators`], docs/physics.md §22). It adds to the free
+    /// [`actuators`], docs/physics.md §24). It adds to the free
     /// accelerations, `v̇ += F/m`, `ẇ₀ += I⁻¹ τ`, so `Q` gains
     /// `−F_Z/m − a (I⁻¹ τ)·e` and the rolling constraint's right-hand side
     /// `−F/m`. J: `dJ/dt = −τ·r`, conserved only if the line of a tip's
@@ -70,7 +70,7 @@ pub enum Kind {
     /// torque-free angular acceleration, so it enters `Q` through `ṅ`
     /// (`Q += a s τ_y/A`); J conserved (`τ ⊥ k`, `τ ⊥ Z`); potential `U(θ)`
     /// in the energy. A magnetic field's torque `μ k × B` is applied as
-    /// a [`Kind::BodyPoint`] wrench (with its gradient force, §22). Other
+    /// a [`Kind::BodyPoint`] wrench (with its gradient force, §24). Other
     /// torques (drilling, rolling resistance) are not wired: in general J
     /// is not conserved and the work is integrated.
     Torque,
