@@ -91,6 +91,13 @@ pub struct BitArgs {
     /// Number of threads, 1 to 1024 (default: one per core).
     #[arg(long, value_name = "T")]
     pub threads: Option<usize>,
+
+    /// Search the protocol of one phase instead (T = 0; the file's
+    /// [search] table: phase, windows, bounds of magnitude, angle, start
+    /// and duration, weight, margin, seed, budget, perturbations). Writes
+    /// search.json, search.md, best.toml, evaluations.csv.
+    #[arg(long)]
+    pub search: bool,
 }
 
 use crate::scenario_load::input_error;
@@ -102,6 +109,9 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         Ok(t) => t,
         Err(code) => return Ok(code),
     };
+    if args.search {
+        return crate::search_cmd::run(args, toml_text.as_deref(), quiet);
+    }
     let threads = match sweep::threads(args.threads) {
         Ok(t) => t,
         Err(e) => return Ok(input_error(e)),
