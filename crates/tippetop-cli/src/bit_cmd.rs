@@ -44,9 +44,11 @@ pub const BIT_LONG_ABOUT: &str = "Run a memory bit: write (phase 1, target bit.o
 
 The scenario file has a [bit] table (zero = [lo, hi], one = [lo, hi] [rad], defaults [0, 0.5]
 and [pi/2 - 0.35, pi/2 + 0.35], disjoint; hold [s] > 0; phase [s] > hold) and [[write]],
-[[erase]] windows (kind = \"contact\", the default and the only kind so far: hx, hy, optional hz
-[N], the paper's force at the contact point in the precessing frame; start, stop [s] from the
-start of the phase, start < stop <= phase, stop default phase). The run lasts 2 x phase
+[[erase]] windows (kind = \"contact\", the default: hx, hy, optional hz [N], the paper's force
+at the contact point in the precessing frame; kind = \"tip\": point [m] in the body frame and
+force [N] in the lab frame; kind = \"magnetic\": moment [A m^2] along the axis, field [T] and
+gradient [T/m] in the lab frame, docs/physics.md §24; start, stop [s] from the start of the
+phase, start < stop <= phase, stop default phase). The run lasts 2 x phase
 (solver.t_end is replaced), the scenario's own [[force]] list must be empty (a preset's is
 replaced by the protocols), the initial theta must lie in zero. A phase succeeds iff theta is in
 its target window at every output row of its last hold seconds (resolution: the sample spacing;
@@ -268,11 +270,26 @@ fn one_line(b: &Block) -> String {
 fn bit_json(bs: &BitScenario, report: &Report) -> serde_json::Value {
     let windows = |list: &[tippetop::scenario::bit::Actuator]| -> serde_json::Value {
         list.iter()
-            .map(|a| {
-                serde_json::json!({
+            .map(|a| match a.kind {
+                tippetop::scenario::bit::ActuatorKind::Body(tippetop::BodyActuator::Tip {
+                    point,
+                    force,
+                }) => serde_json::json!({
+                    "kind": a.kind.name(), "point": point, "force": force,
+                    "start": a.start, "stop": a.stop,
+                }),
+                tippetop::scenario::bit::ActuatorKind::Body(tippetop::BodyActuator::Magnetic {
+                    moment,
+                    field,
+                    gradient,
+                }) => serde_json::json!({
+                    "kind": a.kind.name(), "moment": moment, "field": field,
+                    "gradient": gradient, "start": a.start, "stop": a.stop,
+                }),
+                tippetop::scenario::bit::ActuatorKind::Contact => serde_json::json!({
                     "kind": a.kind.name(), "hx": a.hx, "hy": a.hy, "hz": a.hz,
                     "start": a.start, "stop": a.stop,
-                })
+                }),
             })
             .collect()
     };

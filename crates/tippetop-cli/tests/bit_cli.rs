@@ -132,6 +132,54 @@ fn nano_write_succeeds_and_the_reversal_does_not_erase() {
     assert!(d.join("bit/theta.png").is_file() && d.join("bit/theta.svg").is_file());
 }
 
+/// `scenarios/bit/nano_tip.toml` (docs/physics.md §24): a tip at the top
+/// of the nano top's sphere (`p = (0, 0, R + a)`) pushing along X with
+/// `F_h` holds it at `tan(θ/2) = F_h R/(m g a)` (torques about P), 1.674
+/// rad for `F_h = 1.3e-24 N`, inside `one`: the write succeeds and over
+/// its hold θ stays within the swing left after the brake about that
+/// equilibrium (checked on a plain run of the same scenario: every row of
+/// the hold within 0.25 rad of θ_eq, and the largest force is the sum of
+/// the two tips' while both act, |Σ F| = 1e-23 − 1.3e-24 N).
+#[test]
+fn nano_tip_writes() {
+    let d = scratch("tip");
+    let o = bin()
+        .arg("bit")
+        .arg(repo("scenarios/bit/nano_tip.toml"))
+        .arg("--out")
+        .arg(d.join("bit"))
+        .output()
+        .unwrap();
+    ok(&o);
+    let b = json(&d.join("bit/bit.json"));
+    assert_eq!(b["write"]["probability"], 1.0);
+    assert_eq!(b["erase"]["probability"], 0.0);
+    assert_eq!(b["write_protocol"][0]["kind"], "tip");
+    assert_eq!(
+        b["write_protocol"][0]["point"],
+        serde_json::json!([0.0, 0.0, 3.905e-10])
+    );
+    // While hold and brake act together the tips' total is |1.3e-24 − 1e-23|.
+    let f = b["write"]["max_applied_force"].as_f64().unwrap();
+    assert!((f - (1e-23 - 1.3e-24)).abs() < 1e-36, "{f}");
+    let (m, g, r) = (1.196e-24_f64, 9.8, 3.55e-10);
+    let theta_eq = 2.0 * (1.3e-24 * r / (m * g * 0.1 * r)).atan();
+    assert!((theta_eq - 1.674).abs() < 1e-3);
+    ok(&bin()
+        .arg("run")
+        .arg(d.join("bit/scenario.toml"))
+        .args(["--no-plot", "--quiet", "--out"])
+        .arg(d.join("run"))
+        .output()
+        .unwrap());
+    let rows = theta_rows(&d.join("run/trajectory.csv"));
+    let dev = rows[800..=1000]
+        .iter()
+        .map(|r| (r.1 - theta_eq).abs())
+        .fold(0.0, f64::max);
+    assert!(dev < 0.25, "theta leaves theta_eq by {dev} over the hold");
+}
+
 /// With a contact that may let go (`unilateral`) the vector model stops
 /// where N falls to zero, at 3.08 µs (README: N < 0 at 3.08 µs): both
 /// phases are `lifted_off`, the command still exits 0 with its files.
@@ -376,15 +424,10 @@ fn bad_input_names_the_key() {
         "write.0.stop",
     );
     expect_input_error(&d, GOOD, &["--set", "erase.0.stop=2e-4"], "erase.0.stop");
-    // Unknown and not yet implemented kinds, unknown keys.
+    // Unknown kinds, keys of another kind, unknown keys.
     expect_input_error(&d, GOOD, &["--set", "write.0.kind=laser"], "write.0.kind");
-    expect_input_error(&d, GOOD, &["--set", "erase.0.kind=tip"], "erase.0.kind");
-    expect_input_error(
-        &d,
-        GOOD,
-        &["--set", "write.0.kind=magnetic"],
-        "write.0.kind",
-    );
+    expect_input_error(&d, GOOD, &["--set", "erase.0.kind=tip"], "erase.0.hx");
+    expect_input_error(&d, GOOD, &["--set", "write.0.kind=magnetic"], "write.0.hx");
     expect_input_error(&d, &with("point = 1\n"), &[], "erase.0.point");
     expect_input_error(&d, GOOD, &["--set", "write.3.hx=1"], "write.3.hx");
     expect_input_error(&d, GOOD, &["--set", "bit.size=1"], "bit.size");
@@ -416,6 +459,141 @@ fn bad_input_names_the_key() {
     assert!(!d.join("run").exists());
     // No [bit] at all.
     expect_input_error(&d, "preset = \"nano\"\n", &[], "bit.hold");
+}
+
+/// The tip and magnetic windows (docs/physics.md §24): missing and
+/// unknown keys, keys of another kind, non-finite values, a gradient that
+/// is not 3x3, stop <= start, and what a model cannot apply (the reduced
+/// model no body actuator, the vector model a tip off the axis): exit 2,
+/// one line naming the key, nothing written.
+#[test]
+fn bad_actuator_input_names_the_key() {
+    let d = scratch("bad-act");
+    let base = r#"preset = "nano"
+[solver]
+samples = 201
+[bit]
+hold = 2e-5
+phase = 1e-4
+"#;
+    let tip = |body: &str| format!("{base}[[write]]\nkind = \"tip\"\n{body}");
+    let magnet = |body: &str| format!("{base}[[erase]]\nkind = \"magnetic\"\n{body}");
+    let good_tip = "point = [0.0, 0.0, 3.9e-10]\nforce = [1e-24, 0.0, 0.0]\n";
+    let good_magnet = "moment = 9.2740100783e-24\nfield = [0.0, 0.0, 1.0]\n";
+    // The good ones are good.
+    for (name, text) in [("tip", tip(good_tip)), ("magnet", magnet(good_magnet))] {
+        std::fs::write(d.join("good.toml"), text).unwrap();
+        let o = bin()
+            .arg("bit")
+            .arg(d.join("good.toml"))
+            .args([
+                "--quiet",
+                "--set",
+                "bit.phase=4e-5",
+                "--set",
+                "bit.hold=8e-6",
+            ])
+            .arg("--out")
+            .arg(d.join(format!("good-{name}")))
+            .output()
+            .unwrap();
+        ok(&o);
+    }
+    expect_input_error(
+        &d,
+        &tip("force = [1e-24, 0.0, 0.0]\n"),
+        &[],
+        "write.0.point",
+    );
+    expect_input_error(
+        &d,
+        &tip("point = [0.0, 0.0, 1e-10]\n"),
+        &[],
+        "write.0.force",
+    );
+    expect_input_error(
+        &d,
+        &magnet("field = [0.0, 0.0, 1.0]\n"),
+        &[],
+        "erase.0.moment",
+    );
+    expect_input_error(
+        &d,
+        &tip(good_tip),
+        &["--set", "write.0.moment=1"],
+        "write.0.moment",
+    );
+    expect_input_error(
+        &d,
+        &tip(good_tip),
+        &["--set", "write.0.polarity=1"],
+        "write.0.polarity",
+    );
+    expect_input_error(
+        &d,
+        &magnet(good_magnet),
+        &["--set", "erase.0.point=[0, 0, 0]"],
+        "erase.0.point",
+    );
+    expect_input_error(
+        &d,
+        &tip("point = [0.0, 0.0]\nforce = [1e-24, 0.0, 0.0]\n"),
+        &[],
+        "write.0.point",
+    );
+    expect_input_error(
+        &d,
+        &tip("point = [0.0, 0.0, nan]\nforce = [1e-24, 0.0, 0.0]\n"),
+        &[],
+        "write.0.point",
+    );
+    expect_input_error(
+        &d,
+        &tip("point = [0.0, 0.0, 0.0]\nforce = [inf, 0.0, 0.0]\n"),
+        &[],
+        "write.0.force",
+    );
+    expect_input_error(&d, &magnet("moment = nan\n"), &[], "erase.0.moment");
+    expect_input_error(
+        &d,
+        &magnet(&format!(
+            "{good_magnet}gradient = [[0.0, 0.0], [0.0, 0.0]]\n"
+        )),
+        &[],
+        "erase.0.gradient",
+    );
+    expect_input_error(
+        &d,
+        &magnet(&format!("{good_magnet}gradient = [0.0, 0.0, 0.0]\n")),
+        &[],
+        "erase.0.gradient",
+    );
+    expect_input_error(
+        &d,
+        &magnet(&format!(
+            "{good_magnet}gradient = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, inf]]\n"
+        )),
+        &[],
+        "erase.0.gradient",
+    );
+    expect_input_error(
+        &d,
+        &tip(good_tip),
+        &["--set", "write.0.start=2e-5", "--set", "write.0.stop=1e-5"],
+        "write.0.stop",
+    );
+    expect_input_error(
+        &d,
+        &tip(good_tip),
+        &["--set", "solver.model=reduced"],
+        "write.0.kind",
+    );
+    expect_input_error(
+        &d,
+        &tip("point = [1e-10, 0.0, 0.0]\nforce = [1e-24, 0.0, 0.0]\n"),
+        &[],
+        "write.0.point",
+    );
 }
 
 /// `scenarios/bit/nano_300K.toml`: at 300 K with the stem's 1.1 eV lying

@@ -180,6 +180,18 @@ fn stability_checks_its_arguments_first() {
         (vec!["--set", "top.mass=1e-320"], "top.mass"),
         // The linearised model has no vertical load (docs/physics.md §17).
         (vec!["--set", "force.0.hz=1"], "force.0.hz"),
+        // Nor a body actuator (docs/physics.md §24).
+        (
+            vec![
+                "--set",
+                "force.0.kind=tip",
+                "--set",
+                "force.0.point=[0.0, 0.0, 0.0]",
+                "--set",
+                "force.0.force=[0.0, 0.0, 0.01]",
+            ],
+            "force.0.kind",
+        ),
     ] {
         let mut all = vec!["stability", "--preset", "classical"];
         all.extend(args);

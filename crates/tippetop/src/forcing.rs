@@ -152,3 +152,180 @@ impl Forcing {
         Ok(())
     }
 }
+
+/// One Bohr magneton \[A m²\] (J/T), CODATA 2018: a moment of `n` μ_B is
+/// `moment = n × BOHR_MAGNETON` (docs/physics.md §24).
+pub const BOHR_MAGNETON: f64 = 9.2740100783e-24;
+
+/// A body actuator (docs/physics.md §24): what a `[[force]]`,
+/// `[[write]]` or `[[erase]]` window of `kind = "tip"` or `"magnetic"`
+/// applies. Lab frame: `X, Y` horizontal, `Z` up. Body frame: origin at the
+/// centre of mass, `z` along the symmetry axis `k`, `x, y` the body's
+/// material axes (the attitude quaternion's, docs/physics.md §19).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BodyActuator {
+    /// A tip: the force `force` \[N\] (lab frame, the force on the top)
+    /// at the body point `point` \[m\] (body frame). It adds `force` to the
+    /// centre of mass and the torque `ρ × force` about it, `ρ` the point in
+    /// the lab frame; its power is `force·v_point`.
+    Tip {
+        /// The point of application \[m\], body frame.
+        point: [f64; 3],
+        /// The force on the top \[N\], lab frame.
+        force: [f64; 3],
+    },
+    /// A magnetic dipole `μ k` (moment along the symmetry axis) in the lab
+    /// field `B(x) = field + gradient · x`: the torque `μ k × field` and the
+    /// force `F_j = μ k_i G_ij` at the centre of mass (`G_ij = ∂B_i/∂x_j`,
+    /// the gradient's torque `μ k × G x` is neglected, docs/physics.md §24).
+    /// Its work is integrated (`W_a`).
+    Magnetic {
+        /// `μ` \[A m²\] along `k` ([`BOHR_MAGNETON`] per μ_B).
+        moment: f64,
+        /// Uniform field `B` \[T\], lab frame.
+        field: [f64; 3],
+        /// `G_ij = ∂B_i/∂x_j` \[T/m\], lab frame, row `i`.
+        gradient: [[f64; 3]; 3],
+    },
+}
+
+impl BodyActuator {
+    /// The kind's name in the scenario file (`"tip"`, `"magnetic"`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            BodyActuator::Tip { .. } => "tip",
+            BodyActuator::Magnetic { .. } => "magnetic",
+        }
+    }
+
+    /// True if it never applies anything (a zero force, or a zero moment or
+    /// field and gradient).
+    pub fn is_zero(&self) -> bool {
+        match self {
+            BodyActuator::Tip { force, .. } => force.iter().all(|&f| f == 0.0),
+            BodyActuator::Magnetic {
+                moment,
+                field,
+                gradient,
+            } => {
+                *moment == 0.0
+                    || (field.iter().all(|&b| b == 0.0)
+                        && gradient.iter().flatten().all(|&g| g == 0.0))
+            }
+        }
+    }
+
+    /// True for a tip whose point is off the symmetry axis (`point.x` or
+    /// `point.y` nonzero): its lever arm turns with the spin, so the
+    /// dynamics need the full attitude.
+    pub fn off_axis(&self) -> bool {
+        matches!(self, BodyActuator::Tip { point, .. } if point[0] != 0.0 || point[1] != 0.0)
+    }
+
+    /// The rates \[1/s\] it sets for a top of mass `m` \[kg\], radius `r`
+    /// \[m\], transverse inertia `a` \[kg m²\]: a tip `sqrt(|F| / (m R))` (as
+    /// the contact force's) and `sqrt(|F| |point| / A)`; a magnet
+    /// `sqrt(|μ| |B| / A)` and `sqrt(|μ| |G| / (m R))` (`|G|` the
+    /// Frobenius norm). The largest is the actuator's time-unit rate.
+    pub fn rate(&self, m: f64, r: f64, a: f64) -> f64 {
+        let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        match self {
+            BodyActuator::Tip { point, force } => {
+                let f = norm(force);
+                (f / (m * r)).sqrt().max((f * norm(point) / a).sqrt())
+            }
+            BodyActuator::Magnetic {
+                moment,
+                field,
+                gradient,
+            } => {
+                let g = gradient.iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
+                (moment.abs() * norm(field) / a)
+                    .sqrt()
+                    .max((moment.abs() * g / (m * r)).sqrt())
+            }
+        }
+    }
+
+    /// Check the values; errors name `{prefix}.KEY` (the keys of the
+    /// scenario file).
+    pub fn validate(&self, prefix: &str) -> Result<(), Error> {
+        let finite = |key: &str, vs: &[f64], what: &str| -> Result<(), Error> {
+            match vs.iter().find(|v| !v.is_finite()) {
+                Some(v) => Err(Error::invalid(
+                    &format!("{prefix}.{key}"),
+                    format!("{v} is not allowed"),
+                    what.into(),
+                )),
+                None => Ok(()),
+            }
+        };
+        match self {
+            BodyActuator::Tip { point, force } => {
+                finite("point", point, TIP_POINT_RANGE)?;
+                finite("force", force, TIP_FORCE_RANGE)
+            }
+            BodyActuator::Magnetic {
+                moment,
+                field,
+                gradient,
+            } => {
+                finite("moment", &[*moment], MAGNETIC_MOMENT_RANGE)?;
+                finite("field", field, MAGNETIC_FIELD_RANGE)?;
+                let flat: Vec<f64> = gradient.iter().flatten().copied().collect();
+                finite("gradient", &flat, MAGNETIC_GRADIENT_RANGE)
+            }
+        }
+    }
+}
+
+/// The valid range of a tip's `point`.
+pub const TIP_POINT_RANGE: &str = "[x, y, z] [m], finite, body frame (origin at the centre of mass, z along the symmetry axis); kind = \"tip\"";
+/// The valid range of a tip's `force`.
+pub const TIP_FORCE_RANGE: &str =
+    "[x, y, z] [N], finite, lab frame (Z up), the force on the top; kind = \"tip\"";
+/// The valid range of a magnet's `moment`.
+pub const MAGNETIC_MOMENT_RANGE: &str = "a finite moment [A m^2] along the symmetry axis (1 Bohr magneton = 9.2740100783e-24 A m^2); kind = \"magnetic\"";
+/// The valid range of a magnet's `field`.
+pub const MAGNETIC_FIELD_RANGE: &str =
+    "[x, y, z] [T], finite, uniform, lab frame; kind = \"magnetic\" (default [0, 0, 0])";
+/// The valid range of a magnet's `gradient`.
+pub const MAGNETIC_GRADIENT_RANGE: &str = "[[dBx/dx, dBx/dy, dBx/dz], [dBy/dx, ...], [dBz/dx, ...]] [T/m], a finite 3x3 array, lab frame; kind = \"magnetic\" (default zero)";
+
+/// A body actuator acting on `[start, stop)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ActuatorWindow {
+    /// What acts.
+    pub actuator: BodyActuator,
+    /// Switch-on time \[s\], `>= 0`.
+    pub start: f64,
+    /// Switch-off time \[s\], `> start`; `f64::INFINITY` for never.
+    pub stop: f64,
+}
+
+impl ActuatorWindow {
+    /// True if it acts at `t` \[s\].
+    pub fn active(&self, t: f64) -> bool {
+        self.start <= t && t < self.stop
+    }
+
+    /// Check the values and the times; errors name `{prefix}.KEY`.
+    pub fn validate(&self, prefix: &str) -> Result<(), Error> {
+        self.actuator.validate(prefix)?;
+        if !self.start.is_finite() || self.start < 0.0 {
+            return Err(Error::invalid(
+                &format!("{prefix}.start"),
+                format!("{} is not allowed", self.start),
+                "a finite time >= 0 [s]".into(),
+            ));
+        }
+        if self.stop.is_nan() || self.stop <= self.start {
+            return Err(Error::invalid(
+                &format!("{prefix}.stop"),
+                format!("{} is not after start = {}", self.stop, self.start),
+                "stop > start [s], or omit stop for never".into(),
+            ));
+        }
+        Ok(())
+    }
+}

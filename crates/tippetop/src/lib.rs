@@ -35,7 +35,7 @@ pub mod well;
 
 pub use contact::{Adhesion, ContactMode, FrictionLaw, Surface};
 pub use error::{Error, Failure};
-pub use forcing::{ForceWindow, Forcing};
+pub use forcing::{ActuatorWindow, BodyActuator, ForceWindow, Forcing};
 pub use scenario::{Scenario, limits};
 pub use simulate::{Simulation, Snapshot, simulate, simulate_with_progress};
 pub use state::{Initial, Method, ModelKind, SolverSettings};

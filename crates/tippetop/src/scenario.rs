@@ -23,6 +23,7 @@
 //! force = 0.0                 # F_a [N], pull-off force (> 0 requires energy > 0)
 //! energy = 0.0                # E_b [J], binding energy (> 0 requires force > 0)
 //! [[force]]                   # applied force at the contact point, precessing frame [N]
+//! kind = "contact"            # default; "tip" or "magnetic": a body actuator (scenario::actuator)
 //! hx = 0.0                    # default 0
 //! hy = 0.0                    # default 0
 //! hz = 0.0                    # vertical load, > 0 pushes onto the plane; default 0
@@ -64,6 +65,7 @@
 //! replaces the preset's list. Precedence: preset < file < `--set`.
 //! Whole numbers are accepted wherever a float is expected.
 
+pub mod actuator;
 pub mod bit;
 pub mod langevin;
 pub mod limits;
@@ -74,8 +76,8 @@ use toml::{Table, Value};
 
 use crate::well::{self as wells, Well};
 use crate::{
-    Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial, SolverSettings,
-    Surface, Thermal, Top,
+    ActuatorWindow, Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial,
+    SolverSettings, Surface, Thermal, Top,
     state::{Method, ModelKind},
 };
 
@@ -90,6 +92,10 @@ pub struct Scenario {
     pub adhesion: Adhesion,
     /// Applied force schedule.
     pub forcing: Forcing,
+    /// The body actuators (`[[force]]` windows of `kind = "tip"` or
+    /// `"magnetic"`, docs/physics.md §24; none by default), in the order
+    /// given; written after the contact windows.
+    pub actuators: Vec<ActuatorWindow>,
     /// Orientation wells (docs/physics.md §20; none by default).
     pub wells: Vec<Well>,
     /// Initial state.
@@ -117,6 +123,7 @@ impl Scenario {
             adhesion: Adhesion::NONE,
             wells: Vec::new(),
             forcing: Forcing::constant(1e-22, 1e-22),
+            actuators: Vec::new(),
             initial: Initial::paper(),
             solver: SolverSettings::new(1e-4),
             thermal: Thermal::NONE,
@@ -138,6 +145,7 @@ impl Scenario {
             adhesion: Adhesion::NONE,
             wells: Vec::new(),
             forcing: Forcing::none(),
+            actuators: Vec::new(),
             initial: Initial::paper(),
             solver: SolverSettings::new(10.0),
             thermal: Thermal::NONE,
@@ -232,6 +240,11 @@ impl Scenario {
         self.surface.validate()?;
         self.adhesion.validate()?;
         self.forcing.validate()?;
+        for (j, w) in self.actuators.iter().enumerate() {
+            let prefix = format!("force.{}", self.forcing.windows.len() + j);
+            w.validate(&prefix)?;
+            actuator::check_model(w, &prefix, self.solver.model)?;
+        }
         wells::validate(&self.wells)?;
         self.initial
             .validate(self.solver.model == ModelKind::Reduced)?;
@@ -302,6 +315,21 @@ impl Scenario {
         let sc = from_table(&merged, preset_name.is_some(), eps_explicit)?;
         sc.validate()?;
         Ok(sc)
+    }
+
+    /// Every force switch time \[s\]: the `[[force]]` windows' starts and
+    /// finite stops, the body actuators' included; sorted, deduplicated.
+    pub fn switch_times(&self) -> Vec<f64> {
+        let mut v = self.forcing.switch_times();
+        v.extend(
+            self.actuators
+                .iter()
+                .flat_map(|w| [w.start, w.stop])
+                .filter(|t| t.is_finite()),
+        );
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+        v
     }
 
     /// Parse a TOML scenario document; the same as `load(None, Some(text), &[])`.
@@ -384,6 +412,15 @@ impl Scenario {
                 }
                 Value::Table(t)
             })
+            .chain(self.actuators.iter().map(|w| {
+                let mut t = Table::new();
+                actuator::to_table(&w.actuator, &mut t);
+                t.insert("start".into(), Value::Float(w.start));
+                if w.stop != f64::INFINITY {
+                    t.insert("stop".into(), Value::Float(w.stop));
+                }
+                Value::Table(t)
+            }))
             .collect();
 
         let i = &self.initial;
@@ -513,6 +550,7 @@ const ADHESION_KEYS: Keys = &[
 ];
 
 const FORCE_KEYS: Keys = &[
+    ("kind", actuator::KIND_RANGE),
     ("hx", "a finite force [N]"),
     ("hy", "a finite force [N]"),
     (
@@ -521,6 +559,11 @@ const FORCE_KEYS: Keys = &[
     ),
     ("start", "a finite time >= 0 [s]"),
     ("stop", "a finite time > start [s], or omit stop for never"),
+    actuator::KEYS[0],
+    actuator::KEYS[1],
+    actuator::KEYS[2],
+    actuator::KEYS[3],
+    actuator::KEYS[4],
 ];
 
 const WELL_KEYS: Keys = &[
@@ -920,7 +963,7 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
         ["force", ..] => Err(Error::invalid(
             key,
             "force windows are set one key at a time".into(),
-            "force.K.KEY with K = 0, 1, ... and KEY one of hx, hy, hz, start, stop".into(),
+            "force.K.KEY with K = 0, 1, ... and KEY one of kind, hx, hy, hz, start, stop, point, force, moment, field, gradient".into(),
         )),
         ["well", ..] => Err(Error::invalid(
             key,
@@ -1161,6 +1204,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     };
 
     let mut windows = Vec::new();
+    let mut actuators = Vec::new();
     if let Some(Value::Array(list)) = merged.get("force") {
         for (k, w) in list.iter().enumerate() {
             let s = Section {
@@ -1168,6 +1212,22 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
                 keys: FORCE_KEYS,
                 table: w.as_table(),
             };
+            if let Some(a) = actuator::parse(&s)? {
+                let w = ActuatorWindow {
+                    actuator: a,
+                    start: s.f64("start", Some(0.0))?,
+                    stop: s.f64("stop", Some(f64::INFINITY))?,
+                };
+                w.validate(&s.prefix)?;
+                let model = section(merged, "solver").name(
+                    "model",
+                    MODELS,
+                    SolverSettings::new(1.0).model,
+                )?;
+                actuator::check_model(&w, &s.prefix, model)?;
+                actuators.push(w);
+                continue;
+            }
             windows.push(ForceWindow {
                 hx: s.f64("hx", Some(0.0))?,
                 hy: s.f64("hy", Some(0.0))?,
@@ -1277,6 +1337,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         surface,
         adhesion,
         forcing,
+        actuators,
         wells,
         initial,
         solver,

@@ -905,3 +905,123 @@ fn thermal_keys_and_their_rules() {
     )
     .expect("T = 0 with damping is valid");
 }
+
+/// `[[force]]` windows of kind "tip" and "magnetic" (docs/physics.md §24)
+/// parse into `Scenario::actuators` and round-trip through the TOML text.
+#[test]
+fn round_trip_tip_and_magnetic_windows() {
+    let text = r#"preset = "classical"
+[[force]]
+hx = 0.1
+[[force]]
+kind = "tip"
+point = [0.0, 0.001, 0.002]
+force = [0.01, -0.02, 0.03]
+start = 0.5
+stop = 1.5
+[[force]]
+kind = "magnetic"
+moment = 9.2740100783e-24
+field = [0.1, 0.0, 1.0]
+gradient = [[1.0, 2.0, 3.0], [4.0, 5, 6.0], [7.0, 8.0, 9.0]]
+[solver]
+model = "rigid"
+"#;
+    let sc = Scenario::load(None, Some(text), &[]).unwrap();
+    assert_eq!(sc.forcing.windows.len(), 1);
+    assert_eq!(sc.actuators.len(), 2);
+    assert_eq!(
+        sc.actuators[0].actuator,
+        tippetop::BodyActuator::Tip {
+            point: [0.0, 0.001, 0.002],
+            force: [0.01, -0.02, 0.03]
+        }
+    );
+    assert_eq!(sc.actuators[1].stop, f64::INFINITY);
+    let back = Scenario::from_toml_str(&sc.to_toml_string()).unwrap();
+    assert_eq!(back, sc);
+    assert!(sc.switch_times().contains(&1.5));
+}
+
+/// Bad actuator input in `[[force]]`: one line naming the key.
+#[test]
+fn bad_tip_and_magnetic_windows() {
+    let tip = "[[force]]\nkind = \"tip\"\n";
+    let f = |body: &str| format!("{tip}{body}");
+    expect_err(
+        Some("classical"),
+        Some(&f("force = [0.0, 0.0, 1.0]\n")),
+        &[],
+        "force.0.point",
+    );
+    expect_err(
+        Some("classical"),
+        Some(&f("point = [0.0, 0.0, 0.0]\n")),
+        &[],
+        "force.0.force",
+    );
+    expect_err(
+        Some("classical"),
+        Some(&f(
+            "point = [0.0, 0.0, 0.0]\nforce = [0.0, 0.0, 1.0]\nhx = 1.0\n",
+        )),
+        &[],
+        "force.0.hx",
+    );
+    expect_err(
+        Some("classical"),
+        Some(&f(
+            "point = [0.0, 0.0, 0.0]\nforce = [0.0, 0.0, 1.0]\nstart = 1.0\nstop = 1.0\n",
+        )),
+        &[],
+        "force.0.stop",
+    );
+    expect_err(
+        Some("classical"),
+        Some(&f("point = [0.0, 0.0, 0.0]\nforce = [0.0, nan, 1.0]\n")),
+        &[],
+        "force.0.force",
+    );
+    expect_err(
+        Some("classical"),
+        Some("[[force]]\nkind = \"magnetic\"\nmoment = 1.0\ngradient = [[1.0, 2.0, 3.0]]\n"),
+        &[],
+        "force.0.gradient",
+    );
+    expect_err(
+        Some("classical"),
+        Some("[[force]]\nkind = \"magnetic\"\n"),
+        &[],
+        "force.0.moment",
+    );
+    expect_err(
+        Some("classical"),
+        Some("[[force]]\nkind = \"laser\"\n"),
+        &[],
+        "force.0.kind",
+    );
+    expect_err(
+        Some("classical"),
+        None,
+        &["force.0.kind=tip", "force.0.wand=1"],
+        "force.0.wand",
+    );
+    // What a model cannot apply.
+    let ok_tip = f("point = [0.0, 0.0, 0.001]\nforce = [0.0, 0.0, 1.0]\n");
+    expect_err(
+        Some("classical"),
+        Some(&ok_tip),
+        &["solver.model=reduced"],
+        "force.0.kind",
+    );
+    let off = f("point = [0.001, 0.0, 0.0]\nforce = [0.0, 0.0, 1.0]\n");
+    expect_err(Some("classical"), Some(&off), &[], "force.0.point");
+    assert!(
+        Scenario::load(
+            Some("classical"),
+            Some(&off),
+            &sets(&["solver.model=rigid"])
+        )
+        .is_ok()
+    );
+}

@@ -336,12 +336,17 @@ pub struct Report {
 
 /// Largest `|Σ h|` of windows acting at the same time \[N\] (the total is
 /// piecewise constant and changes only at window starts and stops, so its
-/// largest value is taken at some start).
+/// largest value is taken at some start). Body actuators (docs/physics.md
+/// §24) add `|Σ F_tip|` (lab frame) and `Σ |μ| |G|` (a magnet's largest
+/// gradient force, `|G|` the Frobenius norm): exact for one kind, an upper
+/// bound when kinds in different frames act together.
 pub fn max_applied_force(windows: &[Actuator]) -> f64 {
     windows
         .iter()
         .map(|w| {
             let (mut x, mut y, mut z) = (0.0, 0.0, 0.0);
+            let mut tip = [0.0; 3];
+            let mut magnet = 0.0;
             for v in windows
                 .iter()
                 .filter(|v| v.start <= w.start && w.start < v.stop)
@@ -349,8 +354,28 @@ pub fn max_applied_force(windows: &[Actuator]) -> f64 {
                 x += v.hx;
                 y += v.hy;
                 z += v.hz;
+                match v.kind {
+                    crate::scenario::bit::ActuatorKind::Body(crate::BodyActuator::Tip {
+                        force,
+                        ..
+                    }) => {
+                        for (t, f) in tip.iter_mut().zip(force) {
+                            *t += f;
+                        }
+                    }
+                    crate::scenario::bit::ActuatorKind::Body(crate::BodyActuator::Magnetic {
+                        moment,
+                        gradient,
+                        ..
+                    }) => {
+                        let g2: f64 = gradient.iter().flatten().map(|g| g * g).sum();
+                        magnet += moment.abs() * g2.sqrt();
+                    }
+                    crate::scenario::bit::ActuatorKind::Contact => {}
+                }
             }
-            (x * x + y * y + z * z).sqrt()
+            let tip = (tip[0] * tip[0] + tip[1] * tip[1] + tip[2] * tip[2]).sqrt();
+            (x * x + y * y + z * z).sqrt() + tip + magnet
         })
         .fold(0.0, f64::max)
 }

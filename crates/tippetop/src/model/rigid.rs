@@ -533,6 +533,21 @@ impl Rigid {
                 crate::physics::forces::wells::torque_world(wells, k),
             )
         });
+        // The body actuators' wrench (§24): its angular acceleration I⁻¹τ
+        // joins the torque-free one as the wells' does, its force F the
+        // free acceleration (gravity g Z − F in Q and the rolling b).
+        let body = self.body_wrench(y, k);
+        let well_acc = match body {
+            Some((_, tb)) => {
+                let acc = self.inv_inertia(k, tb);
+                Some(well_acc.map_or(acc, |w| add(w, acc)))
+            }
+            None => well_acc,
+        };
+        let gv = match body {
+            Some((fb, _)) => sub(scale(self.g, Z), fb),
+            None => scale(self.g, Z),
+        };
         let ndot0 = match well_acc {
             Some(acc) => add(ndot0, acc),
             None => ndot0,
@@ -541,7 +556,7 @@ impl Rigid {
         let w = cross(self.inv_inertia(k, e), r);
         let nn = dot(n, n);
         // Q: −(gap acceleration) with N = 0 and no friction (H = −fh).
-        let q_free = self.g + self.a * (-dot(fh, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
+        let q_free = gv[2] + self.a * (-dot(fh, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
         // The load h_z at P: Q + h_z D₀, D₀ = 1/m + a w_Z (§17).
         let q_free = cp.closure_q(q_free, 1.0 + self.a * w[2]);
         let (normal, ff, rolling_force) = match (self.phase, self.contact.mode) {
@@ -550,7 +565,7 @@ impl Rigid {
                 // Rolling: the total contact force F is the constraint force
                 // holding d/dt (v + n × r) = 0, i.e. K F = b (module doc).
                 let b = sub(
-                    sub(scale(self.g, Z), cross(ndot0, r)),
+                    sub(gv, cross(ndot0, r)),
                     scale(self.a, cross(n, cross(n, k))),
                 );
                 let force = solve3(self.k_columns(k, r), b);
@@ -584,7 +599,7 @@ impl Rigid {
         let mut dy = [0.0; DIM];
         // Translation.
         set3(&mut dy, POS, v3(y, VEL));
-        set3(&mut dy, VEL, sub(force, scale(self.g, Z)));
+        set3(&mut dy, VEL, sub(force, gv));
         // Euler's equations in the world frame: d(I n)/dt = r × F with
         // İ n = (C − A)(n·k) k̇ (k̇ = n × k ⟂ n), so
         // ṅ = I⁻¹ (r × F − (C − A)(n·k) k̇).
@@ -618,6 +633,11 @@ impl Rigid {
             dy[WF] = dot(ff, kin.vp);
             dy[WA] = dot(fa, kin.vp);
         }
+        if let Some((fb, tb)) = body {
+            // The actuators' power F·v_O + τ·n (§24), rolling or not, with
+            // the velocity the energy uses.
+            dy[WA] += dot(fb, self.output_velocity(y, &kin)) + dot(tb, n);
+        }
         Ok(Eval {
             dy,
             normal,
@@ -625,6 +645,20 @@ impl Rigid {
             kin,
             q_free,
         })
+    }
+
+    /// The body actuators' wrench `(F, τ)` at a state (scaled, lab;
+    /// docs/physics.md §24), `None` without actuators; an off-axis tip's
+    /// material axes from the attitude quaternion.
+    #[inline]
+    fn body_wrench(&self, y: &[f64; DIM], k: V3) -> Option<(V3, V3)> {
+        let b = self.contact.forces().body();
+        if b.is_zero() {
+            return None;
+        }
+        Some(b.wrench(k, || {
+            crate::physics::forces::actuators::material_axes(quat_of(y), k)
+        }))
     }
 
     /// Columns of the contact matrix `K`, `K F = F/m − r × I⁻¹ (r × F)`:

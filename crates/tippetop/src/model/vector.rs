@@ -140,7 +140,7 @@ pub struct Vector {
     /// mode and every input), so the driver's repeated evaluations at an
     /// accepted step (N event, energy, samples) are computed once. The key
     /// is compared bit for bit: the result is what a fresh evaluation gives.
-    last: RefCell<Option<([u64; DIM + 9], Eval)>>,
+    last: RefCell<Option<([u64; DIM + 10], Eval)>>,
     /// The Langevin thermostat (scaled), `None` unless `method = "langevin"`.
     thermal: Option<super::thermostat::Bath>,
     /// The Ornstein–Uhlenbeck step's coefficients from the last call
@@ -470,7 +470,7 @@ impl Vector {
     /// Evaluate the model at a state in the current mode (cached: see
     /// the `last` field).
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
-        let mut key = [0u64; DIM + 9];
+        let mut key = [0u64; DIM + 10];
         for (k, v) in key.iter_mut().zip(y) {
             *k = v.to_bits();
         }
@@ -490,6 +490,8 @@ impl Vector {
                 Some(true) => 2,
             },
             p.contact_point().hz.to_bits(),
+            // The body actuators change only at a latch (§24).
+            p.forces().generation(),
         ];
         key[DIM..].copy_from_slice(&inputs);
         if let Some((k, e)) = &*self.last.borrow() {
@@ -544,10 +546,17 @@ impl Vector {
         // Angular acceleration without the contact force (k̇ ⊥ k, so
         // I⁻¹ k̇ = k̇/A), with the wells' torque (§20).
         let w0 = self.with_wells(scale(-self.gyro * wk, kd), k);
+        // The body actuators' wrench (§24): F adds to the free
+        // acceleration (g_z = g − F_Z in Q), I⁻¹τ to ẇ₀.
+        let body = self.body_wrench(y, k);
+        let (w0, g_z) = match body {
+            Some((fb, tb)) => (add(w0, self.inv_inertia(k, tb)), self.g - fb[2]),
+            None => (w0, self.g),
+        };
         let e = [k[1], -k[0], 0.0];
         let u = scale(self.inv_ia, cross(e, r));
         let wkd_z = w[0] * kd[1] - w[1] * kd[0];
-        let q = self.g + a * (hw[0] * u[0] + hw[1] * u[1] - dot(w0, e) - wkd_z);
+        let q = g_z + a * (hw[0] * u[0] + hw[1] * u[1] - dot(w0, e) - wkd_z);
         // The vertical load h_z at P: Q + h_z D₀, D₀ = 1 + a u_Z
         // (docs/physics.md §17).
         let cp = self.plane.contact_point();
@@ -570,7 +579,7 @@ impl Vector {
         let force = [ff[0] - hw[0], ff[1] - hw[1], cp.vertical_total(normal)];
         let wd = add(w0, self.inv_inertia(k, cross(r, force)));
         let qd = quat_rate(w, y);
-        let dy = [
+        let mut dy = [
             kd[0],
             kd[1],
             kd[2],
@@ -588,6 +597,12 @@ impl Vector {
             v[0],
             v[1],
         ];
+        if let Some((fb, tb)) = body {
+            // Its horizontal force and its power F·v_O + τ·w (§24).
+            dy[VEL] += fb[0];
+            dy[VEL + 1] += fb[1];
+            dy[WA] += dot(fb, [v[0], v[1], -a * kd[2]]) + dot(tb, w);
+        }
         Ok(Eval {
             dy,
             normal,
@@ -611,6 +626,13 @@ impl Vector {
             wr,
         } = *kn;
         let w0 = self.with_wells(scale(-self.gyro * wk, kd), k);
+        // The body actuators' wrench (§24): I⁻¹τ joins ẇ₀, F the right-hand
+        // side (b = (g Z − F) − ẇ₀ × r − a w × k̇).
+        let body = self.body_wrench(y, k);
+        let (w0, gv) = match body {
+            Some((fb, tb)) => (add(w0, self.inv_inertia(k, tb)), sub(scale(self.g, Z), fb)),
+            None => (w0, scale(self.g, Z)),
+        };
         // K x = x − r × I⁻¹ (r × x) = (1 + |r|²/A) x − (r·x) r/A
         //       + (1/C − 1/A) (c·x) c,  c = k × r  (|k| = 1).
         let c = cross(k, r);
@@ -622,15 +644,23 @@ impl Vector {
             )
         };
         let kmat = [col([1.0, 0.0, 0.0]), col([0.0, 1.0, 0.0]), col(Z)];
-        let b = sub(sub(scale(self.g, Z), cross(w0, r)), scale(a, cross(w, kd)));
+        let b = sub(sub(gv, cross(w0, r)), scale(a, cross(w, kd)));
         let force = solve3(kmat, b);
         let hw = self.applied_world(k);
         let wd = add(w0, self.inv_inertia(k, cross(r, force)));
         let qd = quat_rate(w, y);
-        let dy = [
+        let mut dy = [
             kd[0], kd[1], kd[2], wd[0], wd[1], wd[2], force[0], force[1], 0.0, 0.0, qd[0], qd[1],
             qd[2], qd[3], -wr[0], -wr[1],
         ];
+        if let Some((fb, tb)) = body {
+            // The centre of mass accelerates with F + the contact force;
+            // the actuators' power F·v_O + τ·w (§24; the contact force does
+            // no work while rolling).
+            dy[VEL] += fb[0];
+            dy[VEL + 1] += fb[1];
+            dy[WA] = dot(fb, [-wr[0], -wr[1], -a * kd[2]]) + dot(tb, w);
+        }
         Eval {
             dy,
             // The plane's reaction: the constraint force plus the load (§17).
@@ -654,6 +684,25 @@ impl Vector {
             let tau = crate::physics::forces::wells::torque_world(wells, k);
             add(w0, scale(self.inv_ia, tau))
         }
+    }
+
+    /// The body actuators' wrench `(F, τ)` at a state (scaled, lab;
+    /// docs/physics.md §24), `None` without actuators. The material axes
+    /// an off-axis tip needs come from the quaternion (a quadrature), which
+    /// the scenario's validation never lets happen in this model
+    /// (`scenario::actuator::check_model`).
+    #[inline(always)]
+    fn body_wrench(&self, y: &[f64; DIM], k: V3) -> Option<(V3, V3)> {
+        let b = self.plane.forces().body();
+        if b.is_zero() {
+            return None;
+        }
+        Some(b.wrench(k, || {
+            crate::physics::forces::actuators::material_axes(
+                [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]],
+                k,
+            )
+        }))
     }
 
     /// Stick margin while rolling: `μ |N| − |F_f|` (scaled force).

@@ -9,7 +9,7 @@
 //! hold = 2e-5                  # [s], > 0: the state must be held this long
 //! phase = 1e-4                 # [s], > hold: length of each phase
 //! [[write]]                    # times from the start of the write phase
-//! kind = "contact"             # default; "tip" and "magnetic" are not implemented yet
+//! kind = "contact"             # default; or "tip", "magnetic" (below)
 //! hx = 1e-22                   # [N], the paper's H (the force on the top is -H)
 //! hy = 1e-22                   # [N]
 //! hz = 0.0                     # [N], optional vertical load
@@ -18,6 +18,15 @@
 //! [[erase]]                    # times from the start of the erase phase
 //! hx = -1e-22
 //! hy = -1e-22
+//! [[erase]]
+//! kind = "tip"                 # a tip at a body point (docs/physics.md §24)
+//! point = [0.0, 0.0, 7e-10]    # [m], body frame (origin the centre of mass, z along k)
+//! force = [1e-22, 0.0, 0.0]    # [N], lab frame, the force on the top
+//! [[erase]]
+//! kind = "magnetic"            # a dipole mu k in a lab field (docs/physics.md §24)
+//! moment = 9.2740100783e-24    # [A m^2] (one Bohr magneton)
+//! field = [0.0, 0.0, 1.0]      # [T], uniform (default 0)
+//! gradient = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]  # [T/m] (default 0)
 //! ```
 //!
 //! The run lasts `2 × phase` (`solver.t_end` is replaced): write on
@@ -25,7 +34,9 @@
 //! left the top. A `"contact"` window is a `[[force]]` window (the paper's
 //! force at the contact point, fixed in the precessing frame, which is
 //! undefined at θ = 0: no physical actuator does that), at `[start, stop)`
-//! for the write and `[phase + start, phase + stop)` for the erase. The
+//! for the write and `[phase + start, phase + stop)` for the erase; a
+//! `"tip"` or `"magnetic"` window is a body actuator of the run
+//! ([`Scenario::actuators`], `scenario::actuator`), at the same times. The
 //! scenario's own `[[force]]` list must be empty (a preset's list is
 //! replaced by the protocol). `--set` reaches the new keys as `bit.KEY`,
 //! `write.K.KEY` and `erase.K.KEY` (`K` equal to the number of windows
@@ -37,7 +48,7 @@
 use toml::{Table, Value};
 
 use super::{Keys, Section, check_keys, describe, parse_document, range_of, unknown_key};
-use crate::{Error, ForceWindow, Forcing, Scenario};
+use crate::{ActuatorWindow, BodyActuator, Error, ForceWindow, Forcing, Scenario};
 
 /// Fewest output rows per `bit.hold` (the resolution of the success test
 /// is the sample spacing).
@@ -61,10 +72,8 @@ const BIT_KEYS: Keys = &[
     ("phase", "a finite time > bit.hold [s]"),
 ];
 
-const KIND_RANGE: &str = "\"contact\"; \"tip\" and \"magnetic\" are not implemented yet";
-
 const WINDOW_KEYS: Keys = &[
-    ("kind", KIND_RANGE),
+    ("kind", super::actuator::KIND_RANGE),
     ("hx", "a finite force [N]"),
     ("hy", "a finite force [N]"),
     (
@@ -79,6 +88,11 @@ const WINDOW_KEYS: Keys = &[
         "stop",
         "a finite time, start < stop <= bit.phase [s] from the start of the phase; default bit.phase",
     ),
+    super::actuator::KEYS[0],
+    super::actuator::KEYS[1],
+    super::actuator::KEYS[2],
+    super::actuator::KEYS[3],
+    super::actuator::KEYS[4],
 ];
 
 /// The two states and the timing of a bit (the `[bit]` table).
@@ -94,13 +108,15 @@ pub struct Bit {
     pub phase: f64,
 }
 
-/// The kind of an actuator window. Only the paper's contact force exists
-/// so far.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The kind of an actuator window.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ActuatorKind {
     /// The paper's force `−H` at the contact point, fixed in the
-    /// precessing frame (a `[[force]]` window).
+    /// precessing frame (a `[[force]]` window; `hx`, `hy`, `hz`).
     Contact,
+    /// A tip or a magnetic dipole (`kind = "tip"`, `"magnetic"`): a body
+    /// actuator of the run (docs/physics.md §24); `hx`, `hy`, `hz` are 0.
+    Body(BodyActuator),
 }
 
 impl ActuatorKind {
@@ -108,6 +124,7 @@ impl ActuatorKind {
     pub fn name(self) -> &'static str {
         match self {
             ActuatorKind::Contact => "contact",
+            ActuatorKind::Body(b) => b.name(),
         }
     }
 }
@@ -131,9 +148,22 @@ pub struct Actuator {
 }
 
 impl Actuator {
-    /// `|(h_x, h_y, h_z)|` \[N\].
+    /// `|(h_x, h_y, h_z)|` \[N\] (0 for a body actuator).
     pub fn magnitude(&self) -> f64 {
         (self.hx * self.hx + self.hy * self.hy + self.hz * self.hz).sqrt()
+    }
+
+    /// The body actuator's window of the run, `offset` \[s\] the phase's
+    /// start; `None` for a contact window.
+    pub fn body_window(&self, offset: f64) -> Option<ActuatorWindow> {
+        match self.kind {
+            ActuatorKind::Contact => None,
+            ActuatorKind::Body(actuator) => Some(ActuatorWindow {
+                actuator,
+                start: offset + self.start,
+                stop: offset + self.stop,
+            }),
+        }
     }
 }
 
@@ -247,6 +277,18 @@ impl BitScenario {
         scenario.forcing = Forcing {
             windows: run_windows(&write, &erase, bit.phase),
         };
+        scenario.actuators = run_actuators(&write, &erase, bit.phase);
+        for (name, list, offset) in [("write", &write, 0.0), ("erase", &erase, bit.phase)] {
+            for (k, a) in list.iter().enumerate() {
+                if let Some(w) = a.body_window(offset) {
+                    super::actuator::check_model(
+                        &w,
+                        &format!("{name}.{k}"),
+                        scenario.solver.model,
+                    )?;
+                }
+            }
+        }
         scenario.validate().map_err(phase_key)?;
 
         let theta0 = scenario.initial.theta;
@@ -291,6 +333,7 @@ impl BitScenario {
     pub fn to_toml_string(&self) -> String {
         let mut plain = self.scenario.clone();
         plain.forcing = Forcing::none();
+        plain.actuators.clear();
         let mut out = plain.to_toml_string();
         let b = &self.bit;
         let mut t = Table::new();
@@ -305,15 +348,16 @@ impl BitScenario {
             for a in list {
                 let mut t = Table::new();
                 t.insert("kind".into(), Value::String(a.kind.name().into()));
-                for (k, v) in [
-                    ("hx", a.hx),
-                    ("hy", a.hy),
-                    ("hz", a.hz),
-                    ("start", a.start),
-                    ("stop", a.stop),
-                ] {
-                    t.insert(k.into(), Value::Float(v));
+                match a.kind {
+                    ActuatorKind::Contact => {
+                        for (k, v) in [("hx", a.hx), ("hy", a.hy), ("hz", a.hz)] {
+                            t.insert(k.into(), Value::Float(v));
+                        }
+                    }
+                    ActuatorKind::Body(b) => super::actuator::to_table(&b, &mut t),
                 }
+                t.insert("start".into(), Value::Float(a.start));
+                t.insert("stop".into(), Value::Float(a.stop));
                 out.push_str(&format!("\n[[{name}]]\n"));
                 super::render_keys(&mut out, &t, WINDOW_KEYS);
             }
@@ -340,10 +384,22 @@ pub fn run_windows(write: &[Actuator], erase: &[Actuator], phase: f64) -> Vec<Fo
         start: offset + a.start,
         stop: offset + a.stop,
     };
+    let contact = |a: &&Actuator| a.kind == ActuatorKind::Contact;
     write
         .iter()
+        .filter(contact)
         .map(|a| window(a, 0.0))
-        .chain(erase.iter().map(|a| window(a, phase)))
+        .chain(erase.iter().filter(contact).map(|a| window(a, phase)))
+        .collect()
+}
+
+/// The run's body actuators (tips, magnets): the write windows as given,
+/// the erase windows shifted by one phase.
+pub fn run_actuators(write: &[Actuator], erase: &[Actuator], phase: f64) -> Vec<ActuatorWindow> {
+    write
+        .iter()
+        .filter_map(|a| a.body_window(0.0))
+        .chain(erase.iter().filter_map(|a| a.body_window(phase)))
         .collect()
 }
 
@@ -414,7 +470,7 @@ fn apply_bit_set(
             key,
             "protocol windows are set one key at a time".into(),
             format!(
-                "{}.K.KEY with K = 0, 1, ... and KEY one of kind, hx, hy, hz, start, stop",
+                "{}.K.KEY with K = 0, 1, ... and KEY one of kind, hx, hy, hz, start, stop, point, force, moment, field, gradient",
                 parts[0]
             ),
         )),
@@ -491,24 +547,9 @@ fn parse_windows(name: &str, list: &[Value], phase: f64) -> Result<Vec<Actuator>
             keys: WINDOW_KEYS,
             table: w.as_table(),
         };
-        let kind = match s.get("kind") {
+        let kind = match super::actuator::parse(&s)? {
             None => ActuatorKind::Contact,
-            Some(Value::String(v)) if v == "contact" => ActuatorKind::Contact,
-            Some(Value::String(v)) if v == "tip" || v == "magnetic" => {
-                return Err(Error::invalid(
-                    &s.full("kind"),
-                    format!("{v:?} is not implemented yet"),
-                    KIND_RANGE.into(),
-                ));
-            }
-            Some(Value::String(v)) => {
-                return Err(Error::invalid(
-                    &s.full("kind"),
-                    format!("unknown value {v:?}"),
-                    KIND_RANGE.into(),
-                ));
-            }
-            Some(v) => return Err(s.wrong_type("kind", "a string", v)),
+            Some(b) => ActuatorKind::Body(b),
         };
         let a = Actuator {
             kind,

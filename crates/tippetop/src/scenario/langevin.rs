@@ -80,6 +80,14 @@ pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
             "sqrt(depth / width^2 / inertia_transverse) of a well",
         ));
     }
+    // The body actuators (docs/physics.md §24): each window's rate.
+    for w in &sc.actuators {
+        out.push((
+            w.actuator.rate(m, top.radius, a_in),
+            "force",
+            "a tip's or magnet's rate (sqrt(|F| / (mass radius)), sqrt(|F| |point| / inertia_transverse), sqrt(|moment| |field| / inertia_transverse), ...)",
+        ));
+    }
     out
 }
 

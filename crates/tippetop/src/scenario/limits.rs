@@ -52,7 +52,7 @@ pub fn run_memory_bytes(solver: &SolverSettings) -> u64 {
 
 /// The rates that define the time unit `T_ref` \[1/s\], each with the scenario
 /// key it comes from and a description.
-fn rates(sc: &Scenario) -> [(f64, String, &'static str); 9] {
+fn rates(sc: &Scenario) -> [(f64, String, &'static str); 10] {
     let top = &sc.top;
     let i = &sc.initial;
     // The force window with the largest applied force names the key.
@@ -71,8 +71,29 @@ fn rates(sc: &Scenario) -> [(f64, String, &'static str); 9] {
         .fold((String::from("force.0.hx"), -1.0), |best, (k, v)| {
             if v.abs() > best.1 { (k, v.abs()) } else { best }
         });
+    // The body actuators (docs/physics.md §24): the sum of each window's
+    // largest rate bounds what any combination of them sets (zero without).
+    let nf = sc.forcing.windows.len();
+    let (act_key, act_rate) = sc
+        .actuators
+        .iter()
+        .enumerate()
+        .map(|(j, w)| {
+            let r = w
+                .actuator
+                .rate(top.mass, top.radius, top.inertia_transverse);
+            (format!("force.{}", nf + j), r)
+        })
+        .fold((String::from("force"), 0.0), |(bk, br), (k, r)| {
+            (if r > br { k } else { bk }, br + r)
+        });
     [
         (i.spin.abs(), "initial.spin".into(), "|spin|"),
+        (
+            act_rate,
+            act_key,
+            "sqrt(|F| / (mass radius)), sqrt(|F| |point| / inertia_transverse), sqrt(|moment| |field| / inertia_transverse), sqrt(|moment| |gradient| / (mass radius)) (tips, magnets)",
+        ),
         (
             i.precession.abs(),
             "initial.precession".into(),

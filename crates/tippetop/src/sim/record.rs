@@ -325,7 +325,6 @@ impl RunSetup {
             })
             .collect();
         let tstops = sc
-            .forcing
             .switch_times()
             .into_iter()
             .map(|t| t / time_unit)

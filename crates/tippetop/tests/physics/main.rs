@@ -16,6 +16,9 @@
 //!   of μ|N| where N changes sign;
 //! - `crosscheck`: the models against each other;
 //! - `forces`: the applied force terms (the vertical load `force.K.hz`);
+//! - `actuators`: the body actuators (a tip at a body point, a magnetic
+//!   dipole in a field; §24): closed forms in flight, the contact-point
+//!   force through P, the energy balance, Jellett's J;
 //! - `adhesion`: van der Waals adhesion (`[adhesion]`, a centre-vertical term);
 //! - `wells`: orientation wells (`[[well]]`, a torque about `ŷ ⊥ k`):
 //!   small-oscillation period, energy with the potential, J, a barrier;
@@ -25,6 +28,7 @@
 //! - `thermal`: Langevin dynamics (vector model): equipartition, the
 //!   orientation density, diffusion, the damped energy, replay.
 
+mod actuators;
 mod adhesion;
 mod closed_forms;
 mod convergence;

@@ -326,7 +326,8 @@ fn eig_list(e: &[Eig]) -> String {
 }
 
 /// Whether the analysis covers `sc`: the linearised model has no vertical
-/// load (`force.K.hz`, docs/physics.md §17) and no adhesion (§18), so a
+/// load (`force.K.hz`, docs/physics.md §17), no adhesion (§18) and no body
+/// actuator (§24), so a
 /// scenario with one is bad input naming the key.
 pub fn supports(sc: &Scenario) -> Result<(), Error> {
     if sc.adhesion.is_on() {
@@ -334,6 +335,17 @@ pub fn supports(sc: &Scenario) -> Result<(), Error> {
             "adhesion.force",
             "the stability analysis does not model adhesion".into(),
             "0; use `tippetop run` for an adhesive top".into(),
+        ));
+    }
+    if !sc.actuators.is_empty() {
+        let k = sc.forcing.windows.len();
+        return Err(Error::invalid(
+            &format!("force.{k}.kind"),
+            format!(
+                "the stability analysis does not model a body actuator (\"{}\", docs/physics.md §24)",
+                sc.actuators[0].actuator.name()
+            ),
+            "\"contact\"; use `tippetop run` for a tip or a magnet".into(),
         ));
     }
     match sc.forcing.windows.iter().position(|w| w.hz != 0.0) {

@@ -13,12 +13,15 @@
 //! Wired today: [`Kind::ContactPoint`], with the terms [`retarding::Retarding`]
 //! (the paper's `H`) and [`vertical_load::VerticalLoad`] (`force.K.hz`,
 //! §17), and [`Kind::CentreVertical`], with the term [`adhesion::Adhesion`]
-//! (van der Waals adhesion, §18), and [`Kind::Torque`], with the term
-//! [`wells::Wells`] (orientation wells, §20). The other kinds are declared so that their place is fixed; no
+//! (van der Waals adhesion, §18), [`Kind::Torque`], with the term
+//! [`wells::Wells`] (orientation wells, §20), and [`Kind::BodyPoint`], with
+//! the terms [`actuators::Actuators`] (tips and magnetic dipoles, §24;
+//! vector and rigid models). The other kinds are declared so that their place is fixed; no
 //! model applies them yet, and [`Applied`] has no slot for them (a term of
 //! such a kind cannot be built until its kind is wired). docs/architecture.md
 //! ("Forces as data") describes the seam.
 
+pub mod actuators;
 pub mod adhesion;
 pub mod retarding;
 pub mod vertical_load;
@@ -50,18 +53,26 @@ pub enum Kind {
     /// the models apply it as a vertical load at `P` ([`ContactPointForce::with_load`]).
     /// Conserves J. Wired in every model.
     CentreVertical,
-    /// Not yet wired: a force at a body point, lab frame (tips, field
-    /// gradients). Enters `Q` through its torque's share; does not conserve
-    /// J in general; work integrated.
+    /// A wrench from the body: a force `F` at the centre of mass and a
+    /// torque `τ` about it, lab frame (a tip at a body point: `F` and
+    /// `ρ × F`; a magnetic dipole: `μ k × B` and `∇(μ k·B)`;
+    /// [`actuators`], docs/physics.md §24). It adds to the free
+    /// accelerations, `v̇ += F/m`, `ẇ₀ += I⁻¹ τ`, so `Q` gains
+    /// `−F_Z/m − a (I⁻¹ τ)·e` and the rolling constraint's right-hand side
+    /// `−F/m`. J: `dJ/dt = −τ·r`, conserved only if the line of a tip's
+    /// force passes through `P` (or a field is vertical). Work integrated
+    /// (`F·v_O + τ·w`, rolling or not). Wired in the vector and rigid
+    /// models (contact and flight); the reduced model refuses it.
     BodyPoint,
     /// A pure torque (a couple). Wired for torques about the horizontal
     /// axis `ŷ ⊥ k` that derive from a potential in θ
     /// ([`wells::Wells`], docs/physics.md §20): it adds `τ/A` to the
     /// torque-free angular acceleration, so it enters `Q` through `ṅ`
     /// (`Q += a s τ_y/A`); J conserved (`τ ⊥ k`, `τ ⊥ Z`); potential `U(θ)`
-    /// in the energy. Other torques (field torques, drilling, rolling
-    /// resistance) are not wired: in general J is not conserved and the
-    /// work is integrated.
+    /// in the energy. A magnetic field's torque `μ k × B` is applied as
+    /// a [`Kind::BodyPoint`] wrench (with its gradient force, §24). Other
+    /// torques (drilling, rolling resistance) are not wired: in general J
+    /// is not conserved and the work is integrated.
     Torque,
     /// Not yet wired: linear damping with a hook for its noise (the thermal
     /// issue fills it). Dissipative; J not conserved in general; work
@@ -100,6 +111,8 @@ pub struct Applied {
     pub centre_vertical: CentreVertical,
     /// The orientation wells ([`Kind::Torque`]), SI; empty without wells.
     pub wells: Vec<wells::Well>,
+    /// The body actuators in effect ([`Kind::BodyPoint`]), SI; zero without.
+    pub body: actuators::BodyLoad,
 }
 
 /// A centre-vertical force: the pull-off force `F_a` and the binding
@@ -226,6 +239,11 @@ pub struct Forces {
     /// The orientation wells, depths scaled ([`Forces::scale_wells`]);
     /// empty without wells.
     wells: Vec<wells::Well>,
+    /// The body actuators' load, scaled ([`Forces::latch`]).
+    body: actuators::BodyLoad,
+    /// Latches so far: what the models' evaluation caches key on (the
+    /// latched values change only at a latch).
+    generation: u64,
 }
 
 impl Forces {
@@ -243,13 +261,20 @@ impl Forces {
         if !sc.wells.is_empty() {
             terms.push(Arc::new(wells::Wells::of(&sc.wells)));
         }
+        for kind in ["tip", "magnetic"] {
+            if let Some(term) = actuators::Actuators::of(&sc.actuators, kind) {
+                terms.push(Arc::new(term));
+            }
+        }
         Forces {
             terms,
-            switch_times: sc.forcing.switch_times(),
+            switch_times: sc.switch_times(),
             latched: ContactPointForce::default(),
             centre: CentreVertical::default(),
             radius: sc.top.radius,
             wells: Vec::new(),
+            body: actuators::BodyLoad::default(),
+            generation: 0,
         }
     }
 
@@ -296,6 +321,21 @@ impl Forces {
             force: cv.force / force_unit,
             energy: cv.energy / (force_unit * self.radius),
         };
+        self.body = applied.body.scaled(force_unit, self.radius);
+        self.generation += 1;
+    }
+
+    /// The latched body actuators' load (scaled; zero without actuators).
+    #[inline(always)]
+    pub fn body(&self) -> &actuators::BodyLoad {
+        &self.body
+    }
+
+    /// The number of latches so far (a cache key: the latched values
+    /// change only at a latch).
+    #[inline(always)]
+    pub fn generation(&self) -> u64 {
+        self.generation
     }
 
     /// Scale the wells' depths by `energy_unit` \[J\] (once, when the model
