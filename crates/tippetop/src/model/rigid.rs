@@ -544,6 +544,9 @@ impl Rigid {
         let q_free = self.g + self.a * (-dot(fh, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
         // The load h_z at P: Q + h_z D₀, D₀ = 1/m + a w_Z (§17).
         let q_free = cp.closure_q(q_free, 1.0 + self.a * w[2]);
+        // Coulomb–Contensou (§24): the drilling torque about Z, M = −N_f τ
+        // (contact, sliding only).
+        let mut drill = None;
         let (normal, ff, rolling_force) = match (self.phase, self.contact.mode) {
             (Phase::Flight, _) => (0.0, [0.0; 3], None),
             (Phase::Contact, Mode::Rolling) => {
@@ -561,9 +564,11 @@ impl Rigid {
             }
             (Phase::Contact, Mode::Sliding) => {
                 // The friction coefficient in the horizontal plane (z = 0).
-                let f2 = self
-                    .contact
-                    .coefficient_per_component([kin.vp[0], kin.vp[1]]);
+                let vp2 = [kin.vp[0], kin.vp[1]];
+                let (f2, tau) = match self.contact.drilling(vp2, n[2]) {
+                    Some((f, t)) => (f, Some(t)),
+                    None => (self.contact.coefficient_per_component(vp2), None),
+                };
                 let f = [f2[0], f2[1], 0.0];
                 let fw = dot(f, w);
                 let dp = 1.0 + self.a * (w[2] - fw);
@@ -575,6 +580,7 @@ impl Rigid {
                     }
                 })?;
                 let nf = self.contact.friction_normal(normal);
+                drill = tau.map(|t| -nf * t);
                 (normal, scale(-nf, f), None)
             }
         };
@@ -589,10 +595,13 @@ impl Rigid {
         // İ n = (C − A)(n·k) k̇ (k̇ = n × k ⟂ n), so
         // ṅ = I⁻¹ (r × F − (C − A)(n·k) k̇).
         let kdot = cross(n, k);
-        let ndot = self.inv_inertia(
-            k,
-            sub(cross(r, force), scale((self.ic - self.ia) * wk, kdot)),
-        );
+        let torque = sub(cross(r, force), scale((self.ic - self.ia) * wk, kdot));
+        let torque = match drill {
+            // The drilling torque M Z; it does not enter the closure (§24).
+            Some(mz) => add(torque, [0.0, 0.0, mz]),
+            None => torque,
+        };
+        let ndot = self.inv_inertia(k, torque);
         set3(
             &mut dy,
             OMEGA,
@@ -615,7 +624,10 @@ impl Rigid {
         set3(&mut dy, AXIS, kdot);
         // Work (none while rolling: the contact point does not move).
         if rolling_force.is_none() {
-            dy[WF] = dot(ff, kin.vp);
+            dy[WF] = match drill {
+                Some(mz) => dot(ff, kin.vp) + mz * n[2],
+                None => dot(ff, kin.vp),
+            };
             dy[WA] = dot(fa, kin.vp);
         }
         Ok(Eval {

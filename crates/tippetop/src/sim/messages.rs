@@ -49,6 +49,13 @@ pub(crate) fn law_phrase(law: crate::FrictionLaw) -> String {
         crate::FrictionLaw::Viscous { eps } => {
             format!("viscous friction (friction_law = \"viscous\", friction_eps = {eps} m/s)")
         }
+        crate::FrictionLaw::Contensou {
+            radius, pressure, ..
+        } => format!(
+            "Coulomb-Contensou friction (friction_law = \"{}\", contact_radius = {radius} m, contact_pressure = \"{}\")",
+            law.name(),
+            pressure.name()
+        ),
     }
 }
 

@@ -27,6 +27,7 @@
 
 mod adhesion;
 mod closed_forms;
+mod contensou;
 mod convergence;
 mod crosscheck;
 mod forces;
