@@ -94,6 +94,11 @@ pub enum FrictionLaw {
     },
 }
 
+/// The speed `|v| + r_c |n_Z|` (scaled: units of the initial `R × rate`,
+/// docs/physics.md §8) at which a run under Coulomb–Contensou friction
+/// declares sliding and spinning both stopped (§24).
+pub const CONTENSOU_STICK_SPEED: f64 = 1e-9;
+
 /// Valid range of `surface.contact_radius`, as the error messages state it.
 pub const CONTACT_RADIUS_RANGE: &str =
     "0 <= contact_radius <= 0.1 * top.radius [m] (a contact patch much smaller than the sphere)";

@@ -19,6 +19,8 @@ use crate::{ContactMode, FrictionLaw, Scenario, contact::SlidingLaw};
 /// instants).
 pub const CHATTER_REVERSALS: u32 = 1000;
 
+pub use crate::contact::CONTENSOU_STICK_SPEED;
+
 /// The contact state and its rules, written once for every model: the two
 /// that keep the sphere on the plane ([`super::reduced`], [`super::vector`])
 /// hold one, and so does the rigid model ([`super::rigid`]) for its contact
@@ -151,6 +153,19 @@ impl ContactState {
         };
         let k = if speed > 0.0 { mu * f / speed } else { 0.0 };
         Some(([k * v[0], k * v[1]], mu * rc * m * nz.signum()))
+    }
+
+    /// The arrival at the Coulomb–Contensou stick (sliding and spinning
+    /// both stopped, §24) as an event function: `|v| + r_c |n_z| − δ`,
+    /// `δ` = [`CONTENSOU_STICK_SPEED`] (scaled). Near the stick the law is
+    /// smooth but stiff (the torque's slope in `n_z` grows like `1/|v|`),
+    /// and `|v| + r_c |n_z|` reaches zero without changing sign, so the
+    /// arrival is located at this small speed instead.
+    pub(crate) fn contensou_stick_gap(&self, v: [f64; 2], nz: f64) -> f64 {
+        match self.contensou {
+            Some((rc, _, _)) => v[0].hypot(v[1]) + rc * nz.abs() - CONTENSOU_STICK_SPEED,
+            None => f64::NAN,
+        }
     }
 
     /// True for Coulomb–Contensou friction with `r_c > 0`.

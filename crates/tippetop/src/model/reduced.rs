@@ -553,6 +553,10 @@ impl super::ContactModel<DIM> for Reduced {
     fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
         Reduced::slip_of(self, y)
     }
+    fn spin_z(&self, y: &[f64; DIM]) -> f64 {
+        let (s, c) = self.sin_cos(y[TH]);
+        y[OM] * s * s + y[W] * c
+    }
     fn to_rolling(&self, y: &[f64; DIM]) -> [f64; DIM] {
         let mut yr = *y;
         let u = self.rolling_velocity(y);

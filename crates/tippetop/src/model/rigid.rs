@@ -1098,6 +1098,20 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
             ))
         }
     }
+    if m.phase == Phase::Contact && m.contact.is_contensou() {
+        ev.push((
+            Watch::ContensouStick,
+            Event {
+                g: Box::new(|m, _, y| {
+                    let v = m.slip_of(y);
+                    m.contact.contensou_stick_gap([v[0], v[1]], y[OMEGA + 2])
+                }),
+                direction: Direction::Falling,
+                terminal: true,
+                step_to_event: false,
+            },
+        ));
+    }
     if m.phase == Phase::Contact && m.contact.is_exact() {
         match m.contact.mode {
             // v_P · d falls through zero, d the slip direction at the last
@@ -1447,6 +1461,13 @@ impl Model<DIM> for Rigid {
                     }
                     Phase::Flight => self.touch_down(t, y, log),
                 }
+            }
+            Watch::ContensouStick => {
+                log.push(t, Happened::ContensouStick);
+                Flow::Stop(crate::sim::messages::contensou_stick_error(
+                    t * self.time_unit(),
+                    &describe_state(self, y),
+                ))
             }
             Watch::SlipZero | Watch::StickLimit => {
                 match self.contact.mode {

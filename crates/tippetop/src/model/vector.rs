@@ -858,6 +858,9 @@ impl super::ContactModel<DIM> for Vector {
     fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
         Vector::slip_of(self, y)
     }
+    fn spin_z(&self, y: &[f64; DIM]) -> f64 {
+        y[OMEGA + 2]
+    }
     fn to_rolling(&self, y: &[f64; DIM]) -> [f64; DIM] {
         let mut yr = *y;
         let v = self.rolling_velocity(y);
