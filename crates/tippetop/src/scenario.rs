@@ -15,8 +15,11 @@
 //! [surface]
 //! gravity = 9.8               # [m/s^2]
 //! friction = 0.1              # mu
-//! friction_law = "coulomb"    # "coulomb", "coulomb_sliding", "regularized", "viscous"
+//! friction_law = "coulomb"    # "coulomb", "coulomb_sliding", "regularized", "viscous",
+//!                             # "contensou", "contensou_pade" (docs/physics.md §24)
 //! # friction_eps = 1e-3       # [m/s], only (and required) with "regularized"/"viscous"
+//! # contact_radius = 3e-4     # r_c [m], 0 <= r_c <= 0.1 radius, only (and required) with "contensou*"
+//! # contact_pressure = "hertz" # or "uniform", only with "contensou*"
 //! contact = "bilateral"       # or "paper", "unilateral"
 //! restitution = 0.0           # [0, 1], rigid model touchdown only
 //! [adhesion]                  # van der Waals adhesion, off by default (docs/physics.md §18)

@@ -351,6 +351,9 @@ fn contact_radius_and_pressure_are_validated() {
     }
     let ok = "preset = \"classical\"\n[surface]\nfriction_law = \"contensou_pade\"\ncontact_radius = 1e-3\ncontact_pressure = \"uniform\"\n";
     let sc = tippetop::Scenario::from_toml_str(ok).unwrap();
+    // The resolved scenario (scenario.toml of a run) reads back the same.
+    let back = tippetop::Scenario::from_toml_str(&sc.to_toml_string()).unwrap();
+    assert_eq!(back.surface.law, sc.surface.law);
     assert_eq!(
         sc.surface.law,
         tippetop::FrictionLaw::Contensou {
