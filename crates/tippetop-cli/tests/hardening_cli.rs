@@ -545,3 +545,55 @@ fn run_rejects_bad_thermal_input() {
     tippetop().args(&args).assert().success();
     assert!(out.join("trajectory.csv").exists());
 }
+
+/// Coulomb–Contensou friction (#18): a contact radius out of range
+/// (negative, not finite, above 0.1 R), missing, or given to another law,
+/// and an unknown pressure: exit 2, one line naming the key, nothing
+/// written.
+#[test]
+fn run_rejects_a_bad_contact_radius() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let o = out.to_str().unwrap();
+    let law = "surface.friction_law=\"contensou\"";
+    for (sets, key) in [
+        (
+            vec![law, "surface.contact_radius=-1e-4"],
+            "surface.contact_radius",
+        ),
+        (
+            vec![law, "surface.contact_radius=nan"],
+            "surface.contact_radius",
+        ),
+        (
+            vec![law, "surface.contact_radius=inf"],
+            "surface.contact_radius",
+        ),
+        // classical R = 15 mm: 0.1 R = 1.5 mm.
+        (
+            vec![law, "surface.contact_radius=1.6e-3"],
+            "surface.contact_radius",
+        ),
+        (vec![law], "surface.contact_radius"),
+        (
+            vec!["surface.contact_radius=1e-4"],
+            "surface.contact_radius",
+        ),
+        (
+            vec![
+                law,
+                "surface.contact_radius=1e-4",
+                "surface.contact_pressure=\"flat\"",
+            ],
+            "surface.contact_pressure",
+        ),
+    ] {
+        let mut args = vec!["run", "--preset", "classical"];
+        for s in &sets {
+            args.push("--set");
+            args.push(s);
+        }
+        args.extend(["--no-plot", "--out", o]);
+        expect_input_error(&args, Some(&out), key);
+    }
+}

@@ -7,10 +7,10 @@ use tippetop::analysis::stability;
 use tippetop::{Error, Trajectory};
 
 use crate::runs::{
-    self, C_OVER_A, CLASSICAL_EXACT, CLASSICAL_REGULARIZED, CLASSICAL_RK4, NANO_BILATERAL,
-    NANO_BILATERAL_G0, NANO_BILATERAL_G100, NANO_PAPER, NANO_PAPER_G0, NANO_PAPER_G100,
-    NANO_PAPER_RK4, REVERSAL_BILATERAL, REVERSAL_PAPER, REVERSAL_PAPER_RK4, Runs, STEP1, STEP8, at,
-    lying, max_diff, status, us_or_never, window,
+    self, C_OVER_A, CLASSICAL_CONTENSOU, CLASSICAL_EXACT, CLASSICAL_REGULARIZED, CLASSICAL_RK4,
+    NANO_BILATERAL, NANO_BILATERAL_G0, NANO_BILATERAL_G100, NANO_PAPER, NANO_PAPER_G0,
+    NANO_PAPER_G100, NANO_PAPER_RK4, REVERSAL_BILATERAL, REVERSAL_PAPER, REVERSAL_PAPER_RK4, Runs,
+    STEP1, STEP8, at, lying, max_diff, status, us_or_never, window,
 };
 use crate::{Claim, Options, PAPER_C1, PAPER_H, PAPER_T_STAR, PAPER_U1, PAPER_U2, Verdict};
 
@@ -185,7 +185,14 @@ pub fn jellett_zero(runs: &Runs) -> Claim {
         .fold(0.0, f64::max);
     let jscale = cc * wmax * rr;
     let drift = |r: &crate::Run| r.trajectory.summary.jellett_max_rel_drift;
-    let jd = runs.all().iter().map(drift).fold(0.0, f64::max);
+    // The Contensou run is left out: its drilling torque about Z is not a
+    // force at the contact point and changes J (docs/physics.md §25).
+    let jd = runs
+        .all()
+        .iter()
+        .filter(|r| r.name != CLASSICAL_CONTENSOU)
+        .map(drift)
+        .fold(0.0, f64::max);
     let accurate = [
         NANO_BILATERAL,
         NANO_PAPER,
@@ -207,7 +214,7 @@ pub fn jellett_zero(runs: &Runs) -> Claim {
         claim: "Jellett's J = A Ω R sin²θ + C ω (R cos θ − a) is zero throughout the precession.".into(),
         paper_value: "J = 0".into(),
         measured: format!(
-            "J(0) = C ω0 (R cos θ0 − a) = {j0:.4e} kg m³/s = {:.2e} of C max|ω| R; max relative drift over the accurate runs {jd_acc:.1e} (all runs incl. RK4/500: {jd:.1e})",
+            "J(0) = C ω0 (R cos θ0 − a) = {j0:.4e} kg m³/s = {:.2e} of C max|ω| R; max relative drift over the accurate runs {jd_acc:.1e} (all runs incl. RK4/500, the Contensou run excepted: {jd:.1e})",
             j0 / jscale
         ),
         settings: "all runs".into(),
@@ -259,27 +266,31 @@ pub fn classical_stick_time(runs: &Runs) -> Option<f64> {
 pub fn classical_flips(runs: &Runs) -> Claim {
     let ce = &runs.tr(CLASSICAL_EXACT).summary;
     let creg = &runs.tr(CLASSICAL_REGULARIZED).summary;
+    let cc = &runs.tr(CLASSICAL_CONTENSOU).summary;
     Claim {
         id: "classical_flips".into(),
         claim: "The classical tippe top (R = 15 mm, a = 0.1 R, m = 15 g, A = C, μ = 0.1) flips over: θ → π.".into(),
         paper_value: "θ → π (Fig. 7)".into(),
         measured: format!(
-            "exact Coulomb: θ(t_end) = {:.3} rad, rolling from {} s ({:.1}% of the time), never above π/2; regularised ε = 1e-2 m/s: θ(t_end) = {:.3} rad, θ first above π/2 at {} s; sliding Coulomb with RK4/500: {}",
+            "exact Coulomb: θ(t_end) = {:.3} rad, rolling from {} s ({:.1}% of the time), never above π/2; regularised ε = 1e-2 m/s: θ(t_end) = {:.3} rad, θ first above π/2 at {} s; Coulomb–Contensou over a Hertz contact disc of radius 0.3 mm: θ(t_end) = {:.3} rad, θ first above π/2 at {} s; sliding Coulomb with RK4/500: {}",
             ce.theta_final,
             classical_stick_time(runs).map(|t| format!("{t:.4}")).unwrap_or("never".into()),
             100.0 * ce.rolling_fraction,
             creg.theta_final,
             creg.first_time_theta_above_half_pi.map(|t| format!("{t:.3}")).unwrap_or("never".into()),
+            cc.theta_final,
+            cc.first_time_theta_above_half_pi.map(|t| format!("{t:.3}")).unwrap_or("never".into()),
             status(runs.tr(CLASSICAL_RK4))
         ),
         settings: format!(
-            "{}; {}; {}",
+            "{}; {}; {}; {}",
             runs.settings(CLASSICAL_EXACT),
             runs.settings(CLASSICAL_REGULARIZED),
+            runs.settings(CLASSICAL_CONTENSOU),
             runs.settings(CLASSICAL_RK4)
         ),
         verdict: Verdict::from_levels(ce.theta_final > PI - 0.3, creg.theta_final > PI - 0.3),
-        why: "Criterion: reproduced if the top inverts (θ(10 s) > π − 0.3) under exact Coulomb friction; partly if only the regularised law inverts it. Under exact Coulomb friction the top reaches zero slip and rolls; a rolling eccentric sphere conserves energy (Routh's sphere) and cannot rise.".into(),
+        why: "Criterion: reproduced if the top inverts (θ(10 s) > π − 0.3) under exact Coulomb friction; partly if only the regularised law inverts it. Under exact Coulomb friction the top reaches zero slip and rolls; a rolling eccentric sphere conserves energy (Routh's sphere) and cannot rise. With friction over a contact patch (Coulomb–Contensou) the spinning patch cannot hold zero slip (its friction force is proportional to the slip), so the top keeps sliding and inverts: the inversion of a real top needs its contact patch.".into(),
     }
 }
 

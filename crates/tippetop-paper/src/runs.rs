@@ -65,6 +65,9 @@ pub const REVERSAL_PAPER_RK4: &str = "reversal_paper_rk4_500";
 pub const CLASSICAL_EXACT: &str = "classical_exact_coulomb";
 /// Classical top, regularised friction with ε = 1e-2 m/s.
 pub const CLASSICAL_REGULARIZED: &str = "classical_regularized_1e-2";
+/// Classical top, Coulomb–Contensou friction over a Hertz contact disc of
+/// radius 0.3 mm (docs/physics.md §25).
+pub const CLASSICAL_CONTENSOU: &str = "classical_contensou_0.3mm";
 /// Classical top, sliding Coulomb, RK4/500.
 pub const CLASSICAL_RK4: &str = "classical_sliding_rk4_500";
 /// App. D, force off at 8 µs: bilateral, paper contact, RK4/500.
@@ -149,6 +152,15 @@ pub fn specs() -> Vec<RunSpec> {
             &[
                 "surface.friction_law=\"regularized\"",
                 "surface.friction_eps=1e-2",
+            ],
+            false,
+        ),
+        spec(
+            CLASSICAL_CONTENSOU,
+            cl,
+            &[
+                "surface.friction_law=\"contensou\"",
+                "surface.contact_radius=3e-4",
             ],
             false,
         ),

@@ -102,8 +102,13 @@ fn verdicts_follow_the_physics() {
     let v = |id: &str| rep.claims.iter().find(|c| c.id == id).unwrap().verdict;
     assert_ne!(v("classical_flips"), Verdict::Reproduced);
     assert_eq!(v("jellett_zero"), Verdict::Partly);
-    // Every accurate run conserves J.
+    // Every accurate run conserves J, but the Contensou run, whose drilling
+    // torque about Z changes it (docs/physics.md §25: J̇ = M h).
     for r in &rep.runs {
+        if r.name.contains("contensou") {
+            assert!(r.trajectory.summary.jellett_max_rel_drift > 1e-3);
+            continue;
+        }
         if r.trajectory.error.is_none() && !r.name.contains("rk4") {
             assert!(
                 r.trajectory.summary.jellett_max_rel_drift <= 1e-10,

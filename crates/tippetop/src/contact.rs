@@ -10,8 +10,58 @@
 //! | [`FrictionLaw::Regularized`] | `μ v/sqrt(|v|² + ε²)` |
 //! | [`FrictionLaw::Viscous`] | `μ v/ε` (the small-slip limit of the regularised law; unbounded) |
 //! | [`FrictionLaw::Coulomb`] | exact set-valued Coulomb: sliding as above, rolling when the needed friction is within the cone |
+//! | [`FrictionLaw::Contensou`] | Coulomb's law integrated over a contact disc of radius `r_c` (docs/physics.md §25): `μ f(d) v/|v|` with a drilling torque about the normal, `d = |v|/(r_c |n_Z|)`; at `r_c = 0` the exact point law |
 
 use crate::Error;
+use std::f64::consts::PI;
+
+/// Pressure distribution over the contact disc of Coulomb–Contensou
+/// friction (docs/physics.md §25; the law is `physics::contensou`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pressure {
+    /// Hertz: `p ∝ √(1 − ρ²)` (the elastic sphere on a plane; default).
+    Hertz,
+    /// Uniform: `p` constant (a flat rigid face, the Contensou/Farkas disc).
+    Uniform,
+}
+
+impl Pressure {
+    /// Scenario name (`surface.contact_pressure`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Pressure::Hertz => "hertz",
+            Pressure::Uniform => "uniform",
+        }
+    }
+
+    /// The drilling torque at zero slip over `μ N r_c`: `⟨ρ⟩` =
+    /// 2/3 (uniform), 3π/16 (Hertz). It is also the stick bound of the
+    /// torque with no force.
+    pub fn zero_slip_torque(&self) -> f64 {
+        match self {
+            Pressure::Uniform => 2.0 / 3.0,
+            Pressure::Hertz => 3.0 * PI / 16.0,
+        }
+    }
+
+    /// The small-slip slope `f'(0)`: `f ≈ f'(0) d`, `f'(0) = ½ ⟨1/ρ⟩` =
+    /// 1 (uniform), 3π/8 (Hertz).
+    pub fn small_slip_slope(&self) -> f64 {
+        match self {
+            Pressure::Uniform => 1.0,
+            Pressure::Hertz => 3.0 * PI / 8.0,
+        }
+    }
+
+    /// `⟨ρ²⟩` = 1/2 (uniform), 2/5 (Hertz): the large-slip tails are
+    /// `1 − f ≈ ⟨ρ²⟩/(4 d²)` and `m ≈ ⟨ρ²⟩/(2 d)`.
+    pub fn second_moment(&self) -> f64 {
+        match self {
+            Pressure::Uniform => 0.5,
+            Pressure::Hertz => 0.4,
+        }
+    }
+}
 
 /// Friction law at the contact point.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,7 +80,28 @@ pub enum FrictionLaw {
         /// Slip speed ε \[m/s\] at which the force reaches `μ N`.
         eps: f64,
     },
+    /// Coulomb–Contensou friction over a contact disc (docs/physics.md
+    /// §25): the sliding force and the drilling torque about the contact
+    /// normal, coupled. `radius = 0` is the exact point law
+    /// ([`FrictionLaw::Coulomb`]), bit for bit.
+    Contensou {
+        /// Contact radius `r_c` \[m\] (scaled inside the models).
+        radius: f64,
+        /// Pressure distribution over the disc.
+        pressure: Pressure,
+        /// The smooth Padé form instead of the exact integral.
+        pade: bool,
+    },
 }
+
+/// The speed `|v| + r_c |n_Z|` (scaled: units of the initial `R × rate`,
+/// docs/physics.md §8) at which a run under Coulomb–Contensou friction
+/// declares sliding and spinning both stopped (§25).
+pub const CONTENSOU_STICK_SPEED: f64 = 1e-9;
+
+/// Valid range of `surface.contact_radius`, as the error messages state it.
+pub const CONTACT_RADIUS_RANGE: &str =
+    "0 <= contact_radius <= 0.1 * top.radius [m] (a contact patch much smaller than the sphere)";
 
 impl FrictionLaw {
     /// Scenario name of the law.
@@ -40,6 +111,20 @@ impl FrictionLaw {
             FrictionLaw::CoulombSliding => "coulomb_sliding",
             FrictionLaw::Regularized { .. } => "regularized",
             FrictionLaw::Viscous { .. } => "viscous",
+            FrictionLaw::Contensou { pade: false, .. } => "contensou",
+            FrictionLaw::Contensou { pade: true, .. } => "contensou_pade",
+        }
+    }
+
+    /// The contact radius and pressure of a Contensou law.
+    pub fn contensou(&self) -> Option<(f64, Pressure, bool)> {
+        match *self {
+            FrictionLaw::Contensou {
+                radius,
+                pressure,
+                pade,
+            } => Some((radius, pressure, pade)),
+            _ => None,
         }
     }
 
@@ -70,7 +155,7 @@ impl SlidingLaw for FrictionLaw {
     #[inline]
     fn coefficient(&self, mu: f64, v: [f64; 2]) -> [f64; 2] {
         match *self {
-            FrictionLaw::Coulomb | FrictionLaw::CoulombSliding => {
+            FrictionLaw::Coulomb | FrictionLaw::CoulombSliding | FrictionLaw::Contensou { .. } => {
                 // |v| as sqrt(v_x² + v_y²) while the sum of squares is a
                 // normal number (no overflow or underflow: within an ulp of
                 // `hypot`) and μ/|v| cannot overflow (|v| >= 1.4e-154 there);
@@ -184,6 +269,26 @@ impl Surface {
                 format!("{} is not allowed", self.restitution),
                 "0 <= restitution <= 1".into(),
             ));
+        }
+        if let Some((r, _, _)) = self.law.contensou() {
+            if !r.is_finite() || r < 0.0 {
+                return Err(Error::invalid(
+                    "surface.contact_radius",
+                    format!("{r} is not allowed"),
+                    CONTACT_RADIUS_RANGE.into(),
+                ));
+            }
+            if self.contact == ContactMode::Paper {
+                return Err(Error::invalid(
+                    "surface.friction_law",
+                    format!(
+                        "\"{}\" cannot be combined with contact = \"paper\"",
+                        self.law.name()
+                    ),
+                    "use \"coulomb_sliding\", \"regularized\" or \"viscous\" with contact = \"paper\""
+                        .into(),
+                ));
+            }
         }
         if self.law == FrictionLaw::Coulomb && self.contact == ContactMode::Paper {
             return Err(Error::invalid(

@@ -55,6 +55,9 @@ pub enum Failure {
     SwitchLimit,
     /// A numerical method of an analysis did not converge.
     Numerics,
+    /// The motion reached a state the model does not follow yet (the
+    /// Coulomb–Contensou stick, docs/physics.md §25).
+    NotModelled,
 }
 
 impl Failure {
@@ -73,6 +76,7 @@ impl Failure {
             Failure::LiftOff => "lift_off",
             Failure::SwitchLimit => "switch_limit",
             Failure::Numerics => "numerics",
+            Failure::NotModelled => "not_modelled",
         }
     }
 }

@@ -15,8 +15,11 @@
 //! [surface]
 //! gravity = 9.8               # [m/s^2]
 //! friction = 0.1              # mu
-//! friction_law = "coulomb"    # "coulomb", "coulomb_sliding", "regularized", "viscous"
+//! friction_law = "coulomb"    # "coulomb", "coulomb_sliding", "regularized", "viscous",
+//!                             # "contensou", "contensou_pade" (docs/physics.md §25)
 //! # friction_eps = 1e-3       # [m/s], only (and required) with "regularized"/"viscous"
+//! # contact_radius = 3e-4     # r_c [m], 0 <= r_c <= 0.1 radius, only (and required) with "contensou*"
+//! # contact_pressure = "hertz" # or "uniform", only with "contensou*"
 //! contact = "bilateral"       # or "paper", "unilateral"
 //! restitution = 0.0           # [0, 1], rigid model touchdown only
 //! [adhesion]                  # van der Waals adhesion, off by default (docs/physics.md §18)
@@ -238,6 +241,16 @@ impl Scenario {
     pub fn validate(&self) -> Result<(), Error> {
         self.top.validate()?;
         self.surface.validate()?;
+        if let Some((r, _, _)) = self.surface.law.contensou() {
+            // Much smaller than the sphere: the patch is a flat disc on it.
+            if r > 0.1 * self.top.radius {
+                return Err(Error::invalid(
+                    "surface.contact_radius",
+                    format!("{r} is not allowed"),
+                    crate::contact::CONTACT_RADIUS_RANGE.into(),
+                ));
+            }
+        }
         self.adhesion.validate()?;
         self.forcing.validate()?;
         for (j, w) in self.actuators.iter().enumerate() {
@@ -383,6 +396,13 @@ impl Scenario {
         surface.insert("friction_law".into(), Value::String(s.law.name().into()));
         if let Some(eps) = s.law.eps() {
             surface.insert("friction_eps".into(), Value::Float(eps));
+        }
+        if let Some((radius, pressure, _)) = s.law.contensou() {
+            surface.insert("contact_radius".into(), Value::Float(radius));
+            surface.insert(
+                "contact_pressure".into(),
+                Value::String(pressure.name().into()),
+            );
         }
         surface.insert("contact".into(), Value::String(s.contact.name().into()));
         surface.insert("restitution".into(), Value::Float(s.restitution));
@@ -534,7 +554,12 @@ const SURFACE_KEYS: Keys = &[
     ("friction", "a finite number >= 0"),
     (
         "friction_law",
-        "\"coulomb\", \"coulomb_sliding\", \"regularized\" or \"viscous\"",
+        "\"coulomb\", \"coulomb_sliding\", \"regularized\", \"viscous\", \"contensou\" or \"contensou_pade\"",
+    ),
+    ("contact_radius", crate::contact::CONTACT_RADIUS_RANGE),
+    (
+        "contact_pressure",
+        "\"hertz\" (default) or \"uniform\", only with friction_law = \"contensou\" or \"contensou_pade\"",
     ),
     (
         "friction_eps",
@@ -679,6 +704,13 @@ const LAWS: &[(&str, LawName)] = &[
     ("coulomb_sliding", LawName::CoulombSliding),
     ("regularized", LawName::Regularized),
     ("viscous", LawName::Viscous),
+    ("contensou", LawName::Contensou),
+    ("contensou_pade", LawName::ContensouPade),
+];
+
+const PRESSURES: &[(&str, crate::contact::Pressure)] = &[
+    ("hertz", crate::contact::Pressure::Hertz),
+    ("uniform", crate::contact::Pressure::Uniform),
 ];
 
 const CONTACTS: &[(&str, ContactMode)] = &[
@@ -708,6 +740,8 @@ enum LawName {
     CoulombSliding,
     Regularized,
     Viscous,
+    Contensou,
+    ContensouPade,
 }
 
 fn keys_of(table: &str) -> Option<Keys> {
@@ -1183,7 +1217,47 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         }
         0.0
     };
+    let contensou = matches!(law_name, LawName::Contensou | LawName::ContensouPade);
+    let (radius, pressure) = if contensou {
+        let radius = match s.get("contact_radius") {
+            None => {
+                return Err(Error::invalid(
+                    "surface.contact_radius",
+                    "missing".into(),
+                    format!(
+                        "required with friction_law = \"{law_str}\": {}",
+                        crate::contact::CONTACT_RADIUS_RANGE
+                    ),
+                ));
+            }
+            Some(_) => s.f64("contact_radius", None)?,
+        };
+        (
+            radius,
+            s.name(
+                "contact_pressure",
+                PRESSURES,
+                crate::contact::Pressure::Hertz,
+            )?,
+        )
+    } else {
+        for key in ["contact_radius", "contact_pressure"] {
+            if s.get(key).is_some() {
+                return Err(Error::invalid(
+                    &format!("surface.{key}"),
+                    format!("given with friction_law = \"{law_str}\", which does not use it"),
+                    "only with friction_law = \"contensou\" or \"contensou_pade\"".into(),
+                ));
+            }
+        }
+        (0.0, crate::contact::Pressure::Hertz)
+    };
     let law = match law_name {
+        LawName::Contensou | LawName::ContensouPade => FrictionLaw::Contensou {
+            radius,
+            pressure,
+            pade: law_name == LawName::ContensouPade,
+        },
         LawName::Coulomb => FrictionLaw::Coulomb,
         LawName::CoulombSliding => FrictionLaw::CoulombSliding,
         LawName::Regularized => FrictionLaw::Regularized { eps },

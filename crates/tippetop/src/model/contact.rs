@@ -19,6 +19,8 @@ use crate::{ContactMode, FrictionLaw, Scenario, contact::SlidingLaw};
 /// instants).
 pub const CHATTER_REVERSALS: u32 = 1000;
 
+pub use crate::contact::CONTENSOU_STICK_SPEED;
+
 /// The contact state and its rules, written once for every model: the two
 /// that keep the sphere on the plane ([`super::reduced`], [`super::vector`])
 /// hold one, and so does the rigid model ([`super::rigid`]) for its contact
@@ -74,6 +76,11 @@ pub struct ContactState {
     last_slip: Cell<[f64; 2]>,
     /// Right-hand-side evaluations so far (all segments).
     pub evaluations: u64,
+    /// Coulomb–Contensou friction with `r_c > 0` (docs/physics.md §25):
+    /// the contact radius (scaled), the pressure and the Padé flag. `None`
+    /// for every other law, and for `r_c = 0`, which runs as the exact
+    /// point law.
+    contensou: Option<(f64, crate::contact::Pressure, bool)>,
     /// A Langevin run (`solver.method = "langevin"`, μ = 0): the normal
     /// force has one branch (no friction in the closure: nothing to latch)
     /// and θ's maxima are not located between steps (the noise makes θ̇
@@ -93,6 +100,14 @@ impl ContactState {
         } else {
             sc.surface.law.scaled(scales.velocity())
         };
+        // Contensou with r_c = 0 is the exact point law, run as it (bit for
+        // bit); with r_c > 0 a smooth law of (v, n_Z) without a rolling
+        // mode (§25).
+        let (law, contensou) = match law.contensou() {
+            Some((0.0, _, _)) => (FrictionLaw::Coulomb, None),
+            Some((r, p, pade)) => (law, Some((r / scales.length, p, pade))),
+            None => (law, None),
+        };
         let mut forces = Forces::of(sc);
         forces.scale_wells(scales.energy());
         ContactState {
@@ -110,7 +125,52 @@ impl ContactState {
             last_slip: Cell::new([0.0, 0.0]),
             evaluations: 0,
             langevin: sc.solver.method.is_stochastic(),
+            contensou,
         }
+    }
+
+    /// Coulomb–Contensou friction (§25), `None` unless the law is it with
+    /// `r_c > 0`: for the slip `v` and the spin about the contact normal
+    /// `n_z` (scaled), the force coefficient vector `f` (the friction force
+    /// is `−N_f f`, `|f| <= μ`) and the torque coefficient `τ` (the drilling
+    /// torque about the normal is `−N_f τ`, `|τ| <= μ r_c m(0)`):
+    /// `f = μ f(d) v/|v|`, `τ = μ r_c m(d) sign(n_z)`, `d = |v|/(r_c |n_z|)`.
+    /// At `v = 0` and `n_z = 0` both are zero (the stick state, §25).
+    #[inline]
+    pub(crate) fn drilling(&self, v: [f64; 2], nz: f64) -> Option<([f64; 2], f64)> {
+        let (rc, p, pade) = self.contensou?;
+        let mu = self.mu;
+        let speed = v[0].hypot(v[1]);
+        let spin = rc * nz.abs();
+        if speed == 0.0 && spin == 0.0 {
+            return Some(([0.0, 0.0], 0.0));
+        }
+        let d = speed / spin;
+        let (f, m) = if pade {
+            crate::physics::contensou::pade(p, d)
+        } else {
+            crate::physics::contensou::exact(p, d)
+        };
+        let k = if speed > 0.0 { mu * f / speed } else { 0.0 };
+        Some(([k * v[0], k * v[1]], mu * rc * m * nz.signum()))
+    }
+
+    /// The arrival at the Coulomb–Contensou stick (sliding and spinning
+    /// both stopped, §25) as an event function: `|v| + r_c |n_z| − δ`,
+    /// `δ` = [`CONTENSOU_STICK_SPEED`] (scaled). Near the stick the law is
+    /// smooth but stiff (the torque's slope in `n_z` grows like `1/|v|`),
+    /// and `|v| + r_c |n_z|` reaches zero without changing sign, so the
+    /// arrival is located at this small speed instead.
+    pub(crate) fn contensou_stick_gap(&self, v: [f64; 2], nz: f64) -> f64 {
+        match self.contensou {
+            Some((rc, _, _)) => v[0].hypot(v[1]) + rc * nz.abs() - CONTENSOU_STICK_SPEED,
+            None => f64::NAN,
+        }
+    }
+
+    /// True for Coulomb–Contensou friction with `r_c > 0`.
+    pub fn is_contensou(&self) -> bool {
+        self.contensou.is_some()
     }
 
     /// Chatter detection of the sliding-only law, at every accepted step
@@ -288,7 +348,7 @@ impl ContactState {
     pub(crate) fn coefficient_per_component(&self, v: [f64; 2]) -> [f64; 2] {
         let mu = self.mu;
         match self.law {
-            FrictionLaw::Coulomb | FrictionLaw::CoulombSliding => {
+            FrictionLaw::Coulomb | FrictionLaw::CoulombSliding | FrictionLaw::Contensou { .. } => {
                 let n = v[0].hypot(v[1]);
                 if n == 0.0 {
                     return [mu * self.slip_hint[0], mu * self.slip_hint[1]];

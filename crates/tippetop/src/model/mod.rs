@@ -174,6 +174,9 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     }
     /// Horizontal slip velocity at a state (scaled; the model's own frame).
     fn slip_of(&self, y: &[f64; D]) -> [f64; 2];
+    /// The spin about the contact normal, `n_Z` (scaled): the drilling
+    /// rate of Coulomb–Contensou friction (docs/physics.md §25).
+    fn spin_z(&self, y: &[f64; D]) -> f64;
     /// The state with its velocity replaced by the rolling (zero-slip) one.
     fn to_rolling(&self, y: &[f64; D]) -> [f64; D];
     /// Normal force and friction (scaled, the model's frame) at a state in

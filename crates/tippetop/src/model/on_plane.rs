@@ -138,6 +138,19 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
         if self.plane().langevin {
             ev.retain(|(w, _)| *w != Watch::ThetaMax);
         }
+        if self.plane().is_contensou() {
+            ev.push((
+                Watch::ContensouStick,
+                Event {
+                    g: Box::new(|m: &M, _, y| {
+                        m.plane().contensou_stick_gap(m.slip_of(y), m.spin_z(y))
+                    }),
+                    direction: Direction::Falling,
+                    terminal: true,
+                    step_to_event: false,
+                },
+            ));
+        }
         if self.plane().is_exact() {
             match self.plane().mode {
                 Mode::Sliding => ev.push((
@@ -232,6 +245,13 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                     ContactModel::describe_state(self, y)
                 ),
             )),
+            Watch::ContensouStick => {
+                log.push(t, Happened::ContensouStick);
+                Flow::Stop(crate::sim::messages::contensou_stick_error(
+                    t * self.time_unit(),
+                    &ContactModel::describe_state(self, y),
+                ))
+            }
             Watch::SlipZero | Watch::StickLimit => {
                 self.plane_mut().normal_branch = None;
                 match self.plane().mode {

@@ -317,7 +317,13 @@ impl Reduced {
         let v = [ux - h * thd, uy + s * (w - om * c + a * om)];
         // Off the critical path (independent of the friction): 1/(ia s).
         let inv_ias = inv_ia / s;
-        let f = self.plane.coefficient(v);
+        // Coulomb–Contensou (§25): the force coefficient and the drilling
+        // torque's, from the slip and the spin about Z, n_Z = Ω s² + ω c.
+        let nz = om * s * s + w * c;
+        let (f, tau) = match self.plane.drilling(v, nz) {
+            Some((f, tau)) => (f, Some(tau)),
+            None => (self.plane.coefficient(v), None),
+        };
         let cp = self.plane.contact_point();
         let [hx, hy] = cp.h;
         // Gyroscopic term of A θ̈, with the wells' torque τ_y = −U′(θ)
@@ -338,8 +344,17 @@ impl Reduced {
         let fy = ff[1] - hy;
         // The vertical force at P is N − h_z (§17).
         let thdd = (gyro - as_ * cp.vertical_total(normal) - h * fx) * inv_ia;
-        let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
-        let wd = s * fy * inv_ic;
+        let mut omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
+        let mut wd = s * fy * inv_ic;
+        let mut wf = ff[0] * v[0] + ff[1] * v[1];
+        if let Some(tau) = tau {
+            // The drilling torque M Z (M = −N_f τ): A s Ω̇ gains M s, C ω̇
+            // gains M c, θ̈ and the closure none (Z ⟂ ŷ); its power M n_Z.
+            let mz = -nf * tau;
+            omd += mz * inv_ia;
+            wd += mz * c * inv_ic;
+            wf += mz * nz;
+        }
         let [dphi, dpsi, dx, dy_, dcp, dsp] = quadratures(y, c, [ux, uy]);
         let dy = [
             thd,
@@ -348,7 +363,7 @@ impl Reduced {
             wd,
             om * uy + fx,
             -om * ux + fy,
-            ff[0] * v[0] + ff[1] * v[1],
+            wf,
             -hx * v[0] - hy * v[1],
             dphi,
             dpsi,
@@ -537,6 +552,10 @@ impl super::ContactModel<DIM> for Reduced {
     }
     fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
         Reduced::slip_of(self, y)
+    }
+    fn spin_z(&self, y: &[f64; DIM]) -> f64 {
+        let (s, c) = self.sin_cos(y[TH]);
+        y[OM] * s * s + y[W] * c
     }
     fn to_rolling(&self, y: &[f64; DIM]) -> [f64; DIM] {
         let mut yr = *y;

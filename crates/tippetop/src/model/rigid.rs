@@ -559,6 +559,9 @@ impl Rigid {
         let q_free = gv[2] + self.a * (-dot(fh, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
         // The load h_z at P: Q + h_z D₀, D₀ = 1/m + a w_Z (§17).
         let q_free = cp.closure_q(q_free, 1.0 + self.a * w[2]);
+        // Coulomb–Contensou (§25): the drilling torque about Z, M = −N_f τ
+        // (contact, sliding only).
+        let mut drill = None;
         let (normal, ff, rolling_force) = match (self.phase, self.contact.mode) {
             (Phase::Flight, _) => (0.0, [0.0; 3], None),
             (Phase::Contact, Mode::Rolling) => {
@@ -576,9 +579,11 @@ impl Rigid {
             }
             (Phase::Contact, Mode::Sliding) => {
                 // The friction coefficient in the horizontal plane (z = 0).
-                let f2 = self
-                    .contact
-                    .coefficient_per_component([kin.vp[0], kin.vp[1]]);
+                let vp2 = [kin.vp[0], kin.vp[1]];
+                let (f2, tau) = match self.contact.drilling(vp2, n[2]) {
+                    Some((f, t)) => (f, Some(t)),
+                    None => (self.contact.coefficient_per_component(vp2), None),
+                };
                 let f = [f2[0], f2[1], 0.0];
                 let fw = dot(f, w);
                 let dp = 1.0 + self.a * (w[2] - fw);
@@ -590,6 +595,7 @@ impl Rigid {
                     }
                 })?;
                 let nf = self.contact.friction_normal(normal);
+                drill = tau.map(|t| -nf * t);
                 (normal, scale(-nf, f), None)
             }
         };
@@ -604,10 +610,13 @@ impl Rigid {
         // İ n = (C − A)(n·k) k̇ (k̇ = n × k ⟂ n), so
         // ṅ = I⁻¹ (r × F − (C − A)(n·k) k̇).
         let kdot = cross(n, k);
-        let ndot = self.inv_inertia(
-            k,
-            sub(cross(r, force), scale((self.ic - self.ia) * wk, kdot)),
-        );
+        let torque = sub(cross(r, force), scale((self.ic - self.ia) * wk, kdot));
+        let torque = match drill {
+            // The drilling torque M Z; it does not enter the closure (§25).
+            Some(mz) => add(torque, [0.0, 0.0, mz]),
+            None => torque,
+        };
+        let ndot = self.inv_inertia(k, torque);
         set3(
             &mut dy,
             OMEGA,
@@ -630,7 +639,10 @@ impl Rigid {
         set3(&mut dy, AXIS, kdot);
         // Work (none while rolling: the contact point does not move).
         if rolling_force.is_none() {
-            dy[WF] = dot(ff, kin.vp);
+            dy[WF] = match drill {
+                Some(mz) => dot(ff, kin.vp) + mz * n[2],
+                None => dot(ff, kin.vp),
+            };
             dy[WA] = dot(fa, kin.vp);
         }
         if let Some((fb, tb)) = body {
@@ -1120,6 +1132,20 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
             ))
         }
     }
+    if m.phase == Phase::Contact && m.contact.is_contensou() {
+        ev.push((
+            Watch::ContensouStick,
+            Event {
+                g: Box::new(|m, _, y| {
+                    let v = m.slip_of(y);
+                    m.contact.contensou_stick_gap([v[0], v[1]], y[OMEGA + 2])
+                }),
+                direction: Direction::Falling,
+                terminal: true,
+                step_to_event: false,
+            },
+        ));
+    }
     if m.phase == Phase::Contact && m.contact.is_exact() {
         match m.contact.mode {
             // v_P · d falls through zero, d the slip direction at the last
@@ -1469,6 +1495,13 @@ impl Model<DIM> for Rigid {
                     }
                     Phase::Flight => self.touch_down(t, y, log),
                 }
+            }
+            Watch::ContensouStick => {
+                log.push(t, Happened::ContensouStick);
+                Flow::Stop(crate::sim::messages::contensou_stick_error(
+                    t * self.time_unit(),
+                    &describe_state(self, y),
+                ))
             }
             Watch::SlipZero | Watch::StickLimit => {
                 match self.contact.mode {

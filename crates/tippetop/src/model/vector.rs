@@ -535,12 +535,21 @@ impl Vector {
             .plane
             .regularized_eps()
             .map(|eps| (vp[0] * vp[0] + vp[1] * vp[1] + eps * eps).sqrt());
+        // Coulomb–Contensou (§25): the drilling torque's coefficient, from
+        // the slip and the spin about Z, w_Z.
+        let mut tau = None;
         let f = match reg_d {
             Some(d) => {
                 let kf = self.plane.mu() / d;
                 [kf * vp[0], kf * vp[1]]
             }
-            None => self.plane.coefficient(vp),
+            None => match self.plane.drilling(vp, w[2]) {
+                Some((f, t)) => {
+                    tau = Some(t);
+                    f
+                }
+                None => self.plane.coefficient(vp),
+            },
         };
         let hw = self.applied_world(k);
         // Angular acceleration without the contact force (k̇ ⊥ k, so
@@ -577,7 +586,15 @@ impl Vector {
         let ff = [-nf * f[0], -nf * f[1]];
         // The vertical force at P is N − h_z (§17).
         let force = [ff[0] - hw[0], ff[1] - hw[1], cp.vertical_total(normal)];
-        let wd = add(w0, self.inv_inertia(k, cross(r, force)));
+        let mut wd = add(w0, self.inv_inertia(k, cross(r, force)));
+        let mut wf = ff[0] * vp[0] + ff[1] * vp[1];
+        if let Some(tau) = tau {
+            // The drilling torque M Z (M = −N_f τ): I⁻¹ M Z; its power
+            // M w_Z. It does not enter the closure (§25).
+            let mz = -nf * tau;
+            wd = add(wd, self.inv_inertia(k, [0.0, 0.0, mz]));
+            wf += mz * w[2];
+        }
         let qd = quat_rate(w, y);
         let mut dy = [
             kd[0],
@@ -588,7 +605,7 @@ impl Vector {
             wd[2],
             force[0],
             force[1],
-            ff[0] * vp[0] + ff[1] * vp[1],
+            wf,
             -hw[0] * vp[0] - hw[1] * vp[1],
             qd[0],
             qd[1],
@@ -889,6 +906,9 @@ impl super::ContactModel<DIM> for Vector {
     }
     fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
         Vector::slip_of(self, y)
+    }
+    fn spin_z(&self, y: &[f64; DIM]) -> f64 {
+        y[OMEGA + 2]
     }
     fn to_rolling(&self, y: &[f64; DIM]) -> [f64; DIM] {
         let mut yr = *y;

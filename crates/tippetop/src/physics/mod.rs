@@ -3,5 +3,6 @@
 //! van der Waals adhesion of a fullerene on graphene or graphite.
 
 pub mod adhesion;
+pub mod contensou;
 pub mod forces;
 pub mod units;

@@ -28,6 +28,9 @@ pub enum Watch {
     /// The stick margin μ|N| − |F| falls through 0 (exact Coulomb law,
     /// rolling): the contact starts to slip.
     StickLimit,
+    /// Sliding and spinning both stop (Coulomb–Contensou friction, §25):
+    /// the run ends there (the stick phase is not modelled).
+    ContensouStick,
 }
 
 /// Something a run records in its event list (`Trajectory::events`).
@@ -51,6 +54,8 @@ pub enum Happened {
     Touchdown,
     /// The event list reached its cap; later events are not listed.
     EventLimitReached,
+    /// Sliding and spinning both stopped (Coulomb–Contensou friction).
+    ContensouStick,
 }
 
 impl Happened {
@@ -66,12 +71,13 @@ impl Happened {
             Happened::LiftOff => "lift_off",
             Happened::Touchdown => "touchdown",
             Happened::EventLimitReached => "event_limit_reached",
+            Happened::ContensouStick => "contensou_stick",
         }
     }
 
     /// Every kind, for documentation and tests.
     #[cfg_attr(not(test), allow(dead_code))]
-    pub const ALL: [Happened; 9] = [
+    pub const ALL: [Happened; 10] = [
         Happened::ForceSwitch,
         Happened::Stick,
         Happened::Slip,
@@ -81,6 +87,7 @@ impl Happened {
         Happened::LiftOff,
         Happened::Touchdown,
         Happened::EventLimitReached,
+        Happened::ContensouStick,
     ];
 }
 

@@ -31,6 +31,7 @@
 mod actuators;
 mod adhesion;
 mod closed_forms;
+mod contensou;
 mod convergence;
 mod crosscheck;
 mod forces;
