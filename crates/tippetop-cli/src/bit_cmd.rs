@@ -54,15 +54,40 @@ at least 10 rows per hold). --set reaches bit.KEY, write.K.KEY and erase.K.KEY. 
 (solver.method = \"langevin\" or \"brownian\") --runs N runs (default 100), run K with
 thermal.run = r0 + K, independent of --threads. A run that fails part-way is a result (its
 phases from the failure on are run_failed or lifted_off; exit code 0). Bad input exits with
-code 2 and writes nothing.";
+code 2 and writes nothing.
+
+Design maps: --vary KEY=FROM:TO:N[:log] (repeatable, the grammar of tippetop sweep; any key
+--set reaches: write.0.hy, write.0.stop, erase.1.hx, bit.hold, thermal.temperature, ...) runs
+the bit at every point of the grid and writes into --out:
+  bitmap.csv   one row per point in grid order (first --vary slowest): the varied keys; for
+               each of write, erase, erase_given_write, cycle: BLOCK_runs, _successes,
+               _probability, _ci_lo, _ci_hi, _time_median, _time_q25, _time_q75 [s],
+               _energy_median [J], _max_applied_force [N], _never_entered, _left, _too_late,
+               _run_failed, _lifted_off; then runs, deterministic, pull_off_margin_min [N],
+               status (ok, or why the point's scenario is invalid: empty figures)
+  shard.json   what the CSV covers, for tippetop merge
+  bitmap.png, bitmap.svg   one --vary: write probability (with its 95 % interval) and median
+               write time against the key
+  write_probability.png/.svg, write_time.png/.svg   two or more --vary: heat maps over the
+               first two keys (the others at their first value; at most 250 values per axis)
+Each row is the single `tippetop bit --set KEY=VALUE ...` run of its point. At T > 0 a point is
+--runs N runs (default 100; a point at T = 0 runs once), run K with thermal.run = r0 + K at
+every point (common random numbers). The points run in parallel (--threads), the rows stream
+into bitmap.csv.partial in grid order (memory flat in the number of points); the bytes do not
+depend on --threads. --shard K/N runs the K-th of N blocks of points (join them with tippetop
+merge: the bytes of an unsharded run); --resume continues an interrupted map. Keep
+solver.samples at 1 + 10 x 2 phase / hold, the least the hold check takes: the rows also cap
+the step size. A key no point accepts, or a bad range: one line naming it, exit code 2.";
 
 /// `tippetop bit`.
 #[derive(Debug, Args)]
 #[command(
     group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
     after_help = "Examples:\n  \
-                  tippetop bit scenarios/bit_nano.toml --out out/bit\n  \
-                  tippetop bit scenarios/bit_nano.toml --set write.0.hy=2e-22 --out out/bit2"
+                  tippetop bit scenarios/bit/nano.toml --out out/bit\n  \
+                  tippetop bit scenarios/bit/nano.toml --set write.0.hy=2e-22 --out out/bit2\n  \
+                  tippetop bit scenarios/bit/nano.toml --vary write.0.hy=0:1e-21:50 \\\n      \
+                  --vary write.0.stop=1e-5:1e-4:50 --out out/bitmap"
 )]
 pub struct BitArgs {
     /// Scenario file (TOML) with [bit], [[write]] and [[erase]].
@@ -78,7 +103,8 @@ pub struct BitArgs {
     #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
     pub sets: Vec<String>,
 
-    /// Number of runs at T > 0 (default 100); at T = 0 only 1.
+    /// Number of runs at T > 0 (default 100; with --vary, per grid point); at
+    /// T = 0 only 1.
     #[arg(long, value_name = "N")]
     pub runs: Option<usize>,
 
@@ -89,6 +115,23 @@ pub struct BitArgs {
     /// Number of threads, 1 to 1024 (default: one per core).
     #[arg(long, value_name = "T")]
     pub threads: Option<usize>,
+
+    /// A design map: vary one key (as in --set: a scenario key, bit.KEY,
+    /// write.K.KEY, erase.K.KEY) over N values from FROM to TO, both
+    /// included (`:log` for geometric spacing). Repeatable: the points form
+    /// a grid, the first --vary varying slowest; writes bitmap.csv.
+    #[arg(long = "vary", value_name = "KEY=FROM:TO:N[:log]")]
+    pub vary: Vec<String>,
+
+    /// With --vary: run only the K-th of N contiguous blocks of grid
+    /// points; join the outputs with `tippetop merge`.
+    #[arg(long, value_name = "K/N", requires = "vary")]
+    pub shard: Option<String>,
+
+    /// With --vary: continue an interrupted map (same scenario, --set,
+    /// --vary, --runs, --shard) from DIR/bitmap.csv.partial.
+    #[arg(long, requires = "vary")]
+    pub resume: bool,
 }
 
 use crate::scenario_load::input_error;
@@ -96,6 +139,9 @@ use crate::scenario_load::input_error;
 /// Run `tippetop bit`. Bad input: one line on stderr and exit code 2
 /// (returned as `Ok`), nothing written; `Err` for I/O failures.
 pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
+    if !args.vary.is_empty() {
+        return crate::bitmap_cmd::run(args, quiet);
+    }
     let toml_text = match crate::scenario_load::read_text(args.scenario.as_deref()) {
         Ok(t) => t,
         Err(code) => return Ok(code),
@@ -109,7 +155,7 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         Err(e) => return Ok(input_error(e)),
     };
     let sc = &bs.scenario;
-    let stochastic = sc.solver.method.is_stochastic() && sc.thermal.is_hot();
+    let stochastic = bit::is_stochastic(&bs);
     let runs = match (stochastic, args.runs) {
         (false, None | Some(1)) => 1,
         (false, Some(n)) => {

@@ -411,8 +411,42 @@ pub fn cycle(r: &RunResult, phase: f64) -> PhaseResult {
 /// The statistics over `results` (in any order) of the bit scenario `bs`;
 /// `deterministic`: a single run at T = 0.
 pub fn report(bs: &BitScenario, results: &[RunResult], deterministic: bool) -> Report {
-    let fw = max_applied_force(&bs.write);
-    let fe = max_applied_force(&bs.erase);
+    report_of(&Protocol::of(bs), results, deterministic)
+}
+
+/// What [`report`] needs of a bit scenario besides the runs: the largest
+/// total applied forces \[N\] and the phase \[s\] (small and `Copy`, so a
+/// map's job hands it on without the scenario).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Protocol {
+    /// [`max_applied_force`] of the write windows \[N\].
+    pub write_force: f64,
+    /// [`max_applied_force`] of the erase windows \[N\].
+    pub erase_force: f64,
+    /// `bit.phase` \[s\].
+    pub phase: f64,
+}
+
+impl Protocol {
+    /// The protocol figures of `bs`.
+    pub fn of(bs: &BitScenario) -> Protocol {
+        Protocol {
+            write_force: max_applied_force(&bs.write),
+            erase_force: max_applied_force(&bs.erase),
+            phase: bs.bit.phase,
+        }
+    }
+}
+
+/// Whether `bs` is an ensemble: a stochastic method at T > 0 (else one
+/// deterministic run).
+pub fn is_stochastic(bs: &BitScenario) -> bool {
+    bs.scenario.solver.method.is_stochastic() && bs.scenario.thermal.is_hot()
+}
+
+/// [`report`] from the protocol figures ([`Protocol::of`]).
+pub fn report_of(p: &Protocol, results: &[RunResult], deterministic: bool) -> Report {
+    let (fw, fe) = (p.write_force, p.erase_force);
     let write: Vec<PhaseResult> = results.iter().map(|r| r.write).collect();
     let erase: Vec<PhaseResult> = results.iter().map(|r| r.erase).collect();
     let given: Vec<PhaseResult> = results
@@ -420,7 +454,7 @@ pub fn report(bs: &BitScenario, results: &[RunResult], deterministic: bool) -> R
         .filter(|r| r.write.success())
         .map(|r| r.erase)
         .collect();
-    let cycles: Vec<PhaseResult> = results.iter().map(|r| cycle(r, bs.bit.phase)).collect();
+    let cycles: Vec<PhaseResult> = results.iter().map(|r| cycle(r, p.phase)).collect();
     Report {
         runs: results.len(),
         deterministic,

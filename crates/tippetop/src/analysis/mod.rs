@@ -4,6 +4,7 @@
 
 pub mod asymptotics;
 pub mod bit;
+pub mod bitmap;
 pub mod ensemble;
 pub mod friction;
 pub mod regime;
