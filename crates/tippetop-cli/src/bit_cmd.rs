@@ -6,13 +6,13 @@
 //! ordered parallel runner ([`sweep::run_ordered`]).
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::{ArgGroup, Args};
 use tippetop::analysis::bit::{self, Block, Mode, Report, RunResult};
-use tippetop::analysis::sweep;
+use tippetop::analysis::sweep::{self, Shard, ShardInfo, Sweep};
 use tippetop::scenario::bit::BitScenario;
 use tippetop::thermal::MAX_RUNS;
 
@@ -52,7 +52,10 @@ replaced by the protocols), the initial theta must lie in zero. A phase succeeds
 its target window at every output row of its last hold seconds (resolution: the sample spacing;
 at least 10 rows per hold). --set reaches bit.KEY, write.K.KEY and erase.K.KEY. At T > 0
 (solver.method = \"langevin\" or \"brownian\") --runs N runs (default 100), run K with
-thermal.run = r0 + K, independent of --threads. A run that fails part-way is a result (its
+thermal.run = r0 + K, independent of --threads; --shard K/M runs only the K-th of M blocks of
+the runs and writes runs.csv (those runs), shard.json and bit.toml: tippetop merge of the
+shards' directories writes the outputs of the unsharded run, byte for byte (--shard at T = 0
+is bad input: one run). A run that fails part-way is a result (its
 phases from the failure on are run_failed or lifted_off; exit code 0). Bad input exits with
 code 2 and writes nothing.
 
@@ -123,9 +126,10 @@ pub struct BitArgs {
     #[arg(long = "vary", value_name = "KEY=FROM:TO:N[:log]")]
     pub vary: Vec<String>,
 
-    /// With --vary: run only the K-th of N contiguous blocks of grid
-    /// points; join the outputs with `tippetop merge`.
-    #[arg(long, value_name = "K/N", requires = "vary")]
+    /// Run only the K-th of N contiguous blocks of the grid points (with
+    /// --vary) or of the runs (an ensemble at T > 0); join the outputs
+    /// with `tippetop merge`.
+    #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
 
     /// With --vary: continue an interrupted map (same scenario, --set,
@@ -178,15 +182,33 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         }
     };
 
+    let shard = match args.shard.as_deref().map(Shard::parse).transpose() {
+        Ok(s) => s,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let range = match shard {
+        None => 0..runs,
+        Some(_) if !stochastic => {
+            return Ok(input_error(
+                "--shard: a bit at T = 0 is one run (--shard K/N splits the runs of an \
+                 ensemble at T > 0, or with --vary the points of a map)",
+            ));
+        }
+        Some(sh) => match sweep::shard_range(runs, sh) {
+            Ok(r) => r,
+            Err(e) => return Ok(input_error(e)),
+        },
+    };
+
     let out = OutDir::open(&args.out)?;
-    let mut results: Vec<RunResult> = Vec::with_capacity(runs);
+    let mut results: Vec<RunResult> = Vec::with_capacity(range.len());
     // The deterministic run is kept for the figure; an ensemble's typical
     // run is run again.
     let mut kept: Option<tippetop::Trajectory> = None;
     if stochastic {
-        let pb = crate::progress::bar(quiet, runs as u64, "bit");
+        let pb = crate::progress::bar(quiet, range.len() as u64, "bit");
         let done = sweep::run_ordered(
-            0..runs,
+            range.clone(),
             Some(threads),
             &|k| bit::run_one(&bs, k as u64),
             &mut |r| {
@@ -216,20 +238,50 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
             }
         }
     }
-    let report = bit::report(&bs, &results, !stochastic);
+    if let Some(sh) = shard {
+        let fingerprint = ensemble_grid(args, toml_text)
+            .fingerprint_of("tippetop bit 1", &[("runs", runs.to_string())]);
+        return write_shard(
+            out,
+            args,
+            &bs,
+            (sh, fingerprint),
+            runs,
+            range,
+            &results,
+            quiet,
+        );
+    }
+    write_bit(out, &args.out, &bs, &results, !stochastic, kept, quiet)
+}
+
+/// Write the outputs of a whole bit (`results` of every run, in run
+/// order; `kept`: the deterministic run's trajectory, for the figure)
+/// into `out` and commit it.
+fn write_bit(
+    out: OutDir,
+    dir: &Path,
+    bs: &BitScenario,
+    results: &[RunResult],
+    deterministic: bool,
+    kept: Option<tippetop::Trajectory>,
+    quiet: bool,
+) -> Result<ExitCode> {
+    let bs = bs.clone();
+    let report = bit::report(&bs, results, deterministic);
 
     let stage = out.stage().to_path_buf();
     let json = bit_json(&bs, &report);
     let mut text = serde_json::to_string_pretty(&json)?;
     text.push('\n');
     write_bytes_atomic(&stage.join("bit.json"), text.as_bytes())?;
-    write_bytes_atomic(&stage.join("runs.csv"), runs_csv(&results).as_bytes())?;
+    write_bytes_atomic(&stage.join("runs.csv"), runs_csv(results).as_bytes())?;
     write_bytes_atomic(&stage.join("bit.toml"), bs.to_toml_string().as_bytes())?;
     write_bytes_atomic(
         &stage.join("scenario.toml"),
         bs.scenario.to_toml_string().as_bytes(),
     )?;
-    let typical = typical_run(&results);
+    let typical = typical_run(results);
     let traj = match kept {
         Some(t) => Ok(t),
         None => tippetop::simulate(&bs.run_scenario(typical as u64)),
@@ -260,9 +312,129 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         ] {
             println!("{name}: {}", one_line(b));
         }
-        println!("wrote {}", args.out.display());
+        println!("wrote {}", dir.display());
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The CSV a bit ensemble's shard writes (one row per run of the shard).
+const RUNS_CSV: &str = "runs.csv";
+
+/// What defines a bit ensemble's output, for its shards: the scenario
+/// (preset, file, `--set`s) and the number of runs.
+fn ensemble_grid(args: &BitArgs, toml_text: Option<String>) -> Sweep {
+    Sweep {
+        preset: args.preset.clone(),
+        toml_text,
+        sets: args.sets.clone(),
+        axes: Vec::new(),
+    }
+}
+
+/// A shard of a bit ensemble: `runs.csv` of its runs, `shard.json`
+/// (`total_cases` = the runs of the whole ensemble; the fingerprint of
+/// [`ensemble_grid`] and the runs), `bit.toml`.
+#[allow(clippy::too_many_arguments)]
+fn write_shard(
+    out: OutDir,
+    args: &BitArgs,
+    bs: &BitScenario,
+    (shard, fingerprint): (Shard, String),
+    runs: usize,
+    range: std::ops::Range<usize>,
+    results: &[RunResult],
+    quiet: bool,
+) -> Result<ExitCode> {
+    let info = ShardInfo {
+        fingerprint,
+        k: shard.k,
+        n: shard.n,
+        total_cases: runs,
+        first_index: range.start,
+        end_index: range.end,
+        axes: Vec::new(),
+    };
+    let stage = out.stage().to_path_buf();
+    let mut json = serde_json::to_string_pretty(&info)?;
+    json.push('\n');
+    write_bytes_atomic(&stage.join(RUNS_CSV), runs_csv(results).as_bytes())?;
+    write_bytes_atomic(&stage.join("bit.toml"), bs.to_toml_string().as_bytes())?;
+    write_bytes_atomic(&stage.join("shard.json"), json.as_bytes())?;
+    out.commit(&["shard.json"])?;
+    if !quiet {
+        println!(
+            "shard {}/{}: runs {}..{} of {} -> {}",
+            shard.k,
+            shard.n,
+            range.start,
+            range.end,
+            runs,
+            args.out.join(RUNS_CSV).display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Whether `dir` holds a shard of a bit ensemble (`runs.csv` beside
+/// `shard.json`), for `tippetop merge`.
+pub fn is_bit_shard_dir(dir: &Path) -> bool {
+    dir.join(RUNS_CSV).is_file() && dir.join("shard.json").is_file()
+}
+
+/// `tippetop merge` of the shards of one bit ensemble: the outputs of an
+/// unsharded run (bit.json, bit.md, runs.csv, bit.toml, scenario.toml, the
+/// figure), byte for byte.
+pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode> {
+    let mut shards: Vec<(ShardInfo, String)> = Vec::new();
+    let mut tomls: Vec<String> = Vec::new();
+    let what = "a directory written by tippetop bit --shard, with shard.json, runs.csv, bit.toml";
+    for dir in &args.dirs {
+        let _reading = crate::output::read_lock(dir)?;
+        let read = |name: &str| {
+            let path = dir.join(name);
+            std::fs::read_to_string(&path)
+                .map_err(|e| format!("{}: cannot read it: {e} ({what})", path.display()))
+        };
+        let got = (|| {
+            let info: ShardInfo = serde_json::from_str(&read("shard.json")?)
+                .map_err(|e| format!("{}: {e} ({what})", dir.join("shard.json").display()))?;
+            Ok::<_, String>((info, read(RUNS_CSV)?, read("bit.toml")?))
+        })();
+        match got {
+            Ok((info, csv, toml)) => {
+                shards.push((info, csv));
+                tomls.push(toml);
+            }
+            Err(msg) => return Ok(input_error(msg)),
+        }
+    }
+    if let Some(i) = tomls.iter().position(|t| *t != tomls[0]) {
+        return Ok(input_error(format!(
+            "merge: {} has another bit.toml than {} (all shards from one bit ensemble)",
+            args.dirs[i].display(),
+            args.dirs[0].display()
+        )));
+    }
+    let bs = match BitScenario::load(None, Some(&tomls[0]), &[]) {
+        Ok(b) => b,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let r0 = bs.scenario.thermal.run;
+    let header = format!("{}\n", bit::CSV_HEADER);
+    let csv = match sweep::merge_rows(&shards, &header, RUNS_CSV, "bit", &|_, index, line| {
+        line.starts_with(&format!("{},", r0 + index as u64))
+    }) {
+        Ok(c) => c,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let results: Option<Vec<RunResult>> = csv.lines().skip(1).map(bit::parse_csv_row).collect();
+    let Some(results) = results else {
+        return Ok(input_error(format!(
+            "merge: a line of {RUNS_CSV} is not a run's row ({what})"
+        )));
+    };
+    let out = OutDir::open(&args.out)?;
+    write_bit(out, &args.out, &bs, &results, false, None, quiet)
 }
 
 fn opt(v: Option<f64>) -> String {

@@ -157,7 +157,10 @@ pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of
                   ensemble (tippetop ensemble --shard K/N; told apart by their shard.json) \
                   merge the same way: ensemble.csv rows joined in run order, histograms.csv \
                   counts added, quantiles.csv, summary.json and the fan chart recomputed: \
-                  the bytes of a one-shot run.";
+                  the bytes of a one-shot run. So do the shards of a bit design map \
+                  (tippetop bit --vary ... --shard K/N: bitmap.csv joined, plots redrawn) and \
+                  of a bit ensemble (tippetop bit --runs N --shard K/M: runs.csv joined, \
+                  bit.json, bit.md and the figure recomputed).";
 
 /// `tippetop merge`.
 #[derive(Debug, Args)]
@@ -475,6 +478,13 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
         .is_some_and(|d| crate::bitmap_cmd::is_bitmap_dir(d))
     {
         return crate::bitmap_cmd::merge(args, quiet);
+    }
+    if args
+        .dirs
+        .first()
+        .is_some_and(|d| crate::bit_cmd::is_bit_shard_dir(d))
+    {
+        return crate::bit_cmd::merge(args, quiet);
     }
     let mut shards: Vec<(ShardInfo, String)> = Vec::new();
     for dir in &args.dirs {

@@ -342,17 +342,87 @@ fn bad_vary_names_the_key() {
         assert!(err.starts_with(&format!("error: {key}")), "{vary}: {err}");
         assert!(!out.exists(), "{vary}: wrote {}", out.display());
     }
-    // --shard and --resume belong to a map.
-    for extra in [&["--shard", "1/2"][..], &["--resume"][..]] {
-        let o = bin()
-            .arg("bit")
-            .arg(d.join("nano20.toml"))
-            .args(extra)
-            .arg("--out")
-            .arg(d.join("out"))
-            .output()
-            .unwrap();
-        assert_eq!(o.status.code(), Some(2), "{extra:?}");
-        assert!(!d.join("out").exists());
+    // --resume belongs to a map.
+    let o = bin()
+        .arg("bit")
+        .arg(d.join("nano20.toml"))
+        .arg("--resume")
+        .arg("--out")
+        .arg(d.join("out"))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!d.join("out").exists());
+}
+
+/// A single bit ensemble at T > 0 cut into shards of its runs (`--runs N
+/// --shard K/M`): `tippetop merge` of the shards (any order) writes the
+/// bytes of the unsharded run (bit.json, bit.md, runs.csv, bit.toml,
+/// scenario.toml, the figure). Shards of another ensemble (other --runs)
+/// do not merge; --shard of a bit at T = 0 is bad input.
+#[test]
+fn bit_ensemble_shards_merge_to_the_unsharded_bytes() {
+    let d = scratch("eshards");
+    std::fs::write(d.join("hot.toml"), HOT).unwrap();
+    ok(&bit(&d, "hot.toml", "all", &["--runs", "10"]));
+    for k in 1..=3 {
+        let sh = format!("{k}/3");
+        ok(&bit(
+            &d,
+            "hot.toml",
+            &format!("s{k}"),
+            &["--runs", "10", "--shard", &sh],
+        ));
     }
+    assert_eq!(
+        std::fs::read_to_string(d.join("s2/runs.csv"))
+            .unwrap()
+            .lines()
+            .count(),
+        4
+    );
+    let merge = |dirs: &[&str], out: &str| {
+        bin()
+            .arg("merge")
+            .args(dirs.iter().map(|s| d.join(s)))
+            .arg("--quiet")
+            .arg("--out")
+            .arg(d.join(out))
+            .output()
+            .unwrap()
+    };
+    ok(&merge(&["s3", "s1", "s2"], "merged"));
+    for f in [
+        "bit.json",
+        "bit.md",
+        "runs.csv",
+        "bit.toml",
+        "scenario.toml",
+        "theta.svg",
+    ] {
+        assert_eq!(
+            std::fs::read(d.join("all").join(f)).unwrap(),
+            std::fs::read(d.join("merged").join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    // A gap, and a shard of another ensemble: exit 2, nothing written.
+    let o = merge(&["s1", "s3"], "gap");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("missing"));
+    ok(&bit(
+        &d,
+        "hot.toml",
+        "other",
+        &["--runs", "9", "--shard", "2/3"],
+    ));
+    let o = merge(&["s1", "other", "s3"], "mixed");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!d.join("mixed").exists() && !d.join("gap").exists());
+    // At T = 0 a bit is one run.
+    std::fs::write(d.join("nano20.toml"), NANO20).unwrap();
+    let o = bit(&d, "nano20.toml", "cold", &["--shard", "1/2"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).starts_with("error: --shard"));
+    assert!(!d.join("cold").exists());
 }

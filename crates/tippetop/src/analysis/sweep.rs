@@ -992,6 +992,56 @@ pub fn merge_of(
     file: &str,
     command: &str,
 ) -> Result<String, Error> {
+    let Some((first, _)) = shards.first() else {
+        return Err(Error::invalid(
+            "merge",
+            "no shards given".into(),
+            "one or more shard outputs".into(),
+        ));
+    };
+    let sweep = Sweep {
+        preset: None,
+        toml_text: None,
+        sets: Vec::new(),
+        axes: first.axes.clone(),
+    };
+    let total = sweep.total();
+    if let Some((info, _)) = shards.iter().find(|(i, _)| i.total_cases != total) {
+        return Err(Error::invalid(
+            "merge",
+            format!(
+                "shard {}/{} (cases {}..{}) does not fit a {command} of {total} cases",
+                info.k, info.n, info.first_index, info.end_index
+            ),
+            format!("shard.json as written by tippetop {command}"),
+        ));
+    }
+    merge_rows(shards, header, file, command, &|_, index, line| {
+        split_line(line, ncols).is_some_and(|(head, _)| {
+            let case = sweep.case(index);
+            case.values
+                .iter()
+                .zip(&head)
+                .all(|(v, f)| fmt_f64(*v) == *f)
+        })
+    })
+}
+
+/// Join the CSV texts of shards (each after its [`ShardInfo`], in any
+/// order) whose lines are the items `first_index..end_index` of
+/// `total_cases`, one line each after `header`: checks that the shards
+/// belong together (fingerprint, total, axes), that each text has the
+/// header, its number of lines, and lines that `row_ok(info, index, line)`
+/// accepts as item `index`, and that the shards tile `0..total_cases`.
+/// `file` and `command` name the CSV and the command that wrote it in the
+/// messages ([`Error::Invalid`] with key `merge`).
+pub fn merge_rows(
+    shards: &[(ShardInfo, String)],
+    header: &str,
+    file: &str,
+    command: &str,
+    row_ok: &dyn Fn(&ShardInfo, usize, &str) -> bool,
+) -> Result<String, Error> {
     let err = |what: String, range: &str| Error::invalid("merge", what, range.into());
     let Some((first, _)) = shards.first() else {
         return Err(err("no shards given".into(), "one or more shard outputs"));
@@ -1001,12 +1051,6 @@ pub fn merge_of(
     let same = same.as_str();
     let written = format!("{file} as written by tippetop {command}");
     let written = written.as_str();
-    let sweep = Sweep {
-        preset: None,
-        toml_text: None,
-        sets: Vec::new(),
-        axes: first.axes.clone(),
-    };
     let header = header.to_string();
     for (info, text) in shards {
         let name = format!(
@@ -1025,10 +1069,7 @@ pub fn merge_of(
                 same,
             ));
         }
-        if sweep.total() != info.total_cases
-            || info.first_index > info.end_index
-            || info.end_index > info.total_cases
-        {
+        if info.first_index > info.end_index || info.end_index > info.total_cases {
             return Err(err(
                 format!(
                     "{name} does not fit a {command} of {} cases",
@@ -1053,14 +1094,7 @@ pub fn merge_of(
         }
         for (j, line) in lines.iter().enumerate() {
             let index = info.first_index + j;
-            let ok = split_line(line, ncols).is_some_and(|(head, _)| {
-                let case = sweep.case(index);
-                case.values
-                    .iter()
-                    .zip(&head)
-                    .all(|(v, f)| fmt_f64(*v) == *f)
-            });
-            if !ok {
+            if !row_ok(info, index, line) {
                 return Err(err(
                     format!("{name}: row {} of {file} is not case {index}", j + 1),
                     written,
