@@ -10,12 +10,12 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use tippetop::analysis::bitmap::{self, BitMap};
-use tippetop::analysis::sweep::{self, Axis, Shard, ShardInfo, Sweep};
+use tippetop::analysis::sweep::{Axis, Shard, ShardInfo, Sweep};
 
 use crate::bit_cmd::BitArgs;
 use crate::output::{OutDir, write_bytes_atomic};
 use crate::scenario_load::input_error;
-use crate::sweep_cmd::{MergeArgs, Streamed, stream_rows};
+use crate::sweep_cmd::{GridInput, MergeArgs, Streamed, read_shard_of, stream_rows};
 
 /// The CSV a map streams its rows into while it runs.
 pub const PARTIAL_CSV: &str = "bitmap.csv.partial";
@@ -30,26 +30,19 @@ pub const MAX_PLOT_SIDE: usize = 250;
 /// Run a map (`args.vary` not empty). Bad input: one line on stderr and
 /// exit code 2 (returned as `Ok`), nothing written; `Err` for I/O failures.
 pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
-    let toml_text = match crate::scenario_load::read_text(args.scenario.as_deref()) {
-        Ok(t) => t,
+    let GridInput {
+        toml_text,
+        axes,
+        shard,
+        threads,
+    } = match GridInput::parse(
+        args.scenario.as_deref(),
+        &args.vary,
+        args.shard.as_deref(),
+        args.threads,
+    ) {
+        Ok(g) => g,
         Err(code) => return Ok(code),
-    };
-    let axes = match args
-        .vary
-        .iter()
-        .map(|s| Axis::parse(s))
-        .collect::<Result<Vec<_>, _>>()
-    {
-        Ok(a) => a,
-        Err(e) => return Ok(input_error(e)),
-    };
-    let shard = match args.shard.as_deref().map(Shard::parse).transpose() {
-        Ok(s) => s.unwrap_or(Shard::ALL),
-        Err(e) => return Ok(input_error(e)),
-    };
-    let threads = match sweep::threads(args.threads) {
-        Ok(t) => t,
-        Err(e) => return Ok(input_error(e)),
     };
     let map = BitMap {
         grid: Sweep {
@@ -178,19 +171,11 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
 }
 
 fn read_shard(dir: &Path) -> std::result::Result<(ShardInfo, String), String> {
-    let what = "a directory written by tippetop bit --vary, with shard.json and bitmap.csv";
-    let read = |name: &str| {
-        let path = dir.join(name);
-        std::fs::read_to_string(&path)
-            .map_err(|e| format!("{}: cannot read it: {e} ({what})", path.display()))
-    };
-    let info: ShardInfo = serde_json::from_str(&read("shard.json")?).map_err(|e| {
-        format!(
-            "{}: not a shard description: {e} ({what})",
-            dir.join("shard.json").display()
-        )
-    })?;
-    Ok((info, read(bitmap::CSV_NAME)?))
+    read_shard_of(
+        dir,
+        bitmap::CSV_NAME,
+        "a directory written by tippetop bit --vary, with shard.json and bitmap.csv",
+    )
 }
 
 /// The columns the plots need, read from `bitmap.csv` line by line.
@@ -278,17 +263,18 @@ fn write_plots(dir: &Path, csv: &Path, axes: &[Axis]) -> Result<()> {
     use crate::plot::{HeatmapOpts, Panel, PlotOpts, Series, heatmap, multi_panel};
     let d = plot_data(csv, axes)?;
     let value = |a: usize, i: usize| axes[a].value(d.picks[a][i]);
+    let stride = |a: usize| d.picks[a].get(1).copied().unwrap_or(1);
     let every = |a: usize| {
-        let s = d.picks[a].get(1).copied().unwrap_or(1);
-        if s > 1 {
-            format!(", one value in {s} of {}", axes[a].key)
+        if stride(a) > 1 {
+            format!(", 1 in {} values of {}", stride(a), axes[a].key)
         } else {
             String::new()
         }
     };
     let others = if axes.len() > 2 {
         let keys: Vec<&str> = axes[2..].iter().map(|a| a.key.as_str()).collect();
-        format!(" ({} at their first value)", keys.join(", "))
+        let whose = if keys.len() == 1 { "its" } else { "their" };
+        format!(" ({} at {whose} first value)", keys.join(", "))
     } else {
         String::new()
     };
@@ -319,10 +305,13 @@ fn write_plots(dir: &Path, csv: &Path, axes: &[Axis]) -> Result<()> {
         );
     }
     let ys: Vec<f64> = (0..d.picks[1].len()).map(|j| value(1, j)).collect();
-    let extra = format!("{}{}{others}", every(0), every(1));
+    let extra = match (stride(0), stride(1)) {
+        (1, 1) => others,
+        (s0, s1) => format!(" (drawn: 1 in {s0} x 1 in {s1} values){others}"),
+    };
     heatmap(
         &dir.join("write_probability"),
-        &format!("Write probability (grey: invalid point){extra}"),
+        &format!("Write probability{extra}"),
         &axes[0].key,
         &axes[1].key,
         "P(write)",
@@ -336,7 +325,7 @@ fn write_plots(dir: &Path, csv: &Path, axes: &[Axis]) -> Result<()> {
     )?;
     heatmap(
         &dir.join("write_time"),
-        &format!("Median write switching time (grey: no write){extra}"),
+        &format!("Median write time (grey: no write){extra}"),
         &axes[0].key,
         &axes[1].key,
         "t [s]",

@@ -180,29 +180,65 @@ pub struct MergeArgs {
 
 use crate::scenario_load::input_error;
 
+/// What the grid commands (`sweep`, `bit --vary`) read from their
+/// arguments before anything else.
+pub struct GridInput {
+    /// The scenario file's text, if any.
+    pub toml_text: Option<String>,
+    /// The `--vary` axes.
+    pub axes: Vec<Axis>,
+    /// `--shard` ([`Shard::ALL`] without it).
+    pub shard: Shard,
+    /// `--threads` (resolved, see [`sweep::threads`]).
+    pub threads: usize,
+}
+
+impl GridInput {
+    /// Read the scenario file and parse `--vary`, `--shard`, `--threads`.
+    /// Bad input: one line on stderr, `Err(exit code 2)`.
+    pub fn parse(
+        scenario: Option<&Path>,
+        vary: &[String],
+        shard: Option<&str>,
+        threads: Option<usize>,
+    ) -> std::result::Result<GridInput, ExitCode> {
+        let toml_text = crate::scenario_load::read_text(scenario)?;
+        let axes = vary
+            .iter()
+            .map(|s| Axis::parse(s))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(input_error)?;
+        let shard = shard
+            .map(Shard::parse)
+            .transpose()
+            .map_err(input_error)?
+            .unwrap_or(Shard::ALL);
+        let threads = sweep::threads(threads).map_err(input_error)?;
+        Ok(GridInput {
+            toml_text,
+            axes,
+            shard,
+            threads,
+        })
+    }
+}
+
 /// Run `tippetop sweep`. Bad input: one line on stderr and exit code 2
 /// (returned as `Ok`); `Err` for I/O failures.
 pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
-    let toml_text = match crate::scenario_load::read_text(args.scenario.as_deref()) {
-        Ok(t) => t,
+    let GridInput {
+        toml_text,
+        axes,
+        shard,
+        threads,
+    } = match GridInput::parse(
+        args.scenario.as_deref(),
+        &args.vary,
+        args.shard.as_deref(),
+        args.threads,
+    ) {
+        Ok(g) => g,
         Err(code) => return Ok(code),
-    };
-    let axes = match args
-        .vary
-        .iter()
-        .map(|s| Axis::parse(s))
-        .collect::<Result<Vec<_>, _>>()
-    {
-        Ok(a) => a,
-        Err(e) => return Ok(input_error(e)),
-    };
-    let shard = match args.shard.as_deref().map(Shard::parse).transpose() {
-        Ok(s) => s.unwrap_or(Shard::ALL),
-        Err(e) => return Ok(input_error(e)),
-    };
-    let threads = match sweep::threads(args.threads) {
-        Ok(t) => t,
-        Err(e) => return Ok(input_error(e)),
     };
     let sw = Sweep {
         preset: args.preset.clone(),
@@ -538,7 +574,20 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
 /// A shard directory's `shard.json` and `sweep.csv`; `Err` is the one-line
 /// message for bad input.
 fn read_shard(dir: &Path) -> std::result::Result<(ShardInfo, String), String> {
-    let what = "a directory written by tippetop sweep, with shard.json and sweep.csv";
+    read_shard_of(
+        dir,
+        "sweep.csv",
+        "a directory written by tippetop sweep, with shard.json and sweep.csv",
+    )
+}
+
+/// A grid shard directory's `shard.json` and its CSV `csv` (`what`: such a
+/// directory, in words, for the messages).
+pub fn read_shard_of(
+    dir: &Path,
+    csv: &str,
+    what: &str,
+) -> std::result::Result<(ShardInfo, String), String> {
     let read = |name: &str| {
         let path = dir.join(name);
         std::fs::read_to_string(&path)
@@ -551,7 +600,7 @@ fn read_shard(dir: &Path) -> std::result::Result<(ShardInfo, String), String> {
             dir.join("shard.json").display()
         )
     })?;
-    Ok((info, read("sweep.csv")?))
+    Ok((info, read(csv)?))
 }
 
 /// Write `sweep.csv` and `shard.json` into `dir`, each atomically.

@@ -193,13 +193,7 @@ impl BitMap {
         threads: Option<usize>,
         sink: &mut dyn FnMut(MapRow) -> bool,
     ) -> Result<bool, Error> {
-        if range.end > self.total() || range.start > range.end {
-            return Err(Error::invalid(
-                "bitmap",
-                format!("points {range:?} requested"),
-                format!("within 0..{}", self.total()),
-            ));
-        }
+        self.grid.check_range(&range, "bitmap")?;
         run_ordered(range, threads, &|i| self.run_point(i), sink)
     }
 

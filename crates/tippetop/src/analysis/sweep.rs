@@ -667,14 +667,21 @@ impl Sweep {
         threads: Option<usize>,
         sink: &mut dyn FnMut(Row) -> bool,
     ) -> Result<bool, Error> {
+        self.check_range(&range, "sweep")?;
+        run_ordered(range, threads, &|i| self.run_case(i), sink)
+    }
+
+    /// `Ok` iff `range` lies within `0..total()` (else an error with key
+    /// `key`).
+    pub fn check_range(&self, range: &Range<usize>, key: &str) -> Result<(), Error> {
         if range.end > self.total() || range.start > range.end {
             return Err(Error::invalid(
-                "sweep",
+                key,
                 format!("cases {range:?} requested"),
                 format!("within 0..{}", self.total()),
             ));
         }
-        run_ordered(range, threads, &|i| self.run_case(i), sink)
+        Ok(())
     }
 
     /// How much of an interrupted `sweep.csv` of the cases from
