@@ -136,6 +136,13 @@ pub struct BitArgs {
     /// --vary, --runs, --shard) from DIR/bitmap.csv.partial.
     #[arg(long, requires = "vary")]
     pub resume: bool,
+
+    /// Search the protocol of one phase instead (T = 0; the file's
+    /// [search] table: phase, windows, bounds of magnitude, angle, start
+    /// and duration, weight, margin, seed, budget, perturbations). Writes
+    /// search.json, search.md, best.toml, evaluations.csv.
+    #[arg(long, conflicts_with_all = ["vary", "shard", "resume"])]
+    pub search: bool,
 }
 
 use crate::scenario_load::input_error;
@@ -150,6 +157,9 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         Ok(t) => t,
         Err(code) => return Ok(code),
     };
+    if args.search {
+        return crate::search_cmd::run(args, toml_text.as_deref(), quiet);
+    }
     let threads = match sweep::threads(args.threads) {
         Ok(t) => t,
         Err(e) => return Ok(input_error(e)),

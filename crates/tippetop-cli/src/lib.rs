@@ -18,6 +18,7 @@ pub mod reproduce;
 pub mod retention_cmd;
 pub mod run;
 pub mod scenario_load;
+pub mod search_cmd;
 pub mod stability_cmd;
 pub mod sweep_cmd;
 

@@ -166,6 +166,44 @@ pub fn table(r: &StabilityReport) -> String {
         s += &format!("    λ [1/s], friction: {}\n", eigs(l));
         s += &format!("    λ [1/s], μ = 0:    {}\n", eigs(&m.frictionless));
     }
+    let inv = &r.inversion;
+    s += "\nFull inversion (friction conserves J and dissipates energy: a top whose slip always costs energy ends at the least energy V_J(θ) = J²/(2D(θ)) + m g (R − a cos θ) at its J, docs/physics.md §12):\n";
+    match inv.threshold_at_pi {
+        Some(nc) => {
+            s += &format!(
+                "  θ = π is a minimum of V_J iff the spin about the vertical there exceeds n_c = (R + a)√(m g a/(R[C(R + a) − A R])) = {nc:.6e} rad/s; this scenario's J gives {:.6e} rad/s there ({})\n",
+                inv.spin_at_pi.abs(),
+                if inv.spin_at_pi.abs() > nc {
+                    "above"
+                } else {
+                    "below"
+                }
+            );
+        }
+        None => {
+            s += "  θ = π is never a minimum of V_J: C (R + a) <= A R (outside the inversion window A/C < 1 + a/R)\n"
+        }
+    }
+    match inv.threshold_at_0 {
+        Some(nu) => {
+            s += &format!(
+                "  θ = 0 stays a minimum of V_J (a top near upright stays there) while the spin about the vertical there is below n_up = (R − a)√(m g a/(R[A R − C(R − a)])) = {nu:.6e} rad/s\n"
+            );
+        }
+        None => {
+            s += "  θ = 0 is a minimum of V_J at every spin: A R <= C (R − a) (outside the inversion window A/C > 1 − a/R)\n"
+        }
+    }
+    if let Some(w) = inv.initial_spin_threshold {
+        s += &format!(
+            "  from the scenario's θ₀ with Ω₀ = 0: initial spin above {w:.6e} rad/s (the energy alone, E₀ >= V_J(π), asks only {:.6e} rad/s)\n",
+            inv.energy_bound
+        );
+    }
+    s += &format!(
+        "  least energy at this scenario's J: θ = {:.6} rad\n",
+        inv.final_theta
+    );
     if let Some(l) = &r.late {
         s += &format!(
             "\nLate-time state of the run ({:.4e} s to {:.4e} s, status {}): {} — θ = {:.4} ± {:.4} rad (θ − π/2 = {:+.4}), Ω = {:.4e} rad/s, ω = {:.4e} rad/s (end {:.4e}), u = ({:.3e}, {:.3e}) m/s\n",

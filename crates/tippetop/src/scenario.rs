@@ -67,6 +67,7 @@
 pub mod bit;
 pub mod langevin;
 pub mod limits;
+pub mod search;
 
 use serde::Deserialize as _;
 use toml::{Table, Value};

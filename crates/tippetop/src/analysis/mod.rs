@@ -9,5 +9,6 @@ pub mod ensemble;
 pub mod friction;
 pub mod regime;
 pub mod retention;
+pub mod search;
 pub mod stability;
 pub mod sweep;

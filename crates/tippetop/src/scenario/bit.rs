@@ -165,6 +165,9 @@ impl BitScenario {
             Some(text) => parse_document(text)?,
             None => Table::new(),
         };
+        // A protocol search's table (`tippetop bit --search`,
+        // `crate::scenario::search`) is not part of the bit itself.
+        file.remove("search");
         let mut bit_table = match file.remove("bit") {
             None => Table::new(),
             Some(Value::Table(t)) => t,

@@ -68,6 +68,7 @@
 
 pub mod axis_model;
 pub mod frozen;
+pub mod inversion;
 pub mod linearisation;
 
 use serde::Serialize;
@@ -75,6 +76,7 @@ use serde::Serialize;
 pub use crate::numeric::eigen::eigenvalues;
 pub use axis_model::{AxisDerivatives, RDIM, SmoothLaw, axis_model_derivatives};
 pub use frozen::{FrozenInput, FrozenSpin, FrozenVariant, frozen_spin};
+pub use inversion::{Inversion, inversion};
 pub use linearisation::{
     Eig, Linearisation, Physics, Verdict, jellett, linearise, relative_equilibrium_precession_sq,
     relative_equilibrium_spin, sleeping_threshold, verdict_of,
@@ -264,6 +266,9 @@ pub struct StabilityReport {
     pub sleeping_threshold: f64,
     /// Steady motions (H = 0).
     pub steady: Vec<SteadyMotion>,
+    /// Full inversion: the least energy at the scenario's J
+    /// ([`inversion`], H = 0, wells included).
+    pub inversion: Inversion,
     /// Late-time state of the run, if run.
     pub late: Option<LateState>,
     /// Frozen-spin analyses (only if the scenario applies a force).
@@ -778,6 +783,7 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
         jellett: j0,
         applied_max,
         sleeping_threshold: wc,
+        inversion: inversion(&top, g, &sc.wells, i.theta, i.precession, i.spin),
         steady,
         late,
         frozen,

@@ -1,0 +1,191 @@
+//! `tippetop bit --search` end to end (issue #16 item 5): a search on the
+//! paper's nano top finds a write that works, its best.toml run by
+//! `tippetop bit` gives the same figures bit for bit, the files are
+//! consistent, and bad input exits 2 with one line naming the key and
+//! nothing written.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_tippetop"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("tippetop-search-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(path)
+}
+
+fn json(p: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+#[test]
+fn search_finds_a_write_and_best_toml_reproduces_it() {
+    let d = scratch("found");
+    let o = bin()
+        .arg("bit")
+        .arg(repo("scenarios/bit/nano_search.toml"))
+        .args([
+            "--search",
+            "--set",
+            "search.budget=12",
+            "--set",
+            "search.perturbations=3",
+            "--quiet",
+            "--out",
+        ])
+        .arg(d.join("s"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s = json(&d.join("s/search.json"));
+    assert_eq!(s["found"], true, "{s}");
+    assert_eq!(s["evaluations"], 12);
+    let ev = &s["best"]["evaluation"];
+    assert_eq!(ev["success_with_margin"], true);
+    // evaluations.csv: a header and one row per evaluation.
+    let csv = std::fs::read_to_string(d.join("s/evaluations.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 13);
+    // The merit is the switching time over the phase (weight 0).
+    let merit = ev["merit"].as_f64().unwrap();
+    let best_rows: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .filter(|l| l.contains(&format!(",{merit},")))
+        .collect();
+    assert!(
+        !best_rows.is_empty(),
+        "best merit {merit} not among the evaluations"
+    );
+    // Rerun best.toml with plain `tippetop bit`: the same write, bit for bit.
+    let o = bin()
+        .arg("bit")
+        .arg(d.join("s/best.toml"))
+        .args(["--quiet", "--out"])
+        .arg(d.join("b"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let b = json(&d.join("b/bit.json"));
+    assert_eq!(b["write"]["successes"], 1);
+    assert_eq!(b["write"]["time_median"], ev["time"], "{b}");
+    assert_eq!(b["write"]["energy_median"], ev["energy"], "{b}");
+    // The protocol in best.toml is the reported one.
+    let p = &s["best"]["protocol"][0];
+    assert_eq!(
+        b["write"]["max_applied_force"].as_f64().unwrap().to_bits(),
+        {
+            let (hx, hy) = (p["hx"].as_f64().unwrap(), p["hy"].as_f64().unwrap());
+            hx.hypot(hy).to_bits()
+        }
+    );
+    // Same input, same bytes.
+    let o = bin()
+        .arg("bit")
+        .arg(repo("scenarios/bit/nano_search.toml"))
+        .args([
+            "--search",
+            "--set",
+            "search.budget=12",
+            "--set",
+            "search.perturbations=3",
+            "--quiet",
+            "--out",
+        ])
+        .arg(d.join("s2"))
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    for f in ["search.json", "evaluations.csv", "best.toml"] {
+        assert_eq!(
+            std::fs::read(d.join("s").join(f)).unwrap(),
+            std::fs::read(d.join("s2").join(f)).unwrap(),
+            "{f}"
+        );
+    }
+}
+
+fn expect_input_error(d: &Path, text: &str, extra: &[&str], key: &str) {
+    std::fs::write(d.join("bad.toml"), text).unwrap();
+    let out = d.join("out");
+    let o = bin()
+        .arg("bit")
+        .arg(d.join("bad.toml"))
+        .arg("--search")
+        .args(extra)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{key}: {err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.starts_with(&format!("error: {key}")), "{key}: {err}");
+    assert!(!out.exists(), "{key}: wrote {}", out.display());
+}
+
+const BASE: &str = "preset = \"nano\"\n[solver]\nsamples = 201\n[bit]\nhold = 2e-5\nphase = 1e-4\n";
+const SEARCH: &str = "[search]\nmagnitude = [0.0, 4e-22]\nangle = [-3.0, 3.0]\nstart = [0.0, 5e-5]\nduration = [1e-6, 1e-4]\nbudget = 5\n";
+
+#[test]
+fn bad_search_input_names_the_key() {
+    let d = scratch("bad");
+    // --search without [search].
+    expect_input_error(&d, BASE, &[], "search");
+    // A missing bound.
+    let no_mag = SEARCH.replace("magnitude = [0.0, 4e-22]\n", "");
+    expect_input_error(&d, &format!("{BASE}{no_mag}"), &[], "search.magnitude");
+    // Bounds reversed, a start past the phase, a zero duration.
+    expect_input_error(
+        &d,
+        &format!("{BASE}{}", SEARCH.replace("[-3.0, 3.0]", "[3.0, -3.0]")),
+        &[],
+        "search.angle",
+    );
+    expect_input_error(
+        &d,
+        &format!("{BASE}{}", SEARCH.replace("[0.0, 5e-5]", "[0.0, 2e-4]")),
+        &[],
+        "search.start",
+    );
+    expect_input_error(
+        &d,
+        &format!("{BASE}{}", SEARCH.replace("[1e-6, 1e-4]", "[0.0, 1e-4]")),
+        &[],
+        "search.duration",
+    );
+    // Unknown key, unknown actuator, a margin wider than the window.
+    expect_input_error(
+        &d,
+        &format!("{BASE}{SEARCH}speed = 1\n"),
+        &[],
+        "search.speed",
+    );
+    expect_input_error(
+        &d,
+        &format!("{BASE}{SEARCH}actuator = \"laser\"\n"),
+        &[],
+        "search.actuator",
+    );
+    expect_input_error(
+        &d,
+        &format!("{BASE}{SEARCH}margin = 0.4\n"),
+        &[],
+        "search.margin",
+    );
+    expect_input_error(
+        &d,
+        &format!("{BASE}{}", SEARCH.replace("budget = 5", "budget = 0")),
+        &[],
+        "search.budget",
+    );
+}

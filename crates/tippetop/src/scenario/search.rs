@@ -1,0 +1,273 @@
+//! A protocol search in the scenario (issue #16 item 5): the `[search]`
+//! table of a bit scenario file (see [`crate::scenario::bit`]).
+//!
+//! ```toml
+//! [search]
+//! phase = "write"            # or "erase": the protocol searched; the other is kept
+//! windows = 1                # K >= 1 actuator windows
+//! actuator = "contact"       # the windows' kind (only "contact" so far)
+//! magnitude = [0.0, 1e-21]   # [N], bounds of each window's |H|
+//! angle = [-3.14159, 3.14159] # [rad], bounds of H's direction in the (x, y) plane of the precessing frame
+//! start = [0.0, 5e-5]        # [s] from the phase start
+//! duration = [1e-6, 1e-4]    # [s]; a window ends at min(start + duration, phase)
+//! weight = 0.0               # [s/J]: minimise time + weight × energy
+//! margin = 0.0               # [rad]: success must hold in the target window shrunk by this
+//! seed = 1                   # restarts' starting points (Philox)
+//! budget = 200               # evaluations (runs) in all
+//! perturbations = 20         # robustness: seeded ±5 % perturbations of the best protocol
+//! ```
+//!
+//! Every bound is required (`--search` without them is bad input naming the
+//! key). The search runs at T = 0 (deterministic runs).
+
+use toml::{Table, Value};
+
+use super::{Keys, check_keys, describe, parse_document};
+use crate::Error;
+
+/// Which phase's protocol is searched.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SearchPhase {
+    /// The write (`[[write]]`, target `bit.one`).
+    Write,
+    /// The erase (`[[erase]]`, target `bit.zero`).
+    Erase,
+}
+
+impl SearchPhase {
+    /// `"write"` or `"erase"`: also the name of the window list.
+    pub fn name(self) -> &'static str {
+        match self {
+            SearchPhase::Write => "write",
+            SearchPhase::Erase => "erase",
+        }
+    }
+}
+
+/// The `[search]` table (SI).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SearchSpec {
+    /// The phase searched.
+    pub phase: SearchPhase,
+    /// Number of actuator windows K.
+    pub windows: usize,
+    /// Bounds of each window's force magnitude \[N\].
+    pub magnitude: [f64; 2],
+    /// Bounds of the force's direction angle \[rad\].
+    pub angle: [f64; 2],
+    /// Bounds of each window's start from the phase start \[s\].
+    pub start: [f64; 2],
+    /// Bounds of each window's duration \[s\].
+    pub duration: [f64; 2],
+    /// Weight of the energy against the time \[s/J\].
+    pub weight: f64,
+    /// Margin inside the target window \[rad\].
+    pub margin: f64,
+    /// Seed of the restarts and of the perturbations.
+    pub seed: u64,
+    /// Evaluations (runs) in all.
+    pub budget: usize,
+    /// Number of ±5 % perturbations for the robustness figure.
+    pub perturbations: usize,
+}
+
+/// Most windows a search may have.
+pub const MAX_WINDOWS: usize = 8;
+/// Largest `budget` (each evaluation is a run).
+pub const MAX_BUDGET: usize = 100_000;
+/// Largest `perturbations`.
+pub const MAX_PERTURBATIONS: usize = 10_000;
+
+const BOUNDS: &str = "[lo, hi], finite, lo <= hi";
+const KEYS: Keys = &[
+    ("phase", "\"write\" or \"erase\""),
+    ("windows", "an integer, 1 <= windows <= 8"),
+    (
+        "actuator",
+        "\"contact\" (\"tip\" and \"magnetic\" are not searched yet)",
+    ),
+    ("magnitude", "[lo, hi] [N], 0 <= lo <= hi, finite"),
+    ("angle", "[lo, hi] [rad], finite, lo <= hi"),
+    ("start", "[lo, hi] [s], 0 <= lo <= hi < bit.phase"),
+    ("duration", "[lo, hi] [s], 0 < lo <= hi"),
+    ("weight", "a finite weight >= 0 [s/J]"),
+    (
+        "margin",
+        "a finite angle >= 0 [rad], less than half the target window",
+    ),
+    ("seed", "an integer >= 0"),
+    ("budget", "an integer, 1 <= budget <= 100000"),
+    ("perturbations", "an integer, 0 <= perturbations <= 10000"),
+];
+
+fn bounds(t: &Table, key: &str) -> Result<[f64; 2], Error> {
+    let full = format!("search.{key}");
+    let range = KEYS.iter().find(|(k, _)| *k == key).map_or(BOUNDS, |k| k.1);
+    let bad = |what: String| Error::invalid(&full, what, range.into());
+    let v = t
+        .get(key)
+        .ok_or_else(|| bad("missing (--search needs every bound)".into()))?;
+    let Value::Array(a) = v else {
+        return Err(bad(format!("expected [lo, hi], found {}", describe(v))));
+    };
+    let num = |v: &Value| match v {
+        Value::Float(f) => Some(*f),
+        Value::Integer(i) => Some(*i as f64),
+        _ => None,
+    };
+    match a.as_slice() {
+        [lo, hi] => match (num(lo), num(hi)) {
+            (Some(lo), Some(hi)) if lo.is_finite() && hi.is_finite() && lo <= hi => Ok([lo, hi]),
+            _ => Err(bad(format!("{v} is not allowed"))),
+        },
+        _ => Err(bad(format!("{v}: expected two numbers"))),
+    }
+}
+
+fn float(t: &Table, key: &str, default: f64) -> Result<f64, Error> {
+    let range = KEYS.iter().find(|(k, _)| *k == key).map_or("", |k| k.1);
+    match t.get(key) {
+        None => Ok(default),
+        Some(Value::Float(f)) if f.is_finite() && *f >= 0.0 => Ok(*f),
+        Some(Value::Integer(i)) if *i >= 0 => Ok(*i as f64),
+        Some(v) => Err(Error::invalid(
+            &format!("search.{key}"),
+            format!("{} is not allowed", describe(v)),
+            range.into(),
+        )),
+    }
+}
+
+fn integer(t: &Table, key: &str, default: i64, lo: i64, hi: i64) -> Result<i64, Error> {
+    let range = KEYS.iter().find(|(k, _)| *k == key).map_or("", |k| k.1);
+    match t.get(key) {
+        None => Ok(default),
+        Some(Value::Integer(i)) if (lo..=hi).contains(i) => Ok(*i),
+        Some(v) => Err(Error::invalid(
+            &format!("search.{key}"),
+            format!("{} is not allowed", describe(v)),
+            range.into(),
+        )),
+    }
+}
+
+impl SearchSpec {
+    /// Parse the `[search]` table; `phase_len` is `bit.phase` \[s\] and
+    /// `target` the searched phase's target window \[rad\] (for the margin).
+    pub fn parse(
+        t: &Table,
+        phase_len: f64,
+        target_of: impl Fn(SearchPhase) -> [f64; 2],
+    ) -> Result<Self, Error> {
+        check_keys(t, "search", KEYS)?;
+        let phase = match t.get("phase") {
+            None => SearchPhase::Write,
+            Some(Value::String(s)) if s == "write" => SearchPhase::Write,
+            Some(Value::String(s)) if s == "erase" => SearchPhase::Erase,
+            Some(v) => {
+                return Err(Error::invalid(
+                    "search.phase",
+                    format!("{} is not allowed", describe(v)),
+                    KEYS[0].1.into(),
+                ));
+            }
+        };
+        match t.get("actuator") {
+            None => {}
+            Some(Value::String(s)) if s == "contact" => {}
+            Some(v) => {
+                return Err(Error::invalid(
+                    "search.actuator",
+                    format!("{} is not allowed", describe(v)),
+                    KEYS[2].1.into(),
+                ));
+            }
+        }
+        let windows = integer(t, "windows", 1, 1, MAX_WINDOWS as i64)? as usize;
+        let magnitude = bounds(t, "magnitude")?;
+        let angle = bounds(t, "angle")?;
+        let start = bounds(t, "start")?;
+        let duration = bounds(t, "duration")?;
+        if magnitude[0] < 0.0 {
+            return Err(Error::invalid(
+                "search.magnitude",
+                format!("{magnitude:?} is not allowed"),
+                KEYS[3].1.into(),
+            ));
+        }
+        if start[0] < 0.0 || start[1] >= phase_len {
+            return Err(Error::invalid(
+                "search.start",
+                format!("{start:?} is not allowed with bit.phase = {phase_len}"),
+                KEYS[5].1.into(),
+            ));
+        }
+        if duration[0] <= 0.0 {
+            return Err(Error::invalid(
+                "search.duration",
+                format!("{duration:?} is not allowed"),
+                KEYS[6].1.into(),
+            ));
+        }
+        let weight = float(t, "weight", 0.0)?;
+        let margin = float(t, "margin", 0.0)?;
+        let w = target_of(phase);
+        if 2.0 * margin >= w[1] - w[0] {
+            return Err(Error::invalid(
+                "search.margin",
+                format!("{margin} leaves nothing of the target window {w:?}"),
+                KEYS[8].1.into(),
+            ));
+        }
+        let seed = integer(t, "seed", 1, 0, i64::MAX)? as u64;
+        let budget = integer(t, "budget", 200, 1, MAX_BUDGET as i64)? as usize;
+        let perturbations = integer(t, "perturbations", 20, 0, MAX_PERTURBATIONS as i64)? as usize;
+        Ok(SearchSpec {
+            phase,
+            windows,
+            magnitude,
+            angle,
+            start,
+            duration,
+            weight,
+            margin,
+            seed,
+            budget,
+            perturbations,
+        })
+    }
+
+    /// Lower and upper bounds of the parameter vector: per window
+    /// (magnitude \[N\], angle \[rad\], start \[s\], duration \[s\]).
+    pub fn bounds(&self) -> (Vec<f64>, Vec<f64>) {
+        let mut lo = Vec::with_capacity(4 * self.windows);
+        let mut hi = Vec::with_capacity(4 * self.windows);
+        for _ in 0..self.windows {
+            for b in [self.magnitude, self.angle, self.start, self.duration] {
+                lo.push(b[0]);
+                hi.push(b[1]);
+            }
+        }
+        (lo, hi)
+    }
+}
+
+/// Split a bit scenario document into the document without `[search]` and
+/// the `[search]` table (`None` if absent).
+pub fn split(mut doc: Table) -> Result<(Table, Option<Table>), Error> {
+    match doc.remove("search") {
+        None => Ok((doc, None)),
+        Some(Value::Table(t)) => Ok((doc, Some(t))),
+        Some(v) => Err(Error::invalid(
+            "search",
+            format!("expected a table, found {}", describe(&v)),
+            "a [search] section".into(),
+        )),
+    }
+}
+
+/// Parse a scenario file's text (`None`: an empty document); a syntax
+/// error is one line naming `scenario`.
+pub fn document(text: Option<&str>) -> Result<Table, Error> {
+    text.map_or_else(|| Ok(Table::new()), parse_document)
+}
