@@ -6,13 +6,13 @@
 //! ordered parallel runner ([`sweep::run_ordered`]).
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::{ArgGroup, Args};
 use tippetop::analysis::bit::{self, Block, Mode, Report, RunResult};
-use tippetop::analysis::sweep;
+use tippetop::analysis::sweep::{self, Shard, ShardInfo, Sweep};
 use tippetop::scenario::bit::BitScenario;
 use tippetop::thermal::MAX_RUNS;
 
@@ -54,17 +54,45 @@ replaced by the protocols), the initial theta must lie in zero. A phase succeeds
 its target window at every output row of its last hold seconds (resolution: the sample spacing;
 at least 10 rows per hold). --set reaches bit.KEY, write.K.KEY and erase.K.KEY. At T > 0
 (solver.method = \"langevin\" or \"brownian\") --runs N runs (default 100), run K with
-thermal.run = r0 + K, independent of --threads. A run that fails part-way is a result (its
+thermal.run = r0 + K, independent of --threads; --shard K/M runs only the K-th of M blocks of
+the runs and writes runs.csv (those runs), shard.json and bit.toml: tippetop merge of the
+shards' directories writes the outputs of the unsharded run, byte for byte (--shard at T = 0
+is bad input: one run). A run that fails part-way is a result (its
 phases from the failure on are run_failed or lifted_off; exit code 0). Bad input exits with
-code 2 and writes nothing.";
+code 2 and writes nothing.
+
+Design maps: --vary KEY=FROM:TO:N[:log] (repeatable, the grammar of tippetop sweep; any key
+--set reaches: write.0.hy, write.0.stop, erase.1.hx, bit.hold, thermal.temperature, ...) runs
+the bit at every point of the grid and writes into --out:
+  bitmap.csv   one row per point in grid order (first --vary slowest): the varied keys; for
+               each of write, erase, erase_given_write, cycle: BLOCK_runs, _successes,
+               _probability, _ci_lo, _ci_hi, _time_median, _time_q25, _time_q75 [s],
+               _energy_median [J], _max_applied_force [N], _never_entered, _left, _too_late,
+               _run_failed, _lifted_off; then runs, deterministic, pull_off_margin_min [N],
+               status (ok, or why the point's scenario is invalid: empty figures)
+  shard.json   what the CSV covers, for tippetop merge
+  bitmap.png, bitmap.svg   one --vary: write probability (with its 95 % interval) and median
+               write time against the key
+  write_probability.png/.svg, write_time.png/.svg   two or more --vary: heat maps over the
+               first two keys (the others at their first value; at most 250 values per axis)
+Each row is the single `tippetop bit --set KEY=VALUE ...` run of its point. At T > 0 a point is
+--runs N runs (default 100; a point at T = 0 runs once), run K with thermal.run = r0 + K at
+every point (common random numbers). The points run in parallel (--threads), the rows stream
+into bitmap.csv.partial in grid order (memory flat in the number of points); the bytes do not
+depend on --threads. --shard K/N runs the K-th of N blocks of points (join them with tippetop
+merge: the bytes of an unsharded run); --resume continues an interrupted map. Keep
+solver.samples at 1 + 10 x 2 phase / hold, the least the hold check takes: the rows also cap
+the step size. A key no point accepts, or a bad range: one line naming it, exit code 2.";
 
 /// `tippetop bit`.
 #[derive(Debug, Args)]
 #[command(
     group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
     after_help = "Examples:\n  \
-                  tippetop bit scenarios/bit_nano.toml --out out/bit\n  \
-                  tippetop bit scenarios/bit_nano.toml --set write.0.hy=2e-22 --out out/bit2"
+                  tippetop bit scenarios/bit/nano.toml --out out/bit\n  \
+                  tippetop bit scenarios/bit/nano.toml --set write.0.hy=2e-22 --out out/bit2\n  \
+                  tippetop bit scenarios/bit/nano.toml --vary write.0.hy=0:1e-21:50 \\\n      \
+                  --vary write.0.stop=1e-5:1e-4:50 --out out/bitmap"
 )]
 pub struct BitArgs {
     /// Scenario file (TOML) with [bit], [[write]] and [[erase]].
@@ -80,7 +108,8 @@ pub struct BitArgs {
     #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
     pub sets: Vec<String>,
 
-    /// Number of runs at T > 0 (default 100); at T = 0 only 1.
+    /// Number of runs at T > 0 (default 100; with --vary, per grid point); at
+    /// T = 0 only 1.
     #[arg(long, value_name = "N")]
     pub runs: Option<usize>,
 
@@ -92,11 +121,29 @@ pub struct BitArgs {
     #[arg(long, value_name = "T")]
     pub threads: Option<usize>,
 
+    /// A design map: vary one key (as in --set: a scenario key, bit.KEY,
+    /// write.K.KEY, erase.K.KEY) over N values from FROM to TO, both
+    /// included (`:log` for geometric spacing). Repeatable: the points form
+    /// a grid, the first --vary varying slowest; writes bitmap.csv.
+    #[arg(long = "vary", value_name = "KEY=FROM:TO:N[:log]")]
+    pub vary: Vec<String>,
+
+    /// Run only the K-th of N contiguous blocks of the grid points (with
+    /// --vary) or of the runs (an ensemble at T > 0); join the outputs
+    /// with `tippetop merge`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+
+    /// With --vary: continue an interrupted map (same scenario, --set,
+    /// --vary, --runs, --shard) from DIR/bitmap.csv.partial.
+    #[arg(long, requires = "vary")]
+    pub resume: bool,
+
     /// Search the protocol of one phase instead (T = 0; the file's
     /// [search] table: phase, windows, bounds of magnitude, angle, start
     /// and duration, weight, margin, seed, budget, perturbations). Writes
     /// search.json, search.md, best.toml, evaluations.csv.
-    #[arg(long)]
+    #[arg(long, conflicts_with_all = ["vary", "shard", "resume"])]
     pub search: bool,
 }
 
@@ -105,6 +152,9 @@ use crate::scenario_load::input_error;
 /// Run `tippetop bit`. Bad input: one line on stderr and exit code 2
 /// (returned as `Ok`), nothing written; `Err` for I/O failures.
 pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
+    if !args.vary.is_empty() {
+        return crate::bitmap_cmd::run(args, quiet);
+    }
     let toml_text = match crate::scenario_load::read_text(args.scenario.as_deref()) {
         Ok(t) => t,
         Err(code) => return Ok(code),
@@ -121,7 +171,7 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         Err(e) => return Ok(input_error(e)),
     };
     let sc = &bs.scenario;
-    let stochastic = sc.solver.method.is_stochastic() && sc.thermal.is_hot();
+    let stochastic = bit::is_stochastic(&bs);
     let runs = match (stochastic, args.runs) {
         (false, None | Some(1)) => 1,
         (false, Some(n)) => {
@@ -144,15 +194,33 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         }
     };
 
+    let shard = match args.shard.as_deref().map(Shard::parse).transpose() {
+        Ok(s) => s,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let range = match shard {
+        None => 0..runs,
+        Some(_) if !stochastic => {
+            return Ok(input_error(
+                "--shard: a bit at T = 0 is one run (--shard K/N splits the runs of an \
+                 ensemble at T > 0, or with --vary the points of a map)",
+            ));
+        }
+        Some(sh) => match sweep::shard_range(runs, sh) {
+            Ok(r) => r,
+            Err(e) => return Ok(input_error(e)),
+        },
+    };
+
     let out = OutDir::open(&args.out)?;
-    let mut results: Vec<RunResult> = Vec::with_capacity(runs);
+    let mut results: Vec<RunResult> = Vec::with_capacity(range.len());
     // The deterministic run is kept for the figure; an ensemble's typical
     // run is run again.
     let mut kept: Option<tippetop::Trajectory> = None;
     if stochastic {
-        let pb = crate::progress::bar(quiet, runs as u64, "bit");
+        let pb = crate::progress::bar(quiet, range.len() as u64, "bit");
         let done = sweep::run_ordered(
-            0..runs,
+            range.clone(),
             Some(threads),
             &|k| bit::run_one(&bs, k as u64),
             &mut |r| {
@@ -182,20 +250,50 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
             }
         }
     }
-    let report = bit::report(&bs, &results, !stochastic);
+    if let Some(sh) = shard {
+        let fingerprint = ensemble_grid(args, toml_text)
+            .fingerprint_of("tippetop bit 1", &[("runs", runs.to_string())]);
+        return write_shard(
+            out,
+            args,
+            &bs,
+            (sh, fingerprint),
+            runs,
+            range,
+            &results,
+            quiet,
+        );
+    }
+    write_bit(out, &args.out, &bs, &results, !stochastic, kept, quiet)
+}
+
+/// Write the outputs of a whole bit (`results` of every run, in run
+/// order; `kept`: the deterministic run's trajectory, for the figure)
+/// into `out` and commit it.
+fn write_bit(
+    out: OutDir,
+    dir: &Path,
+    bs: &BitScenario,
+    results: &[RunResult],
+    deterministic: bool,
+    kept: Option<tippetop::Trajectory>,
+    quiet: bool,
+) -> Result<ExitCode> {
+    let bs = bs.clone();
+    let report = bit::report(&bs, results, deterministic);
 
     let stage = out.stage().to_path_buf();
     let json = bit_json(&bs, &report);
     let mut text = serde_json::to_string_pretty(&json)?;
     text.push('\n');
     write_bytes_atomic(&stage.join("bit.json"), text.as_bytes())?;
-    write_bytes_atomic(&stage.join("runs.csv"), runs_csv(&results).as_bytes())?;
+    write_bytes_atomic(&stage.join("runs.csv"), runs_csv(results).as_bytes())?;
     write_bytes_atomic(&stage.join("bit.toml"), bs.to_toml_string().as_bytes())?;
     write_bytes_atomic(
         &stage.join("scenario.toml"),
         bs.scenario.to_toml_string().as_bytes(),
     )?;
-    let typical = typical_run(&results);
+    let typical = typical_run(results);
     let traj = match kept {
         Some(t) => Ok(t),
         None => tippetop::simulate(&bs.run_scenario(typical as u64)),
@@ -226,9 +324,129 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         ] {
             println!("{name}: {}", one_line(b));
         }
-        println!("wrote {}", args.out.display());
+        println!("wrote {}", dir.display());
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The CSV a bit ensemble's shard writes (one row per run of the shard).
+const RUNS_CSV: &str = "runs.csv";
+
+/// What defines a bit ensemble's output, for its shards: the scenario
+/// (preset, file, `--set`s) and the number of runs.
+fn ensemble_grid(args: &BitArgs, toml_text: Option<String>) -> Sweep {
+    Sweep {
+        preset: args.preset.clone(),
+        toml_text,
+        sets: args.sets.clone(),
+        axes: Vec::new(),
+    }
+}
+
+/// A shard of a bit ensemble: `runs.csv` of its runs, `shard.json`
+/// (`total_cases` = the runs of the whole ensemble; the fingerprint of
+/// [`ensemble_grid`] and the runs), `bit.toml`.
+#[allow(clippy::too_many_arguments)]
+fn write_shard(
+    out: OutDir,
+    args: &BitArgs,
+    bs: &BitScenario,
+    (shard, fingerprint): (Shard, String),
+    runs: usize,
+    range: std::ops::Range<usize>,
+    results: &[RunResult],
+    quiet: bool,
+) -> Result<ExitCode> {
+    let info = ShardInfo {
+        fingerprint,
+        k: shard.k,
+        n: shard.n,
+        total_cases: runs,
+        first_index: range.start,
+        end_index: range.end,
+        axes: Vec::new(),
+    };
+    let stage = out.stage().to_path_buf();
+    let mut json = serde_json::to_string_pretty(&info)?;
+    json.push('\n');
+    write_bytes_atomic(&stage.join(RUNS_CSV), runs_csv(results).as_bytes())?;
+    write_bytes_atomic(&stage.join("bit.toml"), bs.to_toml_string().as_bytes())?;
+    write_bytes_atomic(&stage.join("shard.json"), json.as_bytes())?;
+    out.commit(&["shard.json"])?;
+    if !quiet {
+        println!(
+            "shard {}/{}: runs {}..{} of {} -> {}",
+            shard.k,
+            shard.n,
+            range.start,
+            range.end,
+            runs,
+            args.out.join(RUNS_CSV).display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Whether `dir` holds a shard of a bit ensemble (`runs.csv` beside
+/// `shard.json`), for `tippetop merge`.
+pub fn is_bit_shard_dir(dir: &Path) -> bool {
+    dir.join(RUNS_CSV).is_file() && dir.join("shard.json").is_file()
+}
+
+/// `tippetop merge` of the shards of one bit ensemble: the outputs of an
+/// unsharded run (bit.json, bit.md, runs.csv, bit.toml, scenario.toml, the
+/// figure), byte for byte.
+pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode> {
+    let mut shards: Vec<(ShardInfo, String)> = Vec::new();
+    let mut tomls: Vec<String> = Vec::new();
+    let what = "a directory written by tippetop bit --shard, with shard.json, runs.csv, bit.toml";
+    for dir in &args.dirs {
+        let _reading = crate::output::read_lock(dir)?;
+        let read = |name: &str| {
+            let path = dir.join(name);
+            std::fs::read_to_string(&path)
+                .map_err(|e| format!("{}: cannot read it: {e} ({what})", path.display()))
+        };
+        let got = (|| {
+            let info: ShardInfo = serde_json::from_str(&read("shard.json")?)
+                .map_err(|e| format!("{}: {e} ({what})", dir.join("shard.json").display()))?;
+            Ok::<_, String>((info, read(RUNS_CSV)?, read("bit.toml")?))
+        })();
+        match got {
+            Ok((info, csv, toml)) => {
+                shards.push((info, csv));
+                tomls.push(toml);
+            }
+            Err(msg) => return Ok(input_error(msg)),
+        }
+    }
+    if let Some(i) = tomls.iter().position(|t| *t != tomls[0]) {
+        return Ok(input_error(format!(
+            "merge: {} has another bit.toml than {} (all shards from one bit ensemble)",
+            args.dirs[i].display(),
+            args.dirs[0].display()
+        )));
+    }
+    let bs = match BitScenario::load(None, Some(&tomls[0]), &[]) {
+        Ok(b) => b,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let r0 = bs.scenario.thermal.run;
+    let header = format!("{}\n", bit::CSV_HEADER);
+    let csv = match sweep::merge_rows(&shards, &header, RUNS_CSV, "bit", &|_, index, line| {
+        line.starts_with(&format!("{},", r0 + index as u64))
+    }) {
+        Ok(c) => c,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let results: Option<Vec<RunResult>> = csv.lines().skip(1).map(bit::parse_csv_row).collect();
+    let Some(results) = results else {
+        return Ok(input_error(format!(
+            "merge: a line of {RUNS_CSV} is not a run's row ({what})"
+        )));
+    };
+    let out = OutDir::open(&args.out)?;
+    write_bit(out, &args.out, &bs, &results, false, None, quiet)
 }
 
 fn opt(v: Option<f64>) -> String {

@@ -7,6 +7,7 @@
 pub mod adhesion_cmd;
 pub mod animate;
 pub mod bit_cmd;
+pub mod bitmap_cmd;
 pub mod cli;
 pub mod device_cmd;
 pub mod ensemble_cmd;

@@ -157,7 +157,10 @@ pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of
                   ensemble (tippetop ensemble --shard K/N; told apart by their shard.json) \
                   merge the same way: ensemble.csv rows joined in run order, histograms.csv \
                   counts added, quantiles.csv, summary.json and the fan chart recomputed: \
-                  the bytes of a one-shot run.";
+                  the bytes of a one-shot run. So do the shards of a bit design map \
+                  (tippetop bit --vary ... --shard K/N: bitmap.csv joined, plots redrawn) and \
+                  of a bit ensemble (tippetop bit --runs N --shard K/M: runs.csv joined, \
+                  bit.json, bit.md and the figure recomputed).";
 
 /// `tippetop merge`.
 #[derive(Debug, Args)]
@@ -177,29 +180,65 @@ pub struct MergeArgs {
 
 use crate::scenario_load::input_error;
 
+/// What the grid commands (`sweep`, `bit --vary`) read from their
+/// arguments before anything else.
+pub struct GridInput {
+    /// The scenario file's text, if any.
+    pub toml_text: Option<String>,
+    /// The `--vary` axes.
+    pub axes: Vec<Axis>,
+    /// `--shard` ([`Shard::ALL`] without it).
+    pub shard: Shard,
+    /// `--threads` (resolved, see [`sweep::threads`]).
+    pub threads: usize,
+}
+
+impl GridInput {
+    /// Read the scenario file and parse `--vary`, `--shard`, `--threads`.
+    /// Bad input: one line on stderr, `Err(exit code 2)`.
+    pub fn parse(
+        scenario: Option<&Path>,
+        vary: &[String],
+        shard: Option<&str>,
+        threads: Option<usize>,
+    ) -> std::result::Result<GridInput, ExitCode> {
+        let toml_text = crate::scenario_load::read_text(scenario)?;
+        let axes = vary
+            .iter()
+            .map(|s| Axis::parse(s))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(input_error)?;
+        let shard = shard
+            .map(Shard::parse)
+            .transpose()
+            .map_err(input_error)?
+            .unwrap_or(Shard::ALL);
+        let threads = sweep::threads(threads).map_err(input_error)?;
+        Ok(GridInput {
+            toml_text,
+            axes,
+            shard,
+            threads,
+        })
+    }
+}
+
 /// Run `tippetop sweep`. Bad input: one line on stderr and exit code 2
 /// (returned as `Ok`); `Err` for I/O failures.
 pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
-    let toml_text = match crate::scenario_load::read_text(args.scenario.as_deref()) {
-        Ok(t) => t,
+    let GridInput {
+        toml_text,
+        axes,
+        shard,
+        threads,
+    } = match GridInput::parse(
+        args.scenario.as_deref(),
+        &args.vary,
+        args.shard.as_deref(),
+        args.threads,
+    ) {
+        Ok(g) => g,
         Err(code) => return Ok(code),
-    };
-    let axes = match args
-        .vary
-        .iter()
-        .map(|s| Axis::parse(s))
-        .collect::<Result<Vec<_>, _>>()
-    {
-        Ok(a) => a,
-        Err(e) => return Ok(input_error(e)),
-    };
-    let shard = match args.shard.as_deref().map(Shard::parse).transpose() {
-        Ok(s) => s.unwrap_or(Shard::ALL),
-        Err(e) => return Ok(input_error(e)),
-    };
-    let threads = match sweep::threads(args.threads) {
-        Ok(t) => t,
-        Err(e) => return Ok(input_error(e)),
     };
     let sw = Sweep {
         preset: args.preset.clone(),
@@ -220,119 +259,36 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
     // Created, locked and probed before computing anything.
     let mut out = OutDir::open(&args.out)?;
     let dir = args.out.clone();
-    let (csv_partial, info_partial) = (dir.join(PARTIAL_CSV), dir.join(PARTIAL_INFO));
     let range = info.first_index..info.end_index;
-
-    // What an interrupted run of this sweep left, with --resume.
-    let mut kept = sweep::Prefix::default();
-    if args.resume {
-        match std::fs::read_to_string(&info_partial) {
-            Ok(old) if old == info_json => {
-                if let Ok(text) = std::fs::read_to_string(&csv_partial) {
-                    kept = sw.complete_prefix(info.first_index, &text);
-                }
-                if kept.rows > range.len() {
-                    // More rows than the shard has: not a file this sweep
-                    // wrote; start over.
-                    kept = sweep::Prefix::default();
-                }
-            }
-            Ok(old) => {
-                let what = match serde_json::from_str::<ShardInfo>(&old) {
-                    Ok(o) => format!(
-                        "fingerprint {}, cases {}..{} of {}",
-                        o.fingerprint, o.first_index, o.end_index, o.total_cases
-                    ),
-                    Err(_) => "unreadable".to_string(),
-                };
-                out.abandon();
-                return Ok(input_error(format!(
-                    "--resume: the partial sweep in {} is another sweep ({what}), not this one \
-                     (fingerprint {}, cases {}..{} of {}) (the same scenario, --set, --vary and \
-                     --shard as the interrupted run; without --resume a new sweep starts over)",
-                    dir.display(),
-                    info.fingerprint,
-                    info.first_index,
-                    info.end_index,
-                    info.total_cases
-                )));
-            }
-            Err(_) => {
-                if !quiet {
-                    eprintln!(
-                        "note: no partial sweep to resume in {}: starting from the first case",
-                        dir.display()
-                    );
-                }
-            }
-        }
-    }
-
-    // Stream the rows into sweep.csv.partial in grid order (claimed in the
-    // manifest first, so that a later command into this directory removes
-    // it), beside shard.json.partial, which identifies the sweep.
-    out.claim(&[PARTIAL_CSV, PARTIAL_INFO])?;
-    write_bytes_atomic(&info_partial, info_json.as_bytes())?;
-    let mut file = std::fs::OpenOptions::new()
-        .write(true)
-        .create(true)
-        .truncate(false)
-        .open(&csv_partial)
-        .with_context(|| format!("writing {}", csv_partial.display()))?;
-    file.set_len(kept.bytes as u64)
-        .and_then(|()| file.seek(SeekFrom::End(0)).map(|_| ()))
-        .with_context(|| format!("writing {}", csv_partial.display()))?;
-    let mut w = std::io::BufWriter::new(file);
-    if kept.bytes == 0 {
-        w.write_all(sweep::csv_header(&sw.axes).as_bytes())
-            .with_context(|| format!("writing {}", csv_partial.display()))?;
-    }
-    let todo = range.start + kept.rows..range.end;
-    if !quiet && kept.rows > 0 {
-        eprintln!(
-            "resuming: {} of {} cases already in {}",
-            kept.rows,
-            range.len(),
-            csv_partial.display()
-        );
-    }
-    let pb = crate::progress::bar(quiet, range.len() as u64, "sweep");
-    pb.inc(kept.rows as u64);
+    let csv_partial = dir.join(PARTIAL_CSV);
     let start = std::time::Instant::now();
-    let mut failed = kept.failed;
-    let mut write_error: Option<std::io::Error> = None;
-    let mut since_flush = std::time::Instant::now();
-    let run = sw.run_streaming(todo, Some(threads), &mut |row| {
-        if row.status != "ok" {
-            failed += 1;
+    let spec = Streamed {
+        partial_csv: PARTIAL_CSV,
+        partial_info: PARTIAL_INFO,
+        header: sweep::csv_header(&sw.axes),
+        what: "sweep",
+        unit: "case",
+        resume: args.resume,
+        quiet,
+    };
+    let failed = match stream_rows(
+        &mut out,
+        &spec,
+        &info,
+        &info_json,
+        &|text| sw.complete_prefix(info.first_index, text),
+        &mut |todo, sink| {
+            sw.run_streaming(todo, Some(threads), &mut |row| {
+                sink(sweep::csv_row(&row), row.status != "ok")
+            })
+        },
+    )? {
+        Ok(f) => f,
+        Err(code) => {
+            out.abandon();
+            return Ok(code);
         }
-        let mut result = w.write_all(sweep::csv_row(&row).as_bytes());
-        // Flushed about once a second: what is on disk is what --resume keeps.
-        if result.is_ok() && since_flush.elapsed().as_secs_f64() >= 1.0 {
-            result = w.flush();
-            since_flush = std::time::Instant::now();
-        }
-        pb.inc(1);
-        match result {
-            Ok(()) => true,
-            Err(e) => {
-                write_error = Some(e);
-                false
-            }
-        }
-    });
-    pb.finish_and_clear();
-    if let Err(e) = run {
-        // A thread pool that cannot start (the count is bounded, so this is
-        // the system's limit): an I/O-like failure, exit code 1.
-        anyhow::bail!("{e}");
-    }
-    let flushed = w.flush();
-    if let Some(e) = write_error {
-        return Err(e).with_context(|| format!("writing {}", csv_partial.display()));
-    }
-    flushed.with_context(|| format!("writing {}", csv_partial.display()))?;
-    drop(w);
+    };
 
     out.adopt(PARTIAL_CSV, "sweep.csv");
     out.adopt(PARTIAL_INFO, "shard.json");
@@ -371,6 +327,162 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// How [`stream_rows`] writes a grid's rows: the partial files' names in
+/// the output directory, the CSV's header line (with its `\n`), and words
+/// for the messages (`"sweep"`, `"case"`).
+pub struct Streamed<'a> {
+    /// The CSV being written, e.g. `sweep.csv.partial`.
+    pub partial_csv: &'a str,
+    /// The shard.json of the run being written, e.g. `shard.json.partial`.
+    pub partial_info: &'a str,
+    /// The CSV's header line.
+    pub header: String,
+    /// What runs, for messages: `"sweep"`, `"map"`.
+    pub what: &'a str,
+    /// What a row is, for messages: `"case"`, `"point"`.
+    pub unit: &'a str,
+    /// `--resume`: keep the rows of an interrupted run of the same grid.
+    pub resume: bool,
+    /// `--quiet`: no progress bar, no notes.
+    pub quiet: bool,
+}
+
+/// Stream the rows of the grid points `info.first_index..info.end_index`
+/// into `spec.partial_csv` (beside `spec.partial_info` = `info_json`, which
+/// identifies the run) in grid order, with `--resume` (`spec.resume`): keep the
+/// complete rows of an interrupted run of the same grid (`prefix(text)` says
+/// how many; another run's partial files: one line, exit code 2, returned
+/// as `Ok(Err(code))`) and run the rest. `run(todo, sink)` runs the points
+/// `todo` in order and hands each row's CSV line and whether it failed to
+/// `sink` (which returns `false` to stop). Returns the number of failed
+/// rows (kept ones included). The caller adopts the partial files.
+#[allow(clippy::type_complexity)]
+pub fn stream_rows(
+    out: &mut OutDir,
+    spec: &Streamed,
+    info: &ShardInfo,
+    info_json: &str,
+    prefix: &dyn Fn(&str) -> sweep::Prefix,
+    run: &mut dyn FnMut(
+        std::ops::Range<usize>,
+        &mut dyn FnMut(String, bool) -> bool,
+    ) -> std::result::Result<bool, tippetop::Error>,
+) -> Result<std::result::Result<usize, ExitCode>> {
+    let dir = out.dir().to_path_buf();
+    let (csv_partial, info_partial) = (dir.join(spec.partial_csv), dir.join(spec.partial_info));
+    let range = info.first_index..info.end_index;
+    let (what, unit, quiet) = (spec.what, spec.unit, spec.quiet);
+
+    // What an interrupted run of this grid left, with --resume.
+    let mut kept = sweep::Prefix::default();
+    if spec.resume {
+        match std::fs::read_to_string(&info_partial) {
+            Ok(old) if old == info_json => {
+                if let Ok(text) = std::fs::read_to_string(&csv_partial) {
+                    kept = prefix(&text);
+                }
+                if kept.rows > range.len() {
+                    // More rows than the shard has: not a file this run
+                    // wrote; start over.
+                    kept = sweep::Prefix::default();
+                }
+            }
+            Ok(old) => {
+                let other = match serde_json::from_str::<ShardInfo>(&old) {
+                    Ok(o) => format!(
+                        "fingerprint {}, {unit}s {}..{} of {}",
+                        o.fingerprint, o.first_index, o.end_index, o.total_cases
+                    ),
+                    Err(_) => "unreadable".to_string(),
+                };
+                return Ok(Err(input_error(format!(
+                    "--resume: the partial {what} in {} is another {what} ({other}), not this one \
+                     (fingerprint {}, {unit}s {}..{} of {}) (the same scenario, --set, --vary and \
+                     --shard as the interrupted run; without --resume a new {what} starts over)",
+                    dir.display(),
+                    info.fingerprint,
+                    info.first_index,
+                    info.end_index,
+                    info.total_cases
+                ))));
+            }
+            Err(_) => {
+                if !quiet {
+                    eprintln!(
+                        "note: no partial {what} to resume in {}: starting from the first {unit}",
+                        dir.display()
+                    );
+                }
+            }
+        }
+    }
+
+    // Stream the rows into the partial CSV in grid order (claimed in the
+    // manifest first, so that a later command into this directory removes
+    // it), beside the partial shard.json, which identifies the run.
+    out.claim(&[spec.partial_csv, spec.partial_info])?;
+    write_bytes_atomic(&info_partial, info_json.as_bytes())?;
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(&csv_partial)
+        .with_context(|| format!("writing {}", csv_partial.display()))?;
+    file.set_len(kept.bytes as u64)
+        .and_then(|()| file.seek(SeekFrom::End(0)).map(|_| ()))
+        .with_context(|| format!("writing {}", csv_partial.display()))?;
+    let mut w = std::io::BufWriter::new(file);
+    if kept.bytes == 0 {
+        w.write_all(spec.header.as_bytes())
+            .with_context(|| format!("writing {}", csv_partial.display()))?;
+    }
+    let todo = range.start + kept.rows..range.end;
+    if !quiet && kept.rows > 0 {
+        eprintln!(
+            "resuming: {} of {} {unit}s already in {}",
+            kept.rows,
+            range.len(),
+            csv_partial.display()
+        );
+    }
+    let pb = crate::progress::bar(quiet, range.len() as u64, what);
+    pb.inc(kept.rows as u64);
+    let mut failed = kept.failed;
+    let mut write_error: Option<std::io::Error> = None;
+    let mut since_flush = std::time::Instant::now();
+    let done = run(todo, &mut |line, bad| {
+        if bad {
+            failed += 1;
+        }
+        let mut result = w.write_all(line.as_bytes());
+        // Flushed about once a second: what is on disk is what --resume keeps.
+        if result.is_ok() && since_flush.elapsed().as_secs_f64() >= 1.0 {
+            result = w.flush();
+            since_flush = std::time::Instant::now();
+        }
+        pb.inc(1);
+        match result {
+            Ok(()) => true,
+            Err(e) => {
+                write_error = Some(e);
+                false
+            }
+        }
+    });
+    pb.finish_and_clear();
+    if let Err(e) = done {
+        // A thread pool that cannot start (the count is bounded, so this is
+        // the system's limit): an I/O-like failure, exit code 1.
+        anyhow::bail!("{e}");
+    }
+    let flushed = w.flush();
+    if let Some(e) = write_error {
+        return Err(e).with_context(|| format!("writing {}", csv_partial.display()));
+    }
+    flushed.with_context(|| format!("writing {}", csv_partial.display()))?;
+    Ok(Ok(failed))
+}
+
 /// The file a sweep streams its rows into, in grid order, while it runs;
 /// renamed to `sweep.csv` when the last case is done.
 pub const PARTIAL_CSV: &str = "sweep.csv.partial";
@@ -395,6 +507,20 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
         .is_some_and(|d| crate::ensemble_cmd::is_ensemble_dir(d))
     {
         return crate::ensemble_cmd::merge(args, quiet);
+    }
+    if args
+        .dirs
+        .first()
+        .is_some_and(|d| crate::bitmap_cmd::is_bitmap_dir(d))
+    {
+        return crate::bitmap_cmd::merge(args, quiet);
+    }
+    if args
+        .dirs
+        .first()
+        .is_some_and(|d| crate::bit_cmd::is_bit_shard_dir(d))
+    {
+        return crate::bit_cmd::merge(args, quiet);
     }
     let mut shards: Vec<(ShardInfo, String)> = Vec::new();
     for dir in &args.dirs {
@@ -448,7 +574,20 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
 /// A shard directory's `shard.json` and `sweep.csv`; `Err` is the one-line
 /// message for bad input.
 fn read_shard(dir: &Path) -> std::result::Result<(ShardInfo, String), String> {
-    let what = "a directory written by tippetop sweep, with shard.json and sweep.csv";
+    read_shard_of(
+        dir,
+        "sweep.csv",
+        "a directory written by tippetop sweep, with shard.json and sweep.csv",
+    )
+}
+
+/// A grid shard directory's `shard.json` and its CSV `csv` (`what`: such a
+/// directory, in words, for the messages).
+pub fn read_shard_of(
+    dir: &Path,
+    csv: &str,
+    what: &str,
+) -> std::result::Result<(ShardInfo, String), String> {
     let read = |name: &str| {
         let path = dir.join(name);
         std::fs::read_to_string(&path)
@@ -461,7 +600,7 @@ fn read_shard(dir: &Path) -> std::result::Result<(ShardInfo, String), String> {
             dir.join("shard.json").display()
         )
     })?;
-    Ok((info, read("sweep.csv")?))
+    Ok((info, read(csv)?))
 }
 
 /// Write `sweep.csv` and `shard.json` into `dir`, each atomically.

@@ -194,6 +194,69 @@ pub fn csv_row(r: &RunResult) -> String {
     )
 }
 
+/// Parse a `runs.csv` line (without its `\n`) back into the run's result:
+/// the inverse of [`csv_row`] (floats round-trip exactly). `None` if the
+/// line is not one [`csv_row`] writes.
+pub fn parse_csv_row(line: &str) -> Option<RunResult> {
+    let (run, rest) = line.split_once(',')?;
+    let run = run.parse::<u64>().ok()?;
+    let (status, rest) = match rest.strip_prefix('"') {
+        Some(quoted) => {
+            // The closing quote is the first one not doubled.
+            let mut status = String::new();
+            let mut chars = quoted.char_indices().peekable();
+            let mut end = None;
+            while let Some((i, c)) = chars.next() {
+                if c == '"' {
+                    if chars.peek().is_some_and(|&(_, d)| d == '"') {
+                        chars.next();
+                        status.push('"');
+                    } else {
+                        end = Some(i + 1);
+                        break;
+                    }
+                } else {
+                    status.push(c);
+                }
+            }
+            (status, quoted[end?..].strip_prefix(',')?)
+        }
+        None => {
+            let (status, rest) = rest.split_once(',')?;
+            (status.to_string(), rest)
+        }
+    };
+    let f: Vec<&str> = rest.split(',').collect();
+    let [w, wt, we, e, et, ee, margin] = f.as_slice() else {
+        return None;
+    };
+    let num = |s: &str| -> Option<Option<f64>> {
+        if s.is_empty() {
+            Some(None)
+        } else {
+            s.parse::<f64>().ok().map(Some)
+        }
+    };
+    let phase = |o: &str, t: &str, en: &str| -> Option<PhaseResult> {
+        let failure = match o {
+            "ok" => None,
+            m => Some(*Mode::ALL.iter().find(|x| x.as_str() == m)?),
+        };
+        Some(PhaseResult {
+            failure,
+            time: num(t)?,
+            energy: num(en)?,
+        })
+    };
+    Some(RunResult {
+        run,
+        status,
+        write: phase(w, wt, we)?,
+        erase: phase(e, et, ee)?,
+        pull_off_margin_min: num(margin)?,
+    })
+}
+
 /// Net work of the applied force over the rows of `[t0, t1]` \[J\].
 fn phase_energy(traj: &Trajectory, t0: f64, t1: f64) -> Option<f64> {
     let tol = 1e-9 * (t1 - t0);
@@ -436,8 +499,42 @@ pub fn cycle(r: &RunResult, phase: f64) -> PhaseResult {
 /// The statistics over `results` (in any order) of the bit scenario `bs`;
 /// `deterministic`: a single run at T = 0.
 pub fn report(bs: &BitScenario, results: &[RunResult], deterministic: bool) -> Report {
-    let fw = max_applied_force(&bs.write);
-    let fe = max_applied_force(&bs.erase);
+    report_of(&Protocol::of(bs), results, deterministic)
+}
+
+/// What [`report`] needs of a bit scenario besides the runs: the largest
+/// total applied forces \[N\] and the phase \[s\] (small and `Copy`, so a
+/// map's job hands it on without the scenario).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Protocol {
+    /// [`max_applied_force`] of the write windows \[N\].
+    pub write_force: f64,
+    /// [`max_applied_force`] of the erase windows \[N\].
+    pub erase_force: f64,
+    /// `bit.phase` \[s\].
+    pub phase: f64,
+}
+
+impl Protocol {
+    /// The protocol figures of `bs`.
+    pub fn of(bs: &BitScenario) -> Protocol {
+        Protocol {
+            write_force: max_applied_force(&bs.write),
+            erase_force: max_applied_force(&bs.erase),
+            phase: bs.bit.phase,
+        }
+    }
+}
+
+/// Whether `bs` is an ensemble: a stochastic method at T > 0 (else one
+/// deterministic run).
+pub fn is_stochastic(bs: &BitScenario) -> bool {
+    bs.scenario.solver.method.is_stochastic() && bs.scenario.thermal.is_hot()
+}
+
+/// [`report`] from the protocol figures ([`Protocol::of`]).
+pub fn report_of(p: &Protocol, results: &[RunResult], deterministic: bool) -> Report {
+    let (fw, fe) = (p.write_force, p.erase_force);
     let write: Vec<PhaseResult> = results.iter().map(|r| r.write).collect();
     let erase: Vec<PhaseResult> = results.iter().map(|r| r.erase).collect();
     let given: Vec<PhaseResult> = results
@@ -445,7 +542,7 @@ pub fn report(bs: &BitScenario, results: &[RunResult], deterministic: bool) -> R
         .filter(|r| r.write.success())
         .map(|r| r.erase)
         .collect();
-    let cycles: Vec<PhaseResult> = results.iter().map(|r| cycle(r, bs.bit.phase)).collect();
+    let cycles: Vec<PhaseResult> = results.iter().map(|r| cycle(r, p.phase)).collect();
     Report {
         runs: results.len(),
         deterministic,
@@ -624,6 +721,48 @@ mod tests {
             assert!((c - score).abs() < 1e-12, "n {n} p {p}: {c} vs {score}");
             // Wilson is near nominal for these (n, p).
             assert!((0.92..0.98).contains(&c), "n {n} p {p}: coverage {c}");
+        }
+    }
+
+    /// `parse_csv_row` inverts `csv_row`, quoted statuses and missing
+    /// values included, and rejects other lines.
+    #[test]
+    fn runs_csv_rows_parse_back() {
+        let p = |failure, time, energy| PhaseResult {
+            failure,
+            time,
+            energy,
+        };
+        for r in [
+            RunResult {
+                run: 7,
+                status: "ok".into(),
+                write: p(None, Some(4.07e-5), Some(-1.25e-30)),
+                erase: p(Some(Mode::Left), None, Some(0.1 + 0.2)),
+                pull_off_margin_min: None,
+            },
+            RunResult {
+                run: 4294967295,
+                status: "run failed at t = 1e-9 s: lift-off, \"N < 0\", here".into(),
+                write: p(Some(Mode::LiftedOff), None, None),
+                erase: p(Some(Mode::RunFailed), None, None),
+                pull_off_margin_min: Some(3.5e-11),
+            },
+        ] {
+            let line = csv_row(&r);
+            assert_eq!(
+                parse_csv_row(line.trim_end_matches('\n')),
+                Some(r),
+                "{line}"
+            );
+        }
+        for bad in [
+            "",
+            "x,ok,ok,,,ok,,,",
+            "1,ok,ok,,,ok,,",
+            "1,ok,maybe,,,ok,,,",
+        ] {
+            assert_eq!(parse_csv_row(bad), None, "{bad}");
         }
     }
 

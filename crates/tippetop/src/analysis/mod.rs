@@ -4,6 +4,7 @@
 
 pub mod asymptotics;
 pub mod bit;
+pub mod bitmap;
 pub mod device;
 pub mod ensemble;
 pub mod friction;

@@ -528,6 +528,13 @@ impl Sweep {
     /// returned (e.g. `top.foo: unknown key (...)`). Cases that do not load
     /// in a sweep that passes are reported per row by [`Sweep::run`].
     pub fn validate(&self) -> Result<(), Error> {
+        self.validate_with(&|case| self.load_case(case).map(|_| ()))
+    }
+
+    /// [`Sweep::validate`] with another loader of a case (`load(case)`:
+    /// `Ok` iff the case's input is valid), e.g. a bit scenario's
+    /// ([`crate::analysis::bitmap`]).
+    pub fn validate_with(&self, load: &dyn Fn(&Case) -> Result<(), Error>) -> Result<(), Error> {
         for (i, a) in self.axes.iter().enumerate() {
             a.check()?;
             if self.axes[..i].iter().any(|b| b.key == a.key) {
@@ -551,8 +558,8 @@ impl Sweep {
                 format!("at most {MAX_CASES} cases"),
             ));
         };
-        let first = match self.load_case(&self.case(0)) {
-            Ok(_) => return Ok(()),
+        let first = match load(&self.case(0)) {
+            Ok(()) => return Ok(()),
             Err(e) => e,
         };
         let probes: Vec<usize> = if total <= VALIDATE_PROBES {
@@ -562,10 +569,7 @@ impl Sweep {
                 .chain((1..VALIDATE_PROBES).map(|j| j * (total / VALIDATE_PROBES)))
                 .collect()
         };
-        if probes
-            .into_iter()
-            .any(|i| self.load_case(&self.case(i)).is_ok())
-        {
+        if probes.into_iter().any(|i| load(&self.case(i)).is_ok()) {
             Ok(())
         } else {
             Err(first)
@@ -663,14 +667,21 @@ impl Sweep {
         threads: Option<usize>,
         sink: &mut dyn FnMut(Row) -> bool,
     ) -> Result<bool, Error> {
+        self.check_range(&range, "sweep")?;
+        run_ordered(range, threads, &|i| self.run_case(i), sink)
+    }
+
+    /// `Ok` iff `range` lies within `0..total()` (else an error with key
+    /// `key`).
+    pub fn check_range(&self, range: &Range<usize>, key: &str) -> Result<(), Error> {
         if range.end > self.total() || range.start > range.end {
             return Err(Error::invalid(
-                "sweep",
+                key,
                 format!("cases {range:?} requested"),
                 format!("within 0..{}", self.total()),
             ));
         }
-        run_ordered(range, threads, &|i| self.run_case(i), sink)
+        Ok(())
     }
 
     /// How much of an interrupted `sweep.csv` of the cases from
@@ -679,13 +690,25 @@ impl Sweep {
     /// with the right number of fields) that holds the next case's values,
     /// up to the first that does not (a torn last line, say).
     pub fn complete_prefix(&self, first_index: usize, text: &str) -> Prefix {
-        let header = csv_header(&self.axes);
+        let ncols = self.axes.len() + FIELDS.len() + 1;
+        self.complete_prefix_of(first_index, text, &csv_header(&self.axes), ncols)
+    }
+
+    /// [`Sweep::complete_prefix`] of any CSV of this grid whose lines hold
+    /// the case's values first and `status` last: `header` (with its `\n`)
+    /// and `ncols` fields a line (e.g. a bit map's `bitmap.csv`).
+    pub fn complete_prefix_of(
+        &self,
+        first_index: usize,
+        text: &str,
+        header: &str,
+        ncols: usize,
+    ) -> Prefix {
         let mut p = Prefix::default();
-        if !text.starts_with(&header) {
+        if !text.starts_with(header) {
             return p;
         }
         p.bytes = header.len();
-        let ncols = self.axes.len() + FIELDS.len() + 1;
         let total = self.total();
         for line in text[header.len()..].split_inclusive('\n') {
             let index = first_index + p.rows;
@@ -719,7 +742,14 @@ impl Sweep {
     /// the `--set`s and the axes. Shards with the same fingerprint belong to
     /// the same sweep. Stable across runs, machines and thread counts.
     pub fn fingerprint(&self) -> String {
-        let mut text = String::from("tippetop sweep 1\n");
+        self.fingerprint_of("tippetop sweep 1", &[])
+    }
+
+    /// [`Sweep::fingerprint`] of another kind of grid (`tag`, e.g.
+    /// `"tippetop bitmap 1"`) with `extra` `(name, value)` fields that also
+    /// define its output (e.g. the runs per point).
+    pub fn fingerprint_of(&self, tag: &str, extra: &[(&str, String)]) -> String {
+        let mut text = format!("{tag}\n");
         let mut field = |name: &str, value: &str| {
             text.push_str(&format!("{name} {} {value}\n", value.len()));
         };
@@ -734,6 +764,9 @@ impl Sweep {
         }
         for a in &self.axes {
             field("vary", &a.spec());
+        }
+        for (name, value) in extra {
+            field(name, value);
         }
         format!("{:016x}", fnv1a(text.as_bytes()))
     }
@@ -938,19 +971,94 @@ fn split_line(line: &str, ncols: usize) -> Option<(Vec<&str>, String)> {
 /// values, and that the shards tile `0..total` with no gap and no overlap.
 /// Errors are [`Error::Invalid`] with key `merge`.
 pub fn merge(shards: &[(ShardInfo, String)]) -> Result<String, Error> {
-    let err = |what: String, range: &str| Error::invalid("merge", what, range.into());
     let Some((first, _)) = shards.first() else {
-        return Err(err("no shards given".into(), "one or more shard outputs"));
+        return Err(Error::invalid(
+            "merge",
+            "no shards given".into(),
+            "one or more shard outputs".into(),
+        ));
     };
-    let same = "all shards from one sweep: same scenario, --set and --vary, same tippetop";
+    let ncols = first.axes.len() + FIELDS.len() + 1;
+    merge_of(
+        shards,
+        &csv_header(&first.axes),
+        ncols,
+        "sweep.csv",
+        "sweep",
+    )
+}
+
+/// [`merge`] for any CSV of a grid whose lines hold the case's values first
+/// and `status` last (see [`Sweep::complete_prefix_of`]): `header` (with its
+/// `\n`) and `ncols` fields a line, in files named `file` written by
+/// `tippetop COMMAND` (for the messages).
+pub fn merge_of(
+    shards: &[(ShardInfo, String)],
+    header: &str,
+    ncols: usize,
+    file: &str,
+    command: &str,
+) -> Result<String, Error> {
+    let Some((first, _)) = shards.first() else {
+        return Err(Error::invalid(
+            "merge",
+            "no shards given".into(),
+            "one or more shard outputs".into(),
+        ));
+    };
     let sweep = Sweep {
         preset: None,
         toml_text: None,
         sets: Vec::new(),
         axes: first.axes.clone(),
     };
-    let header = csv_header(&first.axes);
-    let ncols = first.axes.len() + FIELDS.len() + 1;
+    let total = sweep.total();
+    if let Some((info, _)) = shards.iter().find(|(i, _)| i.total_cases != total) {
+        return Err(Error::invalid(
+            "merge",
+            format!(
+                "shard {}/{} (cases {}..{}) does not fit a {command} of {total} cases",
+                info.k, info.n, info.first_index, info.end_index
+            ),
+            format!("shard.json as written by tippetop {command}"),
+        ));
+    }
+    merge_rows(shards, header, file, command, &|_, index, line| {
+        split_line(line, ncols).is_some_and(|(head, _)| {
+            let case = sweep.case(index);
+            case.values
+                .iter()
+                .zip(&head)
+                .all(|(v, f)| fmt_f64(*v) == *f)
+        })
+    })
+}
+
+/// Join the CSV texts of shards (each after its [`ShardInfo`], in any
+/// order) whose lines are the items `first_index..end_index` of
+/// `total_cases`, one line each after `header`: checks that the shards
+/// belong together (fingerprint, total, axes), that each text has the
+/// header, its number of lines, and lines that `row_ok(info, index, line)`
+/// accepts as item `index`, and that the shards tile `0..total_cases`.
+/// `file` and `command` name the CSV and the command that wrote it in the
+/// messages ([`Error::Invalid`] with key `merge`).
+pub fn merge_rows(
+    shards: &[(ShardInfo, String)],
+    header: &str,
+    file: &str,
+    command: &str,
+    row_ok: &dyn Fn(&ShardInfo, usize, &str) -> bool,
+) -> Result<String, Error> {
+    let err = |what: String, range: &str| Error::invalid("merge", what, range.into());
+    let Some((first, _)) = shards.first() else {
+        return Err(err("no shards given".into(), "one or more shard outputs"));
+    };
+    let same =
+        format!("all shards from one {command}: same scenario, --set and --vary, same tippetop");
+    let same = same.as_str();
+    let written = format!("{file} as written by tippetop {command}");
+    let written = written.as_str();
+    let header = header.to_string();
     for (info, text) in shards {
         let name = format!(
             "shard {}/{} (cases {}..{})",
@@ -962,48 +1070,41 @@ pub fn merge(shards: &[(ShardInfo, String)]) -> Result<String, Error> {
         {
             return Err(err(
                 format!(
-                    "{name} is of another sweep (fingerprint {} with {} cases, not {} with {})",
+                    "{name} is of another {command} (fingerprint {} with {} cases, not {} with {})",
                     info.fingerprint, info.total_cases, first.fingerprint, first.total_cases
                 ),
                 same,
             ));
         }
-        if sweep.total() != info.total_cases
-            || info.first_index > info.end_index
-            || info.end_index > info.total_cases
-        {
+        if info.first_index > info.end_index || info.end_index > info.total_cases {
             return Err(err(
-                format!("{name} does not fit a sweep of {} cases", info.total_cases),
-                "shard.json as written by tippetop sweep",
+                format!(
+                    "{name} does not fit a {command} of {} cases",
+                    info.total_cases
+                ),
+                format!("shard.json as written by tippetop {command}").as_str(),
             ));
         }
         let Some(body) = text.strip_prefix(header.as_str()) else {
             return Err(err(
-                format!("{name}: sweep.csv does not start with the sweep's header"),
-                "sweep.csv as written by tippetop sweep",
+                format!("{name}: {file} does not start with the {command}'s header"),
+                written,
             ));
         };
         let lines: Vec<&str> = body.lines().collect();
         let want = info.end_index - info.first_index;
         if lines.len() != want || (want > 0 && !body.ends_with('\n')) {
             return Err(err(
-                format!("{name}: sweep.csv has {} rows, not {want}", lines.len()),
-                "sweep.csv as written by tippetop sweep",
+                format!("{name}: {file} has {} rows, not {want}", lines.len()),
+                written,
             ));
         }
         for (j, line) in lines.iter().enumerate() {
             let index = info.first_index + j;
-            let ok = split_line(line, ncols).is_some_and(|(head, _)| {
-                let case = sweep.case(index);
-                case.values
-                    .iter()
-                    .zip(&head)
-                    .all(|(v, f)| fmt_f64(*v) == *f)
-            });
-            if !ok {
+            if !row_ok(info, index, line) {
                 return Err(err(
-                    format!("{name}: row {} of sweep.csv is not case {index}", j + 1),
-                    "sweep.csv as written by tippetop sweep",
+                    format!("{name}: row {} of {file} is not case {index}", j + 1),
+                    written,
                 ));
             }
         }
