@@ -672,3 +672,86 @@ fn chi_square_of_normals_and_its_power() {
         "the chi2 check missed a 1 % scale error: {chi2}"
     );
 }
+
+/// `detmath::atan2_upper(y, x)` (the wells' θ) within 2 ulps of glibc's
+/// `atan2` over the upper half plane: 2·10⁵ directions (θ on a grid over
+/// [0, π] and the unit vector's components), the axes, points near the
+/// breakpoints of the reduction (|y/x| = 7/16, 11/16, 19/16, 39/16) and
+/// ratios below 2⁻⁶⁰ and above 2⁶⁰. A wrong table entry fails by far more.
+#[test]
+fn own_atan2_within_two_ulps_of_libm() {
+    let mut pts: Vec<(f64, f64)> = (0..=200_000)
+        .map(|i| {
+            let t = std::f64::consts::PI * i as f64 / 200_000.0;
+            (t.sin().abs(), t.cos())
+        })
+        .collect();
+    for r in [
+        7.0f64 / 16.0,
+        11.0 / 16.0,
+        19.0 / 16.0,
+        39.0 / 16.0,
+        1e-20,
+        1e20,
+        1.0,
+    ] {
+        for d in -3i64..=3 {
+            let y = f64::from_bits(r.to_bits().wrapping_add(d as u64));
+            pts.extend([(y, 1.0), (y, -1.0), (y * 1e-3, 1e-3), (y, -0.7)]);
+        }
+    }
+    pts.extend([
+        (1.0, 0.0),
+        (0.0, 1.0),
+        (0.0, -1.0),
+        (1e-300, -1.0),
+        (1.0, 1e-300),
+    ]);
+    let mut worst = (0, 0.0, 0.0);
+    for &(y, x) in &pts {
+        let d = ulps(detmath::atan2_upper(y, x), y.atan2(x));
+        if d > worst.0 {
+            worst = (d, y, x);
+        }
+    }
+    eprintln!(
+        "atan2_upper: largest difference {} ulp at ({:e}, {:e})",
+        worst.0, worst.1, worst.2
+    );
+    assert!(worst.0 <= 2, "atan2_upper: {worst:?}");
+}
+
+/// `detmath::exp_neg` within 1 ulp of glibc's `exp` on [−708, 0] (2·10⁵
+/// points, the reduction's switch points ±ln2/2, 2⁻²⁸ and their
+/// neighbours), 0 below −708.4 and exactly 1 at 0.
+#[test]
+fn own_exp_within_one_ulp_of_libm() {
+    let mut pts: Vec<f64> = (0..=200_000)
+        .map(|i| -708.0 * i as f64 / 200_000.0)
+        .collect();
+    pts.extend((0..=20_000).map(|i| -2.0 * i as f64 / 20_000.0));
+    for x in [
+        -0.5 * std::f64::consts::LN_2,
+        -2f64.powi(-28),
+        -1.5 * std::f64::consts::LN_2,
+    ] {
+        for d in -3i64..=3 {
+            pts.push(f64::from_bits(x.to_bits().wrapping_add(d as u64)));
+        }
+    }
+    let mut worst = (0, 0.0);
+    for &x in &pts {
+        let d = ulps(detmath::exp_neg(x), x.exp());
+        if d > worst.0 {
+            worst = (d, x);
+        }
+    }
+    eprintln!(
+        "exp_neg: largest difference {} ulp at x = {:e}",
+        worst.0, worst.1
+    );
+    assert!(worst.0 <= 1, "exp_neg: {worst:?}");
+    assert_eq!(detmath::exp_neg(0.0), 1.0);
+    assert_eq!(detmath::exp_neg(-0.0), 1.0);
+    assert_eq!(detmath::exp_neg(-800.0), 0.0);
+}
