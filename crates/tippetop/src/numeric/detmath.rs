@@ -4,23 +4,26 @@
 //!
 //! Why: the normals of the Langevin noise (`numeric::random`) went through
 //! the platform's `ln`, `sin` and `cos` (glibc's, ~25 ns a Box–Muller
-//! pair), and the wells' torque (§20 of docs/physics.md) through its
-//! `hypot`, `atan2` and `exp` at every evaluation of the right-hand side;
-//! these are the same functions written as short polynomials (`ln` and
-//! `sin_cos` with no branches on the data, so a loop over several pairs can
-//! be vectorised by the compiler), whose bits depend on nothing but IEEE 754
-//! double arithmetic. Rust does not contract `a * b + c` into a fused
+//! pair); these are the same functions written as short polynomials with
+//! no branches on the data, so a loop over several pairs can be vectorised
+//! by the compiler, whose bits depend on nothing but IEEE 754 double
+//! arithmetic. Rust does not contract `a * b + c` into a fused
 //! multiply–add, so the compiler keeps every rounding as written (scalar and
 //! vector code give the same bits).
 //!
 //! Sources: fdlibm (Sun Microsystems 1993, as kept in musl's
-//! `src/math/log.c`, `__sin.c`, `__cos.c`, `atan.c`, `atan2.c`, `exp.c`;
+//! `src/math/log.c`, `__sin.c`, `__cos.c`;
 //! its constants given here as their bit patterns, the decimal value
 //! beside each), whose stated errors are below 1 ulp. Our tests
 //! (`tests/integrate/random.rs`) measure the errors against glibc over the
 //! ranges used: `ln` within 1 ulp on (0, 4], `sin_cos_turns` within 2 ulps
-//! of the exactly rounded `sin 2πu`, `cos 2πu` on [0, 1], `atan2_upper`
-//! within 2 ulps, `exp_neg` within 1 ulp on [−708, 0].
+//! of the exactly rounded `sin 2πu`, `cos 2πu` on [0, 1].
+//!
+//! Tried and dropped (session 7): fdlibm's `atan2` and `exp` for the wells'
+//! torque, within 1 ulp of glibc's and with fewer instructions, but slower
+//! (their divisions on the critical path against glibc's table-driven,
+//! FMA-using versions: RK4's 4 evaluations 570–780 ns against 490 ns;
+//! docs/performance.md).
 
 /// ln 2, high part (its last 32 bits are zero, so `k ln2_hi` is exact for
 /// `|k| < 2¹¹`).
@@ -124,130 +127,4 @@ pub fn sin_cos_turns(u: f64) -> (f64, f64) {
     let neg_s = (q & 2) << 62;
     let neg_c = ((q + 1) & 2) << 62;
     (f64::from_bits(s1 ^ neg_s), f64::from_bits(c1 ^ neg_c))
-}
-
-/// `f64::from_bits`, for the tables below.
-const fn fb(bits: u64) -> f64 {
-    f64::from_bits(bits)
-}
-
-/// atan of the breakpoints 0.5, 1, 1.5, ∞ (high parts).
-const ATAN_HI: [f64; 4] = [
-    fb(0x3fdd_ac67_0561_bb4f), // 4.636476090008061e-1
-    fb(0x3fe9_21fb_5444_2d18), // 7.853981633974483e-1
-    fb(0x3fef_730b_d281_f69b), // 9.82793723247329e-1
-    fb(0x3ff9_21fb_5444_2d18), // 1.5707963267948966
-];
-/// atan of the breakpoints minus `ATAN_HI`.
-const ATAN_LO: [f64; 4] = [
-    fb(0x3c7a_2b7f_222f_65e2), // 2.2698777452961687e-17
-    fb(0x3c81_a626_3314_5c07), // 3.061616997868383e-17
-    fb(0x3c70_0788_7af0_cbbd), // 1.3903311031230998e-17
-    fb(0x3c91_a626_3314_5c07), // 6.123233995736766e-17
-];
-/// fdlibm's `aT`: atan(x) = x − x (x² aT₀ + x⁴ aT₁ + …) on |x| < 7/16.
-const AT: [f64; 11] = [
-    fb(0x3fd5_5555_5555_550d), // 3.333333333333293e-1
-    fb(0xbfc9_9999_9998_ebc4), // -1.9999999999876483e-1
-    fb(0x3fc2_4924_9200_83ff), // 1.4285714272503466e-1
-    fb(0xbfbc_71c6_fe23_1671), // -1.1111110405462356e-1
-    fb(0x3fb7_45cd_c54c_206e), // 9.090887133436507e-2
-    fb(0xbfb3_b0f2_af74_9a6d), // -7.69187620504483e-2
-    fb(0x3fb1_0d66_a0d0_3d51), // 6.661073137387531e-2
-    fb(0xbfad_de2d_52de_fd9a), // -5.8335701337905735e-2
-    fb(0x3fa9_7b4b_2476_0deb), // 4.9768779946159324e-2
-    fb(0xbfa2_b444_2c6a_6c2f), // -3.6531572744216916e-2
-    fb(0x3f90_ad3a_e322_da11), // 1.6285820115365782e-2
-];
-/// 2⁶⁰.
-const TWO60: f64 = 1_152_921_504_606_846_976.0;
-/// π − `PI` (the double nearest π).
-const PI_LO: f64 = fb(0x3ca1_a626_3314_5c07); // 1.2246467991473532e-16
-
-/// atan of `x ≥ 0` (fdlibm's `atan`: reduced to |t| < 7/16 about the
-/// breakpoints 0.5, 1, 1.5 and ∞; below 1 ulp).
-#[inline]
-#[must_use]
-fn atan_pos(x: f64) -> f64 {
-    let (id, t) = if x < 0.4375 {
-        (None, x)
-    } else if x < 0.6875 {
-        (Some(0), (2.0 * x - 1.0) / (2.0 + x))
-    } else if x < 1.1875 {
-        (Some(1), (x - 1.0) / (x + 1.0))
-    } else if x < 2.4375 {
-        (Some(2), (x - 1.5) / (1.0 + 1.5 * x))
-    } else {
-        (Some(3), -1.0 / x)
-    };
-    let z = t * t;
-    let w = z * z;
-    let s1 = z * (AT[0] + w * (AT[2] + w * (AT[4] + w * (AT[6] + w * (AT[8] + w * AT[10])))));
-    let s2 = w * (AT[1] + w * (AT[3] + w * (AT[5] + w * (AT[7] + w * AT[9]))));
-    match id {
-        None => t - t * (s1 + s2),
-        Some(i) => ATAN_HI[i] - ((t * (s1 + s2) - ATAN_LO[i]) - t),
-    }
-}
-
-/// `atan2(y, x)` in [0, π] for `y ≥ 0` and finite `x` (fdlibm's `atan2`
-/// restricted to the upper half plane: `atan(y/|x|)`, reflected for
-/// `x < 0`); within 2 ulps of glibc's (tests). Used for the polar angle
-/// `θ = atan2(|k_h|, k_Z)` of the wells (§20).
-#[inline]
-#[must_use]
-pub fn atan2_upper(y: f64, x: f64) -> f64 {
-    use std::f64::consts::{FRAC_PI_2, PI};
-    if x == 0.0 {
-        return if y == 0.0 { 0.0 } else { FRAC_PI_2 };
-    }
-    let r = y / x.abs();
-    let z = if r > TWO60 {
-        // |y/x| > 2⁶⁰: π/2 to the last bit.
-        FRAC_PI_2 + 0.5 * PI_LO
-    } else if x < 0.0 && r < 1.0 / TWO60 {
-        // y/|x| < 2⁻⁶⁰ with x < 0: the result is π.
-        0.0
-    } else {
-        atan_pos(r)
-    };
-    if x > 0.0 { z } else { PI - (z - PI_LO) }
-}
-
-const INV_LN2: f64 = fb(0x3ff7_1547_652b_82fe); // 1.4426950408889634
-const P1: f64 = fb(0x3fc5_5555_5555_553e); // 1.6666666666666602e-1
-const P2: f64 = fb(0xbf66_c16c_16be_bd93); // -2.7777777777015593e-3
-const P3: f64 = fb(0x3f11_566a_af25_de2c); // 6.613756321437934e-5
-const P4: f64 = fb(0xbebb_bd41_c5d2_6bf1); // -1.6533902205465252e-6
-const P5: f64 = fb(0x3e66_3769_72be_a4d0); // 4.1381367970572385e-8
-
-/// `e^x` for `x ≤ 0` (fdlibm's `exp`: `x = k ln 2 + r`, |r| ≤ ln2/2, a
-/// rational approximation of `e^r`, times `2^k`); within 1 ulp of glibc's
-/// for results above 2⁻¹⁰²² (tests). Results below the smallest normal
-/// double (`x < −708.39`) are returned as 0 (no subnormals: the wells'
-/// Gaussians there are 40 orders below anything they are added to). NaN
-/// for NaN.
-#[inline]
-#[must_use]
-pub fn exp_neg(x: f64) -> f64 {
-    if x < -708.396_418_532_264_1 {
-        return 0.0;
-    }
-    let (hi, lo, k) = if x < -0.346_573_590_279_972_65 {
-        // |x| > ln2/2.
-        let k = (INV_LN2 * x - 0.5) as i64;
-        let dk = k as f64;
-        (x - dk * LN2_HI, dk * LN2_LO, k)
-    } else if x < -3.725_290_298_461_914e-9 {
-        // |x| > 2⁻²⁸.
-        (x, 0.0, 0)
-    } else {
-        return 1.0 + x;
-    };
-    let r = hi - lo;
-    let rr = r * r;
-    let c = r - rr * (P1 + rr * (P2 + rr * (P3 + rr * (P4 + rr * P5))));
-    let y = 1.0 + ((r * c) / (2.0 - c) - lo + hi);
-    // 2^k for −1022 ≤ k ≤ 0 (x ≥ −708.4), a normal double.
-    y * f64::from_bits(((k + 1023) as u64) << 52)
 }

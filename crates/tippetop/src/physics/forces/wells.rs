@@ -51,7 +51,7 @@ pub fn potential(wells: &[Well], theta: f64) -> f64 {
         .iter()
         .map(|w| {
             let x = (theta - w.theta) / w.width;
-            -w.depth * crate::detmath::exp_neg(-0.5 * x * x)
+            -w.depth * (-0.5 * x * x).exp()
         })
         .sum()
 }
@@ -75,7 +75,7 @@ pub fn torque(wells: &[Well], theta: f64) -> f64 {
         .iter()
         .map(|w| {
             let x = (theta - w.theta) / w.width;
-            -w.depth * x / w.width * crate::detmath::exp_neg(-0.5 * x * x)
+            -w.depth * x / w.width * (-0.5 * x * x).exp()
         })
         .sum()
 }
@@ -84,17 +84,18 @@ pub fn torque(wells: &[Well], theta: f64) -> f64 {
 /// axis `k`: `ŷ = (−k_y, k_x, 0)/|k_h|`, θ = atan2(|k_h|, k_Z); zero where
 /// `k_h = 0` (the pole: direction undefined, module doc). `|k_h|` is a
 /// plain square root (|k| ≈ 1 in every model: nothing to overflow; it
-/// underflows to 0 only for `|k_h| < 1e-154`, then the torque is 0), and
-/// θ our own `atan2` ([`crate::detmath::atan2_upper`]; the Gaussians' `exp`
-/// too): since session 7, a few ulps from glibc's and ~3x cheaper
-/// (docs/performance.md, "Langevin lanes (session 7)").
+/// underflows to 0 only for `|k_h| < 1e-154`, then the torque is 0; since
+/// session 7, 66 instructions less than `hypot` per call). θ and the
+/// Gaussians use glibc's `atan2` and `exp`: fdlibm's versions in
+/// `detmath` took fewer instructions but more time, their divisions being
+/// on the critical path (docs/performance.md, "Langevin lanes (session 7)").
 #[inline]
 pub fn torque_world(wells: &[Well], k: [f64; 3]) -> [f64; 3] {
     let kh = (k[0] * k[0] + k[1] * k[1]).sqrt();
     if kh == 0.0 {
         return [0.0; 3];
     }
-    let ty = torque(wells, crate::detmath::atan2_upper(kh, k[2])) / kh;
+    let ty = torque(wells, kh.atan2(k[2])) / kh;
     [-k[1] * ty, k[0] * ty, 0.0]
 }
 
