@@ -21,6 +21,9 @@ pub mod model;
 pub(crate) mod numeric;
 /// Counter-based random streams (Philox4x32-10) for stochastic runs: see
 /// [`random::Stream`].
+/// Deterministic elementary functions (`ln`, `sin_cos`) in plain `f64`
+/// arithmetic, the same bits everywhere: see [`detmath::ln`].
+pub use numeric::detmath;
 pub use numeric::random;
 pub mod observe;
 pub mod physics;

@@ -42,6 +42,32 @@ pub fn simulate(scenario: &Scenario) -> Result<Trajectory, Error> {
     simulate_with_progress(scenario, &mut |_| {})
 }
 
+/// As [`simulate`], for one run of an ensemble (`analysis::ensemble`):
+/// the same steps, samples, events and θ, spin and N statistics (so the
+/// row is the same bits as [`simulate`]'s, which replays it), but the
+/// per-step record skips Jellett's J and the energy, which the row does not
+/// read: the summary's J drift and energy balance of such a run are those
+/// of its events and segment ends only (docs/performance.md, "Langevin lanes
+/// (session 7)").
+pub(crate) fn simulate_for_row(scenario: &Scenario) -> Result<Trajectory, Error> {
+    scenario.validate()?;
+    fn go<M: Model<D> + Clone, const D: usize>(sc: &Scenario, m: M) -> Trajectory {
+        let mut sim = Sim::new(sc, m);
+        sim.light = true;
+        let t_end = sim.t_end;
+        sim.advance(t_end, &mut |_, _, _| {}, &mut |_| {});
+        sim.finish()
+    }
+    Ok(match scenario.solver.model {
+        ModelKind::Reduced => go(scenario, <Reduced as ContactModel<DIM>>::build(scenario)),
+        ModelKind::Vector => go(
+            scenario,
+            <Vector as ContactModel<{ vector::DIM }>>::build(scenario),
+        ),
+        ModelKind::Rigid => go(scenario, Rigid::new(scenario)),
+    })
+}
+
 /// Accepted steps between two calls of the progress callback of
 /// [`simulate_with_progress`].
 pub use crate::sim::record::PROGRESS_EVERY;
@@ -333,6 +359,10 @@ struct Sim<M, const D: usize> {
     logs_crossings: bool,
     active: Option<Active<M, D>>,
     done: bool,
+    /// An ensemble's run ([`simulate_for_row`]): the per-step record keeps
+    /// θ and the spin only (not J and the energy, which the row does not
+    /// read).
+    light: bool,
     /// Stochastic runs: `∫ N dt` over each output interval (index `i`:
     /// `(s_{i−1}, s_i]`, SI N times scaled time) and the end of the last
     /// step (scaled).
@@ -381,6 +411,7 @@ impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
                 }
             }),
             done: self.done,
+            light: self.light,
             normal_buckets: self.normal_buckets.clone(),
             last_step_t: self.last_step_t,
         }
@@ -441,6 +472,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             logs_crossings: !m.flies(),
             active: None,
             done: false,
+            light: false,
             normal_buckets: sc
                 .solver
                 .method
@@ -595,6 +627,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let first_above = &mut self.first_above;
         let log = &mut self.log;
         let logs_crossings = self.logs_crossings;
+        let light = self.light;
         let buckets = &mut self.normal_buckets;
         let last_step_t = &mut self.last_step_t;
         let sample_times = &self.sample_times;
@@ -612,7 +645,12 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 progress((t / t_end).clamp(0.0, 1.0));
             }
             s.accepted(y);
-            visit(track, s, y);
+            if light {
+                let (theta, spin) = s.track_angles(y);
+                track.record_angles(theta, spin);
+            } else {
+                visit(track, s, y);
+            }
             observe(s, t, y);
             if let Some(b) = buckets.as_mut() {
                 // The step (last, t] falls in the interval (s_{i−1}, s_i]

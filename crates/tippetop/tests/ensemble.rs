@@ -319,3 +319,44 @@ fn first_passage_specs() {
         );
     }
 }
+
+/// An ensemble's run skips the per-step J and energy record (session 7,
+/// `simulate_for_row`) but its row is the same bits as the row of the full
+/// run `simulate` gives for that run alone (what `tippetop run` with
+/// `thermal.run = K` replays): status, every final value, θ max and min, N
+/// min, the fraction of negative N, the first passage above π/2 and the
+/// time reached; vector and rigid models, with the nano preset's adhesion.
+#[test]
+fn ensemble_row_equals_the_full_run_of_that_run() {
+    for sets in [&[][..], &["solver.model=\"rigid\""][..]] {
+        let e = ens(3, sets).unwrap();
+        for k in 0..3 {
+            let row = e.run(k);
+            let tr = simulate(&e.scenario_of(k)).unwrap();
+            let s = &tr.summary;
+            assert_eq!(row.status, s.status);
+            let bits = |x: Option<f64>| x.map(f64::to_bits);
+            assert_eq!(
+                row.finals.map(|f| f.map(f64::to_bits)),
+                tr.samples.last().map(|x| x.values().map(f64::to_bits))
+            );
+            assert_eq!(
+                bits(row.theta_max),
+                Some(s.theta_max.to_bits()),
+                "{sets:?} {k}"
+            );
+            let min = |f: fn(&tippetop::Sample) -> f64| tr.samples.iter().map(f).reduce(f64::min);
+            assert_eq!(bits(row.theta_min), bits(min(|x| x.theta)));
+            assert_eq!(bits(row.normal_min), bits(min(|x| x.normal)));
+            assert_eq!(
+                bits(row.negative_normal_fraction),
+                Some(s.negative_normal_fraction.to_bits())
+            );
+            assert_eq!(
+                bits(row.first_passage),
+                bits(s.first_time_theta_above_half_pi)
+            );
+            assert_eq!(bits(row.t_reached), Some(s.t_end.to_bits()));
+        }
+    }
+}

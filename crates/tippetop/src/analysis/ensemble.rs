@@ -57,7 +57,7 @@ use serde::{Deserialize, Serialize};
 use crate::analysis::sweep::{self, Shard, fmt_f64, fnv1a, status_field};
 use crate::thermal::MAX_RUNS;
 use crate::trajectory::COLUMNS;
-use crate::{Error, Method, Scenario, simulate};
+use crate::{Error, Method, Scenario};
 
 /// Number of equal bins of each histogram (plus underflow, overflow and
 /// missing).
@@ -405,7 +405,9 @@ impl Ensemble {
             samples: Vec::new(),
         };
         let outcome = catch_unwind(AssertUnwindSafe(|| match &self.exit {
-            None => simulate(&sc),
+            // The same row as `simulate` (which replays it), without the
+            // per-step J and energy the row does not read.
+            None => crate::simulate::simulate_for_row(&sc),
             Some(exit) => run_to_exit(&sc, exit),
         }));
         match outcome {

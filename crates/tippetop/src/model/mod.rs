@@ -121,6 +121,12 @@ pub(crate) trait Model<const D: usize>: OdeSystem<D> + Sized {
     /// and the work done by friction and the applied force (scaled): what
     /// the run's [`Track`] follows.
     fn track_point(&self, y: &[f64; D]) -> (f64, f64, f64, Option<f64>, f64);
+    /// θ \[rad\] and the spin of [`Model::track_point`] alone, the same
+    /// bits (what an ensemble's run records at every step).
+    fn track_angles(&self, y: &[f64; D]) -> (f64, f64) {
+        let (theta, spin, ..) = self.track_point(y);
+        (theta, spin)
+    }
     /// The plane's reaction N \[N\] at a state, as the output row's `N`
     /// column has it (`None` where it cannot be evaluated; 0 in flight).
     /// The driver averages it over each output interval of a stochastic

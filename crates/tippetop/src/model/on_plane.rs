@@ -194,6 +194,10 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
         )
     }
 
+    fn track_angles(&self, y: &[f64; D]) -> (f64, f64) {
+        (self.theta(y), self.spin(y))
+    }
+
     fn on_force_switch(&mut self, t: f64, y: &mut [f64; D], log: &mut RunLog) -> Flow {
         // While rolling, check that the contact can still hold the new
         // force. N may jump across zero here, which no event can see:

@@ -1,7 +1,8 @@
 //! General numerics with no physics in them: dual numbers for exact
 //! Jacobians, eigenvalues of small dense matrices and counter-based random
-//! streams.
+//! streams, and deterministic elementary functions (`detmath`).
 
+pub mod detmath;
 pub mod dual;
 pub mod eigen;
 pub mod random;

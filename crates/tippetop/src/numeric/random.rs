@@ -11,8 +11,8 @@
 //! default features off (no dependencies, `no_std`, no `unsafe`). Crates
 //! checked (crates.io, 2026-11): `rand_philox` 0.2 (taken: the block function
 //! is public and pure, pinned by the crate's tests to the three Random123
-//! known-answer vectors, and a bulk `fill_u32` evaluates 16 blocks at a time in
-//! a form the compiler vectorises); `philox` 0.0.0 (one unstable 2019 release
+//! known-answer vectors; a step's few blocks are evaluated one by one with
+//! it, see [`Stream::normals`]); `philox` 0.0.0 (one unstable 2019 release
 //! on `generic-array` 0.12, no tests); the Philox inside `urng`, `rng-pack`
 //! and `ferray-random` (parts of larger general-purpose RNG collections, with
 //! seeding by SplitMix or internal state rather than an exposed
@@ -57,18 +57,21 @@
 //! would be faster per normal but would draw a variable number of blocks,
 //! breaking the "k-th normal of the step is block k/2" rule that makes each
 //! normal addressable on its own. Its cost is one `ln`, one `sqrt` and one
-//! `sin_cos` per pair (docs/performance.md, "Random streams").
+//! `sin_cos` per pair, our own ([`crate::detmath`], fdlibm's polynomials:
+//! below 2 ulps, branch-free, vectorised over the pairs of a call;
+//! docs/performance.md, "Random streams" and "Langevin lanes (session 7)").
 //!
 //! Uniform `k` and normal `k` of one step come from the same block: a caller
 //! that needs both kinds in one step takes them at disjoint indices.
 //!
 //! Reproducibility: the words and the uniforms are integer or exact
-//! arithmetic, bit-identical on every platform; the normals go through the
-//! platform's `ln`, `sin` and `cos`, bit-identical on one platform and its
-//! math library (glibc here), possibly an ulp apart on another.
+//! arithmetic, and the normals plain IEEE double arithmetic (our own `ln`
+//! and `sin_cos`, no fused multiply–add): bit-identical on every platform.
+//! (Until session 6 the normals used the platform's libm; session 7's
+//! normals differ from those in the last bits, so stochastic outputs of
+//! session 6 are not reproduced bit for bit.)
 
-use rand_philox::{Philox, philox4x32_10};
-use std::f64::consts::TAU;
+use rand_philox::philox4x32_10;
 
 /// The largest run index a [`Stream`] takes (the run is one 32-bit counter
 /// word).
@@ -188,42 +191,52 @@ impl Stream {
         self.fill_pairs(step, out, box_muller);
     }
 
-    /// `out[2j], out[2j + 1] = pair(uniforms of block j)`, generating the
-    /// blocks `CHUNK` at a time through `rand_philox`'s bulk path (the same
-    /// words as [`Stream::block`], which the tests check).
+    /// `out[2j], out[2j + 1] = pair(uniforms of block j)`: for each group
+    /// of [`LANES`] blocks, the blocks one by one (`philox4x32_10`, the same
+    /// words as [`Stream::block`]), their uniforms into an array, then the
+    /// pairs in a fixed-length loop the compiler vectorises (`pair` is
+    /// branch-free for the normals). Session 6 used `rand_philox`'s
+    /// `fill_u32`, which takes its scalar path one word at a time below 16
+    /// blocks: the same words; 10 normals take 1 354 instructions against
+    /// 2 446 (callgrind, docs/performance.md).
     fn fill_pairs(&self, step: u64, out: &mut [f64], pair: impl Fn(f64, f64) -> (f64, f64)) {
-        const CHUNK: usize = 64; // blocks per bulk call
         assert!(
             out.len() as u64 <= 2 * BLOCKS_PER_STEP,
             "random stream: {} numbers in one step, above 2^33",
             out.len()
         );
-        let mut philox = Philox::new(self.key, self.counter(step, 0));
-        let mut words = [0u32; 4 * CHUNK];
-        for chunk in out.chunks_mut(2 * CHUNK) {
+        let hi = [step as u32, (step >> 32) as u32, self.run];
+        for (g, chunk) in out.chunks_mut(2 * LANES).enumerate() {
+            // Block index of lane l: g LANES + l (< 2³² by the assert).
+            let first = (g * LANES) as u32;
             let blocks = chunk.len().div_ceil(2);
-            let words = &mut words[..4 * blocks];
-            philox.fill_u32(words);
-            let mut pairs = chunk.chunks_exact_mut(2);
-            let mut w = words.chunks_exact(4);
-            for (o, w) in (&mut pairs).zip(&mut w) {
-                let (a, b) = pair(
-                    unit_open(words_u64(w[0], w[1])),
-                    unit_open(words_u64(w[2], w[3])),
+            let mut u = [0.5; 2 * LANES];
+            for l in 0..blocks {
+                let w = philox4x32_10(
+                    [first.wrapping_add(l as u32), hi[0], hi[1], hi[2]],
+                    self.key,
                 );
-                o[0] = a;
-                o[1] = b;
+                u[2 * l] = unit_open(words_u64(w[0], w[1]));
+                u[2 * l + 1] = unit_open(words_u64(w[2], w[3]));
             }
-            if let ([last], Some(w)) = (pairs.into_remainder(), w.next()) {
-                *last = pair(
-                    unit_open(words_u64(w[0], w[1])),
-                    unit_open(words_u64(w[2], w[3])),
-                )
-                .0;
+            let mut z = [0.0; 2 * LANES];
+            for l in 0..LANES {
+                let (a, b) = pair(u[2 * l], u[2 * l + 1]);
+                z[2 * l] = a;
+                z[2 * l + 1] = b;
             }
+            debug_assert!(blocks <= LANES);
+            chunk.copy_from_slice(&z[..chunk.len()]);
         }
     }
 }
+
+/// Blocks per group of `Stream::fill_pairs`: the largest step (the rigid
+/// model's 12 normals, 6 blocks) in one group. The transform runs over all
+/// eight pairs of a group (the unused ones at u = 1/2, discarded): a
+/// fixed-length loop the compiler vectorises whole, which measured faster
+/// than a loop over the pairs needed (5 for the vector model).
+const LANES: usize = 8;
 
 /// Standard normals `0 … out.len() − 1` of `step` of run `run` of `seed`:
 /// `Stream::new(seed, run).normals(step, out)`, a pure function of its
@@ -244,11 +257,16 @@ pub fn unit_open(bits: u64) -> f64 {
 }
 
 /// The Box–Muller transform: two independent uniforms in (0, 1) to two
-/// independent standard normals `(r cos 2πu₂, r sin 2πu₂)`, `r = √(−2 ln u₁)`.
+/// independent standard normals `(r cos 2πu₂, r sin 2πu₂)`, `r = √(−2 ln u₁)`,
+/// with our own `ln` and `sin_cos` ([`crate::detmath`]: fdlibm's polynomials
+/// in plain `f64` arithmetic, the same bits on every platform; `sqrt` is
+/// IEEE's correctly rounded one). Since session 7; before, the platform's
+/// libm (`ln`, `sin_cos(2π u₂)`), whose outputs differ in the last bits.
+#[inline(always)]
 #[must_use]
 pub fn box_muller(u1: f64, u2: f64) -> (f64, f64) {
-    let r = (-2.0 * u1.ln()).sqrt();
-    let (s, c) = (TAU * u2).sin_cos();
+    let r = (-2.0 * crate::detmath::ln(u1)).sqrt();
+    let (s, c) = crate::detmath::sin_cos_turns(u2);
     (r * c, r * s)
 }
 

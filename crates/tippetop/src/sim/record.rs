@@ -107,6 +107,12 @@ impl Track {
 
     /// Record a state: θ, ω, J, the energy E (if it could be evaluated) and
     /// the work done so far `W_f + W_a`.
+    /// Record θ and ω only (an ensemble's run: `simulate_for_row`).
+    pub(crate) fn record_angles(&mut self, theta: f64, omega: f64) {
+        self.theta_max = self.theta_max.max(theta);
+        self.omega_abs_max = self.omega_abs_max.max(omega.abs());
+    }
+
     pub(crate) fn record(
         &mut self,
         theta: f64,

@@ -14,6 +14,7 @@
 //! 1e-3 (Kolmogorov's limit law with Stephens' finite-n correction).
 
 use std::f64::consts::SQRT_2;
+use tippetop::detmath;
 use tippetop::random::{BLOCKS_PER_STEP, MAX_RUN, Stream, box_muller, normals, unit_open};
 
 /// One million: the sample size of the statistical checks.
@@ -462,4 +463,212 @@ fn the_correlation_check_rejects_dependent_draws() {
     let u = sample(|step, out| s.uniforms(step, out));
     let (x, y): (Vec<f64>, Vec<f64>) = u.iter().map(|&u1| box_muller(u1, u1)).unzip();
     assert!(uncorrelated(&x, &y).is_err());
+}
+
+// ---------------------------------------------------------------------------
+// Our own `ln` and `sin_cos` (`tippetop::detmath`, session 7): errors in ulps
+// against references, and the normals' tails and histogram.
+
+/// Distance in units in the last place between two finite doubles of the
+/// same sign (0 for equal bits; ±0 count as equal).
+fn ulps(a: f64, b: f64) -> u64 {
+    if a == b {
+        return 0;
+    }
+    assert_eq!(a.is_sign_negative(), b.is_sign_negative(), "{a} vs {b}");
+    (a.to_bits() as i64 - b.to_bits() as i64).unsigned_abs()
+}
+
+/// Test points in (0, 1): 10⁶ uniforms of the stream's grid (odd multiples
+/// of 2⁻⁵³), the grid's ends, powers of two and their neighbours, and points
+/// around √2/2 (where `ln`'s reduction switches exponent).
+fn unit_points() -> Vec<f64> {
+    let mut u = sample(|step, out| Stream::new(SEED, 9).uniforms(step, out));
+    let e = 2f64.powi(-53);
+    u.extend([e, 3.0 * e, 1.0 - e, 0.5 - e, 0.5 + e, 0.25 + e, 0.75 - e]);
+    for k in 1..=53 {
+        let p = 2f64.powi(-k);
+        u.extend([p, p * (1.0 + 2f64.powi(-52)), p * (1.0 - 2f64.powi(-53))]);
+    }
+    let r = std::f64::consts::FRAC_1_SQRT_2;
+    for d in -64i64..=64 {
+        u.push(f64::from_bits((r.to_bits() as i64 + d) as u64));
+    }
+    // Small arguments of `ln` decade by decade.
+    for k in 1..300 {
+        u.push(10f64.powi(-k / 20) * 0.999_999_7);
+    }
+    u
+}
+
+/// `detmath::ln` within 1 ulp of glibc's `ln` (itself within 1 ulp of the
+/// exact value; fdlibm's stated bound is 1 ulp) on (0, 1) and on [1, 4]; the
+/// largest difference is printed. A wrong coefficient (`LG1` off by 1e-12)
+/// gives ~10 ulps near √2.
+#[test]
+fn own_ln_within_one_ulp_of_libm() {
+    let mut pts = unit_points();
+    pts.extend((0..10_000).map(|i| 1.0 + 3.0 * i as f64 / 10_000.0));
+    let mut worst = (0, 0.0);
+    for &x in &pts {
+        let d = ulps(detmath::ln(x), x.ln());
+        if d > worst.0 {
+            worst = (d, x);
+        }
+    }
+    eprintln!(
+        "ln: largest difference {} ulp at x = {:e}",
+        worst.0, worst.1
+    );
+    assert!(worst.0 <= 1, "ln: {} ulps at {:e}", worst.0, worst.1);
+    assert_eq!(detmath::ln(1.0), 0.0);
+    assert_eq!(detmath::ln(2f64.powi(-53)), -53.0 * std::f64::consts::LN_2);
+}
+
+/// `(sin 2πu, cos 2πu)` to about 1e-32 absolute: glibc's `sin_cos` of the
+/// rounded product `p = fl(2π u)`, corrected to first order by the product's
+/// exact error `e = 2π u − p` (from a fused multiply–add and the part of 2π
+/// below the double `TAU`): `sin(p + e) = sin p + e cos p + O(e²)`,
+/// `|e| ≤ 4.5e-16`.
+fn sin_cos_2pi_reference(u: f64) -> (f64, f64) {
+    use std::f64::consts::TAU;
+    const TAU_LO: f64 = 2.449_293_598_294_706_4e-16; // 2π − TAU
+    let p = TAU * u;
+    let e = TAU.mul_add(u, -p) + TAU_LO * u;
+    let (s, c) = p.sin_cos();
+    (s + e * c, c - e * s)
+}
+
+/// `detmath::sin_cos_turns(u)` within 2 ulps of `(sin 2πu, cos 2πu)` for
+/// every test point (also near the zeros at u = 1/4, 1/2, 3/4, where the
+/// libm route `sin_cos(TAU * u)` is off by up to 10¹⁶ ulps in relative
+/// terms because of the product's rounding), and exact at the quadrant
+/// points. A swapped or wrongly signed quadrant fails by far more.
+#[test]
+fn own_sin_cos_within_two_ulps() {
+    let mut worst = (0, 0.0);
+    for u in unit_points() {
+        let (s, c) = detmath::sin_cos_turns(u);
+        let (rs, rc) = sin_cos_2pi_reference(u);
+        let d = ulps(s, rs).max(ulps(c, rc));
+        if d > worst.0 {
+            worst = (d, u);
+        }
+    }
+    eprintln!(
+        "sin_cos_turns: largest difference {} ulp at u = {:e}",
+        worst.0, worst.1
+    );
+    assert!(
+        worst.0 <= 2,
+        "sin_cos_turns: {} ulps at u = {:e}",
+        worst.0,
+        worst.1
+    );
+    for (u, s, c) in [
+        (0.0, 0.0, 1.0),
+        (0.25, 1.0, 0.0),
+        (0.5, 0.0, -1.0),
+        (0.75, -1.0, 0.0),
+        (1.0, 0.0, 1.0),
+    ] {
+        let (gs, gc) = detmath::sin_cos_turns(u);
+        assert!(gs == s && gc == c, "u = {u}: ({gs}, {gc})");
+    }
+}
+
+/// The kernel alone against glibc on [−π/4, π/4]: within 1 ulp (fdlibm's
+/// bound for both kernels).
+#[test]
+fn own_sin_cos_kernel_within_one_ulp_of_libm() {
+    let q = std::f64::consts::FRAC_PI_4;
+    let mut worst = 0;
+    for i in 0..=200_000 {
+        let x = -q + 2.0 * q * i as f64 / 200_000.0;
+        let (s, c) = detmath::sin_cos_kernel(x);
+        worst = worst.max(ulps(s, x.sin())).max(ulps(c, x.cos()));
+    }
+    eprintln!("sin_cos_kernel: largest difference {worst} ulp");
+    assert!(worst <= 1);
+}
+
+/// Tail beyond 4σ: the count of |z| > 4 among 4·10⁶ normals of the stream is
+/// binomial with p = erfc(4/√2) = 6.334e-5, mean 253.4, standard deviation
+/// 15.9; it must lie within 5 of those (174 … 333). A transform whose tail is
+/// cut (e.g. uniforms on a 2⁻³² grid: |z| ≤ 6.7, or a `ln` wrong for small u)
+/// shows at 5σ (p = 5.7e-7, expected 2.3): printed, and checked to be at
+/// most 12 (Poisson(2.3) exceeds 12 with probability 5e-6).
+#[test]
+fn normal_tails_beyond_four_and_five_sigma() {
+    let mut z = Vec::with_capacity(4 * N);
+    for run in 0..4 {
+        z.extend(sample(|step, out| {
+            Stream::new(SEED, 20 + run).normals(step, out)
+        }));
+    }
+    let n = z.len() as f64;
+    let p4 = libm::erfc(4.0 / SQRT_2);
+    let c4 = z.iter().filter(|v| v.abs() > 4.0).count() as f64;
+    let c5 = z.iter().filter(|v| v.abs() > 5.0).count();
+    let (m, sd) = (n * p4, (n * p4 * (1.0 - p4)).sqrt());
+    eprintln!(
+        "|z| > 4: {c4} (expected {m:.1} ± {sd:.1}, {:.2} SE); |z| > 5: {c5} (expected {:.1})",
+        (c4 - m) / sd,
+        n * libm::erfc(5.0 / SQRT_2)
+    );
+    assert!(
+        (c4 - m).abs() <= 5.0 * sd,
+        "|z| > 4: {c4} against {m} ± {sd}"
+    );
+    assert!(c5 <= 12, "|z| > 5: {c5}");
+    let zmax = z.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    assert!(zmax < (106.0 * 2f64.ln()).sqrt(), "{zmax}");
+}
+
+/// Pearson's χ² of `z` over 100 equiprobable bins of the standard normal
+/// (edges Φ⁻¹(i/100) by bisection of Φ), and its critical value at
+/// significance 1e-3 for 99 degrees of freedom (Wilson–Hilferty: 148.2).
+fn chi_square_normal(z: &[f64]) -> (f64, f64) {
+    const BINS: usize = 100;
+    let edges: Vec<f64> = (1..BINS)
+        .map(|i| {
+            let p = i as f64 / BINS as f64;
+            let (mut lo, mut hi) = (-10.0, 10.0);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if phi(mid) < p { lo = mid } else { hi = mid }
+            }
+            0.5 * (lo + hi)
+        })
+        .collect();
+    let mut count = [0u64; BINS];
+    for &v in z {
+        count[edges.partition_point(|&e| e < v)] += 1;
+    }
+    let expected = z.len() as f64 / BINS as f64;
+    let chi2 = count
+        .iter()
+        .map(|&c| (c as f64 - expected).powi(2) / expected)
+        .sum::<f64>();
+    let k = (BINS - 1) as f64;
+    let crit = k * (1.0 - 2.0 / (9.0 * k) + 3.090_232 * (2.0 / (9.0 * k)).sqrt()).powi(3);
+    (chi2, crit)
+}
+
+/// χ² of 10⁶ normals of the stream over 100 equiprobable bins below the
+/// 1e-3 critical value (measured value printed; the mean of χ² is 99 and its
+/// standard deviation 14). The same check rejects normals scaled by 1.01.
+#[test]
+fn chi_square_of_normals_and_its_power() {
+    let z = sample(|step, out| Stream::new(SEED, 30).normals(step, out));
+    let (chi2, crit) = chi_square_normal(&z);
+    eprintln!("chi2 normals (99 dof): {chi2:.1} (critical {crit:.1})");
+    assert!(chi2 < crit, "chi2 = {chi2} above {crit}");
+    let scaled: Vec<f64> = z.iter().map(|v| 1.01 * v).collect();
+    let (chi2, _) = chi_square_normal(&scaled);
+    eprintln!("chi2 of normals x 1.01: {chi2:.1}");
+    assert!(
+        chi2 > crit,
+        "the chi2 check missed a 1 % scale error: {chi2}"
+    );
 }
