@@ -4,38 +4,15 @@
 //! alone, threads do not change the bytes), bad input (exit code 2, one
 //! line naming the key, nothing written).
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+use common::{bin, json, ok, repo};
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_tippetop"))
+fn scratch(name: &str) -> std::path::PathBuf {
+    common::scratch("bit-cli", name)
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("tippetop-bit-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn repo(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join(path)
-}
-
-fn ok(o: &Output) {
-    assert!(
-        o.status.success(),
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    );
-}
-
-fn json(p: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
-}
+use std::path::Path;
+use std::process::Output;
 
 /// `(t, θ)` of every row of a trajectory.csv, read by column name.
 fn theta_rows(csv: &Path) -> Vec<(f64, f64)> {

@@ -4,28 +4,11 @@
 //! consistent, the 10-year temperature solves its own equation, and bad
 //! input exits 2 with one line and nothing written.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
+use common::{bin, json, repo};
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_tippetop"))
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("tippetop-device-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn repo(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join(path)
-}
-
-fn json(p: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+fn scratch(name: &str) -> std::path::PathBuf {
+    common::scratch("device-cli", name)
 }
 
 #[test]

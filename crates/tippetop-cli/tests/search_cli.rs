@@ -4,29 +4,14 @@
 //! consistent, and bad input exits 2 with one line naming the key and
 //! nothing written.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
+use common::{bin, json, repo};
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_tippetop"))
+fn scratch(name: &str) -> std::path::PathBuf {
+    common::scratch("search-cli", name)
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("tippetop-search-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn repo(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join(path)
-}
-
-fn json(p: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
-}
+use std::path::Path;
 
 #[test]
 fn search_finds_a_write_and_best_toml_reproduces_it() {
