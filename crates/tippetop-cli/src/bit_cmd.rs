@@ -35,6 +35,8 @@ pub const BIT_LONG_ABOUT: &str = "Run a memory bit: write (phase 1, target bit.o
                  pull_off_margin_min over the runs [N] (with adhesion); the bit and protocols
   bit.md         the same in words, with theta.png
   theta.png, theta.svg   theta(t) of a typical run (the first with the most frequent outcome)
+  theta_PHASE_MODE.png, .svg   ensembles: theta(t) of the first run whose write or erase
+                 failed as MODE, one per failure mode seen (linked from bit.md)
   runs.csv       one row per run: run (thermal.run), status, then for write and erase:
                  outcome (ok or the failure mode), time [s], energy [J]; pull_off_margin_min
   bit.toml       the resolved bit scenario, every key explicit: `tippetop bit bit.toml`
@@ -310,10 +312,19 @@ fn write_bit(
             None
         }
     };
-    write_bytes_atomic(
-        &stage.join("bit.md"),
-        bit_md(&bs, &report, figure.map(|k| &results[k])).as_bytes(),
-    )?;
+    let modes = failure_figures(&stage, &bs, results, quiet);
+    let mut md = bit_md(&bs, &report, figure.map(|k| &results[k]));
+    if !modes.is_empty() {
+        let _ = writeln!(md, "## Failure modes\n");
+        for (file, phase, mode, run) in &modes {
+            let _ = writeln!(
+                md,
+                "![{phase} {mode}]({file}.png)\n\nθ(t) of run {run}, the first whose {phase} failed \
+                 as `{mode}`.\n"
+            );
+        }
+    }
+    write_bytes_atomic(&stage.join("bit.md"), md.as_bytes())?;
     out.commit(&["bit.json"])?;
     if !quiet {
         for (name, b) in [
@@ -542,6 +553,50 @@ fn runs_csv(results: &[RunResult]) -> String {
     s
 }
 
+/// For an ensemble (more than one run): `theta_PHASE_MODE.png/.svg` in
+/// `dir`, θ(t) of the first run whose PHASE (write or erase) failed as
+/// MODE, one per (phase, mode) seen (a run that failed to start has no
+/// figure). Returns (file stem, phase, mode, thermal.run) per figure.
+fn failure_figures(
+    dir: &Path,
+    bs: &BitScenario,
+    results: &[RunResult],
+    quiet: bool,
+) -> Vec<(String, &'static str, &'static str, u64)> {
+    let mut out = Vec::new();
+    if results.len() < 2 {
+        return out;
+    }
+    for phase in ["write", "erase"] {
+        let mut seen: Vec<&'static str> = Vec::new();
+        for (k, r) in results.iter().enumerate() {
+            let p = if phase == "write" { &r.write } else { &r.erase };
+            let Some(mode) = p.failure.map(Mode::as_str) else {
+                continue;
+            };
+            if seen.contains(&mode) {
+                continue;
+            }
+            seen.push(mode);
+            let file = format!("theta_{phase}_{mode}");
+            let made = tippetop::simulate(&bs.run_scenario(k as u64))
+                .map_err(anyhow::Error::from)
+                .and_then(|t| {
+                    theta_figure_named(dir, &file, &format!("{phase} {mode}: "), bs, r.run, &t)
+                });
+            match made {
+                Ok(()) => out.push((file, phase, mode, r.run)),
+                Err(e) => {
+                    if !quiet {
+                        eprintln!("warning: no figure for {phase} {mode}: {e:#}");
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
 /// The index of a typical run: the first whose (write, erase) outcome is
 /// the most frequent one (ties: the outcome seen first).
 pub fn typical_run(results: &[RunResult]) -> usize {
@@ -567,6 +622,19 @@ fn theta_figure(
     run: u64,
     traj: &tippetop::Trajectory,
 ) -> Result<()> {
+    theta_figure_named(dir, "theta", "", bs, run, traj)
+}
+
+/// `NAME.png`/`NAME.svg` in `dir`: as [`theta_figure`], the title prefixed
+/// by `what`.
+fn theta_figure_named(
+    dir: &std::path::Path,
+    name: &str,
+    what: &str,
+    bs: &BitScenario,
+    run: u64,
+    traj: &tippetop::Trajectory,
+) -> Result<()> {
     use crate::plot::{self, Legend, PlotOpts, RefLine, Series};
     let t_end = 2.0 * bs.bit.phase;
     let (scale, unit) = crate::run::time_unit(t_end);
@@ -574,9 +642,9 @@ fn theta_figure(
     let th: Vec<f64> = traj.samples.iter().map(|x| x.theta).collect();
     let b = &bs.bit;
     plot::line_plot(
-        &dir.join("theta"),
+        &dir.join(name),
         &format!(
-            "θ(t) of run {run}: write to {} {unit}, then erase",
+            "{what}θ(t) of run {run}: write to {} {unit}, then erase",
             fmt_f64(b.phase * scale)
         ),
         &format!("t [{unit}]"),

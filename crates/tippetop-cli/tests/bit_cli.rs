@@ -608,6 +608,16 @@ fn bit_at_300k_is_decided_by_the_well() {
         let b = json(&d.join(format!("{name}/bit.json")));
         assert_eq!(b["write"]["successes"], 6, "{name}: {}", b["write"]);
         assert_eq!(b["erase"]["successes"], 0, "{name}: {}", b["erase"]);
+        // One θ(t) figure per failure mode seen, linked from bit.md.
+        let md = std::fs::read_to_string(d.join(format!("{name}/bit.md"))).unwrap();
+        for phase in ["write", "erase"] {
+            for (mode, n) in b[phase]["failures"].as_object().unwrap() {
+                let file = format!("theta_{phase}_{mode}.png");
+                let there = d.join(name).join(&file).exists();
+                assert_eq!(there, n.as_u64().unwrap() > 0, "{name}: {file}");
+                assert_eq!(md.contains(&file), there, "{name}: {file} in bit.md");
+            }
+        }
     }
     let _ = std::fs::remove_dir_all(&d);
 }
