@@ -12,6 +12,7 @@ use std::process::ExitCode;
 use anyhow::Result;
 use tippetop::analysis::bit::wilson;
 use tippetop::analysis::search::{Evaluation, ProtocolSearch};
+use tippetop::scenario::search::SearchActuator;
 
 use crate::bit_cmd::BitArgs;
 use crate::output::{OutDir, fmt_f64, write_bytes_atomic};
@@ -48,6 +49,13 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
         Err(e) => return Ok(input_error(e)),
     };
     let spec = search.spec.clone();
+    let (kind, point, tip) = match spec.actuator {
+        SearchActuator::Contact => ("contact", None, false),
+        SearchActuator::Tip { point } => ("tip", Some(point), true),
+    };
+    // The force components written: the paper's H (precessing frame) or
+    // the tip's horizontal lab-frame force.
+    let comp = if tip { ("fx", "fy") } else { ("hx", "hy") };
     let out = OutDir::open(&args.out)?;
     let stage = out.stage().to_path_buf();
     let names: Vec<String> = (0..spec.windows)
@@ -91,7 +99,7 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
         .map(|w| {
             serde_json::json!({
                 "magnitude": w[0], "angle": w[1], "start": w[2], "duration": w[3],
-                "hx": w[0] * w[1].cos(), "hy": w[0] * w[1].sin(),
+                comp.0: w[0] * w[1].cos(), comp.1: w[0] * w[1].sin(),
             })
         })
         .collect();
@@ -99,7 +107,8 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
         "search": {
             "phase": spec.phase.name(),
             "windows": spec.windows,
-            "actuator": "contact",
+            "actuator": kind,
+            "point": point,
             "magnitude": spec.magnitude,
             "angle": spec.angle,
             "start": spec.start,
@@ -171,10 +180,13 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
     for (k, w) in r.best_x.chunks(4).enumerate() {
         let _ = writeln!(
             md,
-            "- window {k}: |H| = {} N at {} rad (hx = {}, hy = {}), from {} s for {} s",
+            "- window {k}: |{}| = {} N at {} rad ({} = {}, {} = {}), from {} s for {} s",
+            if tip { "F" } else { "H" },
             fmt_f64(w[0]),
             fmt_f64(w[1]),
+            comp.0,
             fmt_f64(w[0] * w[1].cos()),
+            comp.1,
             fmt_f64(w[0] * w[1].sin()),
             fmt_f64(w[2]),
             fmt_f64(w[3])

@@ -99,6 +99,49 @@ fn search_finds_a_write_and_best_toml_reproduces_it() {
     }
 }
 
+/// A search over a physical actuator: a tip at the top of the nano top
+/// (scenarios/bit/nano_tip_search.toml). It finds a one-kick write; the
+/// best.toml it writes has a tip window and reruns it bit for bit.
+#[test]
+fn tip_search_finds_a_kick_and_best_toml_reproduces_it() {
+    let d = scratch("tip");
+    let o = bin()
+        .arg("bit")
+        .arg(repo("scenarios/bit/nano_tip_search.toml"))
+        .args([
+            "--search",
+            "--set",
+            "search.perturbations=2",
+            "--quiet",
+            "--out",
+        ])
+        .arg(d.join("s"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s = json(&d.join("s/search.json"));
+    assert_eq!(s["found"], true, "{s}");
+    assert_eq!(s["search"]["actuator"], "tip");
+    let best = std::fs::read_to_string(d.join("s/best.toml")).unwrap();
+    assert!(
+        best.contains("kind = \"tip\"") && best.contains("force = ["),
+        "{best}"
+    );
+    let o = bin()
+        .arg("bit")
+        .arg(d.join("s/best.toml"))
+        .args(["--quiet", "--out"])
+        .arg(d.join("b"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let b = json(&d.join("b/bit.json"));
+    let ev = &s["best"]["evaluation"];
+    assert_eq!(b["write"]["successes"], 1);
+    assert_eq!(b["write"]["time_median"], ev["time"]);
+    assert_eq!(b["write"]["energy_median"], ev["energy"]);
+}
+
 fn expect_input_error(d: &Path, text: &str, extra: &[&str], key: &str) {
     std::fs::write(d.join("bad.toml"), text).unwrap();
     let out = d.join("out");
@@ -172,5 +215,24 @@ fn bad_search_input_names_the_key() {
         &format!("{BASE}{}", SEARCH.replace("budget = 5", "budget = 0")),
         &[],
         "search.budget",
+    );
+    // A tip needs its point; a contact window takes none.
+    expect_input_error(
+        &d,
+        &format!("{BASE}{SEARCH}actuator = \"tip\"\n"),
+        &[],
+        "search.point",
+    );
+    expect_input_error(
+        &d,
+        &format!("{BASE}{SEARCH}point = [0.0, 0.0, 1e-10]\n"),
+        &[],
+        "search.point",
+    );
+    expect_input_error(
+        &d,
+        &format!("{BASE}{SEARCH}actuator = \"tip\"\npoint = [0.0, 1e-10]\n"),
+        &[],
+        "search.point",
     );
 }

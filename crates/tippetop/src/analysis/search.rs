@@ -34,7 +34,7 @@ use toml::{Table, Value};
 use super::bit::{self, Mode};
 use crate::numeric::random::Stream;
 use crate::scenario::bit::BitScenario;
-use crate::scenario::search::{SearchPhase, SearchSpec, document, split};
+use crate::scenario::search::{SearchActuator, SearchPhase, SearchSpec, document, split};
 use crate::{Error, simulate};
 
 /// The merit of a failed protocol before its distance is added.
@@ -325,9 +325,21 @@ impl ProtocolSearch {
                 let (mag, ang, start, dur) = (w[0], w[1], w[2].clamp(0.0, phase), w[3]);
                 let stop = (start + dur).min(phase);
                 let mut t = Table::new();
-                t.insert("kind".into(), Value::String("contact".into()));
-                t.insert("hx".into(), Value::Float(mag * ang.cos()));
-                t.insert("hy".into(), Value::Float(mag * ang.sin()));
+                match self.spec.actuator {
+                    SearchActuator::Contact => {
+                        t.insert("kind".into(), Value::String("contact".into()));
+                        t.insert("hx".into(), Value::Float(mag * ang.cos()));
+                        t.insert("hy".into(), Value::Float(mag * ang.sin()));
+                    }
+                    SearchActuator::Tip { point } => {
+                        let arr = |v: [f64; 3]| {
+                            Value::Array(v.iter().map(|&c| Value::Float(c)).collect())
+                        };
+                        t.insert("kind".into(), Value::String("tip".into()));
+                        t.insert("point".into(), arr(point));
+                        t.insert("force".into(), arr([mag * ang.cos(), mag * ang.sin(), 0.0]));
+                    }
+                }
                 t.insert("start".into(), Value::Float(start));
                 t.insert("stop".into(), Value::Float(stop));
                 Value::Table(t)

@@ -5,9 +5,11 @@
 //! [search]
 //! phase = "write"            # or "erase": the protocol searched; the other is kept
 //! windows = 1                # K >= 1 actuator windows
-//! actuator = "contact"       # the windows' kind (only "contact" so far)
+//! actuator = "contact"       # the windows' kind: "contact" (the paper's H) or "tip"
+//! # point = [0.0, 0.0, 3.905e-10]  # [m], "tip" only: the tip's body point (required)
 //! magnitude = [0.0, 1e-21]   # [N], bounds of each window's |H|
-//! angle = [-3.14159, 3.14159] # [rad], bounds of H's direction in the (x, y) plane of the precessing frame
+//! angle = [-3.14159, 3.14159] # [rad]: "contact": H's direction in the (x, y) plane of the
+//!                            # precessing frame; "tip": the horizontal lab-frame force's azimuth
 //! start = [0.0, 5e-5]        # [s] from the phase start
 //! duration = [1e-6, 1e-4]    # [s]; a window ends at min(start + duration, phase)
 //! weight = 0.0               # [s/J]: minimise time + weight × energy
@@ -44,6 +46,20 @@ impl SearchPhase {
     }
 }
 
+/// The kind of window searched.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SearchActuator {
+    /// The paper's force at the contact point (`kind = "contact"`): `hx`,
+    /// `hy` from the magnitude and the angle in the precessing frame.
+    Contact,
+    /// A tip at a fixed body point \[m\] (`kind = "tip"`) pushing
+    /// horizontally in the lab frame: force `|F| (cos φ, sin φ, 0)`.
+    Tip {
+        /// The body point \[m\] (origin at the centre of mass, z along k).
+        point: [f64; 3],
+    },
+}
+
 /// The `[search]` table (SI).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SearchSpec {
@@ -51,6 +67,8 @@ pub struct SearchSpec {
     pub phase: SearchPhase,
     /// Number of actuator windows K.
     pub windows: usize,
+    /// The windows' kind.
+    pub actuator: SearchActuator,
     /// Bounds of each window's force magnitude \[N\].
     pub magnitude: [f64; 2],
     /// Bounds of the force's direction angle \[rad\].
@@ -84,7 +102,11 @@ const KEYS: Keys = &[
     ("windows", "an integer, 1 <= windows <= 8"),
     (
         "actuator",
-        "\"contact\" (\"tip\" and \"magnetic\" are not searched yet)",
+        "\"contact\" or \"tip\" (\"magnetic\" is not searched yet)",
+    ),
+    (
+        "point",
+        "[x, y, z] [m], finite: the tip's body point, with actuator = \"tip\" only",
     ),
     ("magnitude", "[lo, hi] [N], 0 <= lo <= hi, finite"),
     ("angle", "[lo, hi] [rad], finite, lo <= hi"),
@@ -99,6 +121,11 @@ const KEYS: Keys = &[
     ("budget", "an integer, 1 <= budget <= 100000"),
     ("perturbations", "an integer, 0 <= perturbations <= 10000"),
 ];
+
+/// The valid range of `search.KEY` (as listed in the keys table).
+fn range_of_key(key: &str) -> &'static str {
+    KEYS.iter().find(|(k, _)| *k == key).map_or("", |k| k.1)
+}
 
 fn bounds(t: &Table, key: &str) -> Result<[f64; 2], Error> {
     let full = format!("search.{key}");
@@ -168,20 +195,53 @@ impl SearchSpec {
                 return Err(Error::invalid(
                     "search.phase",
                     format!("{} is not allowed", describe(v)),
-                    KEYS[0].1.into(),
+                    range_of_key("phase").into(),
                 ));
             }
         };
-        match t.get("actuator") {
-            None => {}
-            Some(Value::String(s)) if s == "contact" => {}
+        let actuator = match t.get("actuator") {
+            None => SearchActuator::Contact,
+            Some(Value::String(s)) if s == "contact" => SearchActuator::Contact,
+            Some(Value::String(s)) if s == "tip" => {
+                let range = KEYS.iter().find(|(k, _)| *k == "point").map_or("", |k| k.1);
+                let bad = |what: String| Error::invalid("search.point", what, range.into());
+                let v = t
+                    .get("point")
+                    .ok_or_else(|| bad("missing (required with actuator = \"tip\")".into()))?;
+                let p: Vec<f64> = match v {
+                    Value::Array(a) => a
+                        .iter()
+                        .filter_map(|x| match x {
+                            Value::Float(f) => Some(*f),
+                            Value::Integer(i) => Some(*i as f64),
+                            _ => None,
+                        })
+                        .collect(),
+                    _ => Vec::new(),
+                };
+                match (p.as_slice(), v.as_array().map(|a| a.len())) {
+                    ([x, y, z], Some(3)) if p.iter().all(|c| c.is_finite()) => {
+                        SearchActuator::Tip {
+                            point: [*x, *y, *z],
+                        }
+                    }
+                    _ => return Err(bad(format!("{v} is not allowed"))),
+                }
+            }
             Some(v) => {
                 return Err(Error::invalid(
                     "search.actuator",
                     format!("{} is not allowed", describe(v)),
-                    KEYS[2].1.into(),
+                    range_of_key("actuator").into(),
                 ));
             }
+        };
+        if t.contains_key("point") && actuator == SearchActuator::Contact {
+            return Err(Error::invalid(
+                "search.point",
+                "given with actuator = \"contact\"".into(),
+                "only with actuator = \"tip\"".into(),
+            ));
         }
         let windows = integer(t, "windows", 1, 1, MAX_WINDOWS as i64)? as usize;
         let magnitude = bounds(t, "magnitude")?;
@@ -192,21 +252,21 @@ impl SearchSpec {
             return Err(Error::invalid(
                 "search.magnitude",
                 format!("{magnitude:?} is not allowed"),
-                KEYS[3].1.into(),
+                range_of_key("magnitude").into(),
             ));
         }
         if start[0] < 0.0 || start[1] >= phase_len {
             return Err(Error::invalid(
                 "search.start",
                 format!("{start:?} is not allowed with bit.phase = {phase_len}"),
-                KEYS[5].1.into(),
+                range_of_key("start").into(),
             ));
         }
         if duration[0] <= 0.0 {
             return Err(Error::invalid(
                 "search.duration",
                 format!("{duration:?} is not allowed"),
-                KEYS[6].1.into(),
+                range_of_key("duration").into(),
             ));
         }
         let weight = float(t, "weight", 0.0)?;
@@ -216,7 +276,7 @@ impl SearchSpec {
             return Err(Error::invalid(
                 "search.margin",
                 format!("{margin} leaves nothing of the target window {w:?}"),
-                KEYS[8].1.into(),
+                range_of_key("margin").into(),
             ));
         }
         let seed = integer(t, "seed", 1, 0, i64::MAX)? as u64;
@@ -235,6 +295,7 @@ impl SearchSpec {
         Ok(SearchSpec {
             phase,
             windows,
+            actuator,
             magnitude,
             angle,
             start,
