@@ -39,6 +39,13 @@ fn device_report_is_consistent() {
     assert_eq!(nano["write"]["successes"], b["write"]["successes"]);
     assert_eq!(nano["write"]["time_median"], b["write"]["time_median"]);
     assert_eq!(nano["erase"]["successes"], b["erase"]["successes"]);
+    // The tip searches run for the paper's model only.
+    for k in ["tip_write", "tip_erase"] {
+        assert!(nano[k].is_object(), "{k}: {}", nano[k]);
+        let rb = &nano[k]["robustness"];
+        assert!(rb[0].as_u64().unwrap() <= rb[1].as_u64().unwrap());
+        assert!(r["deterministic"][1][k].is_null(), "{k}");
+    }
     // Tallies: successes <= runs, the interval holds the estimate.
     let check = |t: &serde_json::Value| {
         let (s, n) = (

@@ -14,7 +14,8 @@
 //!   that writes (a log scan of 4 points per decade from 1e-24 N to 1e-13 N,
 //!   then bisection to 1e-3 relative between the last failure and the
 //!   first success: at T = 0, P >= 0.99 means success); the best write and
-//!   erase protocols of a search of `budget` runs each.
+//!   erase protocols of a search of `budget` runs each; for `nano`, also a
+//!   tip at the top pushing horizontally (15 × `budget` runs each).
 //! - **Thermal** (`nano-physical`: C60 on graphene, Langevin, adhesion, the
 //!   1.1 eV lying well of a 1 nm stem; 0.5 ns phases, as
 //!   `scenarios/bit/nano_300K.toml`): at each temperature, `runs` runs of
@@ -41,6 +42,9 @@ use crate::physics::forces::wells;
 use crate::scenario::bit::BitScenario;
 use crate::thermal::BOLTZMANN;
 use crate::{Error, Scenario};
+
+/// Runs of a tip search per run of a contact search (tip runs are cheap).
+pub const TIP_BUDGET_FACTOR: usize = 15;
 
 /// Ten years \[s\] (Julian).
 pub const TEN_YEARS: f64 = 10.0 * 365.25 * 86400.0;
@@ -175,6 +179,10 @@ pub struct Deterministic {
     pub search_write: Option<Found>,
     /// Best erase found (after the paper's write).
     pub search_erase: Option<Found>,
+    /// Best write by a tip at the top (`nano` only; `None`: not searched).
+    pub tip_write: Option<Found>,
+    /// Best erase by a tip at the top after the paper's write (`nano` only).
+    pub tip_erase: Option<Found>,
 }
 
 /// One temperature's figures.
@@ -317,9 +325,14 @@ fn search(
     phase: &str,
     mag_hi: f64,
     budget: usize,
+    tip: Option<f64>,
 ) -> Result<Option<SearchResult>, Error> {
+    let actuator = match tip {
+        None => String::new(),
+        Some(z) => format!("actuator = \"tip\"\npoint = [0.0, 0.0, {z:e}]\n"),
+    };
     let text = format!(
-        "{preset_text}[search]\nphase = \"{phase}\"\nmagnitude = [0.0, {mag_hi:e}]\nangle = [-3.141592653589793, 3.141592653589793]\n\
+        "{preset_text}[search]\nphase = \"{phase}\"\n{actuator}magnitude = [0.0, {mag_hi:e}]\nangle = [-3.141592653589793, 3.141592653589793]\n\
          start = [0.0, 5e-5]\nduration = [1e-6, 1e-4]\nmargin = 0.05\nseed = 1\nbudget = {budget}\nperturbations = 20\n"
     );
     // The searched phase's list is replaced; keep the other.
@@ -344,13 +357,33 @@ pub fn report(opts: &DeviceOptions, stage: &mut dyn FnMut(&str)) -> Result<Devic
         let mag_hi = 4.0 * min_write_force.unwrap_or(1e-22).max(1e-22);
         stage(&format!("{preset}: searching a write"));
         let base = det_text(preset, 1e-22);
-        let search_write = search(&base, "write", mag_hi, opts.budget)?
+        let search_write = search(&base, "write", mag_hi, opts.budget, None)?
             .as_ref()
             .map(found);
         stage(&format!("{preset}: searching an erase"));
-        let search_erase = search(&base, "erase", mag_hi, opts.budget)?
+        let search_erase = search(&base, "erase", mag_hi, opts.budget, None)?
             .as_ref()
             .map(found);
+        // A physical actuator for the paper's model: a tip at the top of the
+        // sphere (R + a above the centre of mass), horizontal force, up to
+        // 2e-23 N for the write and 1e-22 N for the erase, TIP_BUDGET_FACTOR
+        // times the budget (one tip run is cheap; the first tip write found
+        // in scenarios/bit/nano_tip_search.toml took 90 runs).
+        let (tip_write, tip_erase) = if preset == "nano" {
+            let z = bs.scenario.top.radius + bs.scenario.top.offset;
+            let b = opts.budget * TIP_BUDGET_FACTOR;
+            stage(&format!("{preset}: searching a tip write"));
+            let w = search(&base, "write", 2e-23, b, Some(z))?
+                .as_ref()
+                .map(found);
+            stage(&format!("{preset}: searching a tip erase"));
+            let e = search(&base, "erase", 1e-22, b, Some(z))?
+                .as_ref()
+                .map(found);
+            (w, e)
+        } else {
+            (None, None)
+        };
         deterministic.push(Deterministic {
             preset: preset.into(),
             write,
@@ -358,6 +391,8 @@ pub fn report(opts: &DeviceOptions, stage: &mut dyn FnMut(&str)) -> Result<Devic
             min_write_force,
             search_write,
             search_erase,
+            tip_write,
+            tip_erase,
         });
     }
 
