@@ -10,15 +10,13 @@ use std::fmt::Write as _;
 use std::process::ExitCode;
 
 use anyhow::Result;
-use tippetop::analysis::bit::wilson;
+use tippetop::analysis::bit::{Z95, wilson};
 use tippetop::analysis::search::{Evaluation, ProtocolSearch};
 use tippetop::scenario::search::SearchActuator;
 
 use crate::bit_cmd::BitArgs;
 use crate::output::{OutDir, fmt_f64, write_bytes_atomic};
 use crate::scenario_load::input_error;
-
-const Z95: f64 = 1.959963984540054;
 
 fn opt(v: Option<f64>) -> String {
     v.map(fmt_f64).unwrap_or_else(|| "-".into())

@@ -46,6 +46,10 @@ fn device_report_is_consistent() {
         assert!(rb[0].as_u64().unwrap() <= rb[1].as_u64().unwrap());
         assert!(r["deterministic"][1][k].is_null(), "{k}");
     }
+    // The README's claim: where the reversed contact force fails, a tip
+    // push at the top erases (found within the --quick budget of 180 runs).
+    assert_eq!(nano["erase"]["successes"], 0);
+    assert_eq!(nano["tip_erase"]["found"], true, "{}", nano["tip_erase"]);
     // Tallies: successes <= runs, the interval holds the estimate.
     let check = |t: &serde_json::Value| {
         let (s, n) = (

@@ -33,7 +33,7 @@
 
 use serde::Serialize;
 
-use super::bit::{self, PhaseResult, wilson};
+use super::bit::{self, PhaseResult, Z95, wilson};
 use super::ensemble::{EscapeRate, Exit, escape_rate};
 use super::retention::{ArrheniusFit, Extrapolation, RatePoint, fit_arrhenius};
 use super::search::{ProtocolSearch, SearchResult};
@@ -48,8 +48,6 @@ pub const TIP_BUDGET_FACTOR: usize = 15;
 
 /// Ten years \[s\] (Julian).
 pub const TEN_YEARS: f64 = 10.0 * 365.25 * 86400.0;
-/// 1.959963984540054: the normal 97.5 % quantile.
-const Z95: f64 = 1.959963984540054;
 /// The standing and lying windows \[rad\] (the bit's defaults).
 const ZERO: [f64; 2] = crate::scenario::bit::ZERO_DEFAULT;
 const ONE: [f64; 2] = crate::scenario::bit::ONE_DEFAULT;

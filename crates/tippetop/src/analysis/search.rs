@@ -34,7 +34,9 @@ use toml::{Table, Value};
 use super::bit::{self, Mode};
 use crate::numeric::random::Stream;
 use crate::scenario::bit::BitScenario;
-use crate::scenario::search::{SearchActuator, SearchPhase, SearchSpec, document, split};
+use crate::scenario::search::{
+    SearchActuator, SearchPhase, SearchSpec, apply_sets, document, split,
+};
 use crate::{Error, simulate};
 
 /// The merit of a failed protocol before its distance is added.
@@ -216,53 +218,6 @@ pub struct ProtocolSearch {
     pub spec: SearchSpec,
     /// The bit scenario with the first candidate (the box's centre).
     pub first: BitScenario,
-}
-
-/// Apply `KEY=VALUE` overrides to a document by dotted table path (window
-/// lists are not reachable this way: an error names the key).
-fn apply_sets(doc: &mut Table, sets: &[String]) -> Result<(), Error> {
-    for s in sets {
-        let Some((key, val)) = s.split_once('=') else {
-            return Err(Error::invalid(
-                "--set",
-                format!("{s:?} has no '='"),
-                "KEY=VALUE".into(),
-            ));
-        };
-        let key = key.trim();
-        let value = format!("x = {}", val.trim())
-            .parse::<Table>()
-            .ok()
-            .and_then(|mut t| t.remove("x"))
-            .unwrap_or_else(|| Value::String(val.trim().to_string()));
-        let parts: Vec<&str> = key.split('.').collect();
-        if parts
-            .iter()
-            .any(|p| p.is_empty() || p.parse::<usize>().is_ok())
-        {
-            return Err(Error::invalid(
-                key,
-                "with --search, --set reaches table keys only".into(),
-                "edit the window lists in the file".into(),
-            ));
-        }
-        let mut t = &mut *doc;
-        for p in &parts[..parts.len() - 1] {
-            let e = t
-                .entry(p.to_string())
-                .or_insert_with(|| Value::Table(Table::new()));
-            let Value::Table(inner) = e else {
-                return Err(Error::invalid(
-                    key,
-                    format!("{p} is not a table"),
-                    "a table key".into(),
-                ));
-            };
-            t = inner;
-        }
-        t.insert(parts[parts.len() - 1].to_string(), value);
-    }
-    Ok(())
 }
 
 impl ProtocolSearch {

@@ -24,7 +24,7 @@
 
 use toml::{Table, Value};
 
-use super::{Keys, check_keys, describe, parse_document};
+use super::{Keys, check_keys, describe, parse_document, parse_set_value};
 use crate::Error;
 
 /// Which phase's protocol is searched.
@@ -341,4 +341,48 @@ pub fn split(mut doc: Table) -> Result<(Table, Option<Table>), Error> {
 /// error is one line naming `scenario`.
 pub fn document(text: Option<&str>) -> Result<Table, Error> {
     text.map_or_else(|| Ok(Table::new()), parse_document)
+}
+
+/// Apply `KEY=VALUE` overrides (values read as `--set` reads them) to a
+/// document by dotted table path, for `tippetop bit --search` (window
+/// lists are not reachable this way: an error names the key).
+pub fn apply_sets(doc: &mut Table, sets: &[String]) -> Result<(), Error> {
+    for s in sets {
+        let Some((key, val)) = s.split_once('=') else {
+            return Err(Error::invalid(
+                "--set",
+                format!("{s:?} has no '='"),
+                "KEY=VALUE".into(),
+            ));
+        };
+        let key = key.trim();
+        let value = parse_set_value(val.trim());
+        let parts: Vec<&str> = key.split('.').collect();
+        if parts
+            .iter()
+            .any(|p| p.is_empty() || p.parse::<usize>().is_ok())
+        {
+            return Err(Error::invalid(
+                key,
+                "with --search, --set reaches table keys only".into(),
+                "edit the window lists in the file".into(),
+            ));
+        }
+        let mut t = &mut *doc;
+        for p in &parts[..parts.len() - 1] {
+            let e = t
+                .entry(p.to_string())
+                .or_insert_with(|| Value::Table(Table::new()));
+            let Value::Table(inner) = e else {
+                return Err(Error::invalid(
+                    key,
+                    format!("{p} is not a table"),
+                    "a table key".into(),
+                ));
+            };
+            t = inner;
+        }
+        t.insert(parts[parts.len() - 1].to_string(), value);
+    }
+    Ok(())
 }
