@@ -43,6 +43,6 @@ pub use scenario::{Scenario, limits};
 pub use simulate::{Simulation, Snapshot, simulate, simulate_with_progress};
 pub use state::{Initial, Method, ModelKind, SolverSettings};
 pub use thermal::Thermal;
-pub use top::Top;
-pub use trajectory::{EventRecord, NormalIntervals, Sample, Summary, Trajectory};
+pub use top::{Stem, Top};
+pub use trajectory::{EventRecord, NormalIntervals, Sample, StemSummary, Summary, Trajectory};
 pub use well::Well;

@@ -834,6 +834,10 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 self.log.normal.negative_fraction(t),
             )
         };
+        let stem = self.m.has_stem().then(|| {
+            let (first, fraction) = self.log.stem(t);
+            (first.map(|ts| ts * tu), fraction)
+        });
         let last = self.m.row(t, &y);
         let summary = summarize(
             &self.track,
@@ -849,6 +853,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 stats: self.stats,
                 error: self.error.as_ref(),
                 adhesive: self.m.adhesive(),
+                stem,
                 normal_buckets: self
                     .normal_buckets
                     .as_deref()

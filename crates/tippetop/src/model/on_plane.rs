@@ -48,6 +48,10 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
         self.plane().adhesive()
     }
 
+    fn has_stem(&self) -> bool {
+        self.plane().stem_cos.is_some()
+    }
+
     fn step_hints(&self) -> (f64, bool) {
         (self.dop853_beta(), self.dop853_stability_cap())
     }
@@ -145,6 +149,18 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                     g: Box::new(|m: &M, _, y| {
                         m.plane().contensou_stick_gap(m.slip_of(y), m.spin_z(y))
                     }),
+                    direction: Direction::Falling,
+                    terminal: true,
+                    step_to_event: false,
+                },
+            ));
+        }
+        if let Some(c_td) = self.plane().stem_cos {
+            // The stem reaches the plane where θ rises through θ_td (§26).
+            ev.push((
+                Watch::StemTouch,
+                Event {
+                    g: Box::new(move |m: &M, _, y| m.theta(y).cos() - c_td),
                     direction: Direction::Falling,
                     terminal: true,
                     step_to_event: false,
@@ -249,6 +265,19 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                     ContactModel::describe_state(self, y)
                 ),
             )),
+            Watch::StemTouch => {
+                log.stem_on(t);
+                let c_td = self.plane().stem_cos.unwrap_or(f64::NAN);
+                Flow::Stop(Error::runtime(
+                    t * self.time_unit(),
+                    Failure::NotModelled,
+                    format!(
+                        "the stem touches the plane at theta = theta_td = {} rad (cos theta_td = -(R - r2)/(d2 - a) = {c_td}; docs/physics.md §26): the reduced and vector models keep the main sphere on the plane and cannot follow the stem's contact, use model = \"rigid\"; {}",
+                        c_td.acos(),
+                        ContactModel::describe_state(self, y)
+                    ),
+                ))
+            }
             Watch::ContensouStick => {
                 log.push(t, Happened::ContensouStick);
                 Flow::Stop(crate::sim::messages::contensou_stick_error(

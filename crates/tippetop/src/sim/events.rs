@@ -31,6 +31,18 @@ pub enum Watch {
     /// Sliding and spinning both stop (Coulomb–Contensou friction, §25):
     /// the run ends there (the stick phase is not modelled).
     ContensouStick,
+    /// The contact sphere that is not the active one (the stem's while the
+    /// main sphere is, or was last, on the plane, and the other way round)
+    /// reaches the plane (rigid model with a stem, docs/physics.md §26):
+    /// an impact of that sphere, which becomes the active one.
+    SphereTouchdown,
+    /// One of the two normal forces of the two-contact phase (main sphere
+    /// and stem both on the plane, rigid model, §26) falls through 0: that
+    /// sphere lifts off and the other carries on alone.
+    SphereLiftoff,
+    /// θ reaches the stem's touchdown angle θ_td (on-plane models with a
+    /// stem, §26): they cannot follow the stem's contact and stop there.
+    StemTouch,
 }
 
 /// Something a run records in its event list (`Trajectory::events`).
@@ -56,6 +68,11 @@ pub enum Happened {
     EventLimitReached,
     /// Sliding and spinning both stopped (Coulomb–Contensou friction).
     ContensouStick,
+    /// The stem's sphere landed on the plane (docs/physics.md §26).
+    StemTouchdown,
+    /// The stem's sphere left the plane (into flight, or the main sphere
+    /// landed).
+    StemLiftoff,
 }
 
 impl Happened {
@@ -72,12 +89,14 @@ impl Happened {
             Happened::Touchdown => "touchdown",
             Happened::EventLimitReached => "event_limit_reached",
             Happened::ContensouStick => "contensou_stick",
+            Happened::StemTouchdown => "stem_touchdown",
+            Happened::StemLiftoff => "stem_liftoff",
         }
     }
 
     /// Every kind, for documentation and tests.
     #[cfg_attr(not(test), allow(dead_code))]
-    pub const ALL: [Happened; 10] = [
+    pub const ALL: [Happened; 12] = [
         Happened::ForceSwitch,
         Happened::Stick,
         Happened::Slip,
@@ -88,6 +107,8 @@ impl Happened {
         Happened::Touchdown,
         Happened::EventLimitReached,
         Happened::ContensouStick,
+        Happened::StemTouchdown,
+        Happened::StemLiftoff,
     ];
 }
 
