@@ -296,6 +296,18 @@ impl Scenario {
                 "a stem with solver.method = \"adaptive\", \"rk4\" or \"stiff\" only".into(),
             ));
         }
+        if let Some(c_td) = self.top.stem_touchdown_cos() {
+            if !(self.initial.theta.cos() > c_td) {
+                return Err(Error::invalid(
+                    "initial.theta",
+                    format!("{} puts the stem on or below the plane", self.initial.theta),
+                    format!(
+                        "0 <= theta < theta_td = {} rad, where the stem touches (cos theta_td = -(radius - stem_radius)/(stem_distance - offset))",
+                        c_td.acos()
+                    ),
+                ));
+            }
+        }
         if self.solver.model == ModelKind::Rigid && self.surface.contact != ContactMode::Unilateral
         {
             return Err(Error::invalid(

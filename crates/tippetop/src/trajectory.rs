@@ -261,6 +261,19 @@ pub struct Summary {
     pub failure: Option<&'static str>,
 }
 
+impl Summary {
+    /// `first_stem_contact_at` \[s\]: `None` without a stem or if it never
+    /// touched.
+    pub fn first_stem_contact_at(&self) -> Option<f64> {
+        self.stem.and_then(|s| s.first_stem_contact_at)
+    }
+
+    /// `stem_contact_fraction` (0 without a stem).
+    pub fn stem_contact_fraction(&self) -> f64 {
+        self.stem.map_or(0.0, |s| s.stem_contact_fraction)
+    }
+}
+
 /// A run: samples, events, summary, and the run-time error if it failed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trajectory {

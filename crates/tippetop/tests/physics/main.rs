@@ -25,6 +25,8 @@
 //! - `position`: where the top is (position, attitude, contact point);
 //! - `initial`: the lab-frame initial state and the heading (isotropy);
 //! - `rigid`: what only the rigid model has (attitude, flight, impacts);
+//! - `stem`: the stem's second contact sphere (§26): θ_td, the energy
+//!   balance across its touchdowns, its Jellett integral, the on-plane stop;
 //! - `thermal`: Langevin dynamics (vector model): equipartition, the
 //!   orientation density, diffusion, the damped energy, replay.
 
@@ -40,6 +42,7 @@ mod invariants;
 mod position;
 mod rigid;
 mod spec;
+mod stem;
 mod stick_slip;
 mod thermal;
 mod wells;
