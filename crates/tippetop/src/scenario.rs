@@ -297,7 +297,7 @@ impl Scenario {
             ));
         }
         if let Some(c_td) = self.top.stem_touchdown_cos() {
-            if !(self.initial.theta.cos() > c_td) {
+            if self.initial.theta.is_nan() || self.initial.theta.cos() <= c_td {
                 return Err(Error::invalid(
                     "initial.theta",
                     format!("{} puts the stem on or below the plane", self.initial.theta),

@@ -253,7 +253,7 @@ impl Rigid {
         let b = [-vn(&yn, rs[0]), -vn(&yn, rs[1])];
         let (k00, k01, k10, k11) = (kij(0, 0), kij(0, 1), kij(1, 0), kij(1, 1));
         let det = k00 * k11 - k01 * k10;
-        if !(det > 0.0) {
+        if det.is_nan() || det <= 0.0 {
             return at_once(self, y, "the two normal impulses have no unique solution");
         }
         let p = [
@@ -294,10 +294,7 @@ impl Rigid {
     fn settle_two(&mut self, t: f64, y: &mut [f64; DIM], log: &mut RunLog) -> Flow {
         self.both = true;
         self.project_contact(y);
-        let (na, no) = match self.two_normals(y) {
-            Ok(n) => n,
-            Err(_) => (f64::NAN, f64::NAN),
-        };
+        let (na, no) = self.two_normals(y).unwrap_or((f64::NAN, f64::NAN));
         if na >= 0.0 && no >= 0.0 {
             return Flow::Continue;
         }
@@ -394,7 +391,8 @@ impl Rigid {
         let m = |i: usize, j: usize| 1.0 + c[i] * (w[j][2] - dot(f[j], w[j]));
         let (m00, m01, m10, m11) = (m(0, 0), m(0, 1), m(1, 0), m(1, 1));
         let det = m00 * m11 - m01 * m10;
-        if !(det.abs() > 1e-12 * (m00.abs() * m11.abs() + m01.abs() * m10.abs())) {
+        let floor = 1e-12 * (m00.abs() * m11.abs() + m01.abs() * m10.abs());
+        if det.is_nan() || det.abs() <= floor {
             return Err(RigidError::Painleve {
                 theta: kin.kh.atan2(k[2]),
                 solutions: 0,
