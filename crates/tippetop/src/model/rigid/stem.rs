@@ -340,7 +340,9 @@ impl Rigid {
     }
 
     /// Evaluate the two-contact phase (the right-hand side of
-    /// [`Rigid::eval`] there): `normal` is the active sphere's.
+    /// [`Rigid::eval`] there): `normal` is the sum of both normal forces
+    /// (the plane's whole reaction), `friction` the sum of both friction
+    /// forces.
     pub(super) fn eval_two(&self, y: &[f64; DIM]) -> Result<Eval, RigidError> {
         self.two_contact(y).map(|(e, _)| e)
     }
@@ -436,7 +438,8 @@ impl Rigid {
         Ok((
             Eval {
                 dy,
-                normal: normals[0],
+                // The plane's whole reaction (the output's N column).
+                normal: normals[0] + normals[1],
                 friction,
                 kin,
                 q_free: q[0],
