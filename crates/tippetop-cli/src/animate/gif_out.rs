@@ -519,6 +519,63 @@ pub fn write_gif(path: &Path, movie: &Movie, settings: &Settings) -> Result<GifS
 mod tests {
     use super::*;
 
+    /// The stem's ball (§26) is drawn: with the top upright (k = Z), the
+    /// toy's stem (r2 = 2.5 mm at d2 = 16 mm, R = 15 mm, a = 1.5 mm) sticks
+    /// 2 mm out of the sphere's top; the pixel of the ball's front surface
+    /// point with screen offsets (0.5 r2 right, 0.7 r2 up) from its centre
+    /// (2.1 mm higher than the ball's centre, 16.6 mm from the sphere's
+    /// centre: outside the sphere; 4 px right of the axis line) is the
+    /// stem's brown, shaded (red > blue by far); without the stem it is the
+    /// background's grey.
+    #[test]
+    fn the_stem_ball_is_drawn() {
+        let (r, a, r2, d2) = (0.015, 0.0015, 0.0025, 0.016);
+        let frame = super::super::Frame {
+            t: 0.0,
+            theta: 0.0,
+            spin: 0.0,
+            com: [0.0, 0.0, r - a],
+            q: [1.0, 0.0, 0.0, 0.0],
+            contact: [0.0, 0.0],
+        };
+        let movie = |stem| Movie {
+            title: String::new(),
+            radius: r,
+            offset: a,
+            stem,
+            frames: vec![frame.clone()],
+            frame_dt: 0.05,
+            fps: 20,
+            trace: vec![[0.0, 0.0, 0.0]],
+            theta_curve: vec![[0.0, 0.0]],
+            source: String::new(),
+        };
+        let settings = Settings {
+            fps: 20,
+            frames: 1,
+            width: 320,
+            height: 240,
+        };
+        let pose = Pose::new(frame.com, frame.q, a);
+        let cam = Camera::standard(320, 240, r, pose.centre);
+        let sc = [0.0, 0.0, r - a + d2];
+        let p = axpy(axpy(sc, 0.5 * r2, cam.r), 0.7 * r2, cam.u);
+        let (x, y, _) = cam.project(p);
+        let at = |stem| {
+            let mut buf = vec![0u8; 320 * 240 * 3];
+            render_frame(&movie(stem), 0, &settings, &mut buf).unwrap();
+            let o = 3 * (y as usize * 320 + x as usize);
+            [buf[o], buf[o + 1], buf[o + 2]]
+        };
+        let with = at(Some((r2, d2)));
+        let without = at(None);
+        assert!(with[0] as i32 - with[2] as i32 > 40, "stem pixel {with:?}");
+        assert!(
+            without[0].abs_diff(without[2]) < 30,
+            "no-stem pixel {without:?}"
+        );
+    }
+
     #[test]
     fn clock_units() {
         assert_eq!(time_unit(10.0).1, "s");

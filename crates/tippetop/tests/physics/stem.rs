@@ -320,3 +320,39 @@ fn stem_validation_errors_name_the_key() {
     let again = Scenario::load(None, Some(&sc.to_toml_string()), &[]).expect("round trip");
     assert_eq!(again.top.stem, sc.top.stem);
 }
+
+/// The two-contact phase (§26): while both spheres are on the plane, both
+/// constraints hold, so `k_Z = cos θ_td` (to the integration's drift, 1e-9
+/// at rtol 1e-10 over the phase's ~10³ steps) and both normal forces are
+/// non-negative (the phase ends where one falls through zero). The toy at
+/// 100 rad/s sits in it for seconds.
+#[test]
+fn two_contact_phase_holds_theta_td() {
+    let mut sc = toy();
+    sc.initial.spin = 100.0;
+    sc.solver.t_end = 8.0;
+    let c_td = theta_td(&sc).cos();
+    let (mut steps, mut worst, mut n_min) = (0usize, 0.0f64, f64::INFINITY);
+    let (mut first, mut last) = (f64::NAN, f64::NAN);
+    let tr = tippetop::simulate::simulate_rigid_observed(&sc, &mut |m, t, y| {
+        if m.both {
+            steps += 1;
+            let k = &y[tippetop::model::rigid::AXIS..tippetop::model::rigid::AXIS + 3];
+            let kz = k[2] / (k[0] * k[0] + k[1] * k[1] + k[2] * k[2]).sqrt();
+            worst = worst.max((kz - c_td).abs());
+            let (na, no) = m.two_normals(y).unwrap();
+            n_min = n_min.min(na.min(no));
+            if first.is_nan() {
+                first = t;
+            }
+            last = t;
+        }
+    });
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    println!(
+        "two-contact: {steps} steps from {first} to {last} (scaled time), |k_Z - cos theta_td| <= {worst:e}, min N {n_min:e} (scaled)"
+    );
+    assert!(steps > 100, "only {steps} steps in the two-contact phase");
+    assert!(worst <= 1e-9, "k_Z off cos theta_td by {worst:e}");
+    assert!(n_min >= -1e-9, "a normal force {n_min:e} < 0");
+}
