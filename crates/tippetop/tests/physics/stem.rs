@@ -356,3 +356,47 @@ fn two_contact_phase_holds_theta_td() {
     assert!(worst <= 1e-9, "k_Z off cos theta_td by {worst:e}");
     assert!(n_min >= -1e-9, "a normal force {n_min:e} < 0");
 }
+
+/// Where the top would sit on both spheres but the two-contact phase is not
+/// modelled (the exact Coulomb law's stick at two points; restitution > 0),
+/// the run stops there: failure `not_modelled`, one line saying the two
+/// contacts touch at once, at a time after the stem's first touchdown and
+/// with θ at θ_td (1e-9, as above).
+#[test]
+fn two_contacts_at_once_stop_where_not_modelled() {
+    let mut point = toy();
+    point.surface.law = match point.surface.law {
+        tippetop::FrictionLaw::Contensou { pressure, pade, .. } => {
+            tippetop::FrictionLaw::Contensou {
+                radius: 0.0,
+                pressure,
+                pade,
+            }
+        }
+        other => panic!("{other:?}"),
+    };
+    point.initial.theta = 2.58;
+    point.initial.theta_dot = 1.0;
+    point.solver.t_end = 1.0;
+    let mut bouncy = toy();
+    bouncy.surface.restitution = 0.5;
+    bouncy.initial.spin = 100.0;
+    for (sc, why) in [
+        (point, "with the exact Coulomb law"),
+        (bouncy, "with restitution > 0"),
+    ] {
+        let tr = simulate(&sc).expect("valid");
+        let err = tr.error.as_ref().expect("stops");
+        let msg = err.to_string();
+        println!("{why}: {msg:.120}");
+        assert_eq!(err.failure(), Some(Failure::NotModelled), "{msg}");
+        assert!(
+            msg.contains("the main sphere and the stem touch the plane at once at t = "),
+            "{msg}"
+        );
+        assert!(msg.contains(why), "{msg}");
+        assert!(!msg.contains('\n'));
+        assert!(tr.summary.t_end > tr.summary.first_stem_contact_at().unwrap());
+        assert!((tr.summary.theta_final - theta_td(&sc)).abs() <= 1e-9);
+    }
+}
