@@ -543,7 +543,7 @@ mod tests {
             radius: r,
             offset: a,
             stem,
-            frames: vec![frame.clone()],
+            frames: vec![frame],
             frame_dt: 0.05,
             fps: 20,
             trace: vec![[0.0, 0.0, 0.0]],
