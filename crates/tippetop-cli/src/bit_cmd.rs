@@ -239,11 +239,13 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     } else {
         let sc = bs.run_scenario(0);
         let mut progress = crate::progress::RunProgress::new(quiet, sc.solver.t_end);
-        let traj = tippetop::simulate_with_progress(&sc, &mut |f| progress.update(f));
+        let traj = tippetop::simulate_watching_with_progress(&sc, &bit::watches(&bs), &mut |f| {
+            progress.update(f)
+        });
         progress.finish();
         match traj {
-            Ok(traj) => {
-                results.push(bit::evaluate_run(&bs, sc.thermal.run, &traj));
+            Ok((traj, stays)) => {
+                results.push(bit::evaluate_run(&bs, sc.thermal.run, &traj, &stays));
                 kept = Some(traj);
             }
             Err(e) => {

@@ -90,8 +90,11 @@ fn nano_write_succeeds_and_the_reversal_does_not_erase() {
     assert!(!e_ok, "the reversed force does not stand it up");
     assert_eq!(b["write"]["probability"], 1.0);
     assert_eq!(b["write"]["ci95"], serde_json::json!([1.0, 1.0]));
+    // The switching time is the crossing into `one` on the continuous
+    // solution: within the row spacing before the first row of the stay.
     let t = b["write"]["time_median"].as_f64().unwrap();
-    assert!((t - w_time.unwrap()).abs() < 1e-12, "{t} vs {w_time:?}");
+    let w_time = w_time.unwrap();
+    assert!(w_time - 1e-7 < t && t <= w_time, "{t} vs {w_time}");
     assert!(t < phase - hold, "{t}");
     assert_eq!(b["erase"]["probability"], 0.0);
     assert_eq!(b["erase"]["successes"], 0);

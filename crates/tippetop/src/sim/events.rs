@@ -31,6 +31,12 @@ pub enum Watch {
     /// Sliding and spinning both stop (Coulomb–Contensou friction, §25):
     /// the run ends there (the stick phase is not modelled).
     ContensouStick,
+    /// θ crosses the edge level `j` of a watched θ window
+    /// ([`crate::sim::watch`]): never terminal.
+    ThetaLevel(usize),
+    /// The run reaches the time mark `j` of a watched θ window
+    /// ([`crate::sim::watch`]): never terminal.
+    TimeMark(usize),
 }
 
 /// Something a run records in its event list (`Trajectory::events`).
