@@ -190,3 +190,68 @@ fn bit_text_round_trips() {
         assert_eq!(back.to_toml_string(), again);
     }
 }
+
+/// The watch events never change a step, in every model and in a Langevin
+/// run: the watched trajectory is the plain one bit for bit, and the
+/// stochastic run's judgement agrees with its rows where the rows decide
+/// (a Langevin path crosses its window edges many times).
+#[test]
+fn watching_changes_no_step_in_any_model() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios/bit/");
+    let nano = std::fs::read_to_string(format!("{root}nano.toml")).unwrap();
+    let hot = std::fs::read_to_string(format!("{root}nano_300K.toml")).unwrap();
+    let cases: [(&str, Vec<String>); 4] = [
+        (&nano, vec!["solver.model=\"reduced\"".into()]),
+        (&nano, vec!["solver.model=\"rigid\"".into()]),
+        (
+            &nano,
+            vec![
+                "bit.phase=2e-5".into(),
+                "bit.hold=4e-6".into(),
+                "write.0.stop=2e-5".into(),
+                "erase.0.stop=2e-5".into(),
+            ],
+        ),
+        (&hot, vec!["thermal.run=3".into()]),
+    ];
+    for (text, sets) in cases {
+        let bs = BitScenario::load(None, Some(text), &sets).unwrap();
+        let (watched, stays) =
+            tippetop::simulate_watching(&bs.scenario, &bit::watches(&bs)).unwrap();
+        let plain = tippetop::simulate(&bs.scenario).unwrap();
+        assert_eq!(watched.samples, plain.samples, "{sets:?}");
+        assert_eq!(watched.summary.steps, plain.summary.steps, "{sets:?}");
+        let r = bit::evaluate_run(&bs, 0, &watched, &stays);
+        // Necessary conditions the rows can check: success needs every row
+        // of the hold inside; a row inside during the phase means the
+        // phase was entered.
+        for (p, w, t0) in [
+            (&r.write, bs.bit.one, 0.0),
+            (&r.erase, bs.bit.zero, bs.bit.phase),
+        ] {
+            let t1 = t0 + bs.bit.phase;
+            let tol = 1e-9 * bs.bit.phase;
+            let inside = |th: f64| w[0] <= th && th <= w[1];
+            let phase_rows: Vec<_> = watched
+                .samples
+                .iter()
+                .filter(|s| s.t >= t0 - tol && s.t <= t1 + tol)
+                .collect();
+            if p.success() {
+                assert!(
+                    phase_rows
+                        .iter()
+                        .filter(|s| s.t >= t1 - bs.bit.hold - tol)
+                        .all(|s| inside(s.theta)),
+                    "{sets:?}: {p:?}"
+                );
+            }
+            if phase_rows.iter().any(|s| inside(s.theta)) {
+                assert_ne!(p.failure, Some(Mode::NeverEntered), "{sets:?}");
+            }
+        }
+        if text == hot {
+            assert!(stays.iter().any(|s| s.crossings > 0), "{stays:?}");
+        }
+    }
+}
