@@ -52,9 +52,11 @@ force [N] in the lab frame; kind = \"magnetic\": moment [A m^2] along the axis, 
 gradient [T/m] in the lab frame, docs/physics.md §24; start, stop [s] from the start of the
 phase, start < stop <= phase, stop default phase). The run lasts 2 x phase
 (solver.t_end is replaced), the scenario's own [[force]] list must be empty (a preset's is
-replaced by the protocols), the initial theta must lie in zero. A phase succeeds iff theta is in
-its target window at every output row of its last hold seconds (resolution: the sample spacing;
-at least 10 rows per hold). --set reaches bit.KEY, write.K.KEY and erase.K.KEY. At T > 0
+replaced by the protocols), the initial theta must lie in zero. A phase succeeds iff theta stays in
+its target window during its last hold seconds on the continuous solution (events at the
+window's edges; an excursion within one integration step is not seen, and the step is at most
+the row spacing: at least 10 rows per hold); its switching time is the crossing into the window.
+--set reaches bit.KEY, write.K.KEY and erase.K.KEY. At T > 0
 (solver.method = \"langevin\" or \"brownian\") --runs N runs (default 100), run K with
 thermal.run = r0 + K, independent of --threads; --shard K/M runs only the K-th of M blocks of
 the runs and writes runs.csv (those runs), shard.json and bit.toml: tippetop merge of the
@@ -673,8 +675,9 @@ fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
     let _ = writeln!(
         s,
         "States: zero = θ in [{}, {}] rad, one = θ in [{}, {}] rad. Each phase lasts {} s; a \
-         phase succeeds iff θ is in its target window at every output row of its last {} s \
-         (sample spacing {} s).\n",
+         phase succeeds iff θ stays in its target window during its last {} s, on the \
+         continuous solution (events at the window's edges; steps at most the row spacing, {} \
+         s). The switching time is the crossing into the window.\n",
         fmt_f64(b.zero[0]),
         fmt_f64(b.zero[1]),
         fmt_f64(b.one[0]),
