@@ -144,8 +144,10 @@ pub struct BitArgs {
     pub resume: bool,
 
     /// Search the protocol of one phase instead (T = 0; the file's
-    /// [search] table: phase, windows, bounds of magnitude, angle, start
-    /// and duration, weight, margin, seed, budget, perturbations). Writes
+    /// [search] table: phase, windows, actuator ("contact", "tip" with
+    /// point [m], "magnetic" with moment [A m^2]), bounds of magnitude
+    /// ([N]; |B| [T] for a magnet), angle, start and duration, weight,
+    /// margin, seed, budget, perturbations; docs/physics.md §23.1). Writes
     /// search.json, search.md, best.toml, evaluations.csv.
     #[arg(long, conflicts_with_all = ["vary", "shard", "resume"])]
     pub search: bool,

@@ -295,6 +295,15 @@ impl ProtocolSearch {
                         t.insert("point".into(), arr(point));
                         t.insert("force".into(), arr([mag * ang.cos(), mag * ang.sin(), 0.0]));
                     }
+                    SearchActuator::Magnetic { moment } => {
+                        let field = [mag * ang.sin(), 0.0, mag * ang.cos()];
+                        t.insert("kind".into(), Value::String("magnetic".into()));
+                        t.insert("moment".into(), Value::Float(moment));
+                        t.insert(
+                            "field".into(),
+                            Value::Array(field.iter().map(|&c| Value::Float(c)).collect()),
+                        );
+                    }
                 }
                 t.insert("start".into(), Value::Float(start));
                 t.insert("stop".into(), Value::Float(stop));
