@@ -1001,3 +1001,71 @@ fn bit_ensemble_shards_merge_to_the_unsharded_bytes() {
     assert!(String::from_utf8_lossy(&o.stderr).starts_with("error: --shard"));
     assert!(!d.join("cold").exists());
 }
+
+/// A bit ensemble streams its runs into runs.csv.partial: `--resume`
+/// keeps the complete rows an interrupted ensemble left (a torn last line
+/// is cut) and ends with the bytes of an uninterrupted run; another
+/// ensemble's partial files (other --runs) exit 2; no partial file is left.
+#[test]
+fn resumed_bit_ensemble_is_byte_identical() {
+    let d = scratch("ens-resume");
+    std::fs::write(d.join("hot.toml"), HOT).unwrap();
+    ok(&bit(
+        &d,
+        "hot.toml",
+        "full",
+        &["--runs", "6", "--threads", "2"],
+    ));
+    // The whole ensemble's shard.json is that of shard 1/1.
+    ok(&bit(
+        &d,
+        "hot.toml",
+        "one",
+        &["--runs", "6", "--shard", "1/1"],
+    ));
+    let full = std::fs::read_to_string(d.join("full/runs.csv")).unwrap();
+    assert_eq!(
+        full,
+        std::fs::read_to_string(d.join("one/runs.csv")).unwrap()
+    );
+    let info = std::fs::read_to_string(d.join("one/shard.json")).unwrap();
+    assert!(!d.join("full/runs.csv.partial").exists());
+    assert!(!d.join("full/shard.json.partial").exists());
+    // Interrupted: the header, two runs and part of the third.
+    let cut: usize = full
+        .split_inclusive('\n')
+        .take(3)
+        .map(str::len)
+        .sum::<usize>()
+        + 7;
+    let part = d.join("part");
+    std::fs::create_dir_all(&part).unwrap();
+    std::fs::write(part.join("runs.csv.partial"), &full[..cut]).unwrap();
+    std::fs::write(part.join("shard.json.partial"), &info).unwrap();
+    let o = bin()
+        .arg("bit")
+        .arg(d.join("hot.toml"))
+        .args(["--runs", "6", "--resume", "--out"])
+        .arg(&part)
+        .output()
+        .unwrap();
+    ok(&o);
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("resuming: 2 of 6 runs"),
+        "{o:?}"
+    );
+    for f in ["bit.json", "bit.md", "runs.csv", "theta.svg"] {
+        assert_eq!(
+            std::fs::read(d.join("full").join(f)).unwrap(),
+            std::fs::read(part.join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    assert!(!part.join("runs.csv.partial").exists());
+    // Another ensemble's partial files: exit 2.
+    std::fs::write(part.join("runs.csv.partial"), &full[..cut]).unwrap();
+    std::fs::write(part.join("shard.json.partial"), &info).unwrap();
+    let o = bit(&d, "hot.toml", "part", &["--runs", "5", "--resume"]);
+    assert_eq!(o.status.code(), Some(2), "{o:?}");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("another bit ensemble"));
+}
