@@ -43,6 +43,12 @@ pub enum Watch {
     /// θ reaches the stem's touchdown angle θ_td (on-plane models with a
     /// stem, §26): they cannot follow the stem's contact and stop there.
     StemTouch,
+    /// θ crosses the edge level `j` of a watched θ window
+    /// ([`crate::sim::watch`]): never terminal.
+    ThetaLevel(usize),
+    /// The run reaches the time mark `j` of a watched θ window
+    /// ([`crate::sim::watch`]): never terminal.
+    TimeMark(usize),
 }
 
 /// Something a run records in its event list (`Trajectory::events`).

@@ -27,6 +27,8 @@
 //! - `rigid`: what only the rigid model has (attitude, flight, impacts);
 //! - `stem`: the stem's second contact sphere (§26): θ_td, the energy
 //!   balance across its touchdowns, its Jellett integral, the on-plane stop;
+//! - `first_passage`: the Brownian escape time against the exact mean
+//!   first-passage time (the retention machinery's closed-form check);
 //! - `thermal`: Langevin dynamics (vector model): equipartition, the
 //!   orientation density, diffusion, the damped energy, replay.
 
@@ -36,6 +38,7 @@ mod closed_forms;
 mod contensou;
 mod convergence;
 mod crosscheck;
+mod first_passage;
 mod forces;
 mod initial;
 mod invariants;
