@@ -710,10 +710,11 @@ impl Vector {
     /// (`scenario::actuator::check_model`).
     #[inline(always)]
     fn body_wrench(&self, y: &[f64; DIM], k: V3) -> Option<(V3, V3)> {
-        let b = self.plane.forces().body();
-        if b.is_zero() {
+        let forces = self.plane.forces();
+        if forces.body_is_zero() {
             return None;
         }
+        let b = forces.body();
         Some(b.wrench(k, || {
             crate::physics::forces::actuators::material_axes(
                 [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]],
@@ -922,6 +923,11 @@ impl super::ContactModel<DIM> for Vector {
     }
     fn theta(&self, y: &[f64; DIM]) -> f64 {
         Vector::theta(y)
+    }
+    fn cos_theta(&self, y: &[f64; DIM]) -> f64 {
+        // k_Z/|k|: a few ulps from the cosine of `theta`'s angle.
+        let n2 = y[K] * y[K] + y[K + 1] * y[K + 1] + y[K + 2] * y[K + 2];
+        y[K + 2] / n2.sqrt()
     }
     fn above_half_pi(&self, y: &[f64; DIM]) -> f64 {
         // θ − π/2 has the sign and the zero of −k_Z (no atan2 per step).
