@@ -146,6 +146,12 @@ pub struct Vector {
     /// The Ornstein–Uhlenbeck step's coefficients from the last call
     /// (`ou_step`), reused where their inputs are the same bits.
     ou: super::thermostat::OuCache,
+    /// The wells' torque (`with_wells`) at the last axis `k` (its bits): a
+    /// function of `k` alone, so a Langevin step's first evaluation (after
+    /// the O half step, which does not move `k`) reuses the one at the
+    /// previous step's end, where the driver evaluated N: one `atan2` and
+    /// one `exp` per well less per step, the same bits.
+    wells_last: std::cell::Cell<Option<([u64; 3], V3)>>,
 }
 
 /// `(sin θ, cos θ)` for the initial axis, moved by a few ulps so that the
@@ -217,6 +223,7 @@ impl Vector {
             last: RefCell::new(None),
             thermal: super::thermostat::Bath::of(sc, &scales),
             ou: super::thermostat::OuCache::default(),
+            wells_last: std::cell::Cell::new(None),
         }
     }
 
@@ -698,7 +705,15 @@ impl Vector {
         if wells.is_empty() {
             w0
         } else {
-            let tau = crate::physics::forces::wells::torque_world(wells, k);
+            let key = [k[0].to_bits(), k[1].to_bits(), k[2].to_bits()];
+            let tau = match self.wells_last.get() {
+                Some((kb, tau)) if kb == key => tau,
+                _ => {
+                    let tau = crate::physics::forces::wells::torque_world(wells, k);
+                    self.wells_last.set(Some((key, tau)));
+                    tau
+                }
+            };
             add(w0, scale(self.inv_ia, tau))
         }
     }
