@@ -484,7 +484,7 @@ mod tests {
         };
         let angles = |k: [f64; 3]| ((k[0] * k[0] + k[1] * k[1]).sqrt().atan2(k[2]), k[2]);
         let cos = |k: [f64; 3]| k[2] / (k[0] * k[0] + k[1] * k[1] + k[2] * k[2]).sqrt();
-        for theta0 in [0.1, 1.5707963267948966, 3.0] {
+        for theta0 in [0.1, std::f64::consts::FRAC_PI_2, 3.0] {
             let (mut th, mut ph): (f64, f64) = (theta0, 0.3);
             let mut k = [th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()];
             let mut plain = Track::new(angles(k).0, k[2], 0.0, None);

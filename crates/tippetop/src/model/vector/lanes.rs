@@ -17,6 +17,9 @@
 //! [`Vector::rhs_lanes`] also has an AVX2 path (4 lanes) chosen at run
 //! time.
 
+// Lane loops index several arrays at once; iterators would obscure them.
+#![allow(clippy::needless_range_loop)]
+
 use super::{DIM, K, OMEGA, QUAT, VEL, Vector};
 use crate::model::reduced::Mode;
 
