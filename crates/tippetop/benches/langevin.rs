@@ -23,7 +23,10 @@
 //!   Ornstein–Uhlenbeck updates (`OdeSystem::thermostat` twice on one
 //!   state, then the next state: the pattern of a run, where the second half
 //!   of step n and the first half of step n + 1 see the same axis), and
-//!   RK4's 4 evaluations of the right-hand side.
+//!   RK4's 4 evaluations of the right-hand side, and the same at
+//!   `LANES` = 4 states at once (`rhs_4_lanes_*`: `Vector::rhs_lanes`, the
+//!   lane kernel, AVX2 where the CPU has it; per element, one state's 4
+//!   evaluations).
 //!
 //! `cargo bench -p tippetop --bench langevin`
 
@@ -34,7 +37,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use tippetop::{
     Adhesion, ModelKind, Scenario,
     integrate::{self, OdeSystem, Options, Stepper},
-    model::vector::{DIM, Vector},
+    model::vector::{DIM, Vector, lanes::LANES},
     random::Stream,
     simulate,
 };
@@ -195,17 +198,36 @@ fn bench_parts(c: &mut Criterion) {
                 black_box(y)
             })
         });
+        // RK4's 4 evaluations, at 4 states with 4 different axes (four
+        // states of the run, 1 000 … 1 003 steps), as RK4's stages have:
+        // the wells' torque is cached on the axis bits, so 4 evaluations
+        // at one state would measure one `atan2` instead of four.
+        let lane_states: [[f64; DIM]; LANES] =
+            std::array::from_fn(|j| bare(&mut m.clone(), y0, &opts, (1000 + j) as f64 * h));
         let mut dy = [0.0; DIM];
         g.bench_function(format!("rhs_4_{name}"), |b| {
             b.iter(|| {
-                i += 1;
-                let y = black_box(&states[i & 1]);
-                for _ in 0..4 {
+                for y in black_box(&lane_states) {
                     m.rhs(0.0, y, &mut dy).expect("rhs");
                     black_box(&dy);
                 }
             })
         });
+        // The same at LANES states at once: 4 calls of the lane kernel
+        // (`model::vector::lanes`; runs do not use it yet) on those 4
+        // states; per element, one state's 4 evaluations.
+        let mut dys = [[0.0; DIM]; LANES];
+        g.throughput(Throughput::Elements(LANES as u64));
+        g.bench_function(format!("rhs_4_lanes_{name}"), |b| {
+            b.iter(|| {
+                let ys = black_box(&lane_states);
+                for _ in 0..4 {
+                    assert!(m.rhs_lanes(ys, &mut dys), "lanes cover the preset");
+                    black_box(&dys);
+                }
+            })
+        });
+        g.throughput(Throughput::Elements(1));
     }
     g.finish();
 }

@@ -273,6 +273,18 @@ impl Simulation {
         self.observer = Some(Box::new(observer));
     }
 
+    /// The same run with the per-step record of an ensemble's run
+    /// ([`simulate_for_row`]): θ and the spin at every step, not Jellett's
+    /// J and the energy. Samples, events and every row statistic are the
+    /// same bits; the summary's J drift and energy balance are those of
+    /// the events and segment ends only. For `analysis::ensemble`'s
+    /// `--first-passage` runs (docs/performance.md, "Langevin lanes
+    /// (session 8)").
+    pub(crate) fn lean(mut self) -> Self {
+        with_sim!(&mut self.inner, s => s.light = true);
+        self
+    }
+
     /// Integrate until the run has passed `t` \[s\] (or ended, or failed:
     /// see [`Simulation::error`]). `Err` if `t` is not finite, before the
     /// time of the last call, or after `solver.t_end`.
@@ -741,8 +753,12 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             }
             s.accepted(y);
             if light {
-                let (theta, spin) = s.track_angles(y);
-                track.record_angles(theta, spin);
+                // θ (an atan2) only where it could raise θ's maximum.
+                track.record_angles_guarded(
+                    s.cos_theta(y),
+                    || s.track_angles(y),
+                    || s.track_spin(y),
+                );
             } else {
                 visit(track, s, y);
             }

@@ -360,3 +360,70 @@ fn ensemble_row_equals_the_full_run_of_that_run() {
         }
     }
 }
+
+/// With `--first-passage` a run keeps the lean per-step record (θ and the
+/// spin at every step, not J and the energy; `Simulation::lean`): its row is
+/// the same bits as that of the full record's run to the same exit (the
+/// sample-by-sample loop through the public `Simulation`, which is what
+/// the ensemble ran before): status, finals, θ max and min, N min, the
+/// fraction of negative N, the passage time and the time reached; vector
+/// and rigid models, runs that pass and runs that do not.
+#[test]
+fn first_passage_row_equals_the_full_run_to_its_exit() {
+    let spec = "theta>1.2";
+    for sets in [&[][..], &["solver.model=\"rigid\""][..]] {
+        let exit = ensemble::Exit::parse(spec).unwrap();
+        let e = ens(4, sets).unwrap().with_exit(Some(exit.clone()));
+        let mut passed = 0;
+        for k in 0..4 {
+            let row = e.run(k);
+            let sc = e.scenario_of(k);
+            let mut sim = tippetop::Simulation::new(&sc).unwrap();
+            let (n, t_end) = (sc.solver.samples, sc.solver.t_end);
+            let mut seen = 0;
+            'run: for i in 0..n {
+                let t = if i + 1 == n {
+                    t_end
+                } else {
+                    t_end * i as f64 / (n - 1) as f64
+                };
+                sim.integrate_to(t).unwrap();
+                let rows = sim.samples();
+                for r in &rows[seen..] {
+                    if exit.hit(&r.values()) {
+                        break 'run;
+                    }
+                }
+                seen = rows.len();
+            }
+            let tr = sim.into_trajectory();
+            let s = &tr.summary;
+            let bits = |x: Option<f64>| x.map(f64::to_bits);
+            assert_eq!(row.status, s.status);
+            assert_eq!(
+                row.finals.map(|f| f.map(f64::to_bits)),
+                tr.samples.last().map(|x| x.values().map(f64::to_bits))
+            );
+            assert_eq!(bits(row.theta_max), Some(s.theta_max.to_bits()));
+            let min = |f: fn(&tippetop::Sample) -> f64| tr.samples.iter().map(f).reduce(f64::min);
+            assert_eq!(bits(row.theta_min), bits(min(|x| x.theta)));
+            assert_eq!(bits(row.normal_min), bits(min(|x| x.normal)));
+            assert_eq!(
+                bits(row.negative_normal_fraction),
+                Some(s.negative_normal_fraction.to_bits())
+            );
+            let fp = tr
+                .samples
+                .iter()
+                .find(|x| exit.hit(&x.values()))
+                .map(|x| x.t);
+            assert_eq!(bits(row.first_passage), bits(fp));
+            assert_eq!(bits(row.t_reached), Some(s.t_end.to_bits()));
+            passed += fp.is_some() as usize;
+        }
+        assert!(
+            0 < passed && passed < 4,
+            "{sets:?}: {passed} of 4 passed {spec}"
+        );
+    }
+}

@@ -265,8 +265,10 @@ impl RunRow {
 
 /// Run `sc` sample by sample until the first output row where `exit`
 /// holds (or `t_end`, or a failure): the trajectory up to there.
+/// The per-step record is the lean one ([`crate::Simulation::lean`]): the row
+/// reads no J or energy.
 fn run_to_exit(sc: &Scenario, exit: &Exit) -> Result<crate::Trajectory, Error> {
-    let mut sim = crate::Simulation::new(sc)?;
+    let mut sim = crate::Simulation::new(sc)?.lean();
     let (n, t_end) = (sc.solver.samples, sc.solver.t_end);
     let mut seen = 0;
     'run: for i in 0..n {

@@ -88,31 +88,27 @@ impl<const N: usize> Langevin<N> {
         let k = (t / self.h + LANDING_SLACK).floor() + 1.0;
         k * self.h
     }
-}
 
-/// The grid time `k h` nearest to `t` (how a run's samples are placed on
-/// step ends; the engine computes its step ends with the same expression).
-pub(crate) fn nearest_grid(t: f64, h: f64) -> f64 {
-    (t / h).round() * h
-}
-
-impl<const N: usize> Engine<N> for Langevin<N> {
-    fn restart<S: OdeSystem<N>>(
+    /// [`Engine::step`] in the AVX2 build (the same operations, none
+    /// fused: the same bits; docs/performance.md, "Langevin lanes (session
+    /// 8)").
+    ///
+    /// # Safety
+    /// The CPU must support AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn step_avx2<S: OdeSystem<N>>(
         &mut self,
-        _sys: &mut S,
-        t: f64,
-        y: &[f64; N],
-        _t_stop: f64,
-        _stats: &mut Stats,
+        sys: &mut S,
+        t_stop: f64,
+        stats: &mut Stats,
     ) -> Result<(), Fail<S::Error>> {
-        self.t0 = t;
-        self.y0 = *y;
-        self.t1 = t;
-        self.y1 = *y;
-        Ok(())
+        self.step_impl(sys, t_stop, stats)
     }
 
-    fn step<S: OdeSystem<N>>(
+    /// One step (see [`Engine::step`]).
+    #[inline(always)]
+    fn step_impl<S: OdeSystem<N>>(
         &mut self,
         sys: &mut S,
         t_stop: f64,
@@ -189,6 +185,43 @@ impl<const N: usize> Engine<N> for Langevin<N> {
         self.y1 = y_new;
         self.step += 1;
         Ok(())
+    }
+}
+
+/// The grid time `k h` nearest to `t` (how a run's samples are placed on
+/// step ends; the engine computes its step ends with the same expression).
+pub(crate) fn nearest_grid(t: f64, h: f64) -> f64 {
+    (t / h).round() * h
+}
+
+impl<const N: usize> Engine<N> for Langevin<N> {
+    fn restart<S: OdeSystem<N>>(
+        &mut self,
+        _sys: &mut S,
+        t: f64,
+        y: &[f64; N],
+        _t_stop: f64,
+        _stats: &mut Stats,
+    ) -> Result<(), Fail<S::Error>> {
+        self.t0 = t;
+        self.y0 = *y;
+        self.t1 = t;
+        self.y1 = *y;
+        Ok(())
+    }
+
+    fn step<S: OdeSystem<N>>(
+        &mut self,
+        sys: &mut S,
+        t_stop: f64,
+        stats: &mut Stats,
+    ) -> Result<(), Fail<S::Error>> {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            return unsafe { self.step_avx2(sys, t_stop, stats) };
+        }
+        self.step_impl(sys, t_stop, stats)
     }
 
     fn t(&self) -> f64 {

@@ -127,6 +127,18 @@ pub(crate) trait Model<const D: usize>: OdeSystem<D> + Sized {
         let (theta, spin, ..) = self.track_point(y);
         (theta, spin)
     }
+    /// `cos θ` of a state to a few ulps, without θ itself: where it is
+    /// above the cosine of the run's largest θ so far (with a margin), θ
+    /// cannot raise that maximum and its `atan2` is skipped
+    /// ([`crate::sim::record::Track::record_angles_guarded`]). NaN (the
+    /// default): θ is always computed.
+    fn cos_theta(&self, _y: &[f64; D]) -> f64 {
+        f64::NAN
+    }
+    /// The spin of [`Model::track_angles`] alone (where θ is skipped).
+    fn track_spin(&self, y: &[f64; D]) -> f64 {
+        self.track_angles(y).1
+    }
     /// The plane's reaction N \[N\] at a state, as the output row's `N`
     /// column has it (`None` where it cannot be evaluated; 0 in flight).
     /// The driver averages it over each output interval of a stochastic
@@ -201,6 +213,11 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     }
     /// Nutation angle θ \[rad\].
     fn theta(&self, y: &[f64; D]) -> f64;
+    /// `cos θ` to a few ulps without θ ([`Model::cos_theta`]); NaN where
+    /// the model has none.
+    fn cos_theta(&self, _y: &[f64; D]) -> f64 {
+        f64::NAN
+    }
     /// A function with the sign and the zero of θ − π/2 (the inversion
     /// event).
     fn above_half_pi(&self, y: &[f64; D]) -> f64 {

@@ -214,6 +214,14 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
         (self.theta(y), self.spin(y))
     }
 
+    fn cos_theta(&self, y: &[f64; D]) -> f64 {
+        ContactModel::cos_theta(self, y)
+    }
+
+    fn track_spin(&self, y: &[f64; D]) -> f64 {
+        self.spin(y)
+    }
+
     fn on_force_switch(&mut self, t: f64, y: &mut [f64; D], log: &mut RunLog) -> Flow {
         // While rolling, check that the contact can still hold the new
         // force. N may jump across zero here, which no event can see:

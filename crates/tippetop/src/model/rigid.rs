@@ -695,10 +695,11 @@ impl Rigid {
     /// material axes from the attitude quaternion.
     #[inline]
     fn body_wrench(&self, y: &[f64; DIM], k: V3) -> Option<(V3, V3)> {
-        let b = self.contact.forces().body();
-        if b.is_zero() {
+        let forces = self.contact.forces();
+        if forces.body_is_zero() {
             return None;
         }
+        let b = forces.body();
         Some(b.wrench(k, || {
             crate::physics::forces::actuators::material_axes(quat_of(y), k)
         }))

@@ -54,6 +54,8 @@
 
 use std::cell::RefCell;
 
+pub mod lanes;
+
 use super::ContactState;
 use super::reduced::{Mode, ModelError, Scales};
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
@@ -146,6 +148,12 @@ pub struct Vector {
     /// The Ornstein–Uhlenbeck step's coefficients from the last call
     /// (`ou_step`), reused where their inputs are the same bits.
     ou: super::thermostat::OuCache,
+    /// The wells' torque (`with_wells`) at the last axis `k` (its bits): a
+    /// function of `k` alone, so a Langevin step's first evaluation (after
+    /// the O half step, which does not move `k`) reuses the one at the
+    /// previous step's end, where the driver evaluated N: one `atan2` and
+    /// one `exp` per well less per step, the same bits.
+    wells_last: std::cell::Cell<Option<([u64; 3], V3)>>,
 }
 
 /// `(sin θ, cos θ)` for the initial axis, moved by a few ulps so that the
@@ -217,6 +225,7 @@ impl Vector {
             last: RefCell::new(None),
             thermal: super::thermostat::Bath::of(sc, &scales),
             ou: super::thermostat::OuCache::default(),
+            wells_last: std::cell::Cell::new(None),
         }
     }
 
@@ -698,7 +707,15 @@ impl Vector {
         if wells.is_empty() {
             w0
         } else {
-            let tau = crate::physics::forces::wells::torque_world(wells, k);
+            let key = [k[0].to_bits(), k[1].to_bits(), k[2].to_bits()];
+            let tau = match self.wells_last.get() {
+                Some((kb, tau)) if kb == key => tau,
+                _ => {
+                    let tau = crate::physics::forces::wells::torque_world(wells, k);
+                    self.wells_last.set(Some((key, tau)));
+                    tau
+                }
+            };
             add(w0, scale(self.inv_ia, tau))
         }
     }
@@ -710,10 +727,11 @@ impl Vector {
     /// (`scenario::actuator::check_model`).
     #[inline(always)]
     fn body_wrench(&self, y: &[f64; DIM], k: V3) -> Option<(V3, V3)> {
-        let b = self.plane.forces().body();
-        if b.is_zero() {
+        let forces = self.plane.forces();
+        if forces.body_is_zero() {
             return None;
         }
+        let b = forces.body();
         Some(b.wrench(k, || {
             crate::physics::forces::actuators::material_axes(
                 [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]],
@@ -922,6 +940,11 @@ impl super::ContactModel<DIM> for Vector {
     }
     fn theta(&self, y: &[f64; DIM]) -> f64 {
         Vector::theta(y)
+    }
+    fn cos_theta(&self, y: &[f64; DIM]) -> f64 {
+        // k_Z/|k|: a few ulps from the cosine of `theta`'s angle.
+        let n2 = y[K] * y[K] + y[K + 1] * y[K + 1] + y[K + 2] * y[K + 2];
+        y[K + 2] / n2.sqrt()
     }
     fn above_half_pi(&self, y: &[f64; DIM]) -> f64 {
         // θ − π/2 has the sign and the zero of −k_Z (no atan2 per step).

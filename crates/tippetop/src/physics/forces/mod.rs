@@ -241,6 +241,11 @@ pub struct Forces {
     wells: Vec<wells::Well>,
     /// The body actuators' load, scaled ([`Forces::latch`]).
     body: actuators::BodyLoad,
+    /// `body.is_zero()`, kept at the latch: the models ask at every
+    /// evaluation, and comparing the load's 24 numbers cost ~77
+    /// instructions an evaluation (docs/performance.md, "Langevin lanes
+    /// (session 8)").
+    body_zero: bool,
     /// Latches so far: what the models' evaluation caches key on (the
     /// latched values change only at a latch).
     generation: u64,
@@ -274,6 +279,7 @@ impl Forces {
             radius: sc.top.radius,
             wells: Vec::new(),
             body: actuators::BodyLoad::default(),
+            body_zero: true,
             generation: 0,
         }
     }
@@ -322,6 +328,7 @@ impl Forces {
             energy: cv.energy / (force_unit * self.radius),
         };
         self.body = applied.body.scaled(force_unit, self.radius);
+        self.body_zero = self.body.is_zero();
         self.generation += 1;
     }
 
@@ -329,6 +336,14 @@ impl Forces {
     #[inline(always)]
     pub fn body(&self) -> &actuators::BodyLoad {
         &self.body
+    }
+
+    /// True if the latched body actuators apply nothing
+    /// ([`actuators::BodyLoad::is_zero`] of [`Forces::body`], kept at the
+    /// latch).
+    #[inline(always)]
+    pub fn body_is_zero(&self) -> bool {
+        self.body_zero
     }
 
     /// The number of latches so far (a cache key: the latched values
