@@ -187,7 +187,7 @@ impl ContactState {
     /// arrival is located at this small speed instead.
     pub(crate) fn contensou_stick_gap(&self, v: [f64; 2], nz: f64) -> f64 {
         match self.contensou {
-            Some((rc, _, _)) => v[0].hypot(v[1]) + rc * nz.abs() - CONTENSOU_STICK_SPEED,
+            Some(_) => v[0].hypot(v[1]) + nz.abs() - CONTENSOU_STICK_SPEED,
             None => f64::NAN,
         }
     }
