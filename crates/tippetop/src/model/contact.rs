@@ -276,7 +276,8 @@ impl ContactState {
         if cap <= 0.0 {
             return -(fm + torque.abs() / rc);
         }
-        let (lambda, _) = crate::physics::contensou::gauge(p, pade, fm / cap, torque.abs() / (cap * rc));
+        let (lambda, _) =
+            crate::physics::contensou::gauge(p, pade, fm / cap, torque.abs() / (cap * rc));
         cap * (1.0 - lambda)
     }
 
@@ -293,7 +294,8 @@ impl ContactState {
             let cap = self.mu * n.abs();
             let fm = f[0].hypot(f[1]);
             self.contensou_hint = (cap > 0.0).then(|| {
-                let (_, d) = crate::physics::contensou::gauge(p, pade, fm / cap, m.abs() / (cap * rc));
+                let (_, d) =
+                    crate::physics::contensou::gauge(p, pade, fm / cap, m.abs() / (cap * rc));
                 let (fd, md) = crate::physics::contensou::law(p, pade, d);
                 let u = unit(f);
                 let sm = if m == 0.0 { 0.0 } else { m.signum() };
@@ -541,7 +543,12 @@ impl ContactState {
 /// positive definite up to the sign of the last row: the denominator is
 /// positive).
 pub(crate) fn stick_solve(ia: f64, ic: f64, k: V3, r: V3, b: V3, beta: f64) -> (V3, f64) {
-    let inv = |x: V3| add(scale(1.0 / ia, x), scale((1.0 / ic - 1.0 / ia) * dot(x, k), k));
+    let inv = |x: V3| {
+        add(
+            scale(1.0 / ia, x),
+            scale((1.0 / ic - 1.0 / ia) * dot(x, k), k),
+        )
+    };
     let kmul = |p: V3| sub(p, cross(r, inv(cross(r, p))));
     let cols = [kmul([1.0, 0.0, 0.0]), kmul([0.0, 1.0, 0.0]), kmul(Z)];
     let iz = inv(Z);

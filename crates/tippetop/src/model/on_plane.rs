@@ -35,7 +35,10 @@ fn settle_at_zero_slip<M: ContactModel<D>, const D: usize>(
 /// stopped, §25): the state is put on the stick (an impulse, its work in
 /// `W_f`), and the needed wrench decides: stick if it is inside the limit
 /// curve, else slide off along it. Returns the state and true if stuck.
-fn settle_at_stick<M: ContactModel<D>, const D: usize>(m: &mut M, y: &[f64; D]) -> ([f64; D], bool) {
+fn settle_at_stick<M: ContactModel<D>, const D: usize>(
+    m: &mut M,
+    y: &[f64; D],
+) -> ([f64; D], bool) {
     let ys = m.to_stick(y);
     m.plane_mut().mode = Mode::Rolling;
     let needed = m.contact_wrench(&ys).ok();
@@ -86,7 +89,10 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
             }
         }
         if self.plane().is_contensou()
-            && self.plane().contensou_stick_gap(self.slip_of(&y), self.spin_z(&y)) <= 0.0
+            && self
+                .plane()
+                .contensou_stick_gap(self.slip_of(&y), self.spin_z(&y))
+                <= 0.0
         {
             // Starting (to the stick speed) at the Coulomb–Contensou stick.
             let (yn, stuck) = settle_at_stick(self, &y);

@@ -470,14 +470,8 @@ impl Reduced {
         let r = [self.a * s, 0.0, self.a * c - 1.0];
         let w = [(y[W] - y[OM] * c) * s, y[THD], y[OM] * s * s + y[W] * c];
         let v = self.slip_of(y);
-        let (imp, m) = super::contact::stick_solve(
-            self.ia,
-            self.ic,
-            k,
-            r,
-            [-v[0], -v[1], 0.0],
-            -w[2],
-        );
+        let (imp, m) =
+            super::contact::stick_solve(self.ia, self.ic, k, r, [-v[0], -v[1], 0.0], -w[2]);
         let torque = [
             r[1] * imp[2] - r[2] * imp[1],
             r[2] * imp[0] - r[0] * imp[2],

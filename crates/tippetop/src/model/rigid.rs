@@ -720,14 +720,8 @@ impl Rigid {
         self.project_contact(y);
         let kin = self.kin(y);
         let vp = [kin.vp[0], kin.vp[1], 0.0];
-        let (imp, m) = super::contact::stick_solve(
-            self.ia,
-            self.ic,
-            kin.k,
-            kin.r,
-            scale(-1.0, vp),
-            -kin.n[2],
-        );
+        let (imp, m) =
+            super::contact::stick_solve(self.ia, self.ic, kin.k, kin.r, scale(-1.0, vp), -kin.n[2]);
         let n = add(
             kin.n,
             self.inv_inertia(kin.k, add(cross(kin.r, imp), [0.0, 0.0, m])),
@@ -1522,7 +1516,11 @@ impl Model<DIM> for Rigid {
         }
         if self.contact.is_contensou() && self.phase == Phase::Contact {
             let v = self.slip_of(&y);
-            if self.contact.contensou_stick_gap(horizontal(v), y[OMEGA + 2]) <= 0.0 {
+            if self
+                .contact
+                .contensou_stick_gap(horizontal(v), y[OMEGA + 2])
+                <= 0.0
+            {
                 // Starting (to the stick speed) at the Coulomb–Contensou
                 // stick.
                 let stuck = settle_at_stick(self, &mut y);

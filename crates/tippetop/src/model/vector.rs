@@ -710,15 +710,12 @@ impl Vector {
     pub fn stick_state(&self, y: &[f64; DIM]) -> [f64; DIM] {
         let kn = self.kin(y);
         let vp = [y[VEL] + kn.wr[0], y[VEL + 1] + kn.wr[1], 0.0];
-        let (imp, m) = super::contact::stick_solve(
-            self.ia,
-            self.ic,
-            kn.k,
-            kn.r,
-            scale(-1.0, vp),
-            -kn.w[2],
+        let (imp, m) =
+            super::contact::stick_solve(self.ia, self.ic, kn.k, kn.r, scale(-1.0, vp), -kn.w[2]);
+        let w = add(
+            kn.w,
+            self.inv_inertia(kn.k, add(cross(kn.r, imp), [0.0, 0.0, m])),
         );
-        let w = add(kn.w, self.inv_inertia(kn.k, add(cross(kn.r, imp), [0.0, 0.0, m])));
         let mut ys = *y;
         ys[OMEGA..OMEGA + 3].copy_from_slice(&w);
         let v = self.rolling_velocity(&ys);
