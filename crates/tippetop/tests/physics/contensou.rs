@@ -604,3 +604,158 @@ fn small_contact_radius_approaches_the_point_law() {
         assert!((d5 / d6 - 100.0).abs() < 10.0, "{}", d5 / d6);
     });
 }
+
+/// The rigid model's touchdown impulse under Coulomb–Contensou friction
+/// (docs/physics.md §25), on a state of the classical top (θ = 0.5) given a
+/// downward velocity (restitution e = 0.5), with `Π = Δv` (m = 1, scaled)
+/// and the angular impulse about Z `Π_M = (I Δn − r × Π)_Z` read off the
+/// state's jump:
+/// - sliding (slip 0.3, n_Z = 5, scaled): `Π_t = −μ f(d) Π_n t̂`,
+///   `Π_M = −μ r_c m(d) Π_n sign n_Z`, `d` the pre-impact ratio; P's normal
+///   velocity after is `−e v_n⁻`; the kinetic energy does not grow;
+/// - sticking (slip and spin 1e-4 of that): no slip and no spin about Z
+///   after, the impulse inside the limit curve;
+/// - r_c = 1e-9 m: the point law's impulse (to 1e-9).
+#[test]
+fn rigid_impact_follows_the_contensou_law() {
+    use tippetop::model::rigid::{self, Rigid as RigidModel};
+    let mut sc = classical_contensou(3e-4, false);
+    sc.surface.contact = tippetop::ContactMode::Unilateral;
+    sc.surface.restitution = 0.5;
+    sc.initial.theta = 0.5;
+    let (e, mu) = (0.5, sc.surface.friction);
+    let make = |sc: &tippetop::Scenario, slip: f64, nz: f64| {
+        let m = RigidModel::new(sc);
+        let mut y = m.scale_state(&sc.initial);
+        y[rigid::OMEGA + 2] = nz;
+        let kin = m.kin(&y);
+        // v = slip X − n × r, then a downward 0.4.
+        let nr = [
+            kin.n[1] * kin.r[2] - kin.n[2] * kin.r[1],
+            kin.n[2] * kin.r[0] - kin.n[0] * kin.r[2],
+        ];
+        y[rigid::VEL] = slip - nr[0];
+        y[rigid::VEL + 1] = -nr[1];
+        y[rigid::VEL + 2] -= 0.4;
+        (m, y)
+    };
+    let scales = tippetop::model::reduced::Scales::of(&sc);
+    let (ia, ic) = (
+        sc.top.inertia_transverse / scales.inertia(),
+        sc.top.inertia_axial / scales.inertia(),
+    );
+    let rc = 3e-4 / sc.top.radius;
+    let jump = |m: &RigidModel, y: &[f64; rigid::DIM], yn: &[f64; rigid::DIM]| {
+        let kin = m.kin(y);
+        let p: Vec<f64> = (0..3)
+            .map(|i| yn[rigid::VEL + i] - y[rigid::VEL + i])
+            .collect();
+        let dn: Vec<f64> = (0..3)
+            .map(|i| yn[rigid::OMEGA + i] - y[rigid::OMEGA + i])
+            .collect();
+        let k = kin.k;
+        let dnk = dn[0] * k[0] + dn[1] * k[1] + dn[2] * k[2];
+        let ldz = ia * dn[2] + (ic - ia) * dnk * k[2];
+        let rxp = kin.r[0] * p[1] - kin.r[1] * p[0];
+        ([p[0], p[1], p[2]], ldz - rxp, kin)
+    };
+    let kinetic = |y: &[f64; rigid::DIM]| {
+        let v: f64 = (0..3).map(|i| y[rigid::VEL + i].powi(2)).sum();
+        let n = [y[rigid::OMEGA], y[rigid::OMEGA + 1], y[rigid::OMEGA + 2]];
+        let k = [y[rigid::AXIS], y[rigid::AXIS + 1], y[rigid::AXIS + 2]];
+        let nk = n[0] * k[0] + n[1] * k[1] + n[2] * k[2];
+        0.5 * v + 0.5 * (ia * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + (ic - ia) * nk * nk)
+    };
+    // Sliding.
+    let (m, y) = make(&sc, 0.3, 5.0);
+    let (yn, _, stuck) = m.impact(&y).unwrap();
+    assert!(!stuck);
+    let (p, pm, kin) = jump(&m, &y, &yn);
+    let d = kin.vp[0].hypot(kin.vp[1]) / (rc * 5.0);
+    let (f, mm) = contensou::exact(Pressure::Hertz, d);
+    let scale = p[2];
+    assert!(scale > 0.0);
+    assert!((p[0] + mu * f * p[2]).abs() < 1e-12 * scale, "{p:?}");
+    assert!(p[1].abs() < 1e-12 * scale, "{p:?}");
+    assert!(
+        (pm + mu * rc * mm * p[2]).abs() < 1e-12 * scale,
+        "{pm} d {d}"
+    );
+    let after = m.kin(&yn).vp;
+    assert!((after[2] + e * kin.vp[2]).abs() < 1e-12, "{after:?}");
+    assert!(kinetic(&yn) <= kinetic(&y));
+    println!(
+        "sliding: d {d:.4}, Π_n {:.4}, Π_M/(μ r_c Π_n) {:.4} (m(d) {mm:.4})",
+        p[2],
+        -pm / (mu * rc * p[2])
+    );
+    // Sticking.
+    let (m, y) = make(&sc, 3e-5, 5e-4);
+    let (yn, _, stuck) = m.impact(&y).unwrap();
+    assert!(stuck);
+    let (p, pm, kin) = jump(&m, &y, &yn);
+    let after = m.kin(&yn);
+    assert!(after.vp[0].hypot(after.vp[1]) < 1e-15, "{:?}", after.vp);
+    assert!(after.n[2].abs() < 1e-15, "{}", after.n[2]);
+    assert!((after.vp[2] + e * kin.vp[2]).abs() < 1e-12);
+    let (l, _) = contensou::gauge(
+        Pressure::Hertz,
+        false,
+        p[0].hypot(p[1]) / (mu * p[2]),
+        pm.abs() / (mu * rc * p[2]),
+    );
+    assert!(l <= 1.0, "{l}");
+    assert!(kinetic(&yn) <= kinetic(&y));
+    // r_c → 0: the point law's impulse.
+    let mut tiny = sc.clone();
+    tiny.surface.law = tippetop::FrictionLaw::Contensou {
+        radius: 1e-9,
+        pressure: Pressure::Hertz,
+        pade: false,
+    };
+    let mut point = sc.clone();
+    point.surface.law = tippetop::FrictionLaw::Coulomb;
+    let (mt, yt) = make(&tiny, 0.3, 5.0);
+    let (mp, yp) = make(&point, 0.3, 5.0);
+    let (a, _, _) = mt.impact(&yt).unwrap();
+    let (b, _, _) = mp.impact(&yp).unwrap();
+    let diff = (0..rigid::DIM)
+        .map(|i| (a[i] - b[i]).abs())
+        .fold(0.0, f64::max);
+    assert!(diff < 1e-9, "{diff:e}");
+}
+
+/// Bouncing under Coulomb–Contensou friction (the rigid model, unilateral
+/// contact, e = 0.5; knocked off the plane by H_x = −2 N for 3 ms, as the
+/// point-law test in rigid.rs): many touchdowns, each impact booked in
+/// W_f, the energy balance to 1e-8 of max|E| (the point law's bar), and the
+/// touchdowns removed energy.
+#[test]
+fn contensou_bounces_keep_the_energy_balance() {
+    use crate::spec::*;
+    let mut sc = classical_contensou(3e-4, false);
+    sc.surface.contact = tippetop::ContactMode::Unilateral;
+    sc.surface.restitution = 0.5;
+    sc.initial.theta = 0.5;
+    sc.forcing = tippetop::Forcing {
+        windows: vec![tippetop::ForceWindow {
+            hx: -2.0,
+            hy: 0.0,
+            hz: 0.0,
+            start: 0.0,
+            stop: 0.003,
+        }],
+    };
+    sc.solver.t_end = 0.2;
+    let tr = run(&sc, Rigid);
+    let td = times(&tr, "touchdown");
+    let res = balance_residual(&tr);
+    println!(
+        "{} touchdowns, balance {res:.1e}, W_f {:e} J",
+        td.len(),
+        tr.samples.last().unwrap().work_friction
+    );
+    assert!(td.len() >= 10, "{}", td.len());
+    assert!(res < 1e-8, "{res:e}");
+    assert!(tr.samples.last().unwrap().work_friction < 0.0);
+}
