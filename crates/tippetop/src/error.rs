@@ -55,8 +55,9 @@ pub enum Failure {
     SwitchLimit,
     /// A numerical method of an analysis did not converge.
     Numerics,
-    /// The motion reached a state the model does not follow yet (the
-    /// Coulomb–Contensou stick, docs/physics.md §25).
+    /// The motion reached a state the model does not follow (no run of
+    /// this version produces it: the Coulomb–Contensou stick, which it once
+    /// named, is modelled, docs/physics.md §25).
     NotModelled,
 }
 
