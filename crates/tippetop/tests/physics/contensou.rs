@@ -759,3 +759,58 @@ fn contensou_bounces_keep_the_energy_balance() {
     assert!(res < 1e-8, "{res:e}");
     assert!(tr.samples.last().unwrap().work_friction < 0.0);
 }
+
+/// A force switch while stuck: a uniform sphere at rest (θ = 0.5, a = 0,
+/// μ = 0.2, Hertz disc r_c = 0.3 mm) starts in the stick (no wrench
+/// needed); at 0.05 s a horizontal force H at the contact point switches
+/// on. To keep rolling with a force at P the sphere needs the friction
+/// `F_f = H` exactly (the contact force's net must vanish: `a_P =
+/// (1/m + R²/I) (F_f − H) = 0`) and no drilling torque, so the stick holds
+/// iff `H <= μ m g` (the Contensou limit with M = 0 is the point law's):
+/// at 0.99 μ m g it stays stuck to the end (and at rest: the friction
+/// cancels the force at P), at 1.01 μ m g it slips at the switch, in every
+/// model.
+#[test]
+fn force_switch_while_stuck_slips_at_mu_m_g() {
+    use crate::spec::*;
+    let mut sc = uniform_sphere(0.5, 0.0, 0.2);
+    sc.surface.law = tippetop::FrictionLaw::Contensou {
+        radius: 3e-4,
+        pressure: Pressure::Hertz,
+        pade: false,
+    };
+    sc.solver.t_end = 0.1;
+    sc.solver.samples = 101;
+    let limit = 0.2 * sc.top.mass * sc.surface.gravity;
+    each_model(&[], |model| {
+        for (k, slips) in [(0.99, false), (1.01, true)] {
+            let mut sc = sc.clone();
+            sc.forcing = tippetop::Forcing {
+                windows: vec![tippetop::ForceWindow {
+                    hx: k * limit,
+                    hy: 0.0,
+                    hz: 0.0,
+                    start: 0.05,
+                    stop: f64::INFINITY,
+                }],
+            };
+            let tr = run(&sc, model);
+            assert_eq!(times(&tr, "contensou_stick"), vec![0.0], "{:?}", tr.events);
+            let sl = times(&tr, "slip");
+            if slips {
+                assert_eq!(sl, vec![0.05], "{model:?} {k}: {:?}", tr.events);
+            } else {
+                assert!(sl.is_empty(), "{model:?} {k}: {:?}", tr.events);
+                assert!(tr.samples.iter().all(|s| s.rolling == 1 && s.slip == 0.0));
+                // The friction cancels the force at P: the sphere stays at rest.
+                let u = tr
+                    .samples
+                    .iter()
+                    .map(|s| s.ux.hypot(s.uy))
+                    .fold(0.0, f64::max);
+                assert!(u < 1e-15, "{u:e}");
+            }
+            assert!(balance_residual(&tr) < 1e-10, "{:e}", balance_residual(&tr));
+        }
+    });
+}
