@@ -94,6 +94,9 @@ pub struct ContactState {
     /// the needed wrench left it, §25); `None` in stick and before any
     /// stick (zero friction there).
     contensou_hint: Option<([f64; 2], f64)>,
+    /// Bumped at every change of `contensou_hint`: the models' evaluation
+    /// caches key on it.
+    hint_generation: u64,
     /// A Langevin run (`solver.method = "langevin"`, μ = 0): the normal
     /// force has one branch (no friction in the closure: nothing to latch)
     /// and θ's maxima are not located between steps (the noise makes θ̇
@@ -140,6 +143,7 @@ impl ContactState {
             langevin: sc.solver.method.is_stochastic(),
             contensou,
             contensou_hint: None,
+            hint_generation: 0,
         }
     }
 
@@ -247,7 +251,20 @@ impl ContactState {
     pub(crate) fn stick(&mut self) {
         self.mode = Mode::Rolling;
         self.slip_hint = [0.0, 0.0];
-        self.contensou_hint = None;
+        self.set_contensou_hint(None);
+    }
+
+    /// Set the Coulomb–Contensou slip-off hint (and bump its generation).
+    fn set_contensou_hint(&mut self, hint: Option<([f64; 2], f64)>) {
+        self.contensou_hint = hint;
+        self.hint_generation += 1;
+    }
+
+    /// The generation of the Coulomb–Contensou slip-off hint, for the
+    /// models' evaluation caches (everything an evaluation reads must be in
+    /// their keys).
+    pub(crate) fn hint_generation(&self) -> u64 {
+        self.hint_generation
     }
 
     /// Leave rolling or the stick for a flight (rigid model): sliding, no
@@ -255,7 +272,7 @@ impl ContactState {
     pub(crate) fn unstick(&mut self) {
         self.mode = Mode::Sliding;
         self.slip_hint = [0.0, 0.0];
-        self.contensou_hint = None;
+        self.set_contensou_hint(None);
     }
 
     /// Stick margin of a contact wrench, `normal` the normal force, the
@@ -293,7 +310,7 @@ impl ContactState {
         if let (Some((rc, p, pade)), Some((n, f, m))) = (self.contensou, needed) {
             let cap = self.mu * n.abs();
             let fm = f[0].hypot(f[1]);
-            self.contensou_hint = (cap > 0.0).then(|| {
+            let hint = (cap > 0.0).then(|| {
                 let (_, d) =
                     crate::physics::contensou::gauge(p, pade, fm / cap, m.abs() / (cap * rc));
                 let (fd, md) = crate::physics::contensou::law(p, pade, d);
@@ -304,6 +321,7 @@ impl ContactState {
                     -self.mu * rc * md * sm,
                 )
             });
+            self.set_contensou_hint(hint);
         }
         self.slip_off(needed.map(|w| w.1));
     }

@@ -126,7 +126,7 @@ struct LastEval {
     mode: Mode,
     /// Latched normal-force branch.
     branch: Option<bool>,
-    key: [u64; 7],
+    key: [u64; 8],
     /// sin θ, cos θ.
     sc: (f64, f64),
     eval: Eval,
@@ -134,7 +134,7 @@ struct LastEval {
 
 /// Everything besides the state that an evaluation depends on and that can
 /// change between evaluations (the model constants cannot).
-fn inputs_key(h: [f64; 3], hint: [f64; 2], slip_ref: [f64; 2]) -> [u64; 7] {
+fn inputs_key(h: [f64; 3], hint: [f64; 2], slip_ref: [f64; 2], generation: u64) -> [u64; 8] {
     [
         h[0].to_bits(),
         h[1].to_bits(),
@@ -143,6 +143,7 @@ fn inputs_key(h: [f64; 3], hint: [f64; 2], slip_ref: [f64; 2]) -> [u64; 7] {
         hint[1].to_bits(),
         slip_ref[0].to_bits(),
         slip_ref[1].to_bits(),
+        generation,
     ]
 }
 
@@ -276,7 +277,12 @@ impl Reduced {
         let yb = bits(y);
         let p = &self.plane;
         let cp = p.contact_point();
-        let key = inputs_key([cp.h[0], cp.h[1], cp.hz], p.slip_hint, p.slip_ref.get());
+        let key = inputs_key(
+            [cp.h[0], cp.h[1], cp.hz],
+            p.slip_hint,
+            p.slip_ref.get(),
+            p.hint_generation(),
+        );
         if let Some(l) = &*self.last.borrow() {
             if same_bits(&l.y, &yb)
                 && l.mode == self.plane.mode

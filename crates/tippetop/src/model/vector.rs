@@ -143,7 +143,7 @@ pub struct Vector {
     /// mode and every input), so the driver's repeated evaluations at an
     /// accepted step (N event, energy, samples) are computed once. The key
     /// is compared bit for bit: the result is what a fresh evaluation gives.
-    last: RefCell<Option<([u64; DIM + 10], Eval)>>,
+    last: RefCell<Option<([u64; DIM + 11], Eval)>>,
     /// The Langevin thermostat (scaled), `None` unless `method = "langevin"`.
     thermal: Option<super::thermostat::Bath>,
     /// The Ornstein–Uhlenbeck step's coefficients from the last call
@@ -473,7 +473,7 @@ impl Vector {
     /// Evaluate the model at a state in the current mode (cached: see
     /// the `last` field).
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
-        let mut key = [0u64; DIM + 10];
+        let mut key = [0u64; DIM + 11];
         for (k, v) in key.iter_mut().zip(y) {
             *k = v.to_bits();
         }
@@ -495,6 +495,8 @@ impl Vector {
             p.contact_point().hz.to_bits(),
             // The body actuators change only at a latch (§24).
             p.forces().generation(),
+            // The Coulomb–Contensou slip-off hint (§25).
+            p.hint_generation(),
         ];
         key[DIM..].copy_from_slice(&inputs);
         if let Some((k, e)) = &*self.last.borrow() {
