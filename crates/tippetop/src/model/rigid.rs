@@ -726,7 +726,8 @@ impl Rigid {
             kin.n,
             self.inv_inertia(kin.k, add(cross(kin.r, imp), [0.0, 0.0, m])),
         );
-        set3(y, OMEGA, n);
+        // n_Z is zero by construction: held so exactly, not to rounding.
+        set3(y, OMEGA, [n[0], n[1], 0.0]);
         self.project_rolling(y);
     }
 

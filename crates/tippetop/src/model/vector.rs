@@ -719,7 +719,8 @@ impl Vector {
             self.inv_inertia(kn.k, add(cross(kn.r, imp), [0.0, 0.0, m])),
         );
         let mut ys = *y;
-        ys[OMEGA..OMEGA + 3].copy_from_slice(&w);
+        // w_Z is zero by construction: held so exactly, not to rounding.
+        ys[OMEGA..OMEGA + 3].copy_from_slice(&[w[0], w[1], 0.0]);
         let v = self.rolling_velocity(&ys);
         ys[VEL] = v[0];
         ys[VEL + 1] = v[1];
