@@ -415,7 +415,12 @@ impl Reduced {
         let normal = cp.reaction(self.g + a * c * thd * thd + a * s * thdd);
         let fx = h * thdd + a * s * thd * thd - om * uy;
         let p = thd * (ic * w - 2.0 * ia * om * c);
-        let b1 = om * ux - c * thd * weff - (a - c) * p * inv_ia - om * s * s * thd;
+        // The point law's expression, in its order of operations (bit for
+        // bit with the rolling equations before the stick was added).
+        let b1 = om * ux
+            - c * thd * weff
+            - (a - c) * thd * (ic * w - 2.0 * ia * om * c) * inv_ia
+            - om * s * s * thd;
         let a11 = 1.0 + s * s * inv_ic + (a - c) * (a - c) * inv_ia;
         let (fy, torque) = if self.plane.is_contensou() {
             // The Coulomb–Contensou stick (§25): n_Z = Ω s² + ω c held at
