@@ -52,9 +52,11 @@ force [N] in the lab frame; kind = \"magnetic\": moment [A m^2] along the axis, 
 gradient [T/m] in the lab frame, docs/physics.md §24; start, stop [s] from the start of the
 phase, start < stop <= phase, stop default phase). The run lasts 2 x phase
 (solver.t_end is replaced), the scenario's own [[force]] list must be empty (a preset's is
-replaced by the protocols), the initial theta must lie in zero. A phase succeeds iff theta is in
-its target window at every output row of its last hold seconds (resolution: the sample spacing;
-at least 10 rows per hold). --set reaches bit.KEY, write.K.KEY and erase.K.KEY. At T > 0
+replaced by the protocols), the initial theta must lie in zero. A phase succeeds iff theta stays in
+its target window during its last hold seconds on the continuous solution (events at the
+window's edges; an excursion within one integration step is not seen, and the step is at most
+the row spacing: at least 10 rows per hold); its switching time is the crossing into the window.
+--set reaches bit.KEY, write.K.KEY and erase.K.KEY. At T > 0
 (solver.method = \"langevin\" or \"brownian\") --runs N runs (default 100), run K with
 thermal.run = r0 + K, independent of --threads; --shard K/M runs only the K-th of M blocks of
 the runs and writes runs.csv (those runs), shard.json and bit.toml: tippetop merge of the
@@ -136,14 +138,18 @@ pub struct BitArgs {
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
 
-    /// With --vary: continue an interrupted map (same scenario, --set,
-    /// --vary, --runs, --shard) from DIR/bitmap.csv.partial.
-    #[arg(long, requires = "vary")]
+    /// Continue an interrupted map (--vary; from DIR/bitmap.csv.partial) or
+    /// ensemble (T > 0; from DIR/runs.csv.partial) with the same scenario,
+    /// --set, --vary, --runs and --shard: the runs on disk are kept and
+    /// the outputs are those of an uninterrupted run, byte for byte.
+    #[arg(long)]
     pub resume: bool,
 
     /// Search the protocol of one phase instead (T = 0; the file's
-    /// [search] table: phase, windows, bounds of magnitude, angle, start
-    /// and duration, weight, margin, seed, budget, perturbations). Writes
+    /// [search] table: phase, windows, actuator ("contact", "tip" with
+    /// point [m], "magnetic" with moment [A m^2]), bounds of magnitude
+    /// ([N]; |B| [T] for a magnet), angle, start and duration, weight,
+    /// margin, seed, budget, perturbations; docs/physics.md §23.1). Writes
     /// search.json, search.md, best.toml, evaluations.csv.
     #[arg(long, conflicts_with_all = ["vary", "shard", "resume"])]
     pub search: bool,
@@ -214,36 +220,89 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         },
     };
 
-    let out = OutDir::open(&args.out)?;
+    if args.resume && !stochastic {
+        return Ok(input_error(
+            "--resume: a bit at T = 0 is one run, there is nothing to resume (--resume \
+             continues an ensemble at T > 0, or a map with --vary)",
+        ));
+    }
+    let mut out = OutDir::open(&args.out)?;
     let mut results: Vec<RunResult> = Vec::with_capacity(range.len());
     // The deterministic run is kept for the figure; an ensemble's typical
     // run is run again.
     let mut kept: Option<tippetop::Trajectory> = None;
     if stochastic {
-        let pb = crate::progress::bar(quiet, range.len() as u64, "bit");
-        let done = sweep::run_ordered(
-            range.clone(),
-            Some(threads),
-            &|k| bit::run_one(&bs, k as u64),
-            &mut |r| {
-                results.push(r);
-                pb.inc(1);
-                true
+        // The runs stream into runs.csv.partial in run order (beside the
+        // shard.json.partial that identifies the ensemble), so --resume can
+        // keep them; then they are read back for the statistics (the rows
+        // round-trip exactly).
+        let sh = shard.unwrap_or(Shard::ALL);
+        let info = ShardInfo {
+            fingerprint: ensemble_grid(args, toml_text.clone())
+                .fingerprint_of("tippetop bit 1", &[("runs", runs.to_string())]),
+            k: sh.k,
+            n: sh.n,
+            total_cases: runs,
+            first_index: range.start,
+            end_index: range.end,
+            axes: Vec::new(),
+        };
+        let mut info_json = serde_json::to_string_pretty(&info)?;
+        info_json.push('\n');
+        let spec = crate::sweep_cmd::Streamed {
+            partial_csv: PARTIAL_RUNS,
+            partial_info: crate::sweep_cmd::PARTIAL_INFO,
+            header: format!("{}\n", bit::CSV_HEADER),
+            what: "bit ensemble",
+            unit: "run",
+            resume: args.resume,
+            quiet,
+        };
+        let r0 = sc.thermal.run;
+        let streamed = crate::sweep_cmd::stream_rows(
+            &mut out,
+            &spec,
+            &info,
+            &info_json,
+            &|text| runs_prefix(text, r0 + range.start as u64, range.len()),
+            &mut |todo, sink| {
+                sweep::run_ordered(
+                    todo,
+                    Some(threads),
+                    &|k| bit::run_one(&bs, k as u64),
+                    &mut |r| sink(bit::csv_row(&r), r.status != "ok"),
+                )
             },
-        );
-        pb.finish_and_clear();
-        if let Err(e) = done {
+        )?;
+        if let Err(code) = streamed {
             out.abandon();
-            anyhow::bail!("{e}");
+            return Ok(code);
         }
+        let text = std::fs::read_to_string(args.out.join(PARTIAL_RUNS))?;
+        results = text
+            .lines()
+            .skip(1)
+            .map(|l| {
+                bit::parse_csv_row(l)
+                    .ok_or_else(|| anyhow::anyhow!("{PARTIAL_RUNS}: unreadable row {l:?}"))
+            })
+            .collect::<Result<_>>()?;
+        anyhow::ensure!(
+            results.len() == range.len(),
+            "{PARTIAL_RUNS}: {} rows for {} runs",
+            results.len(),
+            range.len()
+        );
     } else {
         let sc = bs.run_scenario(0);
         let mut progress = crate::progress::RunProgress::new(quiet, sc.solver.t_end);
-        let traj = tippetop::simulate_with_progress(&sc, &mut |f| progress.update(f));
+        let traj = tippetop::simulate_watching_with_progress(&sc, &bit::watches(&bs), &mut |f| {
+            progress.update(f)
+        });
         progress.finish();
         match traj {
-            Ok(traj) => {
-                results.push(bit::evaluate_run(&bs, sc.thermal.run, &traj));
+            Ok((traj, stays)) => {
+                results.push(bit::evaluate_run(&bs, sc.thermal.run, &traj, &stays));
                 kept = Some(traj);
             }
             Err(e) => {
@@ -342,6 +401,38 @@ fn write_bit(
 
 /// The CSV a bit ensemble's shard writes (one row per run of the shard).
 const RUNS_CSV: &str = "runs.csv";
+
+/// The file an ensemble streams its runs into while it runs (removed at
+/// the end, when `runs.csv` is written).
+const PARTIAL_RUNS: &str = "runs.csv.partial";
+
+/// The complete rows an interrupted ensemble left in `runs.csv.partial`
+/// (`text`): the header, then rows of runs `r0, r0 + 1, ...` (at most
+/// `max`), each a line [`bit::csv_row`] writes; a torn last line is dropped.
+fn runs_prefix(text: &str, r0: u64, max: usize) -> sweep::Prefix {
+    let header = format!("{}\n", bit::CSV_HEADER);
+    let mut p = sweep::Prefix::default();
+    if !text.starts_with(&header) {
+        return p;
+    }
+    p.bytes = header.len();
+    for line in text[header.len()..].split_inclusive('\n') {
+        let Some(body) = line.strip_suffix('\n') else {
+            break;
+        };
+        match bit::parse_csv_row(body) {
+            Some(r) if r.run == r0 + p.rows as u64 && p.rows < max && bit::csv_row(&r) == line => {
+                p.rows += 1;
+                p.bytes += line.len();
+                if r.status != "ok" {
+                    p.failed += 1;
+                }
+            }
+            _ => break,
+        }
+    }
+    p
+}
 
 /// What defines a bit ensemble's output, for its shards: the scenario
 /// (preset, file, `--set`s) and the number of runs.
@@ -671,8 +762,9 @@ fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
     let _ = writeln!(
         s,
         "States: zero = θ in [{}, {}] rad, one = θ in [{}, {}] rad. Each phase lasts {} s; a \
-         phase succeeds iff θ is in its target window at every output row of its last {} s \
-         (sample spacing {} s).\n",
+         phase succeeds iff θ stays in its target window during its last {} s, on the \
+         continuous solution (events at the window's edges; steps at most the row spacing, {} \
+         s). The switching time is the crossing into the window.\n",
         fmt_f64(b.zero[0]),
         fmt_f64(b.zero[1]),
         fmt_f64(b.one[0]),

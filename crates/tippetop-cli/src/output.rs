@@ -715,6 +715,7 @@ pub(crate) mod tests {
                 contact_lost_at: None,
                 negative_normal_fraction: 0.0,
                 rolling_fraction: 0.14,
+                stem: None,
                 pull_off_margin_min: None,
                 normal_intervals: None,
                 steps: 1234,

@@ -342,6 +342,8 @@ pub fn human_summary(
     // change J, so its drift is not an accuracy figure.
     let j_note = if s.normal_intervals.is_some() {
         " (not conserved: the heat bath's torques)"
+    } else if s.stem.is_some_and(|st| st.first_stem_contact_at.is_some()) {
+        " (the touching sphere's -L·r: it jumps where the stem and the main sphere take over from each other)"
     } else {
         ""
     };
@@ -363,6 +365,16 @@ pub fn human_summary(
             v(t),
             v(100.0 * s.negative_normal_fraction)
         ));
+    }
+    if let Some(st) = &s.stem {
+        match st.first_stem_contact_at {
+            Some(t) => o.push_str(&format!(
+                "stem:        lands first at t = {} s, on the plane {}% of the time\n",
+                v(t),
+                v(100.0 * st.stem_contact_fraction)
+            )),
+            None => o.push_str("stem:        never touches the plane\n"),
+        }
     }
     if let Some(ni) = &s.normal_intervals {
         o.push_str(&format!(

@@ -47,13 +47,24 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
         Err(e) => return Ok(input_error(e)),
     };
     let spec = search.spec.clone();
-    let (kind, point, tip) = match spec.actuator {
-        SearchActuator::Contact => ("contact", None, false),
-        SearchActuator::Tip { point } => ("tip", Some(point), true),
+    let (kind, point, moment) = match spec.actuator {
+        SearchActuator::Contact => ("contact", None, None),
+        SearchActuator::Tip { point } => ("tip", Some(point), None),
+        SearchActuator::Magnetic { moment } => ("magnetic", None, Some(moment)),
     };
-    // The force components written: the paper's H (precessing frame) or
-    // the tip's horizontal lab-frame force.
-    let comp = if tip { ("fx", "fy") } else { ("hx", "hy") };
+    // The components written: the paper's H (precessing frame), the tip's
+    // horizontal lab-frame force, or the field in the lab X-Z plane; the
+    // quantity's symbol and unit.
+    let (comp, symbol, unit) = match spec.actuator {
+        SearchActuator::Contact => (("hx", "hy"), "H", "N"),
+        SearchActuator::Tip { .. } => (("fx", "fy"), "F", "N"),
+        SearchActuator::Magnetic { .. } => (("bx", "bz"), "B", "T"),
+    };
+    // (component 0, component 1) of magnitude m at angle a.
+    let parts = |m: f64, a: f64| match spec.actuator {
+        SearchActuator::Magnetic { .. } => (m * a.sin(), m * a.cos()),
+        _ => (m * a.cos(), m * a.sin()),
+    };
     let out = OutDir::open(&args.out)?;
     let stage = out.stage().to_path_buf();
     let names: Vec<String> = (0..spec.windows)
@@ -97,7 +108,7 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
         .map(|w| {
             serde_json::json!({
                 "magnitude": w[0], "angle": w[1], "start": w[2], "duration": w[3],
-                comp.0: w[0] * w[1].cos(), comp.1: w[0] * w[1].sin(),
+                comp.0: parts(w[0], w[1]).0, comp.1: parts(w[0], w[1]).1,
             })
         })
         .collect();
@@ -107,6 +118,7 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
             "windows": spec.windows,
             "actuator": kind,
             "point": point,
+            "moment": moment,
             "magnitude": spec.magnitude,
             "angle": spec.angle,
             "start": spec.start,
@@ -178,14 +190,13 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
     for (k, w) in r.best_x.chunks(4).enumerate() {
         let _ = writeln!(
             md,
-            "- window {k}: |{}| = {} N at {} rad ({} = {}, {} = {}), from {} s for {} s",
-            if tip { "F" } else { "H" },
+            "- window {k}: |{symbol}| = {} {unit} at {} rad ({} = {}, {} = {}), from {} s for {} s",
             fmt_f64(w[0]),
             fmt_f64(w[1]),
             comp.0,
-            fmt_f64(w[0] * w[1].cos()),
+            fmt_f64(parts(w[0], w[1]).0),
             comp.1,
-            fmt_f64(w[0] * w[1].sin()),
+            fmt_f64(parts(w[0], w[1]).1),
             fmt_f64(w[2]),
             fmt_f64(w[3])
         );

@@ -597,3 +597,109 @@ fn run_rejects_a_bad_contact_radius() {
         expect_input_error(&args, Some(&out), key);
     }
 }
+
+/// The stem (docs/physics.md §26): bad stem input is one line naming the
+/// key and its range, exit 2, nothing written; the on-plane models stop at
+/// the stem's touchdown with exit 3 (`not_modelled`), the rows so far and
+/// `summary.json` (its stem entries) written.
+#[test]
+fn stem_input_errors_and_on_plane_stop() {
+    let toy = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenarios/toy_with_stem.toml"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let o = out.to_str().unwrap();
+    for (set, key, range) in [
+        (
+            "top.stem_radius=0.02",
+            "top.stem_radius",
+            "0 < stem_radius < radius",
+        ),
+        (
+            "top.stem_radius=0",
+            "top.stem_radius",
+            "0 < stem_radius < radius",
+        ),
+        (
+            "top.stem_distance=0.01",
+            "top.stem_distance",
+            "stem_distance > offset + radius - stem_radius",
+        ),
+        (
+            "surface.contact=bilateral",
+            "surface.contact",
+            "\"unilateral\" with a stem",
+        ),
+        ("initial.theta=3", "initial.theta", "theta < theta_td"),
+    ] {
+        let args = ["run", toy, "--set", set, "--no-plot", "--out", o];
+        expect_input_error(&args, Some(&out), key);
+        let e = tippetop().args(args).assert().get_output().stderr.clone();
+        assert!(String::from_utf8_lossy(&e).contains(range), "{set}");
+    }
+    // One key without the other.
+    expect_input_error(
+        &[
+            "run",
+            "--preset",
+            "classical",
+            "--set",
+            "top.stem_radius=0.0025",
+            "--no-plot",
+            "--out",
+            o,
+        ],
+        Some(&out),
+        "top.stem_distance",
+    );
+    // The vector model stops where the stem touches.
+    let a = tippetop()
+        .args([
+            "run",
+            toy,
+            "--set",
+            "solver.model=vector",
+            "--set",
+            "surface.contact=bilateral",
+            "--no-plot",
+            "--out",
+            o,
+        ])
+        .assert();
+    let outp = a.get_output();
+    let stderr = String::from_utf8_lossy(&outp.stderr);
+    assert_eq!(outp.status.code(), Some(3), "{stderr}");
+    assert!(
+        stderr.contains("the stem touches the plane at theta = theta_td"),
+        "{stderr}"
+    );
+    assert_eq!(
+        stderr.lines().filter(|l| l.starts_with("error:")).count(),
+        1,
+        "{stderr}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["failure"], "not_modelled");
+    assert_eq!(summary["first_stem_contact_at"], summary["t_end"]);
+    assert_eq!(summary["stem_contact_fraction"], 0.0);
+    // Without a stem the entries are absent.
+    let plain = dir.path().join("plain");
+    tippetop()
+        .args([
+            "run",
+            "--preset",
+            "classical",
+            "--set",
+            "solver.t_end=0.01",
+            "--no-plot",
+            "--out",
+            plain.to_str().unwrap(),
+        ])
+        .assert()
+        .success();
+    let s = std::fs::read_to_string(plain.join("summary.json")).unwrap();
+    assert!(!s.contains("stem"), "{s}");
+}

@@ -142,6 +142,61 @@ fn tip_search_finds_a_kick_and_best_toml_reproduces_it() {
     assert_eq!(b["write"]["energy_median"], ev["energy"]);
 }
 
+/// A uniform field on a moment along the axis erases where the paper's
+/// reversed force does not (physics.md §23.1); the best protocol reruns
+/// bit for bit from best.toml, as a `kind = "magnetic"` window whose field
+/// lies in the lab X-Z plane at the found polar angle.
+#[test]
+fn magnetic_search_finds_an_erase_and_best_toml_reproduces_it() {
+    let d = scratch("magnetic");
+    let o = bin()
+        .arg("bit")
+        .arg(repo("scenarios/bit/nano_magnetic_search.toml"))
+        .args([
+            "--search",
+            "--set",
+            "search.budget=40",
+            "--set",
+            "search.perturbations=2",
+            "--quiet",
+            "--out",
+        ])
+        .arg(d.join("s"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s = json(&d.join("s/search.json"));
+    assert_eq!(s["found"], true, "{s}");
+    assert_eq!(s["search"]["actuator"], "magnetic");
+    assert_eq!(s["search"]["moment"], 2.78220302349e-23);
+    let best = std::fs::read_to_string(d.join("s/best.toml")).unwrap();
+    assert!(
+        best.contains("kind = \"magnetic\"") && best.contains("field = ["),
+        "{best}"
+    );
+    let w = &s["best"]["protocol"][0];
+    let (m, a) = (
+        w["magnitude"].as_f64().unwrap(),
+        w["angle"].as_f64().unwrap(),
+    );
+    let (bx, bz) = (w["bx"].as_f64().unwrap(), w["bz"].as_f64().unwrap());
+    assert!((bx - m * a.sin()).abs() <= 1e-15 * m && (bz - m * a.cos()).abs() <= 1e-15 * m);
+    let o = bin()
+        .arg("bit")
+        .arg(d.join("s/best.toml"))
+        .args(["--quiet", "--out"])
+        .arg(d.join("b"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let b = json(&d.join("b/bit.json"));
+    let ev = &s["best"]["evaluation"];
+    assert_eq!(b["write"]["successes"], 1);
+    assert_eq!(b["erase"]["successes"], 1);
+    assert_eq!(b["erase"]["time_median"], ev["time"]);
+    assert_eq!(b["erase"]["energy_median"], ev["energy"]);
+}
+
 fn expect_input_error(d: &Path, text: &str, extra: &[&str], key: &str) {
     std::fs::write(d.join("bad.toml"), text).unwrap();
     let out = d.join("out");
@@ -234,5 +289,24 @@ fn bad_search_input_names_the_key() {
         &format!("{BASE}{SEARCH}actuator = \"tip\"\npoint = [0.0, 1e-10]\n"),
         &[],
         "search.point",
+    );
+    // A magnet needs a non-zero moment; other actuators take none.
+    expect_input_error(
+        &d,
+        &format!("{BASE}{SEARCH}actuator = \"magnetic\"\n"),
+        &[],
+        "search.moment",
+    );
+    expect_input_error(
+        &d,
+        &format!("{BASE}{SEARCH}actuator = \"magnetic\"\nmoment = 0.0\n"),
+        &[],
+        "search.moment",
+    );
+    expect_input_error(
+        &d,
+        &format!("{BASE}{SEARCH}moment = 1e-23\n"),
+        &[],
+        "search.moment",
     );
 }

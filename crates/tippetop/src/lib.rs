@@ -40,9 +40,12 @@ pub use contact::{Adhesion, ContactMode, FrictionLaw, Surface};
 pub use error::{Error, Failure};
 pub use forcing::{ActuatorWindow, BodyActuator, ForceWindow, Forcing};
 pub use scenario::{Scenario, limits};
-pub use simulate::{Simulation, Snapshot, simulate, simulate_with_progress};
+pub use simulate::{
+    Simulation, Snapshot, simulate, simulate_watching, simulate_watching_with_progress,
+    simulate_with_progress,
+};
 pub use state::{Initial, Method, ModelKind, SolverSettings};
 pub use thermal::Thermal;
-pub use top::Top;
-pub use trajectory::{EventRecord, NormalIntervals, Sample, Summary, Trajectory};
+pub use top::{Stem, Top};
+pub use trajectory::{EventRecord, NormalIntervals, Sample, StemSummary, Summary, Trajectory};
 pub use well::Well;

@@ -12,6 +12,8 @@
 //! mass = 0.015                # m [kg]
 //! inertia_transverse = 1.35e-6  # A [kg m^2], about the centre of mass
 //! inertia_axial = 1.35e-6       # C [kg m^2]
+//! # stem_radius = 0.0025      # r2 [m], the stem's end sphere (rigid model; docs/physics.md §26)
+//! # stem_distance = 0.0185    # d2 [m], centre of mass to the stem sphere's centre, along k
 //! [surface]
 //! gravity = 9.8               # [m/s^2]
 //! friction = 0.1              # mu
@@ -241,6 +243,7 @@ impl Scenario {
     pub fn validate(&self) -> Result<(), Error> {
         self.top.validate()?;
         self.surface.validate()?;
+        self.validate_stem()?;
         if let Some((r, _, _)) = self.surface.law.contensou() {
             // Much smaller than the sphere: the patch is a flat disc on it.
             if r > 0.1 * self.top.radius {
@@ -265,6 +268,57 @@ impl Scenario {
         self.thermal.validate()?;
         langevin::check(self)?;
         crate::limits::check_run(self)?;
+        Ok(())
+    }
+
+    /// What a stem (docs/physics.md §26) needs besides its geometry: the
+    /// deterministic methods, and in the rigid model unilateral contact
+    /// (the main sphere lifts off when the stem lands).
+    fn validate_stem(&self) -> Result<(), Error> {
+        if self.top.stem.is_none() {
+            return Ok(());
+        }
+        if !self.forcing.windows.is_empty()
+            || !self.actuators.is_empty()
+            || self.adhesion.is_on()
+            || !self.wells.is_empty()
+        {
+            return Err(Error::invalid(
+                "top.stem_radius",
+                "a stem with [[force]], [adhesion] or [[well]] is not modelled".into(),
+                "a stem with gravity and friction only (docs/physics.md §26)".into(),
+            ));
+        }
+        if self.solver.method.is_stochastic() {
+            return Err(Error::invalid(
+                "top.stem_radius",
+                "a stem with solver.method = \"langevin\" or \"brownian\" is not modelled".into(),
+                "a stem with solver.method = \"adaptive\", \"rk4\" or \"stiff\" only".into(),
+            ));
+        }
+        if let Some(c_td) = self.top.stem_touchdown_cos() {
+            if self.initial.theta.is_nan() || self.initial.theta.cos() <= c_td {
+                return Err(Error::invalid(
+                    "initial.theta",
+                    format!("{} puts the stem on or below the plane", self.initial.theta),
+                    format!(
+                        "0 <= theta < theta_td = {} rad, where the stem touches (cos theta_td = -(radius - stem_radius)/(stem_distance - offset))",
+                        c_td.acos()
+                    ),
+                ));
+            }
+        }
+        if self.solver.model == ModelKind::Rigid && self.surface.contact != ContactMode::Unilateral
+        {
+            return Err(Error::invalid(
+                "surface.contact",
+                format!(
+                    "\"{}\" with a stem (top.stem_radius) and model = \"rigid\"",
+                    self.surface.contact.name()
+                ),
+                "\"unilateral\" with a stem in the rigid model (the main sphere lifts off when the stem lands)".into(),
+            ));
+        }
         Ok(())
     }
 
@@ -388,6 +442,10 @@ impl Scenario {
             Value::Float(self.top.inertia_transverse),
         );
         top.insert("inertia_axial".into(), Value::Float(self.top.inertia_axial));
+        if let Some(st) = self.top.stem {
+            top.insert("stem_radius".into(), Value::Float(st.radius));
+            top.insert("stem_distance".into(), Value::Float(st.distance));
+        }
 
         let s = &self.surface;
         let mut surface = Table::new();
@@ -547,6 +605,8 @@ const TOP_KEYS: Keys = &[
         "inertia_axial",
         "0 < inertia_axial <= 2 * inertia_transverse [kg m^2]",
     ),
+    ("stem_radius", crate::top::STEM_RADIUS_RANGE),
+    ("stem_distance", crate::top::STEM_DISTANCE_RANGE),
 ];
 
 const SURFACE_KEYS: Keys = &[
@@ -1188,6 +1248,32 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         mass: s.f64("mass", req(0.0))?,
         inertia_transverse: s.f64("inertia_transverse", req(0.0))?,
         inertia_axial: s.f64("inertia_axial", req(0.0))?,
+        stem: None,
+    };
+    // The stem (§26): both keys or neither.
+    let top = match (s.get("stem_radius"), s.get("stem_distance")) {
+        (None, None) => top,
+        (Some(_), Some(_)) => Top {
+            stem: Some(crate::top::Stem {
+                radius: s.f64("stem_radius", None)?,
+                distance: s.f64("stem_distance", None)?,
+            }),
+            ..top
+        },
+        (Some(_), None) => {
+            return Err(Error::invalid(
+                "top.stem_distance",
+                "missing (top.stem_radius is given)".into(),
+                crate::top::STEM_DISTANCE_RANGE.into(),
+            ));
+        }
+        (None, Some(_)) => {
+            return Err(Error::invalid(
+                "top.stem_radius",
+                "missing (top.stem_distance is given)".into(),
+                crate::top::STEM_RADIUS_RANGE.into(),
+            ));
+        }
     };
 
     let s = section(merged, "surface");

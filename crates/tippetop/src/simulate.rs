@@ -27,6 +27,7 @@ use crate::{
     sim::events::{Happened, Watch},
     sim::messages::{nonfinite_output_error, step_limit_why, unstable_rk4},
     sim::record::{RunEnd, RunLog, RunSetup, Track, summarize},
+    sim::watch::{ThetaWatch, Watcher, WindowStay},
 };
 
 /// Largest number of accepted steps of one run before it is stopped (see
@@ -65,6 +66,65 @@ pub(crate) fn simulate_for_row(scenario: &Scenario) -> Result<Trajectory, Error>
             <Vector as ContactModel<{ vector::DIM }>>::build(scenario),
         ),
         ModelKind::Rigid => go(scenario, Rigid::new(scenario)),
+    })
+}
+
+/// As [`simulate`], watching the θ windows `watches` on the continuous
+/// solution ([`crate::sim::watch`]: events at the windows' edges and at the
+/// intervals' ends): the trajectory (the same bits as [`simulate`]'s: the
+/// watch events never change a step) and what each watch saw, in the order
+/// given. Each watch needs `0 <= from <= to` \[s\] and a window
+/// `0 <= lo < hi <= π` \[rad\].
+pub fn simulate_watching(
+    scenario: &Scenario,
+    watches: &[ThetaWatch],
+) -> Result<(Trajectory, Vec<WindowStay>), Error> {
+    simulate_watching_with_progress(scenario, watches, &mut |_| {})
+}
+
+/// As [`simulate_watching`], with the progress callback of
+/// [`simulate_with_progress`].
+pub fn simulate_watching_with_progress(
+    scenario: &Scenario,
+    watches: &[ThetaWatch],
+    progress: &mut dyn FnMut(f64),
+) -> Result<(Trajectory, Vec<WindowStay>), Error> {
+    scenario.validate()?;
+    for w in watches {
+        assert!(
+            0.0 <= w.from && w.from <= w.to && w.to.is_finite(),
+            "a watch needs 0 <= from <= to (got {w:?})"
+        );
+        assert!(
+            0.0 <= w.window[0] && w.window[0] < w.window[1] && w.window[1] <= std::f64::consts::PI,
+            "a watch needs 0 <= lo < hi <= pi (got {w:?})"
+        );
+    }
+    fn go<M: Model<D> + Clone, const D: usize>(
+        sc: &Scenario,
+        m: M,
+        watches: &[ThetaWatch],
+        progress: &mut dyn FnMut(f64),
+    ) -> (Trajectory, Vec<WindowStay>) {
+        let mut sim = Sim::new_watching(sc, m, watches);
+        let t_end = sim.t_end;
+        sim.advance(t_end, &mut |_, _, _| {}, progress);
+        sim.finish_watching()
+    }
+    Ok(match scenario.solver.model {
+        ModelKind::Reduced => go(
+            scenario,
+            <Reduced as ContactModel<DIM>>::build(scenario),
+            watches,
+            progress,
+        ),
+        ModelKind::Vector => go(
+            scenario,
+            <Vector as ContactModel<{ vector::DIM }>>::build(scenario),
+            watches,
+            progress,
+        ),
+        ModelKind::Rigid => go(scenario, Rigid::new(scenario), watches, progress),
     })
 }
 
@@ -368,6 +428,9 @@ struct Sim<M, const D: usize> {
     /// step (scaled).
     normal_buckets: Option<Vec<f64>>,
     last_step_t: f64,
+    /// θ windows watched on the continuous solution (bit runs:
+    /// [`simulate_watching`]).
+    watcher: Option<Watcher>,
 }
 
 impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
@@ -400,7 +463,12 @@ impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
             nonfinite_at: self.nonfinite_at,
             logs_crossings: self.logs_crossings,
             active: self.active.as_ref().map(|a| {
-                let (watches, events): (Vec<_>, Vec<_>) = self.m.events().into_iter().unzip();
+                let (mut watches, mut events): (Vec<_>, Vec<_>) =
+                    self.m.events().into_iter().unzip();
+                for &w in &a.watches[watches.len()..] {
+                    watches.push(w);
+                    events.push(self.watch_event(w));
+                }
                 debug_assert_eq!(watches, a.watches);
                 Active {
                     st: a.st.clone(),
@@ -414,6 +482,7 @@ impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
             light: self.light,
             normal_buckets: self.normal_buckets.clone(),
             last_step_t: self.last_step_t,
+            watcher: self.watcher.clone(),
         }
     }
 }
@@ -422,7 +491,13 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
     /// Set up the run of model `m` over the validated scenario `sc` at
     /// `t = 0`: the discrete state decided, the samples at `t = 0` not yet
     /// emitted.
-    fn new(sc: &Scenario, mut m: M) -> Self {
+    fn new(sc: &Scenario, m: M) -> Self {
+        Self::new_watching(sc, m, &[])
+    }
+
+    /// As [`Sim::new`], watching the θ windows `watches` on the continuous
+    /// solution ([`crate::sim::watch`]).
+    fn new_watching(sc: &Scenario, mut m: M, watches: &[ThetaWatch]) -> Self {
         let tu = m.time_unit();
         let RunSetup {
             t_end,
@@ -479,8 +554,13 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 .is_stochastic()
                 .then(|| vec![0.0; sc.solver.samples]),
             last_step_t: 0.0,
+            watcher: None,
             m,
         };
+        if !watches.is_empty() {
+            let work0 = sim.m.row(0.0, &sim.y).work_applied;
+            sim.watcher = Some(Watcher::new(watches, tu, theta, work0));
+        }
         sim.begin_segment();
         sim
     }
@@ -560,7 +640,21 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             .find(|&ts| ts > t)
             .unwrap_or(self.t_end);
         self.m.latch_branch(&self.y);
-        let (watches, events): (Vec<_>, Vec<_>) = self.m.events().into_iter().unzip();
+        let (mut watches, mut events): (Vec<_>, Vec<_>) = self.m.events().into_iter().unzip();
+        if let Some(w) = self.watcher.as_mut() {
+            // Marks reached by the restart itself (a segment that starts on
+            // one) are passed here; the later ones are events.
+            let work = self.m.row(t, &self.y).work_applied;
+            w.pass_marks(t, work);
+            let extra: Vec<Watch> = (0..w.levels().len())
+                .map(Watch::ThetaLevel)
+                .chain(w.pending_marks().map(|(i, _)| Watch::TimeMark(i)))
+                .collect();
+            for x in extra {
+                watches.push(x);
+                events.push(self.watch_event(x));
+            }
+        }
         self.opts.max_steps = self.step_cap.saturating_sub(self.steps_seen);
         // The Langevin stream's counter continues over the segments.
         if let Stepper::Langevin { first_step, .. } | Stepper::Brownian { first_step, .. } =
@@ -631,6 +725,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let buckets = &mut self.normal_buckets;
         let last_step_t = &mut self.last_step_t;
         let sample_times = &self.sample_times;
+        let watcher = std::cell::RefCell::new(self.watcher.as_mut());
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
             let row = s.row(t, y);
             if nonfinite_at.is_none() && !row.is_finite() {
@@ -652,6 +747,9 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 visit(track, s, y);
             }
             observe(s, t, y);
+            if let Some(w) = watcher.borrow_mut().as_mut() {
+                w.step_end(t, s.track_angles(y).0);
+            }
             if let Some(b) = buckets.as_mut() {
                 // The step (last, t] falls in the interval (s_{i−1}, s_i]
                 // with i the first sample time >= t.
@@ -671,6 +769,16 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             }
             Watch::ThetaMax => visit(event_track, s, &f.y),
             Watch::NormalZero if logs_crossings => log.cross_normal(f.t),
+            Watch::ThetaLevel(j) => {
+                if let Some(w) = watcher.borrow_mut().as_mut() {
+                    w.level_crossed(j, f.t, f.rising);
+                }
+            }
+            Watch::TimeMark(j) => {
+                if let Some(w) = watcher.borrow_mut().as_mut() {
+                    w.mark_reached(j, s.row(f.t, &f.y).work_applied);
+                }
+            }
             _ => {}
         };
         let res = st.step(
@@ -807,7 +915,39 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
 
     /// The trajectory so far: samples up to the last accepted step (the
     /// whole run once it has ended), events, summary.
-    fn finish(mut self) -> Trajectory {
+    fn finish(self) -> Trajectory {
+        self.finish_watching().0
+    }
+
+    /// The event function of a watched θ level or time mark
+    /// ([`crate::sim::watch`]).
+    fn watch_event(&self, w: Watch) -> Event<M, D> {
+        let watcher = self.watcher.as_ref().expect("a watcher");
+        match w {
+            Watch::ThetaLevel(j) => {
+                let level = watcher.levels()[j];
+                Event {
+                    g: Box::new(move |m: &M, _, y| m.track_angles(y).0 - level),
+                    direction: integrate::Direction::Either,
+                    terminal: false,
+                    step_to_event: false,
+                }
+            }
+            Watch::TimeMark(j) => {
+                let mark = watcher.mark(j);
+                Event {
+                    g: Box::new(move |_: &M, t, _| t - mark),
+                    direction: integrate::Direction::Rising,
+                    terminal: false,
+                    step_to_event: false,
+                }
+            }
+            other => unreachable!("{other:?} is not a watch event"),
+        }
+    }
+
+    /// As [`Sim::finish`], with what each watched θ window saw.
+    fn finish_watching(mut self) -> (Trajectory, Vec<WindowStay>) {
         if self.active.as_ref().is_some_and(|a| a.ended.is_some()) {
             self.handle_end();
         }
@@ -834,6 +974,10 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 self.log.normal.negative_fraction(t),
             )
         };
+        let stem = self.m.has_stem().then(|| {
+            let (first, fraction) = self.log.stem(t);
+            (first.map(|ts| ts * tu), fraction)
+        });
         let last = self.m.row(t, &y);
         let summary = summarize(
             &self.track,
@@ -849,17 +993,32 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 stats: self.stats,
                 error: self.error.as_ref(),
                 adhesive: self.m.adhesive(),
+                stem,
                 normal_buckets: self
                     .normal_buckets
                     .as_deref()
                     .map(|b| (b, &self.sample_times[..])),
             },
         );
-        Trajectory {
-            samples: self.samples,
-            events: self.log.events.into_sorted(),
-            summary,
-            error: self.error,
-        }
+        let stays = match self.watcher.as_mut() {
+            Some(w) => {
+                if self.error.is_none() {
+                    // A run that ended normally reached its end: marks there
+                    // (at t_end to rounding) are passed with the final state.
+                    w.pass_marks(t, last.work_applied);
+                }
+                w.stays()
+            }
+            None => Vec::new(),
+        };
+        (
+            Trajectory {
+                samples: self.samples,
+                events: self.log.events.into_sorted(),
+                summary,
+                error: self.error,
+            },
+            stays,
+        )
     }
 }

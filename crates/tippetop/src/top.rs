@@ -21,7 +21,29 @@ pub struct Top {
     pub inertia_transverse: f64,
     /// Axial principal moment `C` about the centre of mass \[kg m²\].
     pub inertia_axial: f64,
+    /// The stem (`top.stem_radius`, `top.stem_distance`), if any: a second
+    /// contact sphere on the symmetry axis (docs/physics.md §26).
+    pub stem: Option<Stem>,
 }
+
+/// The stem of a tippe top: a second sphere of radius `r2` whose centre is
+/// on the symmetry axis at `S = O + d2 k`, on the same side of the centre of
+/// mass `O` as the main sphere's centre `C = O + a k` (the stem points up
+/// when the top stands on its heavy end). docs/physics.md §26.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stem {
+    /// Radius `r2` of the stem's end sphere \[m\], `0 < r2 < R`.
+    pub radius: f64,
+    /// Distance `d2` from the centre of mass to the stem sphere's centre
+    /// along `k` \[m\], `d2 − a > R − r2`.
+    pub distance: f64,
+}
+
+/// Valid range of `top.stem_radius`.
+pub const STEM_RADIUS_RANGE: &str =
+    "0 < stem_radius < radius [m], given together with stem_distance (both absent: no stem)";
+/// Valid range of `top.stem_distance`.
+pub const STEM_DISTANCE_RANGE: &str = "stem_distance - offset > radius - stem_radius [m] (else the stem never touches), given together with stem_radius";
 
 impl Top {
     /// The paper's C60 nano top (Sec. 3): R = 3.55 Å, a = 0.1 R,
@@ -36,6 +58,7 @@ impl Top {
             mass,
             inertia_transverse: a,
             inertia_axial: 0.5 * a,
+            stem: None,
         }
     }
 
@@ -51,6 +74,7 @@ impl Top {
             mass,
             inertia_transverse: i,
             inertia_axial: i,
+            stem: None,
         }
     }
 
@@ -84,7 +108,37 @@ impl Top {
                 "0 < inertia_axial <= 2 * inertia_transverse".to_string(),
             ));
         }
+        if let Some(st) = t.stem {
+            if !st.radius.is_finite() || st.radius <= 0.0 || st.radius >= t.radius {
+                return Err(Error::invalid(
+                    "top.stem_radius",
+                    format!("{} is out of range", st.radius),
+                    format!("0 < stem_radius < radius = {}", t.radius),
+                ));
+            }
+            if !st.distance.is_finite() || st.distance - t.offset <= t.radius - st.radius {
+                return Err(Error::invalid(
+                    "top.stem_distance",
+                    format!(
+                        "{} is out of range (the stem sphere lies inside the main sphere: it never touches the plane)",
+                        st.distance
+                    ),
+                    format!(
+                        "stem_distance > offset + radius - stem_radius = {} [m]",
+                        t.offset + t.radius - st.radius
+                    ),
+                ));
+            }
+        }
         Ok(())
+    }
+
+    /// `cos θ_td = −(R − r2)/(d2 − a)`: the stem touches the plane while the
+    /// main sphere rests on it at `θ_td` (docs/physics.md §26); `None`
+    /// without a stem.
+    pub fn stem_touchdown_cos(&self) -> Option<f64> {
+        self.stem
+            .map(|st| -(self.radius - st.radius) / (st.distance - self.offset))
     }
 }
 

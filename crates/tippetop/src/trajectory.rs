@@ -190,6 +190,15 @@ pub struct NormalIntervals {
     pub negative_fraction: f64,
 }
 
+/// The stem's entries of a [`Summary`] (docs/physics.md §26).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct StemSummary {
+    /// First time the stem's sphere touched the plane \[s\], if ever.
+    pub first_stem_contact_at: Option<f64>,
+    /// Fraction of the simulated time with the stem's sphere on the plane.
+    pub stem_contact_fraction: f64,
+}
+
 /// Scalar summary of a run (the `summary.json` of the CLI, minus wall time).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Summary {
@@ -224,6 +233,11 @@ pub struct Summary {
     pub negative_normal_fraction: f64,
     /// Fraction of the simulated time spent rolling (exact Coulomb law).
     pub rolling_fraction: f64,
+    /// With a stem (`top.stem_radius`, docs/physics.md §26):
+    /// `first_stem_contact_at` \[s\] (null if the stem never touched) and
+    /// `stem_contact_fraction`; absent from summary.json without a stem.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub stem: Option<StemSummary>,
     /// Smallest contact reaction `N_c` over the output rows and the final
     /// state \[N\]: how far the run stayed from pulling off (0 in flight);
     /// `None` without adhesion (docs/physics.md §18).
@@ -245,6 +259,19 @@ pub struct Summary {
     /// The kind of the run-time failure ([`crate::Failure::as_str`]:
     /// `"painleve"`, `"step_limit"`, ...), `None` for a run that completed.
     pub failure: Option<&'static str>,
+}
+
+impl Summary {
+    /// `first_stem_contact_at` \[s\]: `None` without a stem or if it never
+    /// touched.
+    pub fn first_stem_contact_at(&self) -> Option<f64> {
+        self.stem.and_then(|s| s.first_stem_contact_at)
+    }
+
+    /// `stem_contact_fraction` (0 without a stem).
+    pub fn stem_contact_fraction(&self) -> f64 {
+        self.stem.map_or(0.0, |s| s.stem_contact_fraction)
+    }
 }
 
 /// A run: samples, events, summary, and the run-time error if it failed.

@@ -366,7 +366,7 @@ fn unknown_key() {
     assert_eq!(
         e,
         "top.radiuss: unknown key (valid keys: radius, offset, mass, \
-         inertia_transverse, inertia_axial)"
+         inertia_transverse, inertia_axial, stem_radius, stem_distance)"
     );
     expect_err(Some("nano"), None, &["solver.tend=1"], "solver.tend");
     expect_err(

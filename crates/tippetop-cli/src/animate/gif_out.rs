@@ -11,7 +11,7 @@ use std::path::Path;
 use anyhow::{Context, Result, anyhow};
 use plotters::prelude::*;
 
-use super::scene::{Camera, Pose, V3, axpy, surface_colour};
+use super::scene::{Camera, Pose, V3, axpy, dot, surface_colour};
 use super::{Movie, Settings};
 use crate::plot::{ensure_font, font};
 
@@ -56,6 +56,9 @@ const BACKGROUND: V3 = [0.97, 0.97, 0.98];
 const STAGE: V3 = [0.90, 0.89, 0.86];
 const GRID: V3 = [0.74, 0.73, 0.70];
 const TRACE: RGBColor = RGBColor(20, 120, 140);
+
+/// Colour of the stem (§26), before shading.
+const STEM: V3 = [0.62, 0.45, 0.25];
 
 fn to_u8(c: V3) -> [u8; 3] {
     c.map(|v| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8)
@@ -156,10 +159,78 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
         }
     }
 
+    // 3b. The stem's ball (§26), pixel by pixel where it is in front of the
+    // sphere (its surface points outside the sphere's silhouette or nearer
+    // the camera than the sphere's front), shaded as the sphere.
+    if let Some((r2, d2)) = movie.stem {
+        let sc = axpy(pose.com, d2, pose.k);
+        let (bx, by, _) = cam.project(sc);
+        let bpx = r2 * cam.scale;
+        let xa = (bx - bpx - 2.0).floor().max(0.0) as u32;
+        let xb = ((bx + bpx + 2.0).ceil().max(0.0) as u32).min(w);
+        let ya = (by - bpx - 2.0).floor().max(0.0) as u32;
+        let yb = ((by + bpx + 2.0).ceil().max(0.0) as u32).min(h);
+        for py in ya..yb {
+            for px in xa..xb {
+                let ex = (px as f64 + 0.5 - bx) / bpx;
+                let ey = -(py as f64 + 0.5 - by) / bpx;
+                let e2 = ex * ex + ey * ey;
+                let alpha = (bpx * (1.0 - e2.sqrt()) + 0.5).clamp(0.0, 1.0);
+                if alpha <= 0.0 {
+                    continue;
+                }
+                let (ex, ey) = if e2 > 1.0 {
+                    let r = e2.sqrt();
+                    (ex / r, ey / r)
+                } else {
+                    (ex, ey)
+                };
+                let ez = (1.0 - ex * ex - ey * ey).max(0.0).sqrt();
+                let n: V3 = std::array::from_fn(|k| ex * cam.r[k] + ey * cam.u[k] + ez * cam.d[k]);
+                if cam.hidden_by_sphere(axpy(sc, r2, n), pose.centre, rr) {
+                    continue;
+                }
+                let lam = dot(n, light).max(0.0);
+                let c: V3 = std::array::from_fn(|k| STEM[k] * (0.3 + 0.7 * lam));
+                let o = 3 * (py * w + px) as usize;
+                for k in 0..3 {
+                    let old = buf[o + k] as f64 / 255.0;
+                    buf[o + k] = ((old + alpha * (c[k] - old)).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+                }
+            }
+        }
+    }
+
     // 4. Axis (visible parts), centre of mass, text, map.
     ensure_font()?;
     let root = BitMapBackend::with_buffer(buf, (w, h)).into_drawing_area();
     let err = |e: DrawingAreaErrorKind<_>| anyhow!("drawing frame {i}: {e}");
+    let pixel = |p: V3| {
+        let (x, y) = screen(p);
+        (x.clamp(-1e4, 1e4) as i32, y.clamp(-1e4, 1e4) as i32)
+    };
+    if let Some((r2, d2)) = movie.stem {
+        // The stem (§26): a peg along +k from inside the sphere to a ball of
+        // radius r2 at O + d2 k, where not behind the sphere.
+        let tip = axpy(pose.com, d2, pose.k);
+        let start = axpy(pose.centre, 0.8 * rr, pose.k);
+        let width = (1.2 * r2 * cam.scale).max(2.0) as u32;
+        let peg = RGBColor(120, 85, 45).stroke_width(width);
+        let mut parts: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+        for s in 0..=40 {
+            let p = axpy(start, s as f64 / 40.0, axpy(tip, -1.0, start));
+            if cam.hidden_by_sphere(p, pose.centre, rr) {
+                parts.push(Vec::new());
+            } else if let Some(last) = parts.last_mut() {
+                last.push(screen(p));
+            }
+        }
+        for part in &parts {
+            for run in clipped_runs(part, w, h) {
+                root.draw(&PathElement::new(run, peg)).map_err(err)?;
+            }
+        }
+    }
     let axis_ends = (
         axpy(pose.centre, -1.45 * rr, pose.k),
         axpy(pose.centre, 1.45 * rr, pose.k),
@@ -184,10 +255,6 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
             root.draw(&PathElement::new(run, axis_style)).map_err(err)?;
         }
     }
-    let pixel = |p: V3| {
-        let (x, y) = screen(p);
-        (x.clamp(-1e4, 1e4) as i32, y.clamp(-1e4, 1e4) as i32)
-    };
     let dot_r = (0.06 * rpx).clamp(3.0, 8.0) as i32;
     if !cam.hidden_by_sphere(axis_ends.1, pose.centre, rr) {
         root.draw(&Circle::new(
@@ -451,6 +518,63 @@ pub fn write_gif(path: &Path, movie: &Movie, settings: &Settings) -> Result<GifS
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The stem's ball (§26) is drawn: with the top upright (k = Z), the
+    /// toy's stem (r2 = 2.5 mm at d2 = 16 mm, R = 15 mm, a = 1.5 mm) sticks
+    /// 2 mm out of the sphere's top; the pixel of the ball's front surface
+    /// point with screen offsets (0.5 r2 right, 0.7 r2 up) from its centre
+    /// (2.1 mm higher than the ball's centre, 16.6 mm from the sphere's
+    /// centre: outside the sphere; 4 px right of the axis line) is the
+    /// stem's brown, shaded (red > blue by far); without the stem it is the
+    /// background's grey.
+    #[test]
+    fn the_stem_ball_is_drawn() {
+        let (r, a, r2, d2) = (0.015, 0.0015, 0.0025, 0.016);
+        let frame = super::super::Frame {
+            t: 0.0,
+            theta: 0.0,
+            spin: 0.0,
+            com: [0.0, 0.0, r - a],
+            q: [1.0, 0.0, 0.0, 0.0],
+            contact: [0.0, 0.0],
+        };
+        let movie = |stem| Movie {
+            title: String::new(),
+            radius: r,
+            offset: a,
+            stem,
+            frames: vec![frame],
+            frame_dt: 0.05,
+            fps: 20,
+            trace: vec![[0.0, 0.0, 0.0]],
+            theta_curve: vec![[0.0, 0.0]],
+            source: String::new(),
+        };
+        let settings = Settings {
+            fps: 20,
+            frames: 1,
+            width: 320,
+            height: 240,
+        };
+        let pose = Pose::new(frame.com, frame.q, a);
+        let cam = Camera::standard(320, 240, r, pose.centre);
+        let sc = [0.0, 0.0, r - a + d2];
+        let p = axpy(axpy(sc, 0.5 * r2, cam.r), 0.7 * r2, cam.u);
+        let (x, y, _) = cam.project(p);
+        let at = |stem| {
+            let mut buf = vec![0u8; 320 * 240 * 3];
+            render_frame(&movie(stem), 0, &settings, &mut buf).unwrap();
+            let o = 3 * (y as usize * 320 + x as usize);
+            [buf[o], buf[o + 1], buf[o + 2]]
+        };
+        let with = at(Some((r2, d2)));
+        let without = at(None);
+        assert!(with[0] as i32 - with[2] as i32 > 40, "stem pixel {with:?}");
+        assert!(
+            without[0].abs_diff(without[2]) < 30,
+            "no-stem pixel {without:?}"
+        );
+    }
 
     #[test]
     fn clock_units() {

@@ -30,7 +30,8 @@ pub const ANIMATE_LONG_ABOUT: &str = "Animate the output of `tippetop run ... --
     writes into DIR
   animation.gif   the top in 3D: a shaded sphere with a painted meridian band (so the spin
                   shows) and a white cap on the end the symmetry axis points to (the stem's
-                  end of a real toy), the symmetry axis, the centre of mass (red dot, drawn
+                  end of a real toy; with top.stem_radius the stem's ball too, shaded where it sticks
+                  out of the sphere), the symmetry axis, the centre of mass (red dot, drawn
                   through the sphere), the contact point's trace on the floor so far, a clock
                   and the value of theta; an inset map of the whole trace when it is longer
                   than the view; fixed oblique orthographic camera (azimuth -65 deg from the lab
@@ -194,6 +195,10 @@ pub struct Movie {
     pub radius: f64,
     /// Offset a of the centre of mass from the sphere's centre \[m\].
     pub offset: f64,
+    /// The stem (`top.stem_radius` r2, `top.stem_distance` d2) \[m\], if
+    /// any: drawn as a peg along `k` ending in a ball of radius r2 centred
+    /// at `O + d2 k` (docs/physics.md §26).
+    pub stem: Option<(f64, f64)>,
     /// The frames, in time order.
     pub frames: Vec<Frame>,
     /// Time between frames \[s of run time\].
@@ -445,6 +450,7 @@ pub fn load_movie(dir: &Path, settings: &Settings) -> std::result::Result<Movie,
         title,
         radius: scenario.top.radius,
         offset: scenario.top.offset,
+        stem: scenario.top.stem.map(|st| (st.radius, st.distance)),
         frames,
         frame_dt,
         fps: settings.fps,

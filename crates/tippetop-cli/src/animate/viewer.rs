@@ -26,6 +26,7 @@ pub fn html(movie: &Movie, settings: &Settings) -> Result<String> {
         "title": movie.title,
         "R": movie.radius,
         "a": movie.offset,
+        "stem": movie.stem.map(|(r2, d2)| [r2, d2]),
         "fps": movie.fps,
         "frame_dt": movie.frame_dt,
         "unit": uname,

@@ -6,29 +6,32 @@
 //! # Success of a phase
 //!
 //! A phase `[t0, t1]` (write: `[0, phase]`, erase: `[phase, 2 phase]`)
-//! succeeds iff θ lies in the target window (`one` for write, `zero` for
-//! erase; closed intervals) at every output row of the last `hold` seconds
-//! of the phase, `t1 − hold <= t <= t1`. The test is on the output rows:
-//! its resolution is the sample spacing `2 phase / (samples − 1)` (at
-//! least [`crate::scenario::bit::MIN_ROWS_PER_HOLD`] rows per hold), and an
-//! excursion between two rows is not seen. The switching time is the start
-//! of the final stay, measured from `t0`: the time of the first row of the
-//! last unbroken run of in-window rows. Failure modes ([`Mode`]):
-//! - `never_entered`: no row of the phase is in the window;
-//! - `left`: θ was in the window at some row but not at the phase's end;
+//! succeeds iff θ stays in the target window (`one` for write, `zero` for
+//! erase; closed intervals) at every time of the last `hold` seconds of the
+//! phase, `t1 − hold <= t <= t1`, on the continuous solution: the run
+//! watches the windows ([`watches`], [`crate::simulate_watching`]) with
+//! events at their edges and at the phases' ends ([`crate::sim::watch`]),
+//! so an excursion between two output rows is seen (one within a single
+//! integration step is not: the step is the resolution). The switching
+//! time is the start of the final stay (the last entry into the window, or
+//! `t0` if θ was already in at `t0`), measured from `t0`. Failure modes
+//! ([`Mode`]):
+//! - `never_entered`: θ was never in the window during the phase;
+//! - `left`: θ was in the window at some time but not at the phase's end;
 //! - `too_late`: θ is in the window at the end, but its final stay began
 //!   less than `hold` before the end;
 //! - `run_failed` / `lifted_off`: the run failed before the phase's end
 //!   (`lifted_off` when the failure is a lift-off, [`crate::Failure::LiftOff`]).
 //!
 //! The energy of a phase is the change of `work_applied` (net work of the
-//! applied force on the top, J) from its first to its last row (up to the
-//! failure for a run that failed in it).
+//! applied force on the top, J) from `t0` to `t1` (at the watch's marks; up
+//! to the last row for a run that failed in the phase).
 
 use serde::Serialize;
 
 use crate::analysis::sweep::{fmt_f64, status_field};
 use crate::scenario::bit::{Actuator, BitScenario};
+use crate::sim::watch::{ThetaWatch, WindowStay};
 use crate::{Failure, Trajectory};
 
 /// z of the two-sided 95 % interval.
@@ -91,65 +94,44 @@ impl PhaseResult {
     }
 }
 
-/// Evaluate a phase on output rows `(t, θ)` \[s, rad\] in time order.
-/// `window` \[rad\], the phase `[t0, t1]` \[s\], `hold` \[s\]; `failure`:
-/// the run's failure if it failed (its rows end there). Rows count as in
-/// the phase within `1e-9 × (t1 − t0)` of its ends (row times carry
-/// rounding).
-pub fn evaluate_phase(
-    rows: &[(f64, f64)],
-    window: [f64; 2],
+/// Judge a phase `[t0, t1]` \[s\] with `hold` \[s\] from what the watch
+/// of its target window saw on the continuous solution
+/// ([`crate::sim::watch`]); `failure`: the run's failure if it failed.
+/// The stay counts as held if it began no later than `t1 − hold` (to
+/// `1e-9 × (t1 − t0)`: the times carry the rounding of scaled time).
+pub fn judge_phase(
+    stay: &WindowStay,
     t0: f64,
     t1: f64,
     hold: f64,
     failure: Option<Failure>,
 ) -> PhaseResult {
-    let tol = 1e-9 * (t1 - t0);
-    let phase: Vec<(f64, f64)> = rows
-        .iter()
-        .copied()
-        .filter(|&(t, _)| t >= t0 - tol && t <= t1 + tol)
-        .collect();
     let fail = |mode| PhaseResult {
         failure: Some(mode),
         time: None,
         energy: None,
     };
-    // A run that did not fail reached t1 (the rows need not fall on t1:
-    // with an odd number of intervals none falls on `phase`).
-    let reached = failure.is_none() || rows.last().is_some_and(|&(t, _)| t >= t1 - tol);
-    if !reached || phase.is_empty() {
+    if !stay.reached_end {
         return fail(match failure {
             Some(Failure::LiftOff) => Mode::LiftedOff,
             _ => Mode::RunFailed,
         });
     }
-    let inside = |th: f64| window[0] <= th && th <= window[1];
-    let Some(last_out) = phase.iter().rposition(|&(_, th)| !inside(th)) else {
-        // In the window at every row of the phase.
-        return PhaseResult {
-            failure: None,
-            time: Some(phase[0].0 - t0),
-            energy: None,
-        };
-    };
-    if last_out == phase.len() - 1 {
-        let mode = if phase.iter().any(|&(_, th)| inside(th)) {
-            Mode::Left
-        } else {
-            Mode::NeverEntered
-        };
-        return fail(mode);
-    }
-    let stay = phase[last_out + 1].0;
-    if stay <= t1 - hold + tol {
-        PhaseResult {
-            failure: None,
-            time: Some(stay - t0),
-            energy: None,
+    let tol = 1e-9 * (t1 - t0);
+    match stay.stay_from {
+        Some(from) if stay.inside_at_end => {
+            if from <= t1 - hold + tol {
+                PhaseResult {
+                    failure: None,
+                    time: Some((from - t0).max(0.0)),
+                    energy: None,
+                }
+            } else {
+                fail(Mode::TooLate)
+            }
         }
-    } else {
-        fail(Mode::TooLate)
+        _ if stay.ever_inside => fail(Mode::Left),
+        _ => fail(Mode::NeverEntered),
     }
 }
 
@@ -257,27 +239,50 @@ pub fn parse_csv_row(line: &str) -> Option<RunResult> {
     })
 }
 
-/// Net work of the applied force over the rows of `[t0, t1]` \[J\].
-fn phase_energy(traj: &Trajectory, t0: f64, t1: f64) -> Option<f64> {
-    let tol = 1e-9 * (t1 - t0);
-    let mut rows = traj
-        .samples
-        .iter()
-        .filter(|s| s.t >= t0 - tol && s.t <= t1 + tol);
-    let first = rows.next()?;
-    let last = rows.next_back().unwrap_or(first);
-    Some(last.work_applied - first.work_applied)
+/// Net work of the applied forces on the top over a phase \[J\]: from the
+/// watch's marks at the phase's ends, or, for a run that failed in the
+/// phase, up to its last row.
+fn phase_energy(stay: &WindowStay, traj: &Trajectory) -> Option<f64> {
+    let from = stay.work_at_from?;
+    let to = match stay.work_at_to {
+        Some(w) => w,
+        None => traj.samples.last()?.work_applied,
+    };
+    Some(to - from)
 }
 
-/// Evaluate run `traj` of the bit scenario `bs` (its `thermal.run` is `run`).
-pub fn evaluate_run(bs: &BitScenario, run: u64, traj: &Trajectory) -> RunResult {
-    let rows: Vec<(f64, f64)> = traj.samples.iter().map(|s| (s.t, s.theta)).collect();
+/// The θ windows a bit run watches: `one` over the write phase, `zero` over
+/// the erase phase (in this order; [`evaluate_run`] reads them so).
+pub fn watches(bs: &BitScenario) -> [ThetaWatch; 2] {
+    let b = &bs.bit;
+    [
+        ThetaWatch {
+            from: 0.0,
+            to: b.phase,
+            window: b.one,
+        },
+        ThetaWatch {
+            from: b.phase,
+            to: 2.0 * b.phase,
+            window: b.zero,
+        },
+    ]
+}
+
+/// Evaluate run `traj` of the bit scenario `bs` (its `thermal.run` is
+/// `run`), `stays` what the [`watches`] saw (`simulate_watching`).
+pub fn evaluate_run(
+    bs: &BitScenario,
+    run: u64,
+    traj: &Trajectory,
+    stays: &[WindowStay],
+) -> RunResult {
     let failure = traj.error.as_ref().and_then(|e| e.failure());
     let b = &bs.bit;
-    let mut write = evaluate_phase(&rows, b.one, 0.0, b.phase, b.hold, failure);
-    write.energy = phase_energy(traj, 0.0, b.phase);
-    let mut erase = evaluate_phase(&rows, b.zero, b.phase, 2.0 * b.phase, b.hold, failure);
-    erase.energy = phase_energy(traj, b.phase, 2.0 * b.phase);
+    let mut write = judge_phase(&stays[0], 0.0, b.phase, b.hold, failure);
+    write.energy = phase_energy(&stays[0], traj);
+    let mut erase = judge_phase(&stays[1], b.phase, 2.0 * b.phase, b.hold, failure);
+    erase.energy = phase_energy(&stays[1], traj);
     RunResult {
         run,
         status: traj.summary.status.clone(),
@@ -308,8 +313,11 @@ pub fn run_one(bs: &BitScenario, k: u64) -> RunResult {
         },
         pull_off_margin_min: None,
     };
-    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| crate::simulate(&sc))) {
-        Ok(Ok(traj)) => evaluate_run(bs, run, &traj),
+    let watched = watches(bs);
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        crate::simulate_watching(&sc, &watched)
+    })) {
+        Ok(Ok((traj, stays))) => evaluate_run(bs, run, &traj, &stays),
         Ok(Err(e)) => failed(e.to_string()),
         Err(_) => failed("panicked".into()),
     }
@@ -561,92 +569,123 @@ pub fn report_of(p: &Protocol, results: &[RunResult], deterministic: bool) -> Re
 mod tests {
     use super::*;
 
-    /// θ(t) on rows 0, 1, ..., 10 s.
-    fn rows(theta: &[f64]) -> Vec<(f64, f64)> {
-        theta
-            .iter()
-            .enumerate()
-            .map(|(i, &th)| (i as f64, th))
-            .collect()
-    }
-
     const W: [f64; 2] = [1.0, 2.0];
+
+    /// What the watch of `W` over `[t0, t1]` sees on a path given by its
+    /// crossings `(t, edge, rising)` (edge 0: lo, 1: hi), θ(0) = `theta0`,
+    /// the run ending at `t_stop` (scaled = seconds here).
+    fn stay(
+        theta0: f64,
+        t0: f64,
+        t1: f64,
+        cross: &[(f64, usize, bool)],
+        t_stop: f64,
+    ) -> WindowStay {
+        use crate::sim::watch::Watcher;
+        let mut w = Watcher::new(
+            &[ThetaWatch {
+                from: t0,
+                to: t1,
+                window: W,
+            }],
+            1.0,
+            theta0,
+            0.0,
+        );
+        let mut marks: Vec<(usize, f64)> = w.pending_marks().collect();
+        marks.retain(|&(_, m)| m <= t_stop);
+        /// A crossing `(edge, rising)` or mark `i`, at a time.
+        enum Ev {
+            Cross(usize, bool),
+            Mark(usize),
+        }
+        let mut all: Vec<(f64, Ev)> = cross
+            .iter()
+            .filter(|c| c.0 <= t_stop)
+            .map(|&(t, e, r)| (t, Ev::Cross(e, r)))
+            .chain(marks.iter().map(|&(i, m)| (m, Ev::Mark(i))))
+            .collect();
+        all.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (t, ev) in all {
+            match ev {
+                Ev::Cross(e, r) => w.level_crossed(e, t, r),
+                Ev::Mark(i) => w.mark_reached(i, t),
+            }
+        }
+        w.stays()[0]
+    }
 
     #[test]
     fn held_from_an_entry_mid_phase() {
-        // In from t = 4 to the end (10): held over the last 3 s.
-        let r = rows(&[0.1, 0.5, 0.9, 0.99, 1.0, 1.5, 1.9, 2.0, 1.2, 1.1, 1.3]);
-        let p = evaluate_phase(&r, W, 0.0, 10.0, 3.0, None);
-        assert_eq!(p.failure, None);
-        assert_eq!(p.time, Some(4.0));
+        // In from t = 4.25 to the end (10): held over the last 3 s.
+        let s = stay(0.1, 0.0, 10.0, &[(4.25, 0, true)], 10.0);
+        let p = judge_phase(&s, 0.0, 10.0, 3.0, None);
+        assert_eq!((p.failure, p.time), (None, Some(4.25)));
+        assert_eq!(s.work_at_to.unwrap() - s.work_at_from.unwrap(), 10.0);
     }
 
     #[test]
     fn entered_late_still_in_time_and_too_late() {
         // Enters at 7, hold 3: exactly in time (t1 - hold = 7).
-        let th = [0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5];
-        let p = evaluate_phase(&rows(&th), W, 0.0, 10.0, 3.0, None);
+        let s = stay(0.1, 0.0, 10.0, &[(7.0, 0, true)], 10.0);
+        let p = judge_phase(&s, 0.0, 10.0, 3.0, None);
         assert_eq!((p.failure, p.time), (None, Some(7.0)));
         // Hold 4: the stay began less than 4 s before the end.
-        let p = evaluate_phase(&rows(&th), W, 0.0, 10.0, 4.0, None);
+        let p = judge_phase(&s, 0.0, 10.0, 4.0, None);
         assert_eq!((p.failure, p.time), (Some(Mode::TooLate), None));
     }
 
     #[test]
-    fn re_entry_counts_from_the_last_stay() {
-        // In at 2..3, out at 4, in again from 5: switching time 5.
-        let th = [0.1, 0.1, 1.5, 1.5, 2.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5];
-        let p = evaluate_phase(&rows(&th), W, 0.0, 10.0, 3.0, None);
-        assert_eq!((p.failure, p.time), (None, Some(5.0)));
+    fn an_excursion_between_rows_breaks_the_stay() {
+        // In at 2, out above at 4.5, back at 4.6 (between rows 1 s apart,
+        // which the row test did not see): the stay counts from 4.6.
+        let c = [(2.0, 0, true), (4.5, 1, true), (4.6, 1, false)];
+        let s = stay(0.1, 0.0, 10.0, &c, 10.0);
+        let p = judge_phase(&s, 0.0, 10.0, 3.0, None);
+        assert_eq!((p.failure, p.time), (None, Some(4.6)));
+        // Out at 8.5 and back at 8.6: inside the hold, so the stay is
+        // too late.
+        let c = [(2.0, 0, true), (8.5, 0, false), (8.6, 0, true)];
+        let p = judge_phase(&stay(0.1, 0.0, 10.0, &c, 10.0), 0.0, 10.0, 3.0, None);
+        assert_eq!(p.failure, Some(Mode::TooLate));
     }
 
     #[test]
     fn left_and_never_entered() {
-        let left = [0.1, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5, 0.9];
-        let p = evaluate_phase(&rows(&left), W, 0.0, 10.0, 3.0, None);
+        let left = stay(0.1, 0.0, 10.0, &[(1.0, 0, true), (9.9, 0, false)], 10.0);
+        let p = judge_phase(&left, 0.0, 10.0, 3.0, None);
         assert_eq!((p.failure, p.time), (Some(Mode::Left), None));
-        let never = [0.1, 0.5, 0.9, 2.1, 2.5, 3.0, 0.99, 0.2, 0.3, 0.4, 0.5];
-        let p = evaluate_phase(&rows(&never), W, 0.0, 10.0, 3.0, None);
+        // Crossed the whole window (in at 3, out above at 3.5) and ended
+        // above: it was inside, so `left`; never near it: `never_entered`.
+        let through = stay(0.1, 0.0, 10.0, &[(3.0, 0, true), (3.5, 1, true)], 10.0);
+        assert_eq!(
+            judge_phase(&through, 0.0, 10.0, 3.0, None).failure,
+            Some(Mode::Left)
+        );
+        let never = stay(0.1, 0.0, 10.0, &[], 10.0);
+        let p = judge_phase(&never, 0.0, 10.0, 3.0, None);
         assert_eq!((p.failure, p.time), (Some(Mode::NeverEntered), None));
     }
 
     #[test]
     fn phase_limits_and_failed_runs() {
-        // Second phase [5, 10]: rows before 5 do not count; the last stay
-        // starts with the phase (at 5) -> time 0.
-        let th = [0.1, 0.1, 0.1, 0.1, 0.1, 1.5, 1.5, 1.5, 1.5, 1.5, 1.5];
-        let p = evaluate_phase(&rows(&th), W, 5.0, 10.0, 2.0, None);
+        // Second phase [5, 10], in since 4.5: the stay starts with the
+        // phase (time 0).
+        let s = stay(0.1, 5.0, 10.0, &[(4.5, 0, true)], 10.0);
+        let p = judge_phase(&s, 5.0, 10.0, 2.0, None);
         assert_eq!((p.failure, p.time), (None, Some(0.0)));
-        // A run that failed at 8: the phase [5, 10] is not reached; one
-        // that failed after the first phase [0, 5] leaves that one judged.
-        let cut = &rows(&th)[..9];
-        let p = evaluate_phase(cut, W, 5.0, 10.0, 2.0, Some(Failure::LiftOff));
+        // A stay that ended before the phase does not count as entered.
+        let s = stay(0.1, 5.0, 10.0, &[(1.0, 0, true), (2.0, 0, false)], 10.0);
+        assert_eq!(
+            judge_phase(&s, 5.0, 10.0, 2.0, None).failure,
+            Some(Mode::NeverEntered)
+        );
+        // A run that failed at 8 did not reach the phase's end.
+        let cut = stay(0.1, 5.0, 10.0, &[(4.5, 0, true)], 8.0);
+        assert!(!cut.reached_end);
+        let p = judge_phase(&cut, 5.0, 10.0, 2.0, Some(Failure::LiftOff));
         assert_eq!(p.failure, Some(Mode::LiftedOff));
-        let p = evaluate_phase(cut, W, 5.0, 10.0, 2.0, Some(Failure::StepLimit));
-        assert_eq!(p.failure, Some(Mode::RunFailed));
-        let p = evaluate_phase(cut, [0.0, 0.5], 0.0, 5.0, 2.0, Some(Failure::StepLimit));
-        assert_eq!((p.failure, p.time), (Some(Mode::Left), None));
-    }
-
-    #[test]
-    fn rows_need_not_fall_on_the_phase_end() {
-        // Rows every 0.3 s; the phase [0, 10] ends between 9.9 and 10.2.
-        let r: Vec<(f64, f64)> = (0..70)
-            .map(|i| {
-                let t = 0.3 * i as f64;
-                (t, if t < 6.0 { 0.1 } else { 1.5 })
-            })
-            .collect();
-        let p = evaluate_phase(&r, W, 0.0, 10.0, 3.0, None);
-        assert_eq!(p.failure, None);
-        assert!((p.time.unwrap() - 6.0).abs() < 1e-12, "{:?}", p.time);
-        // The second phase [10, 20] starts at the row at 10.2.
-        let p = evaluate_phase(&r, W, 10.0, 20.0, 3.0, None);
-        assert!((p.time.unwrap() - 0.2).abs() < 1e-12, "{:?}", p.time);
-        // A run that failed at 9.9 did not reach 10.
-        let cut = &r[..34];
-        assert_eq!(cut.last().unwrap().0, 0.3 * 33.0);
-        let p = evaluate_phase(cut, W, 0.0, 10.0, 3.0, Some(Failure::NonFinite));
+        let p = judge_phase(&cut, 5.0, 10.0, 2.0, Some(Failure::StepLimit));
         assert_eq!(p.failure, Some(Mode::RunFailed));
     }
 

@@ -16,7 +16,7 @@
 //!
 //! **Merit** (dimensionless; `P` = `bit.phase`): on success in the target
 //! window shrunk by `margin` (over the last `hold` of the phase, the bit's
-//! own test, [`super::bit::evaluate_phase`]) `(t_s + weight |E|)/P` with
+//! own test on the continuous solution, [`super::bit::judge_phase`]) `(t_s + weight |E|)/P` with
 //! `t_s` the switching time from the phase start and `E` the net work of
 //! the actuators over the phase (a simple actuator cannot take energy back,
 //! so either sign costs); otherwise `FAIL + d/π`, where `d` is the largest
@@ -37,7 +37,8 @@ use crate::scenario::bit::BitScenario;
 use crate::scenario::search::{
     SearchActuator, SearchPhase, SearchSpec, apply_sets, document, split,
 };
-use crate::{Error, simulate};
+use crate::sim::watch::ThetaWatch;
+use crate::{Error, simulate_watching};
 
 /// The merit of a failed protocol before its distance is added.
 pub const FAIL: f64 = 1e3;
@@ -294,6 +295,15 @@ impl ProtocolSearch {
                         t.insert("point".into(), arr(point));
                         t.insert("force".into(), arr([mag * ang.cos(), mag * ang.sin(), 0.0]));
                     }
+                    SearchActuator::Magnetic { moment } => {
+                        let field = [mag * ang.sin(), 0.0, mag * ang.cos()];
+                        t.insert("kind".into(), Value::String("magnetic".into()));
+                        t.insert("moment".into(), Value::Float(moment));
+                        t.insert(
+                            "field".into(),
+                            Value::Array(field.iter().map(|&c| Value::Float(c)).collect()),
+                        );
+                    }
                 }
                 t.insert("start".into(), Value::Float(start));
                 t.insert("stop".into(), Value::Float(stop));
@@ -331,21 +341,31 @@ impl ProtocolSearch {
             return failed(pi + 1.0);
         };
         let sc = bs.run_scenario(0);
-        let Ok(traj) = simulate(&sc) else {
-            return failed(pi + 1.0);
-        };
-        let r = bit::evaluate_run(&bs, sc.thermal.run, &traj);
         let b = &bs.bit;
-        let (plain, target, t0) = match self.spec.phase {
-            SearchPhase::Write => (r.write, b.one, 0.0),
-            SearchPhase::Erase => (r.erase, b.zero, b.phase),
+        let (target, t0) = match self.spec.phase {
+            SearchPhase::Write => (b.one, 0.0),
+            SearchPhase::Erase => (b.zero, b.phase),
         };
         let t1 = t0 + b.phase;
         let m = self.spec.margin;
         let shrunk = [target[0] + m, target[1] - m];
+        let [w, e] = bit::watches(&bs);
+        let margin_watch = ThetaWatch {
+            from: t0,
+            to: t1,
+            window: shrunk,
+        };
+        let Ok((traj, stays)) = simulate_watching(&sc, &[w, e, margin_watch]) else {
+            return failed(pi + 1.0);
+        };
+        let r = bit::evaluate_run(&bs, sc.thermal.run, &traj, &stays);
+        let plain = match self.spec.phase {
+            SearchPhase::Write => r.write,
+            SearchPhase::Erase => r.erase,
+        };
         let rows: Vec<(f64, f64)> = traj.samples.iter().map(|s| (s.t, s.theta)).collect();
         let failure = traj.error.as_ref().and_then(|e| e.failure());
-        let pm = bit::evaluate_phase(&rows, shrunk, t0, t1, b.hold, failure);
+        let pm = bit::judge_phase(&stays[2], t0, t1, b.hold, failure);
         let tol = 1e-9 * b.phase;
         let hold_rows: Vec<f64> = rows
             .iter()

@@ -339,7 +339,7 @@ pub(crate) struct Stepping<E, const N: usize> {
     pub(crate) stats: Stats,
     g_prev: Vec<f64>,
     g_new: Vec<f64>,
-    crossings: Vec<(f64, usize)>,
+    crossings: Vec<(f64, usize, bool)>,
     /// Index of the next sample time not yet emitted.
     pub(crate) si: usize,
 }
@@ -450,12 +450,12 @@ impl<E: Engine<N>, const N: usize> Stepping<E, N> {
                     gn,
                     tol,
                 );
-                self.crossings.push((tr, i));
+                self.crossings.push((tr, i, self.g_prev[i] < 0.0));
             }
         }
         let crossings = &mut self.crossings;
         crossings.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let terminal = crossings.iter().position(|&(_, i)| events[i].terminal);
+        let terminal = crossings.iter().position(|&(_, i, _)| events[i].terminal);
         let t_lim = terminal.map_or(tn, |k| crossings[k].0);
 
         // Samples in (tp, t_lim].
@@ -476,7 +476,7 @@ impl<E: Engine<N>, const N: usize> Stepping<E, N> {
         // Non-terminal crossings up to the terminal one, in time order,
         // then the terminal one with its restart state.
         let upto = terminal.unwrap_or(crossings.len());
-        for &(tr, i) in &crossings[..upto] {
+        for &(tr, i, rising) in &crossings[..upto] {
             eng.dense(tr, &mut ybuf);
             on_event(
                 sys,
@@ -484,11 +484,12 @@ impl<E: Engine<N>, const N: usize> Stepping<E, N> {
                     index: i,
                     t: tr,
                     y: ybuf,
+                    rising,
                 },
             );
         }
         if let Some(k) = terminal {
-            let (tr, i) = crossings[k];
+            let (tr, i, rising) = crossings[k];
             eng.dense(tr, &mut ybuf);
             if events[i].step_to_event {
                 // The restart state as accurate as a step, not only as
@@ -501,6 +502,7 @@ impl<E: Engine<N>, const N: usize> Stepping<E, N> {
                             index: i,
                             t: tr,
                             y: dense,
+                            rising,
                         },
                     );
                     return Err(convert(f, eng.y()));
@@ -512,6 +514,7 @@ impl<E: Engine<N>, const N: usize> Stepping<E, N> {
                     index: i,
                     t: tr,
                     y: ybuf,
+                    rising,
                 },
             );
             on_step(sys, tr, &ybuf);

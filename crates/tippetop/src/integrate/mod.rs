@@ -274,6 +274,9 @@ pub struct Fired<const N: usize> {
     pub t: f64,
     /// State there (dense output).
     pub y: [f64; N],
+    /// The event function rose through zero (it was negative at the step's
+    /// start); else it fell.
+    pub rising: bool,
 }
 
 /// Work counters.

@@ -102,6 +102,9 @@ pub struct ContactState {
     /// and θ's maxima are not located between steps (the noise makes θ̇
     /// change sign at almost every step; the step ends are tracked).
     pub langevin: bool,
+    /// `cos θ_td` of the stem's touchdown (docs/physics.md §26), `None`
+    /// without a stem: the on-plane models stop there.
+    pub stem_cos: Option<f64>,
 }
 
 impl ContactState {
@@ -144,6 +147,7 @@ impl ContactState {
             contensou,
             contensou_hint: None,
             hint_generation: 0,
+            stem_cos: sc.top.stem_touchdown_cos(),
         }
     }
 

@@ -147,6 +147,11 @@ pub(crate) trait Model<const D: usize>: OdeSystem<D> + Sized {
     fn adhesive(&self) -> bool {
         false
     }
+    /// True when the top has a stem (docs/physics.md §26): the summary then
+    /// reports `first_stem_contact_at` and `stem_contact_fraction`.
+    fn has_stem(&self) -> bool {
+        false
+    }
     /// A force switch at `t` (the new force is not latched yet): latch it
     /// and re-decide what depends on it.
     fn on_force_switch(&mut self, t: f64, y: &mut [f64; D], log: &mut RunLog) -> Flow;

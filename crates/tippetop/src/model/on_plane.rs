@@ -67,6 +67,10 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
         self.plane().adhesive()
     }
 
+    fn has_stem(&self) -> bool {
+        self.plane().stem_cos.is_some()
+    }
+
     fn step_hints(&self) -> (f64, bool) {
         (self.dop853_beta(), self.dop853_stability_cap())
     }
@@ -199,6 +203,18 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                 )),
             }
         }
+        if let Some(c_td) = self.plane().stem_cos {
+            // The stem reaches the plane where θ rises through θ_td (§26).
+            ev.push((
+                Watch::StemTouch,
+                Event {
+                    g: Box::new(move |m: &M, _, y| m.theta(y).cos() - c_td),
+                    direction: Direction::Falling,
+                    terminal: true,
+                    step_to_event: false,
+                },
+            ));
+        }
         if self.plane().is_exact() {
             match self.plane().mode {
                 Mode::Sliding => ev.push((
@@ -299,6 +315,19 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                     ContactModel::describe_state(self, y)
                 ),
             )),
+            Watch::StemTouch => {
+                log.stem_on(t);
+                let c_td = self.plane().stem_cos.unwrap_or(f64::NAN);
+                Flow::Stop(Error::runtime(
+                    t * self.time_unit(),
+                    Failure::NotModelled,
+                    format!(
+                        "the stem touches the plane at theta = theta_td = {} rad (cos theta_td = -(R - r2)/(d2 - a) = {c_td}; docs/physics.md §26): the reduced and vector models keep the main sphere on the plane and cannot follow the stem's contact, use model = \"rigid\"; {}",
+                        c_td.acos(),
+                        ContactModel::describe_state(self, y)
+                    ),
+                ))
+            }
             Watch::ContensouStick => {
                 self.plane_mut().normal_branch = None;
                 let (yn, stuck) = settle_at_stick(self, y);

@@ -196,6 +196,8 @@
 //! `Happened::Touchdown`). For unilateral contact, `contact_lost_at` is the first
 //! lift-off and `negative_normal_fraction` the fraction of time in flight.
 
+mod stem;
+
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
 use crate::sim::events::{Happened, Watch};
 use crate::sim::messages::painleve_why;
@@ -360,7 +362,23 @@ pub struct Eval {
 pub struct Rigid {
     /// Unit system.
     pub scales: Scales,
+    /// Centre offset of the active contact sphere along `k` (scaled): `a/R`
+    /// for the main sphere, `d2/R` for the stem's (§26).
     a: f64,
+    /// Radius of the active contact sphere (scaled): 1 for the main sphere,
+    /// `r2/R` for the stem's (§26).
+    rho: f64,
+    /// The main sphere's `(a/R, 1)` and the stem's `(d2/R, r2/R)` (`None`
+    /// without a stem): the active one is in `a`, `rho`.
+    spheres: ((f64, f64), Option<(f64, f64)>),
+    /// True while the stem's sphere is the active contact sphere.
+    pub on_stem: bool,
+    /// True in the two-contact phase: the main sphere and the stem both on
+    /// the plane (§26; `phase` is then `Contact`).
+    pub both: bool,
+    /// Time of the last switch of the active sphere (scaled): the other
+    /// sphere's gap is 0 there ([`Rigid::other_touchdown_function`]).
+    switch_start: f64,
     ia: f64,
     ic: f64,
     g: f64,
@@ -396,9 +414,19 @@ impl Rigid {
     /// Build the scaled model of a scenario.
     pub fn new(sc: &Scenario) -> Self {
         let scales = Scales::of(sc);
+        let main = (sc.top.offset / scales.length, 1.0);
+        let stem = sc
+            .top
+            .stem
+            .map(|st| (st.distance / scales.length, st.radius / scales.length));
         Rigid {
             scales,
-            a: sc.top.offset / scales.length,
+            a: main.0,
+            rho: main.1,
+            spheres: (main, stem),
+            on_stem: false,
+            both: false,
+            switch_start: 0.0,
             ia: sc.top.inertia_transverse / scales.inertia(),
             ic: sc.top.inertia_axial / scales.inertia(),
             g: sc.surface.gravity * scales.time * scales.time / scales.length,
@@ -478,7 +506,7 @@ impl Rigid {
         let q = normalized(quat_of(y));
         let k = v3(y, AXIS);
         let n = v3(y, OMEGA);
-        let r = [self.a * k[0], self.a * k[1], self.a * k[2] - 1.0];
+        let r = [self.a * k[0], self.a * k[1], self.a * k[2] - self.rho];
         let vp = add(v3(y, VEL), cross(n, r));
         let kh = k[0].hypot(k[1]);
         let xh = if kh > 0.0 {
@@ -507,6 +535,9 @@ impl Rigid {
 
     /// Evaluate the model at a state in the current phase.
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, RigidError> {
+        if self.both {
+            return self.eval_two(y);
+        }
         let kin = self.kin(y);
         let (k, n, r) = (kin.k, kin.n, kin.r);
         let fh = self.applied_world(&kin);
@@ -777,7 +808,7 @@ impl Rigid {
 
     /// Gap between the sphere and the plane, `z_C − R` (scaled).
     pub fn gap(&self, y: &[f64; DIM]) -> f64 {
-        y[POS + 2] + self.a * y[AXIS + 2] - 1.0
+        y[POS + 2] + self.a * y[AXIS + 2] - self.rho
     }
 
     /// Rate of change of the gap, `v_Cz` (scaled).
@@ -872,7 +903,7 @@ impl Rigid {
         let k = scale(1.0 / dot(kq, kq).sqrt(), kq);
         set3(y, AXIS, k);
         let n = v3(y, OMEGA);
-        y[POS + 2] = 1.0 - self.a * k[2];
+        y[POS + 2] = self.rho - self.a * k[2];
         y[VEL + 2] = -self.a * cross(n, k)[2];
     }
 
@@ -892,7 +923,10 @@ impl Rigid {
     /// the constraint values in contact, the state in flight.
     fn vertical(&self, y: &[f64; DIM], kin: &Kin) -> (f64, f64) {
         match self.phase {
-            Phase::Contact => (1.0 - self.a * kin.k[2], -self.a * cross(kin.n, kin.k)[2]),
+            Phase::Contact => (
+                self.rho - self.a * kin.k[2],
+                -self.a * cross(kin.n, kin.k)[2],
+            ),
             Phase::Flight => (y[POS + 2], y[VEL + 2]),
         }
     }
@@ -1256,6 +1290,7 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
             ))
         }
     }
+    m.stem_events(&mut ev);
     if m.phase == Phase::Contact && m.contact.is_contensou() && m.contact.mode == Mode::Sliding {
         ev.push((
             Watch::ContensouStick,
@@ -1396,7 +1431,7 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
     let nk = dot(k, k).sqrt();
     let ku = [k[0] / nk, k[1] / nk, k[2] / nk];
     let z = match m.phase {
-        Phase::Contact => 1.0 - m.a * ku[2],
+        Phase::Contact => m.rho - m.a * ku[2],
         Phase::Flight => y[POS + 2],
     };
     let q = crate::observe::attitude_with_axis(quat_of(y), k);
@@ -1582,6 +1617,10 @@ impl Model<DIM> for Rigid {
         self.contact.contact_mode() == ContactMode::Unilateral
     }
 
+    fn has_stem(&self) -> bool {
+        self.spheres.1.is_some()
+    }
+
     fn adhesive(&self) -> bool {
         self.contact.adhesive()
     }
@@ -1664,11 +1703,24 @@ impl Model<DIM> for Rigid {
                         self.phase = Phase::Flight;
                         self.flight_start = t;
                         log.lift_off(t);
+                        if self.on_stem {
+                            log.stem_off(t);
+                        }
                         Flow::Continue
                     }
                     Phase::Flight => self.touch_down(t, y, log),
                 }
             }
+            Watch::SphereTouchdown => self.switch_sphere(t, y, log),
+            Watch::SphereLiftoff => self.leave_two(t, y, log),
+            Watch::ContensouStick if self.both => Flow::Stop(Error::runtime(
+                t * tu,
+                Failure::NotModelled,
+                format!(
+                    "sliding and spinning both stopped while the main sphere and the stem both touch the plane: the Coulomb-Contensou stick at two contacts is not modelled (docs/physics.md §25, §26); {}",
+                    describe_state(self, y)
+                ),
+            )),
             Watch::ContensouStick => {
                 self.contact.normal_branch = None;
                 if settle_at_stick(self, y) {
@@ -1729,10 +1781,14 @@ impl Rigid {
     /// exactly on the plane, apply the impact, and settle into contact
     /// when the rebound is too short to follow.
     fn touch_down(&mut self, t: f64, y: &mut [f64; DIM], log: &mut RunLog) -> Flow {
-        log.push(t, Happened::Touchdown);
+        if self.on_stem {
+            log.stem_on(t);
+        } else {
+            log.push(t, Happened::Touchdown);
+        }
         let kz = self.kin(y).k[2];
         let before = self.energy_scaled(y);
-        y[POS + 2] = 1.0 - self.a * kz;
+        y[POS + 2] = self.rho - self.a * kz;
         let (yn, vn_plus, stuck) = match self.impact(y) {
             Ok(v) => v,
             Err(err) => {
@@ -1763,6 +1819,9 @@ impl Rigid {
             self.bounces = 0;
             if enter_contact(self, t, y) == Phase::Flight {
                 log.lift_off(t);
+                if self.on_stem {
+                    log.stem_off(t);
+                }
             } else if self.contact.is_contensou() {
                 // A sticking impulse (slip and spin about Z zero) leaves the
                 // contact at the Coulomb–Contensou stick, decided there.
@@ -1784,6 +1843,9 @@ impl Rigid {
                     self.contact.slip_ref.set(unit(horizontal(v)));
                 }
             }
+        } else if self.on_stem {
+            // A bounce of the stem's sphere.
+            log.stem_off(t);
         }
         Flow::Continue
     }

@@ -43,15 +43,19 @@
 //! appends one). The initial θ must lie in `zero`, the two windows must be
 //! disjoint, and the output rows (`solver.samples` over `2 × phase`) must
 //! give at least [`MIN_ROWS_PER_HOLD`] rows per `hold`: success is judged
-//! on the rows (see [`crate::analysis::bit`]).
+//! on the continuous solution (see [`crate::analysis::bit`]), but an
+//! excursion within one integration step is not seen, and the adaptive
+//! steppers' largest step is the row spacing; the rows also carry the
+//! search's merit and the figures.
 
 use toml::{Table, Value};
 
 use super::{Keys, Section, check_keys, describe, parse_document, range_of, unknown_key};
 use crate::{ActuatorWindow, BodyActuator, Error, ForceWindow, Forcing, Scenario};
 
-/// Fewest output rows per `bit.hold` (the resolution of the success test
-/// is the sample spacing).
+/// Fewest output rows per `bit.hold` (the row spacing bounds the adaptive
+/// steppers' step, within which an excursion out of a window and back is
+/// not seen: so unseen excursions last less than a tenth of the hold).
 pub const MIN_ROWS_PER_HOLD: f64 = 10.0;
 
 /// The default `zero` window \[rad\]: standing.

@@ -5,11 +5,13 @@
 //! [search]
 //! phase = "write"            # or "erase": the protocol searched; the other is kept
 //! windows = 1                # K >= 1 actuator windows
-//! actuator = "contact"       # the windows' kind: "contact" (the paper's H) or "tip"
+//! actuator = "contact"       # the windows' kind: "contact" (the paper's H), "tip" or "magnetic"
 //! # point = [0.0, 0.0, 3.905e-10]  # [m], "tip" only: the tip's body point (required)
-//! magnitude = [0.0, 1e-21]   # [N], bounds of each window's |H|
+//! # moment = 9.274e-24       # [A m^2], "magnetic" only: the top's moment along k (required)
+//! magnitude = [0.0, 1e-21]   # bounds of each window's |H| or |F| [N], or |B| [T] ("magnetic")
 //! angle = [-3.14159, 3.14159] # [rad]: "contact": H's direction in the (x, y) plane of the
-//!                            # precessing frame; "tip": the horizontal lab-frame force's azimuth
+//!                            # precessing frame; "tip": the horizontal lab-frame force's azimuth;
+//!                            # "magnetic": B's polar angle from +Z in the lab X-Z plane
 //! start = [0.0, 5e-5]        # [s] from the phase start
 //! duration = [1e-6, 1e-4]    # [s]; a window ends at min(start + duration, phase)
 //! weight = 0.0               # [s/J]: minimise time + weight × energy
@@ -58,6 +60,13 @@ pub enum SearchActuator {
         /// The body point \[m\] (origin at the centre of mass, z along k).
         point: [f64; 3],
     },
+    /// A uniform magnetic field (`kind = "magnetic"`) on the top's moment
+    /// along k: `B = |B| (sin a, 0, cos a)` in the lab frame (`a` the polar
+    /// angle from +Z in the X–Z plane), a torque `μ k × B` and no force.
+    Magnetic {
+        /// The top's moment along k \[A m²\].
+        moment: f64,
+    },
 }
 
 /// The `[search]` table (SI).
@@ -100,15 +109,19 @@ const BOUNDS: &str = "[lo, hi], finite, lo <= hi";
 const KEYS: Keys = &[
     ("phase", "\"write\" or \"erase\""),
     ("windows", "an integer, 1 <= windows <= 8"),
-    (
-        "actuator",
-        "\"contact\" or \"tip\" (\"magnetic\" is not searched yet)",
-    ),
+    ("actuator", "\"contact\", \"tip\" or \"magnetic\""),
     (
         "point",
         "[x, y, z] [m], finite: the tip's body point, with actuator = \"tip\" only",
     ),
-    ("magnitude", "[lo, hi] [N], 0 <= lo <= hi, finite"),
+    (
+        "moment",
+        "a finite, non-zero moment [A m^2] along k, with actuator = \"magnetic\" only",
+    ),
+    (
+        "magnitude",
+        "[lo, hi] [N] (|B| [T] for \"magnetic\"), 0 <= lo <= hi, finite",
+    ),
     ("angle", "[lo, hi] [rad], finite, lo <= hi"),
     ("start", "[lo, hi] [s], 0 <= lo <= hi < bit.phase"),
     ("duration", "[lo, hi] [s], 0 < lo <= hi"),
@@ -228,6 +241,20 @@ impl SearchSpec {
                     _ => return Err(bad(format!("{v} is not allowed"))),
                 }
             }
+            Some(Value::String(s)) if s == "magnetic" => {
+                let bad = |what: String| {
+                    Error::invalid("search.moment", what, range_of_key("moment").into())
+                };
+                let moment = match t.get("moment") {
+                    None => {
+                        return Err(bad("missing (required with actuator = \"magnetic\")".into()));
+                    }
+                    Some(Value::Float(f)) if f.is_finite() && *f != 0.0 => *f,
+                    Some(Value::Integer(i)) if *i != 0 => *i as f64,
+                    Some(v) => return Err(bad(format!("{v} is not allowed"))),
+                };
+                SearchActuator::Magnetic { moment }
+            }
             Some(v) => {
                 return Err(Error::invalid(
                     "search.actuator",
@@ -236,11 +263,18 @@ impl SearchSpec {
                 ));
             }
         };
-        if t.contains_key("point") && actuator == SearchActuator::Contact {
+        if t.contains_key("point") && !matches!(actuator, SearchActuator::Tip { .. }) {
             return Err(Error::invalid(
                 "search.point",
-                "given with actuator = \"contact\"".into(),
+                "given without actuator = \"tip\"".into(),
                 "only with actuator = \"tip\"".into(),
+            ));
+        }
+        if t.contains_key("moment") && !matches!(actuator, SearchActuator::Magnetic { .. }) {
+            return Err(Error::invalid(
+                "search.moment",
+                "given without actuator = \"magnetic\"".into(),
+                "only with actuator = \"magnetic\"".into(),
             ));
         }
         let windows = integer(t, "windows", 1, 1, MAX_WINDOWS as i64)? as usize;

@@ -34,6 +34,24 @@ pub enum Watch {
     /// the contact sticks there if the needed wrench is inside the limit
     /// curve (it leaves the stick at [`Watch::StickLimit`]).
     ContensouStick,
+    /// The contact sphere that is not the active one (the stem's while the
+    /// main sphere is, or was last, on the plane, and the other way round)
+    /// reaches the plane (rigid model with a stem, docs/physics.md §26):
+    /// an impact of that sphere, which becomes the active one.
+    SphereTouchdown,
+    /// One of the two normal forces of the two-contact phase (main sphere
+    /// and stem both on the plane, rigid model, §26) falls through 0: that
+    /// sphere lifts off and the other carries on alone.
+    SphereLiftoff,
+    /// θ reaches the stem's touchdown angle θ_td (on-plane models with a
+    /// stem, §26): they cannot follow the stem's contact and stop there.
+    StemTouch,
+    /// θ crosses the edge level `j` of a watched θ window
+    /// ([`crate::sim::watch`]): never terminal.
+    ThetaLevel(usize),
+    /// The run reaches the time mark `j` of a watched θ window
+    /// ([`crate::sim::watch`]): never terminal.
+    TimeMark(usize),
 }
 
 /// Something a run records in its event list (`Trajectory::events`).
@@ -60,6 +78,11 @@ pub enum Happened {
     /// Sliding and spinning both stopped and the contact sticks
     /// (Coulomb–Contensou friction; its end is a [`Happened::Slip`]).
     ContensouStick,
+    /// The stem's sphere landed on the plane (docs/physics.md §26).
+    StemTouchdown,
+    /// The stem's sphere left the plane (into flight, or the main sphere
+    /// landed).
+    StemLiftoff,
 }
 
 impl Happened {
@@ -76,12 +99,14 @@ impl Happened {
             Happened::Touchdown => "touchdown",
             Happened::EventLimitReached => "event_limit_reached",
             Happened::ContensouStick => "contensou_stick",
+            Happened::StemTouchdown => "stem_touchdown",
+            Happened::StemLiftoff => "stem_liftoff",
         }
     }
 
     /// Every kind, for documentation and tests.
     #[cfg_attr(not(test), allow(dead_code))]
-    pub const ALL: [Happened; 10] = [
+    pub const ALL: [Happened; 12] = [
         Happened::ForceSwitch,
         Happened::Stick,
         Happened::Slip,
@@ -92,6 +117,8 @@ impl Happened {
         Happened::Touchdown,
         Happened::EventLimitReached,
         Happened::ContensouStick,
+        Happened::StemTouchdown,
+        Happened::StemLiftoff,
     ];
 }
 

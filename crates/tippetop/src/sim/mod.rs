@@ -9,3 +9,4 @@
 pub mod events;
 pub(crate) mod messages;
 pub mod record;
+pub mod watch;

@@ -156,6 +156,9 @@ pub(crate) struct RunEnd<'a> {
     /// True when the scenario has adhesion (`pull_off_margin_min` is then
     /// reported).
     pub adhesive: bool,
+    /// With a stem (docs/physics.md §26): the first time the stem touched
+    /// \[s\] and the fraction of the time on the stem; `None` without one.
+    pub stem: Option<(Option<f64>, f64)>,
     /// Stochastic runs: `∫ N dt` \[N, scaled time\] over each output
     /// interval `(s_{i−1}, s_i]` (index `i`, from 1) and the sample times.
     pub normal_buckets: Option<(&'a [f64], &'a [f64])>,
@@ -180,6 +183,12 @@ pub(crate) fn summarize(track: &Track, end: RunEnd<'_>) -> Summary {
         contact_lost_at: end.contact.0,
         negative_normal_fraction: end.contact.1,
         rolling_fraction: if t > 0.0 { end.rolling_time / t } else { 0.0 },
+        stem: end
+            .stem
+            .map(|(first, fraction)| crate::trajectory::StemSummary {
+                first_stem_contact_at: first,
+                stem_contact_fraction: fraction,
+            }),
         pull_off_margin_min: end.adhesive.then(|| {
             end.samples
                 .iter()
@@ -456,6 +465,9 @@ pub(crate) struct RunLog {
     flight_since: Option<f64>,
     flight_time: f64,
     first_lift_off: Option<f64>,
+    stem_since: Option<f64>,
+    stem_time: f64,
+    first_stem: Option<f64>,
 }
 
 impl RunLog {
@@ -470,6 +482,9 @@ impl RunLog {
             flight_since: None,
             flight_time: 0.0,
             first_lift_off: None,
+            stem_since: None,
+            stem_time: 0.0,
+            first_stem: None,
         }
     }
 
@@ -504,6 +519,12 @@ impl RunLog {
         self.push(t, Happened::LiftOff);
     }
 
+    /// True while a flight is open (between [`RunLog::lift_off`] and
+    /// [`RunLog::land`]).
+    pub(crate) fn in_flight(&self) -> bool {
+        self.flight_since.is_some()
+    }
+
     /// A flight ends at `t` (the top settles in contact), if it flew.
     pub(crate) fn land(&mut self, t: f64) {
         if let Some(s0) = self.flight_since.take() {
@@ -511,9 +532,40 @@ impl RunLog {
         }
     }
 
+    /// The stem's sphere lands at `t` (docs/physics.md §26): records
+    /// `"stem_touchdown"` and starts an interval on the stem.
+    pub(crate) fn stem_on(&mut self, t: f64) {
+        self.push(t, Happened::StemTouchdown);
+        self.first_stem.get_or_insert(t);
+        self.stem_since.get_or_insert(t);
+    }
+
+    /// The stem's sphere leaves the plane at `t`: records `"stem_liftoff"`
+    /// and closes the interval on the stem.
+    pub(crate) fn stem_off(&mut self, t: f64) {
+        self.push(t, Happened::StemLiftoff);
+        self.close_stem(t);
+    }
+
+    fn close_stem(&mut self, t: f64) {
+        if let Some(s0) = self.stem_since.take() {
+            self.stem_time += t - s0;
+        }
+    }
+
+    /// The first stem touchdown and the fraction of `[0, t]` on the stem
+    /// (scaled; call after [`RunLog::finish`]).
+    pub(crate) fn stem(&self, t: f64) -> (Option<f64>, f64) {
+        (
+            self.first_stem,
+            if t > 0.0 { self.stem_time / t } else { 0.0 },
+        )
+    }
+
     /// Close the open intervals at the final time `t`; returns the time
     /// spent rolling (scaled).
     pub(crate) fn finish(&mut self, t: f64) -> f64 {
+        self.close_stem(t);
         self.land(t);
         self.stop_rolling(t);
         self.rolling_time

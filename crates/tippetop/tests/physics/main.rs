@@ -25,6 +25,10 @@
 //! - `position`: where the top is (position, attitude, contact point);
 //! - `initial`: the lab-frame initial state and the heading (isotropy);
 //! - `rigid`: what only the rigid model has (attitude, flight, impacts);
+//! - `stem`: the stem's second contact sphere (§26): θ_td, the energy
+//!   balance across its touchdowns, its Jellett integral, the on-plane stop;
+//! - `first_passage`: the Brownian escape time against the exact mean
+//!   first-passage time (the retention machinery's closed-form check);
 //! - `thermal`: Langevin dynamics (vector model): equipartition, the
 //!   orientation density, diffusion, the damped energy, replay.
 
@@ -34,12 +38,14 @@ mod closed_forms;
 mod contensou;
 mod convergence;
 mod crosscheck;
+mod first_passage;
 mod forces;
 mod initial;
 mod invariants;
 mod position;
 mod rigid;
 mod spec;
+mod stem;
 mod stick_slip;
 mod thermal;
 mod wells;

@@ -169,6 +169,7 @@ pub fn uniform_sphere(theta: f64, spin: f64, mu: f64) -> Scenario {
         mass: m,
         inertia_transverse: 0.4 * m * r * r,
         inertia_axial: 0.4 * m * r * r,
+        stem: None,
     };
     sc.surface.friction = mu;
     sc.surface.law = FrictionLaw::Coulomb;
