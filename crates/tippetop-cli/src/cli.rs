@@ -115,8 +115,9 @@ trajectory.csv columns (SI units; angles in rad; frames in docs/physics.md):
                  = work_friction + work_applied up to the integration error
   hx, hy         applied force H = (H_x, H_y) in effect, precessing frame [N] (a
                  retarding force: the force on the top at the contact point is -H)
-  rolling        1 while rolling (only with exact Coulomb friction: slip held at zero),
-                 else 0
+  rolling        1 while rolling (exact Coulomb friction: slip held at zero) or stuck
+                 (Coulomb-Contensou friction: slip and spin about the vertical held at
+                 zero), else 0
   x, y           centre-of-mass position on the plane, lab frame [m]: Z up, the plane
                  at Z = 0, the origin below the centre of mass at t = 0, X the initial
                  heading (the axis tilts towards +X at t = 0)

@@ -97,7 +97,7 @@ pub enum FrictionLaw {
 /// The speed `|v| + r_c |n_Z|` (scaled: units of the initial `R × rate`,
 /// docs/physics.md §8) at which a run under Coulomb–Contensou friction
 /// declares sliding and spinning both stopped (§25).
-pub const CONTENSOU_STICK_SPEED: f64 = 1e-9;
+pub const CONTENSOU_STICK_SPEED: f64 = 1e-7;
 
 /// Valid range of `surface.contact_radius`, as the error messages state it.
 pub const CONTACT_RADIUS_RANGE: &str =

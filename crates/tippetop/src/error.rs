@@ -55,8 +55,9 @@ pub enum Failure {
     SwitchLimit,
     /// A numerical method of an analysis did not converge.
     Numerics,
-    /// The motion reached a state the model does not follow yet (the
-    /// Coulomb–Contensou stick, docs/physics.md §25).
+    /// The motion reached a state the model does not follow (a stem the
+    /// model cannot follow, docs/physics.md §26; the Coulomb–Contensou
+    /// stick, which it once named, is modelled, §25).
     NotModelled,
 }
 

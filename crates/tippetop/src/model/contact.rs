@@ -8,6 +8,7 @@
 
 use std::cell::Cell;
 
+use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
 use super::{Mode, ModelError};
 use crate::physics::forces::{ContactPointForce, Forces};
 use crate::physics::units::Scales;
@@ -20,6 +21,12 @@ use crate::{ContactMode, FrictionLaw, Scenario, contact::SlidingLaw};
 pub const CHATTER_REVERSALS: u32 = 1000;
 
 pub use crate::contact::CONTENSOU_STICK_SPEED;
+
+/// `|v| + r_c |n_Z|` (scaled) below which the Coulomb–Contensou law takes
+/// its slip-off hint after a stick ([`ContactState::drilling`]): far above
+/// the rounding of `r_c n_Z` in a stuck state (`1e-16` of the spin), far
+/// below the stick speed [`CONTENSOU_STICK_SPEED`].
+pub const CONTENSOU_HINT_SPEED: f64 = 1e-15;
 
 /// The contact state and its rules, written once for every model: the two
 /// that keep the sphere on the plane ([`super::reduced`], [`super::vector`])
@@ -81,6 +88,15 @@ pub struct ContactState {
     /// for every other law, and for `r_c = 0`, which runs as the exact
     /// point law.
     contensou: Option<(f64, crate::contact::Pressure, bool)>,
+    /// Coulomb–Contensou slip-off: the force and torque coefficients
+    /// `(f, τ)` that [`ContactState::drilling`] gives at exactly `v = 0`,
+    /// `n_z = 0` after the stick ends (the point of the limit curve where
+    /// the needed wrench left it, §25); `None` in stick and before any
+    /// stick (zero friction there).
+    contensou_hint: Option<([f64; 2], f64)>,
+    /// Bumped at every change of `contensou_hint`: the models' evaluation
+    /// caches key on it.
+    hint_generation: u64,
     /// A Langevin run (`solver.method = "langevin"`, μ = 0): the normal
     /// force has one branch (no friction in the closure: nothing to latch)
     /// and θ's maxima are not located between steps (the noise makes θ̇
@@ -129,6 +145,8 @@ impl ContactState {
             evaluations: 0,
             langevin: sc.solver.method.is_stochastic(),
             contensou,
+            contensou_hint: None,
+            hint_generation: 0,
             stem_cos: sc.top.stem_touchdown_cos(),
         }
     }
@@ -139,14 +157,24 @@ impl ContactState {
     /// is `−N_f f`, `|f| <= μ`) and the torque coefficient `τ` (the drilling
     /// torque about the normal is `−N_f τ`, `|τ| <= μ r_c m(0)`):
     /// `f = μ f(d) v/|v|`, `τ = μ r_c m(d) sign(n_z)`, `d = |v|/(r_c |n_z|)`.
-    /// At `v = 0` and `n_z = 0` both are zero (the stick state, §25).
+    /// After a stick, while `|v| + r_c |n_z|` is below
+    /// [`CONTENSOU_HINT_SPEED`], they are the slip-off hint, the point of
+    /// the limit curve where the stick ended; before any stick, zero at
+    /// exactly `v = 0`, `n_z = 0` (§25).
     #[inline]
     pub(crate) fn drilling(&self, v: [f64; 2], nz: f64) -> Option<([f64; 2], f64)> {
         let (rc, p, pade) = self.contensou?;
         let mu = self.mu;
         let speed = v[0].hypot(v[1]);
         let spin = rc * nz.abs();
-        if speed == 0.0 && spin == 0.0 {
+        if let Some(hint) = self.contensou_hint {
+            // Just off the stick: the slip is exactly zero there, the spin
+            // about Z zero to the rounding of the state (its drift in the
+            // stick), which must not pick the torque's sign.
+            if speed + spin <= CONTENSOU_HINT_SPEED {
+                return Some(hint);
+            }
+        } else if speed == 0.0 && spin == 0.0 {
             return Some(([0.0, 0.0], 0.0));
         }
         let d = speed / spin;
@@ -167,9 +195,15 @@ impl ContactState {
     /// arrival is located at this small speed instead.
     pub(crate) fn contensou_stick_gap(&self, v: [f64; 2], nz: f64) -> f64 {
         match self.contensou {
-            Some((rc, _, _)) => v[0].hypot(v[1]) + rc * nz.abs() - CONTENSOU_STICK_SPEED,
+            Some(_) => v[0].hypot(v[1]) + nz.abs() - CONTENSOU_STICK_SPEED,
             None => f64::NAN,
         }
+    }
+
+    /// Coulomb–Contensou friction's contact radius (scaled), pressure and
+    /// Padé flag; `None` for the other laws and `r_c = 0`.
+    pub(crate) fn contensou_params(&self) -> Option<(f64, crate::contact::Pressure, bool)> {
+        self.contensou
     }
 
     /// True for Coulomb–Contensou friction with `r_c > 0`.
@@ -216,10 +250,84 @@ impl ContactState {
         }
     }
 
-    /// Start rolling: the slip hint is cleared.
+    /// Start rolling (the Coulomb–Contensou stick for that law): the slip
+    /// hints are cleared.
     pub(crate) fn stick(&mut self) {
         self.mode = Mode::Rolling;
         self.slip_hint = [0.0, 0.0];
+        self.set_contensou_hint(None);
+    }
+
+    /// Set the Coulomb–Contensou slip-off hint (and bump its generation).
+    fn set_contensou_hint(&mut self, hint: Option<([f64; 2], f64)>) {
+        self.contensou_hint = hint;
+        self.hint_generation += 1;
+    }
+
+    /// The generation of the Coulomb–Contensou slip-off hint, for the
+    /// models' evaluation caches (everything an evaluation reads must be in
+    /// their keys).
+    pub(crate) fn hint_generation(&self) -> u64 {
+        self.hint_generation
+    }
+
+    /// Leave rolling or the stick for a flight (rigid model): sliding, no
+    /// slip hint.
+    pub(crate) fn unstick(&mut self) {
+        self.mode = Mode::Sliding;
+        self.slip_hint = [0.0, 0.0];
+        self.set_contensou_hint(None);
+    }
+
+    /// Stick margin of a contact wrench, `normal` the normal force, the
+    /// needed friction force `friction` and the drilling torque about the
+    /// normal `torque` (scaled): the point law's `μ|N| − |F_f|`
+    /// ([`ContactState::stick_margin`]; the torque is zero there) and for
+    /// Coulomb–Contensou friction `μ|N| (1 − λ)`, `λ` the gauge of
+    /// `(|F_f|/(μ|N|), |M|/(μ|N| r_c))` with respect to the law's limit
+    /// curve ([`crate::physics::contensou::gauge`]), which is the point
+    /// law's margin where `M = 0`. The stick holds while it is `>= 0`
+    /// (docs/physics.md §25).
+    pub(crate) fn stick_margin_wrench(&self, normal: f64, friction: [f64; 2], torque: f64) -> f64 {
+        let Some((rc, p, pade)) = self.contensou else {
+            return self.stick_margin(normal, friction);
+        };
+        let cap = self.mu * normal.abs();
+        let fm = friction[0].hypot(friction[1]);
+        if cap <= 0.0 {
+            return -(fm + torque.abs() / rc);
+        }
+        let (lambda, _) =
+            crate::physics::contensou::gauge(p, pade, fm / cap, torque.abs() / (cap * rc));
+        cap * (1.0 - lambda)
+    }
+
+    /// Slide off at zero slip with the friction continuous, `needed` the
+    /// wrench `(N, F_f, M)` the stick needs or needed: the point law's
+    /// [`ContactState::slip_off`] with `F_f`, and for Coulomb–Contensou
+    /// friction the slip-off hint the point of the limit curve on the ray
+    /// through the needed pair (`f = −μ f(d) F_f/|F_f|`,
+    /// `τ = −μ r_c m(d) sign M`: the friction force and the drilling torque
+    /// keep their directions; the slip grows opposite to the force, the
+    /// spin opposite to the torque, in the ratio `d` of the law there).
+    pub(crate) fn slip_off_wrench(&mut self, needed: Option<(f64, [f64; 2], f64)>) {
+        if let (Some((rc, p, pade)), Some((n, f, m))) = (self.contensou, needed) {
+            let cap = self.mu * n.abs();
+            let fm = f[0].hypot(f[1]);
+            let hint = (cap > 0.0).then(|| {
+                let (_, d) =
+                    crate::physics::contensou::gauge(p, pade, fm / cap, m.abs() / (cap * rc));
+                let (fd, md) = crate::physics::contensou::law(p, pade, d);
+                let u = unit(f);
+                let sm = if m == 0.0 { 0.0 } else { m.signum() };
+                (
+                    [-self.mu * fd * u[0], -self.mu * fd * u[1]],
+                    -self.mu * rc * md * sm,
+                )
+            });
+            self.set_contensou_hint(hint);
+        }
+        self.slip_off(needed.map(|w| w.1));
     }
 
     /// Slide (on) at zero slip with the friction continuous in direction:
@@ -520,6 +628,42 @@ impl ContactState {
     pub fn stick_margin(&self, normal: f64, friction: [f64; 2]) -> f64 {
         self.mu * normal.abs() - friction[0].hypot(friction[1])
     }
+}
+
+/// The Coulomb–Contensou stick's constraint wrench (docs/physics.md §25),
+/// for every model (scaled, `m = 1`): with the inertia `A`, `C` about the
+/// axis `k` and `r` from the centre of mass to the contact point, the
+/// contact force `F` (at P) and the torque `M` about the vertical `Z` that
+/// solve
+///
+/// ```text
+/// K F − c M = b,   −c·F + s M = β,
+/// K x = x − r × I⁻¹(r × x),  c = r × I⁻¹ Z,  s = Z·I⁻¹ Z,
+/// ```
+///
+/// the rolling constraint (`b` the rolling system's right-hand side) and
+/// `ṅ_Z = 0` (`β = −ṅ₀·Z`, `ṅ₀` the angular acceleration without the
+/// contact), or with `b = −v_P`, `β = −n_Z` the impulse `(Π, M)` that
+/// brings the contact point's velocity and the spin about `Z` to zero.
+/// By the Schur complement: `F = K⁻¹ (b + c M)`,
+/// `M = (β + c·K⁻¹b)/(s − c·K⁻¹c)` (the whole matrix is symmetric
+/// positive definite up to the sign of the last row: the denominator is
+/// positive).
+pub(crate) fn stick_solve(ia: f64, ic: f64, k: V3, r: V3, b: V3, beta: f64) -> (V3, f64) {
+    let inv = |x: V3| {
+        add(
+            scale(1.0 / ia, x),
+            scale((1.0 / ic - 1.0 / ia) * dot(x, k), k),
+        )
+    };
+    let kmul = |p: V3| sub(p, cross(r, inv(cross(r, p))));
+    let cols = [kmul([1.0, 0.0, 0.0]), kmul([0.0, 1.0, 0.0]), kmul(Z)];
+    let iz = inv(Z);
+    let c = cross(r, iz);
+    let x1 = solve3(cols, b);
+    let x2 = solve3(cols, c);
+    let m = (beta + dot(c, x1)) / (iz[2] - dot(c, x2));
+    (add(x1, scale(m, x2)), m)
 }
 
 /// The normal force from the contact closure `N D(σ) = Q` (`dp = D(+)`,

@@ -16,12 +16,16 @@ use crate::sim::events::Watch;
 use crate::sim::record::RunLog;
 use crate::{Error, Initial, Sample, Scenario, integrate::OdeSystem};
 
-/// Sliding or rolling (exact Coulomb law only).
+/// Sliding or rolling (exact Coulomb law), sliding or stuck
+/// (Coulomb–Contensou friction).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mode {
     /// Friction from the friction law.
     Sliding,
-    /// Slip held at zero; friction is the constraint force.
+    /// Slip held at zero; friction is the constraint force. Under
+    /// Coulomb–Contensou friction the stick: the spin about the vertical is
+    /// held at zero too, and the drilling torque is a constraint torque
+    /// (docs/physics.md §25).
     Rolling,
 }
 
@@ -205,11 +209,24 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     /// Normal force and friction (scaled, the model's frame) at a state in
     /// the current mode.
     fn contact_forces(&self, y: &[f64; D]) -> Result<(f64, [f64; 2]), ModelError>;
-    /// Stick margin `μ|N| − |F_f|` (scaled force) while rolling.
+    /// Normal force, friction and the drilling torque about the vertical
+    /// (scaled, the model's frame) at a state in the current mode: the
+    /// torque is the Coulomb–Contensou law's while sliding, the stick's
+    /// constraint torque in its stick (docs/physics.md §25), zero for the
+    /// other laws.
+    fn contact_wrench(&self, y: &[f64; D]) -> Result<(f64, [f64; 2], f64), ModelError>;
+    /// The state with its velocities changed by the impulse at the contact
+    /// (force and torque about the vertical) that brings the slip and the
+    /// spin about the vertical to zero: the Coulomb–Contensou stick
+    /// (docs/physics.md §25; [`contact::stick_solve`]), the impulse's work
+    /// (the kinetic energy's change, `<= 0`) added to `W_f`.
+    fn to_stick(&self, y: &[f64; D]) -> [f64; D];
+    /// Stick margin while rolling or stuck (scaled force):
+    /// [`ContactState::stick_margin_wrench`] of the needed wrench.
     fn stick_margin(&self, y: &[f64; D]) -> Option<f64> {
-        self.contact_forces(y)
+        self.contact_wrench(y)
             .ok()
-            .map(|(n, f)| self.plane().stick_margin(n, f))
+            .map(|(n, f, m)| self.plane().stick_margin_wrench(n, f, m))
     }
     /// Nutation angle θ \[rad\].
     fn theta(&self, y: &[f64; D]) -> f64;

@@ -31,6 +31,25 @@ fn settle_at_zero_slip<M: ContactModel<D>, const D: usize>(
     (yr, false)
 }
 
+/// Arrive at the Coulomb–Contensou stick (sliding and spinning both
+/// stopped, §25): the state is put on the stick (an impulse, its work in
+/// `W_f`), and the needed wrench decides: stick if it is inside the limit
+/// curve, else slide off along it. Returns the state and true if stuck.
+fn settle_at_stick<M: ContactModel<D>, const D: usize>(
+    m: &mut M,
+    y: &[f64; D],
+) -> ([f64; D], bool) {
+    let ys = m.to_stick(y);
+    m.plane_mut().mode = Mode::Rolling;
+    let needed = m.contact_wrench(&ys).ok();
+    if needed.is_some() && m.stick_margin(&ys).is_some_and(|s| s >= 0.0) {
+        m.plane_mut().stick();
+        return (ys, true);
+    }
+    m.plane_mut().slip_off_wrench(needed);
+    (ys, false)
+}
+
 impl<M: ContactModel<D>, const D: usize> Model<D> for M {
     fn time_unit(&self) -> f64 {
         self.scales().time
@@ -71,6 +90,22 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                 }
             } else {
                 self.plane().slip_ref.set(unit(v));
+            }
+        }
+        if self.plane().is_contensou()
+            && self
+                .plane()
+                .contensou_stick_gap(self.slip_of(&y), self.spin_z(&y))
+                <= 0.0
+        {
+            // Starting (to the stick speed) at the Coulomb–Contensou stick.
+            let (yn, stuck) = settle_at_stick(self, &y);
+            y = yn;
+            if stuck {
+                log.start_rolling(0.0);
+                log.push(0.0, Happened::ContensouStick);
+            } else {
+                log.push(0.0, Happened::Slip);
             }
         }
         self.plane().start_slip(self.slip_of(&y));
@@ -143,17 +178,30 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
             ev.retain(|(w, _)| *w != Watch::ThetaMax);
         }
         if self.plane().is_contensou() {
-            ev.push((
-                Watch::ContensouStick,
-                Event {
-                    g: Box::new(|m: &M, _, y| {
-                        m.plane().contensou_stick_gap(m.slip_of(y), m.spin_z(y))
-                    }),
-                    direction: Direction::Falling,
-                    terminal: true,
-                    step_to_event: false,
-                },
-            ));
+            // Sliding: the arrival at the stick; stuck: the needed wrench
+            // leaving the limit curve (§25).
+            match self.plane().mode {
+                Mode::Sliding => ev.push((
+                    Watch::ContensouStick,
+                    Event {
+                        g: Box::new(|m: &M, _, y| {
+                            m.plane().contensou_stick_gap(m.slip_of(y), m.spin_z(y))
+                        }),
+                        direction: Direction::Falling,
+                        terminal: true,
+                        step_to_event: false,
+                    },
+                )),
+                Mode::Rolling => ev.push((
+                    Watch::StickLimit,
+                    Event {
+                        g: Box::new(|m: &M, _, y| m.stick_margin(y).unwrap_or(f64::NAN)),
+                        direction: Direction::Falling,
+                        terminal: true,
+                        step_to_event: false,
+                    },
+                )),
+            }
         }
         if let Some(c_td) = self.plane().stem_cos {
             // The stem reaches the plane where θ rises through θ_td (§26).
@@ -245,10 +293,12 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                 }
             }
         }
-        if self.plane().is_exact() && self.plane().mode == Mode::Rolling {
-            if let Ok((_, f)) = self.contact_forces(y) {
+        if (self.plane().is_exact() || self.plane().is_contensou())
+            && self.plane().mode == Mode::Rolling
+        {
+            if let Ok(w) = self.contact_wrench(y) {
                 if self.stick_margin(y).is_some_and(|s| s < 0.0) {
-                    self.plane_mut().slip_off(Some(f));
+                    self.plane_mut().slip_off_wrench(Some(w));
                     log.stop_rolling(t);
                     log.push(t, Happened::Slip);
                 }
@@ -287,11 +337,14 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                 ))
             }
             Watch::ContensouStick => {
-                log.push(t, Happened::ContensouStick);
-                Flow::Stop(crate::sim::messages::contensou_stick_error(
-                    t * self.time_unit(),
-                    &ContactModel::describe_state(self, y),
-                ))
+                self.plane_mut().normal_branch = None;
+                let (yn, stuck) = settle_at_stick(self, y);
+                *y = yn;
+                if stuck {
+                    log.start_rolling(t);
+                    log.push(t, Happened::ContensouStick);
+                }
+                Flow::Continue
             }
             Watch::SlipZero | Watch::StickLimit => {
                 self.plane_mut().normal_branch = None;
@@ -305,9 +358,9 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                         }
                     }
                     Mode::Rolling => {
-                        let needed = self.contact_forces(y).ok().map(|(_, f)| f);
+                        let needed = self.contact_wrench(y).ok();
                         *y = self.to_rolling(y);
-                        self.plane_mut().slip_off(needed);
+                        self.plane_mut().slip_off_wrench(needed);
                         log.stop_rolling(t);
                         log.push(t, Happened::Slip);
                     }

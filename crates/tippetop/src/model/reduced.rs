@@ -105,6 +105,9 @@ pub struct Eval {
     pub slip: [f64; 2],
     /// Centre-of-mass velocity (x, y, z) (constraint values while rolling).
     pub u: [f64; 3],
+    /// Drilling torque about Z (Coulomb–Contensou friction: the law's
+    /// while sliding, the constraint torque in the stick; 0 otherwise).
+    pub torque: f64,
 }
 
 /// The last successful evaluation made by [`Reduced::eval`] (not by
@@ -123,7 +126,7 @@ struct LastEval {
     mode: Mode,
     /// Latched normal-force branch.
     branch: Option<bool>,
-    key: [u64; 7],
+    key: [u64; 8],
     /// sin θ, cos θ.
     sc: (f64, f64),
     eval: Eval,
@@ -131,7 +134,7 @@ struct LastEval {
 
 /// Everything besides the state that an evaluation depends on and that can
 /// change between evaluations (the model constants cannot).
-fn inputs_key(h: [f64; 3], hint: [f64; 2], slip_ref: [f64; 2]) -> [u64; 7] {
+fn inputs_key(h: [f64; 3], hint: [f64; 2], slip_ref: [f64; 2], generation: u64) -> [u64; 8] {
     [
         h[0].to_bits(),
         h[1].to_bits(),
@@ -140,6 +143,7 @@ fn inputs_key(h: [f64; 3], hint: [f64; 2], slip_ref: [f64; 2]) -> [u64; 7] {
         hint[1].to_bits(),
         slip_ref[0].to_bits(),
         slip_ref[1].to_bits(),
+        generation,
     ]
 }
 
@@ -273,7 +277,12 @@ impl Reduced {
         let yb = bits(y);
         let p = &self.plane;
         let cp = p.contact_point();
-        let key = inputs_key([cp.h[0], cp.h[1], cp.hz], p.slip_hint, p.slip_ref.get());
+        let key = inputs_key(
+            [cp.h[0], cp.h[1], cp.hz],
+            p.slip_hint,
+            p.slip_ref.get(),
+            p.hint_generation(),
+        );
         if let Some(l) = &*self.last.borrow() {
             if same_bits(&l.y, &yb)
                 && l.mode == self.plane.mode
@@ -347,6 +356,7 @@ impl Reduced {
         let mut omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
         let mut wd = s * fy * inv_ic;
         let mut wf = ff[0] * v[0] + ff[1] * v[1];
+        let mut torque = 0.0;
         if let Some(tau) = tau {
             // The drilling torque M Z (M = −N_f τ): A s Ω̇ gains M s, C ω̇
             // gains M c, θ̈ and the closure none (Z ⟂ ŷ); its power M n_Z.
@@ -354,6 +364,7 @@ impl Reduced {
             omd += mz * inv_ia;
             wd += mz * c * inv_ic;
             wf += mz * nz;
+            torque = mz;
         }
         let [dphi, dpsi, dx, dy_, dcp, dsp] = quadratures(y, c, [ux, uy]);
         let dy = [
@@ -378,6 +389,7 @@ impl Reduced {
             friction: ff,
             slip: v,
             u: [ux, uy, as_ * thd],
+            torque,
         })
     }
 
@@ -402,15 +414,32 @@ impl Reduced {
         let cp = self.plane.contact_point();
         let normal = cp.reaction(self.g + a * c * thd * thd + a * s * thdd);
         let fx = h * thdd + a * s * thd * thd - om * uy;
-        let fy = (om * ux
+        let p = thd * (ic * w - 2.0 * ia * om * c);
+        // The point law's expression, in its order of operations (bit for
+        // bit with the rolling equations before the stick was added).
+        let b1 = om * ux
             - c * thd * weff
             - (a - c) * thd * (ic * w - 2.0 * ia * om * c) * inv_ia
-            - om * s * s * thd)
-            / (1.0 + s * s * inv_ic + (a - c) * (a - c) * inv_ia);
+            - om * s * s * thd;
+        let a11 = 1.0 + s * s * inv_ic + (a - c) * (a - c) * inv_ia;
+        let (fy, torque) = if self.plane.is_contensou() {
+            // The Coulomb–Contensou stick (§25): n_Z = Ω s² + ω c held at
+            // zero too, the drilling torque M about Z a fourth unknown.
+            // With A s Ω̇ = P + (a − c) F_y + M s and C ω̇ = s F_y + M c,
+            // the ŷ rolling equation and d n_Z/dt = 0 are the symmetric
+            // system [a11 a12; a12 a22] (F_y, M) = (b1, b2).
+            let a12 = s * (a - c) * inv_ia + s * c * inv_ic;
+            let a22 = s * s * inv_ia + c * c * inv_ic;
+            let b2 = s * thd * w - 2.0 * om * s * c * thd - s * p * inv_ia;
+            let det = a11 * a22 - a12 * a12;
+            ((b1 * a22 - a12 * b2) / det, (a11 * b2 - a12 * b1) / det)
+        } else {
+            (b1 / a11, 0.0)
+        };
         let [hx, hy] = cp.h;
         let ff = [fx + hx, fy + hy];
-        let omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
-        let wd = s * fy * inv_ic;
+        let omd = (p + (a - c) * fy + torque * s) * inv_ias;
+        let wd = (s * fy + torque * c) * inv_ic;
         let [dphi, dpsi, dx, dy_, dcp, dsp] = quadratures(y, c, [ux, uy]);
         let dy = [
             thd,
@@ -434,7 +463,54 @@ impl Reduced {
             friction: ff,
             slip: [0.0, 0.0],
             u: [ux, uy, a * s * thd],
+            torque,
         }
+    }
+
+    /// The state put on the Coulomb–Contensou stick by the impulse that
+    /// brings the slip and the spin about Z to zero (§25): in the
+    /// precessing frame `k = (s, 0, c)`, `w = ((ω − Ω c) s, θ̇, n_Z)`,
+    /// `r = a k − Z`, the impulse of [`super::contact::stick_solve`]
+    /// (`b = −v_P`, `β = −n_Z`) changes `u` by its horizontal part and `w`
+    /// by `I⁻¹ (r × Π + M Z)`; back to `θ̇ = w_y`, `ω = w·k`,
+    /// `Ω = w_Z − w_x c/s`; `u` then the rolling velocity; the kinetic
+    /// energy's change added to `W_f`.
+    pub fn stick_state(&self, y: &[f64; DIM]) -> [f64; DIM] {
+        let (s, c) = y[TH].sin_cos();
+        let k = [s, 0.0, c];
+        let r = [self.a * s, 0.0, self.a * c - 1.0];
+        let w = [(y[W] - y[OM] * c) * s, y[THD], y[OM] * s * s + y[W] * c];
+        let v = self.slip_of(y);
+        let (imp, m) =
+            super::contact::stick_solve(self.ia, self.ic, k, r, [-v[0], -v[1], 0.0], -w[2]);
+        let torque = [
+            r[1] * imp[2] - r[2] * imp[1],
+            r[2] * imp[0] - r[0] * imp[2],
+            r[0] * imp[1] - r[1] * imp[0] + m,
+        ];
+        // I⁻¹ x = x/A + (1/C − 1/A)(x·k) k.
+        let xk = torque[0] * k[0] + torque[2] * k[2];
+        let dinv = self.inv_ic - self.inv_ia;
+        let wn = [
+            w[0] + torque[0] * self.inv_ia + dinv * xk * k[0],
+            w[1] + torque[1] * self.inv_ia,
+            w[2] + torque[2] * self.inv_ia + dinv * xk * k[2],
+        ];
+        let mut ys = *y;
+        ys[THD] = wn[1];
+        ys[W] = wn[0] * s + wn[2] * c;
+        ys[OM] = wn[2] - wn[0] * c / s;
+        let u = self.rolling_velocity(&ys);
+        ys[UX] = u[0];
+        ys[UY] = u[1];
+        let kinetic = |y: &[f64; DIM]| {
+            let uz = self.a * s * y[THD];
+            0.5 * (y[UX] * y[UX] + y[UY] * y[UY] + uz * uz)
+                + 0.5 * self.ia * (y[THD] * y[THD] + y[OM] * y[OM] * s * s)
+                + 0.5 * self.ic * y[W] * y[W]
+        };
+        ys[WF] += kinetic(&ys) - kinetic(y);
+        ys
     }
 
     /// `gyro` plus the wells' torque about ŷ, `τ_y = −U′(θ)` (§20): it
@@ -566,6 +642,12 @@ impl super::ContactModel<DIM> for Reduced {
     }
     fn contact_forces(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2]), ModelError> {
         self.eval(y).map(|e| (e.normal, e.friction))
+    }
+    fn contact_wrench(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2], f64), ModelError> {
+        self.eval(y).map(|e| (e.normal, e.friction, e.torque))
+    }
+    fn to_stick(&self, y: &[f64; DIM]) -> [f64; DIM] {
+        self.stick_state(y)
     }
     fn theta(&self, y: &[f64; DIM]) -> f64 {
         y[TH]

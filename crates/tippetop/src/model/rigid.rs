@@ -352,6 +352,9 @@ pub struct Eval {
     pub kin: Kin,
     /// `Q`: the normal force per unit `D`; `−Q` is the gap's acceleration in flight.
     pub q_free: f64,
+    /// Drilling torque about Z (Coulomb–Contensou friction: the law's
+    /// while sliding, the constraint torque in the stick; 0 otherwise).
+    pub torque: f64,
 }
 
 /// The rigid-body model as an ODE system in scaled units.
@@ -602,7 +605,16 @@ impl Rigid {
                     sub(gv, cross(ndot0, r)),
                     scale(self.a, cross(n, cross(n, k))),
                 );
-                let force = solve3(self.k_columns(k, r), b);
+                let force = if self.contact.is_contensou() {
+                    // The Coulomb–Contensou stick: n_Z held at zero too,
+                    // the drilling torque a fourth unknown (§25).
+                    let (force, m) =
+                        super::contact::stick_solve(self.ia, self.ic, k, r, b, -ndot0[2]);
+                    drill = Some(m);
+                    force
+                } else {
+                    solve3(self.k_columns(k, r), b)
+                };
                 // Friction needed: the plane supplies F + H = F − fa.
                 let ff = [force[0] - fl[0], force[1] - fl[1], 0.0];
                 // The plane's reaction: F_Z plus the load (§17).
@@ -687,6 +699,7 @@ impl Rigid {
             friction: ff,
             kin,
             q_free,
+            torque: drill.unwrap_or(0.0),
         })
     }
 
@@ -727,7 +740,27 @@ impl Rigid {
     /// Stick margin while rolling, `μ |N| − |F_f|` (scaled force), of an
     /// evaluation ([`ContactState::stick_margin`]).
     fn stick_margin(&self, e: &Eval) -> f64 {
-        self.contact.stick_margin(e.normal, horizontal(e.friction))
+        self.contact
+            .stick_margin_wrench(e.normal, horizontal(e.friction), e.torque)
+    }
+
+    /// Project onto the Coulomb–Contensou stick (§25): onto the contact
+    /// constraint, then the impulse at P with the torque about Z
+    /// ([`super::contact::stick_solve`], `b = −v_P`, `β = −n_Z`) that
+    /// brings the slip and the spin about Z to zero, and `v = −n × r`.
+    pub fn project_stick(&self, y: &mut [f64; DIM]) {
+        self.project_contact(y);
+        let kin = self.kin(y);
+        let vp = [kin.vp[0], kin.vp[1], 0.0];
+        let (imp, m) =
+            super::contact::stick_solve(self.ia, self.ic, kin.k, kin.r, scale(-1.0, vp), -kin.n[2]);
+        let n = add(
+            kin.n,
+            self.inv_inertia(kin.k, add(cross(kin.r, imp), [0.0, 0.0, m])),
+        );
+        // n_Z is zero by construction: held so exactly, not to rounding.
+        set3(y, OMEGA, [n[0], n[1], 0.0]);
+        self.project_rolling(y);
     }
 
     /// Horizontal slip velocity `v_P` (world, scaled) from the state's `v`.
@@ -963,6 +996,9 @@ impl Rigid {
         let kmul = |p: V3| sub(p, cross(r, self.inv_inertia(k, cross(r, p))));
         let cols = self.k_columns(k, r);
         let target = [-vp[0], -vp[1], -(1.0 + e) * vn];
+        if let Some(cp) = self.contact.contensou_params() {
+            return self.impact_contensou(y, &kin, target, cp);
+        }
         let stick = solve3(cols, target);
         let pt = stick[0].hypot(stick[1]);
         let mu = self.contact.mu();
@@ -991,6 +1027,94 @@ impl Rigid {
         y_normalize(&mut yn, kin.q);
         set3(&mut yn, VEL, add(v3(y, VEL), imp));
         let n_new = add(kin.n, self.inv_inertia(k, cross(r, imp)));
+        set3(&mut yn, OMEGA, n_new);
+        let vpn = add(v3(&yn, VEL), cross(n_new, r))[2];
+        Ok((yn, vpn.max(0.0), stuck))
+    }
+}
+
+impl Rigid {
+    /// The touchdown impulse under Coulomb–Contensou friction (§25): the
+    /// module doc's law with the drilling torque. Try sticking: the impulse
+    /// `Π` at P and the angular impulse `Π_M` about Z
+    /// ([`super::contact::stick_solve`], `b` the stick target: zero
+    /// tangential velocity, `−e v_n⁻` normal; `β = −n_Z`) that leave no slip
+    /// and no spin about Z; accept it if `Π_n >= 0` and
+    /// `(|Π_t|/(μ Π_n), |Π_M|/(μ Π_n r_c))` is inside the law's limit curve
+    /// (the gauge `<= 1`). Otherwise sliding with the law frozen at the
+    /// pre-impact ratio `d = |v_t|/(r_c |n_Z|)` (as the point law freezes
+    /// the slip direction): `Π = Π_n (Z − μ f(d) t̂)`,
+    /// `Π_M = −Π_n μ r_c m(d) sign n_Z`, `Π_n` from the normal restitution
+    /// (the torque about Z does not move P vertically: `(I⁻¹Z × r)·Z = 0`);
+    /// at zero slip and spin the point of the limit curve on the ray of the
+    /// sticking impulse. With `r_c → 0` it is the point law's impact.
+    fn impact_contensou(
+        &self,
+        y: &[f64; DIM],
+        kin: &Kin,
+        target: V3,
+        (rc, p, pade): (f64, crate::contact::Pressure, bool),
+    ) -> Result<([f64; DIM], f64, bool), RigidError> {
+        let (k, r, vp, n) = (kin.k, kin.r, kin.vp, kin.n);
+        let mu = self.contact.mu();
+        let (stick, sm) = super::contact::stick_solve(self.ia, self.ic, k, r, target, -n[2]);
+        let pt = stick[0].hypot(stick[1]);
+        let gauge = |pn: f64, ft: f64, mt: f64| {
+            crate::physics::contensou::gauge(p, pade, ft / (mu * pn), mt / (mu * pn * rc))
+        };
+        let stuck = stick[2] > 0.0 && mu > 0.0 && gauge(stick[2], pt, sm.abs()).0 <= 1.0
+            || (pt == 0.0 && sm == 0.0 && stick[2] >= 0.0);
+        let (imp, m_imp) = if stuck {
+            (stick, sm)
+        } else {
+            let vt = vp[0].hypot(vp[1]);
+            let spin = rc * n[2].abs();
+            // The direction of the force, the sign of the torque and d.
+            let (t_hat, sgn, d) = if vt > 0.0 || spin > 0.0 {
+                (
+                    if vt > 0.0 {
+                        [vp[0] / vt, vp[1] / vt, 0.0]
+                    } else {
+                        [0.0; 3]
+                    },
+                    if spin > 0.0 { n[2].signum() } else { 0.0 },
+                    if spin > 0.0 { vt / spin } else { f64::INFINITY },
+                )
+            } else {
+                let d = if stick[2] > 0.0 && mu > 0.0 {
+                    gauge(stick[2], pt, sm.abs()).1
+                } else {
+                    f64::INFINITY
+                };
+                (
+                    if pt > 0.0 {
+                        [-stick[0] / pt, -stick[1] / pt, 0.0]
+                    } else {
+                        [0.0; 3]
+                    },
+                    if sm == 0.0 { 0.0 } else { -sm.signum() },
+                    d,
+                )
+            };
+            let (fd, md) = crate::physics::contensou::law(p, pade, d);
+            let dir = add(Z, scale(-mu * fd, t_hat));
+            let kn = self.k_columns(k, r);
+            let kn = dir[0] * kn[0][2] + dir[1] * kn[1][2] + dir[2] * kn[2][2];
+            if kn <= 0.0 {
+                return Err(RigidError::ImpactJam {
+                    theta: kin.kh.atan2(k[2]),
+                });
+            }
+            let pn = target[2] / kn;
+            (scale(pn, dir), -pn * mu * rc * md * sgn)
+        };
+        let mut yn = *y;
+        y_normalize(&mut yn, kin.q);
+        set3(&mut yn, VEL, add(v3(y, VEL), imp));
+        let n_new = add(
+            n,
+            self.inv_inertia(k, add(cross(r, imp), [0.0, 0.0, m_imp])),
+        );
         set3(&mut yn, OMEGA, n_new);
         let vpn = add(v3(&yn, VEL), cross(n_new, r))[2];
         Ok((yn, vpn.max(0.0), stuck))
@@ -1168,7 +1292,7 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
         }
     }
     m.stem_events(&mut ev);
-    if m.phase == Phase::Contact && m.contact.is_contensou() {
+    if m.phase == Phase::Contact && m.contact.is_contensou() && m.contact.mode == Mode::Sliding {
         ev.push((
             Watch::ContensouStick,
             Event {
@@ -1182,8 +1306,10 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
             },
         ));
     }
-    if m.phase == Phase::Contact && m.contact.is_exact() {
+    if m.phase == Phase::Contact && (m.contact.is_exact() || m.contact.is_contensou()) {
         match m.contact.mode {
+            // Coulomb–Contensou sliding: the arrival at the stick (above).
+            Mode::Sliding if m.contact.is_contensou() => {}
             // v_P · d falls through zero, d the slip direction at the last
             // accepted step: the slip vector passes through zero along d.
             Mode::Sliding => ev.push((
@@ -1247,9 +1373,34 @@ fn settle_at_zero_slip(m: &mut Rigid, y: &mut [f64; DIM]) -> bool {
 /// cannot hold, or lift-off): put the state on the rolling constraint and
 /// slide off with the friction continuous in direction.
 fn slide_off(m: &mut Rigid, y: &mut [f64; DIM]) {
-    let needed = m.eval(y).ok().map(|e| horizontal(e.friction));
+    let needed = m
+        .eval(y)
+        .ok()
+        .map(|e| (e.normal, horizontal(e.friction), e.torque));
     m.project_rolling(y);
-    m.contact.slip_off(needed);
+    m.contact.slip_off_wrench(needed);
+}
+
+/// Arrive at the Coulomb–Contensou stick (sliding and spinning both
+/// stopped, in contact; §25): project onto the stick (the projection's
+/// energy change is booked into `W_f`) and stick if the needed wrench is
+/// inside the limit curve, else slide off along it. Returns true if stuck.
+fn settle_at_stick(m: &mut Rigid, y: &mut [f64; DIM]) -> bool {
+    m.contact.mode = Mode::Sliding;
+    let before = m.energy_scaled(y);
+    m.project_stick(y);
+    m.contact.mode = Mode::Rolling;
+    y[WF] += m.energy_scaled(y) - before;
+    let mut needed = None;
+    if let Ok(e) = m.eval(y) {
+        if m.stick_margin(&e) >= 0.0 {
+            m.contact.stick();
+            return true;
+        }
+        needed = Some((e.normal, horizontal(e.friction), e.torque));
+    }
+    m.contact.slip_off_wrench(needed);
+    false
 }
 
 /// One output row from a scaled state.
@@ -1400,6 +1551,29 @@ impl Model<DIM> for Rigid {
                 self.contact.slip_ref.set(unit(horizontal(v)));
             }
         }
+        if self.contact.is_contensou() && self.phase == Phase::Contact {
+            let v = self.slip_of(&y);
+            if self
+                .contact
+                .contensou_stick_gap(horizontal(v), y[OMEGA + 2])
+                <= 0.0
+            {
+                // Starting (to the stick speed) at the Coulomb–Contensou
+                // stick.
+                let stuck = settle_at_stick(self, &mut y);
+                if stuck {
+                    log.start_rolling(0.0);
+                }
+                log.push(
+                    0.0,
+                    if stuck {
+                        Happened::ContensouStick
+                    } else {
+                        Happened::Slip
+                    },
+                );
+            }
+        }
         self.contact.start_slip(horizontal(self.slip_of(&y)));
         (y, n_initial)
     }
@@ -1522,8 +1696,7 @@ impl Model<DIM> for Rigid {
                         // velocity).
                         if self.contact.mode == Mode::Rolling {
                             self.project_rolling(y);
-                            self.contact.mode = Mode::Sliding;
-                            self.contact.slip_hint = [0.0; 2];
+                            self.contact.unstick();
                             log.stop_rolling(t);
                         } else {
                             self.project_contact(y);
@@ -1541,12 +1714,21 @@ impl Model<DIM> for Rigid {
             }
             Watch::SphereTouchdown => self.switch_sphere(t, y, log),
             Watch::SphereLiftoff => self.leave_two(t, y, log),
+            Watch::ContensouStick if self.both => Flow::Stop(Error::runtime(
+                t * tu,
+                Failure::NotModelled,
+                format!(
+                    "sliding and spinning both stopped while the main sphere and the stem both touch the plane: the Coulomb-Contensou stick at two contacts is not modelled (docs/physics.md §25, §26); {}",
+                    describe_state(self, y)
+                ),
+            )),
             Watch::ContensouStick => {
-                log.push(t, Happened::ContensouStick);
-                Flow::Stop(crate::sim::messages::contensou_stick_error(
-                    t * self.time_unit(),
-                    &describe_state(self, y),
-                ))
+                self.contact.normal_branch = None;
+                if settle_at_stick(self, y) {
+                    log.start_rolling(t);
+                    log.push(t, Happened::ContensouStick);
+                }
+                Flow::Continue
             }
             Watch::SlipZero | Watch::StickLimit => {
                 match self.contact.mode {
@@ -1640,6 +1822,13 @@ impl Rigid {
                 log.lift_off(t);
                 if self.on_stem {
                     log.stem_off(t);
+                }
+            } else if self.contact.is_contensou() {
+                // A sticking impulse (slip and spin about Z zero) leaves the
+                // contact at the Coulomb–Contensou stick, decided there.
+                if stuck && settle_at_stick(self, y) {
+                    log.start_rolling(t);
+                    log.push(t, Happened::ContensouStick);
                 }
             } else if self.contact.is_exact() {
                 // Exact law: a sticking impulse leaves zero slip, where

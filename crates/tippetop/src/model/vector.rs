@@ -117,6 +117,9 @@ pub struct Eval {
     pub slip: [f64; 2],
     /// Centre-of-mass velocity (x, y, z) (constraint values while rolling).
     pub v: V3,
+    /// Drilling torque about Z (Coulomb–Contensou friction: the law's
+    /// while sliding, the constraint torque in the stick; 0 otherwise).
+    pub torque: f64,
 }
 
 /// The vector-form model as an ODE system in scaled units.
@@ -142,7 +145,7 @@ pub struct Vector {
     /// mode and every input), so the driver's repeated evaluations at an
     /// accepted step (N event, energy, samples) are computed once. The key
     /// is compared bit for bit: the result is what a fresh evaluation gives.
-    last: RefCell<Option<([u64; DIM + 10], Eval)>>,
+    last: RefCell<Option<([u64; DIM + 11], Eval)>>,
     /// The Langevin thermostat (scaled), `None` unless `method = "langevin"`.
     thermal: Option<super::thermostat::Bath>,
     /// The Ornstein–Uhlenbeck step's coefficients from the last call
@@ -479,7 +482,7 @@ impl Vector {
     /// Evaluate the model at a state in the current mode (cached: see
     /// the `last` field).
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
-        let mut key = [0u64; DIM + 10];
+        let mut key = [0u64; DIM + 11];
         for (k, v) in key.iter_mut().zip(y) {
             *k = v.to_bits();
         }
@@ -501,6 +504,8 @@ impl Vector {
             p.contact_point().hz.to_bits(),
             // The body actuators change only at a latch (§24).
             p.forces().generation(),
+            // The Coulomb–Contensou slip-off hint (§25).
+            p.hint_generation(),
         ];
         key[DIM..].copy_from_slice(&inputs);
         if let Some((k, e)) = &*self.last.borrow() {
@@ -597,12 +602,14 @@ impl Vector {
         let force = [ff[0] - hw[0], ff[1] - hw[1], cp.vertical_total(normal)];
         let mut wd = add(w0, self.inv_inertia(k, cross(r, force)));
         let mut wf = ff[0] * vp[0] + ff[1] * vp[1];
+        let mut torque = 0.0;
         if let Some(tau) = tau {
             // The drilling torque M Z (M = −N_f τ): I⁻¹ M Z; its power
             // M w_Z. It does not enter the closure (§25).
             let mz = -nf * tau;
             wd = add(wd, self.inv_inertia(k, [0.0, 0.0, mz]));
             wf += mz * w[2];
+            torque = mz;
         }
         let qd = quat_rate(w, y);
         let mut dy = [
@@ -635,6 +642,7 @@ impl Vector {
             friction: ff,
             slip: vp,
             v: [v[0], v[1], -a * kd[2]],
+            torque,
         })
     }
 
@@ -671,9 +679,17 @@ impl Vector {
         };
         let kmat = [col([1.0, 0.0, 0.0]), col([0.0, 1.0, 0.0]), col(Z)];
         let b = sub(sub(gv, cross(w0, r)), scale(a, cross(w, kd)));
-        let force = solve3(kmat, b);
         let hw = self.applied_world(k);
-        let wd = add(w0, self.inv_inertia(k, cross(r, force)));
+        let (force, wd, torque) = if self.plane.is_contensou() {
+            // The Coulomb–Contensou stick: w_Z held at zero too, the
+            // drilling torque M a fourth unknown (§25).
+            let (force, m) = super::contact::stick_solve(self.ia, self.ic, k, r, b, -w0[2]);
+            let wd = add(w0, self.inv_inertia(k, add(cross(r, force), [0.0, 0.0, m])));
+            (force, wd, m)
+        } else {
+            let force = solve3(kmat, b);
+            (force, add(w0, self.inv_inertia(k, cross(r, force))), 0.0)
+        };
         let qd = quat_rate(w, y);
         let mut dy = [
             kd[0], kd[1], kd[2], wd[0], wd[1], wd[2], force[0], force[1], 0.0, 0.0, qd[0], qd[1],
@@ -694,7 +710,31 @@ impl Vector {
             friction: [force[0] + hw[0], force[1] + hw[1]],
             slip: [0.0, 0.0],
             v: [-wr[0], -wr[1], -a * kd[2]],
+            torque,
         }
+    }
+
+    /// The state put on the Coulomb–Contensou stick by the impulse
+    /// ([`super::contact::stick_solve`] with `b = −v_P`, `β = −w_Z`) that
+    /// brings the slip and the spin about Z to zero; `v` then the rolling
+    /// velocity, the kinetic energy's change added to `W_f` (§25).
+    pub fn stick_state(&self, y: &[f64; DIM]) -> [f64; DIM] {
+        let kn = self.kin(y);
+        let vp = [y[VEL] + kn.wr[0], y[VEL + 1] + kn.wr[1], 0.0];
+        let (imp, m) =
+            super::contact::stick_solve(self.ia, self.ic, kn.k, kn.r, scale(-1.0, vp), -kn.w[2]);
+        let w = add(
+            kn.w,
+            self.inv_inertia(kn.k, add(cross(kn.r, imp), [0.0, 0.0, m])),
+        );
+        let mut ys = *y;
+        // w_Z is zero by construction: held so exactly, not to rounding.
+        ys[OMEGA..OMEGA + 3].copy_from_slice(&[w[0], w[1], 0.0]);
+        let v = self.rolling_velocity(&ys);
+        ys[VEL] = v[0];
+        ys[VEL + 1] = v[1];
+        ys[WF] += self.kinetic(&ys) - self.kinetic(y);
+        ys
     }
 
     /// `w0` plus the wells' torque over A, `τ/A` with `τ = −U′(θ) ŷ`
@@ -937,6 +977,12 @@ impl super::ContactModel<DIM> for Vector {
     }
     fn contact_forces(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2]), ModelError> {
         self.eval(y).map(|e| (e.normal, e.friction))
+    }
+    fn contact_wrench(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2], f64), ModelError> {
+        self.eval(y).map(|e| (e.normal, e.friction, e.torque))
+    }
+    fn to_stick(&self, y: &[f64; DIM]) -> [f64; DIM] {
+        self.stick_state(y)
     }
     fn theta(&self, y: &[f64; DIM]) -> f64 {
         Vector::theta(y)

@@ -217,7 +217,10 @@ pub fn exact(p: Pressure, d: f64) -> (f64, f64) {
             Pressure::Uniform => d - 1.0,
             Pressure::Hertz => (2.0 * (d - 1.0)).sqrt(),
         };
-        graded_down(lo, hi, delta, &mut pts);
+        // At d = 1 exactly the singular point is the edge itself: grade to
+        // 1e-12 (a piece that small holds the x ln x to far below
+        // rounding), not to zero (which never ends before underflow).
+        graded_down(lo, hi, delta.max(1e-12), &mut pts);
     }
     let xd = if d < 1.0 { to_x(d) } else { f64::NAN };
     let (mut f, mut m) = (0.0, 0.0);
@@ -309,4 +312,85 @@ pub fn sticks(p: Pressure, fn_: f64, mn: f64) -> bool {
     }
     let d = hi / (1.0 - hi);
     mn <= exact(p, d).1
+}
+
+/// The law in use: [`pade`] if `pade`, else [`exact`].
+#[inline]
+pub fn law(p: Pressure, pade_form: bool, d: f64) -> (f64, f64) {
+    if pade_form { pade(p, d) } else { exact(p, d) }
+}
+
+/// The gauge of a force–torque pair with respect to the limit curve of the
+/// law (`pade_form` picks it, [`law`]): with `fn_ = |F|/(μN)` and
+/// `mn = |M|/(μ N r_c)` (both `>= 0`), `(λ, d)` such that
+/// `(fn_, mn) = λ (f(d), m(d))`: the ray from the origin through the pair
+/// meets the curve at the point of parameter `d`, and the pair lies inside
+/// the admissible set of the stick (docs/physics.md §25) iff `λ <= 1`.
+/// `d` is also the ratio `|v|/(r_c |n_Z|)` with which the contact slips
+/// off where the pair leaves the set there. `(0, 0)` gives `(0, 0)`.
+///
+/// `d` is the root of `fn_ m(d) − mn f(d)` (decreasing for the exact law:
+/// `f` increases, `m` decreases), found by the Illinois variant of regula
+/// falsi in `s = d/(1 + d)` to a bracket or a step below `1e-15`, or a
+/// residual below `1e-15 (fn_ m(0) + mn)`.
+pub fn gauge(p: Pressure, pade_form: bool, fn_: f64, mn: f64) -> (f64, f64) {
+    if fn_ <= 0.0 && mn <= 0.0 {
+        return (0.0, 0.0);
+    }
+    if fn_ <= 0.0 {
+        return (mn / p.zero_slip_torque(), 0.0);
+    }
+    if mn <= 0.0 {
+        return (fn_, f64::INFINITY);
+    }
+    let h = |s: f64| {
+        let d = if s >= 1.0 {
+            f64::INFINITY
+        } else {
+            s / (1.0 - s)
+        };
+        let (f, m) = law(p, pade_form, d);
+        (fn_ * m - mn * f, d, f, m)
+    };
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    let (mut hlo, mut hhi) = (fn_ * p.zero_slip_torque(), -mn);
+    let scale = hlo - hhi;
+    let mut best = (0.0, f64::NAN, f64::NAN, f64::NAN);
+    let mut side = 0i8;
+    let mut last = f64::NAN;
+    for _ in 0..100 {
+        if hi - lo <= 1e-15 {
+            break;
+        }
+        // Illinois step, kept inside the bracket.
+        let mut s = (lo * hhi - hi * hlo) / (hhi - hlo);
+        if !(s > lo && s < hi) {
+            s = 0.5 * (lo + hi);
+        }
+        best = h(s);
+        let hs = best.0;
+        // Converged: the residual at rounding, or the iterate no longer
+        // moving.
+        if hs.abs() <= 1e-15 * scale || (s - last).abs() <= 1e-15 {
+            break;
+        }
+        last = s;
+        if hs > 0.0 {
+            lo = s;
+            hlo = hs;
+            if side == 1 {
+                hhi *= 0.5;
+            }
+            side = 1;
+        } else {
+            hi = s;
+            hhi = hs;
+            if side == -1 {
+                hlo *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    let (_, d, f, m) = best;
+    ((fn_ + mn) / (f + m), d)
 }

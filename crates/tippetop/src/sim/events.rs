@@ -26,10 +26,13 @@ pub enum Watch {
     /// through 0 (exact Coulomb law, sliding): stick or slip on.
     SlipZero,
     /// The stick margin μ|N| − |F| falls through 0 (exact Coulomb law,
-    /// rolling): the contact starts to slip.
+    /// rolling), or `μ|N| (1 − λ)`, `λ` the gauge of the needed force and
+    /// drilling torque (Coulomb–Contensou stick, §25): the contact starts
+    /// to slip.
     StickLimit,
     /// Sliding and spinning both stop (Coulomb–Contensou friction, §25):
-    /// the run ends there (the stick phase is not modelled).
+    /// the contact sticks there if the needed wrench is inside the limit
+    /// curve (it leaves the stick at [`Watch::StickLimit`]).
     ContensouStick,
     /// The contact sphere that is not the active one (the stem's while the
     /// main sphere is, or was last, on the plane, and the other way round)
@@ -72,7 +75,8 @@ pub enum Happened {
     Touchdown,
     /// The event list reached its cap; later events are not listed.
     EventLimitReached,
-    /// Sliding and spinning both stopped (Coulomb–Contensou friction).
+    /// Sliding and spinning both stopped and the contact sticks
+    /// (Coulomb–Contensou friction; its end is a [`Happened::Slip`]).
     ContensouStick,
     /// The stem's sphere landed on the plane (docs/physics.md §26).
     StemTouchdown,

@@ -34,19 +34,6 @@ pub(crate) fn nonfinite_output_error(t: f64, state: &str) -> Error {
     )
 }
 
-/// The error that ends a run under Coulomb–Contensou friction where
-/// sliding and spinning both stop (docs/physics.md §25), at `t` \[s\].
-pub(crate) fn contensou_stick_error(t: f64, state: &str) -> Error {
-    Error::runtime(
-        t,
-        Failure::NotModelled,
-        format!(
-            "sliding and spinning both stopped (Coulomb-Contensou stick, |v| + r_c |n_Z| below {:e} of the speed unit; docs/physics.md §25): the stick phase of this law is not modelled yet, the run ends here; {state}",
-            crate::contact::CONTENSOU_STICK_SPEED
-        ),
-    )
-}
-
 /// The friction law as a phrase for messages.
 pub(crate) fn law_phrase(law: crate::FrictionLaw) -> String {
     match law {

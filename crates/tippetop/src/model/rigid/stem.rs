@@ -443,6 +443,8 @@ impl Rigid {
                 friction,
                 kin,
                 q_free: q[0],
+                // Both contacts' drilling torques about Z (§25).
+                torque: -normals[0] * tau[0] - normals[1] * tau[1],
             },
             normals,
         ))
