@@ -99,32 +99,38 @@ fn search_finds_a_write_and_best_toml_reproduces_it() {
     }
 }
 
-/// A search over a physical actuator: a tip at the top of the nano top
-/// (scenarios/bit/nano_tip_search.toml). It finds a one-kick write; the
-/// best.toml it writes has a tip window and reruns it bit for bit.
-#[test]
-fn tip_search_finds_a_kick_and_best_toml_reproduces_it() {
-    let d = scratch("tip");
+/// Search `file` with `sets` into `d/s`, check it found a protocol of
+/// `kind` whose best.toml holds a `kind` window with `key` (`"force"`,
+/// `"field"`), rerun best.toml into `d/b`, and check the rerun's `phase`
+/// figures are the search's best evaluation bit for bit. Returns
+/// search.json.
+fn search_and_rerun(
+    d: &Path,
+    file: &str,
+    sets: &[&str],
+    kind: &str,
+    key: &str,
+    phase: &str,
+) -> serde_json::Value {
+    let mut args = vec!["--search"];
+    for s in sets {
+        args.extend(["--set", s]);
+    }
     let o = bin()
         .arg("bit")
-        .arg(repo("scenarios/bit/nano_tip_search.toml"))
-        .args([
-            "--search",
-            "--set",
-            "search.perturbations=2",
-            "--quiet",
-            "--out",
-        ])
+        .arg(repo(file))
+        .args(&args)
+        .args(["--quiet", "--out"])
         .arg(d.join("s"))
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let s = json(&d.join("s/search.json"));
     assert_eq!(s["found"], true, "{s}");
-    assert_eq!(s["search"]["actuator"], "tip");
+    assert_eq!(s["search"]["actuator"], kind);
     let best = std::fs::read_to_string(d.join("s/best.toml")).unwrap();
     assert!(
-        best.contains("kind = \"tip\"") && best.contains("force = ["),
+        best.contains(&format!("kind = \"{kind}\"")) && best.contains(&format!("{key} = [")),
         "{best}"
     );
     let o = bin()
@@ -138,8 +144,26 @@ fn tip_search_finds_a_kick_and_best_toml_reproduces_it() {
     let b = json(&d.join("b/bit.json"));
     let ev = &s["best"]["evaluation"];
     assert_eq!(b["write"]["successes"], 1);
-    assert_eq!(b["write"]["time_median"], ev["time"]);
-    assert_eq!(b["write"]["energy_median"], ev["energy"]);
+    assert_eq!(b[phase]["successes"], 1);
+    assert_eq!(b[phase]["time_median"], ev["time"]);
+    assert_eq!(b[phase]["energy_median"], ev["energy"]);
+    s
+}
+
+/// A search over a physical actuator: a tip at the top of the nano top
+/// (scenarios/bit/nano_tip_search.toml). It finds a write; the best.toml
+/// it writes has a tip window and reruns it bit for bit.
+#[test]
+fn tip_search_finds_a_push_and_best_toml_reproduces_it() {
+    let d = scratch("tip");
+    search_and_rerun(
+        &d,
+        "scenarios/bit/nano_tip_search.toml",
+        &["search.perturbations=2"],
+        "tip",
+        "force",
+        "write",
+    );
 }
 
 /// A uniform field on a moment along the axis erases where the paper's
@@ -149,31 +173,15 @@ fn tip_search_finds_a_kick_and_best_toml_reproduces_it() {
 #[test]
 fn magnetic_search_finds_an_erase_and_best_toml_reproduces_it() {
     let d = scratch("magnetic");
-    let o = bin()
-        .arg("bit")
-        .arg(repo("scenarios/bit/nano_magnetic_search.toml"))
-        .args([
-            "--search",
-            "--set",
-            "search.budget=40",
-            "--set",
-            "search.perturbations=2",
-            "--quiet",
-            "--out",
-        ])
-        .arg(d.join("s"))
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let s = json(&d.join("s/search.json"));
-    assert_eq!(s["found"], true, "{s}");
-    assert_eq!(s["search"]["actuator"], "magnetic");
-    assert_eq!(s["search"]["moment"], 2.78220302349e-23);
-    let best = std::fs::read_to_string(d.join("s/best.toml")).unwrap();
-    assert!(
-        best.contains("kind = \"magnetic\"") && best.contains("field = ["),
-        "{best}"
+    let s = search_and_rerun(
+        &d,
+        "scenarios/bit/nano_magnetic_search.toml",
+        &["search.budget=40", "search.perturbations=2"],
+        "magnetic",
+        "field",
+        "erase",
     );
+    assert_eq!(s["search"]["moment"], 2.78220302349e-23);
     let w = &s["best"]["protocol"][0];
     let (m, a) = (
         w["magnitude"].as_f64().unwrap(),
@@ -181,20 +189,6 @@ fn magnetic_search_finds_an_erase_and_best_toml_reproduces_it() {
     );
     let (bx, bz) = (w["bx"].as_f64().unwrap(), w["bz"].as_f64().unwrap());
     assert!((bx - m * a.sin()).abs() <= 1e-15 * m && (bz - m * a.cos()).abs() <= 1e-15 * m);
-    let o = bin()
-        .arg("bit")
-        .arg(d.join("s/best.toml"))
-        .args(["--quiet", "--out"])
-        .arg(d.join("b"))
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let b = json(&d.join("b/bit.json"));
-    let ev = &s["best"]["evaluation"];
-    assert_eq!(b["write"]["successes"], 1);
-    assert_eq!(b["erase"]["successes"], 1);
-    assert_eq!(b["erase"]["time_median"], ev["time"]);
-    assert_eq!(b["erase"]["energy_median"], ev["energy"]);
 }
 
 fn expect_input_error(d: &Path, text: &str, extra: &[&str], key: &str) {

@@ -177,6 +177,19 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
         if self.plane().langevin {
             ev.retain(|(w, _)| *w != Watch::ThetaMax);
         }
+        // Rolling or stuck under the exact Coulomb or the Contensou law: the
+        // stick margin falls through 0 where the contact starts to slip.
+        let stick_limit = || {
+            (
+                Watch::StickLimit,
+                Event {
+                    g: Box::new(|m: &M, _, y| m.stick_margin(y).unwrap_or(f64::NAN)),
+                    direction: Direction::Falling,
+                    terminal: true,
+                    step_to_event: false,
+                },
+            )
+        };
         if self.plane().is_contensou() {
             // Sliding: the arrival at the stick; stuck: the needed wrench
             // leaving the limit curve (§25).
@@ -192,15 +205,7 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                         step_to_event: false,
                     },
                 )),
-                Mode::Rolling => ev.push((
-                    Watch::StickLimit,
-                    Event {
-                        g: Box::new(|m: &M, _, y| m.stick_margin(y).unwrap_or(f64::NAN)),
-                        direction: Direction::Falling,
-                        terminal: true,
-                        step_to_event: false,
-                    },
-                )),
+                Mode::Rolling => ev.push(stick_limit()),
             }
         }
         if let Some(c_td) = self.plane().stem_cos {
@@ -230,15 +235,7 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                         step_to_event: false,
                     },
                 )),
-                Mode::Rolling => ev.push((
-                    Watch::StickLimit,
-                    Event {
-                        g: Box::new(|m: &M, _, y| m.stick_margin(y).unwrap_or(f64::NAN)),
-                        direction: Direction::Falling,
-                        terminal: true,
-                        step_to_event: false,
-                    },
-                )),
+                Mode::Rolling => ev.push(stick_limit()),
             }
         }
         ev
