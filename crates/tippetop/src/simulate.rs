@@ -366,6 +366,17 @@ impl Simulation {
     }
 }
 
+/// `cos θ` of a state: the model's own (a few ulps) where it has one, else
+/// from θ.
+fn cos_theta_of<M: Model<D>, const D: usize>(m: &M, y: &[f64; D]) -> f64 {
+    let c = m.cos_theta(y);
+    if c.is_nan() {
+        m.track_angles(y).0.cos()
+    } else {
+        c
+    }
+}
+
 /// Record a state in `track`.
 fn visit<M: Model<D>, const D: usize>(track: &mut Track, m: &M, y: &[f64; D]) {
     let (theta, spin, j, e, w) = m.track_point(y);
@@ -764,7 +775,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             }
             observe(s, t, y);
             if let Some(w) = watcher.borrow_mut().as_mut() {
-                w.step_end(t, s.track_angles(y).0);
+                w.step_end(t, cos_theta_of(s, y));
             }
             if let Some(b) = buckets.as_mut() {
                 // The step (last, t] falls in the interval (s_{i−1}, s_i]
@@ -941,9 +952,11 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let watcher = self.watcher.as_ref().expect("a watcher");
         match w {
             Watch::ThetaLevel(j) => {
-                let level = watcher.levels()[j];
+                // cos(level) − cos θ: the sign of θ − level (cos falls on
+                // [0, π]), without θ's atan2.
+                let c = watcher.levels()[j].cos();
                 Event {
-                    g: Box::new(move |m: &M, _, y| m.track_angles(y).0 - level),
+                    g: Box::new(move |m: &M, _, y| c - cos_theta_of(m, y)),
                     direction: integrate::Direction::Either,
                     terminal: false,
                     step_to_event: false,

@@ -2,7 +2,8 @@
 //! a window `[lo, hi]` of θ and a time interval `[from, to]`, whether θ was
 //! ever in the window during the interval, whether it is in at `to`, and
 //! when its final unbroken stay began — located by events at the window's
-//! edges (θ − edge crossing zero, on the integrator's dense output) and at
+//! edges (`cos(edge) − cos θ` crossing zero — the sign of θ − edge, without
+//! θ's `atan2` — on the integrator's dense output) and at
 //! the interval's ends (t − from, t − to), not on the output rows.
 //!
 //! The driver ([`crate::simulate`]) owns a [`Watcher`]: it asks it for the
@@ -57,6 +58,9 @@ struct Track {
     from: f64,
     to: f64,
     window: [f64; 2],
+    /// `cos` of the window's edges, `[cos lo, cos hi]` (`+∞` for `lo = 0`,
+    /// `−∞` for `hi = π`: a rounded `cos θ` slightly beyond ±1 is inside).
+    cos_window: [f64; 2],
     /// θ in the window now.
     inside: bool,
     /// Scaled time of the current stay's start (when `inside`).
@@ -118,6 +122,18 @@ impl Watcher {
                 from: w.from / tu,
                 to: w.to / tu,
                 window: w.window,
+                cos_window: [
+                    if w.window[0] == 0.0 {
+                        f64::INFINITY
+                    } else {
+                        w.window[0].cos()
+                    },
+                    if w.window[1] == std::f64::consts::PI {
+                        f64::NEG_INFINITY
+                    } else {
+                        w.window[1].cos()
+                    },
+                ],
                 inside: w.window[0] <= theta0 && theta0 <= w.window[1],
                 since: 0.0,
                 started: false,
@@ -212,11 +228,14 @@ impl Watcher {
         }
     }
 
-    /// θ \[rad\] at the end `t` (scaled) of an accepted step, after its
-    /// crossings: re-synchronise each watch's inside/outside state with it.
-    pub fn step_end(&mut self, t: f64, theta: f64) {
+    /// `cos θ` at the end `t` (scaled) of an accepted step, after its
+    /// crossings: re-synchronise each watch's inside/outside state with it
+    /// (θ in `[lo, hi]` ⇔ `cos hi <= cos θ <= cos lo`: the driver's level
+    /// events are `cos(level) − cos θ`, so both read the same function).
+    pub fn step_end(&mut self, t: f64, cos_theta: f64) {
         for tr in &mut self.tracks {
-            let inside = tr.window[0] <= theta && theta <= tr.window[1];
+            let [c_lo, c_hi] = tr.cos_window;
+            let inside = c_hi <= cos_theta && cos_theta <= c_lo;
             if inside != tr.inside {
                 tr.set_inside(inside, t);
             }
@@ -309,7 +328,7 @@ mod tests {
         let mut w = watcher(0.0, 10.0, 0.5);
         // θ reached the edge exactly at a step's end: no sign change seen,
         // but θ at the next step's end is inside.
-        w.step_end(1.5, 1.2);
+        w.step_end(1.5, 1.2f64.cos());
         mark(&mut w, 5.0, 0.0);
         let s = w.stays()[0];
         assert!(s.inside_at_end);
