@@ -977,6 +977,18 @@ impl Rigid {
         dot(kin.n, kin.k)
     }
 
+    /// [`Rigid::theta`] from the state's axis alone (the same bits: `kin`'s
+    /// `kh` is the same `hypot`), without the rest of [`Rigid::kin`].
+    fn theta_of_axis(&self, y: &[f64; DIM]) -> f64 {
+        let k = v3(y, AXIS);
+        k[0].hypot(k[1]).atan2(k[2])
+    }
+
+    /// [`Rigid::spin_scaled`] from the state alone (the same bits).
+    fn spin_of_axis(&self, y: &[f64; DIM]) -> f64 {
+        dot(v3(y, OMEGA), v3(y, AXIS))
+    }
+
     /// θ = angle between k and Z \[rad\].
     pub fn theta(&self, y: &[f64; DIM]) -> f64 {
         let kin = self.kin(y);
@@ -1612,6 +1624,22 @@ impl Model<DIM> for Rigid {
             Some(self.energy_scaled(y)),
             y[WF] + y[WA],
         )
+    }
+
+    fn track_angles(&self, y: &[f64; DIM]) -> (f64, f64) {
+        // θ and the spin of `track_point`, the same bits, without J and the
+        // energy (an ensemble run records these two at every step).
+        (self.theta_of_axis(y), self.spin_of_axis(y))
+    }
+
+    fn cos_theta(&self, y: &[f64; DIM]) -> f64 {
+        // k_Z/|k|: a few ulps from the cosine of `theta`'s angle.
+        let k = v3(y, AXIS);
+        k[2] / dot(k, k).sqrt()
+    }
+
+    fn track_spin(&self, y: &[f64; DIM]) -> f64 {
+        self.spin_of_axis(y)
     }
 
     fn flies(&self) -> bool {
