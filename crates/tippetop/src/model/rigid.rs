@@ -865,7 +865,7 @@ impl Rigid {
         };
         let nd = v3(&dy, OMEGA);
         let acc = [dy[VEL], dy[VEL + 1], dot(nd, kn), dot(nd, eh), dot(nd, fh)];
-        let (p, drift) = super::thermostat::overdamped_on_plane(&b, &body, (s2, kn[2]), acc, h, xi);
+        let (p, drift) = super::thermostat::overdamped(&b, &body, [kn, eh, fh], s2, acc, h, xi);
         let w = add(add(scale(p[2], kn), scale(p[3], eh)), scale(p[4], fh));
         let rv = scale(h, w);
         let k = super::vec3::rotate(rv, v3(y, AXIS));

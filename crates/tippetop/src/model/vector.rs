@@ -330,7 +330,7 @@ impl Vector {
         };
         let wd = [dy[OMEGA], dy[OMEGA + 1], dy[OMEGA + 2]];
         let acc = [dy[VEL], dy[VEL + 1], dot(wd, kn), dot(wd, eh), dot(wd, fh)];
-        let (p, drift) = super::thermostat::overdamped_on_plane(&b, &body, (s2, kn[2]), acc, h, xi);
+        let (p, drift) = super::thermostat::overdamped(&b, &body, [kn, eh, fh], s2, acc, h, xi);
         let w = add(add(scale(p[2], kn), scale(p[3], eh)), scale(p[4], fh));
         let rv = scale(h, w);
         let k = super::vec3::rotate(rv, [y[K], y[K + 1], y[K + 2]]);

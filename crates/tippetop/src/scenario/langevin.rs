@@ -2,7 +2,9 @@
 //! and the step-size rule (docs/physics.md §21; the keys themselves:
 //! [`crate::thermal`]).
 
-use crate::thermal::{MAX_BROWNIAN_STEP_RATE, MAX_STEP_RATE, SEED_RANGE, langevin_steps};
+use crate::thermal::{
+    MAX_BROWNIAN_CONTACT_RATIO, MAX_BROWNIAN_STEP_RATE, MAX_STEP_RATE, SEED_RANGE, langevin_steps,
+};
 use crate::{Error, Scenario};
 
 /// The rates \[1/s\] the step of a Langevin run must resolve, each with the
@@ -136,6 +138,28 @@ pub fn brownian_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
     out
 }
 
+/// The largest ratio of the contact damping's rates to the bath's own
+/// (`c/(m γ_t)`, `c (R + a)²/(γ_r A)`, `c R²/(γ_r C)`): the condition number
+/// the contact damping adds to the friction matrix of the overdamped step
+/// (docs/physics.md §21.1). Infinite when a bath damping is zero.
+pub fn contact_ratio(sc: &Scenario) -> f64 {
+    let th = &sc.thermal;
+    let top = &sc.top;
+    let c = th.damping_contact;
+    if c == 0.0 {
+        return 0.0;
+    }
+    let lever = top.radius + top.offset;
+    let (gt, gr) = (th.damping_translational, th.damping_rotational);
+    [
+        c / (top.mass * gt),
+        c * lever * lever / (gr * top.inertia_transverse),
+        c * top.radius * top.radius / (gr * top.inertia_axial),
+    ]
+    .into_iter()
+    .fold(0.0, f64::max)
+}
+
 /// The cross-key rules of the thermal keys and `solver.method =
 /// "langevin"` (docs/physics.md §21):
 ///
@@ -229,13 +253,6 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
         ));
     }
     if brownian {
-        if th.damping_contact != 0.0 {
-            return Err(Error::invalid(
-                "thermal.damping_contact",
-                format!("{} with method = \"brownian\"", th.damping_contact),
-                "0 with method = \"brownian\" (its mobility with the contact damping is not written yet; method = \"langevin\" has it)".into(),
-            ));
-        }
         for (key, v) in [
             ("damping_translational", th.damping_translational),
             ("damping_rotational", th.damping_rotational),
@@ -247,6 +264,19 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
                     "> 0 [1/s] with method = \"brownian\" (the mobility is its inverse)".into(),
                 ));
             }
+        }
+        let ratio = contact_ratio(sc);
+        if ratio > MAX_BROWNIAN_CONTACT_RATIO {
+            return Err(Error::invalid(
+                "thermal.damping_contact",
+                format!(
+                    "{} with method = \"brownian\" is {ratio:.3e} times the bath's own damping",
+                    th.damping_contact
+                ),
+                format!(
+                    "at most {MAX_BROWNIAN_CONTACT_RATIO:e} times the largest of mass damping_translational, damping_rotational inertia_transverse / (radius + offset)^2 and damping_rotational inertia_axial / radius^2 [N s/m] with method = \"brownian\" (beyond, the friction matrix is too ill-conditioned for its mobility)"
+                ),
+            ));
         }
     }
     if th.is_hot() {
