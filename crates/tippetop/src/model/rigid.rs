@@ -833,8 +833,9 @@ impl Rigid {
 
     /// One Euler–Maruyama step of the overdamped dynamics in contact
     /// (`solver.method = "brownian"`, docs/physics.md §21): the vector
-    /// model's step ([`super::thermostat::overdamped_on_plane`]: the same
-    /// basis, mobility, θ drift and normals) with the generalised force at
+    /// model's step ([`super::thermostat::overdamped`]: the same basis,
+    /// mobility, drift and normals, with or without the contact damping)
+    /// with the generalised force at
     /// rest from this model's right-hand side, the constraint's height and
     /// vertical velocity. The state's velocities are set to the drift part,
     /// `W_f` takes the energy change.

@@ -3,7 +3,11 @@
 //! fixed axis `k` (docs/physics.md §21), written over plain vectors so the
 //! models that keep the sphere on the plane share it (the rigid model in
 //! contact and in flight, and the vector model), with a cache of its
-//! coefficients ([`OuCache`]).
+//! coefficients ([`OuCache`]); and the overdamped (Brownian) step on the
+//! plane, without ([`overdamped_on_plane`]) and with the contact damping
+//! ([`overdamped_coupled`], §21.1). The coupled step is not cached: the
+//! axis moves at every Brownian step, so a cache keyed by its bits would
+//! never hit.
 
 use super::vec3::{V3, add, cross, dot, scale};
 use crate::Scenario;

@@ -1050,7 +1050,7 @@ fn brownian_contact_damping_boltzmann_density_with_a_well() {
 /// Langevin run shares at high friction; SE 3.6 %). `D_s` is 20 % below the
 /// uncoupled `kT/(m γ_t)` and 60 % above `kT/(m γ_t + c)` (a mobility that
 /// ignored the coupling), both far outside the error bars (the long-time
-/// check asserts its power against them: 10 and 9 SE). `D_∞` is 1.6 %
+/// check asserts its power against them: 8.2 and 10.8 SE). `D_∞` is 1.6 %
 /// below `D_s`, inside the long-time error bar. Without the drift
 /// correction the short-time check fails by +29 SE (the orientation
 /// density moves, and `μ_tt` with it).
