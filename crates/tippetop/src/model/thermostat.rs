@@ -214,7 +214,13 @@ pub(crate) fn overdamped_coupled(
     let [kn, eh, fh] = basis;
     let (a2, ia, ic) = (body.a * body.a, body.ia, body.ic);
     let gam = friction_lab(b, body, kn, None);
-    let chol = nalgebra::Cholesky::new(gam).expect("Γ is positive definite (γ_t, γ_r > 0)");
+    // Γ is positive definite (γ_t, γ_r > 0) and the validation bounds its
+    // conditioning (`thermal::MAX_BROWNIAN_CONTACT_RATIO`); should rounding
+    // still defeat the factorisation, NaN velocities stop the run with the
+    // engine's non-finite-state error instead of a panic.
+    let Some(chol) = nalgebra::Cholesky::new(gam) else {
+        return ([f64::NAN; 5], [f64::NAN; 5]);
+    };
     let mu = chol.inverse();
     // The generalised force at rest, and kT ∇ ln s, in the lab basis.
     let mm = [ic, ia + a2 * s2, ia];

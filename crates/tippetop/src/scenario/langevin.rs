@@ -143,21 +143,29 @@ pub fn brownian_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
 /// the contact damping adds to the friction matrix of the overdamped step
 /// (docs/physics.md §21.1). Infinite when a bath damping is zero.
 pub fn contact_ratio(sc: &Scenario) -> f64 {
+    let c = sc.thermal.damping_contact;
+    if c == 0.0 {
+        0.0
+    } else {
+        c / bath_contact_scale(sc)
+    }
+}
+
+/// The smallest of the bath's dampings as contact coefficients \[N s/m\]:
+/// `m γ_t`, `γ_r A/(R + a)²`, `γ_r C/R²` (so [`contact_ratio`] is the
+/// contact damping over it).
+fn bath_contact_scale(sc: &Scenario) -> f64 {
     let th = &sc.thermal;
     let top = &sc.top;
-    let c = th.damping_contact;
-    if c == 0.0 {
-        return 0.0;
-    }
     let lever = top.radius + top.offset;
     let (gt, gr) = (th.damping_translational, th.damping_rotational);
     [
-        c / (top.mass * gt),
-        c * lever * lever / (gr * top.inertia_transverse),
-        c * top.radius * top.radius / (gr * top.inertia_axial),
+        top.mass * gt,
+        gr * top.inertia_transverse / (lever * lever),
+        gr * top.inertia_axial / (top.radius * top.radius),
     ]
     .into_iter()
-    .fold(0.0, f64::max)
+    .fold(f64::INFINITY, f64::min)
 }
 
 /// The cross-key rules of the thermal keys and `solver.method =
@@ -271,14 +279,15 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
         }
         let ratio = contact_ratio(sc);
         if ratio > MAX_BROWNIAN_CONTACT_RATIO {
+            let limit = MAX_BROWNIAN_CONTACT_RATIO * bath_contact_scale(sc);
             return Err(Error::invalid(
                 "thermal.damping_contact",
                 format!(
-                    "{} with method = \"brownian\" is {ratio:.3e} times the bath's own damping",
+                    "{:e} with method = \"brownian\" is {ratio:.3e} times the bath's own damping",
                     th.damping_contact
                 ),
                 format!(
-                    "at most {MAX_BROWNIAN_CONTACT_RATIO:e} times the largest of mass damping_translational, damping_rotational inertia_transverse / (radius + offset)^2 and damping_rotational inertia_axial / radius^2 [N s/m] with method = \"brownian\" (beyond, the friction matrix is too ill-conditioned for its mobility)"
+                    "at most {limit:.3e} [N s/m] with method = \"brownian\" here: {MAX_BROWNIAN_CONTACT_RATIO:e} times the smallest of mass damping_translational, damping_rotational inertia_transverse / (radius + offset)^2 and damping_rotational inertia_axial / radius^2 (beyond, the friction matrix is too ill-conditioned for its mobility)"
                 ),
             ));
         }
