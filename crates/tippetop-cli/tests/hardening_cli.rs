@@ -479,7 +479,8 @@ fn run_rejects_bad_wells() {
 
 /// Bad thermal input (issue #15): negative temperature, zero damping at
 /// T > 0, Coulomb friction with mu > 0 at T > 0, a dt above the step rule,
-/// a missing seed, temperature without the Langevin method: one line naming
+/// a missing seed, temperature without the Langevin method, a Brownian
+/// run's contact damping beyond its conditioning limit: one line naming
 /// the key, exit 2, nothing written.
 #[test]
 fn run_rejects_bad_thermal_input() {
@@ -519,6 +520,19 @@ fn run_rejects_bad_thermal_input() {
         (with(&[], "thermal.seed"), "thermal.seed"),
         (with(&[], "solver.dt"), "solver.dt"),
         (vec!["thermal.temperature=300"], "thermal.temperature"),
+        // The Brownian method with a contact damping 1e13 times the bath's
+        // (the mobility's conditioning limit is 1e8).
+        (
+            with(
+                &[
+                    "solver.method=\"brownian\"",
+                    "solver.dt=1e-16",
+                    "thermal.damping_contact=1",
+                ],
+                "solver.method",
+            ),
+            "thermal.damping_contact",
+        ),
     ];
     for (sets, key) in cases {
         let mut args = vec!["run", "--preset", "nano", "--no-plot", "--out", o];

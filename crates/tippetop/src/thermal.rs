@@ -37,6 +37,13 @@ pub const MAX_STEP_RATE: f64 = 0.02;
 /// product; measured in tests/physics/thermal.rs).
 pub const MAX_BROWNIAN_STEP_RATE: f64 = 0.002;
 
+/// The largest [`crate::scenario::langevin::contact_ratio`] of a Brownian
+/// run (the contact damping's rates over the bath's own): the mobility
+/// `Γ⁻¹` comes from a Cholesky factor of `Γ`, whose relative error grows as
+/// its condition number (up to about this ratio) times the rounding unit
+/// 1.1e-16: at 1e8 the mobility keeps ~8 digits.
+pub const MAX_BROWNIAN_CONTACT_RATIO: f64 = 1e8;
+
 /// Valid range of `thermal.temperature`.
 pub const TEMPERATURE_RANGE: &str =
     "a finite temperature >= 0 [K] (> 0 needs solver.method = \"langevin\")";

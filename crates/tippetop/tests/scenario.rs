@@ -873,9 +873,21 @@ fn thermal_keys_and_their_rules() {
         &sets(&brown(&["solver.model=\"rigid\""])),
     )
     .expect("rigid brownian on the plane");
+    // The contact damping (its coupled mobility, physics.md §21.1), for
+    // both models on the plane.
+    for model in ["solver.model=\"vector\"", "solver.model=\"rigid\""] {
+        Scenario::load(
+            Some("nano"),
+            None,
+            &sets(&brown(&["thermal.damping_contact=1e-13", model])),
+        )
+        .expect("brownian with contact damping");
+    }
     for (extra, key) in [
+        // The contact damping 1e13 times the bath's: its mobility would be
+        // too ill-conditioned (the ratio's limit is 1e8).
         (
-            &["thermal.damping_contact=1e-13"][..],
+            &["thermal.damping_contact=1"][..],
             "thermal.damping_contact",
         ),
         (&["solver.dt=1e-13"][..], "solver.dt"),

@@ -833,8 +833,9 @@ impl Rigid {
 
     /// One Euler–Maruyama step of the overdamped dynamics in contact
     /// (`solver.method = "brownian"`, docs/physics.md §21): the vector
-    /// model's step ([`super::thermostat::overdamped_on_plane`]: the same
-    /// basis, mobility, θ drift and normals) with the generalised force at
+    /// model's step ([`super::thermostat::overdamped`]: the same basis,
+    /// mobility, drift and normals, with or without the contact damping)
+    /// with the generalised force at
     /// rest from this model's right-hand side, the constraint's height and
     /// vertical velocity. The state's velocities are set to the drift part,
     /// `W_f` takes the energy change.
@@ -865,7 +866,7 @@ impl Rigid {
         };
         let nd = v3(&dy, OMEGA);
         let acc = [dy[VEL], dy[VEL + 1], dot(nd, kn), dot(nd, eh), dot(nd, fh)];
-        let (p, drift) = super::thermostat::overdamped_on_plane(&b, &body, (s2, kn[2]), acc, h, xi);
+        let (p, drift) = super::thermostat::overdamped(&b, &body, [kn, eh, fh], s2, acc, h, xi);
         let w = add(add(scale(p[2], kn), scale(p[3], eh)), scale(p[4], fh));
         let rv = scale(h, w);
         let k = super::vec3::rotate(rv, v3(y, AXIS));

@@ -3,7 +3,11 @@
 //! fixed axis `k` (docs/physics.md §21), written over plain vectors so the
 //! models that keep the sphere on the plane share it (the rigid model in
 //! contact and in flight, and the vector model), with a cache of its
-//! coefficients ([`OuCache`]).
+//! coefficients ([`OuCache`]); and the overdamped (Brownian) step on the
+//! plane, without ([`overdamped_on_plane`]) and with the contact damping
+//! ([`overdamped_coupled`], §21.1). The coupled step is not cached: the
+//! axis moves at every Brownian step, so a cache keyed by its bits would
+//! never hit.
 
 use super::vec3::{V3, add, cross, dot, scale};
 use crate::Scenario;
@@ -94,6 +98,158 @@ pub(crate) fn overdamped_on_plane(
     p[3] -= b.kt * corr;
     drift[3] -= b.kt * corr;
     (p, drift)
+}
+
+/// One Euler–Maruyama step of the overdamped dynamics on the plane: the
+/// generalised velocities `(p, drift)` in the basis `(X, Y | k̂, ê, f̂)`
+/// (`basis` = `[k̂, ê, f̂]` of [`modes_basis`], `s2 = sin²θ`, `acc` the
+/// acceleration at rest in that basis, `xi` 5 standard normals).
+/// Without contact damping it is [`overdamped_on_plane`] (the same call,
+/// the same bits); with it, [`overdamped_coupled`].
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn overdamped(
+    b: &Bath,
+    body: &Body,
+    basis: [V3; 3],
+    s2: f64,
+    acc: [f64; 5],
+    h: f64,
+    xi: &[f64],
+) -> ([f64; 5], [f64; 5]) {
+    if b.c > 0.0 {
+        overdamped_coupled(b, body, basis, s2, acc, h, xi)
+    } else {
+        overdamped_on_plane(b, body, (s2, basis[0][2]), acc, h, xi)
+    }
+}
+
+/// The friction matrix `Γ(k)` of the top on the plane in the lab basis
+/// (scaled, m = R = 1): generalised velocity `(v_x, v_y, w_x, w_y, w_z)`,
+/// `Γ = diag(γ_t, γ_t, γ_r I(k)) + γ_t a² n nᵀ + c Pᵀ P` with
+/// `I(k) = A 1 + (C − A) k kᵀ`, `n = k × Z` (the centre's vertical velocity
+/// is `−a n·w`) and `P = [1₂ | P_r]` the map to the horizontal slip
+/// `v_h + (w × r)_h`, `r = a k − Z`. With `dk` in place of `k` (and
+/// `deriv`), its directional derivative along `dk` instead (`Γ` is a
+/// quadratic polynomial in `k`: `r` moves by `a dk`).
+fn friction_lab(b: &Bath, body: &Body, k: V3, dk: Option<V3>) -> nalgebra::Matrix5<f64> {
+    use nalgebra::Matrix5;
+    let (a, ia, ic) = (body.a, body.ia, body.ic);
+    // Columns β of P_r: (e_β × r)_h for r.
+    let pr = |r: V3| -> [[f64; 2]; 3] { [[0.0, -r[2]], [r[2], 0.0], [-r[1], r[0]]] };
+    let nz = |k: V3| -> V3 { [k[1], -k[0], 0.0] };
+    let r = [a * k[0], a * k[1], a * k[2] - 1.0];
+    let (p0, n0) = (pr(r), nz(k));
+    let mut g = Matrix5::zeros();
+    match dk {
+        None => {
+            for i in 0..2 {
+                g[(i, i)] = b.gt + b.c;
+            }
+            for i in 0..3 {
+                for j in 0..3 {
+                    let id = if i == j { ia } else { 0.0 };
+                    let pp = p0[i][0] * p0[j][0] + p0[i][1] * p0[j][1];
+                    g[(2 + i, 2 + j)] = b.gr * (id + (ic - ia) * k[i] * k[j])
+                        + b.gt * a * a * n0[i] * n0[j]
+                        + b.c * pp;
+                }
+                for t in 0..2 {
+                    g[(t, 2 + i)] = b.c * p0[i][t];
+                    g[(2 + i, t)] = b.c * p0[i][t];
+                }
+            }
+        }
+        Some(v) => {
+            // d r = a v, d n = v × Z.
+            let (p1, n1) = (pr([a * v[0], a * v[1], a * v[2]]), nz(v));
+            for i in 0..3 {
+                for j in 0..3 {
+                    let dpp = p1[i][0] * p0[j][0]
+                        + p1[i][1] * p0[j][1]
+                        + p0[i][0] * p1[j][0]
+                        + p0[i][1] * p1[j][1];
+                    g[(2 + i, 2 + j)] = b.gr * (ic - ia) * (v[i] * k[j] + k[i] * v[j])
+                        + b.gt * a * a * (n1[i] * n0[j] + n0[i] * n1[j])
+                        + b.c * dpp;
+                }
+                for t in 0..2 {
+                    g[(t, 2 + i)] = b.c * p1[i][t];
+                    g[(2 + i, t)] = b.c * p1[i][t];
+                }
+            }
+        }
+    }
+    g
+}
+
+/// The overdamped step with the contact damping (docs/physics.md §21.1):
+/// in the lab basis `(X, Y | X, Y, Z)` of `(v_h, w)`, with the full
+/// friction matrix `Γ(k)` of [`friction_lab`] and the mobility `μ = Γ⁻¹`
+/// (5×5, coupling the translation with the rotations),
+///
+/// ```text
+/// p = μ (Q + kT ∇ ln s) + kT ∇·μ + sqrt(2 kT/h) L⁻ᵀ ξ,    Γ = L Lᵀ (Cholesky),
+/// ```
+///
+/// `Q` the generalised force at rest, `∇` the derivatives along the lab
+/// rotations of the body (`R_β f(k) = ∇f·(e_β × k)`), `s = sqrt(1 + m a²
+/// sin²θ/A)` (so `∇ ln s = −a² cos θ n/(A + a² sin²θ)`, `n = k × Z`) and
+/// `(∇·μ)_α = Σ_β R_β μ_αβ = −Σ_β (μ (R_β Γ) μ)_αβ` (the translations do not
+/// change `μ`). With the geodesic step (a lab rotation by `w h`) this is
+/// the reversible diffusion whose density is the Langevin run's
+/// configuration marginal; at `c = 0` it is [`overdamped_on_plane`]'s drift
+/// (test `coupled_step_at_zero_contact_damping_is_the_diagonal_one`).
+/// Returns `(p, drift)` in the basis `(X, Y | k̂, ê, f̂)` of the callers.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn overdamped_coupled(
+    b: &Bath,
+    body: &Body,
+    basis: [V3; 3],
+    s2: f64,
+    acc: [f64; 5],
+    h: f64,
+    xi: &[f64],
+) -> ([f64; 5], [f64; 5]) {
+    use nalgebra::Vector5;
+    let [kn, eh, fh] = basis;
+    let (a2, ia, ic) = (body.a * body.a, body.ia, body.ic);
+    let gam = friction_lab(b, body, kn, None);
+    // Γ is positive definite (γ_t, γ_r > 0) and the validation bounds its
+    // conditioning (`thermal::MAX_BROWNIAN_CONTACT_RATIO`); should rounding
+    // still defeat the factorisation, NaN velocities stop the run with the
+    // engine's non-finite-state error instead of a panic.
+    let Some(chol) = nalgebra::Cholesky::new(gam) else {
+        return ([f64::NAN; 5], [f64::NAN; 5]);
+    };
+    let mu = chol.inverse();
+    // The generalised force at rest, and kT ∇ ln s, in the lab basis.
+    let mm = [ic, ia + a2 * s2, ia];
+    let mut f = Vector5::new(acc[0], acc[1], 0.0, 0.0, 0.0);
+    let gl = -b.kt * a2 * kn[2] / (ia + a2 * s2);
+    let n = [kn[1], -kn[0], 0.0];
+    for j in 0..3 {
+        let tq = mm[0] * acc[2] * kn[j] + mm[1] * acc[3] * eh[j] + mm[2] * acc[4] * fh[j];
+        f[2 + j] = tq + gl * n[j];
+    }
+    let mut drift = mu * f;
+    // kT ∇·μ: the derivative along the lab rotation β moves k by e_β × k.
+    for beta in 0..3 {
+        let mut e = [0.0; 3];
+        e[beta] = 1.0;
+        let dg = friction_lab(b, body, kn, Some(cross(e, kn)));
+        let col = mu.column(2 + beta).into_owned();
+        drift -= b.kt * (mu * (dg * col));
+    }
+    // The noise: covariance (2 kT/h) μ = (2 kT/h) L⁻ᵀ L⁻¹.
+    let mut z = Vector5::from_fn(|i, _| xi[i]);
+    let solved = chol.l().tr_solve_lower_triangular_mut(&mut z);
+    debug_assert!(solved, "L has a positive diagonal");
+    let amp = (2.0 * b.kt / h).sqrt();
+    let lab = |v: Vector5<f64>| -> [f64; 5] {
+        let w = [v[2], v[3], v[4]];
+        [v[0], v[1], dot(w, kn), dot(w, eh), dot(w, fh)]
+    };
+    (lab(drift + amp * z), lab(drift))
 }
 
 /// The exact Ornstein–Uhlenbeck step over `h` of a free body (in flight):
@@ -376,4 +532,143 @@ fn coupled_factors(lams: &[f64; 5], h: f64, b: &Bath) -> [Factors; 5] {
         let var = -b.kt * (-2.0 * lam * h).exp_m1();
         (decay, var.sqrt())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::vec3::rotate;
+
+    const BODY: Body = Body {
+        a: 0.6,
+        ia: 0.18,
+        ic: 0.25,
+    };
+
+    fn axis(theta: f64, phi: f64) -> V3 {
+        [
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        ]
+    }
+
+    const AXES: [(f64, f64); 6] = [
+        (0.3, 0.2),
+        (1.0, -1.3),
+        (1.5, 2.0),
+        (2.2, 0.7),
+        (3.0, -2.9),
+        (1e-3, 0.4),
+    ];
+
+    /// The general step's drift at `c = 0` is the hand-derived diagonal one
+    /// of [`overdamped_on_plane`] (its `cot θ` and `∂_θ` terms): the lab
+    /// divergence `−Σ_β (μ (R_β Γ) μ)_αβ` and `μ ∇ ln s` reproduce them.
+    #[test]
+    fn coupled_step_at_zero_contact_damping_is_the_diagonal_one() {
+        let b = Bath {
+            kt: 0.7,
+            gt: 1.3,
+            gr: 2.1,
+            c: 0.0,
+        };
+        let acc = [0.3, -0.2, 0.5, -0.7, 0.4];
+        for (th, ph) in AXES {
+            let (basis, s2) = modes_basis(axis(th, ph));
+            let (_, want) = overdamped_on_plane(&b, &BODY, (s2, basis[0][2]), acc, 1e-3, &[0.0; 5]);
+            let (_, got) = overdamped_coupled(&b, &BODY, basis, s2, acc, 1e-3, &[0.0; 5]);
+            for i in 0..5 {
+                assert!(
+                    (got[i] - want[i]).abs() < 1e-12 * (1.0 + want[i].abs()),
+                    "θ = {th}, component {i}: {} vs {}",
+                    got[i],
+                    want[i]
+                );
+            }
+        }
+    }
+
+    /// With the contact damping on, the drift is `μ (Q + kT ∇ ln s) +
+    /// kT ∇·μ` (lab basis), `∇·μ` here from central differences of `Γ⁻¹`
+    /// along the lab rotations of the axis (step 1e-5: error ~1e-10), and
+    /// the noise's covariance is `(2 kT/h) μ`.
+    #[test]
+    fn coupled_step_drift_and_noise_against_finite_differences() {
+        use nalgebra::{Matrix5, Vector5};
+        let b = Bath {
+            kt: 0.7,
+            gt: 1.3,
+            gr: 2.1,
+            c: 3.4,
+        };
+        let h = 1e-3;
+        let acc = [0.3, -0.2, 0.5, -0.7, 0.4];
+        let inv = |k: V3| friction_lab(&b, &BODY, k, None).try_inverse().unwrap();
+        for (th, ph) in AXES {
+            let k = axis(th, ph);
+            let (basis, s2) = modes_basis(k);
+            let [kn, eh, fh] = basis;
+            let mu = inv(kn);
+            // Non-diagonal: the translation is coupled to the rotations.
+            assert!(mu[(0, 3)].abs() + mu[(1, 4)].abs() + mu[(0, 2)].abs() > 1e-3);
+            let eps = 1e-5;
+            let mut div = Vector5::zeros();
+            for beta in 0..3 {
+                let mut e = [0.0; 3];
+                e[beta] = eps;
+                let d = (inv(rotate(e, kn)) - inv(rotate(e.map(|x: f64| -x), kn))) / (2.0 * eps);
+                div += d.column(2 + beta);
+            }
+            let mm = [BODY.ic, BODY.ia + BODY.a * BODY.a * s2, BODY.ia];
+            let mut f = Vector5::new(acc[0], acc[1], 0.0, 0.0, 0.0);
+            let gl = -b.kt * BODY.a * BODY.a * kn[2] / (BODY.ia + BODY.a * BODY.a * s2);
+            for j in 0..3 {
+                f[2 + j] = mm[0] * acc[2] * kn[j]
+                    + mm[1] * acc[3] * eh[j]
+                    + mm[2] * acc[4] * fh[j]
+                    + gl * [kn[1], -kn[0], 0.0][j];
+            }
+            let want = mu * f + b.kt * div;
+            let frame = |v: Vector5<f64>| {
+                let w = [v[2], v[3], v[4]];
+                [v[0], v[1], dot(w, kn), dot(w, eh), dot(w, fh)]
+            };
+            let want = frame(want);
+            let (_, got) = overdamped_coupled(&b, &BODY, basis, s2, acc, h, &[0.0; 5]);
+            for i in 0..5 {
+                assert!(
+                    (got[i] - want[i]).abs() < 1e-8 * (1.0 + want[i].abs()),
+                    "θ = {th}, component {i}: {} vs {}",
+                    got[i],
+                    want[i]
+                );
+            }
+            // The noise map B (columns: unit normals) has B Bᵀ = (2 kT/h) μ
+            // in the frame basis E μ Eᵀ.
+            let mut bm = Matrix5::zeros();
+            for j in 0..5 {
+                let mut xi = [0.0; 5];
+                xi[j] = 1.0;
+                let (p, d) = overdamped_coupled(&b, &BODY, basis, s2, acc, h, &xi);
+                for i in 0..5 {
+                    bm[(i, j)] = p[i] - d[i];
+                }
+            }
+            let mut e = Matrix5::zeros();
+            e[(0, 0)] = 1.0;
+            e[(1, 1)] = 1.0;
+            for (r, d) in basis.iter().enumerate() {
+                for j in 0..3 {
+                    e[(2 + r, 2 + j)] = d[j];
+                }
+            }
+            let want = e * mu * e.transpose() * (2.0 * b.kt / h);
+            let got = bm * bm.transpose();
+            assert!(
+                (got - want).norm() < 1e-9 * want.norm(),
+                "θ = {th}: noise covariance"
+            );
+        }
+    }
 }

@@ -295,8 +295,9 @@ impl Vector {
     /// One Euler–Maruyama step over `h` (scaled) of the overdamped
     /// (Brownian) dynamics, `solver.method = "brownian"` (docs/physics.md
     /// §21): the generalised velocity is `p = Γ⁻¹ Q + sqrt(2 kT/h) Γ^{−1/2} ξ`
-    /// in the basis `(X, Y | k̂, ê, f̂)` (`Γ` diagonal there, no contact
-    /// damping), `Q` the generalised force at rest (the right-hand side at
+    /// in the basis `(X, Y | k̂, ê, f̂)` (`Γ` diagonal there without contact
+    /// damping; with it, the coupled step of §21.1,
+    /// [`super::thermostat::overdamped_coupled`]), `Q` the generalised force at rest (the right-hand side at
     /// zero velocity times `M`: gravity, the applied force, wells, the
     /// constraint); plus the drift along θ that makes the stationary density
     /// the Langevin run's configuration marginal `e^{−U/kT} sin θ
@@ -330,7 +331,7 @@ impl Vector {
         };
         let wd = [dy[OMEGA], dy[OMEGA + 1], dy[OMEGA + 2]];
         let acc = [dy[VEL], dy[VEL + 1], dot(wd, kn), dot(wd, eh), dot(wd, fh)];
-        let (p, drift) = super::thermostat::overdamped_on_plane(&b, &body, (s2, kn[2]), acc, h, xi);
+        let (p, drift) = super::thermostat::overdamped(&b, &body, [kn, eh, fh], s2, acc, h, xi);
         let w = add(add(scale(p[2], kn), scale(p[3], eh)), scale(p[4], fh));
         let rv = scale(h, w);
         let k = super::vec3::rotate(rv, [y[K], y[K + 1], y[K + 2]]);

@@ -2,7 +2,9 @@
 //! and the step-size rule (docs/physics.md §21; the keys themselves:
 //! [`crate::thermal`]).
 
-use crate::thermal::{MAX_BROWNIAN_STEP_RATE, MAX_STEP_RATE, SEED_RANGE, langevin_steps};
+use crate::thermal::{
+    MAX_BROWNIAN_CONTACT_RATIO, MAX_BROWNIAN_STEP_RATE, MAX_STEP_RATE, SEED_RANGE, langevin_steps,
+};
 use crate::{Error, Scenario};
 
 /// The rates \[1/s\] the step of a Langevin run must resolve, each with the
@@ -136,6 +138,36 @@ pub fn brownian_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
     out
 }
 
+/// The largest ratio of the contact damping's rates to the bath's own
+/// (`c/(m γ_t)`, `c (R + a)²/(γ_r A)`, `c R²/(γ_r C)`): the condition number
+/// the contact damping adds to the friction matrix of the overdamped step
+/// (docs/physics.md §21.1). Infinite when a bath damping is zero.
+pub fn contact_ratio(sc: &Scenario) -> f64 {
+    let c = sc.thermal.damping_contact;
+    if c == 0.0 {
+        0.0
+    } else {
+        c / bath_contact_scale(sc)
+    }
+}
+
+/// The smallest of the bath's dampings as contact coefficients \[N s/m\]:
+/// `m γ_t`, `γ_r A/(R + a)²`, `γ_r C/R²` (so [`contact_ratio`] is the
+/// contact damping over it).
+fn bath_contact_scale(sc: &Scenario) -> f64 {
+    let th = &sc.thermal;
+    let top = &sc.top;
+    let lever = top.radius + top.offset;
+    let (gt, gr) = (th.damping_translational, th.damping_rotational);
+    [
+        top.mass * gt,
+        gr * top.inertia_transverse / (lever * lever),
+        gr * top.inertia_axial / (top.radius * top.radius),
+    ]
+    .into_iter()
+    .fold(f64::INFINITY, f64::min)
+}
+
 /// The cross-key rules of the thermal keys and `solver.method =
 /// "langevin"` (docs/physics.md §21):
 ///
@@ -147,6 +179,10 @@ pub fn brownian_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
 /// - at `T > 0`: a seed, and `γ_t > 0`, `γ_r > 0` (every degree of
 ///   freedom coupled to the bath: contact damping alone leaves the spin of
 ///   an upright top undamped);
+/// - `method = "brownian"`: `γ_t > 0`, `γ_r > 0` always, the rigid model
+///   only in bilateral contact, and a contact damping at most
+///   `MAX_BROWNIAN_CONTACT_RATIO` times the bath's own ([`contact_ratio`]:
+///   the conditioning of the coupled mobility, §21.1);
 /// - the step rule `dt · max(step_rates) <= MAX_STEP_RATE`, the number of
 ///   steps within the step limit and at least `samples − 1`.
 pub fn check(sc: &Scenario) -> Result<(), Error> {
@@ -229,13 +265,6 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
         ));
     }
     if brownian {
-        if th.damping_contact != 0.0 {
-            return Err(Error::invalid(
-                "thermal.damping_contact",
-                format!("{} with method = \"brownian\"", th.damping_contact),
-                "0 with method = \"brownian\" (its mobility with the contact damping is not written yet; method = \"langevin\" has it)".into(),
-            ));
-        }
         for (key, v) in [
             ("damping_translational", th.damping_translational),
             ("damping_rotational", th.damping_rotational),
@@ -247,6 +276,20 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
                     "> 0 [1/s] with method = \"brownian\" (the mobility is its inverse)".into(),
                 ));
             }
+        }
+        let ratio = contact_ratio(sc);
+        if ratio > MAX_BROWNIAN_CONTACT_RATIO {
+            let limit = MAX_BROWNIAN_CONTACT_RATIO * bath_contact_scale(sc);
+            return Err(Error::invalid(
+                "thermal.damping_contact",
+                format!(
+                    "{:e} with method = \"brownian\" is {ratio:.3e} times the bath's own damping",
+                    th.damping_contact
+                ),
+                format!(
+                    "at most {limit:.3e} [N s/m] with method = \"brownian\" here: {MAX_BROWNIAN_CONTACT_RATIO:e} times the smallest of mass damping_translational, damping_rotational inertia_transverse / (radius + offset)^2 and damping_rotational inertia_axial / radius^2 (beyond, the friction matrix is too ill-conditioned for its mobility)"
+                ),
+            ));
         }
     }
     if th.is_hot() {
