@@ -196,6 +196,7 @@
 //! `Happened::Touchdown`). For unilateral contact, `contact_lost_at` is the first
 //! lift-off and `negative_normal_fraction` the fraction of time in flight.
 
+mod brownian;
 mod stem;
 
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
@@ -408,6 +409,11 @@ pub struct Rigid {
     thermal: Option<super::thermostat::Bath>,
     /// The Ornstein–Uhlenbeck step's coefficients from the last call.
     ou: super::thermostat::OuCache,
+    /// `solver.method = "brownian"`: with unilateral contact the top is the
+    /// overdamped free body above a wall (`rigid/brownian.rs`).
+    brownian: bool,
+    /// The wall's record of such a run (`rigid/brownian.rs`).
+    wall: brownian::Wall,
 }
 
 impl Rigid {
@@ -440,6 +446,8 @@ impl Rigid {
             gravity_si: sc.surface.gravity,
             thermal: super::thermostat::Bath::of(sc, &scales),
             ou: super::thermostat::OuCache::default(),
+            brownian: sc.solver.method == crate::Method::Brownian,
+            wall: brownian::Wall::default(),
         }
     }
 
@@ -1190,6 +1198,11 @@ impl OdeSystem<DIM> for Rigid {
         h: f64,
         xi: &[f64],
     ) -> Result<(), RigidError> {
+        // Unilateral contact: the free body above the wall (its own step,
+        // `rigid/brownian.rs`); bilateral and paper contact: on the plane.
+        if self.brownian_wall() {
+            return self.brownian_free_step(t, y, h, xi);
+        }
         self.brownian_step(t, y, h, xi)
     }
 
@@ -1249,6 +1262,8 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
         ev.retain(|(w, _)| *w != Watch::ThetaMax);
     }
     match (m.phase, m.contact.contact_mode()) {
+        // The Brownian free body above the wall: its records at step ends.
+        (Phase::Flight, _) if m.brownian_wall() => ev.push(brownian::wall_event()),
         (Phase::Flight, _) => {
             ev.push((
                 Watch::Touchdown,
@@ -1539,6 +1554,11 @@ impl Model<DIM> for Rigid {
     fn start(&mut self, sc: &Scenario, log: &mut RunLog) -> ([f64; DIM], f64) {
         let mut y = self.scale_state(&sc.initial);
         let n_initial = self.eval(&y).map(|e| e.normal).unwrap_or(f64::NAN);
+        if self.brownian_wall() {
+            // A free body from the start, recorded on the plane.
+            self.start_wall();
+            return (y, n_initial);
+        }
         if self.contact.contact_mode() == ContactMode::Unilateral && n_initial < 0.0 {
             self.phase = Phase::Flight;
             self.flight_start = 0.0;
@@ -1699,6 +1719,9 @@ impl Model<DIM> for Rigid {
 
     fn on_terminal(&mut self, what: Watch, t: f64, y: &mut [f64; DIM], log: &mut RunLog) -> Flow {
         let tu = self.scales.time;
+        if what == Watch::Touchdown && self.brownian_wall() {
+            return self.wall_terminal(t, y, log);
+        }
         match what {
             Watch::NormalZero if self.latches_normal() => {
                 // N = 0 (bilateral): continue on the other branch.
