@@ -162,6 +162,13 @@ impl Rigid {
         rule: WallRule,
     ) -> Result<(), RigidError> {
         let Some(b) = self.thermal else { return Ok(()) };
+        // A step of zero length is the identity (the engine's grid can
+        // produce one past ~1e7 steps, where `t/h` rounds by more than its
+        // landing slack; the noise's amplitude `sqrt(2 kT/(γ h))` would be
+        // infinite there).
+        if !(h > 0.0) {
+            return Ok(());
+        }
         self.phase = Phase::Flight;
         let en0 = self.energy_scaled(y);
         let mut rest = *y;
@@ -247,15 +254,32 @@ impl Rigid {
         let z = y[POS + 2];
         let res = |l: f64| z + l / b.gt + self.a * (th - c * l).cos() - self.rho + f * g0;
         let df = |l: f64| 1.0 / b.gt + self.a * c * (th - c * l).sin();
+        // Newton's method from the linearised λ, kept in a bracket
+        // [lo, hi] of the root (res(0) = (1 + f) g₀ < 0; res >= λ/γ_t +
+        // (1 + f) g₀ − 2|a| > 0 at hi), bisecting where a step leaves it.
+        let (mut lo, mut hi) = (0.0, b.gt * ((1.0 + f) * -g0 + 2.0 * self.a.abs()));
         let mut l = -(1.0 + f) * g0 / df(0.0);
-        for _ in 0..8 {
-            let d = df(l);
-            if !(d > 0.0) {
+        if !(l > lo && l < hi) {
+            l = 0.5 * (lo + hi);
+        }
+        for _ in 0..100 {
+            let r = res(l);
+            if r == 0.0 {
                 break;
             }
-            let dl = res(l) / d;
-            l -= dl;
-            if dl.abs() <= 4.0 * f64::EPSILON * l.abs() {
+            if r < 0.0 {
+                lo = l;
+            } else {
+                hi = l;
+            }
+            let d = df(l);
+            let mut next = l - r / d;
+            if !(d > 0.0 && next > lo && next < hi) {
+                next = 0.5 * (lo + hi);
+            }
+            let done = (next - l).abs() <= 4.0 * f64::EPSILON * l.abs();
+            l = next;
+            if done {
                 break;
             }
         }
