@@ -166,7 +166,7 @@ impl Rigid {
         // produce one past ~1e7 steps, where `t/h` rounds by more than its
         // landing slack; the noise's amplitude `sqrt(2 kT/(γ h))` would be
         // infinite there).
-        if !(h > 0.0) {
+        if h.is_nan() || h <= 0.0 {
             return Ok(());
         }
         self.phase = Phase::Flight;
