@@ -1447,7 +1447,12 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
     let v = m.output_velocity(y, &kin);
     let rolling = m.phase == Phase::Contact && m.contact.mode == Mode::Rolling;
     let h = m.contact.applied();
-    let normal = ev.map(|e| e.normal).unwrap_or(f64::NAN);
+    let normal = if m.brownian_wall() {
+        // The wall's mean force over the last step (rigid/brownian.rs).
+        m.wall.force
+    } else {
+        ev.map(|e| e.normal).unwrap_or(f64::NAN)
+    };
     // Position and attitude (docs/physics.md §19): the state's x_O (its
     // height the contact constraint's value in contact, the state's in
     // flight);
@@ -1814,6 +1819,7 @@ impl Model<DIM> for Rigid {
 
     fn normal_force(&self, y: &[f64; DIM]) -> Option<f64> {
         match self.phase {
+            Phase::Flight if self.brownian_wall() => Some(self.wall.force * self.scales.force()),
             Phase::Flight => Some(0.0),
             Phase::Contact => self.eval(y).ok().map(|e| e.normal * self.scales.force()),
         }

@@ -222,6 +222,28 @@ fn gibbs_density_above_the_wall() {
         1.0 - (-0.05f64).exp(),
         0.0025,
     );
+    // The wall's force (the N column: its impulse over each step): its
+    // time average balances the weight (the centre's vertical balance over
+    // the run: Σ λ = m g T + m γ_t (z_T − z_0) − the noise's sum, whose
+    // relative size is sqrt(2 D T)/(g T/γ_t) = sqrt(2/N_r), N_r = T D/ℓ_T²
+    // the run's length in relaxation times of the height), and the rows'
+    // average (1 step in 50) agrees.
+    let w = sc.top.mass * sc.surface.gravity;
+    let ni = tr.summary.normal_intervals.expect("a stochastic run");
+    let d = kt() / (sc.top.mass * sc.thermal.damping_translational);
+    let n_r = sc.solver.t_end * d / (len * len);
+    let bar = (2.0 / n_r).sqrt();
+    eprintln!(
+        "wall force: time average {:.5} of the weight (noise {bar:.4})",
+        ni.mean / w
+    );
+    assert!((ni.mean / w - 1.0).abs() < 5.0 * bar, "{} vs {w}", ni.mean);
+    check(
+        "wall <N> (rows) / (m g)",
+        mean_se(&rows.iter().map(|s| s.normal / w).collect::<Vec<_>>()),
+        1.0,
+        0.05,
+    );
     // Records: the level is min(R, kT/(m g)) = kT/(m g) here; lift-offs
     // and touchdowns alternate, and many excursions happen.
     let (lifts, downs) = records(&tr);
@@ -239,7 +261,8 @@ fn gibbs_density_above_the_wall() {
 /// separate) and the gap's density is
 /// `∝ e^{−m g z/kT + (E_b/kT) e^{−F_a z/E_b}}`: mean 0.38439 R by
 /// quadrature, against `kT/(m g)` = 0.667 R without adhesion (11 SE off),
-/// `P(gap < 0.1 R)` 0.28120 against 0.139 (20 SE off). 16 000 000 steps.
+/// `P(gap < 0.1 R)` 0.28120 against 0.139 (20 SE off); the wall's force
+/// `⟨N⟩ = m g + F_a ⟨e^{−F_a gap/E_b}⟩`. 16 000 000 steps.
 #[test]
 fn adhesion_above_the_wall() {
     let mut sc = wall_top(1.5);
@@ -267,6 +290,22 @@ fn adhesion_above_the_wall() {
     assert!((want - 0.384394).abs() < 1e-5, "{want}");
     let gaps: Vec<f64> = rows.iter().map(|s| gap(&sc, s, r)).collect();
     check("adhesive wall <gap> / R", mean_se(&gaps), want, 0.03);
+    // The wall's force balances the weight and the adhesion's mean pull:
+    // `⟨N⟩ = m g + F_a ⟨e^{−F_a gap/E_b}⟩` (Gibbs, by quadrature; without
+    // the adhesion's pull it would be m g).
+    let unit = kt() / r;
+    let want_n = 1.5 + 3.0 * gap_mean(p, |z| (-1.5 * z).exp());
+    let ni = tr.summary.normal_intervals.expect("a stochastic run");
+    check(
+        "adhesive wall <N> (rows) / (kT/R)",
+        mean_se(&rows.iter().map(|s| s.normal / unit).collect::<Vec<_>>()),
+        want_n,
+        0.2,
+    );
+    eprintln!(
+        "adhesive wall force: time average {:.5} kT/R (want {want_n:.5})",
+        ni.mean / unit
+    );
     // Near the wall, where the adhesion is strongest: P(gap < 0.1 R).
     let want_near = integral(0.1, p) / integral(40.0, p);
     assert!((want_near - 0.281202).abs() < 1e-5, "{want_near}");

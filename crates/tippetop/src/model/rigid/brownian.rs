@@ -23,6 +23,9 @@
 //! carries the constraint's metric factor `sqrt(1 + m a² sin²θ/A)`, the
 //! free body's on the wall does not: Fixman's theorem, docs §21.1).
 //!
+//! The `N` column is the wall's mean force over the last step, its
+//! impulse over the step ([`Wall::force`]).
+//!
 //! What is recorded: the top is *on the plane* from the start (its gap is
 //! 0) until the gap at a step end exceeds the level `ℓ` ([`Wall::level`]),
 //! where a `lift_off` is recorded; then *off* until a step's trial end
@@ -54,6 +57,10 @@ pub(crate) struct Wall {
     pub changes: u64,
     /// End time (scaled) of the step of the last record.
     pub at: f64,
+    /// The wall's mean force over the last step (scaled; the `N` column):
+    /// its impulse `λ` over the step, `λ/h` (the centre moved by `λ/(m
+    /// γ_t)` is what a force `λ/h` does in the step), 0 without a hit.
+    pub force: f64,
 }
 
 impl Default for Wall {
@@ -63,6 +70,7 @@ impl Default for Wall {
             on: true,
             changes: 0,
             at: 0.0,
+            force: 0.0,
         }
     }
 }
@@ -130,9 +138,7 @@ impl Rigid {
         };
         self.wall = Wall {
             level: self.rho.min(scale_len),
-            on: true,
-            changes: 0,
-            at: 0.0,
+            ..Wall::default()
         };
     }
 
@@ -195,27 +201,29 @@ impl Rigid {
         for i in 0..3 {
             y[POS + i] += h * v[i];
         }
-        let hit = match rule {
+        let impulse = match rule {
             WallRule::Mirror => self.mirror(y, &b, 1.0),
             #[cfg(test)]
             WallRule::Project => self.mirror(y, &b, 0.0),
             #[cfg(test)]
             WallRule::Clip => {
                 let g = self.gap(y);
-                if g < 0.0 {
+                (g < 0.0).then(|| {
                     y[POS + 2] -= g;
-                }
-                g < 0.0
+                    -g * b.gt
+                })
             }
             #[cfg(test)]
             WallRule::MirrorVertical => {
                 let g = self.gap(y);
-                if g < 0.0 {
+                (g < 0.0).then(|| {
                     y[POS + 2] -= 2.0 * g;
-                }
-                g < 0.0
+                    -2.0 * g * b.gt
+                })
             }
         };
+        let hit = impulse.is_some();
+        self.wall.force = impulse.map_or(0.0, |l| l / h);
         set3(y, VEL, vd);
         set3(y, OMEGA, nd);
         y[WF] += self.energy_scaled(y) - en0;
@@ -239,11 +247,11 @@ impl Rigid {
     /// is `−f g₀` (exactly on the path: `gap(λ) = z + λ/γ_t + a cos(θ −
     /// c λ) − ρ`, solved by Newton's method from the linearised `λ`):
     /// `f = 1` is the mirror, `f = 0` the projection (tests only).
-    /// Returns whether the step hit the wall.
-    fn mirror(&self, y: &mut [f64; DIM], b: &Bath, f: f64) -> bool {
+    /// Returns the impulse `λ` (scaled, `m = 1`) if the step hit the wall.
+    fn mirror(&self, y: &mut [f64; DIM], b: &Bath, f: f64) -> Option<f64> {
         let g0 = self.gap(y);
         if g0 >= 0.0 {
-            return false;
+            return None;
         }
         let k = v3(y, AXIS);
         // k × Z = (k_y, −k_x, 0), |k × Z| = sin θ.
@@ -291,8 +299,9 @@ impl Rigid {
         let g = self.gap(y);
         if g < 0.0 {
             y[POS + 2] -= g;
+            l -= g * b.gt;
         }
-        true
+        Some(l)
     }
 
     /// Update the record at the step's end `t_end` (module doc): off above
