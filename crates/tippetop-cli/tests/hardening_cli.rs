@@ -533,6 +533,23 @@ fn run_rejects_bad_thermal_input() {
             ),
             "thermal.damping_contact",
         ),
+        // The rigid Brownian body above a wall (unilateral contact,
+        // physics.md §21.2) with graphene's adhesion: the wall's thermal
+        // length kT/F_a = 7 pm binds the step (dt <= 2.8e-18 s here).
+        (
+            with(
+                &[
+                    "solver.method=\"brownian\"",
+                    "solver.model=\"rigid\"",
+                    "surface.contact=\"unilateral\"",
+                    "solver.dt=1e-16",
+                    "adhesion.force=5.9159e-10",
+                    "adhesion.energy=1.1696e-19",
+                ],
+                "solver.dt",
+            ),
+            "solver.dt",
+        ),
     ];
     for (sets, key) in cases {
         let mut args = vec!["run", "--preset", "nano", "--no-plot", "--out", o];

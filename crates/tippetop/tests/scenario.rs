@@ -896,13 +896,40 @@ fn thermal_keys_and_their_rules() {
             "thermal.damping_rotational",
         ),
         (&["solver.model=\"reduced\""][..], "solver.model"),
-        (
-            &["solver.model=\"rigid\"", "surface.contact=\"unilateral\""][..],
-            "surface.contact",
-        ),
     ] {
         expect_err(Some("nano"), None, &brown(extra), key);
     }
+    // The rigid model above a wall (unilateral contact, docs/physics.md
+    // §21.2): valid, with the paper's contact too (on the plane); with
+    // graphene's adhesion the wall's thermal length kT/F_a = 7 pm binds the
+    // step: 8e-17 s (within the tilt's rule on the plane) is refused,
+    // naming that rate.
+    for contact in [
+        &["surface.contact=\"unilateral\""][..],
+        &[
+            "surface.contact=\"paper\"",
+            "surface.friction_law=\"viscous\"",
+            "surface.friction_eps=1e-3",
+        ],
+    ] {
+        let mut set = vec!["solver.model=\"rigid\""];
+        set.extend_from_slice(contact);
+        Scenario::load(Some("nano"), None, &sets(&brown(&set)))
+            .expect("rigid brownian above the wall or on the plane");
+    }
+    let adhesive = [
+        "solver.model=\"rigid\"",
+        "surface.contact=\"unilateral\"",
+        "adhesion.force=5.9159e-10",
+        "adhesion.energy=1.1696e-19",
+        "solver.dt=8e-17",
+    ];
+    let shown = expect_err(Some("nano"), None, &brown(&adhesive), "solver.dt");
+    assert!(shown.contains("surface.contact"), "{shown}");
+    let mut bilateral = adhesive.to_vec();
+    bilateral[1] = "surface.contact=\"bilateral\"";
+    Scenario::load(Some("nano"), None, &sets(&brown(&bilateral)))
+        .expect("on the plane the wall's rule does not apply");
     // T = 0 with damping: a valid deterministic run; no seed needed.
     Scenario::load(
         Some("nano"),

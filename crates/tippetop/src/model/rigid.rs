@@ -196,6 +196,7 @@
 //! `Happened::Touchdown`). For unilateral contact, `contact_lost_at` is the first
 //! lift-off and `negative_normal_fraction` the fraction of time in flight.
 
+mod brownian;
 mod stem;
 
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
@@ -408,6 +409,11 @@ pub struct Rigid {
     thermal: Option<super::thermostat::Bath>,
     /// The Ornstein–Uhlenbeck step's coefficients from the last call.
     ou: super::thermostat::OuCache,
+    /// `solver.method = "brownian"`: with unilateral contact the top is the
+    /// overdamped free body above a wall (`rigid/brownian.rs`).
+    brownian: bool,
+    /// The wall's record of such a run (`rigid/brownian.rs`).
+    wall: brownian::Wall,
 }
 
 impl Rigid {
@@ -440,6 +446,8 @@ impl Rigid {
             gravity_si: sc.surface.gravity,
             thermal: super::thermostat::Bath::of(sc, &scales),
             ou: super::thermostat::OuCache::default(),
+            brownian: sc.solver.method == crate::Method::Brownian,
+            wall: brownian::Wall::default(),
         }
     }
 
@@ -1191,6 +1199,11 @@ impl OdeSystem<DIM> for Rigid {
         h: f64,
         xi: &[f64],
     ) -> Result<(), RigidError> {
+        // Unilateral contact: the free body above the wall (its own step,
+        // `rigid/brownian.rs`); bilateral and paper contact: on the plane.
+        if self.brownian_wall() {
+            return self.brownian_free_step(t, y, h, xi);
+        }
         self.brownian_step(t, y, h, xi)
     }
 
@@ -1250,6 +1263,8 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
         ev.retain(|(w, _)| *w != Watch::ThetaMax);
     }
     match (m.phase, m.contact.contact_mode()) {
+        // The Brownian free body above the wall: its records at step ends.
+        (Phase::Flight, _) if m.brownian_wall() => ev.push(brownian::wall_event()),
         (Phase::Flight, _) => {
             ev.push((
                 Watch::Touchdown,
@@ -1433,7 +1448,12 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
     let v = m.output_velocity(y, &kin);
     let rolling = m.phase == Phase::Contact && m.contact.mode == Mode::Rolling;
     let h = m.contact.applied();
-    let normal = ev.map(|e| e.normal).unwrap_or(f64::NAN);
+    let normal = if m.brownian_wall() {
+        // The wall's mean force over the last step (rigid/brownian.rs).
+        m.wall.force
+    } else {
+        ev.map(|e| e.normal).unwrap_or(f64::NAN)
+    };
     // Position and attitude (docs/physics.md §19): the state's x_O (its
     // height the contact constraint's value in contact, the state's in
     // flight);
@@ -1540,6 +1560,11 @@ impl Model<DIM> for Rigid {
     fn start(&mut self, sc: &Scenario, log: &mut RunLog) -> ([f64; DIM], f64) {
         let mut y = self.scale_state(&sc.initial);
         let n_initial = self.eval(&y).map(|e| e.normal).unwrap_or(f64::NAN);
+        if self.brownian_wall() {
+            // A free body from the start, recorded on the plane.
+            self.start_wall();
+            return (y, n_initial);
+        }
         if self.contact.contact_mode() == ContactMode::Unilateral && n_initial < 0.0 {
             self.phase = Phase::Flight;
             self.flight_start = 0.0;
@@ -1700,6 +1725,9 @@ impl Model<DIM> for Rigid {
 
     fn on_terminal(&mut self, what: Watch, t: f64, y: &mut [f64; DIM], log: &mut RunLog) -> Flow {
         let tu = self.scales.time;
+        if what == Watch::Touchdown && self.brownian_wall() {
+            return self.wall_terminal(t, y, log);
+        }
         match what {
             Watch::NormalZero if self.latches_normal() => {
                 // N = 0 (bilateral): continue on the other branch.
@@ -1792,6 +1820,7 @@ impl Model<DIM> for Rigid {
 
     fn normal_force(&self, y: &[f64; DIM]) -> Option<f64> {
         match self.phase {
+            Phase::Flight if self.brownian_wall() => Some(self.wall.force * self.scales.force()),
             Phase::Flight => Some(0.0),
             Phase::Contact => self.eval(y).ok().map(|e| e.normal * self.scales.force()),
         }

@@ -168,6 +168,45 @@ fn bath_contact_scale(sc: &Scenario) -> f64 {
     .fold(f64::INFINITY, f64::min)
 }
 
+/// The rates \[1/s\] the step of the rigid model's Brownian run above a
+/// wall (unilateral contact, docs/physics.md §21.2) must resolve besides
+/// [`brownian_rates`]: the gap's diffusion over the wall's thermal length
+/// `kT/F_w` (`F_w = m g + F_a + |h_z|`, the potential's slope at the
+/// wall), `F_w² (1/(m γ_t) + a²/(γ_r A))/kT` (so the rms step of the gap is
+/// `<= 0.063 kT/F_w` at the rule's limit), and the adhesion well's
+/// curvature rate `F_a²/(E_b m γ_t)`. None at `T = 0`.
+pub fn wall_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
+    let th = &sc.thermal;
+    let top = &sc.top;
+    let kt = th.kt();
+    let load = top.mass * sc.surface.gravity
+        + sc.adhesion.force
+        + sc.forcing
+            .windows
+            .iter()
+            .map(|w| w.hz.abs())
+            .fold(0.0, f64::max);
+    let mobility = 1.0 / (top.mass * th.damping_translational)
+        + top.offset * top.offset / (th.damping_rotational * top.inertia_transverse);
+    let mut out = Vec::new();
+    if kt > 0.0 {
+        out.push((
+            load * load * mobility / kt,
+            "surface.contact",
+            "(mass gravity + adhesion force + |hz|)^2 (1/(mass damping_translational) + offset^2/(damping_rotational inertia_transverse)) / kT (the gap's diffusion over the wall's thermal length, unilateral contact)",
+        ));
+    }
+    if sc.adhesion.force > 0.0 && sc.adhesion.energy > 0.0 {
+        out.push((
+            sc.adhesion.force * sc.adhesion.force
+                / (sc.adhesion.energy * top.mass * th.damping_translational),
+            "adhesion.force",
+            "adhesion force^2 / (adhesion energy mass damping_translational) (the adhesion well's curvature, unilateral contact)",
+        ));
+    }
+    out
+}
+
 /// The cross-key rules of the thermal keys and `solver.method =
 /// "langevin"` (docs/physics.md §21):
 ///
@@ -217,16 +256,10 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
         return Ok(());
     }
     let rigid_langevin = so.model == crate::ModelKind::Rigid;
-    if rigid_langevin && brownian && sc.surface.contact != crate::ContactMode::Bilateral {
-        return Err(Error::invalid(
-            "surface.contact",
-            format!(
-                "\"{}\" with model = \"rigid\" and method = \"brownian\": the overdamped free body in flight is not validated yet",
-                sc.surface.contact.name()
-            ),
-            "\"bilateral\" with the rigid model's Brownian method; method = \"langevin\" for flights".into(),
-        ));
-    }
+    // The rigid model's Brownian method with unilateral contact is the
+    // overdamped free body above a wall (docs/physics.md §21.2): its step
+    // must resolve the wall's thermal length too ([`wall_rates`]).
+    let wall = rigid_langevin && brownian && sc.surface.contact == crate::ContactMode::Unilateral;
     if so.model != crate::ModelKind::Vector && !rigid_langevin {
         let name = match so.model {
             crate::ModelKind::Reduced => "reduced",
@@ -314,7 +347,11 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
             }
         }
     }
-    let rates = if brownian {
+    let rates = if wall {
+        let mut r = brownian_rates(sc);
+        r.extend(wall_rates(sc));
+        r
+    } else if brownian {
         brownian_rates(sc)
     } else {
         step_rates(sc)

@@ -34,6 +34,7 @@
 
 mod actuators;
 mod adhesion;
+mod brownian_wall;
 mod closed_forms;
 mod contensou;
 mod convergence;
