@@ -262,3 +262,45 @@ fn brownian_engine_is_weak_order_one() {
     eprintln!("brownian weak order {p:.4}");
     assert!((p - 1.0).abs() < 0.05, "order {p}");
 }
+
+/// Far along the grid (steps numbered from 3e7 and from 2^40, where `t/h`
+/// of a grid time is off by more than the 1e-9 landing slack), every step
+/// is a whole step: 1 000 steps of `h` in exactly 1 000 engine steps, the
+/// time ending on `t_end`. Before session 9 the engine took zero-length
+/// steps there (its next grid point was the current time) and ran out of
+/// `max_steps`.
+#[test]
+fn steps_far_along_the_grid_are_whole_steps() {
+    let h = 0.01;
+    for k0 in [30_000_000u64, 1 << 40] {
+        let t0 = k0 as f64 * h;
+        let t_end = (k0 + 1000) as f64 * h;
+        let opts = Options {
+            stepper: Stepper::Langevin {
+                h,
+                seed: 7,
+                run: 0,
+                first_step: k0,
+            },
+            max_steps: 1000,
+            h0: None,
+            h_max: None,
+        };
+        let out = solve(
+            &mut Osc,
+            &opts,
+            t0,
+            [1.0, 0.0],
+            t_end,
+            &[],
+            &[],
+            &[],
+            &mut |_, _, _| {},
+            &mut |_, _, _| {},
+        )
+        .unwrap_or_else(|e| panic!("from step {k0}: {e:?}"));
+        assert_eq!(out.stats.steps, 1000, "from step {k0}");
+        assert_eq!(out.t, t_end);
+        assert!(out.y.iter().all(|v| v.is_finite()));
+    }
+}
