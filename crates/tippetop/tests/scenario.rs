@@ -930,6 +930,19 @@ fn thermal_keys_and_their_rules() {
     bilateral[1] = "surface.contact=\"bilateral\"";
     Scenario::load(Some("nano"), None, &sets(&brown(&bilateral)))
         .expect("on the plane the wall's rule does not apply");
+    // Above the wall the body touches the plane at instants only: a contact
+    // damping would have nothing to act on and is refused, not ignored.
+    let damped = [
+        "solver.model=\"rigid\"",
+        "surface.contact=\"unilateral\"",
+        "thermal.damping_contact=1e-13",
+    ];
+    expect_err(
+        Some("nano"),
+        None,
+        &brown(&damped),
+        "thermal.damping_contact",
+    );
     // T = 0 with damping: a valid deterministic run; no seed needed.
     Scenario::load(
         Some("nano"),

@@ -310,6 +310,19 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
                 ));
             }
         }
+        if wall && th.damping_contact != 0.0 {
+            // Above a wall the body touches the plane at instants only (a
+            // reflected diffusion): a viscous slip law has no contact time
+            // to act over, and ignoring the key silently would mislead.
+            return Err(Error::invalid(
+                "thermal.damping_contact",
+                format!(
+                    "{:e} with model = \"rigid\", method = \"brownian\" and contact = \"unilateral\"",
+                    th.damping_contact
+                ),
+                "0 for the free body above a wall (it touches the plane at instants only, docs/physics.md §21.2); contact = \"bilateral\" keeps the top on the plane with its contact damping".into(),
+            ));
+        }
         let ratio = contact_ratio(sc);
         if ratio > MAX_BROWNIAN_CONTACT_RATIO {
             let limit = MAX_BROWNIAN_CONTACT_RATIO * bath_contact_scale(sc);
