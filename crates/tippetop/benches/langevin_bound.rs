@@ -29,12 +29,14 @@
 //! normals against `random::Stream` (bit for bit), the polynomials against
 //! `f64::atan2`/`f64::exp`.
 //!
-//! The lanes need the CPU's widest vectors, which the committed build does
-//! not assume (no `target-cpu`):
+//! The lanes need the CPU's widest vectors and FMA, which the committed
+//! build does not assume (no `target-cpu`); LLVM also prefers 256-bit
+//! vectors on this CPU unless told otherwise:
 //!
-//! `RUSTFLAGS="-C target-cpu=native" cargo bench -p tippetop --bench langevin_bound`
+//! `RUSTFLAGS="-C target-cpu=native -C target-feature=-prefer-256-bit" cargo bench -p tippetop --bench langevin_bound`
 //!
-//! (without it the lanes compile to SSE2, two lanes a register).
+//! (without the flags the lanes compile to SSE2, two lanes a register, and
+//! the polynomials round twice; the measurements are in docs/performance.md).
 
 // Component loops index several arrays at once; iterators would obscure them.
 #![allow(clippy::needless_range_loop)]
@@ -116,6 +118,39 @@ fn product_state(y: &[f64; M]) -> [f64; DIM] {
     p
 }
 
+/// `1/(2j + 1)`: the Taylor coefficients of `atan t = t Σ_j (−t²)^j/(2j + 1)`.
+const ATAN_C: [f64; 21] = {
+    let mut c = [0.0; 21];
+    let mut j = 0;
+    while j < 21 {
+        c[j] = 1.0 / (2 * j + 1) as f64;
+        j += 1;
+    }
+    c
+};
+
+/// `1/j!`: the Taylor coefficients of `exp r`.
+const EXP_C: [f64; 14] = {
+    let mut c = [1.0; 14];
+    let mut j = 1;
+    while j < 14 {
+        c[j] = c[j - 1] / j as f64;
+        j += 1;
+    }
+    c
+};
+
+/// `a b + c`, fused where the build has FMA (the bound's polynomials; the
+/// committed build has none, so it rounds twice there).
+#[inline(always)]
+fn madd(a: f64, b: f64, c: f64) -> f64 {
+    if cfg!(target_feature = "fma") {
+        a.mul_add(b, c)
+    } else {
+        a * b + c
+    }
+}
+
 /// `atan2(s, c)` for `s >= 0`, without branches: `t = min/max ∈ [0, 1]`,
 /// folded to `|t'| <= tan(π/8)` by `t' = (t − 1)/(t + 1)` (+ π/4), then the
 /// Taylor series to `t'^41` (relative error below 1e-17 there).
@@ -126,12 +161,10 @@ fn atan2_poly(s: f64, c: f64) -> f64 {
     let t = s.min(ac) / s.max(ac);
     let big = t > 0.414_213_562_373_095_1;
     let tr = if big { (t - 1.0) / (t + 1.0) } else { t };
-    let t2 = tr * tr;
-    let mut p = 1.0 / 41.0;
-    let mut n = 39.0;
-    while n > 0.0 {
-        p = p * -t2 + 1.0 / n;
-        n -= 2.0;
+    let mt2 = -(tr * tr);
+    let mut p = ATAN_C[20];
+    for j in (0..20).rev() {
+        p = madd(p, mt2, ATAN_C[j]);
     }
     let a = p * tr + if big { FRAC_PI_4 } else { 0.0 };
     let a = if s > ac { FRAC_PI_2 - a } else { a };
@@ -147,23 +180,9 @@ fn exp_poly(x: f64) -> f64 {
     const LN2_LO: f64 = 1.908_214_929_270_587_7e-10;
     let n = (x * std::f64::consts::LOG2_E).round();
     let r = (x - n * LN2_HI) - n * LN2_LO;
-    let mut p = 1.0 / 6_227_020_800.0;
-    for d in [
-        479_001_600.0,
-        39_916_800.0,
-        3_628_800.0,
-        362_880.0,
-        40_320.0,
-        5_040.0,
-        720.0,
-        120.0,
-        24.0,
-        6.0,
-        2.0,
-        1.0,
-        1.0,
-    ] {
-        p = p * r + 1.0 / d;
+    let mut p = EXP_C[13];
+    for j in (0..13).rev() {
+        p = madd(p, r, EXP_C[j]);
     }
     p * f64::from_bits(((n as i64 + 1023) as u64) << 52)
 }
