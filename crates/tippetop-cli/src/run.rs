@@ -103,7 +103,14 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     if !quiet {
         print!(
             "{}",
-            human_summary(&traj, wall_seconds, &args.out, &written, &plots)
+            human_summary(
+                &traj,
+                flies(&scenario),
+                wall_seconds,
+                &args.out,
+                &written,
+                &plots
+            )
         );
     }
     match &traj.error {
@@ -303,9 +310,19 @@ pub fn write_plots(dir: &Path, scenario: &Scenario, traj: &Trajectory) -> Result
     Ok(stems)
 }
 
-/// The short human summary printed at the end of a run (without `--quiet`).
+/// True when the run's top can leave the plane (the rigid model with
+/// unilateral contact): its summary's `contact_lost_at` is then the first
+/// lift-off and `negative_normal_fraction` the fraction of time in flight.
+pub fn flies(sc: &tippetop::Scenario) -> bool {
+    sc.solver.model == tippetop::ModelKind::Rigid
+        && sc.surface.contact == tippetop::ContactMode::Unilateral
+}
+
+/// The short human summary printed at the end of a run (without `--quiet`);
+/// `flies` as [`flies`] says.
 pub fn human_summary(
     traj: &Trajectory,
+    flies: bool,
     wall_seconds: f64,
     out: &Path,
     written: &[PathBuf],
@@ -360,11 +377,19 @@ pub fn human_summary(
         v(s.energy_balance_max_rel_error),
     ));
     if let Some(t) = s.contact_lost_at {
-        o.push_str(&format!(
-            "contact:     N < 0 first at t = {} s ({}% of the time)\n",
-            v(t),
-            v(100.0 * s.negative_normal_fraction)
-        ));
+        o.push_str(&if flies {
+            format!(
+                "contact:     lifts off first at t = {} s, in flight {}% of the time\n",
+                v(t),
+                v(100.0 * s.negative_normal_fraction)
+            )
+        } else {
+            format!(
+                "contact:     N < 0 first at t = {} s ({}% of the time)\n",
+                v(t),
+                v(100.0 * s.negative_normal_fraction)
+            )
+        });
     }
     if let Some(st) = &s.stem {
         match st.first_stem_contact_at {
@@ -482,7 +507,7 @@ mod tests {
             } else {
                 assert_eq!(json["status"], "ok");
             }
-            let text = human_summary(&traj, 0.5, dir.path(), &written, &plots);
+            let text = human_summary(&traj, false, 0.5, dir.path(), &written, &plots);
             assert!(text.contains("theta:") && text.contains("wall time:"));
             assert!(text.contains("theta.{png,svg}"));
             assert_eq!(text.contains("FAILED"), failed);

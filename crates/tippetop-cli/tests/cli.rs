@@ -749,3 +749,47 @@ fn sweep_help_documents_plots_lock_threads_and_resume() {
         assert!(help.contains(word), "sweep --help lacks {word:?}");
     }
 }
+
+/// The summary's contact line names what `contact_lost_at` is: the first
+/// N < 0 for a top held on the plane, the first lift-off for the rigid model
+/// with unilateral contact (whose fraction is then the time in flight). Both
+/// at the paper's 3.08 µs (README), the printed time that of summary.json.
+#[test]
+fn contact_line_says_lift_off_for_a_top_that_flies() {
+    let dir = tempfile::tempdir().unwrap();
+    for (sets, words) in [
+        (&[][..], "contact:     N < 0 first at t = "),
+        (
+            &["solver.model=\"rigid\"", "surface.contact=\"unilateral\""][..],
+            "contact:     lifts off first at t = ",
+        ),
+    ] {
+        let out = dir.path().join(format!("r{}", sets.len()));
+        let mut cmd = tippetop();
+        cmd.args([
+            "run",
+            "--no-plot",
+            "--preset",
+            "nano",
+            "--set",
+            "solver.t_end=1e-5",
+        ]);
+        for s in sets {
+            cmd.args(["--set", s]);
+        }
+        let assert = cmd
+            .args(["--out", out.to_str().unwrap()])
+            .assert()
+            .success();
+        let stdout = String::from_utf8(assert.get_output().stdout.clone()).unwrap();
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(words))
+            .unwrap_or_else(|| panic!("no {words:?} in {stdout}"));
+        let json: serde_json::Value =
+            serde_json::from_str(&fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+        let t = json["contact_lost_at"].as_f64().unwrap();
+        assert!((t - 3.08e-6).abs() < 0.005e-6, "{t}");
+        assert!(line.contains("t = 3.08e-6 s"), "{line}");
+    }
+}
