@@ -19,6 +19,7 @@
 //! the projection, a vertical mirror) are measured against the same closed
 //! form in the unit test `model::rigid::brownian::tests` (10 to 49 SE off).
 
+use super::thermal::{density_mean, mean_se};
 use tippetop::thermal::{BOLTZMANN, MAX_BROWNIAN_STEP_RATE};
 use tippetop::{
     Adhesion, ContactMode, ForceWindow, Forcing, Method, ModelKind, Sample, Scenario, Trajectory,
@@ -99,17 +100,6 @@ fn at_rule(mut sc: Scenario, steps: usize, every: usize) -> Scenario {
     sc.solver.t_end = dt * steps as f64;
     sc.solver.samples = steps / every + 1;
     sc
-}
-
-fn mean_se(values: &[f64]) -> (f64, f64) {
-    let nb = 40;
-    let per = values.len() / nb;
-    let means: Vec<f64> = (0..nb)
-        .map(|b| values[b * per..(b + 1) * per].iter().sum::<f64>() / per as f64)
-        .collect();
-    let m = means.iter().sum::<f64>() / nb as f64;
-    let var = means.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (nb - 1) as f64;
-    (m, (var / nb as f64).sqrt())
 }
 
 fn check(what: &str, (mean, se): (f64, f64), want: f64, max_se: f64) {
@@ -342,24 +332,13 @@ fn well_above_the_wall() {
     let tr = simulate(&sc).expect("valid");
     assert!(tr.error.is_none(), "{:?}", tr.error);
     let rows = settled(&tr);
-    let n = 20_000;
-    let h = std::f64::consts::PI / n as f64;
-    let (mut num, mut den) = (0.0, 0.0);
-    for i in 0..=n {
-        let th = i as f64 * h;
-        let w = if i == 0 || i == n {
-            1.0
-        } else if i % 2 == 1 {
-            4.0
-        } else {
-            2.0
-        };
-        let u = -2.0 * (-0.5 * ((th - 2.0) / 0.5f64).powi(2)).exp();
-        let p = th.sin() * (0.9 * th.cos()).exp() * (-u).exp();
-        num += w * p * th.cos();
-        den += w * p;
-    }
-    let want = num / den;
+    let want = density_mean(
+        |th| {
+            let u = -2.0 * (-0.5 * ((th - 2.0) / 0.5f64).powi(2)).exp();
+            th.sin() * (0.9 * th.cos()).exp() * (-u).exp()
+        },
+        f64::cos,
+    );
     assert!((want + 0.039155).abs() < 1e-5, "{want}");
     check(
         "well above the wall <cos theta>",

@@ -69,7 +69,7 @@ fn long_run() -> &'static (Scenario, Trajectory) {
 /// Mean and standard error of a time series from 40 batch means (each
 /// batch much longer than the correlation time, so the batch means are
 /// independent to a good approximation).
-fn mean_se(values: &[f64]) -> (f64, f64) {
+pub(super) fn mean_se(values: &[f64]) -> (f64, f64) {
     let nb = 40;
     let per = values.len() / nb;
     let means: Vec<f64> = (0..nb)
@@ -90,7 +90,7 @@ fn batch_mean(tr: &Trajectory, f: impl Fn(&tippetop::Sample) -> f64) -> (f64, f6
 /// `∫ g p dθ / ∫ p dθ` over `[0, π]` (composite Simpson, 20 000
 /// intervals: error far below the Monte Carlo's): the mean of `g` under the
 /// orientation density `p`.
-fn density_mean(p: impl Fn(f64) -> f64, g: impl Fn(f64) -> f64) -> f64 {
+pub(super) fn density_mean(p: impl Fn(f64) -> f64, g: impl Fn(f64) -> f64) -> f64 {
     let n = 20_000;
     let h = std::f64::consts::PI / n as f64;
     let (mut num, mut den) = (0.0, 0.0);
