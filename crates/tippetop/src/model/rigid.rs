@@ -855,8 +855,9 @@ impl Rigid {
         xi: &[f64],
     ) -> Result<(), RigidError> {
         let Some(b) = self.thermal else { return Ok(()) };
-        // The validation keeps a rigid Brownian run in bilateral contact:
-        // it never flies (the free body's overdamped step is not written).
+        // Only bilateral and paper contact come here (`overdamped_step`
+        // sends unilateral contact to the free body above the wall), and
+        // they never fly.
         if self.phase != Phase::Contact {
             return Ok(());
         }
