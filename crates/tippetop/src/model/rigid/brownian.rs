@@ -491,4 +491,130 @@ mod tests {
             assert!(z[i][0].2.abs() > 8.0, "{name} not caught: {:?}", z[i]);
         }
     }
+
+    /// The weak order of the mirrored step, measured: `E[f(y_T)]` for
+    /// `f` = the gap (in `kT/(m g)`) and `cos θ` at `T = 32 H`, from the
+    /// top standing on the wall at θ = 1, with steps `H, H/2, H/4, H/8`
+    /// (`H` = 16 times the rule's limit, so the tilt relaxes about once by
+    /// `T`), each path's coarse normals the scaled sums of its fine ones
+    /// (coupled: the differences between step sizes have small variance).
+    /// A scheme of weak order `p` has `E_h − E_{h/2} ∝ h^p`, so successive
+    /// differences shrink by `2^p`. Bossy, Gobet & Talay (2004) prove order
+    /// 1 for the symmetrised reflected Euler scheme in R^d. Measured
+    /// (200 000 paths, session 9; docs/physics.md §21.2): the gap's
+    /// differences 0.00310 ± 0.00019, 0.00104 ± 0.00013, 0.00048 ± 0.00009
+    /// (order 1.6, 1.1), but `cos θ`'s 0.00317 ± 0.00013, 0.00227 ± 0.00009,
+    /// 0.00166 ± 0.00006 (order 0.48, 0.45): the tilt converges at order
+    /// 1/2 at the wall (far from it, the same differences are ~1e-4; with
+    /// Bossy–Gobet–Talay's exact symmetric point, `λ = 2 λ₁` along the
+    /// conormal, instead of `gap = −g₀`, the gap's differences vanish but
+    /// the tilt's stay at order 0.43–0.55: tried, not kept). The assertions
+    /// guard what is measured, not the theory's 1 for the tilt.
+    /// ~20 s in release:
+    /// `cargo test -p tippetop --release --lib weak_order_at_the_wall -- --ignored --nocapture`.
+    #[test]
+    #[ignore = "200 000 coupled paths at 4 step sizes: ~20 s in release"]
+    fn weak_order_at_the_wall() {
+        let sc = wall_top();
+        let proto = Rigid::new(&sc);
+        let tu = proto.scales.time;
+        let (gam, ia) = (sc.thermal.damping_rotational, sc.top.inertia_transverse);
+        let load_rate =
+            sc.top.mass * sc.surface.gravity * (sc.top.radius + sc.top.offset) / (gam * ia);
+        let big = 16.0 * crate::thermal::MAX_BROWNIAN_STEP_RATE / load_rate / tu;
+        let (levels, coarse_steps) = (4usize, 32usize);
+        let paths: u64 = 200_000;
+        let fine = coarse_steps << (levels - 1);
+        let height = proto.thermal.unwrap().kt / proto.g;
+        // Sums over paths of f at T for each level (H, H/2, …) and of the
+        // differences between neighbouring levels (and their squares).
+        let mut mean = [[0.0f64; 2]; 4];
+        let mut diff = [[0.0f64; 2]; 3];
+        let mut diff2 = [[0.0f64; 2]; 3];
+        let mut xi_f = vec![[0.0f64; 6]; fine];
+        for path in 0..paths {
+            let stream = crate::random::Stream::new(11, path);
+            for (i, x) in xi_f.iter_mut().enumerate() {
+                stream.normals(i as u64, x);
+            }
+            let mut out = [[0.0f64; 2]; 4];
+            for (l, o) in out.iter_mut().enumerate() {
+                // Level l: 2^l steps per coarse step, each of big/2^l, its
+                // normals the sums of 2^(3−l) fine ones over sqrt(2^(3−l)).
+                let per = 1usize << l;
+                let group = 1usize << (levels - 1 - l);
+                let h = big / per as f64;
+                let mut m = proto.clone();
+                m.latch_force(0.0);
+                m.start_wall();
+                let mut y = m.scale_state(&sc.initial);
+                let norm = 1.0 / (group as f64).sqrt();
+                for j in 0..coarse_steps * per {
+                    let mut xi = [0.0; 6];
+                    for g in &xi_f[j * group..(j + 1) * group] {
+                        for c in 0..6 {
+                            xi[c] += g[c];
+                        }
+                    }
+                    for c in &mut xi {
+                        *c *= norm;
+                    }
+                    m.free_step(j as f64 * h, &mut y, h, &xi, WallRule::Mirror)
+                        .unwrap();
+                }
+                *o = [m.gap(&y) / height, v3(&y, AXIS)[2]];
+            }
+            for l in 0..4 {
+                for q in 0..2 {
+                    mean[l][q] += out[l][q];
+                    if l < 3 {
+                        let d = out[l][q] - out[l + 1][q];
+                        diff[l][q] += d;
+                        diff2[l][q] += d * d;
+                    }
+                }
+            }
+        }
+        let n = paths as f64;
+        for (q, name) in ["gap", "cos theta"].into_iter().enumerate() {
+            let d: Vec<(f64, f64)> = (0..3)
+                .map(|l| {
+                    let m = diff[l][q] / n;
+                    (m, ((diff2[l][q] / n - m * m) / n).sqrt())
+                })
+                .collect();
+            let ratios = [d[0].0 / d[1].0, d[1].0 / d[2].0];
+            eprintln!(
+                "{name}: E at H..H/8 {:?}; E_h - E_h/2 = {:.5} ± {:.5}, {:.5} ± {:.5}, {:.5} ± {:.5}; ratios {:.2}, {:.2} (order {:.2}, {:.2})",
+                (0..4).map(|l| mean[l][q] / n).collect::<Vec<_>>(),
+                d[0].0,
+                d[0].1,
+                d[1].0,
+                d[1].1,
+                d[2].0,
+                d[2].1,
+                ratios[0],
+                ratios[1],
+                ratios[0].log2(),
+                ratios[1].log2()
+            );
+            // Each difference resolved (> 4 SE) and shrinking: the scheme
+            // is consistent. The last ratio's order: the gap's (SE ~0.33
+            // from the differences' SEs) above 0.3; the tilt's (SE ~0.08)
+            // within 0.35 of 1/2, which excludes 1 (a known gap: a scheme
+            // that reaches order 1 for the tilt fails here, on purpose, and
+            // updates this test and §21.2).
+            assert!(
+                d[0].0 > 4.0 * d[0].1 && d[2].0 > 4.0 * d[2].1,
+                "{name}: {d:?}"
+            );
+            assert!(d[2].0 < d[0].0, "{name}: not converging: {d:?}");
+            let order = ratios[1].log2();
+            if q == 0 {
+                assert!(order > 0.3, "{name}: order {order}");
+            } else {
+                assert!((order - 0.5).abs() < 0.35, "{name}: order {order}");
+            }
+        }
+    }
 }
