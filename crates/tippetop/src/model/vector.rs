@@ -297,7 +297,8 @@ impl Vector {
     /// §21): the generalised velocity is `p = Γ⁻¹ Q + sqrt(2 kT/h) Γ^{−1/2} ξ`
     /// in the basis `(X, Y | k̂, ê, f̂)` (`Γ` diagonal there without contact
     /// damping; with it, the coupled step of §21.1,
-    /// [`super::thermostat::overdamped_coupled`]), `Q` the generalised force at rest (the right-hand side at
+    /// [`super::thermostat::overdamped_coupled`]), `Q` the generalised force
+    /// at rest (the right-hand side at
     /// zero velocity times `M`: gravity, the applied force, wells, the
     /// constraint); plus the drift along θ that makes the stationary density
     /// the Langevin run's configuration marginal `e^{−U/kT} sin θ

@@ -218,10 +218,11 @@ pub fn wall_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
 /// - at `T > 0`: a seed, and `γ_t > 0`, `γ_r > 0` (every degree of
 ///   freedom coupled to the bath: contact damping alone leaves the spin of
 ///   an upright top undamped);
-/// - `method = "brownian"`: `γ_t > 0`, `γ_r > 0` always, the rigid model
-///   only in bilateral contact, and a contact damping at most
-///   `MAX_BROWNIAN_CONTACT_RATIO` times the bath's own ([`contact_ratio`]:
-///   the conditioning of the coupled mobility, §21.1);
+/// - `method = "brownian"`: `γ_t > 0`, `γ_r > 0` always, a contact damping
+///   at most `MAX_BROWNIAN_CONTACT_RATIO` times the bath's own
+///   ([`contact_ratio`]: the conditioning of the coupled mobility, §21.1),
+///   none for the rigid model with unilateral contact (the free body above
+///   a wall, §21.2, whose step rule adds [`wall_rates`]);
 /// - the step rule `dt · max(step_rates) <= MAX_STEP_RATE`, the number of
 ///   steps within the step limit and at least `samples − 1`.
 pub fn check(sc: &Scenario) -> Result<(), Error> {

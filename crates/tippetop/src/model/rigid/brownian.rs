@@ -168,10 +168,10 @@ impl Rigid {
         rule: WallRule,
     ) -> Result<(), RigidError> {
         let Some(b) = self.thermal else { return Ok(()) };
-        // A step of zero length is the identity (the engine's grid can
-        // produce one past ~1e7 steps, where `t/h` rounds by more than its
-        // landing slack; the noise's amplitude `sqrt(2 kT/(γ h))` would be
-        // infinite there).
+        // A step of zero length is the identity (the noise's amplitude
+        // `sqrt(2 kT/(γ h))` would be infinite). The engine no longer takes
+        // such steps (its landing slack grows with the step number since
+        // session 9); this guard stays for direct callers.
         if h.is_nan() || h <= 0.0 {
             return Ok(());
         }
