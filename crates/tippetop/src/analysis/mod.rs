@@ -8,6 +8,7 @@ pub mod bitmap;
 pub mod device;
 pub mod ensemble;
 pub mod friction;
+pub mod rare;
 pub mod regime;
 pub mod retention;
 pub mod search;

@@ -1,0 +1,1 @@
+//! Adaptive multilevel splitting (see the module [`super`]).

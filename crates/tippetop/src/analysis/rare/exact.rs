@@ -1,0 +1,1 @@
+//! Exact one-dimensional answers (see the module [`super`]).
