@@ -213,7 +213,14 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
             }
         } else {
             let old = String::from_utf8_lossy(&read_plain(&info_partial)?).into_owned();
-            if old != info_json {
+            // The same ensemble: the same description (checksums aside,
+            // which only a finished run records).
+            let same = old == info_json
+                || serde_json::from_str::<EnsembleShard>(&old).is_ok_and(|mut o| {
+                    o.checksums.clear();
+                    o == info
+                });
+            if !same {
                 out.abandon();
                 return Ok(input_error(format!(
                     "--resume: the partial ensemble in {} is another one, not this one \

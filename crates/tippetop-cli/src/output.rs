@@ -651,6 +651,39 @@ mod signals {
     }
 }
 
+/// `Ok` if `dir` can be an output directory (`--out`): a directory, or a
+/// path that does not exist yet under one; bad input (exit code 2, key
+/// `--out`) if it is a file, or a part of its path is.
+pub fn check_out_dir(dir: &Path) -> Result<()> {
+    if dir.exists() {
+        if !dir.is_dir() {
+            return Err(not_a_dir(dir, "exists and is not a directory"));
+        }
+        return Ok(());
+    }
+    let mut p = dir.parent();
+    while let Some(a) = p.filter(|a| !a.as_os_str().is_empty()) {
+        if a.exists() {
+            if !a.is_dir() {
+                return Err(not_a_dir(dir, "a part of the path is a file, not a directory"));
+            }
+            break;
+        }
+        p = a.parent();
+    }
+    Ok(())
+}
+
+/// The bad-input error of an `--out` that cannot be a directory.
+fn not_a_dir(dir: &Path, what: &str) -> anyhow::Error {
+    tippetop::Error::invalid(
+        "--out",
+        format!("{} {what}", dir.display()),
+        "a directory, created if missing".into(),
+    )
+    .into()
+}
+
 /// An output directory (`--out`) that one command updates as a unit.
 ///
 /// [`OutDir::open`] creates the directory, takes its lock ([`LOCK_NAME`];
@@ -696,22 +729,11 @@ impl OutDir {
     /// on stderr.
     pub fn open(dir: &Path) -> Result<OutDir> {
         install_signal_cleanup();
-        let not_dir = |what: String| -> anyhow::Error {
-            tippetop::Error::invalid("--out", what, "a directory, created if missing".into()).into()
-        };
-        if dir.exists() && !dir.is_dir() {
-            return Err(not_dir(format!(
-                "{} exists and is not a directory",
-                dir.display()
-            )));
-        }
+        check_out_dir(dir)?;
         let created_dir = !dir.exists();
         if let Err(e) = fs::create_dir_all(dir) {
             if e.kind() == io::ErrorKind::NotADirectory {
-                return Err(not_dir(format!(
-                    "{}: a part of the path is a file, not a directory",
-                    dir.display()
-                )));
+                return Err(not_a_dir(dir, "a part of the path is a file, not a directory"));
             }
             return Err(e).with_context(|| format!("cannot create {}", dir.display()));
         }

@@ -281,9 +281,9 @@ pub fn verify(
         h = fnv1a(h, &data[pos..end]);
         pos = end;
         if h != cp.hash {
-            // Where: the first row the row check refuses, else the lines
-            // the checkpoint covers.
-            let text = String::from_utf8_lossy(&data[..end]);
+            // Where: the first row the row check refuses, if it is one of
+            // the lines the checkpoint covers, else those lines.
+            let text = String::from_utf8_lossy(&data);
             let p = prefix(&text);
             let first = prev_rows.map_or(1, |r| r + 2);
             let last = cp.rows + 1;
@@ -293,7 +293,7 @@ pub fn verify(
                     format!("not the header of this {what}"),
                 );
             }
-            if p.rows < cp.rows && p.rows + 2 >= first {
+            if p.problem.is_some() && (first..=last).contains(&(p.rows + 2)) {
                 return refuse(
                     format!("{}:{}", path.display(), p.rows + 2),
                     format!(
@@ -302,11 +302,16 @@ pub fn verify(
                     ),
                 );
             }
+            let lines = if first == last {
+                format!("{first}")
+            } else {
+                format!("{first}-{last}")
+            };
             return refuse(
-                format!("{}:{first}-{last}", path.display()),
+                format!("{}:{lines}", path.display()),
                 format!(
-                    "these lines do not match their checksum in {}:{sum_line} (the file was \
-                     edited or damaged)",
+                    "does not match its checksum in {}:{sum_line} (the file was edited or \
+                     damaged)",
                     sum_path.display()
                 ),
             );

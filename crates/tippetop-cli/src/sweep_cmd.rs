@@ -15,9 +15,11 @@
 //!   most [`MAX_PLOT_CASES`] cases.
 //!
 //! A sweep streams its rows into `sweep.csv.partial` (beside
-//! `shard.json.partial`) as the cases finish, in grid order, and renames
-//! both at the end; `--resume` continues an interrupted sweep from them. The
-//! directory is locked and updated as a unit ([`crate::output::OutDir`]).
+//! `shard.json.partial` and the checkpoints `sweep.csv.partial.sum`,
+//! [`crate::partial`]) as the cases finish, in grid order, renames it at
+//! the end and writes `shard.json` with its checksum; `--resume` continues
+//! an interrupted sweep from the verified rows. The directory is locked and
+//! updated as a unit ([`crate::output::OutDir`]).
 //!
 //! Exit codes: 0 done (cases that failed are reported in `status`, they do
 //! not fail the sweep); 2 bad input (one line `error: KEY: WHAT (RANGE)` on
@@ -65,14 +67,18 @@ Bad input exits with code 2 and writes nothing.
 CPU-bound, so more threads than cores only add overhead.
 
 Streaming and --resume: the rows are written in grid order as the cases finish, into
-DIR/sweep.csv.partial (beside DIR/shard.json.partial, which identifies the sweep); memory
-stays flat however many cases (at most 8 T + 16 finished rows wait for a slower case before
-them). At the end the two files are renamed to sweep.csv and shard.json. If the sweep is
-interrupted, run the same command with --resume: it keeps the complete rows of
-sweep.csv.partial (a torn last line is cut), runs the remaining cases, and ends with the
-same sweep.csv as an uninterrupted run. --resume on another sweep's partial files (other
-scenario, --set, --vary or --shard) exits with code 2 and leaves them alone; with nothing to
-resume it starts from the first case. Without --resume a sweep always starts over.
+DIR/sweep.csv.partial (beside DIR/shard.json.partial, which identifies the sweep, and
+DIR/sweep.csv.partial.sum, its checkpoints: the hash of the rows on disk, about once a
+second); memory stays flat however many cases (at most 8 T + 16 finished rows wait for a
+slower case before them). At the end sweep.csv.partial is renamed to sweep.csv, and
+shard.json records its checksum (tippetop merge checks it). If the sweep is interrupted, run
+the same command with --resume: it keeps the rows of sweep.csv.partial up to its last
+checkpoint (later rows run again, with a note), runs the remaining cases, and ends with the
+same sweep.csv as an uninterrupted run. A partial file that was edited or damaged (rows that
+do not match their checkpoint, or are not rows of this sweep) or that is a symbolic link
+exits with code 2 (one line naming the file and its line) and is left alone; so are another
+sweep's partial files (other scenario, --set, --vary or --shard). With nothing to resume it
+starts from the first case. Without --resume a sweep always starts over.
 
 The output directory: created, checked and locked before the first case (an unwritable
 --out fails at once with code 1). While the sweep runs, any other tippetop command writing
@@ -146,8 +152,11 @@ pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of
                   --shard K/N) into --out: sweep.csv, byte for byte the file a one-shot run \
                   of the sweep writes, and shard.json. The shards may come in any order and \
                   from different layouts (e.g. 1/2 with 3/4 and 4/4); merge checks that \
-                  they belong to the same sweep and cover every case exactly once. On any \
-                  mismatch or gap it exits with code 2 and writes nothing. Plots as for a \
+                  they belong to the same sweep and cover every case exactly once, that \
+                  each file matches the checksum its shard.json records (an edited or \
+                  damaged shard is refused) and that each row is a row of its case. On any \
+                  mismatch or gap it exits with code 2 and writes nothing; so does an --out \
+                  that is one of the shard directories. Plots as for a \
                   whole sweep (see tippetop sweep --help). --out is locked and updated as a \
                   unit as for tippetop sweep (another command writing into it exits with \
                   code 1). A shard directory that a sweep is still writing into (its lock \
@@ -407,7 +416,14 @@ pub fn stream_rows(
             }
         } else {
             let old = String::from_utf8_lossy(&read_plain(&info_partial)?).into_owned();
-            if old != info_json {
+            // The same run: the same description (checksums aside, which
+            // only a finished run records).
+            let same = old == info_json
+                || serde_json::from_str::<ShardInfo>(&old).is_ok_and(|mut o| {
+                    o.checksums.clear();
+                    o == *info
+                });
+            if !same {
                 let other = match serde_json::from_str::<ShardInfo>(&old) {
                     Ok(o) => format!(
                         "fingerprint {}, {unit}s {}..{} of {}",
@@ -515,6 +531,9 @@ pub const MAX_PLOT_CASES: usize = 100_000;
 /// overlap): one line on stderr and exit code 2 (returned as `Ok`),
 /// nothing written; `Err` for I/O failures while writing.
 pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
+    if let Err(e) = crate::output::check_out_dir(&args.out) {
+        return Ok(input_error(e));
+    }
     // --out must not be one of the inputs: the merge would replace the
     // shard it reads.
     if let Some(d) = args.dirs.iter().find(|d| same_dir(d, &args.out)) {
