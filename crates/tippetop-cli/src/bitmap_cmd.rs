@@ -14,8 +14,8 @@ use tippetop::analysis::sweep::{Axis, Shard, ShardInfo, Sweep};
 
 use crate::bit_cmd::BitArgs;
 use crate::output::{OutDir, write_bytes_atomic};
-use crate::scenario_load::input_error;
 use crate::partial::checksum_text;
+use crate::scenario_load::input_error;
 use crate::sweep_cmd::{GridInput, MergeArgs, Streamed, read_shard_of, stream_rows, write_info};
 
 /// The CSV a map streams its rows into while it runs.

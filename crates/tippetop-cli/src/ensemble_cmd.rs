@@ -18,9 +18,7 @@ use tippetop::analysis::ensemble::{
 use tippetop::analysis::sweep::{self, Shard};
 
 use crate::output::{OutDir, check_plain, open_plain, read_plain, write_bytes_atomic};
-use crate::partial::{
-    FNV_OFFSET, PartialWriter, check_checksum, checksum, checksum_text, fnv1a,
-};
+use crate::partial::{FNV_OFFSET, PartialWriter, check_checksum, checksum, checksum_text, fnv1a};
 
 /// Long help of `tippetop ensemble` (set on the subcommand in `cli.rs`).
 pub const ENSEMBLE_LONG_ABOUT: &str =
@@ -633,7 +631,10 @@ fn write_info(dir: &Path, info: &EnsembleShard, csv: String, hist: &Histograms) 
     let mut info = info.clone();
     info.checksums = [
         ("ensemble.csv".to_string(), csv),
-        ("histograms.csv".to_string(), checksum(hist.csv().as_bytes())),
+        (
+            "histograms.csv".to_string(),
+            checksum(hist.csv().as_bytes()),
+        ),
     ]
     .into();
     let mut json = serde_json::to_string_pretty(&info)?;

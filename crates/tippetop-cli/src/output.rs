@@ -186,7 +186,6 @@ pub fn write_json_pretty<T: Serialize + ?Sized>(path: &Path, value: &T) -> Resul
     write_bytes_atomic(path, text.as_bytes())
 }
 
-
 // ---------------------------------------------------------------------------
 // Files in an output directory: never through a link.
 
@@ -354,7 +353,10 @@ fn open_lock_file(path: &Path, writer: bool) -> Result<Option<(File, bool)>> {
                 Err(e) => return Err(refuse(e)),
             }
         }
-        match open_no_follow(path, OpenOptions::new().read(true).write(true).create_new(true)) {
+        match open_no_follow(
+            path,
+            OpenOptions::new().read(true).write(true).create_new(true),
+        ) {
             Ok(f) => return Ok(Some((f, true))),
             Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {}
             Err(_) if !writer => return Ok(None),
@@ -665,7 +667,10 @@ pub fn check_out_dir(dir: &Path) -> Result<()> {
     while let Some(a) = p.filter(|a| !a.as_os_str().is_empty()) {
         if a.exists() {
             if !a.is_dir() {
-                return Err(not_a_dir(dir, "a part of the path is a file, not a directory"));
+                return Err(not_a_dir(
+                    dir,
+                    "a part of the path is a file, not a directory",
+                ));
             }
             break;
         }
@@ -733,7 +738,10 @@ impl OutDir {
         let created_dir = !dir.exists();
         if let Err(e) = fs::create_dir_all(dir) {
             if e.kind() == io::ErrorKind::NotADirectory {
-                return Err(not_a_dir(dir, "a part of the path is a file, not a directory"));
+                return Err(not_a_dir(
+                    dir,
+                    "a part of the path is a file, not a directory",
+                ));
             }
             return Err(e).with_context(|| format!("cannot create {}", dir.display()));
         }
@@ -855,7 +863,6 @@ impl OutDir {
     pub fn adopt(&mut self, from: &str, to: &str) {
         self.adopted.push((from.to_string(), to.to_string()));
     }
-
 
     /// Move the staged files (and the adopted ones) into the directory, the
     /// files named in `last` after all others (and any old version of them
@@ -1491,7 +1498,10 @@ pub(crate) mod tests {
         for p in [file.clone(), file.join("sub")] {
             let e = OutDir::open(&p).unwrap_err();
             let te = e.downcast_ref::<tippetop::Error>().expect("an input error");
-            assert!(te.is_input() && te.to_string().starts_with("--out: "), "{te}");
+            assert!(
+                te.is_input() && te.to_string().starts_with("--out: "),
+                "{te}"
+            );
         }
         assert_eq!(listing(tmp.path()), ["file"]);
         #[cfg(unix)]
@@ -1532,7 +1542,11 @@ pub(crate) mod tests {
             let e = OutDir::open(&dir).unwrap_err();
             let te = e.downcast_ref::<tippetop::Error>().expect("an input error");
             assert!(te.is_input(), "{te}");
-            assert!(te.to_string().contains(".tippetop.lock: is a symbolic link"), "{te}");
+            assert!(
+                te.to_string()
+                    .contains(".tippetop.lock: is a symbolic link"),
+                "{te}"
+            );
             assert!(read_lock(&dir).is_err());
             assert_eq!(listing(&dir), [LOCK_NAME]);
         }
@@ -1650,7 +1664,12 @@ pub(crate) mod tests {
     fn tmp_names_are_recognised() {
         let t = tmp_path(Path::new("/d/sweep.csv"));
         assert!(is_tmp_name(&t.file_name().unwrap().to_string_lossy()));
-        for name in [".sweep.csv.partial", "sweep.csv", ".a.1-2-3.tmp", ".a.x-0badf00d-3.tmp"] {
+        for name in [
+            ".sweep.csv.partial",
+            "sweep.csv",
+            ".a.1-2-3.tmp",
+            ".a.x-0badf00d-3.tmp",
+        ] {
             assert!(!is_tmp_name(name), "{name}");
         }
     }

@@ -343,7 +343,8 @@ pub fn verify(
     // Rows after the last checkpoint: not trusted.
     let tail = &data[end..];
     if !tail.is_empty() && !quiet {
-        let lines = tail.iter().filter(|&&b| b == b'\n').count() + usize::from(!tail.ends_with(b"\n"));
+        let lines =
+            tail.iter().filter(|&&b| b == b'\n').count() + usize::from(!tail.ends_with(b"\n"));
         eprintln!(
             "note: {}: {lines} line{} after line {} (after the last checkpoint) not verified: \
              cut, and their {unit}s run again",
@@ -441,7 +442,8 @@ impl PartialWriter {
     /// Whether a checkpoint is due: rows are waiting and 1 MiB of them or
     /// a second since the last.
     pub fn due(&self) -> bool {
-        !self.buf.is_empty() && (self.buf.len() >= FLUSH_BYTES || self.last.elapsed() >= FLUSH_EVERY)
+        !self.buf.is_empty()
+            && (self.buf.len() >= FLUSH_BYTES || self.last.elapsed() >= FLUSH_EVERY)
     }
 
     /// Rows written or waiting (the kept ones included).
@@ -494,7 +496,10 @@ mod tests {
         assert_eq!(fnv1a(FNV_OFFSET, b""), 0xcbf2_9ce4_8422_2325);
         assert_eq!(fnv1a(FNV_OFFSET, b"a"), 0xaf63_dc4c_8601_ec8c);
         assert_eq!(fnv1a(FNV_OFFSET, b"foobar"), 0x8594_4171_f739_67e8);
-        assert_eq!(fnv1a(fnv1a(FNV_OFFSET, b"foo"), b"bar"), 0x8594_4171_f739_67e8);
+        assert_eq!(
+            fnv1a(fnv1a(FNV_OFFSET, b"foo"), b"bar"),
+            0x8594_4171_f739_67e8
+        );
         assert_eq!(checksum(b"a"), "fnv1a64:af63dc4c8601ec8c");
     }
 
@@ -517,7 +522,13 @@ mod tests {
             let l = c.line();
             assert_eq!(Checkpoint::parse(l.strip_suffix('\n').unwrap()), Some(c));
         }
-        for bad in ["", "1 2", "1 2 3", "x 2 0123456789abcdef", "1 2 0123456789abcdeg"] {
+        for bad in [
+            "",
+            "1 2",
+            "1 2 3",
+            "x 2 0123456789abcdef",
+            "1 2 0123456789abcdeg",
+        ] {
             assert_eq!(Checkpoint::parse(bad), None, "{bad:?}");
         }
     }

@@ -300,7 +300,11 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
     let failed = done.failed;
 
     out.adopt(PARTIAL_CSV, "sweep.csv");
-    write_info(out.stage(), &info, &[("sweep.csv", checksum_text(done.hash))])?;
+    write_info(
+        out.stage(),
+        &info,
+        &[("sweep.csv", checksum_text(done.hash))],
+    )?;
     if shard == Shard::ALL {
         if info.total_cases <= MAX_PLOT_CASES {
             let text = String::from_utf8(read_plain(&csv_partial)?)

@@ -1096,7 +1096,10 @@ fn kill_part_way(file: &Path, args: &[&str], out: &Path, partial: &str, sig: i32
     let sum = out.join(format!("{partial}.sum"));
     let t0 = std::time::Instant::now();
     while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 3 {
-        assert!(child.try_wait().unwrap().is_none(), "ended before a checkpoint");
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "ended before a checkpoint"
+        );
         assert!(t0.elapsed().as_secs() < 60, "no checkpoint after 60 s");
         std::thread::sleep(std::time::Duration::from_millis(5));
     }
@@ -1273,7 +1276,12 @@ fn merge_checks_bit_shards() {
     };
     for k in 1..=2 {
         let sh = format!("{k}/2");
-        ok(&bit(&d, "hot.toml", &format!("r{k}"), &["--runs", "6", "--shard", &sh]));
+        ok(&bit(
+            &d,
+            "hot.toml",
+            &format!("r{k}"),
+            &["--runs", "6", "--shard", &sh],
+        ));
         ok(&bit(
             &d,
             "nano20.toml",
@@ -1292,7 +1300,15 @@ fn merge_checks_bit_shards() {
     let runs = d.join("r2/runs.csv");
     let toml = d.join("r2/bit.toml");
     let map = d.join("m2/bitmap.csv");
-    let cases: Vec<(&Path, &str, Box<dyn Fn(&str) -> String>, bool, &str)> = vec![
+    // (file, which shards, the edit, checksum recomputed, the message)
+    type Case<'a> = (
+        &'a Path,
+        &'a str,
+        Box<dyn Fn(&str) -> String>,
+        bool,
+        &'a str,
+    );
+    let cases: Vec<Case> = vec![
         (
             &runs,
             "r",

@@ -515,7 +515,10 @@ fn killed_ensemble_resumes_byte_identical() {
         let sum = out.join("ensemble.csv.partial.sum");
         let t0 = std::time::Instant::now();
         while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 3 {
-            assert!(child.try_wait().unwrap().is_none(), "the ensemble ended early");
+            assert!(
+                child.try_wait().unwrap().is_none(),
+                "the ensemble ended early"
+            );
             assert!(t0.elapsed().as_secs() < 60, "no checkpoint after 60 s");
             std::thread::sleep(std::time::Duration::from_millis(5));
         }
@@ -525,8 +528,14 @@ fn killed_ensemble_resumes_byte_identical() {
         let left = names(&out);
         let stage = left.iter().any(|n| n.starts_with(".tippetop-stage-"));
         assert_eq!(stage, sig == libc::SIGKILL, "{left:?}");
-        assert_eq!(left.contains(&".tippetop.lock".to_string()), sig == libc::SIGKILL);
-        assert!(left.contains(&"histograms.json.partial".to_string()), "{left:?}");
+        assert_eq!(
+            left.contains(&".tippetop.lock".to_string()),
+            sig == libc::SIGKILL
+        );
+        assert!(
+            left.contains(&"histograms.json.partial".to_string()),
+            "{left:?}"
+        );
         let o = run(&out, &["--resume"]);
         ok(&o);
         let err = String::from_utf8_lossy(&o.stderr);
@@ -535,8 +544,11 @@ fn killed_ensemble_resumes_byte_identical() {
         for f in FILES {
             assert_eq!(read(&whole.join(f)), read(&out.join(f)), "{f}");
         }
-        assert!(!names(&out).iter().any(|n| n.starts_with(".tippetop")
-            && n != ".tippetop-manifest"));
+        assert!(
+            !names(&out)
+                .iter()
+                .any(|n| n.starts_with(".tippetop") && n != ".tippetop-manifest")
+        );
     }
     let _ = std::fs::remove_dir_all(&d);
 }
@@ -573,8 +585,14 @@ fn resume_refuses_links_and_corrupted_partials() {
         f.join(",")
     };
     let cases: Vec<(String, &str)> = vec![
-        (edit(&|l| field(l, 4, "3.0")), "ensemble.csv.partial:3: does not match its checksum"),
-        (edit(&|l| field(l, 4, "NaN")), "ensemble.csv.partial:3: does not match its checksum"),
+        (
+            edit(&|l| field(l, 4, "3.0")),
+            "ensemble.csv.partial:3: does not match its checksum",
+        ),
+        (
+            edit(&|l| field(l, 4, "NaN")),
+            "ensemble.csv.partial:3: does not match its checksum",
+        ),
         (
             edit(&|l| field(l, 2, "failed")),
             "ensemble.csv.partial:3: does not match its checksum",
@@ -611,7 +629,11 @@ fn resume_refuses_links_and_corrupted_partials() {
             let _ = std::fs::remove_dir_all(&part);
             std::fs::create_dir_all(&part).unwrap();
             std::os::unix::fs::symlink(&victim, part.join(name)).unwrap();
-            let extra: &[&str] = if resume { &["--runs", "6", "--resume"] } else { &["--runs", "6"] };
+            let extra: &[&str] = if resume {
+                &["--runs", "6", "--resume"]
+            } else {
+                &["--runs", "6"]
+            };
             let o = ensemble(&d, "part", extra);
             refused(&o, &[&format!("part/{name}: is a symbolic link")]);
             assert_eq!(read(&victim), "keep");
@@ -623,9 +645,8 @@ fn resume_refuses_links_and_corrupted_partials() {
     let hist = d.join("h");
     ok(&ensemble(&d, "h", &["--runs", "4"]));
     let counts = read(&hist.join("histograms.csv")).replace(",4,", ",40,");
-    let fake = format!(
-        "{{\"fingerprint\":\"x\",\"first_index\":0,\"rows\":4,\"hist\":{counts:?}}}"
-    );
+    let fake =
+        format!("{{\"fingerprint\":\"x\",\"first_index\":0,\"rows\":4,\"hist\":{counts:?}}}");
     std::fs::write(part.join("histograms.json.partial"), fake).unwrap();
     let o = bin()
         .arg("ensemble")
@@ -653,7 +674,11 @@ fn merge_checks_ensemble_shards() {
     let shards: Vec<PathBuf> = (1..=2)
         .map(|k| {
             let name = format!("s{k}");
-            ok(&ensemble(&d, &name, &["--runs", "6", "--shard", &format!("{k}/2")]));
+            ok(&ensemble(
+                &d,
+                &name,
+                &["--runs", "6", "--shard", &format!("{k}/2")],
+            ));
             d.join(name)
         })
         .collect();

@@ -494,12 +494,7 @@ fn stale_plots_of_a_previous_sweep_are_removed() {
     let out = m;
     assert_eq!(
         visible(&out),
-        [
-            "shard.json",
-            "sweep.csv",
-            "sweep.png",
-            "sweep.svg"
-        ]
+        ["shard.json", "sweep.csv", "sweep.png", "sweep.svg"]
     );
     assert_eq!(read(&out.join("sweep.csv")).lines().count(), 10);
     let _ = std::fs::remove_dir_all(&d);
@@ -656,7 +651,11 @@ fn killed_sweep_streams_rows_and_resumes() {
     // kill -9 leaves the lock file and the staging directory: the next
     // command takes them over (issue 26: not a permanent block).
     assert!(out.join(".tippetop.lock").exists());
-    assert!(names(&out).iter().any(|n| n.starts_with(".tippetop-stage-")));
+    assert!(
+        names(&out)
+            .iter()
+            .any(|n| n.starts_with(".tippetop-stage-"))
+    );
     let o = bin()
         .args(args)
         .args(["--resume", "--out"])
@@ -667,7 +666,13 @@ fn killed_sweep_streams_rows_and_resumes() {
     assert_eq!(read(&out.join("sweep.csv")), want);
     assert_eq!(
         names(&out),
-        [".tippetop-manifest", "shard.json", "sweep.csv", "sweep.png", "sweep.svg"]
+        [
+            ".tippetop-manifest",
+            "shard.json",
+            "sweep.csv",
+            "sweep.png",
+            "sweep.svg"
+        ]
     );
     let _ = std::fs::remove_dir_all(&d);
 }
@@ -788,7 +793,11 @@ fn links_in_the_output_directory_are_refused() {
     refused(&o, &["o/.tippetop.lock: is a symbolic link"]);
     assert_eq!(read(&victim), "keep");
     // The partial files, with and without --resume.
-    for name in ["sweep.csv.partial", "shard.json.partial", "sweep.csv.partial.sum"] {
+    for name in [
+        "sweep.csv.partial",
+        "shard.json.partial",
+        "sweep.csv.partial.sum",
+    ] {
         for resume in [false, true] {
             plant(&out, name);
             let o = sweep(&out, if resume { &["--resume"] } else { &[] });
@@ -911,14 +920,20 @@ fn resume_refuses_corrupted_partials() {
     };
     for (sum, words) in [
         (bad_sum.as_str(), "does not match its checksum in "),
-        ("# x\n0 12 zz\n", "sweep.csv.partial.sum:2: not a checkpoint"),
+        (
+            "# x\n0 12 zz\n",
+            "sweep.csv.partial.sum:2: not a checkpoint",
+        ),
     ] {
         setup(kept, sum);
         refused(&sweep(&part, &["--resume"]), &[words]);
     }
     // Past the last checkpoint: a fabricated row appended, a torn line.
     // Cut (with a note) and run again: the uninterrupted bytes.
-    for tail in [lines[6].replace(",ok", ",failed") + "\n", lines[6][..9].to_string()] {
+    for tail in [
+        lines[6].replace(",ok", ",failed") + "\n",
+        lines[6][..9].to_string(),
+    ] {
         setup(&format!("{kept}{tail}"), &sums);
         let o = bin()
             .args(&BASE[..BASE.len() - 1])
@@ -928,14 +943,21 @@ fn resume_refuses_corrupted_partials() {
             .unwrap();
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(o.status.success(), "{err}");
-        assert!(err.contains("1 line after line 6 (after the last checkpoint) not verified"), "{err}");
+        assert!(
+            err.contains("1 line after line 6 (after the last checkpoint) not verified"),
+            "{err}"
+        );
         assert!(err.contains("resuming: 5 of 9 cases kept"), "{err}");
         assert_eq!(read(&part.join("sweep.csv")), csv);
     }
     // No checkpoint file: nothing trusted, the sweep starts over.
     setup(kept, &sums);
     std::fs::remove_file(part.join("sweep.csv.partial.sum")).unwrap();
-    std::fs::write(part.join("sweep.csv.partial"), edit(&|l| field(l, theta_final, "NaN"))).unwrap();
+    std::fs::write(
+        part.join("sweep.csv.partial"),
+        edit(&|l| field(l, theta_final, "NaN")),
+    )
+    .unwrap();
     let o = sweep(&part, &["--resume"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(read(&part.join("sweep.csv")), csv);
@@ -985,7 +1007,11 @@ fn a_signal_removes_the_stage_and_the_lock() {
             std::thread::sleep(std::time::Duration::from_millis(5));
         }
         assert!(out.join(".tippetop.lock").exists());
-        assert!(names(&out).iter().any(|n| n.starts_with(".tippetop-stage-")));
+        assert!(
+            names(&out)
+                .iter()
+                .any(|n| n.starts_with(".tippetop-stage-"))
+        );
         // SAFETY: kill(2) of our own child.
         assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, sig) }, 0);
         let status = child.wait().unwrap();
@@ -1032,7 +1058,9 @@ fn out_that_is_a_file_is_bad_input() {
         ],
         vec![
             "bit".into(),
-            common::repo("scenarios/bit/nano.toml").display().to_string(),
+            common::repo("scenarios/bit/nano.toml")
+                .display()
+                .to_string(),
         ],
         vec!["run".into(), "--preset".into(), "classical".into()],
         vec!["merge".into(), d.display().to_string()],
@@ -1083,9 +1111,18 @@ fn merge_checks_what_it_joins() {
     let good = d.join("good");
     let o = merge(&good);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_eq!(read(&good.join("sweep.csv")), read(&whole.join("sweep.csv")));
-    assert_eq!(read(&good.join("shard.json")), read(&whole.join("shard.json")));
-    let sum = format!("{:016x}", fnv1a64(read(&whole.join("sweep.csv")).as_bytes()));
+    assert_eq!(
+        read(&good.join("sweep.csv")),
+        read(&whole.join("sweep.csv"))
+    );
+    assert_eq!(
+        read(&good.join("shard.json")),
+        read(&whole.join("shard.json"))
+    );
+    let sum = format!(
+        "{:016x}",
+        fnv1a64(read(&whole.join("sweep.csv")).as_bytes())
+    );
     assert!(read(&whole.join("shard.json")).contains(&sum));
 
     let csv_path = shards[1].join("sweep.csv");
@@ -1108,7 +1145,11 @@ fn merge_checks_what_it_joins() {
             json.clone(),
             "s2/sweep.csv: does not match its checksum in ",
         ),
-        (csv.clone(), no_sum, "s2/shard.json: no checksum of sweep.csv"),
+        (
+            csv.clone(),
+            no_sum,
+            "s2/shard.json: no checksum of sweep.csv",
+        ),
         (
             extra.clone(),
             with_checksum(&json, "sweep.csv", extra.as_bytes()),
@@ -1130,7 +1171,13 @@ fn merge_checks_what_it_joins() {
     std::fs::write(&csv_path, &csv).unwrap();
     std::fs::write(&json_path, &json).unwrap();
     // --out is one of the inputs: refused, the input untouched.
-    refused(&merge(&shards[0]), &["--out: ", "one of the shard directories"]);
-    assert_eq!(names(&shards[0]), [".tippetop-manifest", "shard.json", "sweep.csv"]);
+    refused(
+        &merge(&shards[0]),
+        &["--out: ", "one of the shard directories"],
+    );
+    assert_eq!(
+        names(&shards[0]),
+        [".tippetop-manifest", "shard.json", "sweep.csv"]
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -843,7 +843,10 @@ pub fn merge_csv(shards: &[(EnsembleShard, String)]) -> Result<String, Error> {
             };
             if let Err(why) = check_row(line, run, info.seed) {
                 return Err(err(
-                    format!("{name}: line {} of ensemble.csv is not run {run} ({why})", j + 2),
+                    format!(
+                        "{name}: line {} of ensemble.csv is not run {run} ({why})",
+                        j + 2
+                    ),
                     as_written,
                 ));
             }

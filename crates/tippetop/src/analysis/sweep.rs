@@ -1155,7 +1155,10 @@ pub fn merge_rows(
             };
             if let Err(why) = row_ok(info, index, line) {
                 return Err(err(
-                    format!("{name}: line {} of {file} is not case {index} ({why})", j + 2),
+                    format!(
+                        "{name}: line {} of {file} is not case {index} ({why})",
+                        j + 2
+                    ),
                     written,
                 ));
             }
