@@ -1660,6 +1660,36 @@ pub(crate) mod tests {
         assert_eq!(read_plain(&victim).unwrap(), b"keep");
     }
 
+    /// A manifest planted as a link (to a list naming the user's files) is
+    /// not read: the commit removes nothing it lists, and replaces the link
+    /// with the directory's own manifest (the target untouched).
+    #[cfg(unix)]
+    #[test]
+    fn a_manifest_link_is_not_followed() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        fs::create_dir(&dir).unwrap();
+        fs::write(dir.join("mine.txt"), "mine").unwrap();
+        let list = tmp.path().join("list");
+        fs::write(&list, "# x\nmine.txt\n").unwrap();
+        std::os::unix::fs::symlink(&list, dir.join(MANIFEST_NAME)).unwrap();
+        assert!(read_manifest(&dir).is_empty());
+        let out = OutDir::open(&dir).unwrap();
+        write_bytes_atomic(&out.stage().join("a.csv"), b"a").unwrap();
+        assert!(out.commit(&[]).unwrap().is_empty());
+        assert_eq!(fs::read_to_string(dir.join("mine.txt")).unwrap(), "mine");
+        assert_eq!(fs::read_to_string(&list).unwrap(), "# x\nmine.txt\n");
+        assert!(
+            fs::symlink_metadata(dir.join(MANIFEST_NAME))
+                .unwrap()
+                .is_file()
+        );
+        assert_eq!(
+            read_manifest(&dir).into_iter().collect::<Vec<_>>(),
+            ["a.csv"]
+        );
+    }
+
     #[test]
     fn tmp_names_are_recognised() {
         let t = tmp_path(Path::new("/d/sweep.csv"));
