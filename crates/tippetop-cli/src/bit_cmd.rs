@@ -17,6 +17,7 @@ use tippetop::scenario::bit::BitScenario;
 use tippetop::thermal::MAX_RUNS;
 
 use crate::output::{OutDir, fmt_f64, write_bytes_atomic};
+use crate::partial::{check_checksum, checksum};
 
 /// Runs of an ensemble when `--runs` is not given (T > 0).
 pub const DEFAULT_RUNS: usize = 100;
@@ -246,6 +247,7 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
             first_index: range.start,
             end_index: range.end,
             axes: Vec::new(),
+            checksums: Default::default(),
         };
         let mut info_json = serde_json::to_string_pretty(&info)?;
         info_json.push('\n');
@@ -278,7 +280,7 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
             out.abandon();
             return Ok(code);
         }
-        let text = std::fs::read_to_string(args.out.join(PARTIAL_RUNS))?;
+        let text = String::from_utf8(crate::output::read_plain(&args.out.join(PARTIAL_RUNS))?)?;
         results = text
             .lines()
             .skip(1)
@@ -408,11 +410,13 @@ const PARTIAL_RUNS: &str = "runs.csv.partial";
 
 /// The complete rows an interrupted ensemble left in `runs.csv.partial`
 /// (`text`): the header, then rows of runs `r0, r0 + 1, ...` (at most
-/// `max`), each a line [`bit::csv_row`] writes; a torn last line is dropped.
+/// `max`), each a line [`bit::csv_row`] writes ([`check_run_line`]); a torn
+/// last line is dropped; `problem` says why a complete line was refused.
 fn runs_prefix(text: &str, r0: u64, max: usize) -> sweep::Prefix {
     let header = format!("{}\n", bit::CSV_HEADER);
     let mut p = sweep::Prefix::default();
     if !text.starts_with(&header) {
+        p.problem = Some("not the header");
         return p;
     }
     p.bytes = header.len();
@@ -420,18 +424,36 @@ fn runs_prefix(text: &str, r0: u64, max: usize) -> sweep::Prefix {
         let Some(body) = line.strip_suffix('\n') else {
             break;
         };
-        match bit::parse_csv_row(body) {
-            Some(r) if r.run == r0 + p.rows as u64 && p.rows < max && bit::csv_row(&r) == line => {
-                p.rows += 1;
-                p.bytes += line.len();
-                if r.status != "ok" {
-                    p.failed += 1;
-                }
+        let checked = if p.rows < max {
+            check_run_line(body, r0 + p.rows as u64)
+        } else {
+            Err("past the last run")
+        };
+        match checked {
+            Ok(failed) => p.failed += usize::from(failed),
+            Err(why) => {
+                p.problem = Some(why);
+                break;
             }
-            _ => break,
         }
+        p.rows += 1;
+        p.bytes += line.len();
     }
     p
+}
+
+/// Check a line of `runs.csv` (without its `\n`) as the row of run
+/// `run` (`thermal.run`): exactly what [`bit::csv_row`] writes for the
+/// result it parses to. `Ok(true)`: its status is not `ok`.
+fn check_run_line(body: &str, run: u64) -> std::result::Result<bool, &'static str> {
+    let r = bit::parse_csv_row(body).ok_or("not a run's row")?;
+    if r.run != run {
+        return Err("not the run's index");
+    }
+    if bit::csv_row(&r).strip_suffix('\n') != Some(body) {
+        return Err("not a row as tippetop writes it");
+    }
+    Ok(r.status != "ok")
 }
 
 /// What defines a bit ensemble's output, for its shards: the scenario
@@ -467,13 +489,20 @@ fn write_shard(
         first_index: range.start,
         end_index: range.end,
         axes: Vec::new(),
+        checksums: Default::default(),
     };
     let stage = out.stage().to_path_buf();
-    let mut json = serde_json::to_string_pretty(&info)?;
-    json.push('\n');
-    write_bytes_atomic(&stage.join(RUNS_CSV), runs_csv(results).as_bytes())?;
-    write_bytes_atomic(&stage.join("bit.toml"), bs.to_toml_string().as_bytes())?;
-    write_bytes_atomic(&stage.join("shard.json"), json.as_bytes())?;
+    let (csv, toml) = (runs_csv(results), bs.to_toml_string());
+    write_bytes_atomic(&stage.join(RUNS_CSV), csv.as_bytes())?;
+    write_bytes_atomic(&stage.join("bit.toml"), toml.as_bytes())?;
+    crate::sweep_cmd::write_info(
+        &stage,
+        &info,
+        &[
+            (RUNS_CSV, checksum(csv.as_bytes())),
+            ("bit.toml", checksum(toml.as_bytes())),
+        ],
+    )?;
     out.commit(&["shard.json"])?;
     if !quiet {
         println!(
@@ -512,7 +541,10 @@ pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode
         let got = (|| {
             let info: ShardInfo = serde_json::from_str(&read("shard.json")?)
                 .map_err(|e| format!("{}: {e} ({what})", dir.join("shard.json").display()))?;
-            Ok::<_, String>((info, read(RUNS_CSV)?, read("bit.toml")?))
+            let (csv, toml) = (read(RUNS_CSV)?, read("bit.toml")?);
+            check_checksum(&info.checksums, dir, RUNS_CSV, csv.as_bytes())?;
+            check_checksum(&info.checksums, dir, "bit.toml", toml.as_bytes())?;
+            Ok::<_, String>((info, csv, toml))
         })();
         match got {
             Ok((info, csv, toml)) => {
@@ -536,7 +568,7 @@ pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode
     let r0 = bs.scenario.thermal.run;
     let header = format!("{}\n", bit::CSV_HEADER);
     let csv = match sweep::merge_rows(&shards, &header, RUNS_CSV, "bit", &|_, index, line| {
-        line.starts_with(&format!("{},", r0 + index as u64))
+        check_run_line(line, r0 + index as u64).map(|_| ())
     }) {
         Ok(c) => c,
         Err(e) => return Ok(input_error(e)),

@@ -14,13 +14,15 @@ use tippetop::analysis::sweep::{Axis, Shard, ShardInfo, Sweep};
 
 use crate::bit_cmd::BitArgs;
 use crate::output::{OutDir, write_bytes_atomic};
+use crate::partial::checksum_text;
 use crate::scenario_load::input_error;
-use crate::sweep_cmd::{GridInput, MergeArgs, Streamed, read_shard_of, stream_rows};
+use crate::sweep_cmd::{GridInput, MergeArgs, Streamed, read_shard_of, stream_rows, write_info};
 
 /// The CSV a map streams its rows into while it runs.
 pub const PARTIAL_CSV: &str = "bitmap.csv.partial";
 
-/// The `shard.json` of the running map.
+/// The `shard.json` of the running map (at the end `shard.json` is
+/// written with the checksum of `bitmap.csv`).
 pub const PARTIAL_INFO: &str = "shard.json.partial";
 
 /// Most grid values per axis drawn in a heat map: a longer axis is drawn
@@ -74,7 +76,7 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         resume: args.resume,
         quiet,
     };
-    let failed = match stream_rows(
+    let done = match stream_rows(
         &mut out,
         &spec,
         &info,
@@ -86,15 +88,20 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
             })
         },
     )? {
-        Ok(f) => f,
+        Ok(d) => d,
         Err(code) => {
             out.abandon();
             return Ok(code);
         }
     };
+    let failed = done.failed;
     let csv_path = args.out.join(PARTIAL_CSV);
     out.adopt(PARTIAL_CSV, bitmap::CSV_NAME);
-    out.adopt(PARTIAL_INFO, "shard.json");
+    write_info(
+        out.stage(),
+        &info,
+        &[(bitmap::CSV_NAME, checksum_text(done.hash))],
+    )?;
     if shard == Shard::ALL {
         write_plots(out.stage(), &csv_path, &info.axes)?;
     }
@@ -149,13 +156,16 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
         first_index: 0,
         end_index: first.total_cases,
         axes: first.axes.clone(),
+        checksums: Default::default(),
     };
     let out = OutDir::open(&args.out)?;
-    let mut json = serde_json::to_string_pretty(&info)?;
-    json.push('\n');
     let csv_path = out.stage().join(bitmap::CSV_NAME);
     write_bytes_atomic(&csv_path, csv.as_bytes())?;
-    write_bytes_atomic(&out.stage().join("shard.json"), json.as_bytes())?;
+    write_info(
+        out.stage(),
+        &info,
+        &[(bitmap::CSV_NAME, crate::partial::checksum(csv.as_bytes()))],
+    )?;
     drop(csv);
     write_plots(out.stage(), &csv_path, &info.axes)?;
     out.commit(&["shard.json"])?;
@@ -208,7 +218,7 @@ fn plot_data(csv: &Path, axes: &[Axis]) -> Result<PlotData> {
         ci: [blank(), blank()],
         picks,
     };
-    let f = std::fs::File::open(csv).with_context(|| format!("reading {}", csv.display()))?;
+    let f = crate::output::open_plain(csv, std::fs::OpenOptions::new().read(true))?;
     let mut lines = std::io::BufReader::new(f).lines();
     let header = lines.next().transpose()?.unwrap_or_default();
     let col = |name: &str| {

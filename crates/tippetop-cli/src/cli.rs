@@ -140,7 +140,11 @@ not wait. The files are written aside and moved in together at the end, summary.
 then the files of the previous command into DIR (listed in DIR/.tippetop-manifest) that this
 run did not write are removed, e.g. the plots after a --no-plot run. Files the tool did not
 write are never touched. (The lock uses flock(2), on Unix; on a file system without locks the
-command goes on with a warning.)";
+command goes on with a warning.) The lock file is removed at the end, also on Ctrl-C (SIGINT),
+SIGTERM or SIGHUP, with the files written aside; one left by a killed process is taken over.
+Files in DIR are never written through a symbolic link: a link where the lock or a partial
+file goes is bad input (exit code 2), and a link where a result goes is replaced, its target
+left alone.";
 
 /// `tippetop run`.
 #[derive(Debug, Args)]

@@ -5,7 +5,7 @@
 //! and the output directory work as for `tippetop sweep`
 //! ([`crate::sweep_cmd`]).
 
-use std::io::{BufRead, Seek, SeekFrom, Write};
+use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -17,7 +17,8 @@ use tippetop::analysis::ensemble::{
 };
 use tippetop::analysis::sweep::{self, Shard};
 
-use crate::output::{OutDir, write_bytes_atomic};
+use crate::output::{OutDir, check_plain, open_plain, read_plain, write_bytes_atomic};
+use crate::partial::{FNV_OFFSET, PartialWriter, check_checksum, checksum, checksum_text, fnv1a};
 
 /// Long help of `tippetop ensemble` (set on the subcommand in `cli.rs`).
 pub const ENSEMBLE_LONG_ABOUT: &str =
@@ -132,7 +133,7 @@ pub const PARTIAL_CSV: &str = "ensemble.csv.partial";
 /// The running ensemble's `shard.json`.
 pub const PARTIAL_INFO: &str = "shard.json.partial";
 /// The histograms of the rows flushed so far (a checkpoint for `--resume`,
-/// written after each flush of the CSV).
+/// written at each checkpoint of the CSV, which records its hash).
 pub const PARTIAL_HIST: &str = "histograms.json.partial";
 
 /// The checkpoint of the histograms: the counts of the first `rows` runs
@@ -187,32 +188,37 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
     let csv_partial = dir.join(PARTIAL_CSV);
     let info_partial = dir.join(PARTIAL_INFO);
     let hist_partial = dir.join(PARTIAL_HIST);
+    let sum = crate::partial::sum_name(PARTIAL_CSV);
     let range = info.first_index..info.end_index;
 
-    let mut kept = ensemble::Prefix::default();
+    // Never through a link (planted, it would make the command overwrite
+    // its target).
+    for name in [PARTIAL_CSV, PARTIAL_INFO, PARTIAL_HIST, sum.as_str()] {
+        if let Err(e) = check_plain(&dir.join(name)) {
+            out.abandon();
+            return Ok(input_error(e));
+        }
+    }
+    let mut kept = crate::partial::Kept::default();
     let mut checkpoint: Option<Checkpoint> = None;
     if args.resume {
-        match std::fs::read_to_string(&info_partial) {
-            Ok(old) if old == info_json => {
-                if let Ok(text) = std::fs::read_to_string(&csv_partial) {
-                    kept = ens.complete_prefix(info.first_index, &text);
-                }
-                if kept.rows > range.len() {
-                    kept = ensemble::Prefix::default();
-                }
-                checkpoint = std::fs::read_to_string(&hist_partial)
-                    .ok()
-                    .and_then(|t| serde_json::from_str::<Checkpoint>(&t).ok())
-                    .filter(|c| {
-                        c.fingerprint == info.fingerprint
-                            && c.first_index == info.first_index
-                            && c.rows <= kept.rows
-                            && c.hist.bins == BINS
-                            && c.hist.ranges == ens.ranges()
-                            && c.hist.times.len() == ens.scenario.solver.samples
-                    });
+        if !info_partial.exists() {
+            if !quiet {
+                eprintln!(
+                    "note: no partial ensemble to resume in {}: starting from the first run",
+                    dir.display()
+                );
             }
-            Ok(_) => {
+        } else {
+            let old = String::from_utf8_lossy(&read_plain(&info_partial)?).into_owned();
+            // The same ensemble: the same description (checksums aside,
+            // which only a finished run records).
+            let same = old == info_json
+                || serde_json::from_str::<EnsembleShard>(&old).is_ok_and(|mut o| {
+                    o.checksums.clear();
+                    o == info
+                });
+            if !same {
                 out.abandon();
                 return Ok(input_error(format!(
                     "--resume: the partial ensemble in {} is another one, not this one \
@@ -226,18 +232,70 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
                     info.total_runs
                 )));
             }
-            Err(_) => {
-                if !quiet {
+            let names = crate::partial::Names {
+                dir: &dir,
+                partial: PARTIAL_CSV,
+                what: "ensemble",
+                unit: "run",
+            };
+            kept = match crate::partial::verify(
+                &names,
+                &|text| ens.complete_prefix(info.first_index, text),
+                quiet,
+            )? {
+                Ok(k) => k,
+                Err(msg) => {
+                    out.abandon();
+                    return Ok(input_error(msg));
+                }
+            };
+            if kept.rows > range.len() {
+                out.abandon();
+                return Ok(input_error(format!(
+                    "--resume: {}: {} rows, more than the {} runs of this ensemble (a partial \
+                     file as tippetop wrote it; without --resume the ensemble starts over)",
+                    csv_partial.display(),
+                    kept.rows,
+                    range.len()
+                )));
+            }
+            // The histogram checkpoint, trusted only if a verified
+            // checkpoint of the CSV records its hash (it then holds the
+            // counts of that checkpoint's rows).
+            if kept.rows > 0 && hist_partial.exists() {
+                let bytes = read_plain(&hist_partial)?;
+                let h = fnv1a(FNV_OFFSET, &bytes);
+                checkpoint = kept
+                    .checkpoints
+                    .iter()
+                    .rev()
+                    .find(|c| c.extra == Some(h))
+                    .and_then(|at| {
+                        serde_json::from_slice::<Checkpoint>(&bytes)
+                            .ok()
+                            .filter(|c| c.rows == at.rows)
+                    })
+                    .filter(|c| {
+                        c.fingerprint == info.fingerprint
+                            && c.first_index == info.first_index
+                            && c.rows <= kept.rows
+                            && c.hist.bins == BINS
+                            && c.hist.ranges == ens.ranges()
+                            && c.hist.times.len() == ens.scenario.solver.samples
+                    });
+                if checkpoint.is_none() && !quiet {
                     eprintln!(
-                        "note: no partial ensemble to resume in {}: starting from the first run",
-                        dir.display()
+                        "note: {} does not match a checkpoint of {}: the kept runs run again \
+                         for their histogram counts",
+                        hist_partial.display(),
+                        csv_partial.display()
                     );
                 }
             }
         }
     }
 
-    out.claim(&[PARTIAL_CSV, PARTIAL_INFO, PARTIAL_HIST])?;
+    out.claim(&[PARTIAL_CSV, PARTIAL_INFO, PARTIAL_HIST, sum.as_str()])?;
     write_bytes_atomic(&info_partial, info_json.as_bytes())?;
     let pb = crate::progress::bar(quiet, range.len() as u64, "ensemble");
     // The histograms of the kept rows: the checkpoint's, and the rows it
@@ -257,23 +315,10 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
         }
     }
 
-    let mut file = std::fs::OpenOptions::new()
-        .write(true)
-        .create(true)
-        .truncate(false)
-        .open(&csv_partial)
-        .with_context(|| format!("writing {}", csv_partial.display()))?;
-    file.set_len(kept.bytes as u64)
-        .and_then(|()| file.seek(SeekFrom::End(0)).map(|_| ()))
-        .with_context(|| format!("writing {}", csv_partial.display()))?;
-    let mut w = std::io::BufWriter::new(file);
-    if kept.bytes == 0 {
-        w.write_all(ensemble::csv_header().as_bytes())
-            .with_context(|| format!("writing {}", csv_partial.display()))?;
-    }
+    let mut w = PartialWriter::open(&dir, PARTIAL_CSV, &ensemble::csv_header(), &kept)?;
     if !quiet && kept.rows > 0 {
         eprintln!(
-            "resuming: {} of {} runs already in {}",
+            "resuming: {} of {} runs kept from {} (verified against its checkpoints)",
             kept.rows,
             range.len(),
             csv_partial.display()
@@ -281,30 +326,18 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
     }
     pb.inc(kept.rows as u64);
     let start = std::time::Instant::now();
-    let mut rows_done = kept.rows;
     let mut write_error: Option<anyhow::Error> = None;
-    let mut since_flush = std::time::Instant::now();
     let todo = range.start + kept.rows..range.end;
     let run = ens.run_streaming(todo, Some(threads), &mut |row| {
         hist.add(&row);
-        rows_done += 1;
-        let mut result = w
-            .write_all(ensemble::csv_row(&row).as_bytes())
-            .map_err(anyhow::Error::from);
+        w.push(&ensemble::csv_row(&row));
         // About once a second: the rows on disk, then the histograms of
         // exactly those rows (what --resume starts from).
-        if result.is_ok() && since_flush.elapsed().as_secs_f64() >= 1.0 {
-            result = w.flush().map_err(anyhow::Error::from).and_then(|()| {
-                let c = Checkpoint {
-                    fingerprint: info.fingerprint.clone(),
-                    first_index: info.first_index,
-                    rows: rows_done,
-                    hist: hist.clone(),
-                };
-                write_bytes_atomic(&hist_partial, serde_json::to_string(&c)?.as_bytes())
-            });
-            since_flush = std::time::Instant::now();
-        }
+        let result = if w.due() {
+            save_checkpoint(&mut w, &hist_partial, &info, &hist)
+        } else {
+            Ok(())
+        };
         pb.inc(1);
         match result {
             Ok(()) => true,
@@ -318,26 +351,24 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
     if let Err(e) = run {
         anyhow::bail!("{e}");
     }
-    let flushed = w.flush();
     if let Some(e) = write_error {
-        return Err(e).with_context(|| format!("writing {}", csv_partial.display()));
+        return Err(e);
     }
-    flushed.with_context(|| format!("writing {}", csv_partial.display()))?;
-    drop(w);
+    save_checkpoint(&mut w, &hist_partial, &info, &hist)?;
+    let hash = w.finish()?;
 
     // The statistics, from the file as written (kept rows included), line
     // by line.
     let mut acc = StatsAcc::default();
-    let f = std::fs::File::open(&csv_partial)
-        .with_context(|| format!("reading {}", csv_partial.display()))?;
+    let f = open_plain(&csv_partial, std::fs::OpenOptions::new().read(true))?;
     for (j, line) in std::io::BufReader::new(f).lines().enumerate().skip(1) {
         let line = line.with_context(|| format!("reading {}", csv_partial.display()))?;
         acc.push_line(j + 1, &line).map_err(anyhow::Error::new)?;
     }
     let stats = acc.finish();
     out.adopt(PARTIAL_CSV, "ensemble.csv");
-    out.adopt(PARTIAL_INFO, "shard.json");
     write_results(out.stage(), &info, &hist, &stats)?;
+    write_info(out.stage(), &info, checksum_text(hash), &hist)?;
     out.commit(&["summary.json"])?;
     if !quiet {
         let what = if shard == Shard::ALL {
@@ -548,13 +579,12 @@ pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode
         n: 1,
         first_index: 0,
         end_index: first.total_runs,
+        checksums: Default::default(),
         ..first.clone()
     };
-    let mut info_json = serde_json::to_string_pretty(&info)?;
-    info_json.push('\n');
     let out = OutDir::open(&args.out)?;
     write_bytes_atomic(&out.stage().join("ensemble.csv"), csv.as_bytes())?;
-    write_bytes_atomic(&out.stage().join("shard.json"), info_json.as_bytes())?;
+    write_info(out.stage(), &info, checksum(csv.as_bytes()), &hist)?;
     write_results(out.stage(), &info, &hist, &stats)?;
     out.commit(&["summary.json"])?;
     if !quiet {
@@ -587,7 +617,49 @@ fn read_shard(dir: &Path) -> std::result::Result<(EnsembleShard, String, Histogr
             dir.join("shard.json").display()
         )
     })?;
-    let hist = Histograms::parse_csv(&read("histograms.csv")?)
-        .map_err(|e| format!("{}: {e}", dir.display()))?;
-    Ok((info, read("ensemble.csv")?, hist))
+    let (csv, hist_csv) = (read("ensemble.csv")?, read("histograms.csv")?);
+    check_checksum(&info.checksums, dir, "ensemble.csv", csv.as_bytes())?;
+    check_checksum(&info.checksums, dir, "histograms.csv", hist_csv.as_bytes())?;
+    let hist = Histograms::parse_csv(&hist_csv).map_err(|e| format!("{}: {e}", dir.display()))?;
+    Ok((info, csv, hist))
+}
+
+/// Write `shard.json` into `dir`: `info` with the checksums of
+/// `ensemble.csv` (`csv`, its [`checksum_text`]) and `histograms.csv` (of
+/// `hist`).
+fn write_info(dir: &Path, info: &EnsembleShard, csv: String, hist: &Histograms) -> Result<()> {
+    let mut info = info.clone();
+    info.checksums = [
+        ("ensemble.csv".to_string(), csv),
+        (
+            "histograms.csv".to_string(),
+            checksum(hist.csv().as_bytes()),
+        ),
+    ]
+    .into();
+    let mut json = serde_json::to_string_pretty(&info)?;
+    json.push('\n');
+    write_bytes_atomic(&dir.join("shard.json"), json.as_bytes())
+}
+
+/// A checkpoint of a running ensemble: the rows waiting in `w` written,
+/// then the histograms of all rows so far written to `hist_partial`, their
+/// hash recorded with the rows' checkpoint (written first: a kill between
+/// the two leaves the previous histogram file, matching the previous
+/// checkpoint).
+fn save_checkpoint(
+    w: &mut PartialWriter,
+    hist_partial: &Path,
+    info: &EnsembleShard,
+    hist: &Histograms,
+) -> Result<()> {
+    let c = Checkpoint {
+        fingerprint: info.fingerprint.clone(),
+        first_index: info.first_index,
+        rows: w.rows(),
+        hist: hist.clone(),
+    };
+    let json = serde_json::to_string(&c)?;
+    w.checkpoint(Some(fnv1a(FNV_OFFSET, json.as_bytes())))?;
+    write_bytes_atomic(hist_partial, json.as_bytes())
 }

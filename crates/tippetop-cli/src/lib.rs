@@ -12,6 +12,7 @@ pub mod cli;
 pub mod device_cmd;
 pub mod ensemble_cmd;
 pub mod output;
+pub mod partial;
 pub mod plot;
 pub mod progress;
 pub mod regime_cmd;

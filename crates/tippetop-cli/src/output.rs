@@ -51,19 +51,21 @@ fn process_tag() -> &'static str {
 }
 
 /// Write `path` atomically: `fill` writes the contents into a buffered
-/// temporary file ([`tmp_path`]), which is flushed and renamed to `path`. On
-/// any error the temporary file is removed and `path` is left as it was. A
-/// process that is interrupted never leaves a half-written `path` (the
-/// rename is atomic). The file is not fsync'ed: that would guard only
-/// against power loss, at a cost of milliseconds per file (more than a whole
-/// simulation).
+/// temporary file ([`tmp_path`], created anew, never through a link:
+/// `O_CREAT | O_EXCL | O_NOFOLLOW`), which is flushed and renamed to `path`
+/// (the rename replaces a link at `path`, never its target). On any error
+/// the temporary file is removed and `path` is left as it was. A process
+/// that is interrupted never leaves a half-written `path` (the rename is
+/// atomic). The file is not fsync'ed: that would guard only against power
+/// loss, at a cost of milliseconds per file (more than a whole simulation).
 pub fn write_atomic<F>(path: &Path, fill: F) -> Result<()>
 where
     F: FnOnce(&mut BufWriter<File>) -> io::Result<()>,
 {
     let tmp = tmp_path(path);
     let result = (|| -> io::Result<()> {
-        let mut w = BufWriter::new(File::create(&tmp)?);
+        let file = open_no_follow(&tmp, OpenOptions::new().write(true).create_new(true))?;
+        let mut w = BufWriter::new(file);
         fill(&mut w)?;
         let file = w.into_inner().map_err(|e| e.into_error())?;
         drop(file);
@@ -185,12 +187,97 @@ pub fn write_json_pretty<T: Serialize + ?Sized>(path: &Path, value: &T) -> Resul
 }
 
 // ---------------------------------------------------------------------------
+// Files in an output directory: never through a link.
+
+/// The one-line bad-input error (exit code 2) for `path`, a file tippetop
+/// reads or writes in an output directory, found to be a symbolic link or
+/// not a regular file (`what`): tippetop never writes through a link
+/// there (a planted link would make it overwrite the link's target).
+pub fn not_plain(path: &Path, what: &str) -> anyhow::Error {
+    tippetop::Error::invalid(
+        &path.display().to_string(),
+        what.to_string(),
+        "a regular file or nothing: tippetop does not read or write through links in an \
+         output directory; remove it"
+            .into(),
+    )
+    .into()
+}
+
+/// `Ok` if `path` is a regular file or does not exist; the [`not_plain`]
+/// error if it is a symbolic link (to anything, even to nothing) or
+/// another kind of file (a directory, a FIFO, ...). For a check before
+/// anything is written; the files are then opened with [`open_plain`],
+/// which checks again.
+pub fn check_plain(path: &Path) -> Result<()> {
+    match fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => Err(not_plain(path, "is a symbolic link")),
+        Ok(m) if !m.is_file() => Err(not_plain(path, "is not a regular file")),
+        _ => Ok(()),
+    }
+}
+
+/// Open `path` with `opts` without following a symbolic link at its last
+/// component (`O_NOFOLLOW`; without blocking on a FIFO) and only if it is a
+/// regular file: a link or another kind of file is the [`not_plain`]
+/// error (exit code 2). Other errors carry `opening PATH`.
+pub fn open_plain(path: &Path, opts: &mut OpenOptions) -> Result<File> {
+    check_plain(path)?;
+    let file = match open_no_follow(path, opts) {
+        Ok(f) => f,
+        Err(e) if is_link_error(&e) => return Err(not_plain(path, "is a symbolic link")),
+        Err(e) => return Err(e).with_context(|| format!("opening {}", path.display())),
+    };
+    let meta = file
+        .metadata()
+        .with_context(|| format!("opening {}", path.display()))?;
+    if !meta.is_file() {
+        return Err(not_plain(path, "is not a regular file"));
+    }
+    Ok(file)
+}
+
+/// The bytes of `path`, read as [`open_plain`] opens it.
+pub fn read_plain(path: &Path) -> Result<Vec<u8>> {
+    let mut file = open_plain(path, OpenOptions::new().read(true))?;
+    let mut bytes = Vec::new();
+    file.read_to_end(&mut bytes)
+        .with_context(|| format!("reading {}", path.display()))?;
+    Ok(bytes)
+}
+
+/// `opts` with `O_NOFOLLOW | O_NONBLOCK` (Unix), opened.
+fn open_no_follow(path: &Path, opts: &mut OpenOptions) -> io::Result<File> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        opts.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
+    }
+    opts.open(path)
+}
+
+/// Whether an open failed because of `O_NOFOLLOW` on a link.
+fn is_link_error(e: &io::Error) -> bool {
+    #[cfg(unix)]
+    {
+        e.raw_os_error() == Some(libc::ELOOP)
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = e;
+        false
+    }
+}
+
+// ---------------------------------------------------------------------------
 // The output directory as a unit.
 
 /// The lock file of an output directory: held (an OS advisory lock, released
 /// when the process ends, however it ends) by the one tippetop process that
-/// writes into the directory; it holds that process's id. It stays in the
-/// directory (removing a lock file races with a process about to take it).
+/// writes into the directory; it holds that process's id. It is opened
+/// without following links and removed when the command ends (also on
+/// SIGINT, SIGTERM and SIGHUP), in a way that lets no second writer in
+/// ([`DirLock`]); one left by a killed process (`kill -9`) is taken over.
 pub const LOCK_NAME: &str = ".tippetop.lock";
 
 /// The manifest of an output directory: the names of the files the last
@@ -202,6 +289,406 @@ pub const MANIFEST_NAME: &str = ".tippetop-manifest";
 /// command writes its files before [`OutDir::commit`] moves them into place.
 const STAGE_PREFIX: &str = ".tippetop-stage-";
 
+/// A lock on a directory's [`LOCK_NAME`]: exclusive for the one command
+/// that writes into the directory ([`OutDir`]), shared for the commands
+/// that read it ([`read_lock`]). Dropping it releases it and removes the
+/// lock file when no one else holds it.
+///
+/// The protocol (`flock(2)` on Unix): open the file without following a
+/// link (creating it if missing), lock it, then check that the path still
+/// names the file locked (else the holder that just ended removed it: start
+/// again). The holder removes the file while it still holds the exclusive
+/// lock (a reader first tries to upgrade to one, and leaves the file to the
+/// others if it cannot), so whoever opened the old file before the removal
+/// finds, once it gets the lock, that the path no longer names it. The OS
+/// releases the lock of a process that dies, so a lock file a killed
+/// process left behind is simply taken over.
+#[derive(Debug)]
+pub struct DirLock {
+    file: File,
+    path: PathBuf,
+    /// Whether the OS lock is held (false on a file system without locks).
+    held: bool,
+    exclusive: bool,
+    /// Whether this process created the lock file.
+    created: bool,
+    /// Why no OS lock could be taken (a file system without locks).
+    unsupported: Option<io::Error>,
+    id: u64,
+}
+
+/// What [`take_lock`] found.
+enum Taken {
+    Lock(DirLock),
+    /// Held by another process, whose id the file holds (or "unknown").
+    Busy(String),
+    /// No lock file, and a reader could not create one (a read-only
+    /// directory): nothing to lock.
+    Absent,
+}
+
+/// A process-wide counter naming the registered stages and locks.
+fn next_id() -> u64 {
+    static ID: AtomicU64 = AtomicU64::new(0);
+    ID.fetch_add(1, Ordering::Relaxed)
+}
+
+/// Open the lock file `path` without following a link: a writer creates it
+/// if missing (then opens it read-write); a reader opens it read-only, or
+/// creates it if it can. `Ok(None)`: a reader found none and could not
+/// create one. The bool: created by this call.
+fn open_lock_file(path: &Path, writer: bool) -> Result<Option<(File, bool)>> {
+    let refuse = |e: io::Error| -> anyhow::Error {
+        if is_link_error(&e) {
+            not_plain(path, "is a symbolic link")
+        } else {
+            anyhow::Error::new(e)
+        }
+    };
+    for _ in 0..64 {
+        if !writer {
+            match open_no_follow(path, OpenOptions::new().read(true)) {
+                Ok(f) => return Ok(Some((f, false))),
+                Err(e) if e.kind() == io::ErrorKind::NotFound => {}
+                Err(e) => return Err(refuse(e)),
+            }
+        }
+        match open_no_follow(
+            path,
+            OpenOptions::new().read(true).write(true).create_new(true),
+        ) {
+            Ok(f) => return Ok(Some((f, true))),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {}
+            Err(_) if !writer => return Ok(None),
+            Err(e) => return Err(refuse(e)),
+        }
+        if writer {
+            match open_no_follow(path, OpenOptions::new().read(true).write(true)) {
+                Ok(f) => return Ok(Some((f, false))),
+                Err(e) if e.kind() == io::ErrorKind::NotFound => {}
+                Err(e) => return Err(refuse(e)),
+            }
+        }
+        // Removed or created between two calls: again.
+    }
+    bail!("{} keeps appearing and disappearing", path.display())
+}
+
+/// Take `dir`'s lock, exclusive (a writer) or shared (a reader), without
+/// waiting (see [`DirLock`] for the protocol).
+fn take_lock(dir: &Path, exclusive: bool) -> Result<Taken> {
+    let path = dir.join(LOCK_NAME);
+    for _ in 0..64 {
+        let Some((file, created)) = open_lock_file(&path, exclusive)? else {
+            return Ok(Taken::Absent);
+        };
+        if !file.metadata()?.is_file() {
+            return Err(not_plain(&path, "is not a regular file"));
+        }
+        #[cfg(unix)]
+        let mode = if exclusive {
+            libc::LOCK_EX
+        } else {
+            libc::LOCK_SH
+        };
+        #[cfg(not(unix))]
+        let mode = 0;
+        let (held, unsupported) = match try_flock(&file, mode) {
+            Ok(true) => (true, None),
+            Ok(false) => return Ok(Taken::Busy(lock_holder(&file))),
+            // A file system without locks (some cluster file systems).
+            Err(e) => (false, Some(e)),
+        };
+        if held && !same_file(&file, &path) {
+            // The holder that just ended removed it: take the new one.
+            continue;
+        }
+        let lock = DirLock {
+            file,
+            path: path.clone(),
+            held,
+            exclusive,
+            created,
+            unsupported,
+            id: next_id(),
+        };
+        live().locks.push(lock.entry());
+        return Ok(Taken::Lock(lock));
+    }
+    bail!("cannot lock {}: it keeps being replaced", path.display())
+}
+
+/// Whether `path` (not followed) names the open file `file`.
+fn same_file(file: &File, path: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (file.metadata(), fs::symlink_metadata(path)) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino() && b.is_file(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (file, path);
+        true
+    }
+}
+
+/// What [`release_lock`] needs of a [`DirLock`], kept in the registry of
+/// live locks so that the signal handler can release them too.
+#[derive(Debug, Clone)]
+struct LockEntry {
+    id: u64,
+    #[cfg(unix)]
+    fd: std::os::fd::RawFd,
+    path: PathBuf,
+    held: bool,
+    exclusive: bool,
+    created: bool,
+}
+
+impl DirLock {
+    fn entry(&self) -> LockEntry {
+        LockEntry {
+            id: self.id,
+            #[cfg(unix)]
+            fd: std::os::fd::AsRawFd::as_raw_fd(&self.file),
+            path: self.path.clone(),
+            held: self.held,
+            exclusive: self.exclusive,
+            created: self.created,
+        }
+    }
+}
+
+impl Drop for DirLock {
+    /// Release the lock: remove the lock file if no one else holds it (see
+    /// [`DirLock`]); the OS lock goes with the file, closed after this.
+    fn drop(&mut self) {
+        let mut live = live();
+        live.locks.retain(|l| l.id != self.id);
+        release_lock(&self.entry());
+    }
+}
+
+/// Remove a lock file this process holds, if it may: a writer holding the
+/// lock always, a reader if it can upgrade to the exclusive lock (no other
+/// reader), without locks only the file it created; and only if the path
+/// still names the locked file.
+fn release_lock(l: &LockEntry) {
+    #[cfg(unix)]
+    {
+        use std::os::fd::FromRawFd;
+        // SAFETY: the fd belongs to a live DirLock (the registry entry is
+        // removed before its File is closed); ManuallyDrop never closes it.
+        let file = std::mem::ManuallyDrop::new(unsafe { File::from_raw_fd(l.fd) });
+        let ours = if l.held {
+            l.exclusive || try_flock(&file, libc::LOCK_EX).unwrap_or(false)
+        } else {
+            l.created
+        };
+        if ours && same_file(&file, &l.path) {
+            let _ = fs::remove_file(&l.path);
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        if l.created {
+            let _ = fs::remove_file(&l.path);
+        }
+    }
+}
+
+/// The stages and locks of this process, for the signal handler.
+struct Live {
+    /// (id, output directory, staging directory).
+    stages: Vec<(u64, PathBuf, PathBuf)>,
+    locks: Vec<LockEntry>,
+}
+
+static LIVE: std::sync::Mutex<Live> = std::sync::Mutex::new(Live {
+    stages: Vec::new(),
+    locks: Vec::new(),
+});
+
+/// The registry of live stages and locks (also held by [`OutDir::commit`]
+/// while it moves files, so that a signal waits for the commit to end).
+fn live() -> std::sync::MutexGuard<'static, Live> {
+    LIVE.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Remove this process's temporary files ([`tmp_path`]) in `dir`.
+fn remove_own_tmp_files(dir: &Path) {
+    let mark = format!(".{}-", process_tag());
+    if let Ok(entries) = fs::read_dir(dir) {
+        for e in entries.flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            if name.starts_with('.') && name.ends_with(".tmp") && name.contains(&mark) {
+                let _ = fs::remove_file(e.path());
+            }
+        }
+    }
+}
+
+/// Whether `name` is a temporary name of [`tmp_path`]:
+/// `.NAME.PID-RANDOM-N.tmp`.
+fn is_tmp_name(name: &str) -> bool {
+    let Some(stem) = name.strip_prefix('.').and_then(|n| n.strip_suffix(".tmp")) else {
+        return false;
+    };
+    let Some((_, tag)) = stem.rsplit_once('.') else {
+        return false;
+    };
+    let parts: Vec<&str> = tag.split('-').collect();
+    matches!(parts.as_slice(), [pid, rnd, n]
+        if !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit())
+            && rnd.len() == 8 && rnd.bytes().all(|b| b.is_ascii_hexdigit())
+            && !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// On SIGINT, SIGTERM or SIGHUP (those not ignored when the process
+/// started, e.g. under `nohup`): remove this process's staging
+/// directories, temporary files and lock files, then die of the signal as
+/// before (partial files stay, for `--resume`). The handler only writes the
+/// signal's number into a pipe; a thread does the work, after any commit in
+/// progress. Installed once, by the first [`OutDir::open`] or
+/// [`read_lock`].
+pub fn install_signal_cleanup() {
+    #[cfg(unix)]
+    signals::install();
+}
+
+#[cfg(unix)]
+mod signals {
+    use std::sync::atomic::{AtomicI32, Ordering};
+
+    static PIPE_W: AtomicI32 = AtomicI32::new(-1);
+
+    extern "C" fn on_signal(sig: libc::c_int) {
+        let fd = PIPE_W.load(Ordering::Relaxed);
+        if fd >= 0 {
+            let b = sig as u8;
+            // SAFETY: write(2) is async-signal-safe; one byte from a local.
+            unsafe {
+                libc::write(fd, (&b as *const u8).cast(), 1);
+            }
+        }
+    }
+
+    pub(super) fn install() {
+        static ONCE: std::sync::Once = std::sync::Once::new();
+        ONCE.call_once(|| {
+            let mut fds = [0 as libc::c_int; 2];
+            // SAFETY: pipe(2) into a local array; fcntl on the new fds.
+            unsafe {
+                if libc::pipe(fds.as_mut_ptr()) != 0 {
+                    return;
+                }
+                for fd in fds {
+                    libc::fcntl(fd, libc::F_SETFD, libc::FD_CLOEXEC);
+                }
+            }
+            let read_end = fds[0];
+            let watcher = std::thread::Builder::new()
+                .name("tippetop-signals".into())
+                .spawn(move || watch(read_end));
+            if watcher.is_err() {
+                return;
+            }
+            PIPE_W.store(fds[1], Ordering::Relaxed);
+            for sig in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+                // SAFETY: sigaction(2) with zeroed, then filled, structs.
+                unsafe {
+                    let mut old: libc::sigaction = std::mem::zeroed();
+                    if libc::sigaction(sig, std::ptr::null(), &mut old) != 0
+                        || old.sa_sigaction != libc::SIG_DFL
+                    {
+                        continue;
+                    }
+                    let mut act: libc::sigaction = std::mem::zeroed();
+                    act.sa_sigaction = on_signal as extern "C" fn(libc::c_int) as usize;
+                    act.sa_flags = libc::SA_RESTART;
+                    libc::sigemptyset(&mut act.sa_mask);
+                    libc::sigaction(sig, &act, std::ptr::null_mut());
+                }
+            }
+        });
+    }
+
+    fn watch(fd: libc::c_int) {
+        loop {
+            let mut b = 0u8;
+            // SAFETY: read(2) of one byte into a local.
+            let n = unsafe { libc::read(fd, (&mut b as *mut u8).cast(), 1) };
+            if n == 1 {
+                die(libc::c_int::from(b));
+            }
+            if n < 0 && std::io::Error::last_os_error().kind() == std::io::ErrorKind::Interrupted {
+                continue;
+            }
+            return;
+        }
+    }
+
+    /// Clean up, then die of `sig` as if no handler were installed.
+    fn die(sig: libc::c_int) -> ! {
+        // Held until the end: a commit in progress finishes first, and none
+        // starts after.
+        let live = super::live();
+        for (_, dir, stage) in &live.stages {
+            let _ = std::fs::remove_dir_all(stage);
+            super::remove_own_tmp_files(dir);
+        }
+        for l in &live.locks {
+            super::release_lock(l);
+        }
+        // SAFETY: back to the default action, then raise it in this thread
+        // (it is not blocked here): the process ends, killed by `sig`.
+        unsafe {
+            libc::signal(sig, libc::SIG_DFL);
+            libc::raise(sig);
+        }
+        std::process::exit(128 + sig)
+    }
+}
+
+/// `Ok` if `dir` can be an output directory (`--out`): a directory, or a
+/// path that does not exist yet under one; bad input (exit code 2, key
+/// `--out`) if it is a file, or a part of its path is.
+pub fn check_out_dir(dir: &Path) -> Result<()> {
+    if dir.exists() {
+        if !dir.is_dir() {
+            return Err(not_a_dir(dir, "exists and is not a directory"));
+        }
+        return Ok(());
+    }
+    let mut p = dir.parent();
+    while let Some(a) = p.filter(|a| !a.as_os_str().is_empty()) {
+        if a.exists() {
+            if !a.is_dir() {
+                return Err(not_a_dir(
+                    dir,
+                    "a part of the path is a file, not a directory",
+                ));
+            }
+            break;
+        }
+        p = a.parent();
+    }
+    Ok(())
+}
+
+/// The bad-input error of an `--out` that cannot be a directory.
+fn not_a_dir(dir: &Path, what: &str) -> anyhow::Error {
+    tippetop::Error::invalid(
+        "--out",
+        format!("{} {what}", dir.display()),
+        "a directory, created if missing".into(),
+    )
+    .into()
+}
+
 /// An output directory (`--out`) that one command updates as a unit.
 ///
 /// [`OutDir::open`] creates the directory, takes its lock ([`LOCK_NAME`];
@@ -212,16 +699,15 @@ const STAGE_PREFIX: &str = ".tippetop-stage-";
 /// files of the previous command (those listed in its [`MANIFEST_NAME`])
 /// that this one did not write, and writes the new manifest. A command that
 /// fails before the commit leaves `DIR` as it was (its staging directory is
-/// removed when the `OutDir` is dropped).
+/// removed when the `OutDir` is dropped, or on SIGINT, SIGTERM, SIGHUP:
+/// [`install_signal_cleanup`]). The lock file is removed at the end.
 #[derive(Debug)]
 pub struct OutDir {
     dir: PathBuf,
     stage: PathBuf,
-    /// Whether the lock was taken (false only where locks are unsupported).
-    locked: bool,
-    lock: Option<File>,
+    /// The directory's lock (not held on a file system without locks).
+    lock: Option<DirLock>,
     created_dir: bool,
-    created_lock: bool,
     /// Files of the previous command (its manifest) and files claimed since.
     previous: BTreeSet<String>,
     /// Files already in `DIR` to move into place at the commit: (from, to).
@@ -229,74 +715,72 @@ pub struct OutDir {
     /// Keep the previous command's files at the commit ([`OutDir::keep_previous`]).
     keep: bool,
     done: bool,
+    /// Name of the stage in the registry of live stages.
+    id: u64,
 }
 
 impl OutDir {
     /// Create `dir` (and its parents) if missing, take its lock, remove the
     /// staging directories of processes that died, create this process's
-    /// staging directory and write a probe file into it. Errors (exit code 1):
-    /// the directory cannot be created or written, or another process holds
-    /// the lock (`DIR is in use by another tippetop process (pid N); ...`).
-    /// On error nothing is left behind that this call created, except when
-    /// the directory is in use (then nothing is touched at all). On a file
-    /// system without locks (`flock` fails otherwise than "held") it goes on
-    /// without the lock, with a warning on stderr.
+    /// staging directory and write a probe file into it. Errors: `dir` is
+    /// not a directory (or a part of its path is a file), or its lock file
+    /// is a link or not a regular file (bad input, exit code 2); the
+    /// directory cannot be created or written, or another process holds
+    /// the lock (`DIR is in use by another tippetop process (pid N); ...`)
+    /// (exit code 1). On error nothing is left behind that this call
+    /// created, except when the directory is in use (then nothing is
+    /// touched at all). On a file system without locks (`flock` fails
+    /// otherwise than "held") it goes on without the lock, with a warning
+    /// on stderr.
     pub fn open(dir: &Path) -> Result<OutDir> {
+        install_signal_cleanup();
+        check_out_dir(dir)?;
         let created_dir = !dir.exists();
         if let Err(e) = fs::create_dir_all(dir) {
+            if e.kind() == io::ErrorKind::NotADirectory {
+                return Err(not_a_dir(
+                    dir,
+                    "a part of the path is a file, not a directory",
+                ));
+            }
             return Err(e).with_context(|| format!("cannot create {}", dir.display()));
         }
-        let lock_path = dir.join(LOCK_NAME);
-        let created_lock = !lock_path.exists();
-        let lock = match OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
-            .truncate(false)
-            .open(&lock_path)
-        {
-            Ok(f) => f,
+        let lock = match take_lock(dir, true) {
+            Ok(Taken::Lock(l)) => l,
+            Ok(Taken::Busy(pid)) => bail!(
+                "{} is in use by another tippetop process (pid {pid}); choose another --out or wait until it ends",
+                dir.display(),
+            ),
+            Ok(Taken::Absent) => unreachable!("a writer creates the lock file"),
             Err(e) => {
                 if created_dir {
                     let _ = fs::remove_dir(dir);
+                }
+                if e.downcast_ref::<tippetop::Error>().is_some() {
+                    return Err(e);
                 }
                 return Err(e).with_context(|| {
                     format!("cannot write in {}: creating {LOCK_NAME}", dir.display())
                 });
             }
         };
-        let mut locked = true;
-        match try_lock(&lock) {
-            Ok(true) => {}
-            Ok(false) => {
-                bail!(
-                    "{} is in use by another tippetop process (pid {}); choose another --out or wait until it ends",
-                    dir.display(),
-                    lock_holder(&lock)
-                );
-            }
-            // A file system without locks (some cluster file systems):
-            // go on, unprotected, and say so.
-            Err(e) => {
-                eprintln!(
-                    "warning: cannot lock {} ({e}): another tippetop process writing into {} at the same time would not be detected",
-                    lock_path.display(),
-                    dir.display()
-                );
-                locked = false;
-            }
+        if let Some(e) = &lock.unsupported {
+            eprintln!(
+                "warning: cannot lock {} ({e}): another tippetop process writing into {} at the same time would not be detected",
+                lock.path.display(),
+                dir.display()
+            );
         }
         let mut out = OutDir {
             dir: dir.to_path_buf(),
             stage: dir.join(format!("{STAGE_PREFIX}{}", process_tag())),
-            locked,
             lock: Some(lock),
             created_dir,
-            created_lock,
             previous: BTreeSet::new(),
             adopted: Vec::new(),
             keep: false,
             done: false,
+            id: next_id(),
         };
         match out.prepare() {
             Ok(()) => Ok(out),
@@ -307,25 +791,38 @@ impl OutDir {
         }
     }
 
+    /// Whether this process holds the directory's lock.
+    fn locked(&self) -> bool {
+        self.lock.as_ref().is_some_and(|l| l.held)
+    }
+
     /// The part of [`OutDir::open`] after the lock is taken.
     fn prepare(&mut self) -> Result<()> {
         let cannot = |what: &str| format!("cannot write in {}: {what}", self.dir.display());
         if let Some(lock) = self.lock.as_mut() {
-            lock.set_len(0)
-                .and_then(|()| lock.rewind())
-                .and_then(|()| writeln!(lock, "{}", std::process::id()))
+            let f = &mut lock.file;
+            f.set_len(0)
+                .and_then(|()| f.rewind())
+                .and_then(|()| writeln!(f, "{}", std::process::id()))
                 .with_context(|| cannot(LOCK_NAME))?;
         }
-        // Staging directories of processes that died: we hold the lock, so
-        // no live process uses them (without the lock we cannot know).
-        if let Some(entries) = fs::read_dir(&self.dir).ok().filter(|_| self.locked) {
+        // Staging directories and temporary files of processes that died:
+        // we hold the lock, so no live process uses them (without the lock
+        // we cannot know).
+        if let Some(entries) = fs::read_dir(&self.dir).ok().filter(|_| self.locked()) {
             for e in entries.flatten() {
                 let name = e.file_name().to_string_lossy().into_owned();
-                if name.starts_with(STAGE_PREFIX) && e.file_type().is_ok_and(|t| t.is_dir()) {
+                let Ok(t) = e.file_type() else { continue };
+                if name.starts_with(STAGE_PREFIX) && t.is_dir() {
                     let _ = fs::remove_dir_all(e.path());
+                } else if is_tmp_name(&name) && t.is_file() {
+                    let _ = fs::remove_file(e.path());
                 }
             }
         }
+        live()
+            .stages
+            .push((self.id, self.dir.clone(), self.stage.clone()));
         fs::create_dir(&self.stage).with_context(|| cannot("creating a staging directory"))?;
         let probe = self.stage.join(".probe");
         fs::write(&probe, b"probe").with_context(|| cannot("writing a probe file"))?;
@@ -374,7 +871,10 @@ impl OutDir {
     /// this one did not write, and write the manifest. Returns the names of
     /// the removed files. The manifest is rewritten first to list the old and
     /// the new files, so an interruption at any point leaves every file the
-    /// tool wrote listed.
+    /// tool wrote listed; a signal waits for the commit to end. A rename
+    /// replaces a link at the destination (never its target); an adopted
+    /// file must be a regular file ([`check_plain`]). The lock is released
+    /// (its file removed) at the end.
     pub fn commit(mut self, last: &[&str]) -> Result<Vec<String>> {
         let mut names: BTreeSet<String> = BTreeSet::new();
         for e in fs::read_dir(&self.stage)
@@ -386,47 +886,62 @@ impl OutDir {
                 names.insert(name);
             }
         }
+        for (from, _) in &self.adopted {
+            check_plain(&self.dir.join(from))?;
+        }
         names.extend(self.adopted.iter().map(|(_, to)| to.clone()));
-        let mut all = self.previous.clone();
-        all.extend(names.iter().cloned());
-        write_manifest(&self.dir, &all)?;
-        for l in last.iter().filter(|l| names.contains(**l)) {
-            remove_if_present(&self.dir.join(l))?;
-        }
-        let source = |name: &str| -> PathBuf {
-            match self.adopted.iter().find(|(_, to)| to == name) {
-                Some((from, _)) => self.dir.join(from),
-                None => self.stage.join(name),
+        let removed = {
+            let _moving = live();
+            let mut all = self.previous.clone();
+            all.extend(names.iter().cloned());
+            write_manifest(&self.dir, &all)?;
+            for l in last.iter().filter(|l| names.contains(**l)) {
+                remove_if_present(&self.dir.join(l))?;
             }
+            let source = |name: &str| -> PathBuf {
+                match self.adopted.iter().find(|(_, to)| to == name) {
+                    Some((from, _)) => self.dir.join(from),
+                    None => self.stage.join(name),
+                }
+            };
+            let (tail, head): (Vec<&String>, Vec<&String>) =
+                names.iter().partition(|n| last.contains(&n.as_str()));
+            for name in head.into_iter().chain(tail) {
+                let to = self.dir.join(name);
+                fs::rename(source(name), &to)
+                    .with_context(|| format!("writing {}", to.display()))?;
+            }
+            let mut removed = Vec::new();
+            if self.keep {
+                names = all;
+            }
+            for stale in self.previous.difference(&names) {
+                let p = self.dir.join(stale);
+                if fs::symlink_metadata(&p).is_ok_and(|m| !m.is_dir()) {
+                    remove_if_present(&p)?;
+                    removed.push(stale.clone());
+                }
+            }
+            write_manifest(&self.dir, &names)?;
+            removed
         };
-        let (tail, head): (Vec<&String>, Vec<&String>) =
-            names.iter().partition(|n| last.contains(&n.as_str()));
-        for name in head.into_iter().chain(tail) {
-            let to = self.dir.join(name);
-            fs::rename(source(name), &to).with_context(|| format!("writing {}", to.display()))?;
-        }
-        let mut removed = Vec::new();
-        if self.keep {
-            names = all;
-        }
-        for stale in self.previous.difference(&names) {
-            let p = self.dir.join(stale);
-            if p.is_file() {
-                remove_if_present(&p)?;
-                removed.push(stale.clone());
-            }
-        }
-        write_manifest(&self.dir, &names)?;
-        let _ = fs::remove_dir_all(&self.stage);
+        self.cleanup_stage();
         self.done = true;
         Ok(removed)
     }
 
-    /// Give up without writing anything: remove the staging directory, and
-    /// the lock file and the directory if [`OutDir::open`] created them (for
-    /// an input error found only after the directory was opened).
+    /// Give up without writing anything: remove the staging directory, the
+    /// lock file, and the directory if [`OutDir::open`] created it and it
+    /// is empty (for an input error found only after the directory was
+    /// opened).
     pub fn abandon(mut self) {
         self.cleanup();
+    }
+
+    /// Remove the staging directory and forget it.
+    fn cleanup_stage(&mut self) {
+        let _ = fs::remove_dir_all(&self.stage);
+        live().stages.retain(|(id, _, _)| *id != self.id);
     }
 
     fn cleanup(&mut self) {
@@ -434,10 +949,7 @@ impl OutDir {
             return;
         }
         self.done = true;
-        let _ = fs::remove_dir_all(&self.stage);
-        if self.created_lock {
-            let _ = fs::remove_file(self.dir.join(LOCK_NAME));
-        }
+        self.cleanup_stage();
         self.lock = None;
         if self.created_dir {
             let _ = fs::remove_dir(&self.dir);
@@ -447,26 +959,21 @@ impl OutDir {
 
 impl Drop for OutDir {
     /// Not committed: remove the staging directory (the directory keeps the
-    /// previous command's files and the lock file).
+    /// previous command's files; partial files stay); then the lock is
+    /// released and its file removed.
     fn drop(&mut self) {
         if !self.done {
-            let _ = fs::remove_dir_all(&self.stage);
+            self.cleanup_stage();
         }
     }
 }
 
-/// Take an exclusive advisory lock on `file` without waiting: `Ok(true)`
-/// taken, `Ok(false)` another open file description holds it (another
-/// process, or another [`OutDir`] of this one). `flock(2)` on Unix: the lock
-/// goes with the open file and is released when the process ends, however it
-/// ends (std's `File::try_lock` does the same but needs Rust 1.89, above this
+/// `flock(file, mode | LOCK_NB)`: `Ok(true)` taken, `Ok(false)` another
+/// open file description holds it (another process, or another lock of
+/// this one); `Err`: the file system has no locks. The lock goes with the
+/// open file and is released when the process ends, however it ends (std's
+/// `File::try_lock` does the same but needs Rust 1.89, above this
 /// workspace's rust-version).
-#[cfg(unix)]
-fn try_lock(file: &File) -> io::Result<bool> {
-    try_flock(file, libc::LOCK_EX)
-}
-
-/// `flock(file, mode | LOCK_NB)`: `Ok(false)` if held by another.
 #[cfg(unix)]
 fn try_flock(file: &File, mode: libc::c_int) -> io::Result<bool> {
     use std::os::fd::AsRawFd;
@@ -487,37 +994,31 @@ fn try_flock(file: &File, mode: libc::c_int) -> io::Result<bool> {
 /// into one directory are not detected there (they still never share a
 /// temporary file, and each commits its own files as a unit).
 #[cfg(not(unix))]
-fn try_lock(_file: &File) -> io::Result<bool> {
+fn try_flock(_file: &File, _mode: i32) -> io::Result<bool> {
     Ok(true)
 }
 
 /// Take a shared lock on `dir`'s [`LOCK_NAME`] before reading files a
 /// tippetop command writes there (e.g. `merge` reading a shard's
 /// directory): several readers may hold it, but not while a command writes
-/// into the directory. Returns the locked file (drop it to release), or
-/// `None` when there is nothing to lock (no lock file: no tippetop command
-/// with locks wrote there; or a file system without locks). Error: a command
-/// is writing into `dir` (`DIR is in use by another tippetop process (pid
-/// N); wait until it ends`).
-pub fn read_lock(dir: &Path) -> Result<Option<File>> {
-    let Ok(file) = File::open(dir.join(LOCK_NAME)) else {
+/// into the directory. The lock file is created if missing (and removed by
+/// the last reader); returns the lock (drop it to release), or `None` when
+/// there is nothing to lock (a read-only directory without a lock file, or
+/// a file system without locks). Errors: a command is writing into `dir`
+/// (`DIR is in use by another tippetop process (pid N); wait until it
+/// ends`); the lock file is a link (exit code 2).
+pub fn read_lock(dir: &Path) -> Result<Option<DirLock>> {
+    install_signal_cleanup();
+    if !dir.is_dir() {
         return Ok(None);
-    };
-    #[cfg(unix)]
-    {
-        match try_flock(&file, libc::LOCK_SH) {
-            Ok(true) => Ok(Some(file)),
-            Ok(false) => bail!(
-                "{} is in use by another tippetop process (pid {}); wait until it ends",
-                dir.display(),
-                lock_holder(&file)
-            ),
-            Err(_) => Ok(None),
-        }
     }
-    #[cfg(not(unix))]
-    {
-        Ok(Some(file))
+    match take_lock(dir, false)? {
+        Taken::Lock(l) if l.held => Ok(Some(l)),
+        Taken::Lock(_) | Taken::Absent => Ok(None),
+        Taken::Busy(pid) => bail!(
+            "{} is in use by another tippetop process (pid {pid}); wait until it ends",
+            dir.display(),
+        ),
     }
 }
 
@@ -545,12 +1046,13 @@ fn remove_if_present(path: &Path) -> Result<()> {
     }
 }
 
-/// The file names listed in `DIR/`[`MANIFEST_NAME`] (none if it is missing
-/// or unreadable). Only plain names are accepted: no path separator, not
-/// `.` or `..`, not the tool's own hidden files, so a manifest can never make
-/// the tool remove anything outside the directory.
+/// The file names listed in `DIR/`[`MANIFEST_NAME`] (none if it is missing,
+/// unreadable or a link). Only plain names are accepted: no path separator,
+/// not `.` or `..`, not the tool's own hidden files, so a manifest can never
+/// make the tool remove anything outside the directory.
 pub fn read_manifest(dir: &Path) -> BTreeSet<String> {
-    let text = fs::read_to_string(dir.join(MANIFEST_NAME)).unwrap_or_default();
+    let bytes = read_plain(&dir.join(MANIFEST_NAME)).unwrap_or_default();
+    let text = String::from_utf8_lossy(&bytes);
     text.lines()
         .map(str::trim)
         .filter(|l| {
@@ -831,7 +1333,8 @@ pub(crate) mod tests {
     fn read_lock_excludes_writers() {
         let tmp = tempfile::tempdir().unwrap();
         let dir = tmp.path().join("out");
-        assert!(read_lock(tmp.path()).unwrap().is_none());
+        // Nothing to lock where there is no directory.
+        assert!(read_lock(&dir).unwrap().is_none());
         let writer = OutDir::open(&dir).unwrap();
         let err = read_lock(&dir).unwrap_err().to_string();
         assert!(
@@ -842,12 +1345,20 @@ pub(crate) mod tests {
             "{err}"
         );
         writer.commit(&[]).unwrap();
+        // The writer removed its lock file at the end; readers make one.
+        assert!(!dir.join(LOCK_NAME).exists());
         let r1 = read_lock(&dir).unwrap();
         let r2 = read_lock(&dir).unwrap();
         assert!(r1.is_some() && r2.is_some());
         assert!(OutDir::open(&dir).is_err());
-        drop((r1, r2));
+        // The first reader to leave leaves the file to the other.
+        drop(r1);
+        assert!(dir.join(LOCK_NAME).exists());
+        assert!(OutDir::open(&dir).is_err());
+        drop(r2);
+        assert!(!dir.join(LOCK_NAME).exists());
         OutDir::open(&dir).unwrap();
+        assert!(!dir.join(LOCK_NAME).exists());
     }
 
     /// The commit moves the staged files in, removes the previous command's
@@ -877,7 +1388,6 @@ pub(crate) mod tests {
             listing(&dir),
             [
                 ".tippetop-manifest",
-                ".tippetop.lock",
                 "notes.txt",
                 "summary.json",
                 "trajectory.csv"
@@ -984,8 +1494,16 @@ pub(crate) mod tests {
         let tmp = tempfile::tempdir().unwrap();
         let file = tmp.path().join("file");
         fs::write(&file, "x").unwrap();
-        let err = format!("{:#}", OutDir::open(&file.join("sub")).unwrap_err());
-        assert!(err.starts_with("cannot create "), "{err}");
+        // A path that is a file, or under one: bad input (exit code 2).
+        for p in [file.clone(), file.join("sub")] {
+            let e = OutDir::open(&p).unwrap_err();
+            let te = e.downcast_ref::<tippetop::Error>().expect("an input error");
+            assert!(
+                te.is_input() && te.to_string().starts_with("--out: "),
+                "{te}"
+            );
+        }
+        assert_eq!(listing(tmp.path()), ["file"]);
         #[cfg(unix)]
         {
             use std::os::unix::fs::PermissionsExt;
@@ -999,6 +1517,190 @@ pub(crate) mod tests {
                 assert!(listing(&ro).is_empty());
             }
             fs::set_permissions(&ro, fs::Permissions::from_mode(0o755)).unwrap();
+        }
+    }
+
+    /// Issue 26: a link planted where the lock file goes made `run` write
+    /// its pid into the link's target. Now the lock is opened without
+    /// following links: bad input (exit code 2, the file named), the target
+    /// untouched, nothing left behind.
+    #[cfg(unix)]
+    #[test]
+    fn a_planted_lock_link_is_refused() {
+        let tmp = tempfile::tempdir().unwrap();
+        let victim = tmp.path().join("victim");
+        fs::write(&victim, "keep").unwrap();
+        for existing in [false, true] {
+            let dir = tmp.path().join(format!("out{existing}"));
+            fs::create_dir(&dir).unwrap();
+            if existing {
+                std::os::unix::fs::symlink(&victim, dir.join(LOCK_NAME)).unwrap();
+            } else {
+                // A dangling link: creating through it would make the target.
+                std::os::unix::fs::symlink(tmp.path().join("new"), dir.join(LOCK_NAME)).unwrap();
+            }
+            let e = OutDir::open(&dir).unwrap_err();
+            let te = e.downcast_ref::<tippetop::Error>().expect("an input error");
+            assert!(te.is_input(), "{te}");
+            assert!(
+                te.to_string()
+                    .contains(".tippetop.lock: is a symbolic link"),
+                "{te}"
+            );
+            assert!(read_lock(&dir).is_err());
+            assert_eq!(listing(&dir), [LOCK_NAME]);
+        }
+        assert_eq!(fs::read_to_string(&victim).unwrap(), "keep");
+        assert!(!tmp.path().join("new").exists());
+    }
+
+    /// Issue 26: the lock file stayed in every output directory. Now it is
+    /// removed at the end (commit, abandon, drop), and one left by a
+    /// process that no longer exists (kill -9: the OS released its lock)
+    /// is taken over.
+    #[test]
+    fn the_lock_file_is_removed_at_the_end_and_a_dead_ones_taken_over() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        OutDir::open(&dir).unwrap().commit(&[]).unwrap();
+        assert!(!dir.join(LOCK_NAME).exists());
+        drop(OutDir::open(&dir).unwrap());
+        assert!(!dir.join(LOCK_NAME).exists());
+        OutDir::open(&dir).unwrap().abandon();
+        assert!(!dir.join(LOCK_NAME).exists());
+        // What a killed process leaves: its lock file (pid inside, no OS
+        // lock), its staging directory and a temporary file.
+        fs::write(dir.join(LOCK_NAME), "999999999\n").unwrap();
+        let stage = dir.join(format!("{STAGE_PREFIX}999999999-0badf00d"));
+        fs::create_dir(&stage).unwrap();
+        fs::write(stage.join("big.csv"), "x").unwrap();
+        fs::write(dir.join(".sweep.csv.999999999-0badf00d-3.tmp"), "x").unwrap();
+        let out = OutDir::open(&dir).unwrap();
+        assert_eq!(
+            fs::read_to_string(dir.join(LOCK_NAME)).unwrap().trim(),
+            std::process::id().to_string()
+        );
+        assert!(!stage.exists());
+        assert!(!dir.join(".sweep.csv.999999999-0badf00d-3.tmp").exists());
+        out.commit(&[]).unwrap();
+        assert_eq!(listing(&dir), [MANIFEST_NAME]);
+    }
+
+    /// The re-check after locking: a file opened before the holder removed
+    /// it no longer is the lock file (the path names another file or none),
+    /// so whoever locks it late knows to start again.
+    #[cfg(unix)]
+    #[test]
+    fn a_removed_lock_file_is_told_from_the_new_one() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        let first = OutDir::open(&dir).unwrap();
+        let late = File::open(dir.join(LOCK_NAME)).unwrap();
+        assert!(same_file(&late, &dir.join(LOCK_NAME)));
+        drop(first);
+        assert!(!same_file(&late, &dir.join(LOCK_NAME)));
+        // The OS lock on the old file is free now...
+        assert!(try_flock(&late, libc::LOCK_EX).unwrap());
+        // ...but it is not the directory's lock: a new writer gets in, and
+        // while it holds the lock no second one does.
+        let second = OutDir::open(&dir).unwrap();
+        assert!(!same_file(&late, &dir.join(LOCK_NAME)));
+        assert!(OutDir::open(&dir).is_err());
+        drop(second);
+    }
+
+    /// Issue 26: writes followed links. `write_atomic` now replaces a link
+    /// at the destination (the target stays as it was), and its temporary
+    /// file is created anew (`O_EXCL | O_NOFOLLOW`).
+    #[cfg(unix)]
+    #[test]
+    fn atomic_write_replaces_a_link_not_its_target() {
+        let tmp = tempfile::tempdir().unwrap();
+        let victim = tmp.path().join("victim");
+        fs::write(&victim, "keep").unwrap();
+        let p = tmp.path().join("sweep.csv");
+        std::os::unix::fs::symlink(&victim, &p).unwrap();
+        write_bytes_atomic(&p, b"new").unwrap();
+        assert!(fs::symlink_metadata(&p).unwrap().is_file());
+        assert_eq!(fs::read_to_string(&p).unwrap(), "new");
+        assert_eq!(fs::read_to_string(&victim).unwrap(), "keep");
+    }
+
+    /// `open_plain` and `check_plain` refuse a link (to a file, or
+    /// dangling) and a FIFO (without blocking on it), as bad input; a
+    /// regular file or nothing is fine.
+    #[cfg(unix)]
+    #[test]
+    fn plain_files_only() {
+        let tmp = tempfile::tempdir().unwrap();
+        let victim = tmp.path().join("victim");
+        fs::write(&victim, "keep").unwrap();
+        let link = tmp.path().join("link");
+        std::os::unix::fs::symlink(&victim, &link).unwrap();
+        let dangling = tmp.path().join("dangling");
+        std::os::unix::fs::symlink(tmp.path().join("none"), &dangling).unwrap();
+        let fifo = tmp.path().join("fifo");
+        let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+        // SAFETY: mkfifo with a valid C string.
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+        for p in [&link, &dangling, &fifo] {
+            for e in [
+                check_plain(p).unwrap_err(),
+                open_plain(p, OpenOptions::new().write(true).create(true)).unwrap_err(),
+                read_plain(p).unwrap_err(),
+            ] {
+                let te = e.downcast_ref::<tippetop::Error>().expect("an input error");
+                assert!(te.is_input(), "{te}");
+            }
+        }
+        assert_eq!(fs::read_to_string(&victim).unwrap(), "keep");
+        assert!(!tmp.path().join("none").exists());
+        check_plain(&victim).unwrap();
+        check_plain(&tmp.path().join("nothing")).unwrap();
+        assert_eq!(read_plain(&victim).unwrap(), b"keep");
+    }
+
+    /// A manifest planted as a link (to a list naming the user's files) is
+    /// not read: the commit removes nothing it lists, and replaces the link
+    /// with the directory's own manifest (the target untouched).
+    #[cfg(unix)]
+    #[test]
+    fn a_manifest_link_is_not_followed() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        fs::create_dir(&dir).unwrap();
+        fs::write(dir.join("mine.txt"), "mine").unwrap();
+        let list = tmp.path().join("list");
+        fs::write(&list, "# x\nmine.txt\n").unwrap();
+        std::os::unix::fs::symlink(&list, dir.join(MANIFEST_NAME)).unwrap();
+        assert!(read_manifest(&dir).is_empty());
+        let out = OutDir::open(&dir).unwrap();
+        write_bytes_atomic(&out.stage().join("a.csv"), b"a").unwrap();
+        assert!(out.commit(&[]).unwrap().is_empty());
+        assert_eq!(fs::read_to_string(dir.join("mine.txt")).unwrap(), "mine");
+        assert_eq!(fs::read_to_string(&list).unwrap(), "# x\nmine.txt\n");
+        assert!(
+            fs::symlink_metadata(dir.join(MANIFEST_NAME))
+                .unwrap()
+                .is_file()
+        );
+        assert_eq!(
+            read_manifest(&dir).into_iter().collect::<Vec<_>>(),
+            ["a.csv"]
+        );
+    }
+
+    #[test]
+    fn tmp_names_are_recognised() {
+        let t = tmp_path(Path::new("/d/sweep.csv"));
+        assert!(is_tmp_name(&t.file_name().unwrap().to_string_lossy()));
+        for name in [
+            ".sweep.csv.partial",
+            "sweep.csv",
+            ".a.1-2-3.tmp",
+            ".a.x-0badf00d-3.tmp",
+        ] {
+            assert!(!is_tmp_name(name), "{name}");
         }
     }
 

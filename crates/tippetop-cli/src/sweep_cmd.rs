@@ -15,9 +15,11 @@
 //!   most [`MAX_PLOT_CASES`] cases.
 //!
 //! A sweep streams its rows into `sweep.csv.partial` (beside
-//! `shard.json.partial`) as the cases finish, in grid order, and renames
-//! both at the end; `--resume` continues an interrupted sweep from them. The
-//! directory is locked and updated as a unit ([`crate::output::OutDir`]).
+//! `shard.json.partial` and the checkpoints `sweep.csv.partial.sum`,
+//! [`crate::partial`]) as the cases finish, in grid order, renames it at
+//! the end and writes `shard.json` with its checksum; `--resume` continues
+//! an interrupted sweep from the verified rows. The directory is locked and
+//! updated as a unit ([`crate::output::OutDir`]).
 //!
 //! Exit codes: 0 done (cases that failed are reported in `status`, they do
 //! not fail the sweep); 2 bad input (one line `error: KEY: WHAT (RANGE)` on
@@ -28,11 +30,10 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use std::io::{Seek, SeekFrom, Write};
-
 use anyhow::{Context, Result};
 
-use crate::output::{OutDir, write_bytes_atomic};
+use crate::output::{OutDir, check_plain, read_plain, write_bytes_atomic};
+use crate::partial::{PartialWriter, checksum_text};
 use clap::{ArgGroup, Args};
 use tippetop::analysis::sweep::{self, Axis, Shard, ShardInfo, Sweep, Table};
 
@@ -66,14 +67,18 @@ Bad input exits with code 2 and writes nothing.
 CPU-bound, so more threads than cores only add overhead.
 
 Streaming and --resume: the rows are written in grid order as the cases finish, into
-DIR/sweep.csv.partial (beside DIR/shard.json.partial, which identifies the sweep); memory
-stays flat however many cases (at most 8 T + 16 finished rows wait for a slower case before
-them). At the end the two files are renamed to sweep.csv and shard.json. If the sweep is
-interrupted, run the same command with --resume: it keeps the complete rows of
-sweep.csv.partial (a torn last line is cut), runs the remaining cases, and ends with the
-same sweep.csv as an uninterrupted run. --resume on another sweep's partial files (other
-scenario, --set, --vary or --shard) exits with code 2 and leaves them alone; with nothing to
-resume it starts from the first case. Without --resume a sweep always starts over.
+DIR/sweep.csv.partial (beside DIR/shard.json.partial, which identifies the sweep, and
+DIR/sweep.csv.partial.sum, its checkpoints: the hash of the rows on disk, about once a
+second); memory stays flat however many cases (at most 8 T + 16 finished rows wait for a
+slower case before them). At the end sweep.csv.partial is renamed to sweep.csv, and
+shard.json records its checksum (tippetop merge checks it). If the sweep is interrupted, run
+the same command with --resume: it keeps the rows of sweep.csv.partial up to its last
+checkpoint (later rows run again, with a note), runs the remaining cases, and ends with the
+same sweep.csv as an uninterrupted run. A partial file that was edited or damaged (rows that
+do not match their checkpoint, or are not rows of this sweep) or that is a symbolic link
+exits with code 2 (one line naming the file and its line) and is left alone; so are another
+sweep's partial files (other scenario, --set, --vary or --shard). With nothing to resume it
+starts from the first case. Without --resume a sweep always starts over.
 
 The output directory: created, checked and locked before the first case (an unwritable
 --out fails at once with code 1). While the sweep runs, any other tippetop command writing
@@ -147,8 +152,11 @@ pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of
                   --shard K/N) into --out: sweep.csv, byte for byte the file a one-shot run \
                   of the sweep writes, and shard.json. The shards may come in any order and \
                   from different layouts (e.g. 1/2 with 3/4 and 4/4); merge checks that \
-                  they belong to the same sweep and cover every case exactly once. On any \
-                  mismatch or gap it exits with code 2 and writes nothing. Plots as for a \
+                  they belong to the same sweep and cover every case exactly once, that \
+                  each file matches the checksum its shard.json records (an edited or \
+                  damaged shard is refused) and that each row is a row of its case. On any \
+                  mismatch or gap it exits with code 2 and writes nothing; so does an --out \
+                  that is one of the shard directories. Plots as for a \
                   whole sweep (see tippetop sweep --help). --out is locked and updated as a \
                   unit as for tippetop sweep (another command writing into it exits with \
                   code 1). A shard directory that a sweep is still writing into (its lock \
@@ -271,7 +279,7 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
         resume: args.resume,
         quiet,
     };
-    let failed = match stream_rows(
+    let done = match stream_rows(
         &mut out,
         &spec,
         &info,
@@ -283,18 +291,23 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
             })
         },
     )? {
-        Ok(f) => f,
+        Ok(d) => d,
         Err(code) => {
             out.abandon();
             return Ok(code);
         }
     };
+    let failed = done.failed;
 
     out.adopt(PARTIAL_CSV, "sweep.csv");
-    out.adopt(PARTIAL_INFO, "shard.json");
+    write_info(
+        out.stage(),
+        &info,
+        &[("sweep.csv", checksum_text(done.hash))],
+    )?;
     if shard == Shard::ALL {
         if info.total_cases <= MAX_PLOT_CASES {
-            let text = std::fs::read_to_string(&csv_partial)
+            let text = String::from_utf8(read_plain(&csv_partial)?)
                 .with_context(|| format!("reading {}", csv_partial.display()))?;
             let table = Table::parse_csv(&text).map_err(anyhow::Error::new)?;
             drop(text);
@@ -347,15 +360,28 @@ pub struct Streamed<'a> {
     pub quiet: bool,
 }
 
+/// What [`stream_rows`] ends with.
+#[derive(Debug, Clone, Copy)]
+pub struct StreamDone {
+    /// Rows whose status is not `ok` (kept ones included).
+    pub failed: usize,
+    /// FNV-1a 64 of the whole partial CSV (the final CSV's bytes), for the
+    /// checksum in `shard.json` ([`crate::partial::checksum_text`]).
+    pub hash: u64,
+}
+
 /// Stream the rows of the grid points `info.first_index..info.end_index`
 /// into `spec.partial_csv` (beside `spec.partial_info` = `info_json`, which
-/// identifies the run) in grid order, with `--resume` (`spec.resume`): keep the
-/// complete rows of an interrupted run of the same grid (`prefix(text)` says
-/// how many; another run's partial files: one line, exit code 2, returned
-/// as `Ok(Err(code))`) and run the rest. `run(todo, sink)` runs the points
-/// `todo` in order and hands each row's CSV line and whether it failed to
-/// `sink` (which returns `false` to stop). Returns the number of failed
-/// rows (kept ones included). The caller adopts the partial files.
+/// identifies the run, and the checkpoints, [`crate::partial`]) in grid
+/// order, with `--resume` (`spec.resume`): keep the verified rows of an
+/// interrupted run of the same grid ([`crate::partial::verify`];
+/// `prefix(text)` checks rows as this grid writes them) and run the rest.
+/// Bad input: the partial files are links or other non-regular files,
+/// another run's partial files, or an edited or damaged partial CSV (one
+/// line, exit code 2, returned as `Ok(Err(code))`, the files left as they
+/// are). `run(todo, sink)` runs the points `todo` in order and hands each
+/// row's CSV line and whether it failed to `sink` (which returns `false`
+/// to stop). The caller adopts the partial CSV.
 #[allow(clippy::type_complexity)]
 pub fn stream_rows(
     out: &mut OutDir,
@@ -367,27 +393,41 @@ pub fn stream_rows(
         std::ops::Range<usize>,
         &mut dyn FnMut(String, bool) -> bool,
     ) -> std::result::Result<bool, tippetop::Error>,
-) -> Result<std::result::Result<usize, ExitCode>> {
+) -> Result<std::result::Result<StreamDone, ExitCode>> {
     let dir = out.dir().to_path_buf();
     let (csv_partial, info_partial) = (dir.join(spec.partial_csv), dir.join(spec.partial_info));
+    let sum = crate::partial::sum_name(spec.partial_csv);
     let range = info.first_index..info.end_index;
     let (what, unit, quiet) = (spec.what, spec.unit, spec.quiet);
 
+    // Never through a link (planted, it would make the command overwrite
+    // its target).
+    for name in [spec.partial_csv, spec.partial_info, sum.as_str()] {
+        if let Err(e) = check_plain(&dir.join(name)) {
+            return Ok(Err(input_error(e)));
+        }
+    }
+
     // What an interrupted run of this grid left, with --resume.
-    let mut kept = sweep::Prefix::default();
+    let mut kept = crate::partial::Kept::default();
     if spec.resume {
-        match std::fs::read_to_string(&info_partial) {
-            Ok(old) if old == info_json => {
-                if let Ok(text) = std::fs::read_to_string(&csv_partial) {
-                    kept = prefix(&text);
-                }
-                if kept.rows > range.len() {
-                    // More rows than the shard has: not a file this run
-                    // wrote; start over.
-                    kept = sweep::Prefix::default();
-                }
+        if !info_partial.exists() {
+            if !quiet {
+                eprintln!(
+                    "note: no partial {what} to resume in {}: starting from the first {unit}",
+                    dir.display()
+                );
             }
-            Ok(old) => {
+        } else {
+            let old = String::from_utf8_lossy(&read_plain(&info_partial)?).into_owned();
+            // The same run: the same description (checksums aside, which
+            // only a finished run records).
+            let same = old == info_json
+                || serde_json::from_str::<ShardInfo>(&old).is_ok_and(|mut o| {
+                    o.checksums.clear();
+                    o == *info
+                });
+            if !same {
                 let other = match serde_json::from_str::<ShardInfo>(&old) {
                     Ok(o) => format!(
                         "fingerprint {}, {unit}s {}..{} of {}",
@@ -406,13 +446,24 @@ pub fn stream_rows(
                     info.total_cases
                 ))));
             }
-            Err(_) => {
-                if !quiet {
-                    eprintln!(
-                        "note: no partial {what} to resume in {}: starting from the first {unit}",
-                        dir.display()
-                    );
-                }
+            let names = crate::partial::Names {
+                dir: &dir,
+                partial: spec.partial_csv,
+                what,
+                unit,
+            };
+            kept = match crate::partial::verify(&names, prefix, quiet)? {
+                Ok(k) => k,
+                Err(msg) => return Ok(Err(input_error(msg))),
+            };
+            if kept.rows > range.len() {
+                return Ok(Err(input_error(format!(
+                    "--resume: {}: {} rows, more than the {} {unit}s of this {what} (a partial \
+                     file as tippetop wrote it; without --resume the {what} starts over)",
+                    csv_partial.display(),
+                    kept.rows,
+                    range.len()
+                ))));
             }
         }
     }
@@ -420,26 +471,13 @@ pub fn stream_rows(
     // Stream the rows into the partial CSV in grid order (claimed in the
     // manifest first, so that a later command into this directory removes
     // it), beside the partial shard.json, which identifies the run.
-    out.claim(&[spec.partial_csv, spec.partial_info])?;
+    out.claim(&[spec.partial_csv, spec.partial_info, sum.as_str()])?;
     write_bytes_atomic(&info_partial, info_json.as_bytes())?;
-    let mut file = std::fs::OpenOptions::new()
-        .write(true)
-        .create(true)
-        .truncate(false)
-        .open(&csv_partial)
-        .with_context(|| format!("writing {}", csv_partial.display()))?;
-    file.set_len(kept.bytes as u64)
-        .and_then(|()| file.seek(SeekFrom::End(0)).map(|_| ()))
-        .with_context(|| format!("writing {}", csv_partial.display()))?;
-    let mut w = std::io::BufWriter::new(file);
-    if kept.bytes == 0 {
-        w.write_all(spec.header.as_bytes())
-            .with_context(|| format!("writing {}", csv_partial.display()))?;
-    }
+    let mut w = PartialWriter::open(&dir, spec.partial_csv, &spec.header, &kept)?;
     let todo = range.start + kept.rows..range.end;
     if !quiet && kept.rows > 0 {
         eprintln!(
-            "resuming: {} of {} {unit}s already in {}",
+            "resuming: {} of {} {unit}s kept from {} (verified against its checkpoints)",
             kept.rows,
             range.len(),
             csv_partial.display()
@@ -448,18 +486,15 @@ pub fn stream_rows(
     let pb = crate::progress::bar(quiet, range.len() as u64, what);
     pb.inc(kept.rows as u64);
     let mut failed = kept.failed;
-    let mut write_error: Option<std::io::Error> = None;
-    let mut since_flush = std::time::Instant::now();
+    let mut write_error: Option<anyhow::Error> = None;
     let done = run(todo, &mut |line, bad| {
         if bad {
             failed += 1;
         }
-        let mut result = w.write_all(line.as_bytes());
-        // Flushed about once a second: what is on disk is what --resume keeps.
-        if result.is_ok() && since_flush.elapsed().as_secs_f64() >= 1.0 {
-            result = w.flush();
-            since_flush = std::time::Instant::now();
-        }
+        w.push(&line);
+        // About once a second (or each MiB): what is on disk and
+        // checkpointed is what --resume keeps.
+        let result = if w.due() { w.checkpoint(None) } else { Ok(()) };
         pb.inc(1);
         match result {
             Ok(()) => true,
@@ -475,12 +510,11 @@ pub fn stream_rows(
         // the system's limit): an I/O-like failure, exit code 1.
         anyhow::bail!("{e}");
     }
-    let flushed = w.flush();
     if let Some(e) = write_error {
-        return Err(e).with_context(|| format!("writing {}", csv_partial.display()));
+        return Err(e);
     }
-    flushed.with_context(|| format!("writing {}", csv_partial.display()))?;
-    Ok(Ok(failed))
+    let hash = w.finish()?;
+    Ok(Ok(StreamDone { failed, hash }))
 }
 
 /// The file a sweep streams its rows into, in grid order, while it runs;
@@ -488,8 +522,8 @@ pub fn stream_rows(
 pub const PARTIAL_CSV: &str = "sweep.csv.partial";
 
 /// What `sweep.csv.partial` holds (the `shard.json` of the running sweep),
-/// so that `--resume` continues only the same sweep; renamed to `shard.json`
-/// at the end.
+/// so that `--resume` continues only the same sweep; at the end
+/// `shard.json` is written with the checksum of `sweep.csv`.
 pub const PARTIAL_INFO: &str = "shard.json.partial";
 
 /// Largest sweep that gets plots: the plots are drawn from the whole table,
@@ -501,6 +535,19 @@ pub const MAX_PLOT_CASES: usize = 100_000;
 /// overlap): one line on stderr and exit code 2 (returned as `Ok`),
 /// nothing written; `Err` for I/O failures while writing.
 pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
+    if let Err(e) = crate::output::check_out_dir(&args.out) {
+        return Ok(input_error(e));
+    }
+    // --out must not be one of the inputs: the merge would replace the
+    // shard it reads.
+    if let Some(d) = args.dirs.iter().find(|d| same_dir(d, &args.out)) {
+        return Ok(input_error(format!(
+            "--out: {} is {}, one of the shard directories merge reads (a directory that is \
+             not one of them)",
+            args.out.display(),
+            d.display()
+        )));
+    }
     if args
         .dirs
         .first()
@@ -545,10 +592,16 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
         first_index: 0,
         end_index: first.total_cases,
         axes: first.axes.clone(),
+        checksums: Default::default(),
     };
     let table = Table::parse_csv(&csv).map_err(anyhow::Error::new)?;
     let out = OutDir::open(&args.out)?;
-    write_outputs(out.stage(), &csv, &info)?;
+    write_bytes_atomic(&out.stage().join("sweep.csv"), csv.as_bytes())?;
+    write_info(
+        out.stage(),
+        &info,
+        &[("sweep.csv", crate::partial::checksum(csv.as_bytes()))],
+    )?;
     if info.total_cases <= MAX_PLOT_CASES {
         write_plots(out.stage(), &table)?;
     } else if !quiet {
@@ -581,7 +634,8 @@ fn read_shard(dir: &Path) -> std::result::Result<(ShardInfo, String), String> {
     )
 }
 
-/// A grid shard directory's `shard.json` and its CSV `csv` (`what`: such a
+/// A grid shard directory's `shard.json` and its CSV `csv`, checked
+/// against the checksum `shard.json` records for it (`what`: such a
 /// directory, in words, for the messages).
 pub fn read_shard_of(
     dir: &Path,
@@ -600,16 +654,30 @@ pub fn read_shard_of(
             dir.join("shard.json").display()
         )
     })?;
-    Ok((info, read(csv)?))
+    let text = read(csv)?;
+    crate::partial::check_checksum(&info.checksums, dir, csv, text.as_bytes())?;
+    Ok((info, text))
 }
 
-/// Write `sweep.csv` and `shard.json` into `dir`, each atomically.
-fn write_outputs(dir: &Path, csv: &str, info: &ShardInfo) -> Result<()> {
-    let mut json = serde_json::to_string_pretty(info)?;
+/// Write `shard.json` into `dir` (atomically): `info` with `checksums`
+/// (file name, [`crate::partial::checksum_text`] of its bytes).
+pub fn write_info(dir: &Path, info: &ShardInfo, checksums: &[(&str, String)]) -> Result<()> {
+    let mut info = info.clone();
+    info.checksums = checksums
+        .iter()
+        .map(|(n, c)| (n.to_string(), c.clone()))
+        .collect();
+    let mut json = serde_json::to_string_pretty(&info)?;
     json.push('\n');
-    write_bytes_atomic(&dir.join("sweep.csv"), csv.as_bytes())?;
-    write_bytes_atomic(&dir.join("shard.json"), json.as_bytes())?;
-    Ok(())
+    write_bytes_atomic(&dir.join("shard.json"), json.as_bytes())
+}
+
+/// Whether `a` and `b` name the same existing directory.
+pub fn same_dir(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    }
 }
 
 /// Plots of a complete sweep into `dir`: for one axis, curves of the

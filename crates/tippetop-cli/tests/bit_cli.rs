@@ -5,7 +5,7 @@
 //! line naming the key, nothing written).
 
 mod common;
-use common::{bin, json, ok, repo};
+use common::{bin, checkpoints, json, names, ok, refused, repo, with_checksum};
 
 fn scratch(name: &str) -> std::path::PathBuf {
     common::scratch("bit-cli", name)
@@ -869,6 +869,11 @@ fn resume_ends_with_the_same_bytes() {
     std::fs::create_dir_all(&part).unwrap();
     std::fs::write(part.join("bitmap.csv.partial"), &full[..cut]).unwrap();
     std::fs::write(part.join("shard.json.partial"), &info).unwrap();
+    std::fs::write(
+        part.join("bitmap.csv.partial.sum"),
+        checkpoints(&full[..cut - 10]),
+    )
+    .unwrap();
     let mut resumed = args.to_vec();
     resumed.push("--resume");
     ok(&bit(&d, "nano20.toml", "part", &resumed));
@@ -1042,6 +1047,11 @@ fn resumed_bit_ensemble_is_byte_identical() {
     std::fs::create_dir_all(&part).unwrap();
     std::fs::write(part.join("runs.csv.partial"), &full[..cut]).unwrap();
     std::fs::write(part.join("shard.json.partial"), &info).unwrap();
+    std::fs::write(
+        part.join("runs.csv.partial.sum"),
+        checkpoints(&full[..cut - 7]),
+    )
+    .unwrap();
     let o = bin()
         .arg("bit")
         .arg(d.join("hot.toml"))
@@ -1051,7 +1061,7 @@ fn resumed_bit_ensemble_is_byte_identical() {
         .unwrap();
     ok(&o);
     assert!(
-        String::from_utf8_lossy(&o.stderr).contains("resuming: 2 of 6 runs"),
+        String::from_utf8_lossy(&o.stderr).contains("resuming: 2 of 6 runs kept"),
         "{o:?}"
     );
     for f in ["bit.json", "bit.md", "runs.csv", "theta.svg"] {
@@ -1068,4 +1078,288 @@ fn resumed_bit_ensemble_is_byte_identical() {
     let o = bit(&d, "hot.toml", "part", &["--runs", "5", "--resume"]);
     assert_eq!(o.status.code(), Some(2), "{o:?}");
     assert!(String::from_utf8_lossy(&o.stderr).contains("another bit ensemble"));
+}
+
+/// Spawn `tippetop bit FILE ARGS --threads 1 --quiet --out OUT`, wait
+/// until its partial CSV `partial` has a checkpoint with rows, kill it
+/// with `sig`, and return what it left in `out`.
+#[cfg(unix)]
+fn kill_part_way(file: &Path, args: &[&str], out: &Path, partial: &str, sig: i32) -> Vec<String> {
+    let mut child = bin()
+        .arg("bit")
+        .arg(file)
+        .args(args)
+        .args(["--threads", "1", "--quiet", "--out"])
+        .arg(out)
+        .spawn()
+        .unwrap();
+    let sum = out.join(format!("{partial}.sum"));
+    let t0 = std::time::Instant::now();
+    while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 3 {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "ended before a checkpoint"
+        );
+        assert!(t0.elapsed().as_secs() < 60, "no checkpoint after 60 s");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    // SAFETY: kill(2) of our own child.
+    assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, sig) }, 0);
+    child.wait().unwrap();
+    names(out)
+}
+
+/// Issue 26 (E): a bit ensemble (`--runs`) and a design map (`--vary`)
+/// killed part-way (SIGKILL, SIGINT) continue with `--resume` and end
+/// with the bytes of an uninterrupted run; SIGINT leaves no staging
+/// directory and no lock file.
+#[cfg(unix)]
+#[test]
+fn killed_bit_ensemble_and_map_resume_byte_identical() {
+    let d = scratch("kill");
+    std::fs::write(d.join("hot.toml"), HOT).unwrap();
+    std::fs::write(d.join("nano20.toml"), NANO20).unwrap();
+    let jobs: [(&str, Vec<&str>, &str, &[&str]); 2] = [
+        (
+            "hot.toml",
+            vec!["--runs", "1500"],
+            "runs.csv.partial",
+            &["bit.json", "bit.md", "runs.csv"],
+        ),
+        (
+            "nano20.toml",
+            vec!["--vary", "write.0.hy=0:1e-21:400"],
+            "bitmap.csv.partial",
+            &["bitmap.csv", "shard.json"],
+        ),
+    ];
+    for (file, args, partial, files) in &jobs {
+        let whole = d.join("whole");
+        let _ = std::fs::remove_dir_all(&whole);
+        ok(&bit(&d, file, "whole", args));
+        for sig in [libc::SIGKILL, libc::SIGINT] {
+            let out = d.join(format!("out{sig}"));
+            let _ = std::fs::remove_dir_all(&out);
+            let left = kill_part_way(&d.join(file), args, &out, partial, sig);
+            let cleaned = !left.iter().any(|n| n.starts_with(".tippetop-stage-"))
+                && !left.contains(&".tippetop.lock".to_string());
+            assert_eq!(cleaned, sig == libc::SIGINT, "{file} {sig}: {left:?}");
+            assert!(left.contains(&partial.to_string()), "{left:?}");
+            let mut resumed = args.clone();
+            resumed.push("--resume");
+            ok(&bit(&d, file, &format!("out{sig}"), &resumed));
+            for f in *files {
+                assert_eq!(
+                    std::fs::read(whole.join(f)).unwrap(),
+                    std::fs::read(out.join(f)).unwrap(),
+                    "{file} {sig} {f}"
+                );
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Issue 26 (A, C): links planted where runs.csv.partial or
+/// bitmap.csv.partial go are refused (exit code 2, the target untouched),
+/// with or without --resume; a corrupted partial (an edited value, an
+/// extra field, a fabricated row) is refused with its file and line.
+#[test]
+fn bit_partials_refuse_links_and_corruption() {
+    let d = scratch("partials");
+    std::fs::write(d.join("hot.toml"), HOT).unwrap();
+    std::fs::write(d.join("nano20.toml"), NANO20).unwrap();
+    let jobs: [(&str, Vec<&str>, &str, &str); 2] = [
+        ("hot.toml", vec!["--runs", "6"], "runs.csv", "bit ensemble"),
+        (
+            "nano20.toml",
+            vec!["--vary", "write.0.hy=0:1e-21:4"],
+            "bitmap.csv",
+            "map",
+        ),
+    ];
+    for (file, args, csv_name, what) in &jobs {
+        let partial = format!("{csv_name}.partial");
+        let mut with_resume = args.clone();
+        with_resume.push("--resume");
+        // Links.
+        #[cfg(unix)]
+        for name in [partial.as_str(), "shard.json.partial"] {
+            for a in [args, &with_resume] {
+                let part = d.join("part");
+                let _ = std::fs::remove_dir_all(&part);
+                std::fs::create_dir_all(&part).unwrap();
+                let victim = d.join("v");
+                std::fs::write(&victim, "keep").unwrap();
+                std::os::unix::fs::symlink(&victim, part.join(name)).unwrap();
+                let o = bit(&d, file, "part", a);
+                refused(&o, &[&format!("part/{name}: is a symbolic link")]);
+                assert_eq!(std::fs::read_to_string(&victim).unwrap(), "keep");
+                assert_eq!(names(&part), [name]);
+            }
+        }
+        // Corruption: the whole run's rows as an interrupted run's, with
+        // row 2 (line 3) edited.
+        let whole = d.join("whole");
+        let _ = std::fs::remove_dir_all(&whole);
+        ok(&bit(&d, file, "whole", args));
+        let csv = std::fs::read_to_string(whole.join(csv_name)).unwrap();
+        // An unsharded bit ensemble writes no shard.json: that of shard
+        // 1/1 (the same description).
+        let one = d.join("one");
+        let _ = std::fs::remove_dir_all(&one);
+        let mut a = args.clone();
+        a.extend(["--shard", "1/1"]);
+        ok(&bit(&d, file, "one", &a));
+        let mut info: serde_json::Value = json(&one.join("shard.json"));
+        info.as_object_mut().unwrap().remove("checksums");
+        let lines: Vec<&str> = csv.lines().collect();
+        let kept: String = lines[..4].iter().map(|l| format!("{l}\n")).collect();
+        let edit = |f: &dyn Fn(&str) -> String| -> String {
+            let mut v: Vec<String> = lines[..4].iter().map(|l| l.to_string()).collect();
+            v[2] = f(&v[2]);
+            v.join("\n") + "\n"
+        };
+        let nlast = lines[2].rfind(',').unwrap();
+        for (text, words) in [
+            (
+                edit(&|l| format!("{}9.0{}", &l[..nlast + 1], &l[nlast + 1..])),
+                format!("{partial}:3: does not match its checksum"),
+            ),
+            (
+                edit(&|l| format!("{l},1")),
+                format!("{partial}:3: not a row of this {what}"),
+            ),
+            (
+                edit(&|_| lines[1].to_string()),
+                format!("{partial}:3: not a row of this {what}"),
+            ),
+        ] {
+            assert_ne!(text, kept);
+            let part = d.join("part");
+            let _ = std::fs::remove_dir_all(&part);
+            std::fs::create_dir_all(&part).unwrap();
+            std::fs::write(part.join(&partial), &text).unwrap();
+            std::fs::write(
+                part.join("shard.json.partial"),
+                serde_json::to_string_pretty(&info).unwrap() + "\n",
+            )
+            .unwrap();
+            std::fs::write(part.join(format!("{partial}.sum")), checkpoints(&kept)).unwrap();
+            let o = bit(&d, file, "part", &with_resume);
+            refused(&o, &["error: --resume: ", &words]);
+            assert_eq!(std::fs::read_to_string(part.join(&partial)).unwrap(), text);
+        }
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Issue 26 (C): `merge` of bit shards (runs.csv with bit.toml, and
+/// bitmap.csv) checks the checksums the shards' shard.json record: an
+/// edited run, an edited bit.toml (another protocol in the report) and an
+/// edited map value are refused, as is a row that is not a row as
+/// tippetop writes it (even with its checksum recomputed).
+#[test]
+fn merge_checks_bit_shards() {
+    let d = scratch("merge-checks");
+    std::fs::write(d.join("hot.toml"), HOT).unwrap();
+    std::fs::write(d.join("nano20.toml"), NANO20).unwrap();
+    let merge = |dirs: &[&str]| {
+        bin()
+            .arg("merge")
+            .args(dirs.iter().map(|s| d.join(s)))
+            .arg("--quiet")
+            .arg("--out")
+            .arg(d.join("out"))
+            .output()
+            .unwrap()
+    };
+    for k in 1..=2 {
+        let sh = format!("{k}/2");
+        ok(&bit(
+            &d,
+            "hot.toml",
+            &format!("r{k}"),
+            &["--runs", "6", "--shard", &sh],
+        ));
+        ok(&bit(
+            &d,
+            "nano20.toml",
+            &format!("m{k}"),
+            &["--vary", "write.0.hy=0:1e-21:4", "--shard", &sh],
+        ));
+    }
+    ok(&merge(&["r1", "r2"]));
+    ok(&merge(&["m1", "m2"]));
+    let edit = |path: &Path, f: &dyn Fn(&str) -> String| -> (String, String) {
+        let old = std::fs::read_to_string(path).unwrap();
+        let new = f(&old);
+        assert_ne!(old, new, "{}", path.display());
+        (old, new)
+    };
+    let runs = d.join("r2/runs.csv");
+    let toml = d.join("r2/bit.toml");
+    let map = d.join("m2/bitmap.csv");
+    // (file, which shards, the edit, checksum recomputed, the message)
+    type Case<'a> = (
+        &'a Path,
+        &'a str,
+        Box<dyn Fn(&str) -> String>,
+        bool,
+        &'a str,
+    );
+    let cases: Vec<Case> = vec![
+        (
+            &runs,
+            "r",
+            Box::new(|t: &str| t.replacen(",ok,", ",never_entered,", 1)),
+            false,
+            "r2/runs.csv: does not match its checksum",
+        ),
+        (
+            &toml,
+            "r",
+            Box::new(|t: &str| t.replacen("hx = 3e-11", "hx = 4e-11", 1)),
+            false,
+            "r2/bit.toml: does not match its checksum",
+        ),
+        (
+            &map,
+            "m",
+            Box::new(|t: &str| {
+                let l = t.lines().nth(1).unwrap();
+                t.replace(l, &format!("{l},1"))
+            }),
+            false,
+            "m2/bitmap.csv: does not match its checksum",
+        ),
+        (
+            &map,
+            "m",
+            Box::new(|t: &str| {
+                let l = t.lines().nth(1).unwrap();
+                t.replace(l, &format!("{l},1"))
+            }),
+            true,
+            "line 2 of bitmap.csv is not case 2 (more fields than the header)",
+        ),
+    ];
+    for (path, which, f, recompute, words) in &cases {
+        let (old, new) = edit(path, f.as_ref());
+        let json_path = path.parent().unwrap().join("shard.json");
+        let json = std::fs::read_to_string(&json_path).unwrap();
+        std::fs::write(path, &new).unwrap();
+        if *recompute {
+            let name = path.file_name().unwrap().to_str().unwrap();
+            std::fs::write(&json_path, with_checksum(&json, name, new.as_bytes())).unwrap();
+        }
+        let _ = std::fs::remove_dir_all(d.join("out"));
+        let dirs = [format!("{which}1"), format!("{which}2")];
+        let o = merge(&[&dirs[0], &dirs[1]]);
+        refused(&o, &[words]);
+        assert!(!d.join("out").exists());
+        std::fs::write(path, old).unwrap();
+        std::fs::write(&json_path, json).unwrap();
+    }
+    let _ = std::fs::remove_dir_all(&d);
 }

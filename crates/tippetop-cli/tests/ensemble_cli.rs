@@ -6,6 +6,9 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod common;
+use common::{checkpoints, names, refused, with_checksum};
+
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_tippetop"))
 }
@@ -171,6 +174,11 @@ fn resumed_ensemble_is_byte_identical() {
         let cut = ends[kept] + (ends[kept + 1] - ends[kept]) / 2;
         std::fs::write(part.join("ensemble.csv.partial"), &csv[..cut]).unwrap();
         std::fs::copy(d.join("whole/shard.json"), part.join("shard.json.partial")).unwrap();
+        std::fs::write(
+            part.join("ensemble.csv.partial.sum"),
+            checkpoints(&csv[..ends[kept]]),
+        )
+        .unwrap();
         let name = format!("part{kept}");
         ok(&ensemble(
             &d,
@@ -462,5 +470,272 @@ fn retention_extrapolates_two_ensembles() {
         .output()
         .unwrap();
     assert_input_error(&o, "error: --temperature: ");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// A Langevin run of 10 000 steps (tens of milliseconds in a debug build):
+/// an ensemble long enough to be killed part-way.
+fn long_scenario(d: &Path) -> PathBuf {
+    let p = d.join("long.toml");
+    std::fs::write(&p, SCENARIO.replace("t_end = 1e-11", "t_end = 1e-10")).unwrap();
+    p
+}
+
+/// Issue 26 (E): an ensemble killed part-way (SIGKILL: nothing cleaned
+/// up; SIGTERM: the staging directory and the lock removed) continues with
+/// `--resume` from its checkpoints (the rows and the histograms of exactly
+/// those rows) and ends with the bytes of an uninterrupted run.
+#[cfg(unix)]
+#[test]
+fn killed_ensemble_resumes_byte_identical() {
+    let d = scratch("kill");
+    let scenario = long_scenario(&d);
+    let run = |out: &Path, extra: &[&str]| {
+        bin()
+            .arg("ensemble")
+            .arg(&scenario)
+            .args(["--runs", "300"])
+            .args(extra)
+            .arg("--out")
+            .arg(out)
+            .output()
+            .unwrap()
+    };
+    let whole = d.join("whole");
+    ok(&run(&whole, &["--quiet"]));
+    for sig in [libc::SIGKILL, libc::SIGTERM] {
+        let out = d.join(format!("out{sig}"));
+        let mut child = bin()
+            .arg("ensemble")
+            .arg(&scenario)
+            .args(["--runs", "300", "--threads", "1", "--quiet", "--out"])
+            .arg(&out)
+            .spawn()
+            .unwrap();
+        let sum = out.join("ensemble.csv.partial.sum");
+        let t0 = std::time::Instant::now();
+        while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 3 {
+            assert!(
+                child.try_wait().unwrap().is_none(),
+                "the ensemble ended early"
+            );
+            assert!(t0.elapsed().as_secs() < 60, "no checkpoint after 60 s");
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        // SAFETY: kill(2) of our own child.
+        assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, sig) }, 0);
+        child.wait().unwrap();
+        let left = names(&out);
+        let stage = left.iter().any(|n| n.starts_with(".tippetop-stage-"));
+        assert_eq!(stage, sig == libc::SIGKILL, "{left:?}");
+        assert_eq!(
+            left.contains(&".tippetop.lock".to_string()),
+            sig == libc::SIGKILL
+        );
+        assert!(
+            left.contains(&"histograms.json.partial".to_string()),
+            "{left:?}"
+        );
+        let o = run(&out, &["--resume"]);
+        ok(&o);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("resuming: "), "{err}");
+        assert!(!err.contains("does not match a checkpoint"), "{err}");
+        for f in FILES {
+            assert_eq!(read(&whole.join(f)), read(&out.join(f)), "{f}");
+        }
+        assert!(
+            !names(&out)
+                .iter()
+                .any(|n| n.starts_with(".tippetop") && n != ".tippetop-manifest")
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Issue 26 (A, C): a link planted where a partial file goes is refused
+/// (exit code 2, its target untouched), with or without `--resume`; a
+/// corrupted `ensemble.csv.partial` is refused with its file and line; an
+/// edited histogram checkpoint is not used (the kept runs run again for
+/// their counts) and the result is still the uninterrupted run's.
+#[test]
+fn resume_refuses_links_and_corrupted_partials() {
+    let d = scratch("corrupt");
+    ok(&ensemble(&d, "whole", &["--runs", "6"]));
+    let csv = read(&d.join("whole/ensemble.csv"));
+    let lines: Vec<&str> = csv.lines().collect();
+    let ends: Vec<usize> = csv.match_indices('\n').map(|(i, _)| i + 1).collect();
+    let kept = &csv[..ends[4]];
+    let part = d.join("part");
+    let setup = |text: &str| {
+        let _ = std::fs::remove_dir_all(&part);
+        std::fs::create_dir_all(&part).unwrap();
+        std::fs::write(part.join("ensemble.csv.partial"), text).unwrap();
+        std::fs::copy(d.join("whole/shard.json"), part.join("shard.json.partial")).unwrap();
+        std::fs::write(part.join("ensemble.csv.partial.sum"), checkpoints(kept)).unwrap();
+    };
+    let edit = |f: &dyn Fn(&str) -> String| -> String {
+        let mut v: Vec<String> = lines[..5].iter().map(|l| l.to_string()).collect();
+        v[2] = f(&v[2]);
+        v.join("\n") + "\n"
+    };
+    let field = |l: &str, i: usize, x: &str| -> String {
+        let mut f: Vec<&str> = l.split(',').collect();
+        f[i] = x;
+        f.join(",")
+    };
+    let cases: Vec<(String, &str)> = vec![
+        (
+            edit(&|l| field(l, 4, "3.0")),
+            "ensemble.csv.partial:3: does not match its checksum",
+        ),
+        (
+            edit(&|l| field(l, 4, "NaN")),
+            "ensemble.csv.partial:3: does not match its checksum",
+        ),
+        (
+            edit(&|l| field(l, 2, "failed")),
+            "ensemble.csv.partial:3: does not match its checksum",
+        ),
+        (
+            edit(&|l| format!("{l},1")),
+            "ensemble.csv.partial:3: not a row of this ensemble (more fields than the header)",
+        ),
+        (
+            edit(&|_| lines[1].to_string()),
+            "ensemble.csv.partial:3: not a row of this ensemble (not the run's run and seed)",
+        ),
+        (csv[..ends[3] - 5].to_string(), "shorter than the"),
+    ];
+    for (text, words) in &cases {
+        setup(text);
+        let before = names(&part);
+        let o = ensemble(&d, "part", &["--runs", "6", "--resume"]);
+        refused(&o, &["error: --resume: ", words]);
+        assert_eq!(names(&part), before);
+        assert_eq!(&read(&part.join("ensemble.csv.partial")), text);
+    }
+    // Links, with and without --resume.
+    #[cfg(unix)]
+    for name in [
+        "ensemble.csv.partial",
+        "shard.json.partial",
+        "histograms.json.partial",
+        "ensemble.csv.partial.sum",
+    ] {
+        for resume in [false, true] {
+            let victim = d.join("v");
+            std::fs::write(&victim, "keep").unwrap();
+            let _ = std::fs::remove_dir_all(&part);
+            std::fs::create_dir_all(&part).unwrap();
+            std::os::unix::fs::symlink(&victim, part.join(name)).unwrap();
+            let extra: &[&str] = if resume {
+                &["--runs", "6", "--resume"]
+            } else {
+                &["--runs", "6"]
+            };
+            let o = ensemble(&d, "part", extra);
+            refused(&o, &[&format!("part/{name}: is a symbolic link")]);
+            assert_eq!(read(&victim), "keep");
+            assert_eq!(names(&part), [name]);
+        }
+    }
+    // An edited histogram checkpoint (counts of 4 runs made 40): not used.
+    setup(kept);
+    let hist = d.join("h");
+    ok(&ensemble(&d, "h", &["--runs", "4"]));
+    let counts = read(&hist.join("histograms.csv")).replace(",4,", ",40,");
+    let fake =
+        format!("{{\"fingerprint\":\"x\",\"first_index\":0,\"rows\":4,\"hist\":{counts:?}}}");
+    std::fs::write(part.join("histograms.json.partial"), fake).unwrap();
+    let o = bin()
+        .arg("ensemble")
+        .arg(d.join("lang.toml"))
+        .args(["--runs", "6", "--resume", "--out"])
+        .arg(&part)
+        .output()
+        .unwrap();
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("does not match a checkpoint"), "{err}");
+    for f in FILES {
+        assert_eq!(read(&d.join("whole").join(f)), read(&part.join(f)), "{f}");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Issue 26 (C): `merge` of ensemble shards checks the checksums their
+/// shard.json records for ensemble.csv and histograms.csv (an edited count
+/// was merged before), and the rows (also when the checksum was
+/// recomputed).
+#[test]
+fn merge_checks_ensemble_shards() {
+    let d = scratch("merge-checks");
+    let shards: Vec<PathBuf> = (1..=2)
+        .map(|k| {
+            let name = format!("s{k}");
+            ok(&ensemble(
+                &d,
+                &name,
+                &["--runs", "6", "--shard", &format!("{k}/2")],
+            ));
+            d.join(name)
+        })
+        .collect();
+    let merge = |out: &Path| {
+        bin()
+            .arg("merge")
+            .args(&shards)
+            .arg("--out")
+            .arg(out)
+            .arg("--quiet")
+            .output()
+            .unwrap()
+    };
+    ok(&ensemble(&d, "whole", &["--runs", "6"]));
+    let good = d.join("good");
+    ok(&merge(&good));
+    for f in FILES {
+        assert_eq!(read(&d.join("whole").join(f)), read(&good.join(f)), "{f}");
+    }
+    let json_path = shards[1].join("shard.json");
+    let json = read(&json_path);
+    let hist_path = shards[1].join("histograms.csv");
+    let hist = read(&hist_path);
+    let csv_path = shards[1].join("ensemble.csv");
+    let csv = read(&csv_path);
+    let row = csv.lines().nth(1).unwrap();
+    let extra = csv.replace(row, &format!("{row},1"));
+    let cases: Vec<(&Path, String, String, &str)> = vec![
+        (
+            &hist_path,
+            hist.replacen(",3,", ",30,", 1),
+            json.clone(),
+            "s2/histograms.csv: does not match its checksum in ",
+        ),
+        (
+            &csv_path,
+            csv.replace(row, &row.replace(",ok,", ",failed,")),
+            json.clone(),
+            "s2/ensemble.csv: does not match its checksum in ",
+        ),
+        (
+            &csv_path,
+            extra.clone(),
+            with_checksum(&json, "ensemble.csv", extra.as_bytes()),
+            "line 2 of ensemble.csv is not run 3 (more fields than the header)",
+        ),
+    ];
+    for (path, text, info, words) in &cases {
+        let original = read(path);
+        assert_ne!(&original, text, "{words}");
+        std::fs::write(path, text).unwrap();
+        std::fs::write(&json_path, info).unwrap();
+        let out = d.join("out");
+        refused(&merge(&out), &[words]);
+        assert!(!out.exists());
+        std::fs::write(path, original).unwrap();
+        std::fs::write(&json_path, &json).unwrap();
+    }
     let _ = std::fs::remove_dir_all(&d);
 }

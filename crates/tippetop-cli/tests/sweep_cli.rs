@@ -4,6 +4,9 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+mod common;
+use common::{checkpoints, fnv1a64, names, refused, with_checksum};
+
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_tippetop"))
 }
@@ -362,7 +365,6 @@ fn second_process_on_the_same_out_exits_1() {
         listing(&out),
         [
             ".tippetop-manifest",
-            ".tippetop.lock",
             "shard.json",
             "sweep.csv",
             "sweep.png",
@@ -379,13 +381,14 @@ fn second_process_on_the_same_out_exits_1() {
 /// read-only directory; `/proc`, where even root cannot create files) was
 /// found only after the whole sweep had run. Now it is an error (exit code 1)
 /// before the first case: a sweep of a million cases (minutes of work) fails
-/// at once. (A path under a regular file was already caught early.)
+/// at once. (A path that is a file or under one is bad input, exit code 2:
+/// `out_that_is_a_file_is_bad_input`.)
 #[test]
 fn unwritable_out_fails_before_computing() {
     let d = scratch("unwritable");
     let file = d.join("file");
     std::fs::write(&file, "not a directory").unwrap();
-    let mut outs = vec![file.join("sub")];
+    let mut outs = vec![];
     // An existing directory where even root cannot create files (procfs).
     #[cfg(target_os = "linux")]
     if Path::new("/proc/self").is_dir() {
@@ -473,27 +476,25 @@ fn stale_plots_of_a_previous_sweep_are_removed() {
     assert!(out.join("sweep.png").is_file());
     assert!(sweep(&out, &["--shard", "1/2"]).status.success());
     assert_eq!(visible(&out), ["notes.txt", "shard.json", "sweep.csv"]);
-    // merge writes the plots again.
+    // merge writes the plots again (into a directory that held a shard).
     let s2 = d.join("s2");
     assert!(sweep(&s2, &["--shard", "2/2"]).status.success());
+    let m = d.join("m");
+    assert!(sweep(&m, &["--shard", "1/2"]).status.success());
+    assert_eq!(visible(&m), ["shard.json", "sweep.csv"]);
     let o = bin()
         .arg("merge")
         .arg(&out)
         .arg(&s2)
         .arg("--out")
-        .arg(&out)
+        .arg(&m)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = m;
     assert_eq!(
         visible(&out),
-        [
-            "notes.txt",
-            "shard.json",
-            "sweep.csv",
-            "sweep.png",
-            "sweep.svg"
-        ]
+        ["shard.json", "sweep.csv", "sweep.png", "sweep.svg"]
     );
     assert_eq!(read(&out.join("sweep.csv")).lines().count(), 10);
     let _ = std::fs::remove_dir_all(&d);
@@ -557,6 +558,11 @@ fn resumed_sweep_is_byte_identical() {
             let cut = ends[rows_kept] + (ends[rows_kept + 1] - ends[rows_kept]) / 2;
             std::fs::write(part.join("sweep.csv.partial"), &csv[..cut]).unwrap();
             std::fs::write(part.join("shard.json.partial"), &json).unwrap();
+            std::fs::write(
+                part.join("sweep.csv.partial.sum"),
+                checkpoints(&csv[..ends[rows_kept]]),
+            )
+            .unwrap();
             let mut args = extra.clone();
             args.extend(["--resume", "--threads", "2"]);
             let o = sweep(&part, &args);
@@ -565,11 +571,14 @@ fn resumed_sweep_is_byte_identical() {
             assert_eq!(read(&part.join("shard.json")), json);
             assert!(!part.join("sweep.csv.partial").exists());
             assert!(!part.join("shard.json.partial").exists());
+            assert!(!part.join("sweep.csv.partial.sum").exists());
         }
         let _ = std::fs::remove_dir_all(&whole);
     }
     // A partial file with more rows than the shard has (cases 3..9 for
-    // shard 2/3, cases 3..6): not this sweep's, so it starts over.
+    // shard 2/3, cases 3..6): without checkpoints nothing of it is trusted
+    // and the sweep starts over; with checkpoints over all its rows it is
+    // not a file of this shard: bad input.
     let whole = d.join("whole");
     assert!(sweep(&whole, &[]).status.success());
     let full = read(&whole.join("sweep.csv"));
@@ -578,11 +587,16 @@ fn resumed_sweep_is_byte_identical() {
     let want = read(&part.join("sweep.csv"));
     let ends: Vec<usize> = full.match_indices('\n').map(|(i, _)| i + 1).collect();
     let text = format!("{}{}", &full[..ends[0]], &full[ends[3]..]);
-    std::fs::write(part.join("sweep.csv.partial"), text).unwrap();
+    std::fs::write(part.join("sweep.csv.partial"), &text).unwrap();
     std::fs::copy(part.join("shard.json"), part.join("shard.json.partial")).unwrap();
     let o = sweep(&part, &["--shard", "2/3", "--resume"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(read(&part.join("sweep.csv")), want);
+    std::fs::write(part.join("sweep.csv.partial"), &text).unwrap();
+    std::fs::copy(part.join("shard.json"), part.join("shard.json.partial")).unwrap();
+    std::fs::write(part.join("sweep.csv.partial.sum"), checkpoints(&text)).unwrap();
+    let o = sweep(&part, &["--shard", "2/3", "--resume"]);
+    refused(&o, &["sweep.csv.partial: 6 rows, more than the 3 cases"]);
     let _ = std::fs::remove_dir_all(&d);
 }
 
@@ -634,6 +648,14 @@ fn killed_sweep_streams_rows_and_resumes() {
     child.kill().unwrap();
     child.wait().unwrap();
     assert!(!out.join("sweep.csv").exists());
+    // kill -9 leaves the lock file and the staging directory: the next
+    // command takes them over (issue 26: not a permanent block).
+    assert!(out.join(".tippetop.lock").exists());
+    assert!(
+        names(&out)
+            .iter()
+            .any(|n| n.starts_with(".tippetop-stage-"))
+    );
     let o = bin()
         .args(args)
         .args(["--resume", "--out"])
@@ -642,6 +664,16 @@ fn killed_sweep_streams_rows_and_resumes() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(read(&out.join("sweep.csv")), want);
+    assert_eq!(
+        names(&out),
+        [
+            ".tippetop-manifest",
+            "shard.json",
+            "sweep.csv",
+            "sweep.png",
+            "sweep.svg"
+        ]
+    );
     let _ = std::fs::remove_dir_all(&d);
 }
 
@@ -725,5 +757,427 @@ fn merge_refuses_a_shard_directory_being_written() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Issue 26 (A): writes followed symbolic links. A link planted where the
+/// lock file or a partial file goes (`o/.tippetop.lock -> ../v`,
+/// `o/sweep.csv.partial -> ../v`, ...) made `run` and `sweep` write into
+/// the link's target, even without `--resume`. Now each is refused with
+/// one line naming the file (exit code 2), the target untouched; a link
+/// where the final `sweep.csv` goes is replaced, its target untouched.
+#[cfg(unix)]
+#[test]
+fn links_in_the_output_directory_are_refused() {
+    let d = scratch("links");
+    let victim = d.join("v");
+    let plant = |out: &Path, name: &str| {
+        let _ = std::fs::remove_dir_all(out);
+        std::fs::create_dir_all(out).unwrap();
+        std::fs::write(&victim, "keep").unwrap();
+        std::os::unix::fs::symlink(&victim, out.join(name)).unwrap();
+    };
+    let out = d.join("o");
+    // The lock, for run and sweep.
+    plant(&out, ".tippetop.lock");
+    let o = bin()
+        .args(["run", "--preset", "classical", "--set", "solver.t_end=0.01"])
+        .args(["--no-plot", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    refused(&o, &["o/.tippetop.lock: is a symbolic link"]);
+    assert_eq!(read(&victim), "keep");
+    assert_eq!(names(&out), [".tippetop.lock"]);
+    let o = sweep(&out, &[]);
+    refused(&o, &["o/.tippetop.lock: is a symbolic link"]);
+    assert_eq!(read(&victim), "keep");
+    // The partial files, with and without --resume.
+    for name in [
+        "sweep.csv.partial",
+        "shard.json.partial",
+        "sweep.csv.partial.sum",
+    ] {
+        for resume in [false, true] {
+            plant(&out, name);
+            let o = sweep(&out, if resume { &["--resume"] } else { &[] });
+            refused(&o, &[&format!("o/{name}: is a symbolic link")]);
+            assert_eq!(read(&victim), "keep", "{name}");
+            assert_eq!(names(&out), [name], "{name}: nothing else written");
+        }
+    }
+    // The final file: replaced, not followed.
+    plant(&out, "sweep.csv");
+    let o = sweep(&out, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(read(&victim), "keep");
+    let meta = std::fs::symlink_metadata(out.join("sweep.csv")).unwrap();
+    assert!(meta.is_file());
+    assert_eq!(read(&out.join("sweep.csv")).lines().count(), 10);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Issue 26 (C): `--resume` kept edited values, NaN, edited statuses and
+/// fabricated rows, and rows with an extra field (a malformed sweep.csv).
+/// Now the rows it keeps are checked against the checkpoints beside the
+/// partial file (`sweep.csv.partial.sum`, hashes of the rows on disk) and
+/// row by row: each corruption is refused with one line naming the file
+/// and line (exit code 2), the partial files left as they were. Rows after
+/// the last checkpoint (a fabricated row appended, a torn line) are cut
+/// and run again: the same bytes as an uninterrupted run.
+#[test]
+fn resume_refuses_corrupted_partials() {
+    let d = scratch("corrupt");
+    let whole = d.join("whole");
+    assert!(sweep(&whole, &[]).status.success());
+    let csv = read(&whole.join("sweep.csv"));
+    let mut info: serde_json::Value =
+        serde_json::from_str(&read(&whole.join("shard.json"))).unwrap();
+    info.as_object_mut().unwrap().remove("checksums");
+    let json = serde_json::to_string_pretty(&info).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    let ends: Vec<usize> = csv.match_indices('\n').map(|(i, _)| i + 1).collect();
+    // An interrupted sweep: the header and 5 rows, all checkpointed.
+    let kept = &csv[..ends[5]];
+    let sums = checkpoints(kept);
+    let part = d.join("part");
+    let setup = |partial: &str, sum: &str| {
+        let _ = std::fs::remove_dir_all(&part);
+        std::fs::create_dir_all(&part).unwrap();
+        std::fs::write(part.join("sweep.csv.partial"), partial).unwrap();
+        std::fs::write(part.join("shard.json.partial"), &json).unwrap();
+        std::fs::write(part.join("sweep.csv.partial.sum"), sum).unwrap();
+    };
+    // Line 3 (case 1) edited in each way.
+    let edit = |f: &dyn Fn(&str) -> String| -> String {
+        let mut v: Vec<String> = lines[..6].iter().map(|l| l.to_string()).collect();
+        v[2] = f(&v[2]);
+        v.join("\n") + "\n"
+    };
+    let field = |l: &str, i: usize, x: &str| -> String {
+        let mut f: Vec<&str> = l.split(',').collect();
+        f[i] = x;
+        f.join(",")
+    };
+    let theta_final = 2; // after the two varied keys
+    let status = lines[0].split(',').count() - 1;
+    let cases: Vec<(&str, String, String)> = vec![
+        (
+            "edited value",
+            edit(&|l| {
+                let v: f64 = l.split(',').nth(theta_final).unwrap().parse().unwrap();
+                field(l, theta_final, &format!("{:?}", v * 1.001))
+            }),
+            "sweep.csv.partial:3: does not match its checksum".into(),
+        ),
+        (
+            "NaN",
+            edit(&|l| field(l, theta_final, "NaN")),
+            "sweep.csv.partial:3: does not match its checksum".into(),
+        ),
+        (
+            "edited status",
+            edit(&|l| field(l, status, "failed")),
+            "sweep.csv.partial:3: does not match its checksum".into(),
+        ),
+        (
+            "extra field",
+            edit(&|l| format!("{l},1")),
+            "sweep.csv.partial:3: not a row of this sweep (more fields than the header)".into(),
+        ),
+        (
+            "fabricated row",
+            edit(&|_| lines[2].replace("0.001,", "0.0015,")),
+            "sweep.csv.partial:3: not a row of this sweep (not the case's grid values)".into(),
+        ),
+        (
+            "a row removed",
+            format!("{}{}", &csv[..ends[1]], &csv[ends[2]..ends[5]]),
+            "sweep.csv.partial:3: not a row of this sweep (not the case's grid values)".into(),
+        ),
+        (
+            "truncated line",
+            csv[..ends[4] - 7].to_string(),
+            "shorter than the".into(),
+        ),
+    ];
+    for (what, text, words) in &cases {
+        assert_ne!(text, kept, "{what}");
+        setup(text, &sums);
+        let before = names(&part);
+        let o = sweep(&part, &["--resume"]);
+        refused(&o, &["error: --resume: ", "part/sweep.csv.partial", words]);
+        assert_eq!(names(&part), before, "{what}");
+        assert_eq!(&read(&part.join("sweep.csv.partial")), text, "{what}");
+    }
+    // An edited checkpoint file, and a checkpoint line that is not one.
+    // The last checkpoint's hash, its last digit changed.
+    let bad_sum = {
+        let body = sums.strip_suffix('\n').unwrap();
+        let last = body.chars().last().unwrap();
+        let other = if last == '0' { '1' } else { '0' };
+        format!("{}{other}\n", &body[..body.len() - 1])
+    };
+    for (sum, words) in [
+        (bad_sum.as_str(), "does not match its checksum in "),
+        (
+            "# x\n0 12 zz\n",
+            "sweep.csv.partial.sum:2: not a checkpoint",
+        ),
+    ] {
+        setup(kept, sum);
+        refused(&sweep(&part, &["--resume"]), &[words]);
+    }
+    // Past the last checkpoint: a fabricated row appended, a torn line.
+    // Cut (with a note) and run again: the uninterrupted bytes.
+    for tail in [
+        lines[6].replace(",ok", ",failed") + "\n",
+        lines[6][..9].to_string(),
+    ] {
+        setup(&format!("{kept}{tail}"), &sums);
+        let o = bin()
+            .args(&BASE[..BASE.len() - 1])
+            .args(["--resume", "--out"])
+            .arg(&part)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        assert!(
+            err.contains("1 line after line 6 (after the last checkpoint) not verified"),
+            "{err}"
+        );
+        assert!(err.contains("resuming: 5 of 9 cases kept"), "{err}");
+        assert_eq!(read(&part.join("sweep.csv")), csv);
+    }
+    // No checkpoint file: nothing trusted, the sweep starts over.
+    setup(kept, &sums);
+    std::fs::remove_file(part.join("sweep.csv.partial.sum")).unwrap();
+    std::fs::write(
+        part.join("sweep.csv.partial"),
+        edit(&|l| field(l, theta_final, "NaN")),
+    )
+    .unwrap();
+    let o = sweep(&part, &["--resume"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(read(&part.join("sweep.csv")), csv);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Issue 26 (B): a signal left the staging directory (with a partial
+/// result file of up to 512 MB) and the lock file in `--out` until the
+/// next command. Now SIGINT and SIGTERM remove both (the process still
+/// dies of the signal), the partial files stay, and `--resume` ends with
+/// the bytes of an uninterrupted run.
+#[cfg(unix)]
+#[test]
+fn a_signal_removes_the_stage_and_the_lock() {
+    use std::os::unix::process::ExitStatusExt;
+    let d = scratch("signal");
+    let args = [
+        "sweep",
+        "--preset",
+        "classical",
+        "--set",
+        "solver.t_end=0.2",
+        "--set",
+        "solver.samples=11",
+        "--vary",
+        "top.offset=0.001:0.004:1000",
+        "--quiet",
+    ];
+    let whole = d.join("whole");
+    let o = bin().args(args).arg("--out").arg(&whole).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let want = read(&whole.join("sweep.csv"));
+    for sig in [libc::SIGINT, libc::SIGTERM] {
+        let out = d.join(format!("out{sig}"));
+        let mut child = bin()
+            .args(args)
+            .args(["--threads", "1", "--out"])
+            .arg(&out)
+            .spawn()
+            .unwrap();
+        // Until rows are checkpointed.
+        let sum = out.join("sweep.csv.partial.sum");
+        let t0 = std::time::Instant::now();
+        while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 3 {
+            assert!(child.try_wait().unwrap().is_none(), "the sweep ended early");
+            assert!(t0.elapsed().as_secs() < 60, "no checkpoint after 60 s");
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        assert!(out.join(".tippetop.lock").exists());
+        assert!(
+            names(&out)
+                .iter()
+                .any(|n| n.starts_with(".tippetop-stage-"))
+        );
+        // SAFETY: kill(2) of our own child.
+        assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, sig) }, 0);
+        let status = child.wait().unwrap();
+        assert_eq!(status.signal(), Some(sig), "{status:?}");
+        assert_eq!(
+            names(&out),
+            [
+                ".tippetop-manifest",
+                "shard.json.partial",
+                "sweep.csv.partial",
+                "sweep.csv.partial.sum"
+            ],
+            "signal {sig}"
+        );
+        let o = bin()
+            .args(args)
+            .args(["--resume", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(read(&out.join("sweep.csv")), want);
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Issue 26 (D): an `--out` that is a file exited 2 for run and reproduce
+/// but 1 for sweep, ensemble and bit. Now bad input (exit code 2, one line
+/// naming it, nothing written) in every command, as is a path under a
+/// file.
+#[test]
+fn out_that_is_a_file_is_bad_input() {
+    let d = scratch("out-file");
+    let file = d.join("file");
+    std::fs::write(&file, "mine").unwrap();
+    let hot = common::repo("scenarios/thermal.toml");
+    let cmds: Vec<Vec<String>> = vec![
+        BASE.iter().map(|s| s.to_string()).collect(),
+        vec![
+            "ensemble".into(),
+            hot.display().to_string(),
+            "--runs".into(),
+            "2".into(),
+        ],
+        vec![
+            "bit".into(),
+            common::repo("scenarios/bit/nano.toml")
+                .display()
+                .to_string(),
+        ],
+        vec!["run".into(), "--preset".into(), "classical".into()],
+        vec!["merge".into(), d.display().to_string()],
+    ];
+    for out in [file.clone(), file.join("sub")] {
+        for args in &cmds {
+            let o = bin().args(args).arg("--out").arg(&out).output().unwrap();
+            // (`run` names the key `out`, the others `--out`.)
+            refused(&o, &["out: ", "file"]);
+            assert_eq!(read(&file), "mine");
+            assert_eq!(names(&d), ["file"], "{args:?}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Issue 26 (C, D): `merge` accepted corrupted shard sets, said "sweep.csv
+/// has 10 rows, not 10" for a file cut at its last line end, and could
+/// write over one of its inputs. Now each shard's files must match the
+/// checksums its shard.json records (written by the shard run), every row
+/// must be a row of its case (also when someone recomputed the checksum),
+/// the messages say what is wrong, and an --out that is an input is bad
+/// input; exit code 2, nothing written.
+#[test]
+fn merge_checks_what_it_joins() {
+    let d = scratch("merge-checks");
+    let shards: Vec<PathBuf> = (1..=2)
+        .map(|k| {
+            let s = d.join(format!("s{k}"));
+            assert!(sweep(&s, &["--shard", &format!("{k}/2")]).status.success());
+            s
+        })
+        .collect();
+    let whole = d.join("whole");
+    assert!(sweep(&whole, &[]).status.success());
+    let merge = |out: &Path| {
+        bin()
+            .arg("merge")
+            .args(&shards)
+            .arg("--out")
+            .arg(out)
+            .arg("--quiet")
+            .output()
+            .unwrap()
+    };
+    // The shards as written merge into the bytes of a one-shot run, and
+    // shard.json carries the same checksum.
+    let good = d.join("good");
+    let o = merge(&good);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        read(&good.join("sweep.csv")),
+        read(&whole.join("sweep.csv"))
+    );
+    assert_eq!(
+        read(&good.join("shard.json")),
+        read(&whole.join("shard.json"))
+    );
+    let sum = format!(
+        "{:016x}",
+        fnv1a64(read(&whole.join("sweep.csv")).as_bytes())
+    );
+    assert!(read(&whole.join("shard.json")).contains(&sum));
+
+    let csv_path = shards[1].join("sweep.csv");
+    let json_path = shards[1].join("shard.json");
+    let (csv, json) = (read(&csv_path), read(&json_path));
+    let row = csv.lines().nth(2).unwrap();
+    let nan = {
+        let mut f: Vec<&str> = row.split(',').collect();
+        f[2] = "NaN";
+        f.join(",")
+    };
+    let mut no_sum: serde_json::Value = serde_json::from_str(&json).unwrap();
+    no_sum.as_object_mut().unwrap().remove("checksums");
+    let no_sum = serde_json::to_string(&no_sum).unwrap();
+    let cut = csv.strip_suffix('\n').unwrap().to_string();
+    let extra = csv.replace(row, &format!("{row},1"));
+    let cases: Vec<(String, String, &str)> = vec![
+        (
+            csv.replace(row, &nan),
+            json.clone(),
+            "s2/sweep.csv: does not match its checksum in ",
+        ),
+        (
+            csv.clone(),
+            no_sum,
+            "s2/shard.json: no checksum of sweep.csv",
+        ),
+        (
+            extra.clone(),
+            with_checksum(&json, "sweep.csv", extra.as_bytes()),
+            "line 3 of sweep.csv is not case 6 (more fields than the header)",
+        ),
+        (
+            cut.clone(),
+            with_checksum(&json, "sweep.csv", cut.as_bytes()),
+            "sweep.csv ends in the middle of its last row (line 5, no line end)",
+        ),
+    ];
+    for (text, info, words) in &cases {
+        std::fs::write(&csv_path, text).unwrap();
+        std::fs::write(&json_path, info).unwrap();
+        let out = d.join("out");
+        refused(&merge(&out), &[words]);
+        assert!(!out.exists(), "{words}");
+    }
+    std::fs::write(&csv_path, &csv).unwrap();
+    std::fs::write(&json_path, &json).unwrap();
+    // --out is one of the inputs: refused, the input untouched.
+    refused(
+        &merge(&shards[0]),
+        &["--out: ", "one of the shard directories"],
+    );
+    assert_eq!(
+        names(&shards[0]),
+        [".tippetop-manifest", "shard.json", "sweep.csv"]
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -232,6 +232,51 @@ fn runs_rows_histograms() {
     assert_eq!(e.complete_prefix(0, torn).rows, 3);
     // Another first run: nothing kept but the header.
     assert_eq!(e.complete_prefix(1, &csv).rows, 0);
+    // Issue 26: the row check accepts exactly what csv_row writes for the
+    // run (its run and seed), and says why not for each edit.
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    for (k, r) in rows.iter().enumerate() {
+        assert_eq!(ensemble::check_row(r, 10 + k as u64, 1), Ok(false), "{r}");
+    }
+    let r = rows[1];
+    let f: Vec<&str> = r.split(',').collect();
+    let with = |i: usize, v: &str| {
+        let mut g = f.clone();
+        g[i] = v;
+        g.join(",")
+    };
+    let censored = 3 + tippetop::trajectory::COLUMNS.len() + 5;
+    let empty_ok = {
+        let mut g = vec!["11", "1", "ok"];
+        g.extend(std::iter::repeat_n("", ensemble::NCOLS - 3));
+        g.join(",")
+    };
+    for (line, why) in [
+        (format!("{r},1"), "more fields than the header"),
+        (f[..f.len() - 1].join(","), "too few fields"),
+        (with(0, "2"), "not the run's run and seed"),
+        (with(1, "2"), "not the run's run and seed"),
+        (with(4, "x"), "a field that is not a number"),
+        (with(censored, "2"), "a field that is not a number"),
+        (with(2, ""), "a malformed status"),
+        (with(2, "\"ok\""), "a malformed status"),
+        (empty_ok, "status ok without results"),
+    ] {
+        assert_eq!(ensemble::check_row(&line, 11, 1), Err(why), "{line}");
+    }
+    // A failed run's status, quoted as csv_row writes it.
+    assert_eq!(
+        ensemble::check_row(&with(2, "\"at t = 1e-12 s: a, b\""), 11, 1),
+        Ok(true)
+    );
+    let p = e.complete_prefix(
+        0,
+        &format!("{}{},1\n", &csv[..csv.len() - rows[3].len() - 1], rows[3]),
+    );
+    assert_eq!(
+        (p.rows, p.problem),
+        (3, Some("more fields than the header"))
+    );
 }
 
 #[test]

@@ -599,3 +599,90 @@ fn axis_of_given_values() {
     bad.n = 2;
     assert_eq!(key_of(bad.check().unwrap_err()), "top.offset");
 }
+
+/// Issue 26: `--resume` and `merge` kept rows with an extra field (an
+/// unquoted status swallowed it: a malformed sweep.csv), a non-number, or
+/// an `ok` without results. `Sweep::check_line` accepts exactly the lines
+/// `csv_row` writes for the case: every row of a run (quoted statuses
+/// included), and refuses each such edit, saying why; `complete_prefix`
+/// stops there and `merge` names the line.
+#[test]
+fn row_checks_refuse_what_csv_row_never_writes() {
+    let s = cheap(&["top.offset=0.001:0.03:5"]);
+    let full = run_csv(&s, 2);
+    let ncols = 1 + FIELDS.len() + 1;
+    let rows: Vec<&str> = full.lines().skip(1).collect();
+    for (i, r) in rows.iter().enumerate() {
+        assert_eq!(s.check_line(i, r, ncols), Ok(!r.ends_with(",ok")), "{r}");
+    }
+    let ok_row = rows.iter().position(|r| r.ends_with(",ok")).unwrap();
+    let bad_row = rows.iter().position(|r| !r.ends_with(",ok")).unwrap();
+    // A status with a comma and a quote, as csv_row writes it.
+    let (head, _) = rows[bad_row].rsplit_once(',').unwrap();
+    let quoted = format!("{head},\"at t = 1 s: \"\"a\"\", b\"");
+    assert_eq!(s.check_line(bad_row, &quoted, ncols), Ok(true));
+    let r = rows[ok_row];
+    let fields: Vec<&str> = r.split(',').collect();
+    let with = |i: usize, v: &str| {
+        let mut f = fields.clone();
+        f[i] = v;
+        f.join(",")
+    };
+    let empty_ok = {
+        let mut f: Vec<&str> = vec![fields[0]];
+        f.extend(std::iter::repeat_n("", FIELDS.len()));
+        f.push("ok");
+        f.join(",")
+    };
+    for (line, why) in [
+        (format!("{r},1"), "more fields than the header"),
+        (
+            format!("{},x", rows[bad_row]),
+            "more fields than the header",
+        ),
+        (fields[..fields.len() - 1].join(","), "too few fields"),
+        (with(2, "1.0.0"), "a field that is not a number"),
+        (with(1, "theta"), "a field that is not a number"),
+        (with(0, "0.0015"), "not the case's grid values"),
+        (with(fields.len() - 1, "o\"k"), "a malformed status"),
+        (with(fields.len() - 1, ""), "a malformed status"),
+        (with(fields.len() - 1, "\"ok"), "a malformed status"),
+        (empty_ok, "status ok without results"),
+    ] {
+        assert_eq!(s.check_line(ok_row, &line, ncols), Err(why), "{line}");
+        // As the next row of a partial file: kept up to it, and why not.
+        let mut text = full
+            .split_inclusive('\n')
+            .take(ok_row + 1)
+            .collect::<String>();
+        text.push_str(&line);
+        text.push('\n');
+        let p = s.complete_prefix(0, &text);
+        assert_eq!((p.rows, p.problem), (ok_row, Some(why)), "{line}");
+    }
+    // A value edited into another number (or NaN) is still a row: only
+    // the checkpoints and checksums beside the file catch it.
+    assert_eq!(s.check_line(ok_row, &with(2, "NaN"), ncols), Ok(false));
+    assert_eq!(
+        s.check_line(rows.len(), r, ncols),
+        Err("past the last case")
+    );
+
+    // merge: a shard with an extra field, and one cut at its last line end.
+    let mut parts = shards(&s, 2);
+    let row = parts[1].1.lines().nth(1).unwrap().to_string();
+    parts[1].1 = parts[1].1.replace(&row, &format!("{row},1"));
+    let m = merge(&parts).unwrap_err().to_string();
+    assert!(
+        m.contains("line 2 of sweep.csv is not case 3 (more fields than the header)"),
+        "{m}"
+    );
+    let mut parts = shards(&s, 2);
+    parts[1].1.pop();
+    let m = merge(&parts).unwrap_err().to_string();
+    assert!(
+        m.contains("sweep.csv ends in the middle of its last row (line 3, no line end)"),
+        "{m}"
+    );
+    assert!(!m.contains("has 2 rows, not 2"), "{m}");
+}

@@ -39,3 +39,62 @@ pub fn ok(o: &Output) {
 pub fn json(p: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
 }
+
+/// FNV-1a 64 of `bytes` (the published algorithm: offset basis
+/// 0xcbf29ce484222325, prime 0x100000001b3), the hash of tippetop's
+/// checkpoints and checksums.
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
+/// The checkpoint file (`NAME.partial.sum`) of a partial CSV whose
+/// complete text is `csv` (header and rows, each line ending in `\n`): one
+/// checkpoint after the header and one after every row, as the format of
+/// `crates/tippetop-cli/src/partial.rs` says (`ROWS BYTES HASH`).
+pub fn checkpoints(csv: &str) -> String {
+    let mut s = String::from("# checkpoints\n");
+    for (rows, (end, _)) in csv.match_indices('\n').enumerate() {
+        let bytes = &csv.as_bytes()[..end + 1];
+        s.push_str(&format!("{rows} {} {:016x}\n", bytes.len(), fnv1a64(bytes)));
+    }
+    s
+}
+
+/// `shard.json`'s text with the checksum of `file` set to the FNV-1a 64
+/// of `bytes` (a shard "edited with its checksum recomputed").
+pub fn with_checksum(shard_json: &str, file: &str, bytes: &[u8]) -> String {
+    let mut v: serde_json::Value = serde_json::from_str(shard_json).unwrap();
+    v["checksums"][file] = format!("fnv1a64:{:016x}", fnv1a64(bytes)).into();
+    let mut s = serde_json::to_string_pretty(&v).unwrap();
+    s.push('\n');
+    s
+}
+
+/// Exit code 2 and one line `error: ...` on stderr containing each of
+/// `words`.
+pub fn refused(o: &Output, words: &[&str]) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "stderr: {err}");
+    assert!(
+        err.starts_with("error: ") && err.lines().count() == 1,
+        "{err}"
+    );
+    for w in words {
+        assert!(err.contains(w), "{w:?} not in {err}");
+    }
+}
+
+/// The names in `dir`, sorted.
+pub fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}

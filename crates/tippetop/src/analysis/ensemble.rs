@@ -49,6 +49,7 @@
 //! direction, is large near θ = 0 and π, where the direction is ill
 //! defined).
 
+use std::collections::BTreeMap;
 use std::ops::Range;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -293,16 +294,10 @@ fn run_to_exit(sc: &Scenario, exit: &Exit) -> Result<crate::Trajectory, Error> {
 }
 
 /// What [`Ensemble::complete_prefix`] keeps of an interrupted
-/// `ensemble.csv`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Prefix {
-    /// Complete rows kept (runs `first_index..first_index + rows`).
-    pub rows: usize,
-    /// Bytes kept: the header and those rows (0: not even the header).
-    pub bytes: usize,
-    /// How many of the kept rows have a status other than `ok`.
-    pub failed: usize,
-}
+/// `ensemble.csv` (the sweep's [`crate::analysis::sweep::Prefix`]: rows,
+/// bytes, failed rows, and why the first complete line not kept was
+/// refused).
+pub use crate::analysis::sweep::Prefix;
 
 /// What a shard of an ensemble covers, written beside its CSV as
 /// `shard.json`; [`merge_csv`] checks a set of them against each other.
@@ -332,6 +327,13 @@ pub struct EnsembleShard {
     /// `thermal.temperature` \[K\] (for `tippetop retention`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub temperature: Option<f64>,
+    /// The checksums of the files the shard's output holds (`ensemble.csv`,
+    /// `histograms.csv`): file name to `fnv1a64:` and the 16 hex digits of
+    /// the FNV-1a 64 hash of its bytes; `tippetop merge` checks them. Empty
+    /// (and not written) in the partial `shard.json` of a running
+    /// ensemble.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub checksums: BTreeMap<String, String>,
 }
 
 impl Ensemble {
@@ -509,6 +511,7 @@ impl Ensemble {
             seed: self.seed(),
             exit: self.exit.as_ref().map(|e| e.to_string()),
             temperature: Some(self.scenario.thermal.temperature),
+            checksums: BTreeMap::new(),
         })
     }
 
@@ -538,12 +541,14 @@ impl Ensemble {
 
     /// How much of an interrupted `ensemble.csv` of the runs from
     /// `first_index` on can be kept: the header (else nothing) and every
-    /// complete line with the right number of fields and the next run's
-    /// `run` and `seed`, up to the first that is not (a torn last line).
+    /// complete line that [`check_row`] accepts as the next run (its `run`
+    /// and `seed`), up to the first that it does not (a torn last line;
+    /// `problem` says why a complete line was refused).
     pub fn complete_prefix(&self, first_index: usize, text: &str) -> Prefix {
         let header = csv_header();
         let mut p = Prefix::default();
         if !text.starts_with(&header) {
+            p.problem = Some("not the header");
             return p;
         }
         p.bytes = header.len();
@@ -552,14 +557,17 @@ impl Ensemble {
             let Some(body) = line.strip_suffix('\n') else {
                 break;
             };
-            let want = (self.first_run() + index as u64, self.seed());
-            match parse_row(body) {
-                Some(r) if index < self.runs && (r.run, r.seed) == want => {
-                    if r.status != "ok" {
-                        p.failed += 1;
-                    }
+            let checked = if index < self.runs {
+                check_row(body, self.first_run() + index as u64, self.seed())
+            } else {
+                Err("past the last run")
+            };
+            match checked {
+                Ok(failed) => p.failed += usize::from(failed),
+                Err(why) => {
+                    p.problem = Some(why);
+                    break;
                 }
-                _ => break,
             }
             p.rows += 1;
             p.bytes += line.len();
@@ -677,6 +685,71 @@ fn split_fields(line: &str) -> Option<Vec<String>> {
     Some(out)
 }
 
+/// Check a data line of `ensemble.csv` (without its `\n`) as the row of
+/// the run with `thermal.run = run` and `thermal.seed = seed`: [`NCOLS`]
+/// fields, that `run` and `seed`, a status as [`csv_row`] writes it (`ok`
+/// only with the run's final values), numbers (or empty) after it, and
+/// `censored` empty, 0 or 1. `Ok(true)`: a row whose status is not `ok`;
+/// `Err`: why not.
+pub fn check_row(line: &str, run: u64, seed: u64) -> Result<bool, &'static str> {
+    let f = split_fields(line).ok_or("an unterminated quote")?;
+    match f.len().cmp(&NCOLS) {
+        std::cmp::Ordering::Less => return Err("too few fields"),
+        std::cmp::Ordering::Greater => return Err("more fields than the header"),
+        std::cmp::Ordering::Equal => {}
+    }
+    if f[0].parse::<u64>().ok() != Some(run) || f[1].parse::<u64>().ok() != Some(seed) {
+        return Err("not the run's run and seed");
+    }
+    // The raw field as written: quoted iff it holds a comma or a quote.
+    let raw = field_at(line, 2);
+    if f[2].is_empty() || raw != Some(status_field(&f[2])) {
+        return Err("a malformed status");
+    }
+    let censored = 3 + COLUMNS.len() + 5;
+    for (i, v) in f.iter().enumerate().skip(3) {
+        let ok = if i == censored {
+            matches!(v.as_str(), "" | "0" | "1")
+        } else {
+            v.is_empty() || v.parse::<f64>().is_ok()
+        };
+        if !ok {
+            return Err("a field that is not a number");
+        }
+    }
+    if f[2] == "ok" && (f[3].is_empty() || f[NCOLS - 1].is_empty()) {
+        return Err("status ok without results");
+    }
+    Ok(f[2] != "ok")
+}
+
+/// The raw text of field `i` of a CSV line whose fields before `i` are
+/// unquoted (the run and the seed, before the status): up to the closing
+/// quote of a quoted field, else up to the next comma.
+fn field_at(line: &str, i: usize) -> Option<String> {
+    let mut rest = line;
+    for _ in 0..i {
+        rest = rest.split_once(',')?.1;
+    }
+    if let Some(inner) = rest.strip_prefix('"') {
+        let mut end = None;
+        let mut chars = inner.char_indices().peekable();
+        while let Some((k, c)) = chars.next() {
+            if c == '"' {
+                if chars.peek().is_some_and(|&(_, d)| d == '"') {
+                    chars.next();
+                } else {
+                    end = Some(k + 2);
+                    break;
+                }
+            }
+        }
+        Some(rest[..end?].to_string())
+    } else {
+        Some(rest.split(',').next().unwrap_or("").to_string())
+    }
+}
+
 /// Parse a data line of `ensemble.csv` (without its `\n`); `None` if it
 /// does not have the layout of [`csv_row`].
 pub fn parse_row(line: &str) -> Option<ParsedRow> {
@@ -749,22 +822,34 @@ pub fn merge_csv(shards: &[(EnsembleShard, String)]) -> Result<String, Error> {
             ));
         };
         let want = info.end_index - info.first_index;
-        let mut rows = 0;
-        for (j, line) in body.lines().enumerate() {
+        let lines: Vec<&str> = body.split_inclusive('\n').collect();
+        if lines.len() != want {
+            return Err(err(
+                format!("{name}: ensemble.csv has {} rows, not {want}", lines.len()),
+                as_written,
+            ));
+        }
+        for (j, line) in lines.iter().enumerate() {
             let run = info.first_run + (info.first_index + j) as u64;
-            if !parse_row(line).is_some_and(|r| r.run == run && r.seed == info.seed) {
+            let Some(line) = line.strip_suffix('\n') else {
                 return Err(err(
-                    format!("{name}: row {} of ensemble.csv is not run {run}", j + 1),
+                    format!(
+                        "{name}: ensemble.csv ends in the middle of its last row (line {}, no \
+                         line end)",
+                        j + 2
+                    ),
+                    as_written,
+                ));
+            };
+            if let Err(why) = check_row(line, run, info.seed) {
+                return Err(err(
+                    format!(
+                        "{name}: line {} of ensemble.csv is not run {run} ({why})",
+                        j + 2
+                    ),
                     as_written,
                 ));
             }
-            rows += 1;
-        }
-        if rows != want || (want > 0 && !body.ends_with('\n')) {
-            return Err(err(
-                format!("{name}: ensemble.csv has {rows} rows, not {want}"),
-                as_written,
-            ));
         }
     }
     let mut order: Vec<&(EnsembleShard, String)> = shards.iter().collect();

@@ -422,6 +422,12 @@ pub struct ShardInfo {
     pub end_index: usize,
     /// The sweep's axes.
     pub axes: Vec<Axis>,
+    /// The checksums of the files the shard's output holds (e.g.
+    /// `sweep.csv`): file name to `fnv1a64:` and the 16 hex digits of the
+    /// FNV-1a 64 hash of its bytes; `tippetop merge` checks them. Empty
+    /// (and not written) in the partial `shard.json` of a running sweep.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub checksums: BTreeMap<String, String>,
 }
 
 // ---------------------------------------------------------------------------
@@ -458,6 +464,9 @@ pub struct Prefix {
     pub bytes: usize,
     /// How many of the kept rows have a status other than `ok`.
     pub failed: usize,
+    /// Why the first line not kept was refused, if it was a complete line
+    /// (`None`: the text ended, or with a torn last line).
+    pub problem: Option<&'static str>,
 }
 
 /// The result of one case.
@@ -592,6 +601,7 @@ impl Sweep {
             first_index: r.start,
             end_index: r.end,
             axes: self.axes.clone(),
+            checksums: BTreeMap::new(),
         })
     }
 
@@ -686,9 +696,10 @@ impl Sweep {
 
     /// How much of an interrupted `sweep.csv` of the cases from
     /// `first_index` on can be kept: the header (it must be this sweep's,
-    /// else nothing is kept) and then every complete line (ending in `\n`,
-    /// with the right number of fields) that holds the next case's values,
-    /// up to the first that does not (a torn last line, say).
+    /// else nothing is kept) and then every complete line (ending in `\n`)
+    /// that [`Sweep::check_line`] accepts as the next case, up to the first
+    /// that it does not (a torn last line, say; `problem` says why a
+    /// complete line was refused).
     pub fn complete_prefix(&self, first_index: usize, text: &str) -> Prefix {
         let ncols = self.axes.len() + FIELDS.len() + 1;
         self.complete_prefix_of(first_index, text, &csv_header(&self.axes), ncols)
@@ -706,35 +717,61 @@ impl Sweep {
     ) -> Prefix {
         let mut p = Prefix::default();
         if !text.starts_with(header) {
+            p.problem = Some("not the header");
             return p;
         }
         p.bytes = header.len();
-        let total = self.total();
         for line in text[header.len()..].split_inclusive('\n') {
             let index = first_index + p.rows;
             let Some(body) = line.strip_suffix('\n') else {
                 break;
             };
-            let ok = index < total
-                && split_line(body, ncols).is_some_and(|(head, status)| {
-                    let case = self.case(index);
-                    let same = case
-                        .values
-                        .iter()
-                        .zip(&head)
-                        .all(|(v, f)| fmt_f64(*v) == *f);
-                    if same && status != "ok" {
-                        p.failed += 1;
-                    }
-                    same
-                });
-            if !ok {
-                break;
+            match self.check_line(index, body, ncols) {
+                Ok(failed) => p.failed += usize::from(failed),
+                Err(why) => {
+                    p.problem = Some(why);
+                    break;
+                }
             }
             p.rows += 1;
             p.bytes += line.len();
         }
         p
+    }
+
+    /// Check a data line (without its `\n`) of a CSV of this grid as case
+    /// `index` (see [`Sweep::complete_prefix_of`]): `ncols` fields, the
+    /// case's grid values first (as [`csv_row`] writes them), then fields
+    /// that are empty, numbers or `true`/`false`, then a status as
+    /// [`csv_row`] writes it (`ok` only with results: not every field
+    /// empty). `Ok(true)`: a row whose status is not `ok`; `Err`: why not.
+    pub fn check_line(&self, index: usize, body: &str, ncols: usize) -> Result<bool, &'static str> {
+        if index >= self.total() {
+            return Err("past the last case");
+        }
+        let (head, status) = split_line(body, ncols)?;
+        let case = self.case(index);
+        let nkeys = case.values.len();
+        if !case
+            .values
+            .iter()
+            .zip(&head)
+            .all(|(v, f)| fmt_f64(*v) == *f)
+        {
+            return Err("not the case's grid values");
+        }
+        let rest = &head[nkeys.min(head.len())..];
+        if !rest
+            .iter()
+            .all(|f| f.is_empty() || *f == "true" || *f == "false" || f.parse::<f64>().is_ok())
+        {
+            return Err("a field that is not a number");
+        }
+        let empty = rest.iter().all(|f| f.is_empty());
+        if status == "ok" && empty && !rest.is_empty() {
+            return Err("status ok without results");
+        }
+        Ok(status != "ok")
     }
 
     /// A 16-hex-digit hash (FNV-1a, 64 bit) of everything that defines the
@@ -944,21 +981,32 @@ pub fn csv(axes: &[Axis], rows: &[Row]) -> String {
     s
 }
 
-/// Split a data line into its fields; only the last field (status) may be
-/// quoted.
-fn split_line(line: &str, ncols: usize) -> Option<(Vec<&str>, String)> {
+/// Split a data line into its `ncols` fields: the first `ncols - 1`
+/// (unquoted), and the status, the last, as [`status_field`] writes it
+/// (quoted iff it holds a comma or a quote). `Err`: too few fields, or a
+/// last field that is not such a status (e.g. an extra field after it).
+fn split_line(line: &str, ncols: usize) -> Result<(Vec<&str>, String), &'static str> {
     let mut parts = line.splitn(ncols, ',');
     let head: Vec<&str> = parts.by_ref().take(ncols - 1).collect();
-    let status = parts.next()?;
+    let raw = parts.next().ok_or("too few fields")?;
     if head.len() != ncols - 1 {
-        return None;
+        return Err("too few fields");
     }
-    let status = if let Some(inner) = status.strip_prefix('"') {
-        inner.strip_suffix('"')?.replace("\"\"", "\"")
-    } else {
-        status.to_string()
+    let status = match raw.strip_prefix('"') {
+        Some(inner) => inner
+            .strip_suffix('"')
+            .ok_or("a malformed status")?
+            .replace("\"\"", "\""),
+        None => raw.to_string(),
     };
-    Some((head, status))
+    if status.is_empty() || status_field(&status) != raw {
+        return Err(if raw.contains(',') {
+            "more fields than the header"
+        } else {
+            "a malformed status"
+        });
+    }
+    Ok((head, status))
 }
 
 // ---------------------------------------------------------------------------
@@ -1024,13 +1072,7 @@ pub fn merge_of(
         ));
     }
     merge_rows(shards, header, file, command, &|_, index, line| {
-        split_line(line, ncols).is_some_and(|(head, _)| {
-            let case = sweep.case(index);
-            case.values
-                .iter()
-                .zip(&head)
-                .all(|(v, f)| fmt_f64(*v) == *f)
-        })
+        sweep.check_line(index, line, ncols).map(|_| ())
     })
 }
 
@@ -1039,7 +1081,8 @@ pub fn merge_of(
 /// `total_cases`, one line each after `header`: checks that the shards
 /// belong together (fingerprint, total, axes), that each text has the
 /// header, its number of lines, and lines that `row_ok(info, index, line)`
-/// accepts as item `index`, and that the shards tile `0..total_cases`.
+/// accepts as item `index` (`Err`: why not), and that the shards tile
+/// `0..total_cases`.
 /// `file` and `command` name the CSV and the command that wrote it in the
 /// messages ([`Error::Invalid`] with key `merge`).
 pub fn merge_rows(
@@ -1047,7 +1090,7 @@ pub fn merge_rows(
     header: &str,
     file: &str,
     command: &str,
-    row_ok: &dyn Fn(&ShardInfo, usize, &str) -> bool,
+    row_ok: &dyn Fn(&ShardInfo, usize, &str) -> Result<(), &'static str>,
 ) -> Result<String, Error> {
     let err = |what: String, range: &str| Error::invalid("merge", what, range.into());
     let Some((first, _)) = shards.first() else {
@@ -1091,9 +1134,9 @@ pub fn merge_rows(
                 written,
             ));
         };
-        let lines: Vec<&str> = body.lines().collect();
+        let lines: Vec<&str> = body.split_inclusive('\n').collect();
         let want = info.end_index - info.first_index;
-        if lines.len() != want || (want > 0 && !body.ends_with('\n')) {
+        if lines.len() != want {
             return Err(err(
                 format!("{name}: {file} has {} rows, not {want}", lines.len()),
                 written,
@@ -1101,9 +1144,21 @@ pub fn merge_rows(
         }
         for (j, line) in lines.iter().enumerate() {
             let index = info.first_index + j;
-            if !row_ok(info, index, line) {
+            let Some(line) = line.strip_suffix('\n') else {
                 return Err(err(
-                    format!("{name}: row {} of {file} is not case {index}", j + 1),
+                    format!(
+                        "{name}: {file} ends in the middle of its last row (line {}, no line end)",
+                        j + 2
+                    ),
+                    written,
+                ));
+            };
+            if let Err(why) = row_ok(info, index, line) {
+                return Err(err(
+                    format!(
+                        "{name}: line {} of {file} is not case {index} ({why})",
+                        j + 2
+                    ),
                     written,
                 ));
             }
@@ -1221,12 +1276,8 @@ impl Table {
             status: Vec::new(),
         };
         for (j, line) in lines.enumerate() {
-            let Some((head, status)) = split_line(line, header.len()) else {
-                return Err(bad(format!(
-                    "line {} has the wrong number of fields",
-                    j + 2
-                )));
-            };
+            let (head, status) = split_line(line, header.len())
+                .map_err(|why| bad(format!("line {}: {why}", j + 2)))?;
             let num = |s: &str| -> Result<f64, Error> {
                 if s.is_empty() {
                     Ok(f64::NAN)
