@@ -14,6 +14,7 @@ pub mod ensemble_cmd;
 pub mod output;
 pub mod plot;
 pub mod progress;
+pub mod rare_cmd;
 pub mod regime_cmd;
 pub mod reproduce;
 pub mod retention_cmd;
