@@ -10,7 +10,6 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::{ArgGroup, Args};
-use serde_json::{Value, json};
 use tippetop::analysis::rare::exact::{Edge, Exact, Positive, Quantity};
 use tippetop::analysis::rare::problem::{self, DEFAULT_REPLICAS, Problem, RareMethod, Report};
 
@@ -112,11 +111,6 @@ pub struct RareArgs {
     pub threads: Option<usize>,
 }
 
-/// A JSON number, or null for a non-finite value.
-fn num(v: f64) -> Value {
-    if v.is_finite() { json!(v) } else { Value::Null }
-}
-
 /// A positive value with 4 significant figures from its logarithm (so
 /// values past f64 print too: `3.162e+431`).
 pub fn fmt_positive(p: Positive) -> String {
@@ -159,86 +153,6 @@ impl std::fmt::Display for Sig {
 
 fn s4(v: f64) -> String {
     format!("{}", Sig(v))
-}
-
-fn edge_json(e: Option<Edge>) -> Value {
-    match e {
-        None => Value::Null,
-        Some(e) => json!({
-            "theta": e.theta,
-            "role": if e.target { "target" } else { "reset" },
-        }),
-    }
-}
-
-fn exact_json(e: &Exact, dt: Option<f64>) -> Value {
-    json!({
-        "value": num(e.value.value),
-        "ln_value": num(e.value.ln),
-        "watched": e.watched.map(|w| num(w.value)),
-        "ln_watched": e.watched.map(|w| num(w.ln)),
-        "watched_dt": dt,
-        "theta0": e.theta0,
-        "lower": edge_json(e.lower),
-        "upper": edge_json(e.upper),
-    })
-}
-
-/// rare.json's document (without `wall_seconds`, added by the caller).
-fn document(p: &Problem, r: &Report) -> serde_json::Map<String, Value> {
-    let mut m = serde_json::Map::new();
-    m.insert("quantity".into(), json!(r.quantity.name()));
-    m.insert("unit".into(), json!(r.quantity.unit()));
-    m.insert("estimate".into(), num(r.estimate));
-    // The log too: an exact value past f64 (a barrier beyond ~700 kT) is
-    // null above but finite here.
-    let ln = match (&r.exact, r.method) {
-        (Some(e), RareMethod::Exact) => e.value.ln,
-        _ => r.estimate.ln(),
-    };
-    m.insert("ln_estimate".into(), num(ln));
-    m.insert("ci95".into(), json!([num(r.ci95[0]), num(r.ci95[1])]));
-    m.insert("method".into(), json!(r.method.name()));
-    m.insert("replicas".into(), json!(r.replicas));
-    m.insert("trajectories".into(), json!(r.trajectories));
-    m.insert("steps".into(), json!(r.steps));
-    match &r.exact {
-        Some(e) => {
-            m.insert("exact".into(), exact_json(e, p.scenario.solver.dt));
-        }
-        None => {
-            m.insert("exact".into(), Value::Null);
-            m.insert(
-                "exact_unavailable".into(),
-                json!(r.exact_unavailable.clone().unwrap_or_default()),
-            );
-        }
-    }
-    m.insert("target".into(), json!(p.target.to_string()));
-    m.insert(
-        "reset".into(),
-        json!(p.reset.as_ref().map(|r| r.to_string())),
-    );
-    m.insert("horizon".into(), json!(p.horizon));
-    m.insert("max_steps".into(), json!(p.max_steps));
-    if let Some(t) = &r.tally {
-        m.insert(
-            "tally".into(),
-            json!({
-                "target": t.target,
-                "reset": t.reset,
-                "horizon": t.horizon,
-                "censored": t.censored,
-                "failed": t.failed,
-                "first_error": t.first_error,
-            }),
-        );
-    }
-    m.insert("seed".into(), json!(p.scenario.thermal.seed));
-    m.insert("first_run".into(), json!(p.scenario.thermal.run));
-    m.insert("temperature".into(), json!(p.scenario.thermal.temperature));
-    m.insert("scenario".into(), json!(p.scenario.to_toml_string()));
-    m
 }
 
 /// What is estimated, in words.
@@ -468,7 +382,8 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
             let out = OutDir::open(&args.out)?;
             let pb = crate::progress::bar(quiet, replicas as u64, "rare (direct)");
             let r = problem::by_direct(&prob, replicas, args.threads, &mut |done| {
-                pb.set_position(done as u64)
+                pb.set_position(done as u64);
+                true
             });
             pb.finish_and_clear();
             match r {
@@ -498,10 +413,8 @@ fn finish(
     quiet: bool,
 ) -> Result<ExitCode> {
     let wall = started.elapsed().as_secs_f64();
-    let mut doc = document(prob, report);
-    doc.insert("wall_seconds".into(), json!(wall));
     let stage = out.stage().to_path_buf();
-    let mut text = serde_json::to_string_pretty(&Value::Object(doc))?;
+    let mut text = serde_json::to_string_pretty(&report.document(prob, wall))?;
     text.push('\n');
     write_bytes_atomic(&stage.join("rare.json"), text.as_bytes())?;
     write_bytes_atomic(

@@ -247,7 +247,8 @@ pub fn by_exact(p: &Problem) -> Result<Report, Error> {
 
 /// The direct method's report: `replicas` runs (`1 <=` and the run
 /// indices below 2^32, key `--replicas`) on `threads` threads, `progress`
-/// called with the number of runs done after each. A probability with its
+/// called with the number of runs done after each (returning false stops
+/// the ensemble: then `Err`, a run-time error "interrupted"). A probability with its
 /// Wilson interval ([`Tally::probability`]), a mean time with its
 /// t-interval ([`Tally::mean_time`]; NaN if every run failed).
 /// The same bits for any thread count.
@@ -255,7 +256,7 @@ pub fn by_direct(
     p: &Problem,
     replicas: usize,
     threads: Option<usize>,
-    progress: &mut dyn FnMut(usize),
+    progress: &mut dyn FnMut(usize) -> bool,
 ) -> Result<Report, Error> {
     let room = MAX_RUNS - p.scenario.thermal.run.min(MAX_RUNS);
     if replicas == 0 || replicas as u64 > room {
@@ -268,7 +269,7 @@ pub fn by_direct(
     }
     let mut tally = Tally::default();
     let mut done = 0;
-    direct::run_replicas(
+    let complete = direct::run_replicas(
         &p.scenario,
         &p.target,
         p.reset.as_ref(),
@@ -279,10 +280,16 @@ pub fn by_direct(
         &mut |_, o| {
             tally.push(&o);
             done += 1;
-            progress(done);
-            true
+            progress(done)
         },
     )?;
+    if !complete {
+        return Err(Error::runtime(
+            0.0,
+            crate::Failure::Numerics,
+            format!("interrupted after {done} of {replicas} runs"),
+        ));
+    }
     let quantity = p.quantity();
     let (estimate, ci95) = match quantity {
         Quantity::Probability => tally.probability(),
@@ -304,4 +311,159 @@ pub fn by_direct(
         exact_unavailable,
         tally: Some(tally),
     })
+}
+
+/// An absorbing edge of the θ window in [`ExactDoc`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct EdgeDoc {
+    /// θ \[rad\].
+    pub theta: f64,
+    /// `"target"` or `"reset"`.
+    pub role: &'static str,
+}
+
+/// The exact answer in [`Document`] (non-finite numbers are written as
+/// null by JSON writers).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ExactDoc {
+    /// The value for the continuous process (\[1\] or \[s\]; inf past f64).
+    pub value: f64,
+    /// Its natural log.
+    pub ln_value: f64,
+    /// The value for the path watched at every step of `solver.dt` (BGK).
+    pub watched: Option<f64>,
+    /// Its natural log.
+    pub ln_watched: Option<f64>,
+    /// `solver.dt` \[s\] of the watched value.
+    pub watched_dt: Option<f64>,
+    /// The start θ0 \[rad\].
+    pub theta0: f64,
+    /// The lower absorbing edge (null: the pole θ = 0, reflecting).
+    pub lower: Option<EdgeDoc>,
+    /// The upper absorbing edge (null: θ = π, reflecting).
+    pub upper: Option<EdgeDoc>,
+}
+
+/// The tallies of a direct ensemble in [`Document`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct TallyDoc {
+    /// Runs that met the target.
+    pub target: u64,
+    /// Runs that met the reset.
+    pub reset: u64,
+    /// Runs that reached the horizon.
+    pub horizon: u64,
+    /// Runs that used their whole step budget.
+    pub censored: u64,
+    /// Runs that failed.
+    pub failed: u64,
+    /// The first failure's message.
+    pub first_error: Option<String>,
+}
+
+/// `rare.json` (and Python's `tt.rare` dict): the report as a document.
+/// Non-finite numbers (an upper bound that is unknown, an exact value past
+/// f64) are written as null; `ln_estimate` stays finite.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Document {
+    /// `"probability"` or `"mean_first_passage_time"`.
+    pub quantity: &'static str,
+    /// `""` or `"s"`.
+    pub unit: &'static str,
+    /// The estimate.
+    pub estimate: f64,
+    /// Its natural log (finite where the estimate overflows).
+    pub ln_estimate: f64,
+    /// The 95 % interval.
+    pub ci95: [f64; 2],
+    /// `"exact"`, `"direct"` or `"ams"`.
+    pub method: &'static str,
+    /// Independent replicas.
+    pub replicas: usize,
+    /// Trajectories simulated.
+    pub trajectories: u64,
+    /// Steps simulated.
+    pub steps: u64,
+    /// Wall-clock time \[s\] (the only field that changes between runs).
+    pub wall_seconds: f64,
+    /// The exact answer where it applies.
+    pub exact: Option<ExactDoc>,
+    /// Why there is none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exact_unavailable: Option<String>,
+    /// The target condition (canonical form).
+    pub target: String,
+    /// The reset condition.
+    pub reset: Option<String>,
+    /// The horizon \[s\].
+    pub horizon: Option<f64>,
+    /// The step budget of one trajectory.
+    pub max_steps: u64,
+    /// The tallies of a direct ensemble.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tally: Option<TallyDoc>,
+    /// `thermal.seed`.
+    pub seed: Option<u64>,
+    /// `thermal.run` of the first replica.
+    pub first_run: u64,
+    /// `thermal.temperature` \[K\].
+    pub temperature: f64,
+    /// The resolved scenario (TOML).
+    pub scenario: String,
+}
+
+fn edge_doc(e: Option<exact::Edge>) -> Option<EdgeDoc> {
+    e.map(|e| EdgeDoc {
+        theta: e.theta,
+        role: if e.target { "target" } else { "reset" },
+    })
+}
+
+impl Report {
+    /// The document of this report to `p`, with `wall_seconds` \[s\].
+    pub fn document(&self, p: &Problem, wall_seconds: f64) -> Document {
+        let ln_estimate = match (&self.exact, self.method) {
+            (Some(e), RareMethod::Exact) => e.value.ln,
+            _ => self.estimate.ln(),
+        };
+        Document {
+            quantity: self.quantity.name(),
+            unit: self.quantity.unit(),
+            estimate: self.estimate,
+            ln_estimate,
+            ci95: self.ci95,
+            method: self.method.name(),
+            replicas: self.replicas,
+            trajectories: self.trajectories,
+            steps: self.steps,
+            wall_seconds,
+            exact: self.exact.map(|e| ExactDoc {
+                value: e.value.value,
+                ln_value: e.value.ln,
+                watched: e.watched.map(|w| w.value),
+                ln_watched: e.watched.map(|w| w.ln),
+                watched_dt: p.scenario.solver.dt,
+                theta0: e.theta0,
+                lower: edge_doc(e.lower),
+                upper: edge_doc(e.upper),
+            }),
+            exact_unavailable: self.exact_unavailable.clone(),
+            target: p.target.to_string(),
+            reset: p.reset.as_ref().map(|r| r.to_string()),
+            horizon: p.horizon,
+            max_steps: p.max_steps,
+            tally: self.tally.as_ref().map(|t| TallyDoc {
+                target: t.target,
+                reset: t.reset,
+                horizon: t.horizon,
+                censored: t.censored,
+                failed: t.failed,
+                first_error: t.first_error.clone(),
+            }),
+            seed: p.scenario.thermal.seed,
+            first_run: p.scenario.thermal.run,
+            temperature: p.scenario.thermal.temperature,
+            scenario: p.scenario.to_toml_string(),
+        }
+    }
 }
