@@ -17,8 +17,9 @@
 //! c = I2(hi)/I1(hi)
 //! ```
 //!
-//! (Gardiner, Handbook of Stochastic Methods, §5.2.7), here by Simpson's
-//! rule on 20 000 intervals (its error ~1e-12 relative). The run is
+//! (Gardiner, Handbook of Stochastic Methods, §5.2.7), computed by the
+//! product function `analysis::rare::exact` (its Green's-function form,
+//! adaptive Gauss–Kronrod in log space, docs/physics.md §22.1). The run is
 //! watched at every step (rows every `dt`), and a discretely watched path
 //! exits later than the continuous one: to leading order the window is
 //! wider by `β sqrt(2 D Δ)` at each edge, `β = −ζ(1/2)/sqrt(2π) = 0.5826`
