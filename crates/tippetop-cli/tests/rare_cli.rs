@@ -337,3 +337,61 @@ fn bad_input_is_one_line_and_writes_nothing() {
         assert!(!d.join(&out).exists(), "{args:?} wrote {out}");
     }
 }
+
+/// A horizon of 5 steps (1e-14 s): leaving π/2 ± 0.18 needs a 0.18 rad
+/// excursion, ~13 standard deviations of the 5 steps' sqrt(2 D t) =
+/// 0.014 rad, so every run reaches the horizon: p = 0, each run 5 steps.
+/// A budget of 10 steps with no reset: every run is censored, the mean
+/// time is the lower bound 10 dt and the interval is open above (null).
+#[test]
+fn horizon_and_censoring() {
+    let d = setup("horizon");
+    let o = rare(
+        &d,
+        "h",
+        &[
+            "--target",
+            "theta>1.75",
+            "--horizon",
+            "1e-14",
+            "--replicas",
+            "30",
+        ],
+    );
+    ok(&o);
+    let j = json(&d.join("h/rare.json"));
+    assert_eq!(j["quantity"], "probability");
+    assert_eq!(j["estimate"].as_f64().unwrap(), 0.0);
+    assert_eq!(j["tally"]["horizon"], 30);
+    assert_eq!(j["steps"], 150);
+    assert_eq!(j["horizon"].as_f64().unwrap(), 1e-14);
+    assert!(j["exact"].is_null());
+    assert!(
+        j["exact_unavailable"]
+            .as_str()
+            .unwrap()
+            .starts_with("--horizon: no exact 1D answer"),
+        "{}",
+        j["exact_unavailable"]
+    );
+    let o = rare(
+        &d,
+        "c",
+        &[
+            "--target",
+            "theta>1.75,theta<1.39",
+            "--max-steps",
+            "10",
+            "--replicas",
+            "30",
+        ],
+    );
+    ok(&o);
+    let j = json(&d.join("c/rare.json"));
+    assert_eq!(j["quantity"], "mean_first_passage_time");
+    assert_eq!(j["tally"]["censored"], 30);
+    assert!((j["estimate"].as_f64().unwrap() - 10.0 * 2e-15).abs() < 1e-25);
+    assert!(j["ci95"][1].is_null());
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("= >= 2.000e-14 s"), "{stdout}");
+}

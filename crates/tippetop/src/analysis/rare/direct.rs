@@ -49,6 +49,9 @@ pub struct Outcome {
     pub error: Option<String>,
 }
 
+/// Steps seen by the observer, and the first hit: (time \[s\], target?).
+type Seen = (u64, Option<(f64, bool)>);
+
 /// Steps per call to [`Simulation::integrate_to`] between checks of the
 /// observer's flag (the steps past a hit are wasted, not counted).
 const CHUNK: u64 = 512;
@@ -74,8 +77,7 @@ pub fn run_one(
     sc.solver.samples = 2;
     sc.solver.max_steps = Some(crate::limits::MAX_STEPS);
     let dt = sc.solver.dt.unwrap_or(t_stop);
-    // (steps seen, first hit: (time, target?)).
-    let seen: Arc<Mutex<(u64, Option<(f64, bool)>)>> = Arc::new(Mutex::new((0, None)));
+    let seen: Arc<Mutex<Seen>> = Arc::new(Mutex::new((0, None)));
     let outcome = catch_unwind(AssertUnwindSafe(|| -> Result<Outcome, Error> {
         let mut sim = Simulation::new(&sc)?.lean();
         {

@@ -130,7 +130,7 @@ fn lse(a: f64, b: f64) -> f64 {
 /// `ln Σ e^{v_i}` (in order; `−inf` for an empty list).
 fn lse_all(v: &[f64]) -> f64 {
     let m = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    if m == f64::NEG_INFINITY || m == f64::INFINITY {
+    if m.is_infinite() {
         return m;
     }
     m + v.iter().map(|x| (x - m).exp()).sum::<f64>().ln()
@@ -228,7 +228,7 @@ fn panels(
 
 /// `ln ∫_a^b e^{f(x)} dx` (`a <= b`; `−inf` for `a = b`).
 fn ln_integral(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> Result<f64, Error> {
-    if !(b > a) {
+    if b.partial_cmp(&a) != Some(std::cmp::Ordering::Greater) {
         return Ok(f64::NEG_INFINITY);
     }
     let p = panels(f, a, b, 8)?;
@@ -383,7 +383,7 @@ impl Diffusion {
             }
         }
         if let (Some(a), Some(b)) = (lower, upper) {
-            if !(a < b) {
+            if a.partial_cmp(&b) != Some(std::cmp::Ordering::Less) {
                 return Err(Error::invalid(
                     "lower",
                     format!("the window ({a}, {b}) is empty"),

@@ -116,7 +116,8 @@ impl Problem {
         let dt = scenario.solver.dt.unwrap_or(f64::NAN);
         if let Some(t) = horizon {
             let steps = t / dt;
-            if !(t.is_finite() && t > 0.0) || !(steps <= max_steps as f64) {
+            let fits = t.is_finite() && t > 0.0 && steps <= max_steps as f64;
+            if !fits {
                 return Err(Error::invalid(
                     "--horizon",
                     format!("{t} s ({steps:.4e} steps of solver.dt = {dt} s)"),
@@ -293,10 +294,9 @@ pub fn by_direct(
     let quantity = p.quantity();
     let (estimate, ci95) = match quantity {
         Quantity::Probability => tally.probability(),
-        Quantity::MeanFirstPassageTime => match tally.mean_time() {
-            Some(m) => m,
-            None => (f64::NAN, [0.0, f64::INFINITY]),
-        },
+        Quantity::MeanFirstPassageTime => tally
+            .mean_time()
+            .unwrap_or((f64::NAN, [0.0, f64::INFINITY])),
     };
     let (exact, exact_unavailable) = exact_beside(p);
     Ok(Report {
