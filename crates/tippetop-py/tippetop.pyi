@@ -22,7 +22,7 @@ from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple,
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["Scenario", "Trajectory", "Simulation", "Snapshot", "run", "sweep", "ensemble", "COLUMNS", "__version__"]
+__all__ = ["Scenario", "Trajectory", "Simulation", "Snapshot", "run", "sweep", "ensemble", "rare", "COLUMNS", "__version__"]
 
 __version__: str
 """The package version (that of the Rust crates)."""
@@ -233,6 +233,44 @@ def ensemble(
     passages with the Kaplan-Meier median and the escape rate [1/s]). Bit
     for bit the CLI's ensemble.csv, whatever ``threads``. Bad input raises
     ValueError naming the key; Ctrl-C (KeyboardInterrupt) stops it."""
+
+def rare(
+    scenario: Scenario,
+    target: str,
+    reset: Optional[str] = None,
+    method: Literal["exact", "direct", "ams"] = "direct",
+    replicas: Optional[int] = None,
+    horizon: Optional[float] = None,
+    max_steps: Optional[int] = None,
+    threads: Optional[int] = None,
+) -> Dict[str, Any]:
+    """A rare-event question about a stochastic scenario (the CLI's
+    ``tippetop rare``), from its initial state: with ``reset`` (or
+    ``horizon`` [s]) the probability ``P(target before reset [and before
+    horizon])``, else the mean first-passage time to ``target`` [s].
+    ``target`` and ``reset`` use the ``--first-passage`` grammar (e.g.
+    ``"theta<1.22,theta>1.92"``).
+
+    ``method``: ``"exact"``, the one-dimensional answer where theta is
+    exactly a 1D diffusion (the Brownian mode on the plane; elsewhere
+    ValueError with the reason); ``"direct"``, ``replicas`` runs (default
+    1000) each until the target or the reset holds at the end of a step, or
+    ``max_steps`` steps (default 1000000; censored); ``"ams"`` is not
+    available yet. The GIL is released; Ctrl-C stops the ensemble.
+
+    Returns rare.json as a dict, the same figures as the CLI's (apart from
+    ``wall_seconds``): ``quantity`` (``"probability"`` or
+    ``"mean_first_passage_time"``), ``unit``, ``estimate``, ``ln_estimate``,
+    ``ci95`` ([lo, hi]; Wilson for a probability, mean +- t s/sqrt(n) for a
+    time), ``method``, ``replicas``, ``trajectories``, ``steps``,
+    ``wall_seconds``, ``exact`` (``value``, ``ln_value``, ``watched`` and
+    ``ln_watched`` for the path watched at every ``solver.dt``, the theta
+    window; None where it does not apply, ``exact_unavailable`` saying
+    why), ``target``, ``reset``, ``horizon``, ``max_steps``, ``tally``
+    (direct: runs ending at the target, reset, horizon, budget, failed),
+    ``seed``, ``first_run``, ``temperature``, ``scenario`` (TOML). Numbers
+    past f64 or unknown are None. Bad input raises ValueError naming the
+    option."""
 
 @final
 class Snapshot:

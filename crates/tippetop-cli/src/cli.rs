@@ -77,6 +77,9 @@ pub enum Command {
     /// Can the nano tippe top be a memory bit? A report with numbers (minutes).
     #[command(long_about = crate::device_cmd::DEVICE_LONG_ABOUT)]
     Device(crate::device_cmd::DeviceArgs),
+    /// Rare events: P(target before reset) or a mean first-passage time (exact 1D, direct).
+    #[command(long_about = crate::rare_cmd::RARE_LONG_ABOUT)]
+    Rare(crate::rare_cmd::RareArgs),
     /// Animate a run: DIR/animation.gif and DIR/viewer.html (a 3D view in the browser).
     #[command(long_about = crate::animate::ANIMATE_LONG_ABOUT)]
     Animate(crate::animate::AnimateArgs),

@@ -15,6 +15,7 @@ pub mod output;
 pub mod partial;
 pub mod plot;
 pub mod progress;
+pub mod rare_cmd;
 pub mod regime_cmd;
 pub mod reproduce;
 pub mod retention_cmd;

@@ -11,8 +11,8 @@ use std::process::ExitCode;
 use clap::Parser;
 use tippetop_cli::cli::{Cli, Command};
 use tippetop_cli::{
-    adhesion_cmd, animate, bit_cmd, device_cmd, ensemble_cmd, regime_cmd, reproduce, retention_cmd,
-    run, stability_cmd, sweep_cmd,
+    adhesion_cmd, animate, bit_cmd, device_cmd, ensemble_cmd, rare_cmd, regime_cmd, reproduce,
+    retention_cmd, run, stability_cmd, sweep_cmd,
 };
 
 fn main() -> ExitCode {
@@ -38,6 +38,7 @@ fn main() -> ExitCode {
         Command::Animate(args) => animate::run(args, cli.quiet),
         Command::Bit(args) => bit_cmd::run(args, cli.quiet),
         Command::Device(args) => device_cmd::run(args, cli.quiet),
+        Command::Rare(args) => rare_cmd::run(args, cli.quiet),
     };
     match result {
         Ok(code) => code,

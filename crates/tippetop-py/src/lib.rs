@@ -747,6 +747,102 @@ fn ensemble<'py>(
     Ok(out)
 }
 
+/// A rare-event question about a stochastic scenario (the CLI's `tippetop
+/// rare`): with `reset` (or `horizon` [s]) `P(target before reset [and
+/// before horizon])`, else the mean first-passage time to `target` [s].
+/// `target` and `reset` use the `--first-passage` grammar (e.g.
+/// `"theta<1.22,theta>1.92"`). `method`: `"exact"` (the one-dimensional
+/// answer where θ is exactly a 1D diffusion: the Brownian mode on the
+/// plane; else ValueError with the reason), `"direct"` (`replicas` runs,
+/// default 1000, each until the target or the reset holds at a step's end,
+/// or `max_steps` steps, default 1e6) or `"ams"` (not available yet). The
+/// GIL is released; Ctrl-C stops the ensemble.
+///
+/// Returns rare.json as a dict (the same figures, bit for bit, apart from
+/// `wall_seconds`): `quantity`, `unit`, `estimate`, `ln_estimate`, `ci95`,
+/// `method`, `replicas`, `trajectories`, `steps`, `wall_seconds`, `exact`
+/// (dict or None; `exact_unavailable` says why), the conditions, budgets,
+/// `tally` of a direct ensemble, `seed`, `first_run`, `temperature`,
+/// `scenario`. Numbers past f64 or unknown (an interval open above) are
+/// None. Bad input raises ValueError naming the option.
+#[pyfunction]
+#[pyo3(signature = (scenario, target, reset = None, method = "direct", replicas = None, horizon = None, max_steps = None, threads = None))]
+#[allow(clippy::too_many_arguments)]
+fn rare<'py>(
+    py: Python<'py>,
+    scenario: &Scenario,
+    target: &str,
+    reset: Option<&str>,
+    method: &str,
+    replicas: Option<i64>,
+    horizon: Option<f64>,
+    max_steps: Option<i64>,
+    threads: Option<i64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    use tippetop::analysis::rare::problem::{self, DEFAULT_REPLICAS, Problem, RareMethod};
+    let started = Instant::now();
+    let method = RareMethod::parse(method).map_err(to_py_err)?;
+    let count = |v: Option<i64>, key: &str, range: &str| -> PyResult<Option<u64>> {
+        v.map(|v| {
+            u64::try_from(v)
+                .map_err(|_| PyValueError::new_err(format!("{key}: {v} is not allowed ({range})")))
+        })
+        .transpose()
+    };
+    let replicas = count(replicas, "--replicas", "N >= 1")?;
+    let max_steps = count(
+        max_steps,
+        "--max-steps",
+        "1 to 20000000 steps per trajectory",
+    )?;
+    let threads = count(threads, "--threads", "1 to 1024")?.map(|t| t as usize);
+    let threads = analysis::sweep::threads(threads).map_err(to_py_err)?;
+    let sc = scenario.sc.clone();
+    let (target, reset) = (target.to_string(), reset.map(str::to_string));
+    let prob = guarded(|| Problem::new(sc, &target, reset.as_deref(), horizon, max_steps))?
+        .map_err(to_py_err)?;
+    let report = match method {
+        RareMethod::Ams => {
+            return Err(PyValueError::new_err("--method ams is not available yet"));
+        }
+        RareMethod::Exact => {
+            if replicas.is_some() {
+                return Err(PyValueError::new_err(
+                    "--replicas: given with --method exact (which runs no trajectory)",
+                ));
+            }
+            py.detach(|| guarded(|| problem::by_exact(&prob)))?
+                .map_err(to_py_err)?
+        }
+        RareMethod::Direct => {
+            let n = replicas.map_or(DEFAULT_REPLICAS, |r| r as usize);
+            let mut interrupted: Option<PyErr> = None;
+            let r = py.detach(|| {
+                guarded(|| {
+                    let mut last = Instant::now();
+                    problem::by_direct(&prob, n, Some(threads), &mut |_| {
+                        if last.elapsed().as_secs_f64() >= 0.1 {
+                            last = Instant::now();
+                            if let Err(err) = Python::attach(|py| py.check_signals()) {
+                                interrupted = Some(err);
+                                return false;
+                            }
+                        }
+                        true
+                    })
+                })
+            })?;
+            if let Some(err) = interrupted {
+                return Err(err);
+            }
+            r.map_err(to_py_err)?
+        }
+    };
+    let doc = report.document(&prob, started.elapsed().as_secs_f64());
+    let text = serde_json::to_string(&doc).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    py.import("json")?.call_method1("loads", (text,))
+}
+
 /// A copy of a `Simulation` at one instant (`Simulation.snapshot()`),
 /// exact to the bit; `Simulation.restore` goes back to it.
 #[pyclass(module = "tippetop", frozen)]
@@ -945,6 +1041,7 @@ fn tippetop_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(ensemble, m)?)?;
+    m.add_function(wrap_pyfunction!(rare, m)?)?;
     m.add("COLUMNS", COLUMNS.to_vec())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

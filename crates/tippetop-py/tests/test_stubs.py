@@ -29,6 +29,7 @@ def test_all_lists_the_api():
         "run",
         "sweep",
         "ensemble",
+        "rare",
         "COLUMNS",
     }
 

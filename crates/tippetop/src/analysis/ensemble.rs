@@ -157,6 +157,14 @@ impl Exit {
         Ok(Exit { terms })
     }
 
+    /// The terms `(column, above, value)`: `column > value` if `above`,
+    /// else `column < value` (SI units), in the order given.
+    pub fn terms(&self) -> impl Iterator<Item = (&'static str, bool, f64)> + '_ {
+        self.terms
+            .iter()
+            .map(|&(i, above, v)| (COLUMNS[i], above, v))
+    }
+
     /// Whether an output row (values in [`COLUMNS`] order) has passed.
     pub fn hit(&self, values: &[f64; 26]) -> bool {
         self.terms.iter().any(

@@ -131,7 +131,7 @@ pub(crate) fn overdamped(
 /// `v_h + (w × r)_h`, `r = a k − Z`. With `dk` in place of `k` (and
 /// `deriv`), its directional derivative along `dk` instead (`Γ` is a
 /// quadratic polynomial in `k`: `r` moves by `a dk`).
-fn friction_lab(b: &Bath, body: &Body, k: V3, dk: Option<V3>) -> nalgebra::Matrix5<f64> {
+pub(crate) fn friction_lab(b: &Bath, body: &Body, k: V3, dk: Option<V3>) -> nalgebra::Matrix5<f64> {
     use nalgebra::Matrix5;
     let (a, ia, ic) = (body.a, body.ia, body.ic);
     // Columns β of P_r: (e_β × r)_h for r.

@@ -17,8 +17,9 @@
 //! c = I2(hi)/I1(hi)
 //! ```
 //!
-//! (Gardiner, Handbook of Stochastic Methods, §5.2.7), here by Simpson's
-//! rule on 20 000 intervals (its error ~1e-12 relative). The run is
+//! (Gardiner, Handbook of Stochastic Methods, §5.2.7), computed by the
+//! product function `analysis::rare::exact` (its Green's-function form,
+//! adaptive Gauss–Kronrod in log space, docs/physics.md §22.1). The run is
 //! watched at every step (rows every `dt`), and a discretely watched path
 //! exits later than the continuous one: to leading order the window is
 //! wider by `β sqrt(2 D Δ)` at each edge, `β = −ζ(1/2)/sqrt(2π) = 0.5826`
@@ -27,6 +28,7 @@
 //! the standard error).
 
 use tippetop::analysis::ensemble::{Ensemble, Exit};
+use tippetop::analysis::rare::exact::{self, Diffusion, ThetaDiffusion};
 use tippetop::thermal::BOLTZMANN;
 use tippetop::{Forcing, Method, Scenario, Well};
 
@@ -66,42 +68,6 @@ fn escaping_top() -> Scenario {
     sc
 }
 
-/// The exact mean exit time from `(lo, hi)` started at `x0` of the
-/// diffusion with coefficient `d` and stationary density `p`
-/// (unnormalised): the module doc's formula, by Simpson's rule.
-fn mean_exit_time(
-    d: &dyn Fn(f64) -> f64,
-    p: &dyn Fn(f64) -> f64,
-    lo: f64,
-    hi: f64,
-    x0: f64,
-) -> f64 {
-    let n = 20_000; // even
-    let h = (hi - lo) / n as f64;
-    let ys: Vec<f64> = (0..=n).map(|i| lo + h * i as f64).collect();
-    // Cumulative integrals on the grid by Simpson over pairs of intervals
-    // (the odd nodes by the trapezoid from the previous even node, whose
-    // error O(h³) per node is ~1e-12 here).
-    let cumulative = |f: &dyn Fn(usize) -> f64| -> Vec<f64> {
-        let mut c = vec![0.0; n + 1];
-        for i in (0..n).step_by(2) {
-            let (f0, f1, f2) = (f(i), f(i + 1), f(i + 2));
-            c[i + 1] = c[i] + h / 12.0 * (5.0 * f0 + 8.0 * f1 - f2);
-            c[i + 2] = c[i] + h / 3.0 * (f0 + 4.0 * f1 + f2);
-        }
-        c
-    };
-    let pv: Vec<f64> = ys.iter().map(|&y| p(y)).collect();
-    let inner = cumulative(&|i| pv[i]);
-    let i1 = cumulative(&|i| 1.0 / (pv[i] * d(ys[i])));
-    let i2 = cumulative(&|i| inner[i] / (pv[i] * d(ys[i])));
-    let c = i2[n] / i1[n];
-    // x0 on the grid (the tests start at the window's centre).
-    let k = ((x0 - lo) / h).round() as usize;
-    assert!((ys[k] - x0).abs() < 1e-12 * hi.abs(), "x0 off the grid");
-    c * i1[k] - i2[k]
-}
-
 #[test]
 fn brownian_escape_time_is_the_exact_mean_first_passage_time() {
     let sc = escaping_top();
@@ -127,29 +93,48 @@ fn brownian_escape_time_is_the_exact_mean_first_passage_time() {
     let var = times.iter().map(|t| (t - mean).powi(2)).sum::<f64>() / (n - 1.0);
     let se = (var / n).sqrt();
 
+    // The product function (analysis::rare::exact): the θ diffusion of
+    // the scenario, D(θ) = kT/Γ_θ and π(θ) ∝ sin θ s(θ) e^{−U/kT}.
     let kt = BOLTZMANN * T;
     let (m, a, big_a) = (sc.top.mass, sc.top.offset, sc.top.inertia_transverse);
-    let well = sc.wells[0];
-    let u = |th: f64| -well.depth * (-(th - well.theta).powi(2) / (2.0 * well.width.powi(2))).exp();
-    let p = |th: f64| {
-        let s2 = th.sin().powi(2);
-        th.sin() * (1.0 + m * a * a * s2 / big_a).sqrt() * (-u(th) / kt).exp()
-    };
+    let theta = ThetaDiffusion::of(&sc).unwrap();
+    let diffusion = theta.diffusion();
     let d = |th: f64| kt / (GAMMA * big_a + GAMMA * m * a * a * th.sin().powi(2));
+    for th in [0.3, 1.2, centre, 2.8] {
+        assert!((theta.diffusivity(th) - d(th)).abs() < 1e-14 * d(th));
+    }
     // Discrete watching: the window widened by β sqrt(2 D Δ) at each edge.
-    let beta = 0.5826;
+    let beta = exact::BGK_BETA;
     let (lo_w, hi_w) = (
         lo - beta * (2.0 * d(lo) * DT).sqrt(),
         hi + beta * (2.0 * d(hi) * DT).sqrt(),
     );
-    // Keep the start on the quadrature grid: a window symmetric about it.
-    let half_w = (centre - lo_w).max(hi_w - centre);
-    let want = mean_exit_time(&d, &p, centre - half_w, centre + half_w, centre);
-    let continuous = mean_exit_time(&d, &p, lo, hi, centre);
+    let want = diffusion
+        .mean_exit_time(Some(lo_w), Some(hi_w), centre)
+        .unwrap()
+        .value;
+    let continuous = diffusion
+        .mean_exit_time(Some(lo), Some(hi), centre)
+        .unwrap()
+        .value;
+    // The same through the scenario-level answer and its watched window.
+    let cond = Exit::parse(&format!("theta<{lo},theta>{hi}")).unwrap();
+    let e = exact::exact(&sc, &cond, None).unwrap();
+    assert_eq!(e.value.value, continuous);
+    assert!((e.watched.unwrap().value - want).abs() < 1e-12 * want);
+    let wrong_d = Diffusion::new(
+        0.0,
+        std::f64::consts::PI,
+        move |th| theta.ln_density(th),
+        move |_| kt / (GAMMA * big_a),
+    );
     // Power: the standard error is a few per cent, and a model that forgot
     // the centre's vertical motion in the tilt's friction (D = kT/(γ_r A))
     // would exit 26 % sooner.
-    let wrong = mean_exit_time(&|_| kt / (GAMMA * big_a), &p, lo, hi, centre);
+    let wrong = wrong_d
+        .mean_exit_time(Some(lo), Some(hi), centre)
+        .unwrap()
+        .value;
     eprintln!(
         "mean exit time {mean:e} ± {se:e} s over {runs} runs; exact {continuous:e} (continuous), \
          {want:e} (watched every dt); without the vertical motion {wrong:e}"
@@ -163,5 +148,95 @@ fn brownian_escape_time_is_the_exact_mean_first_passage_time() {
         (mean - want).abs() < 4.0 * se,
         "mean exit time {mean:e} ± {se:e}, exact {want:e} ({:.2} SE)",
         (mean - want) / se
+    );
+}
+
+/// The exact answer where the mobility and the drift have every term the
+/// θ diffusion can have (docs/physics.md §22.1): the contact damping
+/// (`c = m γ_t`, which both slows the tilt, `Γ` +55 % at θ = π/2, and
+/// halves the share of the contact-point force that turns it), a constant
+/// applied force along the tilt (`H_x R` ≈ 4.5 kT per radian), gravity
+/// (`m g a = kT`), a 2 kT well and the nano-physical adhesion (which must
+/// do nothing on the plane). 400 runs of the direct runner
+/// (`analysis::rare::direct`, every step watched) leave `π/2 ± 0.35`;
+/// the fraction leaving above and the mean exit time against the exact
+/// splitting probability and mean exit time of the watched window (BGK),
+/// each within 4 standard errors, and the models that forget the contact
+/// damping's mobility or flip the force's sign are more than 6 SE away.
+#[test]
+fn brownian_exit_with_contact_damping_force_gravity_and_adhesion() {
+    use tippetop::analysis::rare::direct::{Ending, run_replicas};
+    let mut sc = escaping_top();
+    let kt = BOLTZMANN * T;
+    let (m, a) = (sc.top.mass, sc.top.offset);
+    sc.surface.gravity = kt / (m * a);
+    sc.thermal.damping_contact = m * GAMMA;
+    sc.forcing = Forcing::constant(1.25e-11 * 4.0, 0.0);
+    sc.adhesion = tippetop::Adhesion {
+        force: 5.915889357711552e-10,
+        energy: 1.169645723902958e-19,
+    };
+    sc.solver.dt = Some(1.2e-15);
+    sc.thermal.seed = Some(7);
+    let centre = std::f64::consts::FRAC_PI_2;
+    let (lo, hi) = (centre - HALF, centre + HALF);
+    let target = Exit::parse(&format!("theta>{hi}")).unwrap();
+    let reset = Exit::parse(&format!("theta<{lo}")).unwrap();
+    let runs = 400;
+    let (mut up, mut times) = (0usize, Vec::with_capacity(runs));
+    run_replicas(
+        &sc,
+        &target,
+        Some(&reset),
+        1e-9,
+        false,
+        runs,
+        Some(2),
+        &mut |_, o| {
+            assert!(matches!(o.ending, Ending::Target | Ending::Reset), "{o:?}");
+            up += (o.ending == Ending::Target) as usize;
+            times.push(o.time);
+            true
+        },
+    )
+    .unwrap();
+    let n = runs as f64;
+    let p = up as f64 / n;
+    let p_se = (p * (1.0 - p) / n).sqrt();
+    let mean = times.iter().sum::<f64>() / n;
+    let se = (times.iter().map(|t| (t - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
+
+    let answer = |sc: &tippetop::Scenario| {
+        let p = exact::exact(sc, &target, Some(&reset)).unwrap();
+        let both = Exit::parse(&format!("theta<{lo},theta>{hi}")).unwrap();
+        let t = exact::exact(sc, &both, None).unwrap();
+        (p.watched.unwrap().value, t.watched.unwrap().value)
+    };
+    let (p_want, t_want) = answer(&sc);
+    let mut no_contact = sc.clone();
+    no_contact.thermal.damping_contact = 0.0;
+    let (p_nc, t_nc) = answer(&no_contact);
+    let mut flipped = sc.clone();
+    flipped.forcing = Forcing::constant(-1.25e-11 * 4.0, 0.0);
+    let (p_fl, _) = answer(&flipped);
+    eprintln!(
+        "P(up) {p:.4} ± {p_se:.4} against {p_want:.4} (no contact damping {p_nc:.4}, force flipped {p_fl:.4}); \
+         mean exit {mean:.4e} ± {se:.3e} s against {t_want:.4e} (no contact damping {t_nc:.4e})"
+    );
+    assert!(
+        (p - p_want).abs() < 4.0 * p_se,
+        "P(up) {p} ± {p_se}, exact {p_want}"
+    );
+    assert!(
+        (mean - t_want).abs() < 4.0 * se,
+        "τ {mean:e} ± {se:e}, exact {t_want:e}"
+    );
+    assert!(
+        (t_nc - t_want).abs() > 6.0 * se,
+        "no power against the coupling-free mobility"
+    );
+    assert!(
+        (p_fl - p_want).abs() > 6.0 * p_se,
+        "no power against the force's sign"
     );
 }

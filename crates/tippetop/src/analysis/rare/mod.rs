@@ -5,8 +5,14 @@
 //! - [`exact`]: exact answers where the dynamics is a one-dimensional
 //!   diffusion in θ (the Brownian mode on the plane): mean first-passage
 //!   times and splitting probabilities by quadrature in log space.
+//! - [`direct`]: a plain ensemble, each run until the target or the
+//!   reset, checked at every step (the cross-check).
+//! - [`problem`]: the question (target, reset, horizon, budgets) and the
+//!   report of each method (`tippetop rare`, Python's `tt.rare`).
 //! - [`ams`]: adaptive multilevel splitting on the full stochastic
 //!   dynamics (Langevin and Brownian, every model and force).
 
 pub mod ams;
+pub mod direct;
 pub mod exact;
+pub mod problem;

@@ -1,0 +1,122 @@
+"""tt.rare: the CLI's `tippetop rare` from Python (issue 27): the exact
+one-dimensional answer against symmetry and the direct ensemble, the same
+figures as the CLI's rare.json, and bad input."""
+
+import json
+import math
+import subprocess
+
+import pytest
+
+import tippetop as tt
+from _helpers import cli_binary
+
+# The eccentric nano top (a = R/2) in the Brownian mode at 300 K, a 2 kT
+# well at pi/2 (width 0.3), started at its bottom (as the CLI test).
+SCENARIO = """preset = "nano"
+[top]
+offset = 1.775e-10
+[surface]
+gravity = 0.0
+friction = 0.0
+[[well]]
+theta = 1.5707963267948966
+depth = 8.283e-21
+width = 0.3
+[initial]
+theta = 1.5707963267948966
+spin = 0.0
+[solver]
+method = "brownian"
+dt = 2e-15
+t_end = 1e-12
+samples = 2
+[thermal]
+temperature = 300.0
+damping_translational = 2.2e12
+damping_rotational = 2.2e12
+seed = 5
+"""
+
+UP, DOWN = "theta>1.75", "theta<1.3"
+
+
+@pytest.fixture(scope="module")
+def sc():
+    return tt.Scenario.from_toml(SCENARIO)
+
+
+def test_exact_is_one_half_in_a_symmetric_window(sc):
+    # sin(theta), s(theta), D(theta) and the well are even about pi/2.
+    r = tt.rare(
+        sc,
+        target="theta>1.7507963267948966",
+        reset="theta<1.3907963267948966",
+        method="exact",
+    )
+    assert r["quantity"] == "probability"
+    assert r["method"] == "exact"
+    assert abs(r["estimate"] - 0.5) < 1e-9
+    assert r["ci95"] == [r["estimate"], r["estimate"]]
+    assert r["trajectories"] == 0 and r["steps"] == 0
+    assert r["exact"]["lower"] == {"theta": 1.3907963267948966, "role": "reset"}
+
+
+def test_direct_covers_the_exact_value(sc):
+    # One fixed-seed draw: a correct estimator's Wilson interval covers the
+    # exact value 95 % of the time; 1 - p (target and reset swapped) is
+    # outside it.
+    r = tt.rare(sc, target=UP, reset=DOWN, method="direct", replicas=300, threads=2)
+    exact = r["exact"]["watched"]
+    lo, hi = r["ci95"]
+    assert lo <= exact <= hi
+    assert not lo <= 1 - exact <= hi
+    t = r["tally"]
+    assert t["target"] + t["reset"] == r["trajectories"] == r["replicas"] == 300
+    assert r["estimate"] == t["target"] / 300
+
+
+def test_mean_time_and_its_log(sc):
+    r = tt.rare(sc, target="theta>1.75,theta<1.39", method="exact")
+    assert r["quantity"] == "mean_first_passage_time" and r["unit"] == "s"
+    assert math.isclose(math.log(r["estimate"]), r["ln_estimate"], rel_tol=1e-14)
+    # Past f64: at 0.05 K the well is 12 000 kT deep and the window's edge
+    # ~2 000 kT up: the value is None, its log finite.
+    cold = sc.set("thermal.temperature", 0.05)
+    r = tt.rare(cold, target="theta>1.75,theta<1.39", method="exact")
+    assert r["estimate"] is None
+    assert r["ln_estimate"] > 709
+
+
+def test_same_figures_as_the_cli(sc, tmp_path):
+    exe = cli_binary()
+    if exe is None:
+        pytest.skip("no tippetop binary (cargo build first, or set TIPPETOP_BIN)")
+    (tmp_path / "b.toml").write_text(SCENARIO)
+    args = ["--target", UP, "--reset", DOWN, "--replicas", "40"]
+    subprocess.run(
+        [str(exe), "rare", str(tmp_path / "b.toml"), *args, "--quiet", "--out", str(tmp_path / "o")],
+        check=True,
+    )
+    cli = json.loads((tmp_path / "o" / "rare.json").read_text())
+    py = tt.rare(sc, target=UP, reset=DOWN, replicas=40)
+    for d in (cli, py):
+        d.pop("wall_seconds")
+    assert py == cli
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        (dict(target="theta>1.5"), "--target: theta>1.5 already holds at the start"),
+        (dict(target=UP, reset="theta<1.6"), "--reset: theta<1.6 already holds"),
+        (dict(target=UP, method="ams"), "--method ams is not available yet"),
+        (dict(target=UP, method="fast"), '--method: "fast" is not a method'),
+        (dict(target=UP, replicas=0), "--replicas: 0"),
+        (dict(target=UP, max_steps=-3), "--max-steps: -3"),
+        (dict(target="omega>1", method="exact"), "--target: no exact 1D answer"),
+    ],
+)
+def test_bad_input(sc, kwargs, message):
+    with pytest.raises(ValueError, match="^" + message.replace("(", r"\(")):
+        tt.rare(sc, **kwargs)
