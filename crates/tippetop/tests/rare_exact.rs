@@ -412,6 +412,13 @@ fn conditions_map_onto_the_window() {
         .unwrap();
     assert_eq!(e.watched.unwrap(), w);
     assert!(w.value > e.value.value);
+    assert_eq!(
+        d.watched_edges(None, Some(1.9), dt),
+        (
+            None,
+            Some(1.9 + exact::BGK_BETA * (2.0 * td.diffusivity(1.9) * dt).sqrt())
+        )
+    );
     // A target that never holds on [0, π].
     let err = exact::exact(&sc, &cond("theta>4"), None).unwrap_err();
     assert!(err.to_string().starts_with("--target:"), "{err}");

@@ -350,6 +350,27 @@ impl Diffusion {
         (self.diffusivity)(x)
     }
 
+    /// The absorbing edges of a path watched at steps `dt` \[s\]: each
+    /// moved outwards by `β sqrt(2 D(edge) dt)` ([`BGK_BETA`]; Broadie,
+    /// Glasserman & Kou), the leading-order correction in `sqrt(dt)` of the
+    /// continuous answers; an edge that would leave the domain is kept.
+    pub fn watched_edges(
+        &self,
+        lower: Option<f64>,
+        upper: Option<f64>,
+        dt: f64,
+    ) -> (Option<f64>, Option<f64>) {
+        let moved = |e: f64, sign: f64| {
+            let t = e + sign * BGK_BETA * (2.0 * (self.diffusivity)(e) * dt).sqrt();
+            if t > self.lower && t < self.upper {
+                t
+            } else {
+                e
+            }
+        };
+        (lower.map(|e| moved(e, -1.0)), upper.map(|e| moved(e, 1.0)))
+    }
+
     /// `ln S′(x) = −ln π(x) − ln D(x)`, the log of the scale density.
     fn ln_scale(&self, x: f64) -> f64 {
         -(self.ln_density)(x) - (self.diffusivity)(x).ln()
@@ -846,19 +867,18 @@ pub fn exact(sc: &Scenario, target: &Exit, reset: Option<&Exit>) -> Result<Exact
     let upper = pick_upper(ta, ra);
     let diff = d.diffusion();
     let dt = sc.solver.dt;
-    // The window widened by β sqrt(2 D dt) at each absorbing edge (kept
-    // where that would cross a pole).
-    let widen = |e: Option<Edge>, sign: f64| -> Option<Edge> {
-        let dt = dt?;
-        e.map(|e| {
-            let t = e.theta + sign * BGK_BETA * (2.0 * d.diffusivity(e.theta) * dt).sqrt();
-            Edge {
-                theta: if t > 0.0 && t < pi { t } else { e.theta },
-                ..e
-            }
-        })
+    // The window of the path watched at every step (kept where that would
+    // cross a pole).
+    let (wl, wu) = match dt {
+        Some(dt) => {
+            let (l, u) = diff.watched_edges(lower.map(|e| e.theta), upper.map(|e| e.theta), dt);
+            (
+                lower.zip(l).map(|(e, t)| Edge { theta: t, ..e }),
+                upper.zip(u).map(|(e, t)| Edge { theta: t, ..e }),
+            )
+        }
+        None => (lower, upper),
     };
-    let (wl, wu) = (widen(lower, -1.0), widen(upper, 1.0));
     let quantity = if reset.is_some() {
         Quantity::Probability
     } else {
