@@ -1122,13 +1122,13 @@ fn killed_bit_ensemble_and_map_resume_byte_identical() {
     let jobs: [(&str, Vec<&str>, &str, &[&str]); 2] = [
         (
             "hot.toml",
-            vec!["--runs", "1500"],
+            vec!["--runs", "800"],
             "runs.csv.partial",
             &["bit.json", "bit.md", "runs.csv"],
         ),
         (
             "nano20.toml",
-            vec!["--vary", "write.0.hy=0:1e-21:400"],
+            vec!["--vary", "write.0.hy=0:1e-21:250"],
             "bitmap.csv.partial",
             &["bitmap.csv", "shard.json"],
         ),
