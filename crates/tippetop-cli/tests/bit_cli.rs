@@ -1092,14 +1092,24 @@ fn kill_part_way(
     partial: &str,
     sig: i32,
 ) -> Option<Vec<String>> {
-    let mut child = bin()
-        .arg("bit")
+    let mut cmd = bin();
+    cmd.arg("bit")
         .arg(file)
         .args(args)
         .args(["--threads", "1", "--quiet", "--out"])
-        .arg(out)
-        .spawn()
-        .unwrap();
+        .arg(out);
+    // A test run started in the background by a non-interactive shell
+    // inherits SIGINT ignored (and tippetop keeps an ignored SIGINT
+    // ignored, as `nohup` users expect): give the child the default.
+    // SAFETY: signal(2) is async-signal-safe; nothing else runs in the
+    // forked child before exec.
+    unsafe {
+        std::os::unix::process::CommandExt::pre_exec(&mut cmd, || {
+            libc::signal(libc::SIGINT, libc::SIG_DFL);
+            Ok(())
+        });
+    }
+    let mut child = cmd.spawn().unwrap();
     let sum = out.join(format!("{partial}.sum"));
     let t0 = std::time::Instant::now();
     while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 3 {
