@@ -992,12 +992,20 @@ fn a_signal_removes_the_stage_and_the_lock() {
     let want = read(&whole.join("sweep.csv"));
     for sig in [libc::SIGINT, libc::SIGTERM] {
         let out = d.join(format!("out{sig}"));
-        let mut child = bin()
-            .args(args)
-            .args(["--threads", "1", "--out"])
-            .arg(&out)
-            .spawn()
-            .unwrap();
+        let mut cmd = bin();
+        cmd.args(args).args(["--threads", "1", "--out"]).arg(&out);
+        // A test run started in the background by a non-interactive shell
+        // inherits SIGINT ignored (and tippetop keeps an ignored SIGINT
+        // ignored): give the child the default action.
+        // SAFETY: signal(2) is async-signal-safe; nothing else runs in the
+        // forked child before exec.
+        unsafe {
+            std::os::unix::process::CommandExt::pre_exec(&mut cmd, || {
+                libc::signal(libc::SIGINT, libc::SIG_DFL);
+                Ok(())
+            });
+        }
+        let mut child = cmd.spawn().unwrap();
         // Until rows are checkpointed.
         let sum = out.join("sweep.csv.partial.sum");
         let t0 = std::time::Instant::now();
