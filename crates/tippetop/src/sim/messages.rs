@@ -23,15 +23,26 @@ pub(crate) fn step_limit_why(sc: &Scenario, cap: u64) -> String {
     )
 }
 
-/// The error of a run whose output row at `t` \[s\] is not finite.
-pub(crate) fn nonfinite_output_error(t: f64, state: &str) -> Error {
-    Error::runtime(
-        t,
-        Failure::OutputOverflow,
-        format!(
-            "the output became NaN or infinite (a value overflows f64 in SI units); last accepted {state}"
-        ),
-    )
+/// The error of a run whose output row at `t` \[s\] has `value` in
+/// `column`, not a finite number, from the last accepted `state`: an
+/// infinity is a value that overflows f64 in SI units (`output_overflow`),
+/// a NaN a value that is not defined (`non_finite`).
+pub(crate) fn nonfinite_output_error(t: f64, column: &str, value: f64, state: &str) -> Error {
+    if value.is_nan() {
+        Error::runtime(
+            t,
+            Failure::NonFinite,
+            format!("the output row became NaN in column {column}; last accepted {state}"),
+        )
+    } else {
+        Error::runtime(
+            t,
+            Failure::OutputOverflow,
+            format!(
+                "the output row became infinite in column {column} (the value overflows f64 in SI units); last accepted {state}"
+            ),
+        )
+    }
 }
 
 /// The friction law as a phrase for messages.
