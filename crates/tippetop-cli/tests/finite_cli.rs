@@ -41,7 +41,12 @@ fn fast_spin_runs_finite_and_animates() {
         .arg(&out)
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     assert_eq!(json(&out.join("summary.json"))["status"], "ok");
     let (header, rows) = rows(&out.join("trajectory.csv"));
     assert_eq!(rows.len(), 1001);
@@ -52,11 +57,24 @@ fn fast_spin_runs_finite_and_animates() {
         assert!((n - 1.0).abs() <= 4.0 * f64::EPSILON, "row {i}: |q| = {n}");
     }
     let o = bin()
-        .args(["animate", "--fps", "2", "--duration", "1", "--size", "64x64"])
+        .args([
+            "animate",
+            "--fps",
+            "2",
+            "--duration",
+            "1",
+            "--size",
+            "64x64",
+        ])
         .arg(&out)
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     assert!(out.join("animation.gif").exists());
 }
 
@@ -94,7 +112,10 @@ fn a_planted_nan_row_exits_3_with_the_rows_before_it() {
         assert_eq!(s["t_end"].as_f64(), Some(0.5), "{model}");
         let (_, rows) = rows(&out.join("trajectory.csv"));
         assert_eq!(rows.len(), 500, "{model}");
-        assert!(rows.iter().all(|r| r[0] < 0.5 && r.iter().all(|v| v.is_finite())));
+        assert!(
+            rows.iter()
+                .all(|r| r[0] < 0.5 && r.iter().all(|v| v.is_finite()))
+        );
     }
 }
 
@@ -107,13 +128,29 @@ fn planted_nan_rows_fail_sweep_and_ensemble_rows() {
     let out = dir.path().join("sweep");
     let o = bin()
         .env("TIPPETOP_TEST_NAN_ROW_AT", "0.01")
-        .args(["sweep", "--preset", "classical", "--set", "solver.t_end=0.02"])
-        .args(["--set", "solver.samples=11", "--vary", "surface.friction=0.1:0.2:3"])
+        .args([
+            "sweep",
+            "--preset",
+            "classical",
+            "--set",
+            "solver.t_end=0.02",
+        ])
+        .args([
+            "--set",
+            "solver.samples=11",
+            "--vary",
+            "surface.friction=0.1:0.2:3",
+        ])
         .args(["--quiet", "--out"])
         .arg(&out)
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let text = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
     assert_eq!(text.lines().count(), 4);
     for line in text.lines().skip(1) {
@@ -130,7 +167,12 @@ fn planted_nan_rows_fail_sweep_and_ensemble_rows() {
         .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let text = std::fs::read_to_string(out.join("ensemble.csv")).unwrap();
     assert_eq!(text.lines().count(), 3);
     for line in text.lines().skip(1) {

@@ -103,7 +103,9 @@ fn summary_json_regime_is_at_the_runs_temperature() {
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let r = &v["regime"];
     let close = |key: &str, want: f64| {
-        let got = r[key].as_f64().unwrap_or_else(|| panic!("{key}: {}", r[key]));
+        let got = r[key]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{key}: {}", r[key]));
         assert!((got - want).abs() <= 1e-4 * want, "{key}: {got} vs {want}");
     };
     assert_eq!(r["temperature"].as_f64(), Some(300.0));

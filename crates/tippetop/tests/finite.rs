@@ -6,11 +6,15 @@
 //! rows before it. No input is known to produce such a row any more (the
 //! vector model's attitude did, from spin × t ≈ 1.5e6 rad), so the check is
 //! tested by planting a NaN in the `qw` column with
-//! `tippetop::testing::plant_nan_row`, which is process-wide: this binary
-//! holds one test, which sets and clears it.
+//! `tippetop::testing::plant_nan_row`, which is process-wide: the tests of
+//! this binary take [`PLANT`] so that none runs while another has a NaN
+//! planted.
 
 use tippetop::analysis::{ensemble::Ensemble, sweep::Axis, sweep::Sweep};
 use tippetop::{Error, Failure, ModelKind, Scenario, Simulation, simulate, testing};
+
+/// Held by each test of this binary (the plant is process-wide).
+static PLANT: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 const LANGEVIN: &str = r#"preset = "nano"
 [surface]
@@ -48,11 +52,15 @@ fn failed_at(tr: &tippetop::Trajectory, at: f64, what: &str) {
     // The rows are evenly spaced from 0: those before `at` are all there.
     let last = tr.samples.last().unwrap().t;
     let dt = tr.samples[1].t - tr.samples[0].t;
-    assert!(at - last <= dt * (1.0 + 1e-9), "{what}: rows end at {last} s");
+    assert!(
+        at - last <= dt * (1.0 + 1e-9),
+        "{what}: rows end at {last} s"
+    );
 }
 
 #[test]
 fn a_planted_nan_row_fails_every_kind_of_run() {
+    let _one_at_a_time = PLANT.lock().unwrap_or_else(|e| e.into_inner());
     // Classical top, 1 s, 1001 rows: the NaN from the row at 0.5 s.
     let mut sc = Scenario::classical();
     sc.solver.t_end = 1.0;
@@ -117,5 +125,50 @@ fn a_planted_nan_row_fails_every_kind_of_run() {
     testing::plant_nan_row(None);
     if let Err(e) = outcome {
         std::panic::resume_unwind(e);
+    }
+}
+
+/// A run that fails at its start (a Painlevé case at t = 0: no consistent
+/// normal force) writes the state there as its one row: N is undefined
+/// (NaN, as the README says of undefined values), the velocity and the
+/// energy are not: `u_Z = a sin θ θ̇` and `E = ½ m |u|² + ½ A θ̇² + ½ C ω² +
+/// m g (R − a cos θ)` (here Ω = 0 and the centre at rest horizontally).
+/// Both were NaN in the vector and reduced models (`ux = (v·x̂)` read the
+/// NaN `v_Z` through `0 × NaN`), found by `fuzz_cli`.
+#[test]
+fn the_row_at_a_painleve_start_has_its_velocity_and_energy() {
+    let _one_at_a_time = PLANT.lock().unwrap_or_else(|e| e.into_inner());
+    let mut sc = Scenario::classical();
+    sc.top.mass = 1e3;
+    sc.initial.theta_dot = -1e3;
+    for m in [ModelKind::Reduced, ModelKind::Vector] {
+        sc.solver.model = m;
+        let tr = simulate(&sc).unwrap();
+        assert_eq!(tr.summary.failure, Some("painleve"), "{m:?}");
+        assert_eq!(tr.samples.len(), 1, "{m:?}");
+        let s = &tr.samples[0];
+        assert!(s.normal.is_nan(), "{m:?}: N = {}", s.normal);
+        let (top, th, thd, w) = (
+            &sc.top,
+            sc.initial.theta,
+            sc.initial.theta_dot,
+            sc.initial.spin,
+        );
+        let uz = top.offset * th.sin() * thd;
+        let e = 0.5 * top.mass * uz * uz
+            + 0.5 * top.inertia_transverse * thd * thd
+            + 0.5 * top.inertia_axial * w * w
+            + top.mass * sc.surface.gravity * (top.radius - top.offset * th.cos());
+        assert_eq!((s.ux, s.uy), (0.0, 0.0), "{m:?}");
+        assert!(
+            (s.uz - uz).abs() <= 1e-15 * uz.abs(),
+            "{m:?}: uz {} vs {uz}",
+            s.uz
+        );
+        assert!(
+            (s.energy - e).abs() <= 1e-14 * e,
+            "{m:?}: E {} vs {e}",
+            s.energy
+        );
     }
 }

@@ -140,7 +140,10 @@ fn a_runs_regime_is_at_its_own_temperature() {
     let hot = Scenario::nano_physical();
     assert_eq!(hot.thermal.temperature, 300.0);
     assert_eq!(of_run(&hot), regime(&hot, Some(300.0)).unwrap());
-    assert!(close(of_run(&hot).rotational_energy_over_kt.unwrap(), 6.065018e-20));
+    assert!(close(
+        of_run(&hot).rotational_energy_over_kt.unwrap(),
+        6.065018e-20
+    ));
     for sc in [Scenario::nano(), Scenario::classical()] {
         let r = of_run(&sc);
         assert_eq!(r.temperature, None);

@@ -826,8 +826,13 @@ impl Vector {
 
     /// Total energy in scaled units, with the velocity `e.v`.
     pub fn energy_scaled(&self, y: &[f64; DIM], e: &Eval) -> f64 {
+        self.energy_with(y, e.v)
+    }
+
+    /// Total energy in scaled units with the centre-of-mass velocity `v`.
+    fn energy_with(&self, y: &[f64; DIM], v: V3) -> f64 {
         let kn = self.kin(y);
-        let en = 0.5 * dot(e.v, e.v)
+        let en = 0.5 * dot(v, v)
             + 0.5 * dot(kn.w, self.inertia(kn.k, kn.w))
             + self.g * (1.0 - self.a * kn.k[2]);
         // The wells' potential U(θ) (§20; nothing without wells).
@@ -881,12 +886,13 @@ impl Vector {
         let e = self.eval(y).ok();
         let (v, normal, slip, energy) = match &e {
             Some(e) => (e.v, e.normal, e.slip, self.energy_scaled(y, e)),
-            None => (
-                [y[VEL], y[VEL + 1], f64::NAN],
-                f64::NAN,
-                self.slip_of(y),
-                f64::NAN,
-            ),
+            None => {
+                // Only the sliding evaluation fails (no consistent normal
+                // force: a Painlevé case, the run's failure): N is undefined
+                // there, the velocity (v_Z = −a k̇_Z) and the energy are not.
+                let v = [y[VEL], y[VEL + 1], -self.a * self.kin(y).kd[2]];
+                (v, f64::NAN, self.slip_of(y), self.energy_with(y, v))
+            }
         };
         // Position and attitude (docs/physics.md §19).
         let (l, a) = (sc.length, self.a);

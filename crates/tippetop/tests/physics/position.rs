@@ -234,7 +234,10 @@ fn sleeping_top_turns_by_spin_times_t() {
     each_model(
         &[
             cannot(Reduced, "θ = 0 is the Euler angles' pole"),
-            too_slow(Rigid, "8.9e6 steps: sleeping_top_turns_by_spin_times_t_rigid"),
+            too_slow(
+                Rigid,
+                "8.9e6 steps: sleeping_top_turns_by_spin_times_t_rigid",
+            ),
         ],
         |m| sleeping_top(m, 1e-9),
     );
