@@ -457,7 +457,14 @@ fn case(index: u64, seeds: &Seeds) -> (Kind, Vec<String>, String) {
         .to_string(),
     ];
     args.extend(seed.args.iter().cloned());
-    let mut sets = vec!["solver.max_steps=2000".to_string()];
+    // One `run` in 8 gets a budget of 500 000 steps (a second or so):
+    // long enough for what builds up over many steps (the attitude's
+    // overflow of issue 26 took 2.5e5 steps to show).
+    let long = kind == Kind::Run && rng.below(8) == 0;
+    let mut sets = vec![format!(
+        "solver.max_steps={}",
+        if long { 500_000 } else { 2000 }
+    )];
     if kind != Kind::Bit && !seed.sets.iter().any(|x| x.starts_with("solver.samples")) {
         sets.push("solver.samples=21".into());
     }
@@ -673,6 +680,8 @@ struct Tally {
     failed_rows: usize,
     /// Exit 2: the key each message names → cases.
     rejected_by: BTreeMap<String, usize>,
+    /// Exit 3: the `failure` of summary.json → cases.
+    failures: BTreeMap<String, usize>,
     violations: Vec<String>,
 }
 
@@ -683,6 +692,7 @@ fn run_case(bin: &Path, index: u64, seeds: &Seeds, scratch: &Path, tally: &Mutex
     args.push("--out".into());
     args.push(out.display().to_string());
     let mut key = String::new();
+    let mut failure = String::new();
     let verdict = (|| -> Result<(i32, usize, usize), String> {
         let mut child = Command::new(bin)
             .args(&args)
@@ -752,6 +762,7 @@ fn run_case(bin: &Path, index: u64, seeds: &Seeds, scratch: &Path, tally: &Mutex
                         sj["status"], sj["failure"]
                     ));
                 }
+                failure = sj["failure"].as_str().unwrap_or("").to_string();
                 let t_end = sj["t_end"]
                     .as_f64()
                     .ok_or(format!("exit 3 with t_end {}", sj["t_end"]))?;
@@ -806,6 +817,9 @@ fn run_case(bin: &Path, index: u64, seeds: &Seeds, scratch: &Path, tally: &Mutex
             *t.exits.entry((kind, code)).or_default() += 1;
             if code == 2 {
                 *t.rejected_by.entry(key).or_default() += 1;
+            }
+            if code == 3 {
+                *t.failures.entry(failure).or_default() += 1;
             }
             t.rows += rows;
             t.failed_rows += failed;
@@ -864,6 +878,8 @@ fn fuzz(cases: u64) {
     by.sort_by(|a, b| b.1.cmp(a.1));
     let top: Vec<String> = by.iter().take(8).map(|(k, n)| format!("{k} {n}")).collect();
     println!("  exit 2 named most often: {}", top.join(", "));
+    let kinds: Vec<String> = t.failures.iter().map(|(k, n)| format!("{k} {n}")).collect();
+    println!("  exit 3 failures: {}", kinds.join(", "));
     let shown: Vec<&String> = t.violations.iter().take(20).collect();
     assert!(
         t.violations.is_empty(),
