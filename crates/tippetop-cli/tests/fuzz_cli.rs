@@ -682,6 +682,9 @@ struct Tally {
     rejected_by: BTreeMap<String, usize>,
     /// Exit 3: the `failure` of summary.json → cases.
     failures: BTreeMap<String, usize>,
+    /// Exit 3 with a value that is not finite (`non_finite`,
+    /// `output_overflow`): the case and its status, to print.
+    non_finite: Vec<String>,
     violations: Vec<String>,
 }
 
@@ -763,6 +766,15 @@ fn run_case(bin: &Path, index: u64, seeds: &Seeds, scratch: &Path, tally: &Mutex
                     ));
                 }
                 failure = sj["failure"].as_str().unwrap_or("").to_string();
+                if failure == "non_finite" || failure == "output_overflow" {
+                    let status = sj["status"].as_str().unwrap_or("");
+                    let status: String = status.chars().take(160).collect();
+                    tally
+                        .lock()
+                        .unwrap()
+                        .non_finite
+                        .push(format!("{what}: {status}"));
+                }
                 let t_end = sj["t_end"]
                     .as_f64()
                     .ok_or(format!("exit 3 with t_end {}", sj["t_end"]))?;
@@ -880,6 +892,11 @@ fn fuzz(cases: u64) {
     println!("  exit 2 named most often: {}", top.join(", "));
     let kinds: Vec<String> = t.failures.iter().map(|(k, n)| format!("{k} {n}")).collect();
     println!("  exit 3 failures: {}", kinds.join(", "));
+    let mut nf = t.non_finite.clone();
+    nf.sort();
+    for c in nf.iter().take(12) {
+        println!("    {c}");
+    }
     let shown: Vec<&String> = t.violations.iter().take(20).collect();
     assert!(
         t.violations.is_empty(),

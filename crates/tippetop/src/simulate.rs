@@ -25,7 +25,7 @@ use crate::{
         vector::{self, Vector},
     },
     sim::events::{Happened, Watch},
-    sim::messages::{nonfinite_output_error, step_limit_why, unstable_rk4},
+    sim::messages::{nonfinite_output_why, step_limit_why, unstable_rk4},
     sim::record::{RunEnd, RunLog, RunSetup, Track, summarize},
     sim::watch::{ThetaWatch, Watcher, WindowStay},
 };
@@ -889,8 +889,9 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
     /// segment's start) although the integrated state is finite: a run is
     /// finite or failed, so it ends there. The rows before that one are
     /// kept; the error (`non_finite` for a NaN, `output_overflow` for an
-    /// infinity) names the column; the state at that time (the last step's
-    /// dense output) is the run's final state.
+    /// infinity; `unstable` for an RK4 run that lost its energy balance)
+    /// names the column; the state at that time (the last step's dense
+    /// output) is the run's final state.
     fn end_at_nonfinite_row(&mut self) {
         let ts = self.nonfinite_at.expect("a non-finite row");
         let y = self.state_at(ts);
@@ -908,11 +909,17 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             .first_non_finite()
             .expect("a non-finite column");
         self.samples.truncate(first);
-        self.error = Some(nonfinite_output_error(
+        // An RK4 run whose energy balance was lost: its fixed step is the
+        // cause (as for a state that became NaN).
+        let (kind, why) = nonfinite_output_why(column, value);
+        let (kind, why) = unstable_rk4(&self.sc, &self.track, kind, why);
+        self.error = Some(Error::runtime(
             ts * tu,
-            column,
-            value,
-            &self.m.describe(&self.last_accepted.1),
+            kind,
+            format!(
+                "{why}; last accepted {}",
+                self.m.describe(&self.last_accepted.1)
+            ),
         ));
         (self.t, self.y) = (ts, y);
         self.stats.steps = self.steps_seen;
