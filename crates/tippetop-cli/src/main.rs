@@ -25,6 +25,15 @@ fn main() -> ExitCode {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
     let cli = Cli::parse();
+    // Fault injection for the end-to-end tests of the rule "finite or
+    // failed" (tippetop::testing): every output row from this time on [s]
+    // gets qw = NaN.
+    if let Some(at) = std::env::var("TIPPETOP_TEST_NAN_ROW_AT")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+    {
+        tippetop::testing::plant_nan_row(Some(at));
+    }
     let result = match &cli.command {
         Command::Run(args) => run::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),
         Command::Reproduce(args) => reproduce::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),

@@ -15,7 +15,8 @@ pub const REGIME_LONG_ABOUT: &str = "The regime a scenario is in: dimensionless 
     sqrt(kT/C)), window_over_orientation_correlation_time (t_end / 9.1 ps, the C60 \
     orientation correlation time near room temperature); always angular_momentum_over_hbar \
     (C |omega0| / hbar; below 10 classical rotation is questionable). summary.json of every \
-    run carries the same object (thermal entries null). docs/physics.md §16 has the \
+    run carries the same object at the run's own temperature (thermal entries null without \
+    one). docs/physics.md §16 has the \
     constants and sources.\n\n\
     Exit codes: 0 ok, 2 bad input (one line naming the key and its range).";
 
@@ -58,10 +59,11 @@ pub fn run(args: &RegimeArgs) -> anyhow::Result<ExitCode> {
     let rep = load(args).and_then(|sc| {
         // Without --temperature, a scenario with a temperature (a Langevin
         // or Brownian run) gives its own.
-        let temperature = args
-            .temperature
-            .or((sc.thermal.temperature > 0.0).then_some(sc.thermal.temperature));
-        let r = regime::regime(&sc, temperature).map_err(|e| match e {
+        let r = match args.temperature {
+            Some(t) => regime::regime(&sc, Some(t)),
+            None => Ok(regime::of_run(&sc)),
+        }
+        .map_err(|e| match e {
             tippetop::Error::Invalid { key, what, range } if key == "temperature" => {
                 tippetop::Error::Invalid {
                     key: "--temperature".into(),

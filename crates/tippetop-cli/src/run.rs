@@ -158,12 +158,10 @@ pub fn write_data(
     let toml = dir.join("scenario.toml");
     write_bytes_atomic(&toml, scenario_toml.as_bytes())?;
     let summary = summary_with_status(traj);
-    let mut doc = SummaryDoc::new(&summary, &traj.events, scenario_toml, wall_seconds);
-    // The scenario was validated, so its regime exists (no temperature:
-    // the thermal ratios are null).
-    if let Ok(r) = tippetop::analysis::regime::regime(scenario, None) {
-        doc = doc.with_regime(r);
-    }
+    let doc = SummaryDoc::new(&summary, &traj.events, scenario_toml, wall_seconds);
+    // The regime at the run's own temperature (the thermal ratios are null
+    // without one).
+    let doc = doc.with_regime(tippetop::analysis::regime::of_run(scenario));
     let json = dir.join("summary.json");
     write_json_pretty(&json, &doc)?;
     Ok(vec![csv, json, toml])

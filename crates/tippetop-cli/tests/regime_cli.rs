@@ -72,3 +72,44 @@ fn summary_json_has_the_regime() {
     assert!(r["rotational_energy_over_kT"].is_null());
     assert!(r["temperature"].is_null());
 }
+
+/// Issue 26: summary.json's regime is the run's, at the run's own
+/// temperature: `--preset nano-physical` (C60 on graphene at 300 K) carries
+/// the thermal ratios at 300 K (they were null), by hand from the preset's
+/// C = 5.0242e-44 kg m² and ω0 = 100 rad/s (as `tests/regime.rs`):
+/// ½ C ω0²/kT = 6.065018e-20, ω0/√(kT/C) = 3.482820e-10, and
+/// t_end/τ = 1e-12 s / 9.1 ps.
+#[test]
+fn summary_json_regime_is_at_the_runs_temperature() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    tippetop()
+        .args([
+            "run",
+            "--preset",
+            "nano-physical",
+            "--set",
+            "solver.t_end=1e-12",
+            "--set",
+            "solver.samples=11",
+            "--no-plot",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let r = &v["regime"];
+    let close = |key: &str, want: f64| {
+        let got = r[key]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{key}: {}", r[key]));
+        assert!((got - want).abs() <= 1e-4 * want, "{key}: {got} vs {want}");
+    };
+    assert_eq!(r["temperature"].as_f64(), Some(300.0));
+    close("rotational_energy_over_kT", 6.065018e-20);
+    close("spin_over_thermal_spin", 3.482820e-10);
+    close("window_over_orientation_correlation_time", 1e-12 / 9.1e-12);
+}

@@ -31,6 +31,8 @@ pub mod scenario;
 pub(crate) mod sim;
 pub mod simulate;
 pub mod state;
+#[doc(hidden)]
+pub mod testing;
 pub mod thermal;
 pub mod top;
 pub mod trajectory;

@@ -25,7 +25,7 @@ use crate::{
         vector::{self, Vector},
     },
     sim::events::{Happened, Watch},
-    sim::messages::{nonfinite_output_error, step_limit_why, unstable_rk4},
+    sim::messages::{nonfinite_output_why, step_limit_why, unstable_rk4},
     sim::record::{RunEnd, RunLog, RunSetup, Track, summarize},
     sim::watch::{ThetaWatch, Watcher, WindowStay},
 };
@@ -690,7 +690,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let samples = &mut self.samples;
         let nonfinite_at = &mut self.nonfinite_at;
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
-            let row = s.row(t, y);
+            let row = crate::testing::planted(s.row(t, y));
             if nonfinite_at.is_none() && !row.is_finite() {
                 *nonfinite_at = Some(t);
             }
@@ -715,6 +715,9 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                     // An empty segment (at the run's end) ends at once.
                     ended: (!started).then_some((None, t, self.y)),
                 });
+                if self.nonfinite_at.is_some() {
+                    self.end_at_nonfinite_row();
+                }
             }
             Err(e) => self.fail(e),
         }
@@ -750,7 +753,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let sample_times = &self.sample_times;
         let watcher = std::cell::RefCell::new(self.watcher.as_mut());
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
-            let row = s.row(t, y);
+            let row = crate::testing::planted(s.row(t, y));
             if nonfinite_at.is_none() && !row.is_finite() {
                 *nonfinite_at = Some(t);
             }
@@ -826,6 +829,9 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             Ok(Stepped::Terminal { index, t, y }) => a.ended = Some((Some(index), t, y)),
             Err(e) => self.fail(e),
         }
+        if self.nonfinite_at.is_some() && !self.done {
+            self.end_at_nonfinite_row();
+        }
     }
 
     /// The integration failed: record the error (with the state it
@@ -878,16 +884,47 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         self.done = true;
     }
 
-    /// A value of the output overflowed (in SI units) at scaled time `ts`
-    /// although the scaled state is finite: drop the rows from there on
-    /// and record the error (with the last accepted state).
-    fn stop_at_nonfinite_output(&mut self, ts: f64) {
+    /// An output row came out with a value that is not a finite number (at
+    /// scaled time `nonfinite_at`, in the step just taken, or at the
+    /// segment's start) although the integrated state is finite: a run is
+    /// finite or failed, so it ends there. The rows before that one are
+    /// kept; the error (`non_finite` for a NaN, `output_overflow` for an
+    /// infinity; `unstable` for an RK4 run that lost its energy balance)
+    /// names the column; the state at that time (the last step's dense
+    /// output) is the run's final state.
+    fn end_at_nonfinite_row(&mut self) {
+        let ts = self.nonfinite_at.expect("a non-finite row");
+        let y = self.state_at(ts);
+        if let Some(a) = self.active.take() {
+            self.stats.rejected += a.st.stats.rejected;
+        }
+        self.track.merge(&self.event_track);
         let tu = self.tu;
-        self.samples.retain(|r| r.t < ts * tu);
-        self.error = Some(nonfinite_output_error(
+        let first = self
+            .samples
+            .iter()
+            .position(|r| !r.is_finite())
+            .expect("the non-finite row");
+        let (column, value) = self.samples[first]
+            .first_non_finite()
+            .expect("a non-finite column");
+        self.samples.truncate(first);
+        // An RK4 run whose energy balance was lost: its fixed step is the
+        // cause (as for a state that became NaN).
+        let (kind, why) = nonfinite_output_why(column, value);
+        let (kind, why) = unstable_rk4(&self.sc, &self.track, kind, why);
+        self.error = Some(Error::runtime(
             ts * tu,
-            &self.m.describe(&self.last_accepted.1),
+            kind,
+            format!(
+                "{why}; last accepted {}",
+                self.m.describe(&self.last_accepted.1)
+            ),
         ));
+        (self.t, self.y) = (ts, y);
+        self.stats.steps = self.steps_seen;
+        self.stats.rhs_evals = self.m.evaluations();
+        self.done = true;
     }
 
     /// Handle the end of the active segment: merge its counters, check the
@@ -896,14 +933,6 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let a = self.active.take().expect("an active segment");
         let (index, t, y) = a.ended.expect("an ended segment");
         self.track.merge(&self.event_track);
-        if let Some(ts) = self.nonfinite_at {
-            self.stop_at_nonfinite_output(ts);
-            (self.t, self.y) = self.last_accepted;
-            self.stats.steps = self.steps_seen;
-            self.stats.rhs_evals = self.m.evaluations();
-            self.done = true;
-            return;
-        }
         self.stats.rhs_evals += a.st.stats.rhs_evals;
         self.stats.steps += a.st.stats.steps;
         debug_assert_eq!(self.stats.steps, self.steps_seen);
@@ -987,9 +1016,6 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             self.stats.steps += a.st.stats.steps;
             self.stats.rejected += a.st.stats.rejected;
             (self.t, self.y) = self.last_accepted;
-            if let Some(ts) = self.nonfinite_at {
-                self.stop_at_nonfinite_output(ts);
-            }
         }
         let (t, y, tu) = (self.t, self.y, self.tu);
         let rolling_time = self.log.finish(t);

@@ -72,26 +72,22 @@ pub struct Sample {
 }
 
 impl Sample {
-    /// True if the state columns (t, θ, θ̇, Ω, ω, u_x, u_y, J, the energy and
-    /// the work counters) are finite. `uz`, `N` and `slip` are NaN where the
-    /// model cannot be evaluated (e.g. at a Painlevé case), which the run
-    /// reports by its own error.
+    /// True if every column is a finite number. A row of a run that
+    /// completed always is: the driver fails a run (`non_finite`, or
+    /// `output_overflow` for an infinity) at its first row that is not
+    /// ([`Sample::first_non_finite`]).
     pub fn is_finite(&self) -> bool {
-        [
-            self.t,
-            self.theta,
-            self.theta_dot,
-            self.precession,
-            self.spin,
-            self.ux,
-            self.uy,
-            self.jellett,
-            self.energy,
-            self.work_friction,
-            self.work_applied,
-        ]
-        .iter()
-        .all(|x| x.is_finite())
+        self.first_non_finite().is_none()
+    }
+
+    /// The first column (in [`COLUMNS`] order) that is not a finite
+    /// number, with its value.
+    pub fn first_non_finite(&self) -> Option<(&'static str, f64)> {
+        COLUMNS
+            .iter()
+            .zip(self.values())
+            .find(|(_, v)| !v.is_finite())
+            .map(|(c, v)| (*c, v))
     }
 }
 

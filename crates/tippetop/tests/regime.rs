@@ -5,7 +5,7 @@
 //! H/mg 8.5 per component, E_rot/kT 6e-20, ω/ω_th 3.5e-10, L/ħ 5e-8).
 
 use tippetop::Scenario;
-use tippetop::analysis::regime::{lines, max_applied_force, regime};
+use tippetop::analysis::regime::{lines, max_applied_force, of_run, regime};
 
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-4 * b.abs()
@@ -131,4 +131,22 @@ fn nano_preset_with_adhesion_by_hand() {
     let table = lines(&sc, &r);
     let verdict = |k: &str| &table.iter().find(|l| l.key == k).unwrap().verdict;
     assert!(verdict("adhesion_over_weight").contains("dominates the weight"));
+}
+
+/// A run's regime is at its own temperature: `nano-physical` (300 K) has
+/// the thermal ratios at 300 K, the deterministic presets none.
+#[test]
+fn a_runs_regime_is_at_its_own_temperature() {
+    let hot = Scenario::nano_physical();
+    assert_eq!(hot.thermal.temperature, 300.0);
+    assert_eq!(of_run(&hot), regime(&hot, Some(300.0)).unwrap());
+    assert!(close(
+        of_run(&hot).rotational_energy_over_kt.unwrap(),
+        6.065018e-20
+    ));
+    for sc in [Scenario::nano(), Scenario::classical()] {
+        let r = of_run(&sc);
+        assert_eq!(r.temperature, None);
+        assert_eq!(r, regime(&sc, None).unwrap());
+    }
 }

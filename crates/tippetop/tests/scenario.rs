@@ -1077,3 +1077,42 @@ fn bad_tip_and_magnetic_windows() {
         .is_ok()
     );
 }
+
+/// Issue 26: the Langevin and Brownian step rules blame the largest term
+/// of the vertical load that tilts the top, `m g + F_a + max |h_z|`. With
+/// graphene-like adhesion (1e-9 N, 1e14 times the nano top's weight) the
+/// message said "(from surface.gravity)"; it names `adhesion.force`, the
+/// window's `hz` when that dominates, and the gravity when it does.
+#[test]
+fn dt_rules_name_the_load_that_binds_them() {
+    let hot = [
+        "surface.friction=0",
+        "solver.method=\"langevin\"",
+        "solver.t_end=1e-10",
+        "solver.samples=11",
+        "thermal.temperature=300",
+        "thermal.damping_translational=1e11",
+        "thermal.damping_rotational=1e11",
+        "thermal.seed=1",
+    ];
+    for (method, dt) in [("langevin", "1e-13"), ("brownian", "1e-9")] {
+        for (load, key) in [
+            ("adhesion.force=1e-9", "adhesion.force"),
+            ("force.0.hz=1e-9", "force.hz"),
+            ("surface.gravity=1e14", "surface.gravity"),
+        ] {
+            let mut set = hot.to_vec();
+            let m = format!("solver.method=\"{method}\"");
+            let d = format!("solver.dt={dt}");
+            set.extend([m.as_str(), d.as_str(), load]);
+            if load.starts_with("adhesion") {
+                set.push("adhesion.energy=1e-19");
+            }
+            let shown = expect_err(Some("nano"), None, &set, "solver.dt");
+            assert!(
+                shown.contains(&format!("(from {key})")),
+                "{method}, {load}: {shown}"
+            );
+        }
+    }
+}

@@ -80,6 +80,11 @@ pub fn regime(sc: &Scenario, temperature: Option<f64>) -> Result<Regime, Error> 
             ));
         }
     }
+    Ok(at(sc, temperature))
+}
+
+/// [`regime`] without the range check of the temperature.
+fn at(sc: &Scenario, temperature: Option<f64>) -> Regime {
     let top = &sc.top;
     let weight = top.mass * sc.surface.gravity;
     let h = max_applied_force(sc);
@@ -90,7 +95,7 @@ pub fn regime(sc: &Scenario, temperature: Option<f64>) -> Result<Regime, Error> 
     let kt = temperature.map(|t| K_B * t).and_then(positive);
     let spin = sc.initial.spin;
     let c = top.inertia_axial;
-    Ok(Regime {
+    Regime {
         temperature,
         adhesion_over_weight: sc
             .adhesion
@@ -104,7 +109,17 @@ pub fn regime(sc: &Scenario, temperature: Option<f64>) -> Result<Regime, Error> 
         angular_momentum_over_hbar: c * spin.abs() / HBAR,
         window_over_orientation_correlation_time: kt
             .map(|_| sc.solver.t_end / C60_ORIENTATION_CORRELATION_TIME),
-    })
+    }
+}
+
+/// The regime of a run of `sc` at its own temperature: the scenario's
+/// `thermal.temperature` when it is above 0 (a Langevin or Brownian run),
+/// else none (the thermal ratios `None`). What `summary.json` carries and
+/// what `tippetop regime` reports without `--temperature`. (A scenario's
+/// temperature is any finite `T >= 0`: no range to check here.)
+pub fn of_run(sc: &Scenario) -> Regime {
+    let t = sc.thermal.temperature;
+    at(sc, (t > 0.0).then_some(t))
 }
 
 /// One line of the regime table: the key, its value, and what it means.

@@ -679,7 +679,14 @@ impl super::ContactModel<DIM> for Reduced {
         let e = m.eval(y).ok();
         let (u, normal, slip) = match &e {
             Some(e) => (e.u, e.normal, e.slip),
-            None => ([y[UX], y[UY], f64::NAN], f64::NAN, m.slip_of(y)),
+            // No consistent normal force (a Painlevé case, the run's
+            // failure): N is undefined, the velocity (u_Z = a sin θ θ̇)
+            // and so the energy are not.
+            None => (
+                [y[UX], y[UY], m.a * y[TH].sin() * y[THD]],
+                f64::NAN,
+                m.slip_of(y),
+            ),
         };
         let u_si = [u[0] * vu, u[1] * vu, u[2] * vu];
         let (theta, thd, om, w) = (y[TH], y[THD] / tu, y[OM] / tu, y[W] / tu);

@@ -135,6 +135,45 @@ pub(crate) fn rotate(rv: V3, v: V3) -> V3 {
     )
 }
 
+/// The lab-frame rotation by the rotation vector `rv` applied to an
+/// attitude carried as `p ⊗ q_Z(ψ)` (`p` body → lab with its axis along
+/// `k`, not turning about it; docs/physics.md §19): the rotation split into
+/// its swing (about an axis normal to `k̂ = k/|k|`) and its twist about `k̂`,
+/// `r = s ⊗ t` (`t = (r_w, (r⃗·k̂) k̂)` normalised, `s = r ⊗ t*`), so that
+/// `r ⊗ p ⊗ q_Z(ψ) = (s ⊗ p) ⊗ q_Z(ψ + α)`. Returns `s ⊗ p` (renormalised)
+/// and the twist angle `α = 2 atan2(r⃗·k̂, r_w)` \[rad\].
+pub(crate) fn swing_twist_turn(rv: V3, k: V3, p: [f64; 4]) -> ([f64; 4], f64) {
+    let th = dot(rv, rv).sqrt();
+    if th == 0.0 {
+        return (p, 0.0);
+    }
+    let (s, c) = (0.5 * th).sin_cos();
+    let u = scale(s / th, rv);
+    let kh = scale(1.0 / dot(k, k).sqrt(), k);
+    let uk = dot(u, kh);
+    let nt = c.hypot(uk);
+    if nt == 0.0 {
+        // A half turn about an axis normal to k: all swing.
+        return (turn_quaternion_by(rv, p), 0.0);
+    }
+    // s = r ⊗ t*, t* = (c, −uk k̂)/nt.
+    let (tw, tv) = (c / nt, scale(-uk / nt, kh));
+    let sw = [
+        c * tw - dot(u, tv),
+        c * tv[0] + tw * u[0] + (u[1] * tv[2] - u[2] * tv[1]),
+        c * tv[1] + tw * u[1] + (u[2] * tv[0] - u[0] * tv[2]),
+        c * tv[2] + tw * u[2] + (u[0] * tv[1] - u[1] * tv[0]),
+    ];
+    let r = [
+        sw[0] * p[0] - sw[1] * p[1] - sw[2] * p[2] - sw[3] * p[3],
+        sw[0] * p[1] + sw[1] * p[0] + sw[2] * p[3] - sw[3] * p[2],
+        sw[0] * p[2] + sw[2] * p[0] + sw[3] * p[1] - sw[1] * p[3],
+        sw[0] * p[3] + sw[3] * p[0] + sw[1] * p[2] - sw[2] * p[1],
+    ];
+    let n = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]).sqrt();
+    ([r[0] / n, r[1] / n, r[2] / n, r[3] / n], 2.0 * uk.atan2(c))
+}
+
 /// The attitude `q` (body → lab, `(w, x, y, z)`) after the lab-frame
 /// rotation by the rotation vector `rv`: `(cos(|rv|/2), sin(|rv|/2) rv/|rv|)
 /// ⊗ q`, renormalised.

@@ -20,11 +20,14 @@
 //! # State and units
 //!
 //! Scaled units of [`Scales`] (lengths by R, masses by m). State
-//! (`DIM = 16`): `[k (3), w (3), v_x, v_y, W_f, W_a, q (4), x, y]`; the last
-//! six are quadratures outside the error norm ([`CONTROLLED`]): the attitude
-//! quaternion `q` (body → lab, `q̇ = ½ (0, w) ⊗ q`, carried for the rotation
-//! about `k`, which the dynamics never needs) and the centre of mass's lab
-//! position (`ẋ = v_x`, `ẏ = v_y`), docs/physics.md §19.
+//! (`DIM = 17`): `[k (3), w (3), v_x, v_y, W_f, W_a, p (4), χ, x, y]`; the
+//! last seven are quadratures outside the error norm ([`CONTROLLED`]): the
+//! attitude (body → lab, carried for the rotation about `k`, which the
+//! dynamics never needs) as `q = p ⊗ q_Z(ψ)` with `p` the frame carried
+//! along `k` without turning about it (`ṗ = ½ (0, w − (w·k) k) ⊗ p`) and
+//! the spin angle `ψ = ω₀ t + χ`, `χ̇ = w·k − ω₀` (`ω₀` the initial spin),
+//! and the centre of mass's lab position (`ẋ = v_x`, `ẏ = v_y`),
+//! docs/physics.md §19.
 //!
 //! # Equations (m = R = 1)
 //!
@@ -62,9 +65,9 @@ use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
 use crate::{Initial, Sample, Scenario, Top, integrate::OdeSystem};
 
 /// Number of state components.
-pub const DIM: usize = 16;
+pub const DIM: usize = 17;
 /// Number of components under error control (`k … W_a`); the quadratures
-/// `q, x, y` follow ([`OdeSystem::CONTROLLED`]).
+/// `p, χ, x, y` follow ([`OdeSystem::CONTROLLED`]).
 pub const CONTROLLED: usize = 10;
 /// Index of the symmetry axis `k` (3 components).
 pub const K: usize = 0;
@@ -76,21 +79,34 @@ pub const VEL: usize = 6;
 pub const WF: usize = 8;
 /// Index of the applied-force work.
 pub const WA: usize = 9;
-/// Index of the attitude quaternion `(w, x, y, z)`, body → lab (quadrature).
+/// Index of the attitude's untwisted frame `p` `(w, x, y, z)`, a
+/// quaternion body → lab whose axis follows `k` without turning about it
+/// (quadrature; the attitude is `p ⊗ q_Z(ψ)`, [`Vector::attitude`]).
 pub const QUAT: usize = 10;
+/// Index of `χ = ψ − ω₀ t` \[rad\], the spin angle about `k` less the
+/// initial spin's share (quadrature; [`Vector::spin_reference`]).
+pub const TWIST: usize = 14;
 /// Index of the centre of mass's lab x (quadrature; y follows).
-pub const POS: usize = 14;
+pub const POS: usize = 15;
 
-/// `½ (0, w) ⊗ q`: the attitude's rate for the space-frame angular velocity `w`.
+/// The attitude's rates: `ṗ = ½ (0, w_⊥) ⊗ p` with `w_⊥ = w − (w·k) k`
+/// (`wk = w·k`), and `χ̇ = w·k − ω₀`. `p` turns only as fast as the axis
+/// does (`|w_⊥| = |k̇|`), which the step-size control resolves; the spin,
+/// however fast, enters the scalar quadrature `χ` alone (docs/physics.md
+/// §19).
 #[inline(always)]
-fn quat_rate(w: V3, y: &[f64; DIM]) -> [f64; 4] {
+fn attitude_rate(w: V3, k: V3, wk: f64, spin_ref: f64, y: &[f64; DIM]) -> ([f64; 4], f64) {
+    let w = [w[0] - wk * k[0], w[1] - wk * k[1], w[2] - wk * k[2]];
     let q = [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]];
-    [
-        0.5 * (-w[0] * q[1] - w[1] * q[2] - w[2] * q[3]),
-        0.5 * (w[0] * q[0] + w[1] * q[3] - w[2] * q[2]),
-        0.5 * (w[1] * q[0] + w[2] * q[1] - w[0] * q[3]),
-        0.5 * (w[2] * q[0] + w[0] * q[2] - w[1] * q[1]),
-    ]
+    (
+        [
+            0.5 * (-w[0] * q[1] - w[1] * q[2] - w[2] * q[3]),
+            0.5 * (w[0] * q[0] + w[1] * q[3] - w[2] * q[2]),
+            0.5 * (w[1] * q[0] + w[2] * q[1] - w[0] * q[3]),
+            0.5 * (w[2] * q[0] + w[0] * q[2] - w[1] * q[1]),
+        ],
+        wk - spin_ref,
+    )
 }
 /// DOP853's step-size control for this model
 /// ([`crate::integrate::Stepper::Dop853`]): `β` of the stabilised (PI)
@@ -141,6 +157,10 @@ pub struct Vector {
     pub plane: ContactState,
     /// The SI top.
     pub top: Top,
+    /// `ω₀` (scaled): the initial spin `n·k`, the rate the spin angle
+    /// `ψ = ω₀ t + χ` is measured from (0 with `method = "brownian"`,
+    /// whose velocities are drifts).
+    spin_ref: f64,
     /// The last evaluation made by [`Vector::eval`] and its key (state bits,
     /// mode and every input), so the driver's repeated evaluations at an
     /// accepted step (N event, energy, samples) are computed once. The key
@@ -225,6 +245,11 @@ impl Vector {
             g: sc.surface.gravity * scales.time * scales.time / scales.length,
             plane: ContactState::new(sc, &scales),
             top: sc.top,
+            spin_ref: if sc.solver.method == crate::Method::Brownian {
+                0.0
+            } else {
+                sc.initial.spin * scales.time
+            },
             last: RefCell::new(None),
             thermal: super::thermostat::Bath::of(sc, &scales),
             ou: super::thermostat::OuCache::default(),
@@ -336,10 +361,14 @@ impl Vector {
         let w = add(add(scale(p[2], kn), scale(p[3], eh)), scale(p[4], fh));
         let rv = scale(h, w);
         let k = super::vec3::rotate(rv, [y[K], y[K + 1], y[K + 2]]);
+        let (p_new, twist) = super::vec3::swing_twist_turn(
+            rv,
+            [y[K], y[K + 1], y[K + 2]],
+            [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]],
+        );
         y[K..K + 3].copy_from_slice(&k);
-        let q =
-            super::vec3::turn_quaternion_by(rv, [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]]);
-        y[QUAT..QUAT + 4].copy_from_slice(&q);
+        y[QUAT..QUAT + 4].copy_from_slice(&p_new);
+        y[TWIST] += twist - self.spin_ref * h;
         y[POS] += h * p[0];
         y[POS + 1] += h * p[1];
         let wdrift = add(
@@ -366,8 +395,8 @@ impl Vector {
 
     /// Scaled state from SI initial values, with the precessing x along the
     /// space X: `k = (s, 0, c)`, `w = ((ω − Ω c) s, θ̇, Ω s² + ω c)`,
-    /// `v = (u_x, u_y)`, `q = (cos θ/2, 0, sin θ/2, 0)` (a turn by θ about
-    /// the lab Y), `x = y = 0`.
+    /// `v = (u_x, u_y)`, `p = (cos θ/2, 0, sin θ/2, 0)` (a turn by θ about
+    /// the lab Y), `χ = 0`, `x = y = 0`.
     pub fn scale_state(&self, i: &Initial) -> [f64; DIM] {
         let t = self.scales.time;
         let vu = self.scales.velocity();
@@ -387,6 +416,7 @@ impl Vector {
             (0.5 * i.theta).cos(),
             0.0,
             (0.5 * i.theta).sin(),
+            0.0,
             0.0,
             0.0,
             0.0,
@@ -573,7 +603,7 @@ impl Vector {
         let w0 = self.with_wells(scale(-self.gyro * wk, kd), k);
         // The body actuators' wrench (§24): F adds to the free
         // acceleration (g_z = g − F_Z in Q), I⁻¹τ to ẇ₀.
-        let body = self.body_wrench(y, k);
+        let body = self.body_wrench(k);
         let (w0, g_z) = match body {
             Some((fb, tb)) => (add(w0, self.inv_inertia(k, tb)), self.g - fb[2]),
             None => (w0, self.g),
@@ -613,7 +643,7 @@ impl Vector {
             wf += mz * w[2];
             torque = mz;
         }
-        let qd = quat_rate(w, y);
+        let (qd, chi) = attitude_rate(w, k, wk, self.spin_ref, y);
         let mut dy = [
             kd[0],
             kd[1],
@@ -629,6 +659,7 @@ impl Vector {
             qd[1],
             qd[2],
             qd[3],
+            chi,
             v[0],
             v[1],
         ];
@@ -664,7 +695,7 @@ impl Vector {
         let w0 = self.with_wells(scale(-self.gyro * wk, kd), k);
         // The body actuators' wrench (§24): I⁻¹τ joins ẇ₀, F the right-hand
         // side (b = (g Z − F) − ẇ₀ × r − a w × k̇).
-        let body = self.body_wrench(y, k);
+        let body = self.body_wrench(k);
         let (w0, gv) = match body {
             Some((fb, tb)) => (add(w0, self.inv_inertia(k, tb)), sub(scale(self.g, Z), fb)),
             None => (w0, scale(self.g, Z)),
@@ -692,10 +723,10 @@ impl Vector {
             let force = solve3(kmat, b);
             (force, add(w0, self.inv_inertia(k, cross(r, force))), 0.0)
         };
-        let qd = quat_rate(w, y);
+        let (qd, chi) = attitude_rate(w, k, wk, self.spin_ref, y);
         let mut dy = [
             kd[0], kd[1], kd[2], wd[0], wd[1], wd[2], force[0], force[1], 0.0, 0.0, qd[0], qd[1],
-            qd[2], qd[3], -wr[0], -wr[1],
+            qd[2], qd[3], chi, -wr[0], -wr[1],
         ];
         if let Some((fb, tb)) = body {
             // The centre of mass accelerates with F + the contact force;
@@ -763,21 +794,21 @@ impl Vector {
     }
 
     /// The body actuators' wrench `(F, τ)` at a state (scaled, lab;
-    /// docs/physics.md §24), `None` without actuators. The material axes
-    /// an off-axis tip needs come from the quaternion (a quadrature), which
-    /// the scenario's validation never lets happen in this model
+    /// docs/physics.md §24), `None` without actuators. Only actuators on
+    /// the axis: the material axes an off-axis one needs are the attitude's,
+    /// whose spin angle `ω₀ t + χ` needs the time, which the evaluation does
+    /// not read; the scenario's validation refuses them in this model
     /// (`scenario::actuator::check_model`).
     #[inline(always)]
-    fn body_wrench(&self, y: &[f64; DIM], k: V3) -> Option<(V3, V3)> {
+    fn body_wrench(&self, k: V3) -> Option<(V3, V3)> {
         let forces = self.plane.forces();
         if forces.body_is_zero() {
             return None;
         }
         let b = forces.body();
         Some(b.wrench(k, || {
-            crate::physics::forces::actuators::material_axes(
-                [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]],
-                k,
+            unreachable!(
+                "an off-axis actuator in model = \"vector\" (refused by scenario::actuator::check_model)"
             )
         }))
     }
@@ -795,8 +826,13 @@ impl Vector {
 
     /// Total energy in scaled units, with the velocity `e.v`.
     pub fn energy_scaled(&self, y: &[f64; DIM], e: &Eval) -> f64 {
+        self.energy_with(y, e.v)
+    }
+
+    /// Total energy in scaled units with the centre-of-mass velocity `v`.
+    fn energy_with(&self, y: &[f64; DIM], v: V3) -> f64 {
         let kn = self.kin(y);
-        let en = 0.5 * dot(e.v, e.v)
+        let en = 0.5 * dot(v, v)
             + 0.5 * dot(kn.w, self.inertia(kn.k, kn.w))
             + self.g * (1.0 - self.a * kn.k[2]);
         // The wells' potential U(θ) (§20; nothing without wells).
@@ -818,6 +854,30 @@ impl Vector {
         ((Self::theta(y), dot(kn.w, yh), om, kn.wk), (xh, yh))
     }
 
+    /// The initial spin `ω₀ = n·k` (scaled; 0 with `method = "brownian"`),
+    /// the rate the spin angle is measured from: `ψ = ω₀ t + χ`.
+    pub fn spin_reference(&self) -> f64 {
+        self.spin_ref
+    }
+
+    /// The attitude at scaled time `t`, a unit quaternion body → lab
+    /// `(w, x, y, z)`: the untwisted frame `p` (normalised) turned onto the
+    /// integrated axis `k` by the smallest rotation
+    /// (`observe::attitude_with_axis`: it agrees with θ to rounding), then
+    /// about the body axis by the spin angle `ψ = ω₀ t + χ`,
+    /// `q = p ⊗ (cos ψ/2, 0, 0, sin ψ/2)`. `ω₀ t` is one rounded product, so
+    /// the angle keeps its precision at any number of turns (its absolute
+    /// error is that of `t` itself times ω₀; docs/physics.md §19).
+    pub fn attitude(&self, t: f64, y: &[f64; DIM]) -> [f64; 4] {
+        let p = crate::observe::attitude_with_axis(
+            [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]],
+            [y[K], y[K + 1], y[K + 2]],
+        );
+        let psi = self.spin_ref * t + y[TWIST];
+        let (s, c) = (0.5 * psi).sin_cos();
+        crate::observe::quat_mul(p, [c, 0.0, 0.0, s])
+    }
+
     /// The output row at scaled time `t`.
     pub fn sample_at(&self, t: f64, y: &[f64; DIM]) -> Sample {
         let sc = self.scales;
@@ -826,23 +886,21 @@ impl Vector {
         let e = self.eval(y).ok();
         let (v, normal, slip, energy) = match &e {
             Some(e) => (e.v, e.normal, e.slip, self.energy_scaled(y, e)),
-            None => (
-                [y[VEL], y[VEL + 1], f64::NAN],
-                f64::NAN,
-                self.slip_of(y),
-                f64::NAN,
-            ),
+            None => {
+                // Only the sliding evaluation fails (no consistent normal
+                // force: a Painlevé case, the run's failure): N is undefined
+                // there, the velocity (v_Z = −a k̇_Z) and the energy are not.
+                let v = [y[VEL], y[VEL + 1], -self.a * self.kin(y).kd[2]];
+                (v, f64::NAN, self.slip_of(y), self.energy_with(y, v))
+            }
         };
-        // Position and attitude (docs/physics.md §19): the output quaternion
-        // is the integrated one turned onto the integrated axis k (which the
-        // dynamics, θ and every other column use).
+        // Position and attitude (docs/physics.md §19).
         let (l, a) = (sc.length, self.a);
         // The unit axis (|k| = 1 holds only to the integration error), as θ.
         let k = [y[K], y[K + 1], y[K + 2]];
         let nk = (k[0] * k[0] + k[1] * k[1] + k[2] * k[2]).sqrt();
         let k = [k[0] / nk, k[1] / nk, k[2] / nk];
-        let q =
-            crate::observe::attitude_with_axis([y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]], k);
+        let q = self.attitude(t, y);
         let (x, yy) = (y[POS] * l, y[POS + 1] * l);
         Sample {
             t: t * tu,
@@ -896,8 +954,8 @@ impl OdeSystem<DIM> for Vector {
     type Error = ModelError;
     const CONTROLLED: usize = CONTROLLED;
 
-    /// `∂q̇/∂q = ½ L(w)` (left multiplication by `(0, w)`); the position
-    /// reads no quadrature.
+    /// `∂ṗ/∂p = ½ L(w_⊥)` (left multiplication by `(0, w − (w·k) k)`); `χ`
+    /// and the position read no quadrature.
     fn quadrature_jacobian(
         &self,
         _t: f64,
@@ -905,7 +963,12 @@ impl OdeSystem<DIM> for Vector {
         _f: &[f64; DIM],
         jac: &mut [[f64; DIM]; DIM],
     ) {
-        let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
+        let (w, k) = (
+            [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]],
+            [y[K], y[K + 1], y[K + 2]],
+        );
+        let wk = dot(w, k);
+        let w = [w[0] - wk * k[0], w[1] - wk * k[1], w[2] - wk * k[2]];
         let l = [
             [0.0, -w[0], -w[1], -w[2]],
             [w[0], 0.0, -w[2], w[1]],

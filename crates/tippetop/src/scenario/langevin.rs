@@ -7,6 +7,30 @@ use crate::thermal::{
 };
 use crate::{Error, Scenario};
 
+/// The vertical load that tilts the top in the step rules below,
+/// `m g + F_a + max |h_z|` \[N\], and the key of its largest term
+/// (`surface.gravity`, `adhesion.force`, or `force.hz` for a window's
+/// vertical load), which a rule it limits names.
+fn vertical_load(sc: &Scenario) -> (f64, &'static str) {
+    let weight = sc.top.mass * sc.surface.gravity;
+    let hz = sc
+        .forcing
+        .windows
+        .iter()
+        .map(|w| w.hz.abs())
+        .fold(0.0, f64::max);
+    let terms = [
+        (weight, "surface.gravity"),
+        (sc.adhesion.force, "adhesion.force"),
+        (hz, "force.hz"),
+    ];
+    let key = terms
+        .iter()
+        .fold(terms[0], |best, &t| if t.0 > best.0 { t } else { best })
+        .1;
+    (weight + sc.adhesion.force + hz, key)
+}
+
 /// The rates \[1/s\] the step of a Langevin run must resolve, each with the
 /// key that sets it and a description: γ_t, γ_r, the contact damping's
 /// `c/m` and `c (R + a)²/A`, the thermal angular velocities `sqrt(kT/A)`
@@ -20,13 +44,7 @@ pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
     let top = &sc.top;
     let (m, a_in, c_in) = (top.mass, top.inertia_transverse, top.inertia_axial);
     let lever = top.radius + top.offset;
-    let load = top.mass * sc.surface.gravity
-        + sc.adhesion.force
-        + sc.forcing
-            .windows
-            .iter()
-            .map(|w| w.hz.abs())
-            .fold(0.0, f64::max);
+    let (load, load_key) = vertical_load(sc);
     let mut out = vec![
         (
             th.damping_translational,
@@ -71,7 +89,7 @@ pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
         ),
         (
             (load * lever / a_in).sqrt(),
-            "surface.gravity",
+            load_key,
             "sqrt((mass gravity + adhesion force + |hz|) (radius + offset) / inertia_transverse)",
         ),
     ];
@@ -103,13 +121,7 @@ pub fn brownian_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
     let top = &sc.top;
     let (a_in, c_in) = (top.inertia_transverse, top.inertia_axial);
     let lever = top.radius + top.offset;
-    let load = top.mass * sc.surface.gravity
-        + sc.adhesion.force
-        + sc.forcing
-            .windows
-            .iter()
-            .map(|w| w.hz.abs())
-            .fold(0.0, f64::max);
+    let (load, load_key) = vertical_load(sc);
     let gr = th.damping_rotational;
     let mut out = vec![
         (
@@ -124,7 +136,7 @@ pub fn brownian_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
         ),
         (
             load * lever / (gr * a_in),
-            "surface.gravity",
+            load_key,
             "(mass gravity + adhesion force + |hz|) (radius + offset) / (damping_rotational inertia_transverse)",
         ),
     ];
@@ -179,13 +191,7 @@ pub fn wall_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
     let th = &sc.thermal;
     let top = &sc.top;
     let kt = th.kt();
-    let load = top.mass * sc.surface.gravity
-        + sc.adhesion.force
-        + sc.forcing
-            .windows
-            .iter()
-            .map(|w| w.hz.abs())
-            .fold(0.0, f64::max);
+    let (load, _) = vertical_load(sc);
     let mobility = 1.0 / (top.mass * th.damping_translational)
         + top.offset * top.offset / (th.damping_rotational * top.inertia_transverse);
     let mut out = Vec::new();

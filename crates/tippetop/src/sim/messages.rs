@@ -1,6 +1,6 @@
 //! The messages of run-time failures: what stopped a run and what to do.
 
-use crate::{Error, Failure, Method, Scenario, sim::record::Track};
+use crate::{Failure, Method, Scenario, sim::record::Track};
 
 /// Why a run of `sc` stopped at its step limit `cap`, with a hint at why it
 /// cannot make progress.
@@ -23,15 +23,23 @@ pub(crate) fn step_limit_why(sc: &Scenario, cap: u64) -> String {
     )
 }
 
-/// The error of a run whose output row at `t` \[s\] is not finite.
-pub(crate) fn nonfinite_output_error(t: f64, state: &str) -> Error {
-    Error::runtime(
-        t,
-        Failure::OutputOverflow,
-        format!(
-            "the output became NaN or infinite (a value overflows f64 in SI units); last accepted {state}"
-        ),
-    )
+/// Why a run whose output row has `value` in `column`, not a finite
+/// number, fails: an infinity is a value that overflows f64 in SI units
+/// (`output_overflow`), a NaN a value that is not defined (`non_finite`).
+pub(crate) fn nonfinite_output_why(column: &str, value: f64) -> (Failure, String) {
+    if value.is_nan() {
+        (
+            Failure::NonFinite,
+            format!("the output row became NaN in column {column}"),
+        )
+    } else {
+        (
+            Failure::OutputOverflow,
+            format!(
+                "the output row became infinite in column {column} (the value overflows f64 in SI units)"
+            ),
+        )
+    }
 }
 
 /// The friction law as a phrase for messages.

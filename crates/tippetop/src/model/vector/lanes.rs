@@ -274,6 +274,14 @@ impl Vector {
         );
         let wf = ladd(lmul(ff[0], vp[0]), lmul(ff[1], vp[1]));
         let half = splat(0.5);
+        // The attitude's untwisted frame turns with w_⊥ = w − (w·k) k; the
+        // spin enters χ̇ = w·k − ω₀ (`attitude_rate`).
+        let w: L3 = [
+            lsub(w[0], lmul(wk, k[0])),
+            lsub(w[1], lmul(wk, k[1])),
+            lsub(w[2], lmul(wk, k[2])),
+        ];
+        let chi = lsub(wk, splat(self.spin_ref));
         let qv: [L; 4] = [col(QUAT), col(QUAT + 1), col(QUAT + 2), col(QUAT + 3)];
         let qd: [L; 4] = [
             lmul(
@@ -308,7 +316,7 @@ impl Vector {
         let wa = lsub(lmul(lneg(hw[0]), vp[0]), lmul(hw[1], vp[1]));
         let cols: [L; DIM] = [
             kd[0], kd[1], kd[2], wd[0], wd[1], wd[2], force[0], force[1], wf, wa, qd[0], qd[1],
-            qd[2], qd[3], v[0], v[1],
+            qd[2], qd[3], chi, v[0], v[1],
         ];
         for (i, d) in dy.iter_mut().enumerate() {
             for j in 0..DIM {
