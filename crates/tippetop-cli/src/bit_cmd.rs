@@ -510,9 +510,10 @@ pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode
                 .map_err(|e| format!("{}: cannot read it: {e} ({what})", path.display()))
         };
         let got = (|| {
-            let info: ShardInfo = serde_json::from_str(&read("shard.json")?)
+            let small = |name: &str| crate::scenario_load::read_small(&dir.join(name), what);
+            let info: ShardInfo = serde_json::from_str(&small("shard.json")?)
                 .map_err(|e| format!("{}: {e} ({what})", dir.join("shard.json").display()))?;
-            Ok::<_, String>((info, read(RUNS_CSV)?, read("bit.toml")?))
+            Ok::<_, String>((info, read(RUNS_CSV)?, small("bit.toml")?))
         })();
         match got {
             Ok((info, csv, toml)) => {

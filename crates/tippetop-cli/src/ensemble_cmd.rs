@@ -504,7 +504,7 @@ fn write_fan(dir: &Path, hist: &Histograms, runs: u64) -> Result<()> {
 /// Whether `dir` holds an ensemble's output (rather than a sweep's), for
 /// `tippetop merge`.
 pub fn is_ensemble_dir(dir: &Path) -> bool {
-    std::fs::read_to_string(dir.join("shard.json"))
+    tippetop::limits::read_file(&dir.join("shard.json"))
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
         .is_some_and(|v| v["kind"] == "ensemble")
@@ -581,7 +581,8 @@ fn read_shard(dir: &Path) -> std::result::Result<(EnsembleShard, String, Histogr
         std::fs::read_to_string(&path)
             .map_err(|e| format!("{}: cannot read it: {e} ({what})", path.display()))
     };
-    let info: EnsembleShard = serde_json::from_str(&read("shard.json")?).map_err(|e| {
+    let json = crate::scenario_load::read_small(&dir.join("shard.json"), what)?;
+    let info: EnsembleShard = serde_json::from_str(&json).map_err(|e| {
         format!(
             "{}: not an ensemble's shard description: {e} ({what})",
             dir.join("shard.json").display()

@@ -29,13 +29,7 @@ use crate::{progress, scenario_load};
 pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     // 1. Everything that can be bad input, before touching --out.
     let toml_text = match &args.scenario {
-        Some(path) => Some(fs::read_to_string(path).map_err(|e| {
-            Error::invalid(
-                "scenario",
-                format!("cannot read {}: {e}", path.display()),
-                "a readable TOML scenario file".into(),
-            )
-        })?),
+        Some(path) => Some(tippetop::limits::read_file(path)?),
         None => None,
     };
     for s in &args.sets {

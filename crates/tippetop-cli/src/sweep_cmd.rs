@@ -593,7 +593,7 @@ pub fn read_shard_of(
         std::fs::read_to_string(&path)
             .map_err(|e| format!("{}: cannot read it: {e} ({what})", path.display()))
     };
-    let json = read("shard.json")?;
+    let json = crate::scenario_load::read_small(&dir.join("shard.json"), what)?;
     let info: ShardInfo = serde_json::from_str(&json).map_err(|e| {
         format!(
             "{}: not a shard description: {e} ({what})",

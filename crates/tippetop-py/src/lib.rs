@@ -172,16 +172,11 @@ impl Scenario {
     }
 
     /// A scenario from a TOML file (the CLI's `tippetop run FILE`; the file
-    /// may name a `preset` to start from).
+    /// may name a `preset` to start from). ValueError naming the file if it
+    /// cannot be read or is larger than 16 MiB.
     #[staticmethod]
     fn from_file(path: std::path::PathBuf) -> PyResult<Self> {
-        let text = std::fs::read_to_string(&path).map_err(|e| {
-            to_py_err(tippetop::Error::invalid(
-                "scenario",
-                format!("cannot read {}: {e}", path.display()),
-                "a readable TOML file".into(),
-            ))
-        })?;
+        let text = tippetop::limits::read_file(&path).map_err(to_py_err)?;
         Scenario::load(None, Some(text), Vec::new())
     }
 

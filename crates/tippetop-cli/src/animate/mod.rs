@@ -400,7 +400,7 @@ pub fn load_movie(dir: &Path, settings: &Settings) -> std::result::Result<Movie,
     let read = |p: &Path| {
         std::fs::read_to_string(p).map_err(|e| LoadError::Input(bad(p, format!("unreadable: {e}"))))
     };
-    let toml = read(&scenario_path)?;
+    let toml = tippetop::limits::read_file(&scenario_path).map_err(|e| LoadError::Input(e.to_string()))?;
     let scenario =
         Scenario::from_toml_str(&toml).map_err(|e| LoadError::Input(bad(&scenario_path, e)))?;
     let rows = parse_rows(&csv_path, &read(&csv_path)?)

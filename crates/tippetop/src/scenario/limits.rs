@@ -9,8 +9,47 @@
 //! inverse of the fastest initial rate ([`time_unit`]). A scenario whose
 //! units or scaled values overflow or underflow is bad input (exit code 2),
 //! not a run that fails.
+//!
+//! Files a user hands in (scenario files, an ensemble's `summary.json` for
+//! `tippetop retention`, a shard's `shard.json`) are read with
+//! [`read_file`], at most [`MAX_FILE_BYTES`].
+
+use std::io::Read as _;
+use std::path::Path;
 
 use crate::{Error, Scenario, SolverSettings, observe};
+
+/// Largest file a command reads as input text \[bytes\]: 16 MiB (a scenario
+/// file is a few kB; a `summary.json` a few kB plus its events, at most
+/// 100 000 of them: ~5 MB).
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
+/// The text of the input file `path`, read up to [`MAX_FILE_BYTES`] + 1
+/// bytes (so a pipe or a device such as `/dev/zero` is caught too, without
+/// reading it to the end). Errors ([`Error::Invalid`] with the path as the
+/// key): unreadable, larger than the limit, not UTF-8.
+pub fn read_file(path: &Path) -> Result<String, Error> {
+    let key = path.display().to_string();
+    let bad = |what: String, range: &str| Error::invalid(&key, what, range.into());
+    let unreadable = |e: std::io::Error| bad(format!("cannot read it: {e}"), "a readable file");
+    let file = std::fs::File::open(path).map_err(unreadable)?;
+    let mut bytes = Vec::new();
+    file.take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(unreadable)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(bad(
+            "larger than the 16 MiB limit of input files".into(),
+            "at most 16777216 bytes",
+        ));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        bad(
+            format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+            "a UTF-8 text file",
+        )
+    })
+}
 
 /// The bounds of the solver settings live with them (`state`).
 pub use crate::state::{BYTES_PER_SAMPLE, MAX_SAMPLES, MAX_STEPS, max_steps_for};
