@@ -110,9 +110,9 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
             )
         };
         println!(
-            "{what} ({} ok, {failed} invalid) in {:.1} s -> {}",
+            "{what} ({} ok, {failed} invalid) in {} -> {}",
             n - failed,
-            start.elapsed().as_secs_f64(),
+            crate::output::fmt_duration(start.elapsed().as_secs_f64()),
             args.out.join(bitmap::CSV_NAME).display()
         );
     }

@@ -349,10 +349,10 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
             )
         };
         println!(
-            "{what} ({} ok, {} failed) in {:.1} s -> {}",
+            "{what} ({} ok, {} failed) in {} -> {}",
             stats.ok,
             stats.failed,
-            start.elapsed().as_secs_f64(),
+            crate::output::fmt_duration(start.elapsed().as_secs_f64()),
             dir.join("ensemble.csv").display()
         );
         print_stats(&stats);

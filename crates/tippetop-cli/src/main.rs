@@ -8,7 +8,7 @@
 
 use std::process::ExitCode;
 
-use clap::Parser;
+use clap::{CommandFactory, Parser};
 use tippetop_cli::cli::{Cli, Command};
 use tippetop_cli::{
     adhesion_cmd, animate, bit_cmd, device_cmd, ensemble_cmd, regime_cmd, reproduce, retention_cmd,
@@ -24,7 +24,10 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(&e),
+    };
     let result = match &cli.command {
         Command::Run(args) => run::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),
         Command::Reproduce(args) => reproduce::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),
@@ -47,6 +50,53 @@ fn main() -> ExitCode {
             ExitCode::from(code)
         }
     }
+}
+
+/// A command line clap cannot parse: one line `error: WHAT[; tip: ...]
+/// (see tippetop SUB --help)` on stderr, exit code 2, as every other bad
+/// input. `--help`, `--version` (and the help a bare `tippetop` prints)
+/// are clap's own, on stdout with exit code 0 (stderr, 2 for the bare
+/// command).
+fn usage_error(e: &clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        e.exit();
+    }
+    let names: Vec<String> = Cli::command()
+        .get_subcommands()
+        .map(|c| c.get_name().to_string())
+        .collect();
+    let sub = std::env::args()
+        .skip(1)
+        .find(|a| names.contains(a))
+        .map(|s| format!("tippetop {s} --help"))
+        .unwrap_or_else(|| "tippetop --help".into());
+    eprintln!(
+        "error: {} (see {sub})",
+        usage_message(&e.render().to_string())
+    );
+    ExitCode::from(2)
+}
+
+/// The message of a clap error as one line: its `error:` line and its
+/// `tip:` lines, without the usage and the pointer to `--help`.
+fn usage_message(rendered: &str) -> String {
+    let mut parts = Vec::new();
+    for line in rendered.lines().map(str::trim) {
+        if let Some(m) = line.strip_prefix("error:") {
+            parts.push(m.trim().to_string());
+        } else if line.starts_with("tip:") {
+            parts.push(line.to_string());
+        } else if line.starts_with("Usage:") || line.starts_with("For more information") {
+            break;
+        }
+    }
+    one_line(&parts.join("; "))
 }
 
 /// Exit code and one-line message for an error: 2 for bad input, 3 for a

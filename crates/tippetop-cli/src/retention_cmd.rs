@@ -103,7 +103,10 @@ fn read_point(dir: &std::path::Path) -> std::result::Result<RatePoint, String> {
     };
     p.check().map_err(|e| match e {
         tippetop::Error::Invalid { key, what, range } => {
-            let field = FIELDS.iter().find(|f| f.0 == key).map_or(key.as_str(), |f| f.1);
+            let field = FIELDS
+                .iter()
+                .find(|f| f.0 == key)
+                .map_or(key.as_str(), |f| f.1);
             format!("{file}: {field}: {what} ({range})")
         }
         other => format!("{file}: {other}"),
@@ -125,7 +128,10 @@ pub fn run(args: &RetentionArgs, quiet: bool) -> Result<ExitCode> {
             Err(msg) => return Ok(input_error(msg)),
         }
     }
-    if !points.iter().any(|p| p.temperature != points[0].temperature) {
+    if !points
+        .iter()
+        .any(|p| p.temperature != points[0].temperature)
+    {
         return Ok(input_error(format!(
             "DIR: {} escape rate(s), all at {} K (ensembles at two or more distinct temperatures)",
             points.len(),

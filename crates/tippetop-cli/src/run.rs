@@ -404,7 +404,10 @@ pub fn human_summary(
             v(100.0 * ni.negative_fraction)
         ));
     }
-    o.push_str(&format!("wall time:   {} s\n", v(wall_seconds)));
+    o.push_str(&format!(
+        "wall time:   {}\n",
+        crate::output::fmt_duration(wall_seconds)
+    ));
     let name = |p: &PathBuf| {
         p.file_name()
             .map(|n| n.to_string_lossy().into_owned())

@@ -37,7 +37,11 @@ pub fn read_text(path: Option<&Path>) -> Result<Option<String>, ExitCode> {
 /// naming the file, with `what` (the file expected, in words).
 pub fn read_small(path: &Path, what: &str) -> Result<String, String> {
     tippetop::limits::read_file(path).map_err(|e| match e {
-        Error::Invalid { key, what: w, range } => format!("{key}: {w} ({range}; {what})"),
+        Error::Invalid {
+            key,
+            what: w,
+            range,
+        } => format!("{key}: {w} ({range}; {what})"),
         other => other.to_string(),
     })
 }

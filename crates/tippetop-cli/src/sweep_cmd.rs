@@ -318,9 +318,9 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
             )
         };
         println!(
-            "{what} ({} ok, {failed} failed) in {:.1} s -> {}",
+            "{what} ({} ok, {failed} failed) in {} -> {}",
             n - failed,
-            start.elapsed().as_secs_f64(),
+            crate::output::fmt_duration(start.elapsed().as_secs_f64()),
             dir.join("sweep.csv").display()
         );
     }

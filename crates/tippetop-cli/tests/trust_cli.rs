@@ -205,14 +205,196 @@ fn retention_checks_its_inputs() {
         serde_json::from_str(&std::fs::read_to_string(out.join("retention.json")).unwrap())
             .unwrap();
     let kb = 1.380649e-23;
-    let (x1, x2, x) = (
-        1.0 / (kb * 1000.0),
-        1.0 / (kb * 2000.0),
-        1.0 / (kb * 300.0),
-    );
+    let (x1, x2, x) = (1.0 / (kb * 1000.0), 1.0 / (kb * 2000.0), 1.0 / (kb * 300.0));
     let e = (1e5f64 / 1e3).ln() / (x1 - x2);
     let want = 1e3 * (-e * (x - x1)).exp();
     let got = r["target"]["rate"].as_f64().unwrap();
     assert!((got / want - 1.0).abs() < 1e-12, "{got} vs {want}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ---------------------------------------------------------------------------
+// Messages.
+
+/// clap's usage errors took five lines (error, tip, usage, help pointer);
+/// now one, `error: ... (see tippetop SUB --help)`, exit 2, for every
+/// subcommand; `--help` and `--version` still print to stdout with exit 0.
+#[test]
+fn usage_errors_are_one_line() {
+    for (args, sub) in [
+        (vec!["run", "--preset", "classical", "--ou", "x"], "run"),
+        (vec!["sweep", "--vary"], "sweep"),
+        (
+            vec!["ensemble", "scenarios/thermal.toml", "--out", "x"],
+            "ensemble",
+        ),
+        (vec!["ensemble", "--runs", "-3", "--out", "x"], "ensemble"),
+        (vec!["retention", "a", "--temperature", "warm"], "retention"),
+        (vec!["bit", "--threads", "many"], "bit"),
+        (vec!["animate"], "animate"),
+        (vec!["run", "--preset", "nano", "--set"], "run"),
+    ] {
+        let o = run(&args);
+        let line = one_line_error(&o, "");
+        assert!(
+            line.ends_with(&format!("(see tippetop {sub} --help)")),
+            "{args:?}: {line}"
+        );
+        assert!(!line.contains("Usage"), "{line}");
+    }
+    let line = one_line_error(&run(&["frobnicate"]), "unrecognized subcommand");
+    assert!(line.ends_with("(see tippetop --help)"), "{line}");
+    // A tip clap has is kept, on the same line.
+    let line = one_line_error(&run(&["run", "--preset", "classical", "--ou", "x"]), "");
+    assert!(
+        line.contains("tip: a similar argument exists: '--out'"),
+        "{line}"
+    );
+    for args in [vec!["--help"], vec!["run", "--help"], vec!["--version"]] {
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(0), "{args:?}");
+        assert!(!o.stdout.is_empty() && o.stderr.is_empty(), "{args:?}");
+    }
+}
+
+/// A one-case sweep printed "in 0.0 s": durations now have three
+/// significant figures (in ms below a second), wherever they are printed.
+#[test]
+fn short_durations_are_not_zero() {
+    let d = scratch("trust", "duration");
+    let dur = |stdout: &[u8], before: &str| -> String {
+        let text = String::from_utf8_lossy(stdout).into_owned();
+        let at = text
+            .find(before)
+            .unwrap_or_else(|| panic!("{before:?} not in {text}"));
+        text[at + before.len()..]
+            .split_whitespace()
+            .take(2)
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let check = |d: &str| {
+        let (num, unit) = d.split_once(' ').unwrap();
+        let x: f64 = num.parse().unwrap_or_else(|_| panic!("{d}"));
+        assert!(x > 0.0, "{d}");
+        assert!(unit == "ms" || unit == "s", "{d}");
+        let digits = num.chars().filter(char::is_ascii_digit).collect::<String>();
+        assert_eq!(
+            digits.trim_start_matches('0').len(),
+            3,
+            "{d}: three significant figures"
+        );
+    };
+    let o = bin()
+        .args([
+            "sweep",
+            "--preset",
+            "classical",
+            "--set",
+            "solver.t_end=0.01",
+            "--vary",
+            "top.offset=1e-3:2e-3:1",
+            "--out",
+        ])
+        .arg(d.join("s"))
+        .output()
+        .unwrap();
+    ok(&o);
+    check(&dur(&o.stdout, "1 cases (1 ok, 0 failed) in "));
+    let o = bin()
+        .args([
+            "run",
+            "--preset",
+            "classical",
+            "--set",
+            "solver.t_end=0.01",
+            "--no-plot",
+            "--out",
+        ])
+        .arg(d.join("r"))
+        .output()
+        .unwrap();
+    ok(&o);
+    check(&dur(&o.stdout, "wall time:"));
+    let o = bin()
+        .args([
+            "ensemble",
+            "--preset",
+            "nano-physical",
+            "--set",
+            "solver.t_end=1e-13",
+            "--set",
+            "solver.samples=2",
+            "--runs",
+            "1",
+            "--out",
+        ])
+        .arg(d.join("e"))
+        .output()
+        .unwrap();
+    ok(&o);
+    check(&dur(&o.stdout, "1 runs (1 ok, 0 failed) in "));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// `0x10` was accepted as 16 m: numbers are decimal, in files and in
+/// `--set`, and the error names the key (force windows by index).
+#[test]
+fn non_decimal_numbers_are_refused() {
+    let d = scratch("trust", "hex");
+    let out = d.join("o");
+    let o = out.to_str().unwrap();
+    for (set, key) in [
+        ("top.radius=0x10", "top.radius"),
+        ("top.radius=0o20", "top.radius"),
+        ("surface.friction=0b1", "surface.friction"),
+        ("solver.samples=0x3e9", "solver.samples"),
+        ("force.0.hx=0x1", "force.0.hx"),
+        ("initial.axis=[0, 0x1, 1]", "initial.axis"),
+    ] {
+        let line = one_line_error(
+            &run(&["run", "--preset", "classical", "--set", set, "--out", o]),
+            &format!("{key}: "),
+        );
+        assert!(line.contains("decimal"), "{line}");
+        assert!(!out.exists());
+    }
+    let file = d.join("hex.toml");
+    for (text, key) in [
+        (
+            "preset = \"classical\"\n[top]\nradius = 0x10\n",
+            "top.radius",
+        ),
+        (
+            "preset = \"nano\"\n[[force]]\nhx = 0\n[[force]]\nhy = 0o7\n",
+            "force.1.hy",
+        ),
+        (
+            "preset = \"classical\"\n[solver]\nsamples = 0b1111101001\n",
+            "solver.samples",
+        ),
+    ] {
+        std::fs::write(&file, text).unwrap();
+        let line = one_line_error(
+            &run(&["run", file.to_str().unwrap(), "--out", o]),
+            &format!("{key}: "),
+        );
+        assert!(line.contains("decimal"), "{line}");
+    }
+    // Decimal digits with TOML's separators, and a string that looks like
+    // hex, are fine.
+    std::fs::write(
+        &file,
+        "preset = \"classical\"\n[solver]\nsamples = 1_001\nt_end = 0.01\nmethod = \"adaptive\" # 0x10\n",
+    )
+    .unwrap();
+    ok(&run(&[
+        "run",
+        file.to_str().unwrap(),
+        "--no-plot",
+        "--quiet",
+        "--out",
+        o,
+    ]));
     let _ = std::fs::remove_dir_all(&d);
 }

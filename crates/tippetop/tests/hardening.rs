@@ -47,7 +47,12 @@ fn extreme_finite_values_are_input_errors_naming_the_key() {
         ("classical", "solver.t_end=1e-320", "solver.t_end"),
         ("classical", "surface.gravity=1e308", "surface.gravity"),
         ("classical", "top.mass=1e-320", "top.mass"),
-        ("nano", "top.mass=1e-320", "force.0.hx"),
+        // The key that caused the overflow (issue 26): the mass makes the
+        // applied force's rate sqrt(|H| / (m R)) infinite, the radius the
+        // inertia unit m R^2.
+        ("nano", "top.mass=1e-320", "top.mass"),
+        ("nano", "top.radius=1e308", "top.radius"),
+        ("classical", "top.radius=1e200", "top.radius"),
         ("classical", "top.mass=1e308", "top.mass"),
         ("classical", "initial.spin=1e308", "solver.t_end"),
         ("nano", "initial.spin=-1e308", "solver.t_end"),

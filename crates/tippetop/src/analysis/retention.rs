@@ -19,6 +19,7 @@
 use serde::Serialize;
 
 use crate::Error;
+use crate::error::num;
 use crate::thermal::BOLTZMANN;
 
 /// One measured escape rate.
@@ -88,15 +89,6 @@ pub const RATE_RANGE: &str = "1e-300 <= rate <= 1e300 [1/s]";
 /// Valid range of a point's standard error of `ln rate` (`1/sqrt(passages)`
 /// with at least one passage).
 pub const SE_RANGE: &str = "0 < ln_rate_se <= 1 (1/sqrt(passages))";
-
-/// A number for a message: plain for ordinary magnitudes, else `1e308` style.
-fn num(x: f64) -> String {
-    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
 
 /// Check a temperature \[K\] against [`TEMPERATURE_RANGE`] (error key `key`).
 pub fn check_temperature(key: &str, t: f64) -> Result<(), Error> {
@@ -200,7 +192,10 @@ pub fn fit_arrhenius(points: &[RatePoint]) -> Result<ArrheniusFit, Error> {
         [-birge * sx / delta, birge * s / delta],
     ];
     let barrier = -slope;
-    if !(slope.is_finite() && intercept.is_finite() && covariance.iter().flatten().all(|c| c.is_finite())) {
+    if !(slope.is_finite()
+        && intercept.is_finite()
+        && covariance.iter().flatten().all(|c| c.is_finite()))
+    {
         return Err(bad(format!(
             "the fit is not finite (ln k = {} - {} / (k_B T)): temperatures too close together",
             num(intercept),
@@ -227,8 +222,11 @@ impl ArrheniusFit {
         check_temperature(key, temperature)?;
         let at = self.extrapolate(temperature);
         let fine = |x: f64| x.is_finite() && x > 0.0;
-        if !([at.rate, at.mean_time].into_iter().chain(at.rate_ci95).chain(at.time_ci95))
-            .all(fine)
+        if !([at.rate, at.mean_time]
+            .into_iter()
+            .chain(at.rate_ci95)
+            .chain(at.time_ci95))
+        .all(fine)
         {
             let ln_k = self.ln_prefactor - self.barrier / (BOLTZMANN * temperature);
             return Err(Error::invalid(

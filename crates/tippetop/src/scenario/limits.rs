@@ -17,6 +17,7 @@
 use std::io::Read as _;
 use std::path::Path;
 
+use crate::error::num;
 use crate::{Error, Scenario, SolverSettings, observe};
 
 /// Largest file a command reads as input text \[bytes\]: 16 MiB (a scenario
@@ -175,14 +176,73 @@ pub fn time_unit(sc: &Scenario) -> f64 {
     1.0 / rates(sc).iter().map(|r| r.0).fold(0.0, f64::max)
 }
 
-/// A number for a message: plain for ordinary magnitudes, else `1e308` style.
-fn num(x: f64) -> String {
-    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
+/// `log10 |x|` (`-inf` for 0).
+fn log10(x: f64) -> f64 {
+    x.abs().log10()
 }
+
+/// Which of the factors of a product that left `f64` caused it: the
+/// factors as `(key, log10 of the factor's contribution)`, `value` the
+/// product. Overflow (or NaN): the largest contribution; underflow: the
+/// smallest.
+fn blame<'a>(factors: &[(&'a str, f64)], value: f64) -> &'a str {
+    let under = value.abs() < 1.0;
+    factors
+        .iter()
+        .copied()
+        .filter(|f| !f.1.is_nan())
+        .reduce(|a, b| {
+            let b_worse = if under { b.1 < a.1 } else { b.1 > a.1 };
+            if b_worse { b } else { a }
+        })
+        .map_or(factors[0].0, |f| f.0)
+}
+
+/// The key to name when rate `index` of [`rates`] (its own key `key`) is
+/// not finite: for the rates made of several keys, the one whose factor
+/// is furthest out of range (`top.mass = 1e-320` overflows the rate of the
+/// applied force, `sqrt(|H| / (m R))`, but the mass is the cause).
+fn rate_cause(sc: &Scenario, index: usize, key: &str) -> String {
+    let top = &sc.top;
+    let (m, r) = (log10(top.mass), log10(top.radius));
+    let factors: Vec<(&str, f64)> = match index {
+        RATE_GRAVITY => vec![
+            ("surface.gravity", log10(sc.surface.gravity)),
+            ("top.radius", -r),
+        ],
+        RATE_FORCE => vec![
+            (key, log10(sc.forcing.max_contact_force())),
+            ("top.mass", -m),
+            ("top.radius", -r),
+        ],
+        RATE_THERMAL => vec![
+            ("thermal.temperature", log10(sc.thermal.kt())),
+            ("top.inertia_transverse", -log10(top.inertia_transverse)),
+        ],
+        // The actuators' rates: the top's keys if one of them is beyond
+        // 1e150 either way, else the window.
+        RATE_ACTUATOR => {
+            let a = log10(top.inertia_transverse);
+            let worst = [
+                ("top.mass", m),
+                ("top.radius", r),
+                ("top.inertia_transverse", a),
+            ]
+            .into_iter()
+            .filter(|f| f.1.abs() > 150.0)
+            .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()));
+            return worst.map_or(key, |f| f.0).to_string();
+        }
+        _ => return key.to_string(),
+    };
+    blame(&factors, f64::INFINITY).to_string()
+}
+
+/// Positions in [`rates`] of the rates made of several keys.
+const RATE_ACTUATOR: usize = 1;
+const RATE_GRAVITY: usize = 4;
+const RATE_FORCE: usize = 5;
+const RATE_THERMAL: usize = 7;
 
 fn bad(key: &str, what: String, range: String) -> Result<(), Error> {
     Err(Error::invalid(key, what, range))
@@ -213,16 +273,16 @@ pub fn check_run(sc: &Scenario) -> Result<(), Error> {
     }
     // Every rate finite: each one is a candidate for 1/T_ref.
     let rates = rates(sc);
-    for (r, key, what) in &rates {
+    for (index, (r, key, what)) in rates.iter().enumerate() {
         if !r.is_finite() {
             return bad(
-                key,
+                &rate_cause(sc, index, key),
                 format!("{what} = {} s^-1 overflows", num(*r)),
                 "a value whose rate (1/s) is finite in f64; see the key's own range too".into(),
             );
         }
     }
-    let (rate, _, which) = rates
+    let (rate, rate_key, which) = rates
         .iter()
         .fold((0.0, String::new(), ""), |best, (r, k, w)| {
             if *r > best.0 {
@@ -260,15 +320,37 @@ pub fn check_run(sc: &Scenario) -> Result<(), Error> {
     let energy = inertia / (tu * tu);
     let unit_range =
         "mass and radius such that the scaled model's units are finite and non-zero in f64";
-    for (v, what) in [
-        (inertia, "the inertia unit mass radius^2"),
-        (velocity, "the velocity unit radius / T_ref"),
-        (force, "the force unit mass radius / T_ref^2"),
-        (energy, "the energy unit mass radius^2 / T_ref^2"),
+    // Each unit is mass^a radius^b T_ref^c: the key to blame is the one
+    // whose factor pushes it furthest out of range.
+    for (v, what, [a, b, c]) in [
+        (inertia, "the inertia unit mass radius^2", [1.0, 2.0, 0.0]),
+        (
+            velocity,
+            "the velocity unit radius / T_ref",
+            [0.0, 1.0, -1.0],
+        ),
+        (
+            force,
+            "the force unit mass radius / T_ref^2",
+            [1.0, 1.0, -2.0],
+        ),
+        (
+            energy,
+            "the energy unit mass radius^2 / T_ref^2",
+            [1.0, 2.0, -2.0],
+        ),
     ] {
         if !(v.is_finite() && v >= f64::MIN_POSITIVE) {
+            let key = blame(
+                &[
+                    ("top.mass", a * log10(mass)),
+                    ("top.radius", b * log10(length)),
+                    (rate_key.as_str(), c * log10(tu)),
+                ],
+                v,
+            );
             return bad(
-                "top.mass",
+                key,
                 format!(
                     "{what} is {v:e} [SI] (mass {mass:e} kg, radius {length:e} m, T_ref {tu:e} s)"
                 ),
