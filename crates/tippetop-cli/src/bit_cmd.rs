@@ -14,7 +14,7 @@ use clap::{ArgGroup, Args};
 use tippetop::analysis::bit::{self, Block, Mode, Report, RunResult};
 use tippetop::analysis::sweep::{self, Shard, ShardInfo, Sweep};
 use tippetop::scenario::bit::BitScenario;
-use tippetop::thermal::MAX_RUNS;
+use tippetop::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
 
 use crate::output::{OutDir, fmt_f64, write_bytes_atomic};
 
@@ -191,15 +191,19 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         (true, n) => {
             let n = n.unwrap_or(DEFAULT_RUNS);
             let room = MAX_RUNS - sc.thermal.run.min(MAX_RUNS);
-            if n == 0 || n as u64 > room {
+            if n == 0 || n > MAX_ENSEMBLE_RUNS || n as u64 > room {
                 return Ok(input_error(format!(
-                    "--runs: {n} runs from thermal.run = {} (N >= 1, with the run indices \
-                     thermal.run .. thermal.run + N - 1 below 4294967296)",
+                    "--runs: {n} runs from thermal.run = {} (1 <= N <= {MAX_ENSEMBLE_RUNS}, \
+                     with the run indices thermal.run .. thermal.run + N - 1 below 4294967296)",
                     sc.thermal.run
                 )));
             }
             n
         }
+    };
+    let threads = match bit::threads_within_memory(&bs, runs, threads) {
+        Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
+        Err(e) => return Ok(input_error(e)),
     };
 
     let shard = match args.shard.as_deref().map(Shard::parse).transpose() {

@@ -56,6 +56,10 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     if let Err(e) = map.validate() {
         return Ok(input_error(e));
     }
+    let threads = match map.threads_within_memory(threads) {
+        Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
+        Err(e) => return Ok(input_error(e)),
+    };
     let info = match map.shard_info(shard) {
         Ok(i) => i,
         Err(e) => return Ok(input_error(e)),

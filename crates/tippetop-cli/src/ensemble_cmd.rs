@@ -145,6 +145,15 @@ struct Checkpoint {
     hist: Histograms,
 }
 
+/// [`Checkpoint`] as written: the same JSON, from borrowed histograms.
+#[derive(Serialize)]
+struct CheckpointRef<'a> {
+    fingerprint: &'a str,
+    first_index: usize,
+    rows: usize,
+    hist: &'a Histograms,
+}
+
 use crate::scenario_load::input_error;
 
 /// Run `tippetop ensemble`. Bad input: one line on stderr and exit code 2
@@ -173,6 +182,10 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
     };
     let ens = match Ensemble::new(args.preset.clone(), toml_text, args.sets.clone(), args.runs) {
         Ok(e) => e.with_exit(exit),
+        Err(e) => return Ok(input_error(e)),
+    };
+    let threads = match ens.threads_within_memory(threads) {
+        Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
         Err(e) => return Ok(input_error(e)),
     };
     let info = match ens.shard_info(shard) {
@@ -295,13 +308,17 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
         // exactly those rows (what --resume starts from).
         if result.is_ok() && since_flush.elapsed().as_secs_f64() >= 1.0 {
             result = w.flush().map_err(anyhow::Error::from).and_then(|()| {
-                let c = Checkpoint {
-                    fingerprint: info.fingerprint.clone(),
+                // Streamed from the histograms themselves: no copy of
+                // them, no JSON text in memory.
+                let c = CheckpointRef {
+                    fingerprint: &info.fingerprint,
                     first_index: info.first_index,
                     rows: rows_done,
-                    hist: hist.clone(),
+                    hist: &hist,
                 };
-                write_bytes_atomic(&hist_partial, serde_json::to_string(&c)?.as_bytes())
+                crate::output::write_atomic(&hist_partial, |f| {
+                    serde_json::to_writer(f, &c).map_err(std::io::Error::other)
+                })
             });
             since_flush = std::time::Instant::now();
         }

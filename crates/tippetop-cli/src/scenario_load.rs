@@ -31,6 +31,21 @@ pub fn read_text(path: Option<&Path>) -> Result<Option<String>, ExitCode> {
     }
 }
 
+/// The thread count a command runs with: `fit` (what fits in the memory
+/// bound, [`tippetop::limits::fit_threads`]) out of `asked`, with a note on
+/// stderr (unless `quiet`) when that is fewer. The output does not depend
+/// on the thread count.
+pub fn note_threads(quiet: bool, asked: usize, fit: usize) -> usize {
+    if fit < asked && !quiet {
+        eprintln!(
+            "note: running {fit} at once, not {asked}: more would need more than the memory \
+             bound of {} (the output is the same)",
+            tippetop::limits::fmt_bytes(tippetop::limits::MEMORY_BUDGET)
+        );
+    }
+    fit
+}
+
 /// The text of a small input file (a shard's `shard.json`, a `bit.toml`,
 /// an ensemble's `summary.json`), at most
 /// [`tippetop::limits::MAX_FILE_BYTES`]; `Err` is the one-line message

@@ -249,6 +249,10 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
     if let Err(e) = sw.validate() {
         return Ok(input_error(e));
     }
+    let threads = match sw.threads_within_memory(threads) {
+        Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
+        Err(e) => return Ok(input_error(e)),
+    };
     let info = match sw.shard_info(shard) {
         Ok(i) => i,
         Err(e) => return Ok(input_error(e)),

@@ -76,16 +76,68 @@ pub const MAX_EVENTS: usize = 100_000;
 
 /// Largest memory one run may need for the rows and events it keeps
 /// \[bytes\]: 1.5 GiB (the largest run, [`crate::state::MAX_SAMPLES`] rows of
-/// 216 bytes, needs 1.08 GB). [`run_memory_bytes`] of a valid scenario stays
-/// below it.
+/// [`BYTES_PER_SAMPLE`] = 224 bytes, needs 1.12 GB). [`run_memory_bytes`]
+/// of a valid scenario stays below it.
 pub const MAX_RUN_BYTES: u64 = 3 << 29;
+
+/// The memory bound of one command \[bytes\]: 3 GiB for the runs it keeps at
+/// once and the results it gathers (rows, histograms, arrays). Every
+/// documented limit stays within it: a single run at [`MAX_SAMPLES`] needs
+/// 1.12 GB; a command that runs several runs at once runs no more of them
+/// than fit ([`fit_threads`]); what grows with the number of runs or cases
+/// has a limit of its own. The whole process adds its code, the plots and
+/// the allocator's slack: the peaks measured at the limits (README,
+/// "Limits") stay below 4 GB.
+pub const MEMORY_BUDGET: u64 = 3 << 30;
+
+/// A memory size for a message (`1.12 GB`, `162 MB`).
+pub fn fmt_bytes(bytes: u64) -> String {
+    let b = bytes as f64;
+    if b >= 1e9 {
+        format!("{:.3} GB", b / 1e9)
+    } else if b >= 1e6 {
+        format!("{:.3} MB", b / 1e6)
+    } else {
+        format!("{:.3} kB", b / 1e3)
+    }
+}
+
+/// How many jobs a command may run at once within [`MEMORY_BUDGET`]: at
+/// most `threads`, each keeping `per_job` bytes while it runs, beside the
+/// `fixed` bytes the command keeps anyway (its histograms, the rows that
+/// wait to be written in order). Err (key `key`, the setting to lower) if
+/// not even one job fits.
+pub fn fit_threads(key: &str, threads: usize, per_job: u64, fixed: u64) -> Result<usize, Error> {
+    let need = fixed.saturating_add(per_job);
+    if need > MEMORY_BUDGET {
+        return Err(Error::invalid(
+            key,
+            format!(
+                "needs {} of memory ({} per run at once, {} besides)",
+                fmt_bytes(need),
+                fmt_bytes(per_job),
+                fmt_bytes(fixed)
+            ),
+            format!("at most {} per command", fmt_bytes(MEMORY_BUDGET)),
+        ));
+    }
+    let fit = (MEMORY_BUDGET - fixed) / per_job.max(1);
+    Ok(threads
+        .min(usize::try_from(fit).unwrap_or(usize::MAX))
+        .max(1))
+}
 
 /// The memory a run of `solver` keeps while it runs \[bytes\]: its samples
 /// (rows and sample times) and at most [`MAX_EVENTS`] events. The
 /// integrator's own state is a few kB and independent of the run's length.
 pub fn run_memory_bytes(solver: &SolverSettings) -> u64 {
+    run_memory_bytes_for(solver.samples)
+}
+
+/// [`run_memory_bytes`] of a run of `samples` output rows \[bytes\].
+pub fn run_memory_bytes_for(samples: usize) -> u64 {
     let event = (std::mem::size_of::<crate::EventRecord>() + 32) as u64;
-    (solver.samples as u64)
+    (samples as u64)
         .saturating_mul(BYTES_PER_SAMPLE)
         .saturating_add(MAX_EVENTS as u64 * event)
 }
