@@ -57,7 +57,7 @@ its target window during its last hold seconds on the continuous solution (event
 window's edges; an excursion within one integration step is not seen, and the step is at most
 the row spacing: at least 10 rows per hold); its switching time is the crossing into the window.
 --set reaches bit.KEY, write.K.KEY and erase.K.KEY. At T > 0
-(solver.method = \"langevin\" or \"brownian\") --runs N runs (default 100), run K with
+(solver.method = \"langevin\" or \"brownian\") --runs N runs (default 100, at most 1000000), run K with
 thermal.run = r0 + K, independent of --threads; --shard K/M runs only the K-th of M blocks of
 the runs and writes runs.csv (those runs), shard.json and bit.toml: tippetop merge of the
 shards' directories writes the outputs of the unsharded run, byte for byte (--shard at T = 0
@@ -80,7 +80,7 @@ the bit at every point of the grid and writes into --out:
   write_probability.png/.svg, write_time.png/.svg   two or more --vary: heat maps over the
                first two keys (the others at their first value; at most 250 values per axis)
 Each row is the single `tippetop bit --set KEY=VALUE ...` run of its point. At T > 0 a point is
---runs N runs (default 100; a point at T = 0 runs once), run K with thermal.run = r0 + K at
+--runs N runs (default 100, at most 1000000; a point at T = 0 runs once), run K with thermal.run = r0 + K at
 every point (common random numbers). The points run in parallel (--threads), the rows stream
 into bitmap.csv.partial in grid order (memory flat in the number of points); the bytes do not
 depend on --threads. --shard K/N runs the K-th of N blocks of points (join them with tippetop

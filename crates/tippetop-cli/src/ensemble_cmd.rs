@@ -55,8 +55,10 @@ thermal.run = r0 + K, r0 its own thermal.run, default 0) on all cores and write 
 The scenario must be a Langevin or Brownian run at a temperature > 0 (solver.method =
 \"langevin\" or \"brownian\",
 solver.dt, surface.friction = 0, a [thermal] table with temperature, damping_translational,
-damping_rotational and seed); anything else exits with code 2. --runs N: N >= 1, the run
-indices below 2^32. The files are byte for byte the same whatever --threads and however the
+damping_rotational and seed); anything else exits with code 2. --runs N: 1 <= N <= 1000000, the
+run indices below 2^32; solver.samples at most 100000 (the histograms keep 1624 bytes per
+sample). Runs run at once on --threads threads, fewer (with a note) if more would need more
+than the memory bound of 3 GiB. The files are byte for byte the same whatever --threads and however the
 runs are cut with --shard K/N (the K-th of N contiguous blocks of runs; join the shards'
 directories with tippetop merge: counts add, rows concatenate). A run that fails part-way is a
 row with its error in status; the ensemble goes on. Bad input exits with code 2 and writes
@@ -92,7 +94,7 @@ pub struct EnsembleArgs {
     #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
     pub sets: Vec<String>,
 
-    /// Number of runs N (>= 1; run K uses thermal.run = r0 + K).
+    /// Number of runs N (1 to 1000000; run K uses thermal.run = r0 + K).
     #[arg(long, value_name = "N")]
     pub runs: usize,
 

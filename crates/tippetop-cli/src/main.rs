@@ -2,8 +2,9 @@
 //! tippe-top paper.
 //!
 //! Exit codes: 0 ok; 1 other failures (I/O, plotting); 2 bad input (one
-//! line `error: KEY: WHAT (RANGE)` on stderr, nothing written; clap's usage
-//! errors also exit 2); 3 the run failed part-way (results up to the failure
+//! line `error: KEY: WHAT (RANGE)` on stderr, nothing written; a command
+//! line clap cannot parse is one line too, `error: WHAT (see tippetop SUB
+//! --help)`); 3 the run failed part-way (results up to the failure
 //! written, `error: ...` on stderr).
 
 use std::process::ExitCode;

@@ -398,3 +398,126 @@ fn non_decimal_numbers_are_refused() {
     ]));
     let _ = std::fs::remove_dir_all(&d);
 }
+
+// ---------------------------------------------------------------------------
+// Limits: within the memory bound, or refused up front with the figure.
+
+fn repo_file(path: &str) -> String {
+    common::repo(path).to_str().unwrap().to_string()
+}
+
+/// The reproducer: an ensemble of runs of 5 000 000 samples aborted (exit
+/// 134) allocating 8 GB for its histograms. Refused up front, exit 2, one
+/// line with the figure: 3 quantities × (64 bins + 3) counts × 8 bytes +
+/// the time (16) = 1624 bytes per sample, 8.12 GB; at the ensemble's limit
+/// (100 000 samples) it runs, and writes the histograms of every sample.
+#[test]
+fn ensemble_limits_are_refused_up_front() {
+    let d = scratch("trust", "ensemble-limits");
+    let out = d.join("e");
+    let o = out.to_str().unwrap();
+    let thermal = repo_file("scenarios/thermal.toml");
+    let line = one_line_error(
+        &run(&[
+            "ensemble",
+            &thermal,
+            "--set",
+            "solver.t_end=1e-11",
+            "--set",
+            "solver.dt=2e-18",
+            "--set",
+            "solver.samples=5000000",
+            "--runs",
+            "1",
+            "--out",
+            o,
+        ]),
+        "solver.samples: ",
+    );
+    let per_sample = 3 * (64 + 3) * 8 + 16;
+    assert_eq!(per_sample, 1624);
+    assert!(
+        line.contains(&format!("({per_sample} bytes per sample)")),
+        "{line}"
+    );
+    assert!(line.contains("8.120 GB"), "{line}");
+    assert!(line.contains("samples <= 100000"), "{line}");
+    assert!(!out.exists());
+    // More runs than an ensemble keeps statistics for.
+    let line = one_line_error(
+        &run(&["ensemble", &thermal, "--runs", "1000001", "--out", o]),
+        "--runs: ",
+    );
+    assert!(line.contains("1000000"), "{line}");
+    let bit = repo_file("scenarios/bit/nano_300K.toml");
+    one_line_error(
+        &run(&["bit", &bit, "--runs", "1000001", "--out", o]),
+        "--runs: ",
+    );
+    let args = vec![
+        "bit".to_string(),
+        bit.clone(),
+        "--vary".into(),
+        "thermal.temperature=300:400:2".into(),
+        "--runs".into(),
+        "1000001".into(),
+        "--out".into(),
+        o.into(),
+    ];
+    one_line_error(&bin().args(&args).output().unwrap(), "--runs: ");
+    assert!(!out.exists());
+    // At the limit: one run of 100 000 samples, every one histogrammed.
+    ok(&run(&[
+        "ensemble",
+        &thermal,
+        "--set",
+        "solver.t_end=1e-12",
+        "--set",
+        "solver.dt=1e-17",
+        "--set",
+        "solver.samples=100000",
+        "--runs",
+        "1",
+        "--quiet",
+        "--out",
+        o,
+    ]));
+    let hist = std::fs::read_to_string(out.join("histograms.csv")).unwrap();
+    assert_eq!(hist.lines().count(), 1 + 3 * 100_000);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// More threads than fit in the memory bound run fewer at once, with a
+/// note, and the same output: a sweep of runs of 5e6 samples (1.12 GB
+/// each) runs two at once within 3 GiB whatever --threads says (here the
+/// runs stop after one step, so only the plan is exercised).
+#[test]
+fn threads_beyond_the_memory_bound_are_noted() {
+    let d = scratch("trust", "threads");
+    let o = bin()
+        .args([
+            "sweep",
+            "--preset",
+            "classical",
+            "--set",
+            "solver.samples=5000000",
+            // Every run stops at its step limit, after one step.
+            "--set",
+            "solver.max_steps=1",
+            "--vary",
+            "top.offset=1e-3:2e-3:4",
+            "--threads",
+            "16",
+            "--out",
+        ])
+        .arg(d.join("s"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("note: running 2 at once, not 16"),
+        "{err}{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

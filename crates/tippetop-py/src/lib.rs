@@ -267,6 +267,7 @@ impl Scenario {
     /// together, for keys that depend on each other (e.g.
     /// `{"surface.friction_law": "regularized", "surface.friction_eps":
     /// 1e-2}` [m/s], which `set` one at a time rejects). Values as in `set`.
+    /// TypeError if `values` is not a mapping or a key is not a str.
     fn set_many(&self, values: &Bound<'_, PyAny>) -> PyResult<Self> {
         let Ok(map) = values.cast::<PyMapping>() else {
             return Err(PyTypeError::new_err(format!(
@@ -637,7 +638,9 @@ fn vary_axis(key: &str, spec: &Bound<'_, PyAny>) -> PyResult<Axis> {
 /// (counts), all float64, NaN where the CSV field is empty; then `status`
 /// (str: `"ok"` or the case's error; a failing case does not stop the
 /// sweep). Bit for bit the CLI's `sweep.csv`, whatever `threads`. Bad input
-/// raises ValueError naming the key; Ctrl-C stops the sweep.
+/// raises ValueError naming the key; `threads` is an int (TypeError for
+/// another type, ValueError out of range); at most 1 000 000 cases (the
+/// result is kept in memory); Ctrl-C stops the sweep.
 #[pyfunction]
 #[pyo3(signature = (scenario, vary, threads = None))]
 fn sweep<'py>(
@@ -728,7 +731,9 @@ fn sweep<'py>(
 /// 95 % intervals of the final θ, ω, Ω, energy; first passages with the
 /// Kaplan–Meier median and the escape rate). Bit for bit the CLI's
 /// `ensemble.csv`, whatever `threads`. Bad input raises ValueError naming
-/// the key.
+/// the key; `runs` (1 to 1 000 000) and `threads` (1 to 1024) are ints:
+/// TypeError for another type, ValueError out of range. Fewer runs run at
+/// once than `threads` when more would need more than 3 GiB.
 #[pyfunction]
 #[pyo3(signature = (scenario, runs, threads = None, first_passage = None))]
 fn ensemble<'py>(
