@@ -12,8 +12,12 @@ in radians), parameter sweeps, and a steppable ``Simulation``.
     >>> sw["top.offset"], sw["theta_final"]  # m, rad
 
 Bad input raises ``ValueError`` with the CLI's one-line message without its
-``error: `` prefix: ``<key>: <what is wrong> (<valid range>)``. An internal
-error (a bug) raises ``RuntimeError``.
+``error: `` prefix: ``<key>: <what is wrong> (<valid range>)``; an argument
+of the wrong type raises ``TypeError``, a number out of its range
+``ValueError`` (never ``AttributeError`` or ``OverflowError``). An internal
+error (a bug) raises ``RuntimeError``. The long calls (``run``, ``sweep``,
+``ensemble``, ``Simulation.integrate_to``) release the GIL and stop within a
+second on Ctrl-C (``KeyboardInterrupt``).
 """
 
 from os import PathLike
@@ -52,8 +56,9 @@ class Scenario:
     @staticmethod
     def from_file(path: Union[str, "PathLike[str]"]) -> "Scenario":
         """A scenario from a TOML file (the CLI's ``tippetop run FILE``; the
-        file may name a ``preset`` to start from). ValueError (key
-        ``scenario``) if it cannot be read, or naming the bad key."""
+        file may name a ``preset`` to start from). ValueError naming the
+        file if it cannot be read or is larger than 16 MiB, or naming the
+        bad key."""
     @staticmethod
     def from_toml(text: str) -> "Scenario":
         """A scenario from TOML text (the format of scenario files)."""
@@ -71,7 +76,8 @@ class Scenario:
         checked together, for keys that depend on each other (e.g.
         ``{"surface.friction_law": "regularized", "surface.friction_eps":
         1e-2}`` [m/s], which ``set`` one at a time rejects). Values as in
-        ``set``."""
+        ``set``. TypeError if ``values`` is not a mapping (a list, ``None``)
+        or a key is not a str."""
     def get(self, key: str) -> Any:
         """The value of ``key`` (``"top.radius"`` [m], ``"force.0.hx"`` [N],
         ...) as ``to_toml()`` writes it: float, int, bool, str, list or dict.
@@ -175,7 +181,8 @@ def run(scenario: Scenario) -> Trajectory:
     """Run ``scenario`` to ``solver.t_end`` (the CLI's ``tippetop run``),
     with the GIL released. Bit for bit the CLI's trajectory.csv and
     summary.json. Bad input raises ValueError; a run that fails part-way
-    returns its partial trajectory with ``error`` set."""
+    returns its partial trajectory with ``error`` set. Ctrl-C raises
+    KeyboardInterrupt within a second."""
 
 _Grid = Union[Tuple[float, float, int], Tuple[float, float, int, Literal["log"]]]
 """``(lo, hi, n)``: n values from lo to hi, both included, evenly spaced;
@@ -188,7 +195,10 @@ def sweep(
     threads: Optional[int] = None,
 ) -> Dict[str, NDArray[Any]]:
     """Run a grid of scenarios (the CLI's ``tippetop sweep``) on ``threads``
-    threads (1 to 1024; default one per core), with the GIL released.
+    threads (1 to 1024, an int; default one per core; fewer if that many
+    runs at once would need more than 3 GiB), with the GIL released. At
+    most 1 000 000 cases (the result is kept in memory; the CLI streams
+    larger sweeps to disk).
 
     ``vary`` maps scenario keys (as in ``Scenario.set``) to their values in
     the key's SI unit: a tuple ``(lo, hi, n)`` or ``(lo, hi, n, "log")`` is
@@ -215,8 +225,10 @@ def ensemble(
     first_passage: Optional[str] = None,
 ) -> Dict[str, Any]:
     """Run a Langevin (or Brownian) scenario ``runs`` times with independent
-    noise (the CLI's ``tippetop ensemble``) on ``threads`` threads, with the
-    GIL released. Run K is the scenario with ``thermal.run = r0 + K``
+    noise (the CLI's ``tippetop ensemble``) on ``threads`` threads (1 to
+    1024, an int; fewer if that many runs at once would need more than 3
+    GiB), with the GIL released. ``runs``: an int, 1 to 1 000 000
+    (ValueError beyond, TypeError for another type). Run K is the scenario with ``thermal.run = r0 + K``
     (``r0`` its own ``thermal.run``), so
     ``run(scenario.set("thermal.run", r0 + K))`` replays it bit for bit.
     ``first_passage`` is the CLI's ``--first-passage`` (e.g.
@@ -275,7 +287,8 @@ def rare(
 @final
 class Snapshot:
     """A copy of a ``Simulation`` at one instant (``Simulation.snapshot()``),
-    exact to the bit; ``Simulation.restore`` goes back to it."""
+    exact to the bit; ``Simulation.restore`` goes back to it, in a
+    simulation of the same scenario only."""
 
 @final
 class Simulation:
@@ -290,7 +303,10 @@ class Simulation:
     def integrate_to(self, t: float) -> None:
         """Integrate until the run has passed ``t`` [s] (or ended, or failed:
         see ``error``), with the GIL released. ValueError (key ``t``) if ``t``
-        is before the last time integrated to or after ``solver.t_end``."""
+        is before the last time integrated to or after ``solver.t_end``.
+        Ctrl-C raises KeyboardInterrupt within a second; the run then stands
+        at its last step (``time``) and goes on from there, bit for bit,
+        with the next call."""
     @property
     def time(self) -> float:
         """The time [s] ``state`` refers to: the last time integrated to
@@ -309,7 +325,10 @@ class Simulation:
     def snapshot(self) -> Snapshot:
         """A copy of the whole run as it stands (exact floats)."""
     def restore(self, snapshot: Snapshot) -> None:
-        """Go back to ``snapshot`` (it replaces the run entirely)."""
+        """Go back to ``snapshot`` (it replaces the run entirely).
+        ValueError if the snapshot was taken from a simulation of another
+        scenario (snapshots carry a fingerprint of their resolved
+        scenario)."""
     def into_trajectory(self) -> Trajectory:
         """The run so far as a ``Trajectory``; after ``integrate_to(t_end)``
         it equals ``run(scenario)``. The simulation is left as it is (it is

@@ -14,7 +14,7 @@ use clap::{ArgGroup, Args};
 use tippetop::analysis::bit::{self, Block, Mode, Report, RunResult};
 use tippetop::analysis::sweep::{self, Shard, ShardInfo, Sweep};
 use tippetop::scenario::bit::BitScenario;
-use tippetop::thermal::MAX_RUNS;
+use tippetop::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
 
 use crate::output::{OutDir, fmt_f64, write_bytes_atomic};
 use crate::partial::{check_checksum, checksum};
@@ -58,7 +58,7 @@ its target window during its last hold seconds on the continuous solution (event
 window's edges; an excursion within one integration step is not seen, and the step is at most
 the row spacing: at least 10 rows per hold); its switching time is the crossing into the window.
 --set reaches bit.KEY, write.K.KEY and erase.K.KEY. At T > 0
-(solver.method = \"langevin\" or \"brownian\") --runs N runs (default 100), run K with
+(solver.method = \"langevin\" or \"brownian\") --runs N runs (default 100, at most 1000000), run K with
 thermal.run = r0 + K, independent of --threads; --shard K/M runs only the K-th of M blocks of
 the runs and writes runs.csv (those runs), shard.json and bit.toml: tippetop merge of the
 shards' directories writes the outputs of the unsharded run, byte for byte (--shard at T = 0
@@ -81,7 +81,7 @@ the bit at every point of the grid and writes into --out:
   write_probability.png/.svg, write_time.png/.svg   two or more --vary: heat maps over the
                first two keys (the others at their first value; at most 250 values per axis)
 Each row is the single `tippetop bit --set KEY=VALUE ...` run of its point. At T > 0 a point is
---runs N runs (default 100; a point at T = 0 runs once), run K with thermal.run = r0 + K at
+--runs N runs (default 100, at most 1000000; a point at T = 0 runs once), run K with thermal.run = r0 + K at
 every point (common random numbers). The points run in parallel (--threads), the rows stream
 into bitmap.csv.partial in grid order (memory flat in the number of points); the bytes do not
 depend on --threads. --shard K/N runs the K-th of N blocks of points (join them with tippetop
@@ -192,15 +192,19 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         (true, n) => {
             let n = n.unwrap_or(DEFAULT_RUNS);
             let room = MAX_RUNS - sc.thermal.run.min(MAX_RUNS);
-            if n == 0 || n as u64 > room {
+            if n == 0 || n > MAX_ENSEMBLE_RUNS || n as u64 > room {
                 return Ok(input_error(format!(
-                    "--runs: {n} runs from thermal.run = {} (N >= 1, with the run indices \
-                     thermal.run .. thermal.run + N - 1 below 4294967296)",
+                    "--runs: {n} runs from thermal.run = {} (1 <= N <= {MAX_ENSEMBLE_RUNS}, \
+                     with the run indices thermal.run .. thermal.run + N - 1 below 4294967296)",
                     sc.thermal.run
                 )));
             }
             n
         }
+    };
+    let threads = match bit::threads_within_memory(&bs, runs, threads) {
+        Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
+        Err(e) => return Ok(input_error(e)),
     };
 
     let shard = match args.shard.as_deref().map(Shard::parse).transpose() {
@@ -539,9 +543,10 @@ pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode
                 .map_err(|e| format!("{}: cannot read it: {e} ({what})", path.display()))
         };
         let got = (|| {
-            let info: ShardInfo = serde_json::from_str(&read("shard.json")?)
+            let small = |name: &str| crate::scenario_load::read_small(&dir.join(name), what);
+            let info: ShardInfo = serde_json::from_str(&small("shard.json")?)
                 .map_err(|e| format!("{}: {e} ({what})", dir.join("shard.json").display()))?;
-            let (csv, toml) = (read(RUNS_CSV)?, read("bit.toml")?);
+            let (csv, toml) = (read(RUNS_CSV)?, small("bit.toml")?);
             check_checksum(&info.checksums, dir, RUNS_CSV, csv.as_bytes())?;
             check_checksum(&info.checksums, dir, "bit.toml", toml.as_bytes())?;
             Ok::<_, String>((info, csv, toml))

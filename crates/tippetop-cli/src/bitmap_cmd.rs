@@ -58,6 +58,10 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     if let Err(e) = map.validate() {
         return Ok(input_error(e));
     }
+    let threads = match map.threads_within_memory(threads) {
+        Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
+        Err(e) => return Ok(input_error(e)),
+    };
     let info = match map.shard_info(shard) {
         Ok(i) => i,
         Err(e) => return Ok(input_error(e)),
@@ -117,9 +121,9 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
             )
         };
         println!(
-            "{what} ({} ok, {failed} invalid) in {:.1} s -> {}",
+            "{what} ({} ok, {failed} invalid) in {} -> {}",
             n - failed,
-            start.elapsed().as_secs_f64(),
+            crate::output::fmt_duration(start.elapsed().as_secs_f64()),
             args.out.join(bitmap::CSV_NAME).display()
         );
     }

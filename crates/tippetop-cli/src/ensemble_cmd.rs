@@ -56,8 +56,10 @@ thermal.run = r0 + K, r0 its own thermal.run, default 0) on all cores and write 
 The scenario must be a Langevin or Brownian run at a temperature > 0 (solver.method =
 \"langevin\" or \"brownian\",
 solver.dt, surface.friction = 0, a [thermal] table with temperature, damping_translational,
-damping_rotational and seed); anything else exits with code 2. --runs N: N >= 1, the run
-indices below 2^32. The files are byte for byte the same whatever --threads and however the
+damping_rotational and seed); anything else exits with code 2. --runs N: 1 <= N <= 1000000, the
+run indices below 2^32; solver.samples at most 100000 (the histograms keep 1624 bytes per
+sample). Runs run at once on --threads threads, fewer (with a note) if more would need more
+than the memory bound of 3 GiB. The files are byte for byte the same whatever --threads and however the
 runs are cut with --shard K/N (the K-th of N contiguous blocks of runs; join the shards'
 directories with tippetop merge: counts add, rows concatenate). A run that fails part-way is a
 row with its error in status; the ensemble goes on. Bad input exits with code 2 and writes
@@ -93,7 +95,7 @@ pub struct EnsembleArgs {
     #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
     pub sets: Vec<String>,
 
-    /// Number of runs N (>= 1; run K uses thermal.run = r0 + K).
+    /// Number of runs N (1 to 1000000; run K uses thermal.run = r0 + K).
     #[arg(long, value_name = "N")]
     pub runs: usize,
 
@@ -146,6 +148,15 @@ struct Checkpoint {
     hist: Histograms,
 }
 
+/// [`Checkpoint`] as written: the same JSON, from borrowed histograms.
+#[derive(Serialize)]
+struct CheckpointRef<'a> {
+    fingerprint: &'a str,
+    first_index: usize,
+    rows: usize,
+    hist: &'a Histograms,
+}
+
 use crate::scenario_load::input_error;
 
 /// Run `tippetop ensemble`. Bad input: one line on stderr and exit code 2
@@ -174,6 +185,10 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
     };
     let ens = match Ensemble::new(args.preset.clone(), toml_text, args.sets.clone(), args.runs) {
         Ok(e) => e.with_exit(exit),
+        Err(e) => return Ok(input_error(e)),
+    };
+    let threads = match ens.threads_within_memory(threads) {
+        Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
         Err(e) => return Ok(input_error(e)),
     };
     let info = match ens.shard_info(shard) {
@@ -380,10 +395,10 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
             )
         };
         println!(
-            "{what} ({} ok, {} failed) in {:.1} s -> {}",
+            "{what} ({} ok, {} failed) in {} -> {}",
             stats.ok,
             stats.failed,
-            start.elapsed().as_secs_f64(),
+            crate::output::fmt_duration(start.elapsed().as_secs_f64()),
             dir.join("ensemble.csv").display()
         );
         print_stats(&stats);
@@ -535,7 +550,7 @@ fn write_fan(dir: &Path, hist: &Histograms, runs: u64) -> Result<()> {
 /// Whether `dir` holds an ensemble's output (rather than a sweep's), for
 /// `tippetop merge`.
 pub fn is_ensemble_dir(dir: &Path) -> bool {
-    std::fs::read_to_string(dir.join("shard.json"))
+    tippetop::limits::read_file(&dir.join("shard.json"))
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
         .is_some_and(|v| v["kind"] == "ensemble")
@@ -611,7 +626,8 @@ fn read_shard(dir: &Path) -> std::result::Result<(EnsembleShard, String, Histogr
         std::fs::read_to_string(&path)
             .map_err(|e| format!("{}: cannot read it: {e} ({what})", path.display()))
     };
-    let info: EnsembleShard = serde_json::from_str(&read("shard.json")?).map_err(|e| {
+    let json = crate::scenario_load::read_small(&dir.join("shard.json"), what)?;
+    let info: EnsembleShard = serde_json::from_str(&json).map_err(|e| {
         format!(
             "{}: not an ensemble's shard description: {e} ({what})",
             dir.join("shard.json").display()
@@ -653,13 +669,32 @@ fn save_checkpoint(
     info: &EnsembleShard,
     hist: &Histograms,
 ) -> Result<()> {
-    let c = Checkpoint {
-        fingerprint: info.fingerprint.clone(),
+    // Streamed from the histograms themselves, twice (once to hash, once
+    // to the file): no copy of them and no JSON text in memory (an
+    // ensemble's histograms reach 1624 bytes per sample).
+    let c = CheckpointRef {
+        fingerprint: &info.fingerprint,
         first_index: info.first_index,
         rows: w.rows(),
-        hist: hist.clone(),
+        hist,
     };
-    let json = serde_json::to_string(&c)?;
-    w.checkpoint(Some(fnv1a(FNV_OFFSET, json.as_bytes())))?;
-    write_bytes_atomic(hist_partial, json.as_bytes())
+    let mut hasher = HashSink(FNV_OFFSET);
+    serde_json::to_writer(&mut hasher, &c)?;
+    w.checkpoint(Some(hasher.0))?;
+    crate::output::write_atomic(hist_partial, |f| {
+        serde_json::to_writer(f, &c).map_err(std::io::Error::other)
+    })
+}
+
+/// A writer that only hashes what it is given (FNV-1a 64, as `fnv1a`).
+struct HashSink(u64);
+
+impl std::io::Write for HashSink {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0 = fnv1a(self.0, buf);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
 }

@@ -2,13 +2,14 @@
 //! tippe-top paper.
 //!
 //! Exit codes: 0 ok; 1 other failures (I/O, plotting); 2 bad input (one
-//! line `error: KEY: WHAT (RANGE)` on stderr, nothing written; clap's usage
-//! errors also exit 2); 3 the run failed part-way (results up to the failure
+//! line `error: KEY: WHAT (RANGE)` on stderr, nothing written; a command
+//! line clap cannot parse is one line too, `error: WHAT (see tippetop SUB
+//! --help)`); 3 the run failed part-way (results up to the failure
 //! written, `error: ...` on stderr).
 
 use std::process::ExitCode;
 
-use clap::Parser;
+use clap::{CommandFactory, Parser};
 use tippetop_cli::cli::{Cli, Command};
 use tippetop_cli::{
     adhesion_cmd, animate, bit_cmd, device_cmd, ensemble_cmd, rare_cmd, regime_cmd, reproduce,
@@ -24,7 +25,10 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(&e),
+    };
     // Fault injection for the end-to-end tests of the rule "finite or
     // failed" (tippetop::testing): every output row from this time on [s]
     // gets qw = NaN.
@@ -57,6 +61,53 @@ fn main() -> ExitCode {
             ExitCode::from(code)
         }
     }
+}
+
+/// A command line clap cannot parse: one line `error: WHAT[; tip: ...]
+/// (see tippetop SUB --help)` on stderr, exit code 2, as every other bad
+/// input. `--help`, `--version` (and the help a bare `tippetop` prints)
+/// are clap's own, on stdout with exit code 0 (stderr, 2 for the bare
+/// command).
+fn usage_error(e: &clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        e.exit();
+    }
+    let names: Vec<String> = Cli::command()
+        .get_subcommands()
+        .map(|c| c.get_name().to_string())
+        .collect();
+    let sub = std::env::args()
+        .skip(1)
+        .find(|a| names.contains(a))
+        .map(|s| format!("tippetop {s} --help"))
+        .unwrap_or_else(|| "tippetop --help".into());
+    eprintln!(
+        "error: {} (see {sub})",
+        usage_message(&e.render().to_string())
+    );
+    ExitCode::from(2)
+}
+
+/// The message of a clap error as one line: its `error:` line and its
+/// `tip:` lines, without the usage and the pointer to `--help`.
+fn usage_message(rendered: &str) -> String {
+    let mut parts = Vec::new();
+    for line in rendered.lines().map(str::trim) {
+        if let Some(m) = line.strip_prefix("error:") {
+            parts.push(m.trim().to_string());
+        } else if line.starts_with("tip:") {
+            parts.push(line.to_string());
+        } else if line.starts_with("Usage:") || line.starts_with("For more information") {
+            break;
+        }
+    }
+    one_line(&parts.join("; "))
 }
 
 /// Exit code and one-line message for an error: 2 for bad input, 3 for a

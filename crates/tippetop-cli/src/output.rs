@@ -99,6 +99,30 @@ fn push_f64(out: &mut String, v: f64) {
     out.push_str(buf.format(v));
 }
 
+/// A duration for people, to 3 significant figures: `12.3 ms` below a
+/// second (`0.0123 ms` for very short ones, never `0.0 s`), `1.23 s`,
+/// `12.3 s`, `123 s`, whole seconds beyond.
+pub fn fmt_duration(seconds: f64) -> String {
+    let (x, unit) = if seconds.abs() < 1.0 {
+        (seconds * 1e3, "ms")
+    } else {
+        (seconds, "s")
+    };
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x} {unit}");
+    }
+    let decimals = (2 - x.abs().log10().floor() as i64).clamp(0, 12) as usize;
+    // Rounding can carry into the next digit (9.996 -> 10.00): one fewer.
+    let text = format!("{x:.decimals$}");
+    let digits = text.chars().filter(char::is_ascii_digit).count();
+    let text = if digits > 3 && decimals > 0 {
+        format!("{x:.prec$}", prec = decimals - 1)
+    } else {
+        text
+    };
+    format!("{text} {unit}")
+}
+
 /// The CSV header line of `trajectory.csv`: [`COLUMNS`] joined by commas.
 pub fn trajectory_header() -> String {
     COLUMNS.join(",")
@@ -1228,6 +1252,26 @@ pub(crate) mod tests {
             },
             samples,
             error,
+        }
+    }
+
+    /// Three significant figures, in ms below a second: never "0.0 s".
+    #[test]
+    fn durations_have_three_significant_figures() {
+        for (s, want) in [
+            (0.0123, "12.3 ms"),
+            (0.000_456_7, "0.457 ms"),
+            (0.5, "500 ms"),
+            (0.9996, "1000 ms"),
+            (1.234, "1.23 s"),
+            (9.996, "10.0 s"),
+            (12.34, "12.3 s"),
+            (123.4, "123 s"),
+            (5432.1, "5432 s"),
+            (1.2e-7, "0.000120 ms"),
+            (0.0, "0 ms"),
+        ] {
+            assert_eq!(fmt_duration(s), want, "{s}");
         }
     }
 

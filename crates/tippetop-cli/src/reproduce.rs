@@ -55,8 +55,8 @@ pub fn run(args: &ReproduceArgs, quiet: bool) -> Result<()> {
     if !quiet {
         let count = |v: paper::Verdict| rep.claims.iter().filter(|c| c.verdict == v).count();
         println!(
-            "reproduced the paper in {:.2} s: {} figures, {} claims ({} reproduced, {} partly, {} not reproduced)",
-            t0.elapsed().as_secs_f64(),
+            "reproduced the paper in {}: {} figures, {} claims ({} reproduced, {} partly, {} not reproduced)",
+            crate::output::fmt_duration(t0.elapsed().as_secs_f64()),
             rep.figures.len() + 1,
             rep.claims.len(),
             count(paper::Verdict::Reproduced),

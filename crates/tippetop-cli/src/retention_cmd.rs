@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use tippetop::analysis::retention::{RatePoint, fit_arrhenius};
+use tippetop::analysis::retention::{RatePoint, check_temperature, fit_arrhenius};
 
 use crate::output::write_bytes_atomic;
 
@@ -23,7 +23,10 @@ pub const RETENTION_LONG_ABOUT: &str = "How long a state holds at a target tempe
     their 95 % intervals, and the fitted barrier E (compare it with the potential's: Kramers' \
     prefactor depends on T as a power, which the fit does not model; the interval is \
     statistical only). With --out DIR, writes DIR/retention.json.\n\n\
-    Exit codes: 0 ok, 2 bad input (one line naming the key), 1 unreadable files.";
+    The values read are checked: temperatures 1e-3 to 1e5 K (--temperature too), rates 1e-300 \
+    to 1e300 1/s, 0 < ln_rate_se <= 1; the extrapolation must be finite in f64.\n\n\
+    Exit codes: 0 ok, 2 bad input (one line naming the file and the field, or the option), 1 \
+    I/O failures writing --out.";
 
 /// Arguments of `tippetop retention`.
 #[derive(Debug, Clone, clap::Args)]
@@ -40,7 +43,7 @@ pub struct RetentionArgs {
     /// temperatures.
     #[arg(value_name = "DIR", required = true)]
     pub dirs: Vec<PathBuf>,
-    /// Target temperature [K] (> 0).
+    /// Target temperature [K] (1e-3 to 1e5).
     #[arg(long, value_name = "T", allow_negative_numbers = true)]
     pub temperature: f64,
     /// Write retention.json into this directory (created if missing).
@@ -50,45 +53,99 @@ pub struct RetentionArgs {
 
 use crate::scenario_load::input_error;
 
-/// Run `tippetop retention`.
+/// The fields of an ensemble's `summary.json` that `retention` reads: the
+/// field of [`RatePoint`] and its path in the file.
+const FIELDS: [(&str, &str); 3] = [
+    ("temperature", "temperature"),
+    ("rate", "first_passage.escape_rate.rate"),
+    ("ln_rate_se", "first_passage.escape_rate.ln_rate_se"),
+];
+
+/// The escape rate of one ensemble directory, checked: `Err` is the
+/// one-line message naming the file and the field.
+fn read_point(dir: &std::path::Path) -> std::result::Result<RatePoint, String> {
+    let path = dir.join("summary.json");
+    let file = path.display();
+    let what = "an ensemble's summary.json, written by tippetop ensemble --first-passage";
+    let text = crate::scenario_load::read_small(&path, what)?;
+    let v: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("{file}: not JSON: {e} ({what})"))?;
+    let number = |path_in: &str| -> std::result::Result<Option<f64>, String> {
+        let mut x = &v;
+        for part in path_in.split('.') {
+            x = &x[part];
+        }
+        match x {
+            serde_json::Value::Null => Ok(None),
+            serde_json::Value::Number(n) => Ok(n.as_f64()),
+            other => Err(format!(
+                "{file}: {path_in}: {other} is not a number ({what})"
+            )),
+        }
+    };
+    let Some(temperature) = number("temperature")? else {
+        return Err(format!(
+            "{file}: temperature: missing (an ensemble's summary.json of a Langevin or Brownian run)"
+        ));
+    };
+    let (Some(rate), Some(ln_rate_se)) = (
+        number("first_passage.escape_rate.rate")?,
+        number("first_passage.escape_rate.ln_rate_se")?,
+    ) else {
+        return Err(format!(
+            "{file}: first_passage.escape_rate: missing (no run passed: run longer, at a higher temperature, or with --first-passage)"
+        ));
+    };
+    let p = RatePoint {
+        temperature,
+        rate,
+        ln_rate_se,
+    };
+    p.check().map_err(|e| match e {
+        tippetop::Error::Invalid { key, what, range } => {
+            let field = FIELDS
+                .iter()
+                .find(|f| f.0 == key)
+                .map_or(key.as_str(), |f| f.1);
+            format!("{file}: {field}: {what} ({range})")
+        }
+        other => format!("{file}: {other}"),
+    })?;
+    Ok(p)
+}
+
+/// Run `tippetop retention`. Bad input (a target temperature out of range,
+/// a directory without a valid escape rate, values out of range, fewer than
+/// two temperatures): one line naming the file and the field, exit code 2.
 pub fn run(args: &RetentionArgs, quiet: bool) -> Result<ExitCode> {
-    if !(args.temperature > 0.0 && args.temperature.is_finite()) {
-        return Ok(input_error(format!(
-            "--temperature: {} is not allowed (a finite temperature > 0 [K])",
-            args.temperature
-        )));
+    if let Err(e) = check_temperature("--temperature", args.temperature) {
+        return Ok(input_error(e));
     }
     let mut points = Vec::new();
     for dir in &args.dirs {
-        let path = dir.join("summary.json");
-        let text = std::fs::read_to_string(&path)
-            .with_context(|| format!("reading {}", path.display()))?;
-        let v: serde_json::Value =
-            serde_json::from_str(&text).with_context(|| format!("parsing {}", path.display()))?;
-        let Some(t) = v.get("temperature").and_then(|x| x.as_f64()) else {
-            return Ok(input_error(format!(
-                "{}: no temperature (an ensemble's summary.json of a Langevin or Brownian run)",
-                path.display()
-            )));
-        };
-        let rate = &v["first_passage"]["escape_rate"];
-        let (Some(k), Some(se)) = (rate["rate"].as_f64(), rate["ln_rate_se"].as_f64()) else {
-            return Ok(input_error(format!(
-                "{}: no escape rate (no run passed: run longer, at a higher temperature, or with --first-passage)",
-                path.display()
-            )));
-        };
-        points.push(RatePoint {
-            temperature: t,
-            rate: k,
-            ln_rate_se: se,
-        });
+        match read_point(dir) {
+            Ok(p) => points.push(p),
+            Err(msg) => return Ok(input_error(msg)),
+        }
+    }
+    if !points
+        .iter()
+        .any(|p| p.temperature != points[0].temperature)
+    {
+        return Ok(input_error(format!(
+            "DIR: {} escape rate(s), all at {} K (ensembles at two or more distinct temperatures)",
+            points.len(),
+            points[0].temperature
+        )));
     }
     let fit = match fit_arrhenius(&points) {
         Ok(f) => f,
-        Err(e) => return Ok(input_error(e.to_string())),
+        Err(e) => return Ok(input_error(format!("DIR: {e}"))),
     };
-    let at = fit.extrapolate(args.temperature);
+    let at = match fit.extrapolate_checked("--temperature", args.temperature) {
+        Ok(at) => at,
+        Err(e) => return Ok(input_error(e)),
+    };
     if !quiet {
         for p in &points {
             println!(

@@ -29,13 +29,7 @@ use crate::{progress, scenario_load};
 pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     // 1. Everything that can be bad input, before touching --out.
     let toml_text = match &args.scenario {
-        Some(path) => Some(fs::read_to_string(path).map_err(|e| {
-            Error::invalid(
-                "scenario",
-                format!("cannot read {}: {e}", path.display()),
-                "a readable TOML scenario file".into(),
-            )
-        })?),
+        Some(path) => Some(tippetop::limits::read_file(path)?),
         None => None,
     };
     for s in &args.sets {
@@ -408,7 +402,10 @@ pub fn human_summary(
             v(100.0 * ni.negative_fraction)
         ));
     }
-    o.push_str(&format!("wall time:   {} s\n", v(wall_seconds)));
+    o.push_str(&format!(
+        "wall time:   {}\n",
+        crate::output::fmt_duration(wall_seconds)
+    ));
     let name = |p: &PathBuf| {
         p.file_name()
             .map(|n| n.to_string_lossy().into_owned())

@@ -18,18 +18,47 @@ pub fn input_error(e: impl std::fmt::Display) -> ExitCode {
     ExitCode::from(2)
 }
 
-/// The text of an optional scenario file; `Err` (after the one-line
-/// message, [`input_error`]) with exit code 2 if it cannot be read.
+/// The text of an optional scenario file (at most
+/// [`tippetop::limits::MAX_FILE_BYTES`]); `Err` (after the one-line
+/// message, [`input_error`]) with exit code 2 if it cannot be read or is
+/// too large.
 pub fn read_text(path: Option<&Path>) -> Result<Option<String>, ExitCode> {
     match path {
         None => Ok(None),
-        Some(path) => std::fs::read_to_string(path).map(Some).map_err(|e| {
-            input_error(format!(
-                "{}: cannot read it: {e} (a readable scenario file)",
-                path.display()
-            ))
-        }),
+        Some(path) => tippetop::limits::read_file(path)
+            .map(Some)
+            .map_err(input_error),
     }
+}
+
+/// The thread count a command runs with: `fit` (what fits in the memory
+/// bound, [`tippetop::limits::fit_threads`]) out of `asked`, with a note on
+/// stderr (unless `quiet`) when that is fewer. The output does not depend
+/// on the thread count.
+pub fn note_threads(quiet: bool, asked: usize, fit: usize) -> usize {
+    if fit < asked && !quiet {
+        eprintln!(
+            "note: running {fit} at once, not {asked}: more would need more than the memory \
+             bound of {} (the output is the same)",
+            tippetop::limits::fmt_bytes(tippetop::limits::MEMORY_BUDGET)
+        );
+    }
+    fit
+}
+
+/// The text of a small input file (a shard's `shard.json`, a `bit.toml`,
+/// an ensemble's `summary.json`), at most
+/// [`tippetop::limits::MAX_FILE_BYTES`]; `Err` is the one-line message
+/// naming the file, with `what` (the file expected, in words).
+pub fn read_small(path: &Path, what: &str) -> Result<String, String> {
+    tippetop::limits::read_file(path).map_err(|e| match e {
+        Error::Invalid {
+            key,
+            what: w,
+            range,
+        } => format!("{key}: {w} ({range}; {what})"),
+        other => other.to_string(),
+    })
 }
 
 /// Resolve the scenario: `preset` as the base, the TOML text of a scenario
@@ -52,13 +81,7 @@ pub fn from_args(
     sets: &[String],
 ) -> Result<Scenario, Error> {
     let text = match scenario {
-        Some(p) => Some(std::fs::read_to_string(p).map_err(|e| {
-            Error::invalid(
-                "scenario",
-                format!("cannot read {}: {e}", p.display()),
-                "a readable TOML file".into(),
-            )
-        })?),
+        Some(p) => Some(tippetop::limits::read_file(p)?),
         None => None,
     };
     if text.is_none() && preset.is_none() {

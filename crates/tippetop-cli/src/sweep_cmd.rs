@@ -257,6 +257,10 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
     if let Err(e) = sw.validate() {
         return Ok(input_error(e));
     }
+    let threads = match sw.threads_within_memory(threads) {
+        Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
+        Err(e) => return Ok(input_error(e)),
+    };
     let info = match sw.shard_info(shard) {
         Ok(i) => i,
         Err(e) => return Ok(input_error(e)),
@@ -331,9 +335,9 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
             )
         };
         println!(
-            "{what} ({} ok, {failed} failed) in {:.1} s -> {}",
+            "{what} ({} ok, {failed} failed) in {} -> {}",
             n - failed,
-            start.elapsed().as_secs_f64(),
+            crate::output::fmt_duration(start.elapsed().as_secs_f64()),
             dir.join("sweep.csv").display()
         );
     }
@@ -647,7 +651,7 @@ pub fn read_shard_of(
         std::fs::read_to_string(&path)
             .map_err(|e| format!("{}: cannot read it: {e} ({what})", path.display()))
     };
-    let json = read("shard.json")?;
+    let json = crate::scenario_load::read_small(&dir.join("shard.json"), what)?;
     let info: ShardInfo = serde_json::from_str(&json).map_err(|e| {
         format!(
             "{}: not a shard description: {e} ({what})",

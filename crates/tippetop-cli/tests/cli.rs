@@ -112,7 +112,8 @@ fn unreadable_scenario_file_is_input_error() {
             out.to_str().unwrap(),
         ],
         &out,
-        "error: scenario: cannot read",
+        // Every command names the file (issue 26: one reader for all).
+        &format!("error: {}: cannot read it", missing.display()),
     );
 }
 

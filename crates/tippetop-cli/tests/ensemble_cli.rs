@@ -461,7 +461,7 @@ fn retention_extrapolates_two_ensembles() {
         .args(["--temperature", "450"])
         .output()
         .unwrap();
-    assert_input_error(&o, "error: --rates: ");
+    assert_input_error(&o, "error: DIR: ");
     let o = bin()
         .arg("retention")
         .arg(d.join("e300"))

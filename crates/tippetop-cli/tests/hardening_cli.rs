@@ -40,7 +40,10 @@ fn run_rejects_extreme_values_without_panic() {
         ("classical", "solver.t_end=1e308", "solver.t_end"),
         ("nano", "solver.t_end=1e-320", "solver.t_end"),
         ("classical", "surface.gravity=1e308", "surface.gravity"),
-        ("nano", "top.mass=1e-320", "force.0.hx"),
+        // The cause is named (issue 26): the mass overflows the applied
+        // force's rate sqrt(|H| / (m R)), the radius the inertia unit m R^2.
+        ("nano", "top.mass=1e-320", "top.mass"),
+        ("nano", "top.radius=1e308", "top.radius"),
         ("classical", "initial.spin=-1e308", "solver.t_end"),
         ("nano", "initial.spin=1e308", "solver.t_end"),
         ("classical", "solver.samples=1000000000", "solver.samples"),

@@ -15,12 +15,18 @@ use std::time::Instant;
 use numpy::PyArray1;
 use pyo3::exceptions::{PyAttributeError, PyKeyError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyFloat, PyList, PyString, PyTuple};
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyMapping, PyString, PyTuple};
 use serde::Serialize;
 use tippetop::analysis;
 use tippetop::analysis::sweep::{Axis, Sweep, Table};
 use tippetop::trajectory::COLUMNS;
 use tippetop::{EventRecord, Summary};
+
+/// Most cases of a sweep in Python (`sweep`), whose result is kept in
+/// memory (about 200 bytes a case, and the arrays): 1 000 000, within the
+/// library's memory bound (`tippetop::limits::MEMORY_BUDGET`). The CLI's
+/// `tippetop sweep` streams its rows to disk and takes 1e9.
+const MAX_SWEEP_CASES: usize = 1_000_000;
 
 /// A library error as a Python exception: bad input is `ValueError`
 /// (`"<key>: <what> (<range>)"`), a run-time failure `RuntimeError`.
@@ -109,6 +115,66 @@ fn set_value_text(v: &Bound<'_, PyAny>) -> PyResult<String> {
     )))
 }
 
+/// An integer argument `name` of a function: TypeError if `v` is not an
+/// int (a bool is not one), ValueError (with `range`) if it is out of
+/// `i64` (Python's own OverflowError would be neither).
+fn int_arg(v: &Bound<'_, PyAny>, name: &str, range: &str) -> PyResult<i64> {
+    if !v.is_instance_of::<PyInt>() || v.is_instance_of::<PyBool>() {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: expected an int, got {} ({range})",
+            v.get_type().name()?
+        )));
+    }
+    v.extract::<i64>().map_err(|_| {
+        PyValueError::new_err(format!(
+            "{name}: {} is out of range ({range})",
+            v.repr().map(|r| r.to_string()).unwrap_or_default()
+        ))
+    })
+}
+
+/// The `threads` argument: `None` (one per core) or an int from 1 to
+/// 1024 (the CLI's `--threads`).
+fn threads_arg(threads: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
+    let range = format!(
+        "1 to {} threads; more threads than cores only add overhead",
+        analysis::sweep::MAX_THREADS
+    );
+    let t =
+        match threads {
+            None => None,
+            Some(t) if t.is_none() => None,
+            Some(t) => {
+                let n = int_arg(t, "--threads", &range)?;
+                Some(usize::try_from(n).map_err(|_| {
+                    PyValueError::new_err(format!("--threads: {n} threads ({range})"))
+                })?)
+            }
+        };
+    analysis::sweep::threads(t).map_err(to_py_err)
+}
+
+/// Ask Python whether a signal (Ctrl-C) came in, at most every 0.1 s (the
+/// GIL taken for a moment): `false` (and the exception kept in
+/// `interrupted`) to stop. For the `keep_going` callbacks of the long
+/// calls that run with the GIL released.
+fn signals_checker<'a>(interrupted: &'a mut Option<PyErr>) -> impl FnMut() -> bool + 'a {
+    let mut last = Instant::now();
+    move || {
+        if last.elapsed().as_secs_f64() < 0.1 {
+            return true;
+        }
+        last = Instant::now();
+        match Python::attach(|py| py.check_signals()) {
+            Ok(()) => true,
+            Err(e) => {
+                *interrupted = Some(e);
+                false
+            }
+        }
+    }
+}
+
 /// A TOML value as a Python object.
 fn toml_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
     Ok(match v {
@@ -172,16 +238,11 @@ impl Scenario {
     }
 
     /// A scenario from a TOML file (the CLI's `tippetop run FILE`; the file
-    /// may name a `preset` to start from).
+    /// may name a `preset` to start from). ValueError naming the file if it
+    /// cannot be read or is larger than 16 MiB.
     #[staticmethod]
     fn from_file(path: std::path::PathBuf) -> PyResult<Self> {
-        let text = std::fs::read_to_string(&path).map_err(|e| {
-            to_py_err(tippetop::Error::invalid(
-                "scenario",
-                format!("cannot read {}: {e}", path.display()),
-                "a readable TOML file".into(),
-            ))
-        })?;
+        let text = tippetop::limits::read_file(&path).map_err(to_py_err)?;
         Scenario::load(None, Some(text), Vec::new())
     }
 
@@ -206,10 +267,23 @@ impl Scenario {
     /// together, for keys that depend on each other (e.g.
     /// `{"surface.friction_law": "regularized", "surface.friction_eps":
     /// 1e-2}` [m/s], which `set` one at a time rejects). Values as in `set`.
+    /// TypeError if `values` is not a mapping or a key is not a str.
     fn set_many(&self, values: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let Ok(map) = values.cast::<PyMapping>() else {
+            return Err(PyTypeError::new_err(format!(
+                "set_many: expected a dict of key: value (a mapping), got {}",
+                values.get_type().name()?
+            )));
+        };
         let mut sets = self.sets.clone();
-        for item in values.call_method0("items")?.try_iter()? {
-            let (key, value): (String, Bound<'_, PyAny>) = item?.extract()?;
+        for item in map.items()?.try_iter()? {
+            let (key, value): (Bound<'_, PyAny>, Bound<'_, PyAny>) = item?.extract()?;
+            let Ok(key) = key.extract::<String>() else {
+                return Err(PyTypeError::new_err(format!(
+                    "set_many: the keys are scenario keys (str, e.g. \"top.offset\"), got {}",
+                    key.get_type().name()?
+                )));
+            };
             sets.push(format!("{key}={}", set_value_text(&value)?));
         }
         Scenario::load(self.preset.clone(), self.toml.clone(), sets)
@@ -464,14 +538,27 @@ impl Trajectory {
 #[pyfunction]
 fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
     let sc = &scenario.sc;
+    // The resumable driver to t_end (the same run as `simulate`, bit for
+    // bit), asking about Ctrl-C every few thousand steps.
+    let mut interrupted: Option<PyErr> = None;
     let (traj, wall) = py.detach(|| {
         guarded(|| {
             let start = Instant::now();
-            let r = tippetop::simulate(sc);
+            let r = tippetop::Simulation::new(sc).and_then(|mut sim| {
+                let done = sim
+                    .integrate_to_while(sc.solver.t_end, &mut signals_checker(&mut interrupted))?;
+                Ok(done.then(|| sim.into_trajectory()))
+            });
             (r, start.elapsed().as_secs_f64())
         })
     })?;
-    Trajectory::new(py, sc, traj.map_err(to_py_err)?, wall)
+    if let Some(e) = interrupted {
+        return Err(e);
+    }
+    let traj = traj
+        .map_err(to_py_err)?
+        .ok_or_else(|| PyRuntimeError::new_err("internal error: the run stopped early"))?;
+    Trajectory::new(py, sc, traj, wall)
 }
 
 /// The axis of `vary[key]`: a tuple `(lo, hi, n)` or `(lo, hi, n, "log")`
@@ -551,14 +638,16 @@ fn vary_axis(key: &str, spec: &Bound<'_, PyAny>) -> PyResult<Axis> {
 /// (counts), all float64, NaN where the CSV field is empty; then `status`
 /// (str: `"ok"` or the case's error; a failing case does not stop the
 /// sweep). Bit for bit the CLI's `sweep.csv`, whatever `threads`. Bad input
-/// raises ValueError naming the key; Ctrl-C stops the sweep.
+/// raises ValueError naming the key; `threads` is an int (TypeError for
+/// another type, ValueError out of range); at most 1 000 000 cases (the
+/// result is kept in memory); Ctrl-C stops the sweep.
 #[pyfunction]
 #[pyo3(signature = (scenario, vary, threads = None))]
 fn sweep<'py>(
     py: Python<'py>,
     scenario: &Scenario,
     vary: &Bound<'py, PyDict>,
-    threads: Option<i64>,
+    threads: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mut axes = Vec::new();
     for (k, v) in vary.iter() {
@@ -572,16 +661,7 @@ fn sweep<'py>(
             "vary: no keys given (one or more, e.g. {\"top.offset\": (3e-4, 6e-3, 20)})",
         ));
     }
-    let threads = match threads {
-        None => None,
-        Some(t) => Some(usize::try_from(t).map_err(|_| {
-            PyValueError::new_err(format!(
-                "--threads: {t} threads (1 to {}; more threads than cores only add overhead)",
-                analysis::sweep::MAX_THREADS
-            ))
-        })?),
-    };
-    let threads = analysis::sweep::threads(threads).map_err(to_py_err)?;
+    let threads = threads_arg(threads.as_ref())?;
     let sw = Sweep {
         preset: scenario.preset.clone(),
         toml_text: scenario.toml.clone(),
@@ -589,23 +669,28 @@ fn sweep<'py>(
         axes,
     };
     guarded(|| sw.validate())?.map_err(to_py_err)?;
+    if sw.total() > MAX_SWEEP_CASES {
+        return Err(PyValueError::new_err(format!(
+            "vary: {} cases (at most {MAX_SWEEP_CASES} in Python, whose result is kept in \
+             memory; the CLI's tippetop sweep streams up to 1000000000)",
+            sw.total()
+        )));
+    }
+    let threads = guarded(|| sw.threads_within_memory(threads))?.map_err(to_py_err)?;
 
-    // The rows, with the GIL released; Ctrl-C (checked about every 0.1 s,
-    // with the GIL taken for a moment) stops the sweep.
-    let mut rows = Vec::with_capacity(sw.total().min(1 << 20));
+    // The rows, with the GIL released, kept as the table's columns (not
+    // the rows themselves); Ctrl-C (checked about every 0.1 s, with the
+    // GIL taken for a moment) stops the sweep.
+    let mut table = Table::from_rows(&sw.axes, &[]);
     let mut interrupted: Option<PyErr> = None;
     let run = py.detach(|| {
-        let mut last = Instant::now();
+        let mut keep_going = signals_checker(&mut interrupted);
         sw.run_streaming(0..sw.total(), Some(threads), &mut |row| {
-            rows.push(row);
-            if last.elapsed().as_secs_f64() >= 0.1 {
-                last = Instant::now();
-                if let Err(e) = Python::attach(|py| py.check_signals()) {
-                    interrupted = Some(e);
-                    return false;
-                }
-            }
-            true
+            let one = Table::from_rows(&sw.axes, std::slice::from_ref(&row));
+            table.values.extend(one.values);
+            table.fields.extend(one.fields);
+            table.status.extend(one.status);
+            keep_going()
         })
     });
     if let Some(e) = interrupted {
@@ -613,7 +698,6 @@ fn sweep<'py>(
     }
     run.map_err(|e| PyRuntimeError::new_err(one_line(&e.to_string())))?;
 
-    let table = Table::from_rows(&sw.axes, &rows);
     let out = PyDict::new(py);
     for key in &table.keys {
         let col = table.column(key).unwrap_or_default();
@@ -647,32 +731,27 @@ fn sweep<'py>(
 /// 95 % intervals of the final θ, ω, Ω, energy; first passages with the
 /// Kaplan–Meier median and the escape rate). Bit for bit the CLI's
 /// `ensemble.csv`, whatever `threads`. Bad input raises ValueError naming
-/// the key.
+/// the key; `runs` (1 to 1 000 000) and `threads` (1 to 1024) are ints:
+/// TypeError for another type, ValueError out of range. Fewer runs run at
+/// once than `threads` when more would need more than 3 GiB.
 #[pyfunction]
 #[pyo3(signature = (scenario, runs, threads = None, first_passage = None))]
 fn ensemble<'py>(
     py: Python<'py>,
     scenario: &Scenario,
-    runs: i64,
-    threads: Option<i64>,
+    runs: Bound<'py, PyAny>,
+    threads: Option<Bound<'py, PyAny>>,
     first_passage: Option<String>,
 ) -> PyResult<Bound<'py, PyDict>> {
     use tippetop::analysis::ensemble as ens;
-    let runs = usize::try_from(runs).map_err(|_| {
-        PyValueError::new_err(format!(
-            "--runs: {runs} runs (N >= 1, with the run indices below 4294967296)"
-        ))
-    })?;
-    let threads = match threads {
-        None => None,
-        Some(t) => Some(usize::try_from(t).map_err(|_| {
-            PyValueError::new_err(format!(
-                "--threads: {t} threads (1 to {}; more threads than cores only add overhead)",
-                analysis::sweep::MAX_THREADS
-            ))
-        })?),
-    };
-    let threads = analysis::sweep::threads(threads).map_err(to_py_err)?;
+    let range = format!(
+        "1 <= runs <= {}, with the run indices below 4294967296",
+        tippetop::thermal::MAX_ENSEMBLE_RUNS
+    );
+    let n = int_arg(&runs, "--runs", &range)?;
+    let runs = usize::try_from(n)
+        .map_err(|_| PyValueError::new_err(format!("--runs: {n} runs ({range})")))?;
+    let threads = threads_arg(threads.as_ref())?;
     let exit = first_passage
         .as_deref()
         .map(ens::Exit::parse)
@@ -688,47 +767,46 @@ fn ensemble<'py>(
     })?
     .map_err(to_py_err)?
     .with_exit(exit);
+    let threads = e.threads_within_memory(threads).map_err(to_py_err)?;
 
-    let mut lines: Vec<String> = Vec::with_capacity(runs.min(1 << 20));
+    // Each row goes into the columns and the statistics as it comes (no
+    // row is kept).
+    let header = ens::csv_header();
+    let names: Vec<&str> = header.trim_end().split(',').collect();
+    let mut acc = ens::StatsAcc::default();
+    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(runs); names.len()];
+    let mut status = Vec::with_capacity(runs);
+    let mut bad_row: Option<PyErr> = None;
     let mut interrupted: Option<PyErr> = None;
     let done = py.detach(|| {
-        let mut last = Instant::now();
+        let mut keep_going = signals_checker(&mut interrupted);
         e.run_streaming(0..runs, Some(threads), &mut |row| {
-            lines.push(ens::csv_row(&row));
-            if last.elapsed().as_secs_f64() >= 0.1 {
-                last = Instant::now();
-                if let Err(err) = Python::attach(|py| py.check_signals()) {
-                    interrupted = Some(err);
-                    return false;
-                }
+            let line = ens::csv_row(&row);
+            let line = line.trim_end();
+            let Some(r) = ens::parse_row(line) else {
+                bad_row = Some(PyRuntimeError::new_err(
+                    "internal: an ensemble row did not parse",
+                ));
+                return false;
+            };
+            acc.push(&r);
+            for (c, name) in cols.iter_mut().zip(&names) {
+                c.push(match *name {
+                    "run" => r.run as f64,
+                    "seed" => r.seed as f64,
+                    "status" => f64::NAN,
+                    n => r.get(n).unwrap_or(f64::NAN),
+                });
             }
-            true
+            status.push(r.status);
+            keep_going()
         })
     });
-    if let Some(err) = interrupted {
+    if let Some(err) = interrupted.or(bad_row) {
         return Err(err);
     }
     done.map_err(|err| PyRuntimeError::new_err(one_line(&err.to_string())))?;
 
-    let header = ens::csv_header();
-    let names: Vec<&str> = header.trim_end().split(',').collect();
-    let mut acc = ens::StatsAcc::default();
-    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(lines.len()); names.len()];
-    let mut status = Vec::with_capacity(lines.len());
-    for (j, line) in lines.iter().enumerate() {
-        acc.push_line(j + 2, line.trim_end()).map_err(to_py_err)?;
-        let r = ens::parse_row(line.trim_end())
-            .ok_or_else(|| PyRuntimeError::new_err("internal: an ensemble row did not parse"))?;
-        for (c, name) in cols.iter_mut().zip(&names) {
-            c.push(match *name {
-                "run" => r.run as f64,
-                "seed" => r.seed as f64,
-                "status" => f64::NAN,
-                n => r.get(n).unwrap_or(f64::NAN),
-            });
-        }
-        status.push(r.status.clone());
-    }
     let out = PyDict::new(py);
     for (c, name) in cols.into_iter().zip(&names) {
         if *name == "status" {
@@ -851,6 +929,20 @@ struct Snapshot {
     /// only briefly, with the GIL held.
     inner: Mutex<tippetop::Snapshot>,
     wall: f64,
+    /// [`fingerprint`] of the scenario of the simulation it was taken
+    /// from: `restore` refuses it in a simulation of another scenario.
+    fingerprint: String,
+}
+
+/// A 16-hex-digit hash (FNV-1a) of the resolved scenario (its complete
+/// TOML, every key explicit): what a snapshot belongs to.
+fn fingerprint(sc: &tippetop::Scenario) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in sc.to_toml_string().as_bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    format!("{h:016x}")
 }
 
 /// The state of a `Simulation` behind its lock.
@@ -868,6 +960,8 @@ struct SimState {
 #[pyclass(module = "tippetop", frozen)]
 struct Simulation {
     sc: tippetop::Scenario,
+    /// [`fingerprint`] of `sc`.
+    fingerprint: String,
     /// Taken with `try_lock` only: a thread that waited for it while
     /// holding the GIL would deadlock with `integrate_to`, which holds it
     /// with the GIL released.
@@ -905,6 +999,7 @@ impl Simulation {
         let sim = guarded(|| tippetop::Simulation::new(&scenario.sc))?.map_err(to_py_err)?;
         Ok(Simulation {
             sc: scenario.sc.clone(),
+            fingerprint: fingerprint(&scenario.sc),
             state: Mutex::new(SimState {
                 sim: Some(sim),
                 wall: 0.0,
@@ -914,7 +1009,9 @@ impl Simulation {
 
     /// Integrate until the run has passed `t` [s] (or ended, or failed: see
     /// `error`), with the GIL released. ValueError if `t` is before the last
-    /// time integrated to or after `solver.t_end`.
+    /// time integrated to or after `solver.t_end`. Ctrl-C raises
+    /// KeyboardInterrupt within a second; the run then stands at its last
+    /// step (`time`) and goes on from there, bit for bit, with the next call.
     fn integrate_to(&self, py: Python<'_>, t: f64) -> PyResult<()> {
         let mut g = self.lock()?;
         let st = &mut *g;
@@ -922,10 +1019,18 @@ impl Simulation {
             return Err(unusable());
         };
         let start = Instant::now();
-        let r = py.detach(|| guarded(|| sim.integrate_to(t)));
+        let mut interrupted: Option<PyErr> = None;
+        let r = py.detach(|| {
+            guarded(|| sim.integrate_to_while(t, &mut signals_checker(&mut interrupted)))
+        });
         st.wall += start.elapsed().as_secs_f64();
         match r {
-            Ok(r) => r.map_err(to_py_err),
+            // Interrupted: the run stands at its last accepted step
+            // (`time`), and can go on from there.
+            Ok(r) => match (r.map_err(to_py_err)?, interrupted) {
+                (false, Some(e)) => Err(e),
+                _ => Ok(()),
+            },
             Err(e) => {
                 st.sim = None;
                 Err(e)
@@ -971,11 +1076,21 @@ impl Simulation {
         Ok(Snapshot {
             inner: Mutex::new(sim.snapshot()),
             wall: g.wall,
+            fingerprint: self.fingerprint.clone(),
         })
     }
 
-    /// Go back to `snapshot` (it replaces the run entirely).
+    /// Go back to `snapshot` (it replaces the run entirely). ValueError if
+    /// the snapshot was taken from a simulation of another scenario (its
+    /// fingerprint, a hash of the resolved scenario, differs).
     fn restore(&self, snapshot: &Snapshot) -> PyResult<()> {
+        if snapshot.fingerprint != self.fingerprint {
+            return Err(PyValueError::new_err(format!(
+                "snapshot: taken from a simulation of another scenario (fingerprint {}, \
+                 this simulation's {}) (a snapshot of this scenario)",
+                snapshot.fingerprint, self.fingerprint
+            )));
+        }
         let snap = snapshot
             .inner
             .lock()
@@ -1005,15 +1120,9 @@ impl Simulation {
             (g.sim.as_ref().ok_or_else(unusable)?.snapshot(), g.wall)
         };
         let sc = &self.sc;
-        let traj = py.detach(move || {
-            guarded(move || {
-                tippetop::Simulation::new(sc).map(|mut s| {
-                    s.restore(&snap);
-                    s.into_trajectory()
-                })
-            })
-        })?;
-        Trajectory::new(py, sc, traj.map_err(to_py_err)?, wall)
+        // One copy of the run (the snapshot), turned into the trajectory.
+        let traj = py.detach(move || guarded(move || snap.into_trajectory()))?;
+        Trajectory::new(py, sc, traj, wall)
     }
 
     fn __repr__(&self) -> PyResult<String> {

@@ -114,3 +114,13 @@ impl Error {
         matches!(self, Error::Invalid { .. })
     }
 }
+
+/// A number for a message: plain for ordinary magnitudes (`0.0015`,
+/// `3.5e-10` as `0.00000000035` is not written), else `1e308` style.
+pub(crate) fn num(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}

@@ -68,7 +68,8 @@
 //! everything else has a default. With a preset every key defaults to the
 //! preset's (literal) value, and a file's `[[force]]` list (even `force = []`)
 //! replaces the preset's list. Precedence: preset < file < `--set`.
-//! Whole numbers are accepted wherever a float is expected.
+//! Whole numbers are accepted wherever a float is expected; every number is
+//! decimal (`0x10`, `0o20`, `0b10000` are refused, naming the key).
 
 pub mod actuator;
 pub mod bit;
@@ -854,7 +855,7 @@ fn describe(v: &Value) -> String {
 
 /// Parse a TOML document; a syntax error becomes a one-line `scenario` error.
 fn parse_document(text: &str) -> Result<Table, Error> {
-    text.parse::<Table>().map_err(|e| {
+    let table = text.parse::<Table>().map_err(|e| {
         let shown = e.to_string();
         let head = shown.lines().next().unwrap_or("TOML parse error").trim();
         let msg: Vec<&str> = e
@@ -869,7 +870,9 @@ fn parse_document(text: &str) -> Result<Table, Error> {
             format!("{head}: {}", msg.join("; "))
         };
         Error::invalid("scenario", what, "valid TOML".into())
-    })
+    })?;
+    check_decimal(text)?;
+    Ok(table)
 }
 
 /// Check every key of `t` against `keys`; `prefix` is the full table key.
@@ -990,10 +993,94 @@ fn merge_file(merged: &mut Table, file: &Table) -> Result<bool, Error> {
     Ok(eps_explicit)
 }
 
-/// A `--set` value: a TOML value if it parses as one, else the raw string.
-fn parse_set_value(s: &str) -> Value {
-    Value::deserialize(toml::de::ValueDeserializer::new(s))
-        .unwrap_or_else(|_| Value::String(s.to_string()))
+/// A `--set` value of `key`: a TOML value if it parses as one, else the
+/// raw string. Error: a number that is not decimal ([`check_decimal`]).
+fn parse_set_value(key: &str, s: &str) -> Result<Value, Error> {
+    if has_radix_prefix(s) {
+        if let Ok(v) = s.parse::<toml_edit::Value>() {
+            non_decimal_value(&v, key).map_or(Ok(()), Err)?;
+        }
+    }
+    Ok(Value::deserialize(toml::de::ValueDeserializer::new(s))
+        .unwrap_or_else(|_| Value::String(s.to_string())))
+}
+
+/// The valid form of a number in a scenario.
+const DECIMAL_RANGE: &str =
+    "a decimal number, e.g. 16 or 1.6e1; hexadecimal, octal and binary are not accepted";
+
+/// Whether `text` could hold a TOML integer in hexadecimal, octal or binary
+/// (a cheap test before parsing it again with its literal text).
+fn has_radix_prefix(text: &str) -> bool {
+    ["0x", "0o", "0b"].iter().any(|p| text.contains(p))
+}
+
+/// The first number of a TOML value written in hexadecimal, octal or binary
+/// (TOML's `0x10`, `0o20`, `0b10000`), as an error naming `key`: in a
+/// scenario every number is decimal (`0x10` is not 16 m).
+fn non_decimal_value(v: &toml_edit::Value, key: &str) -> Option<Error> {
+    match v {
+        toml_edit::Value::Integer(i) => {
+            let raw = i.as_repr().and_then(|r| r.as_raw().as_str())?;
+            let digits = raw.trim_start_matches(['+', '-']);
+            ["0x", "0o", "0b"]
+                .iter()
+                .any(|p| digits.starts_with(p))
+                .then(|| {
+                    Error::invalid(
+                        key,
+                        format!("{raw} is not a decimal number"),
+                        DECIMAL_RANGE.into(),
+                    )
+                })
+        }
+        toml_edit::Value::Array(a) => a.iter().enumerate().find_map(|(i, x)| match x {
+            toml_edit::Value::InlineTable(_) => non_decimal_value(x, &format!("{key}.{i}")),
+            _ => non_decimal_value(x, key),
+        }),
+        toml_edit::Value::InlineTable(t) => t
+            .iter()
+            .find_map(|(k, x)| non_decimal_value(x, &join_key(key, k))),
+        _ => None,
+    }
+}
+
+fn join_key(prefix: &str, key: &str) -> String {
+    if prefix.is_empty() {
+        key.to_string()
+    } else {
+        format!("{prefix}.{key}")
+    }
+}
+
+/// The first non-decimal number of a TOML item, as for
+/// [`non_decimal_value`]; arrays of tables are named `table.K.key`.
+fn non_decimal_item(item: &toml_edit::Item, key: &str) -> Option<Error> {
+    match item {
+        toml_edit::Item::Value(v) => non_decimal_value(v, key),
+        toml_edit::Item::Table(t) => t
+            .iter()
+            .find_map(|(k, x)| non_decimal_item(x, &join_key(key, k))),
+        toml_edit::Item::ArrayOfTables(a) => a.iter().enumerate().find_map(|(i, t)| {
+            t.iter()
+                .find_map(|(k, x)| non_decimal_item(x, &format!("{key}.{i}.{k}")))
+        }),
+        toml_edit::Item::None => None,
+    }
+}
+
+/// Check that every number of a TOML document is decimal (error: the first
+/// that is not, naming its key). Parsed again only if the text has a radix
+/// prefix at all.
+fn check_decimal(text: &str) -> Result<(), Error> {
+    if !has_radix_prefix(text) {
+        return Ok(());
+    }
+    match text.parse::<toml_edit::DocumentMut>() {
+        Ok(doc) => non_decimal_item(doc.as_item(), "").map_or(Ok(()), Err),
+        // Not TOML: the parse that follows reports it.
+        Err(_) => Ok(()),
+    }
 }
 
 /// Apply one `--set TABLE.KEY=VALUE`. Returns whether it sets
@@ -1007,7 +1094,7 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
         ));
     };
     let key = key.trim();
-    let value = parse_set_value(value.trim());
+    let value = parse_set_value(key, value.trim())?;
     let parts: Vec<&str> = key.split('.').collect();
     match parts.as_slice() {
         ["preset"] => Err(Error::invalid(

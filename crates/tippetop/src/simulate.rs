@@ -132,6 +132,11 @@ pub fn simulate_watching_with_progress(
 /// [`simulate_with_progress`].
 pub use crate::sim::record::PROGRESS_EVERY;
 
+/// Accepted steps between two questions to the `keep_going` callback of
+/// [`Simulation::integrate_to_while`]: 1024 (a step takes 0.1 to 10 µs, so
+/// a few hundred times a second or more).
+pub const CHECK_EVERY: u64 = 1024;
+
 /// As [`simulate`], calling `progress(fraction)` with the fraction `t / t_end`
 /// of the run done (in `[0, 1]`) every [`PROGRESS_EVERY`] accepted steps (a
 /// few hundred times per second at most: cheap enough to print or to
@@ -242,6 +247,14 @@ macro_rules! with_sim {
     };
 }
 
+impl Snapshot {
+    /// The run as it stood at the snapshot, as [`Simulation::into_trajectory`]
+    /// gives it (without a second copy of the run).
+    pub fn into_trajectory(self) -> Trajectory {
+        with_sim!(self.inner, s => (*s).finish())
+    }
+}
+
 impl Simulation {
     /// Set up a run of `scenario` at `t = 0` (validated: `Err` for bad
     /// input, as [`simulate`]).
@@ -289,6 +302,22 @@ impl Simulation {
     /// see [`Simulation::error`]). `Err` if `t` is not finite, before the
     /// time of the last call, or after `solver.t_end`.
     pub fn integrate_to(&mut self, t: f64) -> Result<(), Error> {
+        self.integrate_to_while(t, &mut || true).map(|_| ())
+    }
+
+    /// As [`Simulation::integrate_to`], asking `keep_going()` every
+    /// [`CHECK_EVERY`] accepted steps (a few hundred times a second or
+    /// more): when it returns `false` the integration stops after the
+    /// current step and this returns `Ok(false)`. The run is then paused
+    /// at an accepted step before `t`: [`Simulation::time`] is where it
+    /// stands, and integrating on from there gives the same steps, bit for
+    /// bit, as if it had not stopped. `Ok(true)`: the run has passed `t`
+    /// (or ended). For an interrupt (Python's Ctrl-C) in a long call.
+    pub fn integrate_to_while(
+        &mut self,
+        t: f64,
+        keep_going: &mut dyn FnMut() -> bool,
+    ) -> Result<bool, Error> {
         let (tu, t_end) = with_sim!(&self.inner, s => (s.tu, s.t_end));
         let target = t / tu;
         if !(target.is_finite() && target >= self.at && target <= t_end) {
@@ -303,12 +332,14 @@ impl Simulation {
             ));
         }
         let observer = &mut self.observer;
-        with_sim!(&mut self.inner, s => match observer {
-            Some(f) => s.advance(target, &mut |m, t, y| f(&m.row(t, y)), &mut |_| {}),
-            None => s.advance(target, &mut |_, _, _| {}, &mut |_| {}),
+        let done = with_sim!(&mut self.inner, s => match observer {
+            Some(f) => s.advance_while(target, &mut |m, t, y| f(&m.row(t, y)), &mut |_| {}, keep_going),
+            None => s.advance_while(target, &mut |_, _, _| {}, &mut |_| {}, keep_going),
         });
-        self.at = target.min(with_sim!(&self.inner, s => s.reached()));
-        Ok(())
+        let reached = with_sim!(&self.inner, s => s.reached());
+        // Stopped early, the run stands at the end of its last step.
+        self.at = target.min(reached).max(self.at);
+        Ok(done)
     }
 
     /// The time \[s\] the [`Simulation::state`] refers to: the last time
@@ -639,16 +670,38 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         observe: &mut dyn FnMut(&M, f64, &[f64; D]),
         progress: &mut dyn FnMut(f64),
     ) {
+        self.advance_while(target, observe, progress, &mut || true);
+    }
+
+    /// [`Sim::advance`], asking `keep_going()` every [`CHECK_EVERY`]
+    /// accepted steps: when it says no, the run stops there (after an
+    /// accepted step, so it can go on later, bit for bit as if it had not
+    /// stopped) and this returns `false`.
+    fn advance_while(
+        &mut self,
+        target: f64,
+        observe: &mut dyn FnMut(&M, f64, &[f64; D]),
+        progress: &mut dyn FnMut(f64),
+        keep_going: &mut dyn FnMut() -> bool,
+    ) -> bool {
+        let mut checked = self.steps_seen;
         while !self.done {
             if target < self.t_end && self.reached() >= target {
-                return;
+                return true;
             }
             match &self.active {
                 None => self.begin_segment(),
                 Some(a) if a.ended.is_some() => self.handle_end(),
                 Some(_) => self.step_once(observe, progress),
             }
+            if self.steps_seen >= checked + CHECK_EVERY {
+                checked = self.steps_seen;
+                if !keep_going() {
+                    return false;
+                }
+            }
         }
+        true
     }
 
     /// Start a segment at `(t, y)`, emitting the samples at exactly `t`

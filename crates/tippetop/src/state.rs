@@ -361,14 +361,20 @@ pub const SIN_GUARD: f64 = 1e-8;
 pub const MAX_STEPS: u64 = 20_000_000;
 
 /// Largest number of output rows (`solver.samples`). One row takes
-/// [`BYTES_PER_SAMPLE`] (216) bytes in memory (and about 440 bytes of CSV),
-/// so 5 000 000 rows need 1.08 GB while the run is kept in memory (and a
-/// 2.2 GB trajectory.csv): under the few GB of an ordinary machine. A sweep
-/// keeps one run per thread: [`crate::limits::run_memory_bytes`] times the threads.
+/// [`BYTES_PER_SAMPLE`] (224) bytes in memory (and about 440 bytes of CSV),
+/// so 5 000 000 rows need 1.12 GB while the run is kept in memory (and a
+/// 2.2 GB trajectory.csv): within [`crate::limits::MEMORY_BUDGET`]. A
+/// command that runs several runs at once (sweep, ensemble, bit) runs no
+/// more of them at once than fit in that bound
+/// ([`crate::limits::fit_threads`]); an ensemble keeps histograms at every
+/// sample time and has its own, lower limit
+/// (`analysis::ensemble::MAX_SAMPLES`).
 pub const MAX_SAMPLES: usize = 5_000_000;
 
-/// Memory of one output row in a [`crate::Trajectory`] plus its sample time \[bytes\].
-pub const BYTES_PER_SAMPLE: u64 = (std::mem::size_of::<Sample>() + 8) as u64;
+/// Memory of one output row while its run is kept \[bytes\]: the row itself
+/// (a [`Sample`]: 25 `f64` and a `u8`, 208 bytes), its sample time and, in a
+/// stochastic run, the integral of N over its interval (8 bytes each): 224.
+pub const BYTES_PER_SAMPLE: u64 = (std::mem::size_of::<Sample>() + 16) as u64;
 
 /// The default step limit of a run with `method`: [`MAX_STEPS`] for the
 /// explicit methods; a tenth of it for the stiff method (Rodas4P), whose

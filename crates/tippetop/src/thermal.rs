@@ -64,6 +64,14 @@ pub const RUN_RANGE: &str =
 /// Largest `thermal.run` + 1: the stream's counter holds a 32-bit run index.
 pub const MAX_RUNS: u64 = 1 << 32;
 
+/// Largest number of runs of one ensemble (`tippetop ensemble --runs`,
+/// `tippetop bit --runs`, per point of `bit --vary`, Python's
+/// `ensemble`): 1 000 000. What an ensemble keeps per run (the passage
+/// times of its Kaplan–Meier estimate, a bit's run results, Python's
+/// arrays, the rows a merge or `--resume` reads back) stays within the
+/// memory bound ([`crate::limits::MEMORY_BUDGET`]).
+pub const MAX_ENSEMBLE_RUNS: usize = 1_000_000;
+
 /// The `[thermal]` table (SI units).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Thermal {

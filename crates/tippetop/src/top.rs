@@ -7,6 +7,7 @@
 //! `θ = 0` is "standing up" (centre of mass lowest), `θ = π` is inverted.
 
 use crate::Error;
+use crate::error::num;
 
 /// Geometry and mass properties of the top. SI units throughout.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -93,8 +94,8 @@ impl Top {
         if !t.offset.is_finite() || t.offset < 0.0 || t.offset >= t.radius {
             return Err(Error::invalid(
                 "top.offset",
-                format!("{} is out of range", t.offset),
-                format!("0 <= offset < radius = {}", t.radius),
+                format!("{} is out of range", num(t.offset)),
+                format!("0 <= offset < radius = {}", num(t.radius)),
             ));
         }
         if t.inertia_axial > 2.0 * t.inertia_transverse {
@@ -112,8 +113,8 @@ impl Top {
             if !st.radius.is_finite() || st.radius <= 0.0 || st.radius >= t.radius {
                 return Err(Error::invalid(
                     "top.stem_radius",
-                    format!("{} is out of range", st.radius),
-                    format!("0 < stem_radius < radius = {}", t.radius),
+                    format!("{} is out of range", num(st.radius)),
+                    format!("0 < stem_radius < radius = {}", num(t.radius)),
                 ));
             }
             if !st.distance.is_finite() || st.distance - t.offset <= t.radius - st.radius {
@@ -121,11 +122,11 @@ impl Top {
                     "top.stem_distance",
                     format!(
                         "{} is out of range (the stem sphere lies inside the main sphere: it never touches the plane)",
-                        st.distance
+                        num(st.distance)
                     ),
                     format!(
                         "stem_distance > offset + radius - stem_radius = {} [m]",
-                        t.offset + t.radius - st.radius
+                        num(t.offset + t.radius - st.radius)
                     ),
                 ));
             }

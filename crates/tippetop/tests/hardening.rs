@@ -47,7 +47,12 @@ fn extreme_finite_values_are_input_errors_naming_the_key() {
         ("classical", "solver.t_end=1e-320", "solver.t_end"),
         ("classical", "surface.gravity=1e308", "surface.gravity"),
         ("classical", "top.mass=1e-320", "top.mass"),
-        ("nano", "top.mass=1e-320", "force.0.hx"),
+        // The key that caused the overflow (issue 26): the mass makes the
+        // applied force's rate sqrt(|H| / (m R)) infinite, the radius the
+        // inertia unit m R^2.
+        ("nano", "top.mass=1e-320", "top.mass"),
+        ("nano", "top.radius=1e308", "top.radius"),
+        ("classical", "top.radius=1e200", "top.radius"),
         ("classical", "top.mass=1e308", "top.mass"),
         ("classical", "initial.spin=1e308", "solver.t_end"),
         ("nano", "initial.spin=-1e308", "solver.t_end"),
@@ -108,6 +113,72 @@ fn samples_are_bounded_by_memory() {
     assert!(bytes <= limits::MAX_RUN_BYTES, "{bytes}");
     // One row is the size of a Sample and its time: at most a few hundred bytes.
     const { assert!(limits::BYTES_PER_SAMPLE <= 256) };
+}
+
+/// Memory per sample is stated once, and correctly (issue 26: the README
+/// said 144 bytes, the error message 216): a row is one `f64` per
+/// trajectory.csv column but `rolling`, a `u8` padded to 8 (208 bytes),
+/// plus its sample time and a stochastic run's ∫N dt (8 bytes each); the
+/// README and the error message give that figure.
+#[test]
+fn bytes_per_sample_is_derived_from_the_row() {
+    use tippetop::trajectory::COLUMNS;
+    let row = (COLUMNS.len() - 1) * 8 + 8;
+    assert_eq!(std::mem::size_of::<tippetop::Sample>(), row);
+    assert_eq!(limits::BYTES_PER_SAMPLE, (row + 16) as u64);
+    assert_eq!(limits::BYTES_PER_SAMPLE, 224);
+    let readme = include_str!("../../../README.md");
+    let stated = format!("{} bytes per output row", limits::BYTES_PER_SAMPLE);
+    assert!(readme.contains(&stated), "README: {stated:?}");
+    for wrong in ["144 bytes", "216 bytes"] {
+        assert!(!readme.contains(wrong), "README still says {wrong}");
+    }
+    let e = load("classical", &["solver.samples=5000001"])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("each row keeps 224 bytes in memory"), "{e}");
+    // The largest run: 5e6 rows of 224 bytes (1.12 GB) and 100 000 events.
+    let sc = load("classical", &["solver.samples=5000000"]).unwrap();
+    let bytes = limits::run_memory_bytes(&sc.solver);
+    assert!((1_120_000_000..1_140_000_000).contains(&bytes), "{bytes}");
+}
+
+/// How many runs fit at once in the memory bound (3 GiB): all asked for
+/// when small; at 5e6 samples two (3 GiB / 1.12 GB = 2.9), one for 1.2 GB
+/// besides; an error naming the key when not even one fits.
+#[test]
+fn threads_fit_the_memory_bound() {
+    let sc = load("classical", &["solver.samples=5000000"]).unwrap();
+    let big = limits::run_memory_bytes(&sc.solver);
+    assert_eq!(limits::MEMORY_BUDGET, 3 * 1024 * 1024 * 1024);
+    assert_eq!(limits::fit_threads("k", 64, big, 0).unwrap(), 2);
+    assert_eq!(limits::fit_threads("k", 64, big, 1_200_000_000).unwrap(), 1);
+    assert_eq!(limits::fit_threads("k", 1, big, 0).unwrap(), 1);
+    assert_eq!(limits::fit_threads("k", 8, 1_000_000, 0).unwrap(), 8);
+    let e = limits::fit_threads("solver.samples", 4, big, 2_500_000_000)
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("solver.samples: needs 3.6"), "{e}");
+    assert!(e.contains("at most 3.221 GB"), "{e}");
+    // A sweep of such runs: two at once, whatever is asked.
+    let sw = tippetop::analysis::sweep::Sweep {
+        preset: Some("classical".into()),
+        toml_text: None,
+        sets: sets(&["solver.samples=5000000"]),
+        axes: vec![tippetop::analysis::sweep::Axis::parse("top.offset=1e-3:2e-3:4").unwrap()],
+    };
+    assert_eq!(sw.max_samples(), 5_000_000);
+    assert_eq!(sw.threads_within_memory(1024).unwrap(), 2);
+    // Varied samples: the largest value counts.
+    let sw = tippetop::analysis::sweep::Sweep {
+        axes: vec![
+            tippetop::analysis::sweep::Axis::parse("solver.samples=1001:4000001:3").unwrap(),
+        ],
+        sets: Vec::new(),
+        ..sw
+    };
+    assert_eq!(sw.max_samples(), 4_000_001);
+    assert_eq!(sw.threads_within_memory(1024).unwrap(), 3);
 }
 
 /// Defect 3: the step limit fires on every model and method, counted over

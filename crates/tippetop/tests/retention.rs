@@ -72,16 +72,63 @@ fn interval_and_birge_scaling() {
     assert_eq!(two.dof, 0);
 }
 
+/// Bad points are input errors with the key `points` (the argument; not
+/// an option of any command), the point and its field in words (no Rust
+/// debug text), and the valid range; the ranges' ends are accepted.
 #[test]
 fn bad_rates_are_input_errors() {
     let one = exact(1e12, 1e-19, &[500.0], 0.1);
     let same = exact(1e12, 1e-19, &[500.0, 500.0], 0.1);
-    let mut zero = exact(1e12, 1e-19, &[500.0, 600.0], 0.1);
-    zero[0].rate = 0.0;
-    for pts in [one, same, zero] {
+    let base = exact(1e12, 1e-19, &[500.0, 600.0], 0.1);
+    let with = |f: fn(&mut RatePoint)| {
+        let mut p = base.clone();
+        f(&mut p[1]);
+        p
+    };
+    for (pts, field) in [
+        (one, ""),
+        (same, ""),
+        (with(|p| p.rate = 0.0), "point 1: rate: "),
+        (with(|p| p.rate = f64::INFINITY), "point 1: rate: "),
+        (with(|p| p.rate = 2e300), "point 1: rate: "),
+        (with(|p| p.temperature = 1e308), "point 1: temperature: "),
+        (with(|p| p.temperature = f64::NAN), "point 1: temperature: "),
+        (with(|p| p.temperature = 5e-4), "point 1: temperature: "),
+        (with(|p| p.ln_rate_se = 0.0), "point 1: ln_rate_se: "),
+        (with(|p| p.ln_rate_se = 1.5), "point 1: ln_rate_se: "),
+    ] {
         match fit_arrhenius(&pts) {
-            Err(tippetop::Error::Invalid { key, .. }) => assert_eq!(key, "--rates"),
+            Err(e @ tippetop::Error::Invalid { .. }) => {
+                let msg = e.to_string();
+                assert!(msg.starts_with(&format!("points: {field}")), "{msg}");
+                assert!(!msg.contains("RatePoint"), "{msg}");
+            }
             other => panic!("{other:?}"),
         }
     }
+    // The ends of the ranges are valid points.
+    let mut ends = exact(1e12, 1e-19, &[1e-3, 1e5], 1.0);
+    ends[0].rate = 1e-300;
+    ends[1].rate = 1e300;
+    assert!(fit_arrhenius(&ends).is_ok());
+}
+
+/// The extrapolation is checked: a target out of range or one whose rate
+/// `f64` cannot hold (1e-3 K below a 1 eV barrier: `exp(-1.2e7)`) is an
+/// input error naming the target's key; within range and finite it is the
+/// unchecked value.
+#[test]
+fn extrapolation_beyond_f64_is_refused() {
+    let e = 1.602176634e-19;
+    let f = fit_arrhenius(&exact(1e12, e, &[500.0, 600.0], 0.1)).unwrap();
+    for t in [1e-3, 1e308, 0.0, -1.0, f64::NAN] {
+        match f.extrapolate_checked("--temperature", t) {
+            Err(tippetop::Error::Invalid { key, .. }) => assert_eq!(key, "--temperature"),
+            other => panic!("{t}: {other:?}"),
+        }
+    }
+    assert_eq!(
+        f.extrapolate_checked("--temperature", 300.0).unwrap(),
+        f.extrapolate(300.0)
+    );
 }

@@ -259,3 +259,58 @@ fn simulation_is_send() {
     let tr = handle.join().expect("no panic");
     assert_same("thread", &tr, &simulate(&sc).expect("valid"));
 }
+
+/// `integrate_to_while` (Python's Ctrl-C, issue 26): stopped by its
+/// callback every few thousand steps and called again each time, the run
+/// is the uninterrupted run, bit for bit; the callback is asked every
+/// `CHECK_EVERY` accepted steps (so a long call can be interrupted), the
+/// run stands at an accepted step before the target each time it stops,
+/// and a callback that always agrees stops nothing.
+#[test]
+fn interrupted_integration_continues_bit_for_bit() {
+    let mut all_stops = 0;
+    for (name, sc) in cases() {
+        let whole = simulate(&sc).unwrap();
+        let mut sim = Simulation::new(&sc).unwrap();
+        let t_end = sc.solver.t_end;
+        let mut stops = 0u64;
+        let mut asked = 0u64;
+        loop {
+            let before = sim.time();
+            let mut n = 0;
+            let done = sim
+                .integrate_to_while(t_end, &mut || {
+                    n += 1;
+                    asked += 1;
+                    n < 3
+                })
+                .unwrap();
+            if done {
+                break;
+            }
+            stops += 1;
+            assert!(sim.time() > before && sim.time() < t_end, "{name}");
+            assert!(!sim.is_finished(), "{name}");
+        }
+        let steps = whole.summary.steps;
+        // Stopped at every third question, each question after
+        // CHECK_EVERY more steps (a segment's end may add one).
+        assert!(
+            asked >= steps / tippetop::simulate::CHECK_EVERY / 2,
+            "{name}: {asked} questions for {steps} steps"
+        );
+        assert!(
+            stops + 1 >= asked / 3 && stops <= asked / 3,
+            "{name}: {stops} stops, {asked} questions"
+        );
+        assert_same(&name, &whole, &sim.into_trajectory());
+        let mut free = Simulation::new(&sc).unwrap();
+        assert!(free.integrate_to_while(t_end, &mut || true).unwrap());
+        assert_same(&name, &whole, &free.into_trajectory());
+        all_stops += stops;
+    }
+    assert!(
+        all_stops >= 10,
+        "{all_stops} stops: the cases are too short"
+    );
+}

@@ -400,7 +400,8 @@ pub fn load_movie(dir: &Path, settings: &Settings) -> std::result::Result<Movie,
     let read = |p: &Path| {
         std::fs::read_to_string(p).map_err(|e| LoadError::Input(bad(p, format!("unreadable: {e}"))))
     };
-    let toml = read(&scenario_path)?;
+    let toml =
+        tippetop::limits::read_file(&scenario_path).map_err(|e| LoadError::Input(e.to_string()))?;
     let scenario =
         Scenario::from_toml_str(&toml).map_err(|e| LoadError::Input(bad(&scenario_path, e)))?;
     let rows = parse_rows(&csv_path, &read(&csv_path)?)
@@ -517,14 +518,14 @@ pub fn run(args: &AnimateArgs, quiet: bool) -> Result<ExitCode> {
         let dir = args.dir.display();
         println!("frames: {} ({})", movie.frames.len(), movie.source);
         println!(
-            "wrote {dir}/animation.gif ({} frames, {}x{}, {} fps, {:.2} MB) and {dir}/viewer.html ({:.0} kB) in {:.1} s",
+            "wrote {dir}/animation.gif ({} frames, {}x{}, {} fps, {:.2} MB) and {dir}/viewer.html ({:.0} kB) in {}",
             stats.frames,
             settings.width,
             settings.height,
             settings.fps,
             stats.bytes as f64 / 1e6,
             html.len() as f64 / 1e3,
-            start.elapsed().as_secs_f64()
+            crate::output::fmt_duration(start.elapsed().as_secs_f64())
         );
     }
     Ok(ExitCode::SUCCESS)

@@ -292,6 +292,21 @@ pub fn evaluate_run(
     }
 }
 
+/// How many runs of a bit ensemble of `runs` runs may run at once within
+/// [`crate::limits::MEMORY_BUDGET`]: at most `threads`, each keeping its
+/// run ([`crate::limits::run_memory_bytes`]); the command keeps every
+/// run's result and its row of `runs.csv` (read back for the statistics).
+/// Error (key `solver.samples`) if not even one run fits.
+pub fn threads_within_memory(
+    bs: &BitScenario,
+    runs: usize,
+    threads: usize,
+) -> Result<usize, crate::Error> {
+    let result = (std::mem::size_of::<RunResult>() + 256) as u64;
+    let per_run = crate::limits::run_memory_bytes(&bs.scenario.solver) + 9 * result;
+    crate::limits::fit_threads("solver.samples", threads, per_run, runs as u64 * result)
+}
+
 /// Run `k` of the bit scenario (`thermal.run = r0 + k`) and evaluate it.
 /// Never fails: bad input (which [`BitScenario::load`] has excluded) and
 /// panics become a failed run.

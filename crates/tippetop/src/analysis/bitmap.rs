@@ -35,7 +35,7 @@ use crate::analysis::sweep::{
     self, Case, Prefix, Shard, ShardInfo, Sweep, fmt_f64, run_ordered, status_field,
 };
 use crate::scenario::bit::BitScenario;
-use crate::thermal::MAX_RUNS;
+use crate::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
 
 /// The figures of each block, after its name and `_` (units: times \[s\],
 /// energy \[J\], force \[N\]; the rest are counts or fractions).
@@ -117,15 +117,16 @@ impl BitMap {
         self.grid.total()
     }
 
-    /// Check the map before running anything: `runs` in `1..=2^32`, the
+    /// Check the map before running anything: `runs` in `1..=`
+    /// [`MAX_ENSEMBLE_RUNS`], the
     /// axes and the grid as [`Sweep::validate`] with bit scenarios (a key
     /// that no point accepts is named in the error).
     pub fn validate(&self) -> Result<(), Error> {
-        if self.runs == 0 || self.runs as u64 > MAX_RUNS {
+        if self.runs == 0 || self.runs > MAX_ENSEMBLE_RUNS {
             return Err(Error::invalid(
                 "--runs",
                 format!("{} runs per point", self.runs),
-                format!("1 to {MAX_RUNS}"),
+                format!("1 to {MAX_ENSEMBLE_RUNS}"),
             ));
         }
         self.grid
@@ -180,6 +181,21 @@ impl BitMap {
         }
         let results: Vec<RunResult> = (0..runs).map(|k| bit::run_one(bs, k as u64)).collect();
         Ok(bit::report_of(&Protocol::of(bs), &results, !stochastic))
+    }
+
+    /// How many points the map may run at once within
+    /// [`crate::limits::MEMORY_BUDGET`]: at most `threads`, each keeping a
+    /// run of the grid's largest `solver.samples` and the results of its
+    /// `runs` runs. Error (key `solver.samples`) if not even one fits.
+    pub fn threads_within_memory(&self, threads: usize) -> Result<usize, Error> {
+        let samples = self
+            .grid
+            .max_samples_with(&|case| self.load_case(case).ok().map(|b| b.scenario.solver.samples));
+        let result = (std::mem::size_of::<RunResult>() + 64) as u64;
+        let row = (std::mem::size_of::<MapRow>() + std::mem::size_of::<Report>() + 1024) as u64;
+        let per_point =
+            crate::limits::run_memory_bytes_for(samples) + self.runs as u64 * result + 9 * row;
+        crate::limits::fit_threads("solver.samples", threads, per_point, 16 * row)
     }
 
     /// Run the points `range` on `threads` threads (`None`: see

@@ -56,7 +56,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::sweep::{self, Shard, fmt_f64, fnv1a, status_field};
-use crate::thermal::MAX_RUNS;
+use crate::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
 use crate::trajectory::COLUMNS;
 use crate::{Error, Method, Scenario};
 
@@ -92,7 +92,18 @@ pub const Z95: f64 = 1.96;
 
 /// Valid range of `--runs`.
 const RUNS_RANGE: &str =
-    "N >= 1, with the run indices thermal.run .. thermal.run + N - 1 below 4294967296";
+    "1 <= N <= 1000000, with the run indices thermal.run .. thermal.run + N - 1 below 4294967296";
+
+/// Largest `solver.samples` of an ensemble's runs: 100 000. The histograms
+/// keep [`HIST_BYTES_PER_SAMPLE`] bytes at every sample time (162 MB at
+/// 100 000 samples, twice that while `histograms.csv` and the `--resume`
+/// checkpoint are written); at the run's own limit
+/// ([`crate::limits::MAX_SAMPLES`], 5 000 000) they would need 8.1 GB.
+pub const MAX_SAMPLES: usize = 100_000;
+
+/// Memory of the histograms at one sample time \[bytes\]: three quantities
+/// of [`BINS`] + 3 counts (8 bytes each) and the sample time (16).
+pub const HIST_BYTES_PER_SAMPLE: u64 = (3 * (BINS + 3) * 8 + 16) as u64;
 
 /// An ensemble: a base scenario (as for [`Scenario::load`]) run `runs`
 /// times with independent noise.
@@ -356,8 +367,19 @@ impl Ensemble {
     ) -> Result<Ensemble, Error> {
         let scenario = Scenario::load(preset.as_deref(), toml_text.as_deref(), &sets)?;
         check_scenario(&scenario)?;
+        let samples = scenario.solver.samples;
+        if samples > MAX_SAMPLES {
+            return Err(Error::invalid(
+                "solver.samples",
+                format!(
+                    "{samples} samples for an ensemble: its histograms would need {} ({HIST_BYTES_PER_SAMPLE} bytes per sample)",
+                    crate::limits::fmt_bytes(HIST_BYTES_PER_SAMPLE.saturating_mul(samples as u64))
+                ),
+                format!("2 <= samples <= {MAX_SAMPLES} for an ensemble"),
+            ));
+        }
         let room = MAX_RUNS - scenario.thermal.run.min(MAX_RUNS);
-        if runs == 0 || runs as u64 > room {
+        if runs == 0 || runs > MAX_ENSEMBLE_RUNS || runs as u64 > room {
             return Err(Error::invalid(
                 "--runs",
                 format!("{runs} runs from thermal.run = {}", scenario.thermal.run),
@@ -479,6 +501,23 @@ impl Ensemble {
             ));
         }
         sweep::run_ordered(range, threads, &|i| self.run(i), sink)
+    }
+
+    /// How many runs the ensemble may run at once within
+    /// [`crate::limits::MEMORY_BUDGET`]: at most `threads`. A run keeps
+    /// its trajectory ([`crate::limits::run_memory_bytes`]) and its row
+    /// (32 bytes per sample for the histograms); up to
+    /// [`sweep::window`]`(threads)` rows wait to be written in order; the
+    /// command keeps the histograms (twice, while they are written) and 32
+    /// bytes per run for the Kaplan–Meier estimate. Error (key
+    /// `solver.samples`) if not even one run fits.
+    pub fn threads_within_memory(&self, threads: usize) -> Result<usize, Error> {
+        let samples = self.scenario.solver.samples as u64;
+        let row = std::mem::size_of::<RunRow>() as u64 + 32 * samples;
+        let hist = HIST_BYTES_PER_SAMPLE * samples;
+        let per_run = crate::limits::run_memory_bytes(&self.scenario.solver) + 9 * row;
+        let fixed = 2 * hist + 16 * row + 32 * self.runs as u64;
+        crate::limits::fit_threads("solver.samples", threads, per_run, fixed)
     }
 
     /// The histogram ranges of this ensemble ([`ranges`]).

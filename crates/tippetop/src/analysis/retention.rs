@@ -19,6 +19,7 @@
 use serde::Serialize;
 
 use crate::Error;
+use crate::error::num;
 use crate::thermal::BOLTZMANN;
 
 /// One measured escape rate.
@@ -71,26 +72,81 @@ pub struct Extrapolation {
     pub time_ci95: [f64; 2],
 }
 
+/// Smallest temperature of a fitted point or of the target \[K\].
+pub const MIN_TEMPERATURE: f64 = 1e-3;
+/// Largest temperature of a fitted point or of the target \[K\] (as
+/// `tippetop regime`'s).
+pub const MAX_TEMPERATURE: f64 = 1e5;
+/// Smallest escape rate of a fitted point \[1/s\].
+pub const MIN_RATE: f64 = 1e-300;
+/// Largest escape rate of a fitted point \[1/s\].
+pub const MAX_RATE: f64 = 1e300;
+
+/// Valid range of a temperature (of a point or of the target).
+pub const TEMPERATURE_RANGE: &str = "1e-3 <= temperature <= 1e5 [K]";
+/// Valid range of a point's escape rate.
+pub const RATE_RANGE: &str = "1e-300 <= rate <= 1e300 [1/s]";
+/// Valid range of a point's standard error of `ln rate` (`1/sqrt(passages)`
+/// with at least one passage).
+pub const SE_RANGE: &str = "0 < ln_rate_se <= 1 (1/sqrt(passages))";
+
+/// Check a temperature \[K\] against [`TEMPERATURE_RANGE`] (error key `key`).
+pub fn check_temperature(key: &str, t: f64) -> Result<(), Error> {
+    if (MIN_TEMPERATURE..=MAX_TEMPERATURE).contains(&t) {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            key,
+            format!("{} K is out of range", num(t)),
+            TEMPERATURE_RANGE.into(),
+        ))
+    }
+}
+
+impl RatePoint {
+    /// Check the point's values against [`TEMPERATURE_RANGE`],
+    /// [`RATE_RANGE`] and [`SE_RANGE`]; the error's key is the field
+    /// (`temperature`, `rate`, `ln_rate_se`).
+    pub fn check(&self) -> Result<(), Error> {
+        check_temperature("temperature", self.temperature)?;
+        if !(MIN_RATE..=MAX_RATE).contains(&self.rate) {
+            return Err(Error::invalid(
+                "rate",
+                format!("{} 1/s is out of range", num(self.rate)),
+                RATE_RANGE.into(),
+            ));
+        }
+        if !(self.ln_rate_se > 0.0 && self.ln_rate_se <= 1.0) {
+            return Err(Error::invalid(
+                "ln_rate_se",
+                format!("{} is out of range", num(self.ln_rate_se)),
+                SE_RANGE.into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Fit the Arrhenius law to `points` (weights `1/se²` on `ln k`). Needs at
-/// least two distinct temperatures, every rate and SE finite and positive
-/// (error key `--rates`).
+/// least two distinct temperatures and every point within its ranges
+/// ([`RatePoint::check`]); error key `points` (the message names the
+/// point, 0-based, and its field). An error too if the fit is not finite
+/// (temperatures too close to tell a slope).
 pub fn fit_arrhenius(points: &[RatePoint]) -> Result<ArrheniusFit, Error> {
     let bad = |what: String| {
         Error::invalid(
-            "--rates",
+            "points",
             what,
-            "at least two escape rates > 0 with standard errors > 0, at two or more temperatures > 0".into(),
+            "escape rates at two or more distinct temperatures".into(),
         )
     };
-    for p in points {
-        if !(p.temperature > 0.0
-            && p.temperature.is_finite()
-            && p.rate > 0.0
-            && p.rate.is_finite()
-            && p.ln_rate_se > 0.0
-            && p.ln_rate_se.is_finite())
-        {
-            return Err(bad(format!("{p:?}")));
+    for (i, p) in points.iter().enumerate() {
+        if let Err(Error::Invalid { key, what, range }) = p.check() {
+            return Err(Error::invalid(
+                "points",
+                format!("point {i}: {key}: {what}"),
+                range,
+            ));
         }
     }
     let (mut s, mut sx, mut sxx, mut sy, mut sxy) = (0.0, 0.0, 0.0, 0.0, 0.0);
@@ -136,6 +192,16 @@ pub fn fit_arrhenius(points: &[RatePoint]) -> Result<ArrheniusFit, Error> {
         [-birge * sx / delta, birge * s / delta],
     ];
     let barrier = -slope;
+    if !(slope.is_finite()
+        && intercept.is_finite()
+        && covariance.iter().flatten().all(|c| c.is_finite()))
+    {
+        return Err(bad(format!(
+            "the fit is not finite (ln k = {} - {} / (k_B T)): temperatures too close together",
+            num(intercept),
+            num(barrier)
+        )));
+    }
     Ok(ArrheniusFit {
         ln_prefactor: intercept,
         barrier,
@@ -149,8 +215,37 @@ pub fn fit_arrhenius(points: &[RatePoint]) -> Result<ArrheniusFit, Error> {
 }
 
 impl ArrheniusFit {
+    /// [`ArrheniusFit::extrapolate`], checked: `temperature` within
+    /// [`TEMPERATURE_RANGE`] and the rate, the time and their intervals
+    /// finite and non-zero in `f64` (error key `key`, the target's name).
+    pub fn extrapolate_checked(&self, key: &str, temperature: f64) -> Result<Extrapolation, Error> {
+        check_temperature(key, temperature)?;
+        let at = self.extrapolate(temperature);
+        let fine = |x: f64| x.is_finite() && x > 0.0;
+        if !([at.rate, at.mean_time]
+            .into_iter()
+            .chain(at.rate_ci95)
+            .chain(at.time_ci95))
+        .all(fine)
+        {
+            let ln_k = self.ln_prefactor - self.barrier / (BOLTZMANN * temperature);
+            return Err(Error::invalid(
+                key,
+                format!(
+                    "at {} K the extrapolated rate exp({:.4e}) 1/s (95 % CI a factor exp(+-{:.4e}) either way) is beyond f64",
+                    num(temperature),
+                    ln_k,
+                    1.96 * at.ln_rate_se
+                ),
+                "a target temperature nearer the measured ones".into(),
+            ));
+        }
+        Ok(at)
+    }
+
     /// The predicted rate and retention time at `temperature` \[K\], with
-    /// the fit's statistical 95 % interval.
+    /// the fit's statistical 95 % interval (unchecked: see
+    /// [`ArrheniusFit::extrapolate_checked`]).
     pub fn extrapolate(&self, temperature: f64) -> Extrapolation {
         let x = 1.0 / (BOLTZMANN * temperature);
         let y = self.ln_prefactor - self.barrier * x;

@@ -605,6 +605,44 @@ impl Sweep {
         })
     }
 
+    /// The largest `solver.samples` of any case: the axis's largest value
+    /// if `solver.samples` is varied, else the first loadable case's (the
+    /// run limit [`crate::limits::MAX_SAMPLES`] if none loads).
+    pub fn max_samples(&self) -> usize {
+        self.max_samples_with(&|case| self.load_case(case).ok().map(|sc| sc.solver.samples))
+    }
+
+    /// [`Sweep::max_samples`] for any kind of case: `samples_of` loads a
+    /// case and gives its `solver.samples` (`None` if it does not load).
+    pub fn max_samples_with(&self, samples_of: &dyn Fn(&Case) -> Option<usize>) -> usize {
+        if let Some(a) = self.axes.iter().rev().find(|a| a.key == "solver.samples") {
+            let top = match &a.given {
+                Some(v) => v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                None => a.from.max(a.to),
+            };
+            // Out of range values fail as their cases; the limit bounds
+            // what a valid case needs.
+            return top.clamp(2.0, crate::limits::MAX_SAMPLES as f64) as usize;
+        }
+        (0..self.total().min(VALIDATE_PROBES))
+            .find_map(|i| samples_of(&self.case(i)))
+            .unwrap_or(crate::limits::MAX_SAMPLES)
+    }
+
+    /// How many cases the sweep may run at once within
+    /// [`crate::limits::MEMORY_BUDGET`]: at most `threads`, each keeping a
+    /// run of [`Sweep::max_samples`] ([`crate::limits::run_memory_bytes`])
+    /// and up to 8 rows waiting to be written in order
+    /// ([`window`]). Error (key `solver.samples`) if not even one fits.
+    pub fn threads_within_memory(&self, threads: usize) -> Result<usize, Error> {
+        let row = (std::mem::size_of::<Row>()
+            + std::mem::size_of::<Summary>()
+            + 8 * self.axes.len()
+            + 256) as u64;
+        let per_case = crate::limits::run_memory_bytes_for(self.max_samples()) + 9 * row;
+        crate::limits::fit_threads("solver.samples", threads, per_case, 16 * row)
+    }
+
     /// Run one case: load its scenario and simulate it. Never fails: errors
     /// (and panics) go into the row's `status`.
     pub fn run_case(&self, index: usize) -> Row {

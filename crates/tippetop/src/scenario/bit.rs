@@ -422,7 +422,10 @@ fn apply_bit_set(
     key: &str,
     set: &str,
 ) -> Result<(), Error> {
-    let value = super::parse_set_value(set.split_once('=').map(|(_, v)| v.trim()).unwrap_or(""));
+    let value = super::parse_set_value(
+        key,
+        set.split_once('=').map(|(_, v)| v.trim()).unwrap_or(""),
+    )?;
     let parts: Vec<&str> = key.split('.').collect();
     match parts.as_slice() {
         ["bit", k] => {

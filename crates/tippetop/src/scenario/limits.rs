@@ -9,8 +9,48 @@
 //! inverse of the fastest initial rate ([`time_unit`]). A scenario whose
 //! units or scaled values overflow or underflow is bad input (exit code 2),
 //! not a run that fails.
+//!
+//! Files a user hands in (scenario files, an ensemble's `summary.json` for
+//! `tippetop retention`, a shard's `shard.json`) are read with
+//! [`read_file`], at most [`MAX_FILE_BYTES`].
 
+use std::io::Read as _;
+use std::path::Path;
+
+use crate::error::num;
 use crate::{Error, Scenario, SolverSettings, observe};
+
+/// Largest file a command reads as input text \[bytes\]: 16 MiB (a scenario
+/// file is a few kB; a `summary.json` a few kB plus its events, at most
+/// 100 000 of them: ~5 MB).
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
+/// The text of the input file `path`, read up to [`MAX_FILE_BYTES`] + 1
+/// bytes (so a pipe or a device such as `/dev/zero` is caught too, without
+/// reading it to the end). Errors ([`Error::Invalid`] with the path as the
+/// key): unreadable, larger than the limit, not UTF-8.
+pub fn read_file(path: &Path) -> Result<String, Error> {
+    let key = path.display().to_string();
+    let bad = |what: String, range: &str| Error::invalid(&key, what, range.into());
+    let unreadable = |e: std::io::Error| bad(format!("cannot read it: {e}"), "a readable file");
+    let file = std::fs::File::open(path).map_err(unreadable)?;
+    let mut bytes = Vec::new();
+    file.take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(unreadable)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(bad(
+            "larger than the 16 MiB limit of input files".into(),
+            "at most 16777216 bytes",
+        ));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        bad(
+            format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+            "a UTF-8 text file",
+        )
+    })
+}
 
 /// The bounds of the solver settings live with them (`state`).
 pub use crate::state::{BYTES_PER_SAMPLE, MAX_SAMPLES, MAX_STEPS, max_steps_for};
@@ -36,16 +76,68 @@ pub const MAX_EVENTS: usize = 100_000;
 
 /// Largest memory one run may need for the rows and events it keeps
 /// \[bytes\]: 1.5 GiB (the largest run, [`crate::state::MAX_SAMPLES`] rows of
-/// 216 bytes, needs 1.08 GB). [`run_memory_bytes`] of a valid scenario stays
-/// below it.
+/// [`BYTES_PER_SAMPLE`] = 224 bytes, needs 1.12 GB). [`run_memory_bytes`]
+/// of a valid scenario stays below it.
 pub const MAX_RUN_BYTES: u64 = 3 << 29;
+
+/// The memory bound of one command \[bytes\]: 3 GiB for the runs it keeps at
+/// once and the results it gathers (rows, histograms, arrays). Every
+/// documented limit stays within it: a single run at [`MAX_SAMPLES`] needs
+/// 1.12 GB; a command that runs several runs at once runs no more of them
+/// than fit ([`fit_threads`]); what grows with the number of runs or cases
+/// has a limit of its own. The whole process adds its code, the plots and
+/// the allocator's slack: the peaks measured at the limits (README,
+/// "Limits") stay below 4 GB.
+pub const MEMORY_BUDGET: u64 = 3 << 30;
+
+/// A memory size for a message (`1.12 GB`, `162 MB`).
+pub fn fmt_bytes(bytes: u64) -> String {
+    let b = bytes as f64;
+    if b >= 1e9 {
+        format!("{:.3} GB", b / 1e9)
+    } else if b >= 1e6 {
+        format!("{:.3} MB", b / 1e6)
+    } else {
+        format!("{:.3} kB", b / 1e3)
+    }
+}
+
+/// How many jobs a command may run at once within [`MEMORY_BUDGET`]: at
+/// most `threads`, each keeping `per_job` bytes while it runs, beside the
+/// `fixed` bytes the command keeps anyway (its histograms, the rows that
+/// wait to be written in order). Err (key `key`, the setting to lower) if
+/// not even one job fits.
+pub fn fit_threads(key: &str, threads: usize, per_job: u64, fixed: u64) -> Result<usize, Error> {
+    let need = fixed.saturating_add(per_job);
+    if need > MEMORY_BUDGET {
+        return Err(Error::invalid(
+            key,
+            format!(
+                "needs {} of memory ({} per run at once, {} besides)",
+                fmt_bytes(need),
+                fmt_bytes(per_job),
+                fmt_bytes(fixed)
+            ),
+            format!("at most {} per command", fmt_bytes(MEMORY_BUDGET)),
+        ));
+    }
+    let fit = (MEMORY_BUDGET - fixed) / per_job.max(1);
+    Ok(threads
+        .min(usize::try_from(fit).unwrap_or(usize::MAX))
+        .max(1))
+}
 
 /// The memory a run of `solver` keeps while it runs \[bytes\]: its samples
 /// (rows and sample times) and at most [`MAX_EVENTS`] events. The
 /// integrator's own state is a few kB and independent of the run's length.
 pub fn run_memory_bytes(solver: &SolverSettings) -> u64 {
+    run_memory_bytes_for(solver.samples)
+}
+
+/// [`run_memory_bytes`] of a run of `samples` output rows \[bytes\].
+pub fn run_memory_bytes_for(samples: usize) -> u64 {
     let event = (std::mem::size_of::<crate::EventRecord>() + 32) as u64;
-    (solver.samples as u64)
+    (samples as u64)
         .saturating_mul(BYTES_PER_SAMPLE)
         .saturating_add(MAX_EVENTS as u64 * event)
 }
@@ -136,14 +228,73 @@ pub fn time_unit(sc: &Scenario) -> f64 {
     1.0 / rates(sc).iter().map(|r| r.0).fold(0.0, f64::max)
 }
 
-/// A number for a message: plain for ordinary magnitudes, else `1e308` style.
-fn num(x: f64) -> String {
-    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
+/// `log10 |x|` (`-inf` for 0).
+fn log10(x: f64) -> f64 {
+    x.abs().log10()
 }
+
+/// Which of the factors of a product that left `f64` caused it: the
+/// factors as `(key, log10 of the factor's contribution)`, `value` the
+/// product. Overflow (or NaN): the largest contribution; underflow: the
+/// smallest.
+fn blame<'a>(factors: &[(&'a str, f64)], value: f64) -> &'a str {
+    let under = value.abs() < 1.0;
+    factors
+        .iter()
+        .copied()
+        .filter(|f| !f.1.is_nan())
+        .reduce(|a, b| {
+            let b_worse = if under { b.1 < a.1 } else { b.1 > a.1 };
+            if b_worse { b } else { a }
+        })
+        .map_or(factors[0].0, |f| f.0)
+}
+
+/// The key to name when rate `index` of [`rates`] (its own key `key`) is
+/// not finite: for the rates made of several keys, the one whose factor
+/// is furthest out of range (`top.mass = 1e-320` overflows the rate of the
+/// applied force, `sqrt(|H| / (m R))`, but the mass is the cause).
+fn rate_cause(sc: &Scenario, index: usize, key: &str) -> String {
+    let top = &sc.top;
+    let (m, r) = (log10(top.mass), log10(top.radius));
+    let factors: Vec<(&str, f64)> = match index {
+        RATE_GRAVITY => vec![
+            ("surface.gravity", log10(sc.surface.gravity)),
+            ("top.radius", -r),
+        ],
+        RATE_FORCE => vec![
+            (key, log10(sc.forcing.max_contact_force())),
+            ("top.mass", -m),
+            ("top.radius", -r),
+        ],
+        RATE_THERMAL => vec![
+            ("thermal.temperature", log10(sc.thermal.kt())),
+            ("top.inertia_transverse", -log10(top.inertia_transverse)),
+        ],
+        // The actuators' rates: the top's keys if one of them is beyond
+        // 1e150 either way, else the window.
+        RATE_ACTUATOR => {
+            let a = log10(top.inertia_transverse);
+            let worst = [
+                ("top.mass", m),
+                ("top.radius", r),
+                ("top.inertia_transverse", a),
+            ]
+            .into_iter()
+            .filter(|f| f.1.abs() > 150.0)
+            .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()));
+            return worst.map_or(key, |f| f.0).to_string();
+        }
+        _ => return key.to_string(),
+    };
+    blame(&factors, f64::INFINITY).to_string()
+}
+
+/// Positions in [`rates`] of the rates made of several keys.
+const RATE_ACTUATOR: usize = 1;
+const RATE_GRAVITY: usize = 4;
+const RATE_FORCE: usize = 5;
+const RATE_THERMAL: usize = 7;
 
 fn bad(key: &str, what: String, range: String) -> Result<(), Error> {
     Err(Error::invalid(key, what, range))
@@ -174,16 +325,16 @@ pub fn check_run(sc: &Scenario) -> Result<(), Error> {
     }
     // Every rate finite: each one is a candidate for 1/T_ref.
     let rates = rates(sc);
-    for (r, key, what) in &rates {
+    for (index, (r, key, what)) in rates.iter().enumerate() {
         if !r.is_finite() {
             return bad(
-                key,
+                &rate_cause(sc, index, key),
                 format!("{what} = {} s^-1 overflows", num(*r)),
                 "a value whose rate (1/s) is finite in f64; see the key's own range too".into(),
             );
         }
     }
-    let (rate, _, which) = rates
+    let (rate, rate_key, which) = rates
         .iter()
         .fold((0.0, String::new(), ""), |best, (r, k, w)| {
             if *r > best.0 {
@@ -221,15 +372,37 @@ pub fn check_run(sc: &Scenario) -> Result<(), Error> {
     let energy = inertia / (tu * tu);
     let unit_range =
         "mass and radius such that the scaled model's units are finite and non-zero in f64";
-    for (v, what) in [
-        (inertia, "the inertia unit mass radius^2"),
-        (velocity, "the velocity unit radius / T_ref"),
-        (force, "the force unit mass radius / T_ref^2"),
-        (energy, "the energy unit mass radius^2 / T_ref^2"),
+    // Each unit is mass^a radius^b T_ref^c: the key to blame is the one
+    // whose factor pushes it furthest out of range.
+    for (v, what, [a, b, c]) in [
+        (inertia, "the inertia unit mass radius^2", [1.0, 2.0, 0.0]),
+        (
+            velocity,
+            "the velocity unit radius / T_ref",
+            [0.0, 1.0, -1.0],
+        ),
+        (
+            force,
+            "the force unit mass radius / T_ref^2",
+            [1.0, 1.0, -2.0],
+        ),
+        (
+            energy,
+            "the energy unit mass radius^2 / T_ref^2",
+            [1.0, 2.0, -2.0],
+        ),
     ] {
         if !(v.is_finite() && v >= f64::MIN_POSITIVE) {
+            let key = blame(
+                &[
+                    ("top.mass", a * log10(mass)),
+                    ("top.radius", b * log10(length)),
+                    (rate_key.as_str(), c * log10(tu)),
+                ],
+                v,
+            );
             return bad(
-                "top.mass",
+                key,
                 format!(
                     "{what} is {v:e} [SI] (mass {mass:e} kg, radius {length:e} m, T_ref {tu:e} s)"
                 ),

@@ -390,7 +390,7 @@ pub fn apply_sets(doc: &mut Table, sets: &[String]) -> Result<(), Error> {
             ));
         };
         let key = key.trim();
-        let value = parse_set_value(val.trim());
+        let value = parse_set_value(key, val.trim())?;
         let parts: Vec<&str> = key.split('.').collect();
         if parts
             .iter()
