@@ -325,7 +325,7 @@ pub struct Settings {
     /// 1 ..= [`MAX_PATH_STEPS`]; default 10 000 000).
     pub max_steps: u64,
     /// Mean first-passage time: crossing states a replica's direct run
-    /// collects (`--crossings`, 1 ..= 100 000; default 200).
+    /// collects (`--crossings`, 1 ..= 100 000; default 100).
     pub crossings: usize,
     /// Mean first-passage time: step budget of a replica's direct run
     /// (`--direct-steps`, 1 ..= [`MAX_PATH_STEPS`]; default 10 000 000).
@@ -353,7 +353,7 @@ impl Default for Settings {
             kill: 1,
             max_trajectories: 1_000_000,
             max_steps: 10_000_000,
-            crossings: 200,
+            crossings: 100,
             direct_steps: 10_000_000,
             pilot_steps: 100_000,
             basin: None,

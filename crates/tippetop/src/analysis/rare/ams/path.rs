@@ -241,6 +241,14 @@ impl Runner<'_> {
                 "a replayed path ended before its step {at} (at {steps}): not the same steps"
             );
         }
+        if cfg!(debug_assertions) {
+            let row = self.sim.state().values();
+            let again = self.watch.eval_values(&|i| row[i]).0;
+            assert!(
+                (again - xi).abs() <= 1e-9 * xi.abs().max(1e-300),
+                "a replayed path is not the path: ξ = {again} at step {at}, recorded {xi}"
+            );
+        }
         self.sim.set_noise_branch(branch);
         let t = self.sim.time();
         let mut path = Path {
@@ -266,6 +274,12 @@ impl Runner<'_> {
         let mut next_checkpoint = steps + interval;
         let mut max = path.score;
         let cancel = self.cancel;
+        if steps >= budget_end {
+            // A copy made at the budget's last step: nothing left to run.
+            path.end = End::Budget;
+            path.end_time = self.sim.time();
+            return Ok(());
+        }
         loop {
             let from = steps;
             let mut pause = Pause::None;
