@@ -21,8 +21,10 @@
 //!
 //! The target and the reset are conditions over trajectory.csv columns in
 //! the `--first-passage` grammar ([`Exit`]); the reaction coordinate ξ is
-//! a column, a column negated, or `|column − c|` ([`Coordinate`]; by
-//! default θ, oriented towards the target: [`Coordinate::toward`]).
+//! a column, a column negated, `|column − c|` or the tilt's energy
+//! ([`Coordinate`]; by default θ, oriented towards the target, or in the
+//! Langevin mode for a state's escape the tilt energy:
+//! [`Coordinate::default_for`]).
 //!
 //! # The algorithm (generalised AMS, Bréhier, Gazeau, Goudenège, Lelièvre
 //! & Rousset, Ann. Appl. Probab. 26, 3559 (2016))
@@ -79,12 +81,16 @@
 //!
 //! # Sizes and cost
 //!
-//! For `k = 1` a replica's relative variance is about `−ln p / n`
-//! (Cérou & Guyader 2007), so the defaults (`M` = 10 replicas of `n` = 100)
-//! give a 95 % interval within a factor 2 down to `p` ≈ 1e-25 (relative
-//! half-width `t₉ sqrt(−ln p/1000)`). A replica takes about
-//! `n (1 − ln p / k)` paths. Each iteration's replacements are sequential;
-//! the replicas are the parallelism.
+//! For `k = 1` a replica's relative variance is about `−ln p / n` with a
+//! coordinate that follows the committor (Cérou & Guyader 2007; the
+//! Brownian tests), a few times more with a rougher one (the tilt energy
+//! of a Langevin escape: 0.9 at `n` = 100, `p` ~ 5e-9). The defaults
+//! (`M` = 20 replicas of `n` = 100) give a 95 % interval within a factor 2
+//! for the Brownian mode down to `p` ~ 1e-40 (relative half-width
+//! `t₁₉ sqrt(−ln p/2000)`) and for `nano-physical`'s escape at 300 K
+//! (factor 1.6). A replica takes about `n (1 − ln p / k)` paths. Each
+//! iteration's replacements are sequential; the replicas are the
+//! parallelism.
 
 mod path;
 mod stats;
@@ -150,10 +156,18 @@ pub enum Coordinate {
         /// The centre.
         centre: f64,
     },
+    /// `tilt_energy` \[J\]: the energy of the tilt mode,
+    /// `½ (A + m a² sin²θ) θ̇² + U_wells(θ) − m g a cos θ` (its kinetic
+    /// energy on the plane, the wells and gravity's share of the potential):
+    /// in the Langevin mode, where the tilt oscillates in its well, the
+    /// committor of an escape depends on θ̇ as much as on θ, and this is the
+    /// coordinate that follows it (docs/physics.md §27). It needs the
+    /// scenario ([`Coordinate::value_in`]).
+    TiltEnergy,
 }
 
 /// Valid form of `--coordinate`.
-pub const COORDINATE_RANGE: &str = "a trajectory.csv column (theta, omega, ...), -COLUMN (decreasing towards the target), or |COLUMN-C| (distance from C, SI units), e.g. |theta-1.5707963267948966|";
+pub const COORDINATE_RANGE: &str = "a trajectory.csv column (theta, omega, ...), -COLUMN (decreasing towards the target), |COLUMN-C| (distance from C, SI units, e.g. |theta-1.5707963267948966|) or tilt_energy";
 
 impl Coordinate {
     /// θ itself.
@@ -172,6 +186,9 @@ impl Coordinate {
                 .ok_or_else(|| bad(format!("{:?} is not a trajectory.csv column", name.trim())))
         };
         let s = spec.trim();
+        if s == "tilt_energy" {
+            return Ok(Coordinate::TiltEnergy);
+        }
         if let Some(inner) = s.strip_prefix('|').and_then(|r| r.strip_suffix('|')) {
             let Some((name, c)) = inner.split_once('-') else {
                 return Err(bad(format!("{s:?} is not |COLUMN-C|")));
@@ -224,14 +241,35 @@ impl Coordinate {
         }
     }
 
-    /// The column it reads (an index into [`COLUMNS`]).
-    pub fn column(&self) -> usize {
-        match *self {
-            Coordinate::Column { column, .. } | Coordinate::Distance { column, .. } => column,
+    /// The default coordinate of a problem: [`Coordinate::toward`] the
+    /// target, except in the Langevin mode for a target that leaves a θ
+    /// window on both sides (a state's escape): [`Coordinate::TiltEnergy`],
+    /// whose levels follow an oscillating tilt's chance to escape (with
+    /// `|θ − c|` the replicas' estimates of `nano-physical`'s escape spread
+    /// over seven decades, with the tilt energy over one and a half:
+    /// docs/physics.md §27).
+    pub fn default_for(sc: &Scenario, target: &Exit) -> Coordinate {
+        match Coordinate::toward(target) {
+            Coordinate::Distance { column: 1, .. }
+                if sc.solver.method == crate::Method::Langevin =>
+            {
+                Coordinate::TiltEnergy
+            }
+            other => other,
         }
     }
 
-    /// ξ from the row's values (`get(column)`, SI).
+    /// The columns it reads (indices into [`COLUMNS`]).
+    pub fn columns(&self) -> Vec<usize> {
+        match *self {
+            Coordinate::Column { column, .. } | Coordinate::Distance { column, .. } => vec![column],
+            Coordinate::TiltEnergy => vec![1, 2],
+        }
+    }
+
+    /// ξ from the row's values (`get(column)`, SI); NaN for
+    /// [`Coordinate::TiltEnergy`], which needs the scenario
+    /// ([`Coordinate::value_in`]).
     pub fn value(&self, get: &dyn Fn(usize) -> f64) -> f64 {
         match *self {
             Coordinate::Column { column, negated } => {
@@ -239,7 +277,49 @@ impl Coordinate {
                 if negated { -v } else { v }
             }
             Coordinate::Distance { column, centre } => (get(column) - centre).abs(),
+            Coordinate::TiltEnergy => f64::NAN,
         }
+    }
+
+    /// ξ from the row's values for the scenario `sc`.
+    pub fn value_in(&self, sc: &Scenario, get: &dyn Fn(usize) -> f64) -> f64 {
+        match self {
+            Coordinate::TiltEnergy => TiltEnergy::of(sc).value(get(1), get(2)),
+            other => other.value(get),
+        }
+    }
+}
+
+/// The tilt mode's energy ([`Coordinate::TiltEnergy`]) of one scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct TiltEnergy {
+    inertia: f64,
+    ma2: f64,
+    mga: f64,
+    wells: Vec<crate::Well>,
+}
+
+impl TiltEnergy {
+    pub(crate) fn of(sc: &Scenario) -> TiltEnergy {
+        let t = &sc.top;
+        TiltEnergy {
+            inertia: t.inertia_transverse,
+            ma2: t.mass * t.offset * t.offset,
+            mga: t.mass * sc.surface.gravity * t.offset,
+            wells: sc.wells.clone(),
+        }
+    }
+
+    /// The energy \[J\] at θ \[rad\], θ̇ \[rad/s\].
+    pub(crate) fn value(&self, theta: f64, theta_dot: f64) -> f64 {
+        let s = theta.sin();
+        let wells: f64 = self
+            .wells
+            .iter()
+            .map(|w| -w.depth * (-(theta - w.theta).powi(2) / (2.0 * w.width * w.width)).exp())
+            .sum();
+        0.5 * (self.inertia + self.ma2 * s * s) * theta_dot * theta_dot + wells
+            - self.mga * theta.cos()
     }
 }
 
@@ -253,6 +333,7 @@ impl std::fmt::Display for Coordinate {
             Coordinate::Distance { column, centre } => {
                 write!(f, "|{}-{centre:?}|", COLUMNS[column])
             }
+            Coordinate::TiltEnergy => f.write_str("tilt_energy"),
         }
     }
 }
@@ -269,8 +350,8 @@ pub struct Problem {
     /// The reset (`--reset`): `Some` for [`Quantity::Probability`], `None`
     /// for [`Quantity::MeanFirstPassageTime`].
     pub reset: Option<Exit>,
-    /// The reaction coordinate (`--coordinate`; [`Coordinate::toward`]
-    /// the target by default).
+    /// The reaction coordinate (`--coordinate`; by default
+    /// [`Coordinate::default_for`] the scenario and the target).
     pub coordinate: Coordinate,
     /// The horizon `T` \[s\] (`--horizon`, probability only):
     /// `p = P(target before reset and before T)`.
@@ -278,10 +359,10 @@ pub struct Problem {
 }
 
 impl Problem {
-    /// A problem with the default coordinate ([`Coordinate::toward`] the
-    /// target) and no horizon.
+    /// A problem with the default coordinate ([`Coordinate::default_for`])
+    /// and no horizon.
     pub fn new(scenario: Scenario, target: Exit, reset: Option<Exit>) -> Problem {
-        let coordinate = Coordinate::toward(&target);
+        let coordinate = Coordinate::default_for(&scenario, &target);
         Problem {
             scenario,
             target,
@@ -310,7 +391,7 @@ pub enum Variant {
 /// checked by [`Ams::new`], the error naming the CLI option).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
-    /// Independent replicas `M` (`--replicas`, 2 ..; default 10).
+    /// Independent replicas `M` (`--replicas`, 2 ..; default 20).
     pub replicas: usize,
     /// Particles per replica `n` (`--particles`, 2 ..= 100 000; default 100).
     pub particles: usize,
@@ -348,7 +429,7 @@ pub struct Settings {
 impl Default for Settings {
     fn default() -> Self {
         Settings {
-            replicas: 10,
+            replicas: 20,
             particles: 100,
             kill: 1,
             max_trajectories: 1_000_000,
@@ -582,7 +663,7 @@ impl Ams {
             Some(r) => Reset::Cond(r.clone()),
             None => Reset::Never,
         };
-        let watch = Watch::new(problem.coordinate, problem.target.clone(), reset);
+        let watch = Watch::new(problem.coordinate, problem.target.clone(), reset, sc);
         let (xi0, target0, reset0) = watch.eval_values(&get);
         let state = format!(
             "theta = {:.6} rad, t = 0 (initial.theta {})",
@@ -600,7 +681,11 @@ impl Ams {
                 "--reset",
                 format!(
                     "{} holds at the initial state ({state})",
-                    problem.reset.as_ref().map(|r| r.to_string()).unwrap_or_default()
+                    problem
+                        .reset
+                        .as_ref()
+                        .map(|r| r.to_string())
+                        .unwrap_or_default()
                 ),
                 "a condition that does not hold at the start".into(),
             ));
@@ -1398,7 +1483,11 @@ fn check_settings(s: &Settings, first_run: u64) -> Result<(), Error> {
     for (key, v) in [("--basin", s.basin), ("--interface", s.interface)] {
         if let Some(v) = v {
             if !v.is_finite() {
-                return bad(key, format!("{v}"), "a finite level of the coordinate".into());
+                return bad(
+                    key,
+                    format!("{v}"),
+                    "a finite level of the coordinate".into(),
+                );
             }
         }
     }

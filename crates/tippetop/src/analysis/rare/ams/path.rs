@@ -16,7 +16,8 @@
 use std::rc::Rc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use super::Coordinate;
+use super::{Coordinate, TiltEnergy};
+use crate::Scenario;
 use crate::analysis::ensemble::Exit;
 use crate::simulate::{Simulation, Snapshot, StepProbe};
 
@@ -50,6 +51,8 @@ pub(super) enum Reset {
 #[derive(Debug, Clone)]
 pub(super) struct Watch {
     pub(super) coordinate: Coordinate,
+    /// The tilt energy's parameters ([`Coordinate::TiltEnergy`]).
+    tilt: Option<TiltEnergy>,
     pub(super) target: Exit,
     pub(super) reset: Reset,
     row: bool,
@@ -61,13 +64,15 @@ fn cheap(column: usize) -> bool {
 }
 
 impl Watch {
-    pub(super) fn new(coordinate: Coordinate, target: Exit, reset: Reset) -> Watch {
-        let mut row = !cheap(coordinate.column()) || target.columns().any(|c| !cheap(c));
+    pub(super) fn new(coordinate: Coordinate, target: Exit, reset: Reset, sc: &Scenario) -> Watch {
+        let mut row = coordinate.columns().into_iter().any(|c| !cheap(c))
+            || target.columns().any(|c| !cheap(c));
         if let Reset::Cond(r) = &reset {
             row |= r.columns().any(|c| !cheap(c));
         }
         Watch {
             coordinate,
+            tilt: (coordinate == Coordinate::TiltEnergy).then(|| TiltEnergy::of(sc)),
             target,
             reset,
             row,
@@ -79,7 +84,10 @@ impl Watch {
     ///
     /// [`COLUMNS`]: crate::trajectory::COLUMNS
     pub(super) fn eval_values(&self, get: &dyn Fn(usize) -> f64) -> (f64, bool, bool) {
-        let xi = self.coordinate.value(get);
+        let xi = match &self.tilt {
+            Some(e) => e.value(get(1), get(2)),
+            None => self.coordinate.value(get),
+        };
         let target = self.target.hit_by(get);
         let reset = match &self.reset {
             Reset::Cond(r) => r.hit_by(get),
@@ -317,8 +325,7 @@ impl Runner<'_> {
             path.end_time = self.sim.time();
             path.end = match (stopped, pause) {
                 (true, Pause::Checkpoint) => {
-                    path.checkpoints
-                        .push((steps, Rc::new(self.sim.snapshot())));
+                    path.checkpoints.push((steps, Rc::new(self.sim.snapshot())));
                     if path.checkpoints.len() > MAX_CHECKPOINTS {
                         let mut k = 0;
                         path.checkpoints.retain(|_| {
