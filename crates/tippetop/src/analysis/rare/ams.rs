@@ -92,23 +92,25 @@
 //! iteration's replacements are sequential; the replicas are the
 //! parallelism.
 
+mod coordinate;
 mod path;
+mod results;
 mod stats;
 
 use std::ops::Range;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::AtomicBool;
 
-use serde::{Deserialize, Serialize};
-
+pub(crate) use self::coordinate::TiltEnergy;
+pub use self::coordinate::{COORDINATE_RANGE, Coordinate};
 use self::path::{Cancelled, End, Path, Reset, Runner, Watch};
+pub use self::results::{DirectPhase, Estimate, Flux, Level, Quantity, Replica};
 pub use self::stats::t975;
 use crate::analysis::ensemble::{Exit, check_scenario};
 use crate::analysis::sweep::run_ordered;
 use crate::random::Stream;
 use crate::simulate::{Snapshot, noise_counter};
 use crate::thermal::MAX_RUNS;
-use crate::trajectory::COLUMNS;
 use crate::{Error, Failure, Scenario, Simulation};
 
 /// Largest step count of a path's run (the simulation's own limit,
@@ -134,209 +136,6 @@ const PILOT_RESTARTS: u64 = 8;
 
 /// Largest number of particles.
 pub const MAX_PARTICLES: usize = 100_000;
-
-/// A reaction coordinate ξ: the splitting's levels are levels of ξ, which
-/// should grow towards the target (any function of the state gives an
-/// unbiased estimate; a good one gives a small variance).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Coordinate {
-    /// A trajectory.csv column (index into [`COLUMNS`]), negated if
-    /// `negated`: `theta`, `-theta`, `omega`.
-    Column {
-        /// Index into [`COLUMNS`].
-        column: usize,
-        /// ξ = −value.
-        negated: bool,
-    },
-    /// `|column − centre|` (centre in the column's SI unit):
-    /// `|theta-1.5707963267948966|`, the distance from a well's centre.
-    Distance {
-        /// Index into [`COLUMNS`].
-        column: usize,
-        /// The centre.
-        centre: f64,
-    },
-    /// `tilt_energy` \[J\]: the energy of the tilt mode,
-    /// `½ (A + m a² sin²θ) θ̇² + U_wells(θ) − m g a cos θ` (its kinetic
-    /// energy on the plane, the wells and gravity's share of the potential):
-    /// in the Langevin mode, where the tilt oscillates in its well, the
-    /// committor of an escape depends on θ̇ as much as on θ, and this is the
-    /// coordinate that follows it (docs/physics.md §27). It needs the
-    /// scenario ([`Coordinate::value_in`]).
-    TiltEnergy,
-}
-
-/// Valid form of `--coordinate`.
-pub const COORDINATE_RANGE: &str = "a trajectory.csv column (theta, omega, ...), -COLUMN (decreasing towards the target), |COLUMN-C| (distance from C, SI units, e.g. |theta-1.5707963267948966|) or tilt_energy";
-
-impl Coordinate {
-    /// θ itself.
-    pub const THETA: Coordinate = Coordinate::Column {
-        column: 1,
-        negated: false,
-    };
-
-    /// Parse `theta`, `-theta`, `|theta-1.57|` (error key `--coordinate`).
-    pub fn parse(spec: &str) -> Result<Coordinate, Error> {
-        let bad = |what: String| Error::invalid("--coordinate", what, COORDINATE_RANGE.into());
-        let column = |name: &str| {
-            COLUMNS
-                .iter()
-                .position(|c| *c == name.trim())
-                .ok_or_else(|| bad(format!("{:?} is not a trajectory.csv column", name.trim())))
-        };
-        let s = spec.trim();
-        if s == "tilt_energy" {
-            return Ok(Coordinate::TiltEnergy);
-        }
-        if let Some(inner) = s.strip_prefix('|').and_then(|r| r.strip_suffix('|')) {
-            let Some((name, c)) = inner.split_once('-') else {
-                return Err(bad(format!("{s:?} is not |COLUMN-C|")));
-            };
-            let centre: f64 = c
-                .trim()
-                .parse()
-                .map_err(|_| bad(format!("{:?} is not a number", c.trim())))?;
-            if !centre.is_finite() {
-                return Err(bad(format!("{centre} is not a finite centre")));
-            }
-            return Ok(Coordinate::Distance {
-                column: column(name)?,
-                centre,
-            });
-        }
-        match s.strip_prefix('-') {
-            Some(name) => Ok(Coordinate::Column {
-                column: column(name)?,
-                negated: true,
-            }),
-            None => Ok(Coordinate::Column {
-                column: column(s)?,
-                negated: false,
-            }),
-        }
-    }
-
-    /// The default coordinate for a target: θ oriented towards it when the
-    /// target reads θ only (`theta>b`: θ; `theta<a`: −θ; both: the distance
-    /// `|θ − c|` from the middle `c` of the window they leave), θ
-    /// otherwise.
-    pub fn toward(target: &Exit) -> Coordinate {
-        let terms = target.terms();
-        if terms.is_empty() || terms.iter().any(|t| t.0 != 1) {
-            return Coordinate::THETA;
-        }
-        let above = terms.iter().filter(|t| t.1).map(|t| t.2).reduce(f64::min);
-        let below = terms.iter().filter(|t| !t.1).map(|t| t.2).reduce(f64::max);
-        match (below, above) {
-            (Some(a), Some(b)) => Coordinate::Distance {
-                column: 1,
-                centre: 0.5 * (a + b),
-            },
-            (Some(_), None) => Coordinate::Column {
-                column: 1,
-                negated: true,
-            },
-            _ => Coordinate::THETA,
-        }
-    }
-
-    /// The default coordinate of a problem: [`Coordinate::toward`] the
-    /// target, except in the Langevin mode for a target that leaves a θ
-    /// window on both sides (a state's escape): [`Coordinate::TiltEnergy`],
-    /// whose levels follow an oscillating tilt's chance to escape (with
-    /// `|θ − c|` the replicas' estimates of `nano-physical`'s escape spread
-    /// over seven decades, with the tilt energy over one and a half:
-    /// docs/physics.md §27).
-    pub fn default_for(sc: &Scenario, target: &Exit) -> Coordinate {
-        match Coordinate::toward(target) {
-            Coordinate::Distance { column: 1, .. }
-                if sc.solver.method == crate::Method::Langevin =>
-            {
-                Coordinate::TiltEnergy
-            }
-            other => other,
-        }
-    }
-
-    /// The columns it reads (indices into [`COLUMNS`]).
-    pub fn columns(&self) -> Vec<usize> {
-        match *self {
-            Coordinate::Column { column, .. } | Coordinate::Distance { column, .. } => vec![column],
-            Coordinate::TiltEnergy => vec![1, 2],
-        }
-    }
-
-    /// ξ from the row's values (`get(column)`, SI); NaN for
-    /// [`Coordinate::TiltEnergy`], which needs the scenario
-    /// ([`Coordinate::value_in`]).
-    pub fn value(&self, get: &dyn Fn(usize) -> f64) -> f64 {
-        match *self {
-            Coordinate::Column { column, negated } => {
-                let v = get(column);
-                if negated { -v } else { v }
-            }
-            Coordinate::Distance { column, centre } => (get(column) - centre).abs(),
-            Coordinate::TiltEnergy => f64::NAN,
-        }
-    }
-
-    /// ξ from the row's values for the scenario `sc`.
-    pub fn value_in(&self, sc: &Scenario, get: &dyn Fn(usize) -> f64) -> f64 {
-        match self {
-            Coordinate::TiltEnergy => TiltEnergy::of(sc).value(get(1), get(2)),
-            other => other.value(get),
-        }
-    }
-}
-
-/// The tilt mode's energy ([`Coordinate::TiltEnergy`]) of one scenario.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct TiltEnergy {
-    inertia: f64,
-    ma2: f64,
-    mga: f64,
-    wells: Vec<crate::Well>,
-}
-
-impl TiltEnergy {
-    pub(crate) fn of(sc: &Scenario) -> TiltEnergy {
-        let t = &sc.top;
-        TiltEnergy {
-            inertia: t.inertia_transverse,
-            ma2: t.mass * t.offset * t.offset,
-            mga: t.mass * sc.surface.gravity * t.offset,
-            wells: sc.wells.clone(),
-        }
-    }
-
-    /// The energy \[J\] at θ \[rad\], θ̇ \[rad/s\].
-    pub(crate) fn value(&self, theta: f64, theta_dot: f64) -> f64 {
-        let s = theta.sin();
-        let wells: f64 = self
-            .wells
-            .iter()
-            .map(|w| -w.depth * (-(theta - w.theta).powi(2) / (2.0 * w.width * w.width)).exp())
-            .sum();
-        0.5 * (self.inertia + self.ma2 * s * s) * theta_dot * theta_dot + wells
-            - self.mga * theta.cos()
-    }
-}
-
-impl std::fmt::Display for Coordinate {
-    /// The canonical spec (shortest round-trip floats).
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match *self {
-            Coordinate::Column { column, negated } => {
-                write!(f, "{}{}", if negated { "-" } else { "" }, COLUMNS[column])
-            }
-            Coordinate::Distance { column, centre } => {
-                write!(f, "|{}-{centre:?}|", COLUMNS[column])
-            }
-            Coordinate::TiltEnergy => f.write_str("tilt_energy"),
-        }
-    }
-}
 
 /// What to estimate ([`Ams::new`] checks it).
 #[derive(Debug, Clone, PartialEq)]
@@ -454,153 +253,6 @@ pub struct Hooks<'a> {
     /// stop within a few thousand steps and are dropped; the call returns
     /// what was complete (`Ok(false)` / `Ok(None)`).
     pub cancel: Option<&'a AtomicBool>,
-}
-
-/// What an estimate is of.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Quantity {
-    /// `P(target before reset [and before T])`.
-    Probability,
-    /// The mean first-passage time to the target \[s\].
-    MeanFirstPassageTime,
-}
-
-/// One splitting level of a replica: the level `Z_j` (ξ's units) and
-/// `log10 Π_{i <= j} (1 − K_i/n)` after it (the estimate of
-/// `P(score > Z_j)`): the picture of the levels.
-pub type Level = [f64; 2];
-
-/// A replica's direct run (mean first-passage time).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-pub struct DirectPhase {
-    /// Steps it took.
-    pub steps: u64,
-    /// Crossings of the interface recorded (the AMS's starting states).
-    pub crossings: u64,
-    /// Times it met the target (it then restarts from the initial state).
-    pub hits: u64,
-    /// Sum of the times from a start to its first crossing \[s\] and their
-    /// number.
-    pub first_crossing_sum: f64,
-    /// Number of first crossings.
-    pub first_crossing_count: u64,
-    /// Sum of the times between consecutive crossings whose excursion fell
-    /// back into the basin \[s\].
-    pub cycle_sum: f64,
-    /// Number of such cycles.
-    pub cycle_count: u64,
-}
-
-/// One replica's result ([`Ams::run`]; serialisable, so that shards can be
-/// combined later).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Replica {
-    /// Position in the ensemble of replicas (0-based).
-    pub index: usize,
-    /// Its stream's run word (`thermal.run + index`).
-    pub run: u64,
-    /// `"ok"`, or why it has no estimate (budget, failure, panic).
-    pub status: String,
-    /// Its estimate `p̂` (0 if extinct).
-    pub estimate: f64,
-    /// `Π (1 − K_j/n) × Σ_{at target} (duration from the root) / n` \[s\]:
-    /// the estimate of `E[duration; target]` (mean first-passage time).
-    pub weighted_duration: f64,
-    /// Particles at the target at the end.
-    pub hits: u64,
-    /// Every particle was killed at some level.
-    pub extinct: bool,
-    /// Iterations (levels).
-    pub iterations: u64,
-    /// Paths run (roots and branches).
-    pub trajectories: u64,
-    /// Steps integrated (replays and the direct run included).
-    pub steps: u64,
-    /// Paths cut by the step budget.
-    pub truncated: u64,
-    /// Paths that failed (a run-time error of the simulation).
-    pub failed: u64,
-    /// The first failure's message.
-    pub first_failure: Option<String>,
-    /// The levels ([`Level`]).
-    pub levels: Vec<Level>,
-    /// The direct run (mean first-passage time).
-    pub direct: Option<DirectPhase>,
-}
-
-/// The mean first-passage time's parts (the flux relation).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Flux {
-    /// The basin's level `z_A` (ξ's units).
-    pub basin: f64,
-    /// The interface's level `z_Σ`.
-    pub interface: f64,
-    /// `p`: P(target before the basin) from a crossing state (replica
-    /// mean), and its standard error.
-    pub probability: f64,
-    /// Standard error of `probability`.
-    pub probability_se: f64,
-    /// `T₁`: mean time from the initial state to the first crossing \[s\].
-    pub first_crossing_time: f64,
-    /// `C`: mean time between crossings whose excursion failed \[s\].
-    pub cycle_time: f64,
-    /// `S`: mean duration of a successful excursion \[s\] (`None` if no
-    /// particle met the target).
-    pub transit_time: Option<f64>,
-    /// Failed cycles measured, over all replicas.
-    pub cycles: u64,
-    /// Times the direct runs met the target.
-    pub direct_hits: u64,
-    /// The escape rate `1/τ` \[1/s\].
-    pub rate: f64,
-}
-
-/// An estimate with its 95 % interval ([`Ams::combine`], [`Ams::direct`]).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Estimate {
-    /// What it is of.
-    pub quantity: Quantity,
-    /// `"ams"` or `"direct"`.
-    pub method: &'static str,
-    /// The estimate (probability, or seconds). Finite: 0 for a probability
-    /// no replica reached; for a time no replica reached, the lower end of
-    /// `ci95`.
-    pub estimate: f64,
-    /// The 95 % interval (`interval` says how). Its upper end is infinite
-    /// only for a mean time that no replica could bound.
-    pub ci95: [f64; 2],
-    /// Standard error of `estimate`.
-    pub standard_error: f64,
-    /// How `ci95` was made: `"student_t"` (mean of replicas ± t SE),
-    /// `"rule_of_three"` (nothing reached: `[0, 1 − 0.05^{1/N}]`),
-    /// `"lognormal_delta"` (the flux relation: `τ exp(± t SE/τ)`),
-    /// `"wilson"` (direct probability), `"bound"` (a time bounded below).
-    pub interval: &'static str,
-    /// Cox's log-normal interval of the mean of the replicas (probability,
-    /// every replica > 0).
-    pub ci95_lognormal: Option<[f64; 2]>,
-    /// Every replica extinct (no particle ever met the target).
-    pub extinct: bool,
-    /// Replicas (AMS) or runs (direct).
-    pub replicas: usize,
-    /// Particles per replica (1 for direct runs).
-    pub particles: usize,
-    /// Iterations over all replicas.
-    pub iterations: u64,
-    /// Paths run.
-    pub trajectories: u64,
-    /// Steps integrated.
-    pub steps: u64,
-    /// Paths cut by the step budget (the estimate is then of the event
-    /// within the budget).
-    pub truncated: u64,
-    /// Paths that failed.
-    pub failed: u64,
-    /// The first failure's message.
-    pub first_failure: Option<String>,
-    /// The flux relation's parts (mean first-passage time by AMS).
-    pub flux: Option<Flux>,
 }
 
 /// A checked problem, ready to run ([`Ams::new`]).
@@ -913,6 +565,7 @@ impl Ams {
             index,
             run: self.first_run() + index as u64,
             status: "ok".into(),
+            particles: self.settings.particles,
             estimate: 0.0,
             weighted_duration: 0.0,
             hits: 0,
@@ -1166,8 +819,8 @@ impl Ams {
     /// Combine replicas (all of them, in any order of delivery but given
     /// in replica order) into the estimate and its interval (see the
     /// module doc). Errors: a replica without an estimate (its status: the
-    /// budget or a failure), fewer than 2 replicas, replicas of another
-    /// size.
+    /// budget or a failure; [`Error::Runtime`]), fewer than 2 replicas,
+    /// replicas of another number of particles ([`Error::Invalid`]).
     pub fn combine(&self, replicas: &[Replica]) -> Result<Estimate, Error> {
         let n = self.settings.particles;
         let m = replicas.len();
@@ -1176,6 +829,13 @@ impl Ams {
                 "--replicas",
                 format!("{m} replicas to combine"),
                 "2 or more".into(),
+            ));
+        }
+        if let Some(r) = replicas.iter().find(|r| r.particles != n) {
+            return Err(Error::invalid(
+                "merge",
+                format!("replica {} has {} particles, not {n}", r.index, r.particles),
+                "replicas of one problem and one set of sizes".into(),
             ));
         }
         if let Some(r) = replicas.iter().find(|r| r.status != "ok") {
