@@ -88,7 +88,7 @@
 //! (`M` = 20 replicas of `n` = 100) give a 95 % interval within a factor 2
 //! for the Brownian mode down to `p` ~ 1e-40 (relative half-width
 //! `t₁₉ sqrt(−ln p/2000)`) and for `nano-physical`'s escape at 300 K
-//! (factor 1.6). A replica takes about `n (1 − ln p / k)` paths. Each
+//! (factor 1.45). A replica takes about `n (1 − ln p / k)` paths. Each
 //! iteration's replacements are sequential; the replicas are the
 //! parallelism.
 
@@ -661,7 +661,9 @@ impl Ams {
                 break;
             }
             let big_k = killed.len();
-            if trajectories + big_k as u64 > s.max_trajectories {
+            if trajectories + big_k as u64 > s.max_trajectories
+                || next_branch + big_k as u64 > MAX_TRAJECTORIES
+            {
                 rep.status = format!(
                     "--max-trajectories {} reached at level {} = {z} (P(above) ~ {:.3e}) before the target",
                     s.max_trajectories,
@@ -794,6 +796,12 @@ impl Ams {
                 armed = false;
             }
             match why {
+                Why::Target if *next_branch >= MAX_TRAJECTORIES / 2 => {
+                    // No branch left for a restart (the direct run met the
+                    // target millions of times: the state is not metastable).
+                    d.hits += 1;
+                    break;
+                }
                 Why::Target => {
                     d.hits += 1;
                     sim.restore(start);
