@@ -198,8 +198,9 @@ pub struct Settings {
     /// default 1: the smallest variance).
     pub kill: usize,
     /// Most paths a replica may run, roots included (`--max-trajectories`,
-    /// n ..= [`MAX_TRAJECTORIES`]; default 1 000 000). A replica that needs
-    /// more is incomplete: no estimate (an error naming the level reached).
+    /// n ..= [`MAX_TRAJECTORIES`]; default 100 000, enough for `p` down to
+    /// `e^{−1000}` with `n` = 100). A replica that needs more is incomplete:
+    /// no estimate (an error naming the level reached).
     pub max_trajectories: u64,
     /// Step budget of a path, counted from its root (`--max-steps`,
     /// 1 ..= [`MAX_PATH_STEPS`]; default 10 000 000).
@@ -231,7 +232,7 @@ impl Default for Settings {
             replicas: 20,
             particles: 100,
             kill: 1,
-            max_trajectories: 1_000_000,
+            max_trajectories: 100_000,
             max_steps: 10_000_000,
             crossings: 100,
             direct_steps: 10_000_000,
