@@ -298,6 +298,46 @@ impl Simulation {
         self
     }
 
+    /// A path of `analysis::rare`: the ensemble's lean per-step record
+    /// ([`Simulation::lean`]) and no event record (nothing reads it, and a
+    /// path is copied at every branching). The steps are the same bits.
+    pub(crate) fn for_paths(mut self) -> Self {
+        with_sim!(&mut self.inner, s => {
+            s.light = true;
+            s.log.events.off = true;
+        });
+        self
+    }
+
+    /// Step until `stop` returns true for the state at the end of an
+    /// accepted step (`analysis::rare`: conditions checked at every step):
+    /// `true` then, the run paused just after that step (continuing it
+    /// gives the same steps as never pausing); `false` if the run reached
+    /// `solver.t_end` or failed first ([`Simulation::error`]).
+    pub(crate) fn advance_until(&mut self, stop: &mut dyn FnMut(&dyn StepProbe) -> bool) -> bool {
+        let hit = with_sim!(&mut self.inner, s => {
+            let tu = s.tu;
+            s.advance_until(&mut |m, t, y| stop(&Probe { m, t, y, tu }))
+        });
+        self.at = with_sim!(&self.inner, s => s.reached());
+        hit
+    }
+
+    /// Accepted steps of the run so far (its global step count, the
+    /// random stream's counter without the branch).
+    pub(crate) fn steps_taken(&self) -> u64 {
+        with_sim!(&self.inner, s => s.steps_seen)
+    }
+
+    /// From the next step on, draw the noise of branch `branch`: step `k`
+    /// of the run takes the stream's counter [`noise_counter`]`(branch, k)`
+    /// (branch 0 is every other run's stream). For `analysis::rare`, which
+    /// continues a copied path with fresh noise.
+    pub(crate) fn set_noise_branch(&mut self, branch: u64) {
+        debug_assert!(branch < 1 << (64 - BRANCH_SHIFT));
+        with_sim!(&mut self.inner, s => s.set_noise_base(noise_counter(branch, 0)));
+    }
+
     /// Integrate until the run has passed `t` \[s\] (or ended, or failed:
     /// see [`Simulation::error`]). `Err` if `t` is not finite, before the
     /// time of the last call, or after `solver.t_end`.
@@ -397,6 +437,47 @@ impl Simulation {
     }
 }
 
+/// Bits of a random stream's step counter below a branch's index
+/// ([`noise_counter`]): a run takes at most [`MAX_STEPS`] < 2⁴⁰ steps.
+pub(crate) const BRANCH_SHIFT: u32 = 40;
+
+/// The random stream's counter of step `step` of branch `branch`
+/// (`analysis::rare`): `branch · 2⁴⁰ + step`, a bijection for steps below
+/// 2⁴⁰ and branches below 2²⁴; branch 0 is a plain run's counter.
+pub(crate) fn noise_counter(branch: u64, step: u64) -> u64 {
+    (branch << BRANCH_SHIFT) + step
+}
+
+/// The state at the end of an accepted step, as [`Simulation::advance_until`]
+/// shows it: the time, θ alone (cheap), or the whole output row.
+pub(crate) trait StepProbe {
+    /// Time \[s\].
+    fn time(&self) -> f64;
+    /// θ \[rad\] (the run's θ: the bits of its largest θ's record).
+    fn theta(&self) -> f64;
+    /// The whole trajectory.csv row (SI).
+    fn row(&self) -> Sample;
+}
+
+struct Probe<'a, M, const D: usize> {
+    m: &'a M,
+    t: f64,
+    y: &'a [f64; D],
+    tu: f64,
+}
+
+impl<M: Model<D>, const D: usize> StepProbe for Probe<'_, M, D> {
+    fn time(&self) -> f64 {
+        self.t * self.tu
+    }
+    fn theta(&self) -> f64 {
+        self.m.track_angles(self.y).0
+    }
+    fn row(&self) -> Sample {
+        self.m.row(self.t, self.y)
+    }
+}
+
 /// `cos θ` of a state: the model's own (a few ulps) where it has one, else
 /// from θ.
 fn cos_theta_of<M: Model<D>, const D: usize>(m: &M, y: &[f64; D]) -> f64 {
@@ -485,6 +566,10 @@ struct Sim<M, const D: usize> {
     /// θ windows watched on the continuous solution (bit runs:
     /// [`simulate_watching`]).
     watcher: Option<Watcher>,
+    /// Added to the random stream's counter of every step: a branch of
+    /// `analysis::rare` (`branch << BRANCH_SHIFT`, [`noise_counter`]); 0 for
+    /// every other run.
+    noise_base: u64,
 }
 
 impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
@@ -537,6 +622,7 @@ impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
             normal_buckets: self.normal_buckets.clone(),
             last_step_t: self.last_step_t,
             watcher: self.watcher.clone(),
+            noise_base: self.noise_base,
         }
     }
 }
@@ -609,6 +695,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 .then(|| vec![0.0; sc.solver.samples]),
             last_step_t: 0.0,
             watcher: None,
+            noise_base: 0,
             m,
         };
         if !watches.is_empty() {
@@ -704,6 +791,44 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         true
     }
 
+    /// Integrate step by step until `stop(m, t, y)` (called after every
+    /// accepted step, at its end or at a terminal event) returns true:
+    /// `true` then (the run paused just after that step, as
+    /// [`Sim::advance`] pauses), `false` if the run ended or failed first.
+    fn advance_until(&mut self, stop: &mut dyn FnMut(&M, f64, &[f64; D]) -> bool) -> bool {
+        while !self.done {
+            match &self.active {
+                None => self.begin_segment(),
+                Some(a) if a.ended.is_some() => self.handle_end(),
+                Some(_) => {
+                    let mut hit = false;
+                    self.step_once(
+                        &mut |m, t, y| {
+                            if stop(m, t, y) {
+                                hit = true;
+                            }
+                        },
+                        &mut |_| {},
+                    );
+                    if hit {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    /// From the next step on, draw the noise with the counters
+    /// `base + step` ([`noise_counter`]).
+    fn set_noise_base(&mut self, base: u64) {
+        self.noise_base = base;
+        let next = base + self.steps_seen;
+        if let Some(a) = self.active.as_mut() {
+            a.st.eng.set_noise_counter(next);
+        }
+    }
+
     /// Start a segment at `(t, y)`, emitting the samples at exactly `t`
     /// (only the run's start has any: later segments start where the last
     /// one's samples ended).
@@ -736,7 +861,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         if let Stepper::Langevin { first_step, .. } | Stepper::Brownian { first_step, .. } =
             &mut self.opts.stepper
         {
-            *first_step = self.steps_seen;
+            *first_step = self.noise_base + self.steps_seen;
         }
         let eng = AnyEngine::new(&self.opts, t, seg_end);
         let mut st = Stepping::new(eng, events.len(), self.samples.len());

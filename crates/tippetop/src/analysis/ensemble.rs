@@ -168,12 +168,25 @@ impl Exit {
         Ok(Exit { terms })
     }
 
-    /// The terms `(column, above, value)`: `column > value` if `above`,
-    /// else `column < value` (SI units), in the order given.
-    pub fn terms(&self) -> impl Iterator<Item = (&'static str, bool, f64)> + '_ {
-        self.terms
-            .iter()
-            .map(|&(i, above, v)| (COLUMNS[i], above, v))
+    /// The columns the criterion reads (indices into [`COLUMNS`], in the
+    /// order of its terms).
+    pub fn columns(&self) -> impl Iterator<Item = usize> + '_ {
+        self.terms.iter().map(|t| t.0)
+    }
+
+    /// Its terms `(column, above, threshold)`: `column > threshold` if
+    /// `above`, else `column < threshold` (column an index into
+    /// [`COLUMNS`], the threshold in its SI unit).
+    pub fn terms(&self) -> &[(usize, bool, f64)] {
+        &self.terms
+    }
+
+    /// Whether it holds for the values `value(column)` (SI).
+    pub fn hit_by(&self, value: &dyn Fn(usize) -> f64) -> bool {
+        self.terms.iter().any(|&(i, above, v)| {
+            let x = value(i);
+            if above { x > v } else { x < v }
+        })
     }
 
     /// Whether an output row (values in [`COLUMNS`] order) has passed.

@@ -248,6 +248,16 @@ impl<const N: usize> AnyEngine<N> {
     }
 }
 
+impl<const N: usize> AnyEngine<N> {
+    /// Set the random stream's counter of the next step (stochastic
+    /// engines; nothing for the deterministic ones).
+    pub(crate) fn set_noise_counter(&mut self, next_step: u64) {
+        if let AnyEngine::Langevin(e) = self {
+            e.set_counter(next_step);
+        }
+    }
+}
+
 macro_rules! each_engine {
     ($self:expr, $e:ident => $body:expr) => {
         match $self {

@@ -82,6 +82,13 @@ impl<const N: usize> Langevin<N> {
         }
     }
 
+    /// Set the stream's counter of the next step (`analysis::rare`'s
+    /// branches: a branch continues a path with the counters of its own
+    /// noise, [`crate::simulate::noise_counter`]).
+    pub(crate) fn set_counter(&mut self, next_step: u64) {
+        self.step = next_step;
+    }
+
     /// The grid point after `t`: `(k + 1) h` for `t` within the slack of
     /// `k h`, else the next multiple of `h`. The slack grows with `k`: `t/h`
     /// of a grid time `k h` is `k` only to a few ulps of `k` (2e-9 at

@@ -19,12 +19,18 @@ pub const MAX_SWITCHES: usize = 200_000;
 pub(crate) struct EventList {
     list: Vec<EventRecord>,
     dropped: u64,
+    /// Record nothing (the paths of `analysis::rare`, which read no
+    /// events and are copied at every branching).
+    pub(crate) off: bool,
 }
 
 impl EventList {
     /// Record that `what` happened at `t` \[s\] (or count it if the list is
     /// full).
     pub(crate) fn push(&mut self, t: f64, what: Happened) {
+        if self.off {
+            return;
+        }
         if self.list.len() < crate::limits::MAX_EVENTS {
             self.list.push(EventRecord {
                 t,

@@ -785,7 +785,8 @@ pub struct Exact {
 /// smallest `θ > v` one (`Err` if a term is on another column).
 fn theta_edges(cond: &Exit, key: &str) -> Result<(Option<f64>, Option<f64>), Error> {
     let (mut below, mut above): (Option<f64>, Option<f64>) = (None, None);
-    for (col, is_above, v) in cond.terms() {
+    for &(i, is_above, v) in cond.terms() {
+        let col = crate::trajectory::COLUMNS[i];
         if col != "theta" {
             return Err(not_exact(
                 key,
