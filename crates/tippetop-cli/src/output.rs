@@ -114,7 +114,12 @@ pub fn fmt_duration(seconds: f64) -> String {
     let decimals = (2 - x.abs().log10().floor() as i64).clamp(0, 12) as usize;
     // Rounding can carry into the next digit (9.996 -> 10.00): one fewer.
     let text = format!("{x:.decimals$}");
-    let digits = text.chars().filter(char::is_ascii_digit).count();
+    // Significant digits: leading zeros ("0.000120") do not count.
+    let digits = text
+        .chars()
+        .filter(char::is_ascii_digit)
+        .skip_while(|&c| c == '0')
+        .count();
     let text = if digits > 3 && decimals > 0 {
         format!("{x:.prec$}", prec = decimals - 1)
     } else {
