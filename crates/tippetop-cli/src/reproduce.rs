@@ -24,7 +24,7 @@ pub fn run(args: &ReproduceArgs, quiet: bool) -> Result<()> {
         return Err(tippetop::Error::invalid(
             "--out",
             format!("{} exists and is not a directory", args.out.display()),
-            "a directory path".into(),
+            "a directory, created if missing".into(),
         )
         .into());
     }

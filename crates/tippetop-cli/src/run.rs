@@ -129,7 +129,7 @@ fn check_set_syntax(s: &str) -> Result<(), Error> {
 fn check_out_dir(out: &Path) -> Result<(), Error> {
     if out.exists() && !out.is_dir() {
         return Err(Error::invalid(
-            "out",
+            "--out",
             format!("{} exists and is not a directory", out.display()),
             "a directory, created if missing".into(),
         ));

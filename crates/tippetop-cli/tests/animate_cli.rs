@@ -328,6 +328,19 @@ fn bad_input_is_one_line_exit_2_nothing_written() {
         assert!(out.stdout.is_empty());
         assert_eq!(dir.exists().then(|| files(&dir)), before, "{args:?}");
     }
+    // Issue 26: a link planted where the lock should be is bad input too
+    // (exit 2, was 1), and its target is neither read nor written.
+    let victim = tmp.path().join("victim");
+    fs::write(&victim, "keep").unwrap();
+    std::os::unix::fs::symlink(&victim, good.join(".tippetop.lock")).unwrap();
+    let before = files(&good);
+    let out = tippetop().arg("animate").arg(&good).output().unwrap();
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains(".tippetop.lock: is a symbolic link"), "{err}");
+    assert_eq!(fs::read_to_string(&victim).unwrap(), "keep");
+    assert_eq!(files(&good), before);
     // The directory errors name the directory.
     let out = tippetop().arg("animate").arg(&empty).output().unwrap();
     let err = String::from_utf8(out.stderr).unwrap();

@@ -147,7 +147,7 @@ fn out_that_is_a_file_is_input_error() {
         .code(2);
     let stderr = String::from_utf8(assert.get_output().stderr.clone()).unwrap();
     assert_eq!(stderr.lines().count(), 1, "{stderr:?}");
-    assert!(stderr.starts_with("error: out: "), "{stderr:?}");
+    assert!(stderr.starts_with("error: --out: "), "{stderr:?}");
     assert_eq!(fs::read_to_string(&out).unwrap(), "not a directory");
 }
 

@@ -1076,8 +1076,8 @@ fn out_that_is_a_file_is_bad_input() {
     for out in [file.clone(), file.join("sub")] {
         for args in &cmds {
             let o = bin().args(args).arg("--out").arg(&out).output().unwrap();
-            // (`run` names the key `out`, the others `--out`.)
-            refused(&o, &["out: ", "file"]);
+            // Every command names the option `--out` (`run` said `out`).
+            refused(&o, &["--out: ", "file"]);
             assert_eq!(read(&file), "mine");
             assert_eq!(names(&d), ["file"], "{args:?}");
         }

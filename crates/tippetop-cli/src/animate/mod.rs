@@ -396,7 +396,11 @@ pub fn load_movie(dir: &Path, settings: &Settings) -> std::result::Result<Movie,
             )));
         }
     }
-    let _guard = read_lock(dir).map_err(|e| LoadError::Other(format!("{e:#}")))?;
+    // A link where the lock should be, like any bad input, is exit 2.
+    let _guard = read_lock(dir).map_err(|e| match e.downcast_ref::<tippetop::Error>() {
+        Some(te) => LoadError::Input(te.to_string()),
+        None => LoadError::Other(format!("{e:#}")),
+    })?;
     let read = |p: &Path| {
         std::fs::read_to_string(p).map_err(|e| LoadError::Input(bad(p, format!("unreadable: {e}"))))
     };
