@@ -25,6 +25,12 @@ pub struct Cli {
     #[arg(long, short, global = true)]
     pub quiet: bool,
 
+    /// Let this command replace the output another subcommand wrote into
+    /// --out (its files are removed). Without it, that is refused (exit 2)
+    /// and nothing is touched.
+    #[arg(long, global = true)]
+    pub force: bool,
+
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
@@ -83,6 +89,27 @@ pub enum Command {
     /// Animate a run: DIR/animation.gif and DIR/viewer.html (a 3D view in the browser).
     #[command(long_about = crate::animate::ANIMATE_LONG_ABOUT)]
     Animate(crate::animate::AnimateArgs),
+}
+
+impl Command {
+    /// The subcommand's name, as typed (`run`, `sweep`, ...).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Command::Run(_) => "run",
+            Command::Reproduce(_) => "reproduce",
+            Command::Sweep(_) => "sweep",
+            Command::Ensemble(_) => "ensemble",
+            Command::Merge(_) => "merge",
+            Command::Stability(_) => "stability",
+            Command::Adhesion(_) => "adhesion",
+            Command::Regime(_) => "regime",
+            Command::Retention(_) => "retention",
+            Command::Animate(_) => "animate",
+            Command::Bit(_) => "bit",
+            Command::Device(_) => "device",
+            Command::Rare(_) => "rare",
+        }
+    }
 }
 
 /// Long help of `tippetop run`: the files, every `trajectory.csv` column
@@ -183,8 +210,10 @@ pub struct RunArgs {
     pub sets: Vec<String>,
 
     /// Output directory (created if missing; locked while the run writes;
-    /// the previous command's files in it are replaced or removed).
-    #[arg(long, value_name = "DIR", default_value = "out")]
+    /// the previous run's files in it are replaced or removed; another
+    /// subcommand's output there is refused unless --force). The default
+    /// is run's own, beside `reproduce`'s `out/`.
+    #[arg(long, value_name = "DIR", default_value = "out/run")]
     pub out: PathBuf,
 
     /// Write plots (the default).

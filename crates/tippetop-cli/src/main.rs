@@ -38,6 +38,7 @@ fn main() -> ExitCode {
     {
         tippetop::testing::plant_nan_row(Some(at));
     }
+    tippetop_cli::output::set_invocation(cli.command.name(), cli.force);
     let result = match &cli.command {
         Command::Run(args) => run::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),
         Command::Reproduce(args) => reproduce::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),

@@ -19,6 +19,32 @@ use serde::Serialize;
 use tippetop::trajectory::COLUMNS;
 use tippetop::{EventRecord, Summary, Trajectory};
 
+/// The subcommand this process runs and whether `--force` was given
+/// ([`set_invocation`]).
+static INVOCATION: std::sync::OnceLock<(&'static str, bool)> = std::sync::OnceLock::new();
+
+/// Record the subcommand this process runs (`run`, `sweep`, ...) and
+/// whether `--force` was given: [`OutDir::open`] names it in the manifest
+/// and refuses, without `--force`, to replace another subcommand's output.
+/// Called once by `main`; without it (library use, tests) no check is made.
+pub fn set_invocation(command: &'static str, force: bool) {
+    let _ = INVOCATION.set((command, force));
+}
+
+/// Subcommands that add their files beside another's output (`animate`
+/// beside a run's) rather than replace it.
+const ADDING: [&str; 1] = ["animate"];
+
+/// Whether `now` may replace the output `before` wrote: the same
+/// subcommand, or `merge` of shards of a streaming subcommand (it writes
+/// that subcommand's output) and that subcommand again.
+fn may_replace(before: &str, now: &str) -> bool {
+    const SHARDED: [&str; 4] = ["sweep", "ensemble", "bit", "rare"];
+    before == now
+        || (before == "merge" && SHARDED.contains(&now))
+        || (now == "merge" && SHARDED.contains(&before))
+}
+
 /// Counter that makes each temporary name of this process unique.
 static TMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
@@ -857,6 +883,24 @@ impl OutDir {
         fs::write(&probe, b"probe").with_context(|| cannot("writing a probe file"))?;
         fs::remove_file(&probe).with_context(|| cannot("removing a probe file"))?;
         self.previous = read_manifest(&self.dir);
+        if let (Some(&(now, force)), Some(before)) = (INVOCATION.get(), manifest_command(&self.dir))
+            && !force
+            && !ADDING.contains(&now)
+            && !self.previous.is_empty()
+            && !may_replace(&before, now)
+        {
+            let n = self.previous.len();
+            return Err(tippetop::Error::invalid(
+                "--out",
+                format!(
+                    "{} holds the output of `tippetop {before}` ({n} file{}); `tippetop {now}` would remove it",
+                    self.dir.display(),
+                    if n == 1 { "" } else { "s" },
+                ),
+                "another --out, or --force to replace that output".into(),
+            )
+            .into());
+        }
         Ok(())
     }
 
@@ -1096,11 +1140,32 @@ pub fn read_manifest(dir: &Path) -> BTreeSet<String> {
         .collect()
 }
 
-/// Write `DIR/`[`MANIFEST_NAME`] listing `names`, atomically.
+/// The subcommand that wrote `DIR/`[`MANIFEST_NAME`] (its `# command:`
+/// line), if it says.
+pub fn manifest_command(dir: &Path) -> Option<String> {
+    let bytes = read_plain(&dir.join(MANIFEST_NAME)).ok()?;
+    String::from_utf8_lossy(&bytes)
+        .lines()
+        .find_map(|l| l.strip_prefix("# command: "))
+        .map(|c| c.trim().to_string())
+        .filter(|c| !c.is_empty())
+}
+
+/// Write `DIR/`[`MANIFEST_NAME`] listing `names`, atomically, with the
+/// subcommand that writes them (an adding one, `animate`, keeps the
+/// owner's name).
 fn write_manifest(dir: &Path, names: &BTreeSet<String>) -> Result<()> {
     let mut text = String::from(
         "# tippetop: the files the last command wrote into this directory (the next one removes those it does not write)\n",
     );
+    let owner = match INVOCATION.get() {
+        Some((now, _)) if ADDING.contains(now) => manifest_command(dir),
+        Some((now, _)) => Some(now.to_string()),
+        None => manifest_command(dir),
+    };
+    if let Some(c) = owner {
+        text.push_str(&format!("# command: {c}\n"));
+    }
     for n in names {
         text.push_str(n);
         text.push('\n');

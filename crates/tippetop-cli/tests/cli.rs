@@ -795,3 +795,81 @@ fn contact_line_says_lift_off_for_a_top_that_flies() {
         assert!(line.contains("t = 3.08e-6 s"), "{line}");
     }
 }
+
+/// Issue 29 (1): `reproduce` wrote 46 files into `out/`, then `run` without
+/// `--out` replaced them all without a word. Now `run` writes into its own
+/// `out/run/`, and a subcommand that would replace another's output in an
+/// `--out` refuses (exit 2, one line naming the directory and the other
+/// subcommand), touching nothing, unless `--force`; an adding one
+/// (`animate`) is not refused, and no lock file is left behind.
+#[test]
+fn no_command_silently_replaces_another_commands_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let listing = |p: &std::path::Path| -> Vec<String> {
+        let mut v: Vec<String> = fs::read_dir(p)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    let cmd = || {
+        let mut c = tippetop();
+        c.current_dir(dir.path());
+        c
+    };
+    cmd().args(["-q", "reproduce"]).assert().success();
+    let out = dir.path().join("out");
+    let reproduced = listing(&out);
+    assert!(
+        reproduced.contains(&"report.md".to_string()),
+        "{reproduced:?}"
+    );
+    assert!(reproduced.len() > 40, "{reproduced:?}");
+    let report = fs::read(out.join("report.md")).unwrap();
+
+    // `run` without --out: its own directory, reproduce's files untouched.
+    let short = ["--preset", "classical", "--set", "solver.t_end=0.2"];
+    cmd().args(["-q", "run"]).args(short).assert().success();
+    assert!(out.join("run/summary.json").exists());
+    let mut with_run = reproduced.clone();
+    with_run.push("run".into());
+    with_run.sort();
+    assert_eq!(listing(&out), with_run);
+
+    // `run --out out`: refused, naming the directory and `reproduce`.
+    let o = cmd()
+        .args(["run", "--out", "out"])
+        .args(short)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: --out: out holds the output of `tippetop reproduce`"));
+    assert!(err.contains("--force"), "{err}");
+    assert_eq!(listing(&out), with_run);
+    assert_eq!(fs::read(out.join("report.md")).unwrap(), report);
+
+    // `animate` adds to a run's directory; the run may replace its own.
+    cmd()
+        .args(["-q", "animate", "out/run", "--fps", "2", "--duration", "1"])
+        .args(["--size", "160x120"])
+        .assert()
+        .success();
+    assert!(out.join("run/viewer.html").exists());
+    cmd().args(["-q", "run"]).args(short).assert().success();
+
+    // --force replaces reproduce's output (its files removed, run's there).
+    cmd()
+        .args(["-q", "run", "--force", "--out", "out"])
+        .args(short)
+        .assert()
+        .success();
+    let after = listing(&out);
+    assert!(!after.contains(&"report.md".to_string()), "{after:?}");
+    assert!(after.contains(&"trajectory.csv".to_string()), "{after:?}");
+    for d in [&out, &out.join("run")] {
+        assert!(!d.join(".tippetop.lock").exists(), "{}", d.display());
+    }
+}
