@@ -347,6 +347,25 @@ pub fn human_summary(
         Some(t) => o.push_str(&format!(", above π/2 from t = {} s\n", v(t))),
         None => o.push_str(", never above π/2\n"),
     }
+    // The contact's story (exact Coulomb): when it stuck, how long it
+    // rolled, and, for a top that rolled and never rose, why.
+    if s.rolling_fraction > 0.0 {
+        let stuck = traj.events.iter().find(|e| e.kind == "stick").map(|e| e.t);
+        o.push_str(&format!(
+            "friction:    rolls without slipping {}% of the time{}\n",
+            v(100.0 * s.rolling_fraction),
+            stuck.map_or(String::new(), |t| format!(
+                " (sticks first at t = {} s)",
+                v(t)
+            )),
+        ));
+        if s.first_time_theta_above_half_pi.is_none() && s.rolling_fraction >= 0.5 {
+            o.push_str(
+                "             a rolling contact does no work, so friction cannot raise the top \
+                 (docs/physics.md §6); the paper's slip law: surface.friction_law = \"regularized\"\n",
+            );
+        }
+    }
     // A stochastic run (it has interval-averaged N): the bath's torques
     // change J, so its drift is not an accuracy figure.
     let j_note = if s.normal_intervals.is_some() {

@@ -873,3 +873,57 @@ fn no_command_silently_replaces_another_commands_output() {
         assert!(!d.join(".tippetop.lock").exists(), "{}", d.display());
     }
 }
+
+/// Issue 29 (3): `run --preset classical --set surface.friction=0.2`
+/// printed only "never above π/2"; the reason (it sticks at once and rolls,
+/// and a rolling contact does no work) was in summary.json alone. The
+/// console now tells it, with summary.json's figures.
+#[test]
+fn console_says_why_a_rolling_top_does_not_rise() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let o = tippetop()
+        .args([
+            "run",
+            "--preset",
+            "classical",
+            "--set",
+            "surface.friction=0.2",
+        ])
+        .args(["--set", "solver.t_end=2", "--no-plot", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    let summary: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let rolling = summary["rolling_fraction"].as_f64().unwrap();
+    assert!(rolling > 0.9, "{rolling}");
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("friction:"))
+        .unwrap_or_else(|| panic!("{text}"));
+    let pct: f64 = line
+        .split("slipping ")
+        .nth(1)
+        .and_then(|r| r.split('%').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((pct - 100.0 * rolling).abs() < 0.05, "{line} vs {rolling}");
+    let stick = summary["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["kind"] == "stick")
+        .unwrap()["t"]
+        .as_f64()
+        .unwrap();
+    assert!(
+        line.contains(&format!("{:.3}", stick)[..5]),
+        "{line} {stick}"
+    );
+    assert!(text.contains("a rolling contact does no work"), "{text}");
+    assert!(text.contains("friction_law = \"regularized\""), "{text}");
+}
