@@ -16,7 +16,7 @@ use tippetop::analysis::sweep::{self, Shard, ShardInfo, Sweep};
 use tippetop::scenario::bit::BitScenario;
 use tippetop::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
 
-use crate::output::{OutDir, fmt_f64, write_bytes_atomic};
+use crate::output::{OutDir, write_bytes_atomic};
 use crate::partial::{check_checksum, checksum};
 
 /// Runs of an ensemble when `--runs` is not given (T > 0).
@@ -588,15 +588,31 @@ pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode
     write_bit(out, &args.out, &bs, &results, false, None, quiet)
 }
 
+/// A number in bit.md and on the console: 4 significant figures
+/// (`tippetop::human`); bit.json and runs.csv keep full precision.
+fn human(x: f64) -> String {
+    tippetop::human::sig(x, 4)
+}
+
+/// A probability for people: `0` and `1` exactly, else 3 significant
+/// figures.
+fn prob(p: f64) -> String {
+    if p == 0.0 || p == 1.0 {
+        format!("{p}")
+    } else {
+        tippetop::human::sig(p, 3)
+    }
+}
+
 fn opt(v: Option<f64>) -> String {
-    v.map(fmt_f64).unwrap_or_else(|| "-".into())
+    v.map(human).unwrap_or_else(|| "-".into())
 }
 
 /// A block in one line: `P = 1 [1, 1] (1 of 1 runs), time median 4.1e-5 s`.
 fn one_line(b: &Block) -> String {
     let ci = b
         .ci95
-        .map(|[lo, hi]| format!(" [{}, {}]", fmt_f64(lo), fmt_f64(hi)))
+        .map(|[lo, hi]| format!(" [{}, {}]", prob(lo), prob(hi)))
         .unwrap_or_default();
     let fails: Vec<String> = b
         .failures
@@ -606,7 +622,7 @@ fn one_line(b: &Block) -> String {
         .collect();
     format!(
         "P = {}{ci} ({} of {} runs){}, time median {} s, energy median {} J{}",
-        opt(b.probability),
+        b.probability.map_or_else(|| "-".into(), prob),
         b.successes,
         b.runs,
         if b.deterministic {
@@ -773,7 +789,7 @@ fn theta_figure_named(
         &dir.join(name),
         &format!(
             "{what}θ(t) of run {run}: write to {} {unit}, then erase",
-            fmt_f64(b.phase * scale)
+            human(b.phase * scale)
         ),
         &format!("t [{unit}]"),
         "θ [rad]",
@@ -802,13 +818,13 @@ fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
          phase succeeds iff θ stays in its target window during its last {} s, on the \
          continuous solution (events at the window's edges; steps at most the row spacing, {} \
          s). The switching time is the crossing into the window.\n",
-        fmt_f64(b.zero[0]),
-        fmt_f64(b.zero[1]),
-        fmt_f64(b.one[0]),
-        fmt_f64(b.one[1]),
-        fmt_f64(b.phase),
-        fmt_f64(b.hold),
-        fmt_f64(2.0 * b.phase / (bs.scenario.solver.samples - 1) as f64),
+        human(b.zero[0]),
+        human(b.zero[1]),
+        human(b.one[0]),
+        human(b.one[1]),
+        human(b.phase),
+        human(b.hold),
+        human(2.0 * b.phase / (bs.scenario.solver.samples - 1) as f64),
     );
     if r.deterministic {
         let _ = writeln!(
@@ -821,7 +837,7 @@ fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
             "{} Langevin runs at T = {} K (seed {}, thermal.run {} to {}); intervals are \
              Wilson 95 %.\n",
             r.runs,
-            fmt_f64(bs.scenario.thermal.temperature),
+            human(bs.scenario.thermal.temperature),
             bs.scenario.thermal.seed.unwrap_or(0),
             bs.scenario.thermal.run,
             bs.scenario.thermal.run + r.runs as u64 - 1,
@@ -853,7 +869,7 @@ fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
         let _ = writeln!(
             s,
             "- largest total applied force: {} N\n",
-            fmt_f64(blk.max_applied_force)
+            human(blk.max_applied_force)
         );
     }
     if let Some(t) = typical {
@@ -869,11 +885,7 @@ fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
     }
     match r.pull_off_margin_min {
         Some(m) => {
-            let _ = writeln!(
-                s,
-                "Smallest pull-off margin over the runs: {} N.",
-                fmt_f64(m)
-            );
+            let _ = writeln!(s, "Smallest pull-off margin over the runs: {} N.", human(m));
         }
         None => {
             let _ = writeln!(s, "No adhesion: no pull-off margin.");

@@ -51,7 +51,15 @@ fn nano_write_succeeds_and_the_reversal_does_not_erase() {
         .unwrap();
     ok(&o);
     let out = String::from_utf8_lossy(&o.stdout);
-    assert!(out.contains("write: P = 1.0"), "{out}");
+    assert!(out.contains("write: P = 1 "), "{out}");
+    // Issue 29 (6): numbers for people have 3-4 significant figures (were
+    // `0.00004061824921529044 s`, `[1.2207963267948965, ...]`).
+    let md = std::fs::read_to_string(d.join("bit/bit.md")).unwrap();
+    for text in [&out as &str, &md] {
+        assert!(no_long_numbers(text), "{text}");
+    }
+    assert!(md.contains("one = θ in [1.221, 1.921] rad"), "{md}");
+    assert!(md.contains("time median 4.06"), "{md}");
     let b = json(&d.join("bit/bit.json"));
     assert_eq!(b["deterministic"], true);
 
@@ -1391,4 +1399,21 @@ fn merge_checks_bit_shards() {
         std::fs::write(&json_path, json).unwrap();
     }
     let _ = std::fs::remove_dir_all(&d);
+}
+
+/// No number in `text` with 10 or more digits (a decimal point may sit
+/// among them): what a human-facing output must not show.
+fn no_long_numbers(text: &str) -> bool {
+    let mut run = 0;
+    for c in text.chars() {
+        if c.is_ascii_digit() {
+            run += 1;
+            if run >= 10 {
+                return false;
+            }
+        } else if c != '.' {
+            run = 0;
+        }
+    }
+    true
 }

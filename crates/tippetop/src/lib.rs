@@ -16,6 +16,7 @@ pub mod analysis;
 pub mod contact;
 pub mod error;
 pub mod forcing;
+pub mod human;
 pub mod integrate;
 pub mod model;
 pub(crate) mod numeric;
