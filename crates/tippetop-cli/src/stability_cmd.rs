@@ -109,9 +109,52 @@ pub fn run(args: &StabilityArgs, quiet: bool) -> anyhow::Result<ExitCode> {
     if args.json {
         crate::output::print_json(&rep)?;
     } else {
-        print!("{}", table(&rep));
+        print!("{}", table(&rep, Some(&sc)));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Which friction law each part used, and, where the run's late state is a
+/// steady motion the linearisation calls unstable, why they disagree
+/// (issue 29: "upright: unstable", then "Late-time state: upright").
+fn laws(r: &StabilityReport, sc: &Scenario) -> Option<String> {
+    use tippetop::contact::FrictionLaw;
+    let late = r.late.as_ref()?;
+    let run_law = sc.surface.law;
+    let mut s = format!(
+        "Friction laws: the linearisation uses the {} law (ε = {} m/s); the run uses the scenario's {} law.\n",
+        r.law.name(),
+        h(r.eps),
+        run_law.name()
+    );
+    let sticks = matches!(
+        run_law,
+        FrictionLaw::Coulomb | FrictionLaw::CoulombSliding | FrictionLaw::Contensou { .. }
+    );
+    let steady = r
+        .steady
+        .iter()
+        .find(|m| m.name.starts_with(late.class.as_str()));
+    if let Some(m) = steady.filter(|m| sticks && m.with_friction.verdict.as_str() == "unstable") {
+        s += &format!(
+            "They disagree about the {} state only through that law: the smooth law always slides a little, and that slip is what destabilises it (max Re λ = {} 1/s); exact Coulomb friction lets the contact stick, and a rolling contact does no work, so the run stays {}. With surface.friction_law = \"regularized\" the run leaves it too.\n",
+            late.class,
+            h(m.with_friction.max_re),
+            late.class
+        );
+    }
+    Some(s)
+}
+
+/// A number for people: 4 significant figures (`tippetop::human`).
+fn h(x: f64) -> String {
+    tippetop::human::sig(x, 4)
+}
+
+/// A complex number for people: `re+imi` / `re-imi`.
+fn cplx(re: f64, im: f64) -> String {
+    let sign = if im < 0.0 { '-' } else { '+' };
+    format!("{}{sign}{}i", h(re), h(im.abs()))
 }
 
 fn eigs(l: &Linearisation) -> String {
@@ -119,32 +162,34 @@ fn eigs(l: &Linearisation) -> String {
         .iter()
         .map(|e| {
             if e.im == 0.0 {
-                format!("{:.4e}", e.re)
+                format!("{}", h(e.re))
             } else {
-                format!("{:.4e}{:+.4e}i", e.re, e.im)
+                cplx(e.re, e.im)
             }
         })
         .collect::<Vec<_>>()
         .join(", ")
 }
 
-/// The human-readable report.
-pub fn table(r: &StabilityReport) -> String {
+/// The human-readable report; with the scenario, which friction law each
+/// part used and why their verdicts differ ([`laws`]).
+pub fn table(r: &StabilityReport, sc: Option<&Scenario>) -> String {
     let mut s = String::new();
     s += &format!(
-        "Steady motions with H = 0, linearised with the {} friction law (ε = {:.4e} m/s, μ = {}), g = {} m/s²\n",
+        "Steady motions with H = 0, linearised with the {} friction law (ε = {} m/s, μ = {}), g = {} m/s²\n",
         r.law.name(),
-        r.eps,
+        h(r.eps),
         r.mu,
         r.gravity
     );
     s += &format!(
-        "Verdict: stable if every Re λ < −tol, unstable if some Re λ > tol, else marginal; tol = {:.0e} · max|λ|. Structural zeros (Jellett's J, rotation about Z) removed.\n",
-        r.tol_rel
+        "Verdict: stable if every Re λ < −tol, unstable if some Re λ > tol, else marginal; tol = {} · max|λ|. Structural zeros (Jellett's J, rotation about Z) removed.\n",
+        tippetop::human::sig(r.tol_rel, 1)
     );
     s += &format!(
-        "Jellett J (initial) = {:.6e} kg m³/s; sleeping-top threshold ω_c = 2√(A m g a)/C = {:.6e} rad/s\n\n",
-        r.jellett, r.sleeping_threshold
+        "Jellett J (initial) = {} kg m³/s; sleeping-top threshold ω_c = 2√(A m g a)/C = {} rad/s\n\n",
+        h(r.jellett),
+        h(r.sleeping_threshold)
     );
     s += &format!(
         "{:<48} {:>8} {:>12} {:>12} {:>10} {:>12} {:>10}\n",
@@ -153,13 +198,13 @@ pub fn table(r: &StabilityReport) -> String {
     for m in &r.steady {
         let l = &m.with_friction;
         s += &format!(
-            "{:<48} {:>8.4} {:>12.4e} {:>12.4e} {:>10} {:>12.4e} {:>10}\n",
+            "{:<48} {:>8.4} {:>12} {:>12} {:>10} {:>12} {:>10}\n",
             m.name,
             l.theta,
-            l.precession,
-            l.spin,
+            h(l.precession),
+            h(l.spin),
             l.verdict.as_str(),
-            l.max_re,
+            h(l.max_re),
             m.frictionless.verdict.as_str()
         );
         s += &format!("    ({})\n", m.how);
@@ -171,8 +216,9 @@ pub fn table(r: &StabilityReport) -> String {
     match inv.threshold_at_pi {
         Some(nc) => {
             s += &format!(
-                "  θ = π is a minimum of V_J iff the spin about the vertical there exceeds n_c = (R + a)√(m g a/(R[C(R + a) − A R])) = {nc:.6e} rad/s; this scenario's J gives {:.6e} rad/s there ({})\n",
-                inv.spin_at_pi.abs(),
+                "  θ = π is a minimum of V_J iff the spin about the vertical there exceeds n_c = (R + a)√(m g a/(R[C(R + a) − A R])) = {} rad/s; this scenario's J gives {} rad/s there ({})\n",
+                h(nc),
+                h(inv.spin_at_pi.abs()),
                 if inv.spin_at_pi.abs() > nc {
                     "above"
                 } else {
@@ -187,7 +233,8 @@ pub fn table(r: &StabilityReport) -> String {
     match inv.threshold_at_0 {
         Some(nu) => {
             s += &format!(
-                "  θ = 0 stays a minimum of V_J (a top near upright stays there) while the spin about the vertical there is below n_up = (R − a)√(m g a/(R[A R − C(R − a)])) = {nu:.6e} rad/s\n"
+                "  θ = 0 stays a minimum of V_J (a top near upright stays there) while the spin about the vertical there is below n_up = (R − a)√(m g a/(R[A R − C(R − a)])) = {} rad/s\n",
+                h(nu)
             );
         }
         None => {
@@ -196,8 +243,9 @@ pub fn table(r: &StabilityReport) -> String {
     }
     if let Some(w) = inv.initial_spin_threshold {
         s += &format!(
-            "  from the scenario's θ₀ with Ω₀ = 0: initial spin above {w:.6e} rad/s (the energy alone, E₀ >= V_J(π), asks only {:.6e} rad/s)\n",
-            inv.energy_bound
+            "  from the scenario's θ₀ with Ω₀ = 0: initial spin above {} rad/s (the energy alone, E₀ >= V_J(π), asks only {} rad/s)\n",
+            h(w),
+            h(inv.energy_bound)
         );
     }
     s += &format!(
@@ -206,20 +254,23 @@ pub fn table(r: &StabilityReport) -> String {
     );
     if let Some(l) = &r.late {
         s += &format!(
-            "\nLate-time state of the run ({:.4e} s to {:.4e} s, status {}): {} — θ = {:.4} ± {:.4} rad (θ − π/2 = {:+.4}), Ω = {:.4e} rad/s, ω = {:.4e} rad/s (end {:.4e}), u = ({:.3e}, {:.3e}) m/s\n",
-            l.t_from,
-            l.t_to,
+            "\nLate-time state of the run ({} s to {} s, status {}): {} — θ = {:.4} ± {:.4} rad (θ − π/2 = {:+.4}), Ω = {} rad/s, ω = {} rad/s (end {}), u = ({}, {}) m/s\n",
+            h(l.t_from),
+            h(l.t_to),
             l.status,
             l.class,
             l.theta_mean,
             l.theta_amplitude,
             l.theta_mean - std::f64::consts::FRAC_PI_2,
-            l.precession_mean,
-            l.spin_mean,
-            l.spin_final,
-            l.u_mean[0],
-            l.u_mean[1]
+            h(l.precession_mean),
+            h(l.spin_mean),
+            h(l.spin_final),
+            h(l.u_mean[0]),
+            h(l.u_mean[1])
         );
+    }
+    if let Some(text) = sc.and_then(|sc| laws(r, sc)) {
+        s += &text;
     }
     if !r.frozen.is_empty() {
         s += "\nApplied force H ≠ 0: nothing is steady. Frozen-spin (quasi-static) analysis, not a true equilibrium:\n";
@@ -228,15 +279,15 @@ pub fn table(r: &StabilityReport) -> String {
             match x.theta_quasi {
                 Some(tq) => {
                     s += &format!(
-                        "  {:<46} {:<24} θ_q = {:.5} Ω = {:.4e} ω = {:.4e}: λ = {} → {}\n",
+                        "  {:<46} {:<24} θ_q = {:.5} Ω = {} ω = {}: λ = {} → {}\n",
                         f.name,
                         format!("{:?}", x.variant),
                         tq,
-                        x.precession,
-                        x.spin,
+                        h(x.precession),
+                        h(x.spin),
                         x.eigenvalues
                             .iter()
-                            .map(|e| format!("{:.4e}{:+.4e}i", e.re, e.im))
+                            .map(|e| cplx(e.re, e.im))
                             .collect::<Vec<_>>()
                             .join(", "),
                         x.verdict.map(|v| v.as_str()).unwrap_or("-")

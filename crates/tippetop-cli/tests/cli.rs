@@ -927,3 +927,48 @@ fn console_says_why_a_rolling_top_does_not_rise() {
     assert!(text.contains("a rolling contact does no work"), "{text}");
     assert!(text.contains("friction_law = \"regularized\""), "{text}");
 }
+
+/// Issue 29 (6, 7): `stability --preset classical` printed `4.0415e1 rad/s`
+/// and `0.0000e0`, called upright "unstable", then "Late-time state of the
+/// run: upright" without saying why. Now its numbers have 4 significant
+/// figures (no exponent 0 to 3) and it names each part's friction law and
+/// reconciles the two verdicts.
+#[test]
+fn stability_reads_and_reconciles_its_verdicts() {
+    let o = tippetop()
+        .args(["stability", "--preset", "classical", "-q"])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(text.contains("= 40.41"), "{text}");
+    assert!(text.contains(
+        "Friction laws: the linearisation uses the regularized law (ε = 0.001500 m/s); the run uses the scenario's coulomb law."
+    ), "{text}");
+    assert!(text.contains("They disagree about the upright state only through that law"));
+    // Every number: its digits (mantissa) and its exponent.
+    let b = text.as_bytes();
+    let mut k = 0;
+    while k < b.len() {
+        if !b[k].is_ascii_digit() {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        while k < b.len() && (b[k].is_ascii_digit() || b[k] == b'.') {
+            k += 1;
+        }
+        let digits = b[start..k].iter().filter(|c| c.is_ascii_digit()).count();
+        let number = &text[start..k];
+        assert!(digits < 10, "{number} in {text}");
+        if k + 1 < b.len() && b[k] == b'e' && (b[k + 1].is_ascii_digit() || b[k + 1] == b'-') {
+            let e0 = k + 1;
+            k += 2;
+            while k < b.len() && b[k].is_ascii_digit() {
+                k += 1;
+            }
+            let e: i32 = text[e0..k].parse().unwrap();
+            assert!(!(0..4).contains(&e), "{number}e{e} in {text}");
+        }
+    }
+}

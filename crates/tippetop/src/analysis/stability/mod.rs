@@ -82,6 +82,7 @@ pub use linearisation::{
     relative_equilibrium_spin, sleeping_threshold, verdict_of,
 };
 
+use crate::human::s4;
 use crate::{Error, Scenario, simulate};
 
 /// Options of [`analyse`].
@@ -316,9 +317,12 @@ fn eig_list(e: &[Eig]) -> String {
     e.iter()
         .map(|e| {
             if e.im == 0.0 {
-                format!("{:.3e}", e.re)
+                format!("{}", s4(e.re))
             } else {
-                format!("{:.3e}{:+.3e}i", e.re, e.im)
+                {
+                    let sign = if e.im < 0.0 { '-' } else { '+' };
+                    format!("{}{sign}{}i", s4(e.re), s4(e.im.abs()))
+                }
             }
         })
         .collect::<Vec<_>>()
@@ -424,14 +428,14 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
     };
     steady.push(both(
         "upright (θ = 0)".into(),
-        format!("{how_pole}: n_Z = {nz_up:.4e} rad/s"),
+        format!("{how_pole}: n_Z = {} rad/s", s4(nz_up)),
         0.0,
         0.0,
         nz_up,
     )?);
     steady.push(both(
         "inverted (θ = π)".into(),
-        format!("{how_pole}: n_Z = {nz_inv:.4e} rad/s"),
+        format!("{how_pole}: n_Z = {} rad/s", s4(nz_inv)),
         pi,
         0.0,
         -nz_inv,
@@ -609,17 +613,18 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
         let v = up.with_friction.verdict;
         paper.push(PaperCheck {
             id: "B1".into(),
-            configuration: format!("θ = 0, H = 0, ω = {w:.4e} rad/s"),
-            paper: format!(
-                "ε̈ = −aNε/A: always stable, one frequency √(a m g/A) = {:.4e} rad/s",
-                (a * n0 / ia).sqrt()
-            ),
+            configuration: format!("θ = 0, H = 0, ω = {} rad/s", s4(w)),
+            paper: format!("ε̈ = −aNε/A: always stable, one frequency √(a m g/A) = {} rad/s",
+                s4((a * n0 / ia).sqrt())),
             full: format!(
-                "μ = 0: marginal (stable), two frequencies ν± = [Cω ± √(C²ω² + 4 A a m g)]/(2A) = {nu_p:.4e}, {nu_m:.4e} rad/s (verdict {}); with friction ({} ε = {eps:.3e} m/s): {} (max Re λ = {:.3e} 1/s; λ = {})",
+                "μ = 0: marginal (stable), two frequencies ν± = [Cω ± √(C²ω² + 4 A a m g)]/(2A) = {}, {} rad/s (verdict {}); with friction ({} ε = {} m/s): {} (max Re λ = {} 1/s; λ = {})",
+                s4(nu_p),
+                s4(nu_m),
                 up.frictionless.verdict.as_str(),
                 opts.law.name(),
+                s4(eps),
                 v.as_str(),
-                up.with_friction.max_re,
+                s4(up.with_friction.max_re),
                 eig_list(&up.with_friction.eigenvalues)
             ),
             agree: if v == Verdict::Unstable { "no" } else { "partly" }.into(),
@@ -657,10 +662,8 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
                 .join("; ");
             paper.push(PaperCheck {
                 id: "B2".into(),
-                configuration: format!("θ = 0, H = {h:.3e} N"),
-                paper: format!(
-                    "ε̈ = −aNε/A + (R − a)H/A: 'stable', about ε_q = (R − a)H/(a m g) = {eq:.3e} rad"
-                ),
+                configuration: format!("θ = 0, H = {} N", s4(h)),
+                paper: format!("ε̈ = −aNε/A + (R − a)H/A: 'stable', about ε_q = (R − a)H/(a m g) = {} rad", s4(eq)),
                 full: format!(
                     "no equilibrium (H ≠ 0: ω changes). Frozen-spin (quasi-static), not a true equilibrium: {desc}"
                 ),
@@ -675,17 +678,21 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
         let v = inv.with_friction.verdict;
         paper.push(PaperCheck {
             id: "B3".into(),
-            configuration: format!("θ = π, H = 0, ω = {w:.4e} rad/s (spin about the vertical {:.4e})", -w),
-            paper: format!(
-                "ε̈ = [(C + A)Ω² + aN]ε/A with Ω = ω: always unstable, growth {grow:.3e} 1/s"
+            configuration: format!(
+                "θ = π, H = 0, ω = {} rad/s (spin about the vertical {})",
+                s4(w),
+                s4(-w)
             ),
+            paper: format!("ε̈ = [(C + A)Ω² + aN]ε/A with Ω = ω: always unstable, growth {} 1/s", s4(grow)),
             full: format!(
-                "μ = 0: stable iff C²ω² > 4 A m g a, ω_c = {wc:.4e} rad/s, here |ω|/ω_c = {:.3}: {}; with friction ({} ε = {eps:.3e} m/s): {} (max Re λ = {:.3e} 1/s; λ = {})",
+                "μ = 0: stable iff C²ω² > 4 A m g a, ω_c = {} rad/s, here |ω|/ω_c = {:.3}: {}; with friction ({} ε = {} m/s): {} (max Re λ = {} 1/s; λ = {})",
+                s4(wc),
                 w.abs() / wc,
                 inv.frictionless.verdict.as_str(),
                 opts.law.name(),
+                s4(eps),
                 v.as_str(),
-                inv.with_friction.max_re,
+                s4(inv.with_friction.max_re),
                 eig_list(&inv.with_friction.eigenvalues)
             ),
             agree: if v == Verdict::Unstable { "yes" } else { "no" }.into(),
@@ -701,10 +708,11 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
         if let Some(l) = lying {
             let o = l.with_friction.precession;
             full += &format!(
-                "H = 0: the zero-slip steady motion at π/2 has Ω* = {o:.4e} rad/s, ω* = {:.4e}; paper (AΩ² > aH = 0) says stable; full linearisation: {} (max Re λ = {:.3e} 1/s; λ = {}); μ = 0: {}. ",
-                l.with_friction.spin,
+                "H = 0: the zero-slip steady motion at π/2 has Ω* = {} rad/s, ω* = {}; paper (AΩ² > aH = 0) says stable; full linearisation: {} (max Re λ = {} 1/s; λ = {}); μ = 0: {}. ",
+                s4(o),
+                s4(l.with_friction.spin),
                 l.with_friction.verdict.as_str(),
-                l.with_friction.max_re,
+                s4(l.with_friction.max_re),
                 eig_list(&l.with_friction.eigenvalues),
                 l.frictionless.verdict.as_str()
             );
@@ -725,12 +733,12 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
             {
                 full += &match f.result.theta_quasi {
                     Some(tq) => format!(
-                        "H ≠ 0, frozen-spin (quasi-static), not a true equilibrium, {:?} at the {}: θ_q = {tq:.4} (θ_q − π/2 = {:+.3e}), Ω = {:.3e}, ω = {:.3e}, λ = {} ({}). ",
+                        "H ≠ 0, frozen-spin (quasi-static), not a true equilibrium, {:?} at the {}: θ_q = {tq:.4} (θ_q − π/2 = {}), Ω = {}, ω = {}, λ = {} ({}). ",
                         f.result.variant,
                         f.name,
-                        tq - pi / 2.0,
-                        f.result.precession,
-                        f.result.spin,
+                        s4(tq - pi / 2.0),
+                        s4(f.result.precession),
+                        s4(f.result.spin),
                         eig_list(&f.result.eigenvalues),
                         f.result.verdict.map(|v| v.as_str()).unwrap_or("-")
                     ),
@@ -740,8 +748,9 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
             if let Some(l) = &late {
                 let o = l.precession_mean;
                 paper_txt += &format!(
-                    "; at the late state Ω = {o:.3e}: AΩ² − aH = {:.3e} ⇒ {}",
-                    ia * o * o - a * h,
+                    "; at the late state Ω = {}: AΩ² − aH = {} ⇒ {}",
+                    s4(o),
+                    s4(ia * o * o - a * h),
                     if ia * o * o > a * h {
                         "stable"
                     } else {
@@ -778,7 +787,7 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
         }
         paper.push(PaperCheck {
             id: "B4".into(),
-            configuration: format!("θ = π/2, H = {h:.3e} N"),
+            configuration: format!("θ = π/2, H = {} N", s4(h)),
             paper: paper_txt,
             full,
             agree,
