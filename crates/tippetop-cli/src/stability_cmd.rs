@@ -162,7 +162,7 @@ fn eigs(l: &Linearisation) -> String {
         .iter()
         .map(|e| {
             if e.im == 0.0 {
-                format!("{}", h(e.re))
+                h(e.re)
             } else {
                 cplx(e.re, e.im)
             }

@@ -317,7 +317,7 @@ fn eig_list(e: &[Eig]) -> String {
     e.iter()
         .map(|e| {
             if e.im == 0.0 {
-                format!("{}", s4(e.re))
+                s4(e.re)
             } else {
                 {
                     let sign = if e.im < 0.0 { '-' } else { '+' };
