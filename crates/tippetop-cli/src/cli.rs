@@ -91,6 +91,29 @@ pub enum Command {
     Animate(crate::animate::AnimateArgs),
 }
 
+/// Help pages start with the usage line, then the description and the
+/// options (clap puts the usage after a long description).
+const HELP_TEMPLATE: &str =
+    "{usage-heading} {usage}\n\n{about-with-newline}\n{all-args}{after-help}";
+
+/// The command line's definition ([`Cli`]) with every help page starting
+/// with its usage line.
+pub fn command() -> clap::Command {
+    use clap::CommandFactory;
+    fn usage_first(c: clap::Command) -> clap::Command {
+        let names: Vec<String> = c
+            .get_subcommands()
+            .map(|s| s.get_name().to_string())
+            .collect();
+        let mut c = c.help_template(HELP_TEMPLATE);
+        for n in names {
+            c = c.mut_subcommand(n, usage_first);
+        }
+        c
+    }
+    usage_first(Cli::command())
+}
+
 impl Command {
     /// The subcommand's name, as typed (`run`, `sweep`, ...).
     pub fn name(&self) -> &'static str {

@@ -9,7 +9,7 @@
 
 use std::process::ExitCode;
 
-use clap::{CommandFactory, Parser};
+use clap::{CommandFactory, FromArgMatches};
 use tippetop_cli::cli::{Cli, Command};
 use tippetop_cli::{
     adhesion_cmd, animate, bit_cmd, device_cmd, ensemble_cmd, rare_cmd, regime_cmd, reproduce,
@@ -25,7 +25,10 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    let cli = match Cli::try_parse() {
+    let cli = match tippetop_cli::cli::command()
+        .try_get_matches()
+        .and_then(|m| Cli::from_arg_matches(&m))
+    {
         Ok(cli) => cli,
         Err(e) => return usage_error(&e),
     };

@@ -972,3 +972,32 @@ fn stability_reads_and_reconciles_its_verdicts() {
         }
     }
 }
+
+/// Issue 29 (8): `--help` pages of 60-111 lines put Usage last. Every
+/// subcommand's page (short and long) now starts with its usage line.
+#[test]
+fn every_help_page_starts_with_usage() {
+    let top = tippetop().arg("--help").output().unwrap();
+    let text = String::from_utf8(top.stdout).unwrap();
+    assert!(text.starts_with("Usage: tippetop "), "{text}");
+    let subs: Vec<String> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next().map(str::to_string))
+        .filter(|s| s != "help")
+        .collect();
+    assert!(subs.len() >= 12, "{subs:?}");
+    for sub in &subs {
+        for flag in ["-h", "--help"] {
+            let o = tippetop().args([sub.as_str(), flag]).output().unwrap();
+            let page = String::from_utf8(o.stdout).unwrap();
+            assert!(
+                page.starts_with(&format!("Usage: tippetop {sub} ")),
+                "{sub} {flag}: {}",
+                &page[..page.len().min(200)]
+            );
+        }
+    }
+}
