@@ -89,6 +89,8 @@ pub enum Command {
     /// Animate a run: DIR/animation.gif and DIR/viewer.html (a 3D view in the browser).
     #[command(long_about = crate::animate::ANIMATE_LONG_ABOUT)]
     Animate(crate::animate::AnimateArgs),
+    /// Print a scenario resolved (preset, file, every --set) as TOML.
+    Show(crate::show_cmd::ShowArgs),
 }
 
 /// Help pages start with the usage line, then the description and the
@@ -131,6 +133,7 @@ impl Command {
             Command::Bit(_) => "bit",
             Command::Device(_) => "device",
             Command::Rare(_) => "rare",
+            Command::Show(_) => "show",
         }
     }
 }

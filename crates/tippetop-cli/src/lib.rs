@@ -22,6 +22,7 @@ pub mod retention_cmd;
 pub mod run;
 pub mod scenario_load;
 pub mod search_cmd;
+pub mod show_cmd;
 pub mod stability_cmd;
 pub mod sweep_cmd;
 

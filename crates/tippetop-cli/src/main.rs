@@ -13,7 +13,7 @@ use clap::{CommandFactory, FromArgMatches};
 use tippetop_cli::cli::{Cli, Command};
 use tippetop_cli::{
     adhesion_cmd, animate, bit_cmd, device_cmd, ensemble_cmd, rare_cmd, regime_cmd, reproduce,
-    retention_cmd, run, stability_cmd, sweep_cmd,
+    retention_cmd, run, show_cmd, stability_cmd, sweep_cmd,
 };
 
 fn main() -> ExitCode {
@@ -56,6 +56,7 @@ fn main() -> ExitCode {
         Command::Bit(args) => bit_cmd::run(args, cli.quiet),
         Command::Device(args) => device_cmd::run(args, cli.quiet),
         Command::Rare(args) => rare_cmd::run(args, cli.quiet),
+        Command::Show(args) => Ok(show_cmd::run(args)),
     };
     match result {
         Ok(code) => code,

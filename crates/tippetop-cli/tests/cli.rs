@@ -1001,3 +1001,50 @@ fn every_help_page_starts_with_usage() {
         }
     }
 }
+
+/// Issue 29 (8): no command showed a preset's values. `tippetop show`
+/// prints the resolved scenario; run from that text, it is the same run
+/// (the same scenario.toml as the preset's own run writes).
+#[test]
+fn show_prints_the_resolved_scenario() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = tippetop()
+        .args(["show", "--preset", "nano", "--set", "solver.t_end=1e-6"])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let file = dir.path().join("shown.toml");
+    fs::write(&file, &o.stdout).unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    tippetop()
+        .args([
+            "-q",
+            "run",
+            "--preset",
+            "nano",
+            "--set",
+            "solver.t_end=1e-6",
+        ])
+        .args(["--no-plot", "--out"])
+        .arg(&a)
+        .assert()
+        .success();
+    tippetop()
+        .args(["-q", "run"])
+        .arg(&file)
+        .args(["--no-plot", "--out"])
+        .arg(&b)
+        .assert()
+        .success();
+    let read = |d: &Path, f: &str| fs::read_to_string(d.join(f)).unwrap();
+    assert_eq!(
+        read(&a, "scenario.toml"),
+        String::from_utf8(o.stdout).unwrap()
+    );
+    assert_eq!(read(&a, "trajectory.csv"), read(&b, "trajectory.csv"));
+    expect_input_error(
+        &["show", "--preset", "bogus"],
+        &dir.path().join("none"),
+        "preset",
+    );
+}
