@@ -569,6 +569,13 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
     if args
         .dirs
         .first()
+        .is_some_and(|d| crate::rare_cmd::is_rare_shard_dir(d))
+    {
+        return crate::rare_cmd::merge(args, quiet);
+    }
+    if args
+        .dirs
+        .first()
         .is_some_and(|d| crate::bit_cmd::is_bit_shard_dir(d))
     {
         return crate::bit_cmd::merge(args, quiet);
