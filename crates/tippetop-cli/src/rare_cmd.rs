@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::{ArgGroup, Args};
-use tippetop::analysis::rare::ams::{Ams, Hooks, Replica, Settings};
+use tippetop::analysis::rare::ams::{Ams, Hooks, MAX_PATH_STEPS, Replica, Settings};
 use tippetop::analysis::rare::exact::{Edge, Exact, Positive, Quantity};
 use tippetop::analysis::rare::problem::{
     self, AmsPart, DEFAULT_REPLICAS, Problem, RareMethod, Report,
@@ -42,7 +42,23 @@ Methods:
           solver.samples do not cut a run short. p with the Wilson 95 % interval (censored or
           failed runs widen it upwards); the mean time with mean +- t(0.975, n-1) s/sqrt(n) (with
           censored runs: a lower bound, the interval open above).
-  ams     adaptive multilevel splitting (not available yet).
+  ams     adaptive multilevel splitting (generalised AMS, Brehier et al. 2016; docs/physics.md
+          §27) on the full stochastic dynamics (Langevin or Brownian, any model and force):
+          --replicas M independent replicas (default 20) of --particles n (default 100); each
+          level kills the --kill k lowest paths (by their maximum of the coordinate) and
+          branches survivors. Every path is watched at every step and runs until the target,
+          the reset, the horizon or --max-steps steps from its root (default 1e7; a path cut
+          there counts as a miss, reported as truncated). Probability: the replicas' mean with
+          Student's t 95 % interval; no particle at the target: estimate 0 with the upper bound
+          1 - 0.05^(1/(nM)). Without --reset: the mean first-passage time by the flux relation
+          tau = T1 + C (1/p - 1) + S (a direct run per replica collects --crossings crossings
+          of the interface coordinate > Z_S, within --direct-steps; a pilot run of
+          --pilot-steps places the basin and the interface unless --basin/--interface give
+          them). --max-trajectories bounds a replica's paths (a replica that needs more: exit
+          code 3, the replicas in replicas.json). The coordinate (--coordinate) only changes
+          the variance, never the mean.
+          --shard K/N runs the K-th of N blocks of the replicas (replicas.json, rare_shard.json,
+          shard.json); tippetop merge DIR... joins them into the files of the unsharded run.
 
 Writes into --out:
   rare.json  quantity (\"probability\" or \"mean_first_passage_time\"), estimate, ci95 [lo, hi]
@@ -52,7 +68,12 @@ Writes into --out:
              window; else exact_unavailable, the reason), the conditions, the budgets, the
              tallies of a direct ensemble, the scenario
   rare.md    the answer in words, 4 significant figures
-The files are the same bytes for any --threads, apart from wall_seconds. Bad input (a condition
+  levels.png, levels.svg  (ams) each replica's levels against the estimated probability of
+             passing them, with the estimate and the exact value
+  rare.json with ams: an \"ams\" object (coordinate, particles, kill, standard_error, interval,
+             extinct, iterations, truncated, failed, replica_estimates, flux: the flux relation's
+             parts)
+The files are the same bytes for any --threads or --shard layout, apart from wall_seconds. Bad input (a condition
 that holds at the start, --method exact where it is not exact, budgets out of range) exits with
 code 2 and writes nothing; runs that fail part-way are counted, the files written, and the
 command exits with code 3.";
@@ -65,7 +86,9 @@ command exits with code 3.";
                   tippetop rare --preset nano-physical --set solver.method=brownian --set solver.dt=2e-15 \\\n    \
                   --target 'theta<1.22,theta>1.92' --method exact --out out/rare\n  \
                   tippetop rare scenarios/thermal.toml --target 'theta>1.9' --reset 'theta<1.2' \\\n    \
-                  --method direct --replicas 2000 --out out/rare"
+                  --method direct --replicas 2000 --out out/rare\n  \
+                  tippetop rare scenarios/thermal.toml --target 'theta>2.5' --reset 'theta<1.565' \\\n    \
+                  --method ams --coordinate theta --replicas 20 --out out/rare-ams"
 )]
 pub struct RareArgs {
     /// Scenario file (TOML): a Langevin or Brownian run at temperature > 0.
@@ -668,6 +691,15 @@ impl AmsInputs {
             &self.sets,
         )?;
         let d = Settings::default();
+        if let Some(m) = self.max_steps {
+            if !(1..=MAX_PATH_STEPS).contains(&m) {
+                return Err(tippetop::Error::invalid(
+                    "--max-steps",
+                    format!("{m}"),
+                    format!("1 <= steps <= {MAX_PATH_STEPS} per path of --method ams"),
+                ));
+            }
+        }
         let prob = Problem::new(
             scenario,
             &self.target,
