@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::{ArgGroup, Args};
-use tippetop::analysis::rare::ams::{Ams, Hooks, MAX_PATH_STEPS, Replica, Settings};
+use tippetop::analysis::rare::ams::{Ams, Hooks, Replica, Settings};
 use tippetop::analysis::rare::exact::{Edge, Exact, Positive, Quantity};
 use tippetop::analysis::rare::problem::{
     self, AmsPart, DEFAULT_REPLICAS, Problem, RareMethod, Report,
@@ -691,21 +691,12 @@ impl AmsInputs {
             &self.sets,
         )?;
         let d = Settings::default();
-        if let Some(m) = self.max_steps {
-            if !(1..=MAX_PATH_STEPS).contains(&m) {
-                return Err(tippetop::Error::invalid(
-                    "--max-steps",
-                    format!("{m}"),
-                    format!("1 <= steps <= {MAX_PATH_STEPS} per path of --method ams"),
-                ));
-            }
-        }
-        let prob = Problem::new(
+        let prob = Problem::for_ams(
             scenario,
             &self.target,
             self.reset.as_deref(),
             self.horizon,
-            Some(self.max_steps.unwrap_or(d.max_steps)),
+            self.max_steps,
         )?;
         let settings = Settings {
             replicas: self.replicas.unwrap_or(d.replicas),

@@ -159,6 +159,32 @@ impl Problem {
         })
     }
 
+    /// [`Problem::new`] for the splitting: `max_steps` (a path's budget
+    /// from its root) in `1..=`[`ams::MAX_PATH_STEPS`], default
+    /// [`Settings::default`]'s (key `--max-steps`).
+    pub fn for_ams(
+        scenario: Scenario,
+        target: &str,
+        reset: Option<&str>,
+        horizon: Option<f64>,
+        max_steps: Option<u64>,
+    ) -> Result<Problem, Error> {
+        if let Some(m) = max_steps {
+            if !(1..=ams::MAX_PATH_STEPS).contains(&m) {
+                return Err(Error::invalid(
+                    "--max-steps",
+                    format!("{m}"),
+                    format!(
+                        "1 <= steps <= {} per path of --method ams",
+                        ams::MAX_PATH_STEPS
+                    ),
+                ));
+            }
+        }
+        let m = max_steps.unwrap_or(Settings::default().max_steps);
+        Problem::new(scenario, target, reset, horizon, Some(m))
+    }
+
     /// What the question asks.
     pub fn quantity(&self) -> Quantity {
         if self.reset.is_some() || self.horizon.is_some() {
