@@ -168,7 +168,9 @@ pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of
                   the bytes of a one-shot run. So do the shards of a bit design map \
                   (tippetop bit --vary ... --shard K/N: bitmap.csv joined, plots redrawn) and \
                   of a bit ensemble (tippetop bit --runs N --shard K/M: runs.csv joined, \
-                  bit.json, bit.md and the figure recomputed).";
+                  bit.json, bit.md and the figure recomputed), and of a splitting (tippetop \
+                  rare --method ams --shard K/M: the replicas joined, rare.json, rare.md and \
+                  levels.png of the unsharded run, the same bytes apart from wall_seconds).";
 
 /// `tippetop merge`.
 #[derive(Debug, Args)]
