@@ -79,7 +79,7 @@ pub enum Command {
     Device(crate::device_cmd::DeviceArgs),
     /// Rare events: P(target before reset) or a mean first-passage time (exact 1D, direct, splitting).
     #[command(long_about = crate::rare_cmd::RARE_LONG_ABOUT)]
-    Rare(crate::rare_cmd::RareArgs),
+    Rare(Box<crate::rare_cmd::RareArgs>),
     /// Animate a run: DIR/animation.gif and DIR/viewer.html (a 3D view in the browser).
     #[command(long_about = crate::animate::ANIMATE_LONG_ABOUT)]
     Animate(crate::animate::AnimateArgs),

@@ -560,7 +560,7 @@ fn levels_figure(dir: &Path, r: &Report, a: &AmsPart) -> Result<()> {
         };
         series.push(Series::new(name, xs, ys).color((31, 119, 180)).width(1));
     }
-    if !(x0 < x1) {
+    if x0 >= x1 {
         (x0, x1) = (0.0, 1.0);
     }
     let p_final = match &a.estimate.flux {
