@@ -568,9 +568,13 @@ fn levels_figure(dir: &Path, r: &Report, a: &AmsPart) -> Result<()> {
         None => r.estimate,
     };
     if p_final > 0.0 {
+        let what = match &a.estimate.flux {
+            Some(_) => "p, from the interface to the target,",
+            None => "estimate",
+        };
         series.push(
             Series::new(
-                format!("estimate {}", s4(p_final)),
+                format!("{what} {}", s4(p_final)),
                 vec![x0, x1],
                 vec![p_final; 2],
             )
