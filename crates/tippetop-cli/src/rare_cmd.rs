@@ -495,9 +495,10 @@ fn ams_paragraph(p: &Problem, r: &Report, a: &AmsPart, wall: f64) -> String {
         }
     );
     if let Some(f) = &e.flux {
+        let unit = coordinate_unit(&a.coordinate);
         let _ = write!(
             t,
-            "Flux relation τ = T₁ + C (1/p − 1) + S: basin {} ≤ {}, interface {} > {}; p = {} \
+            "Flux relation τ = T₁ + C (1/p − 1) + S: basin {} ≤ {} {unit}, interface {} > {} {unit}; p = {} \
              (P(target before the basin) from a crossing), T₁ = {} s, C = {} s, S = {}; escape rate {} 1/s. ",
             a.coordinate,
             s4(f.basin),
