@@ -255,6 +255,15 @@ def rare(
     horizon: Optional[float] = None,
     max_steps: Optional[int] = None,
     threads: Optional[int] = None,
+    coordinate: Optional[str] = None,
+    particles: Optional[int] = None,
+    kill: Optional[int] = None,
+    max_trajectories: Optional[int] = None,
+    crossings: Optional[int] = None,
+    direct_steps: Optional[int] = None,
+    pilot_steps: Optional[int] = None,
+    basin: Optional[float] = None,
+    interface: Optional[float] = None,
 ) -> Dict[str, Any]:
     """A rare-event question about a stochastic scenario (the CLI's
     ``tippetop rare``), from its initial state: with ``reset`` (or
@@ -267,8 +276,20 @@ def rare(
     exactly a 1D diffusion (the Brownian mode on the plane; elsewhere
     ValueError with the reason); ``"direct"``, ``replicas`` runs (default
     1000) each until the target or the reset holds at the end of a step, or
-    ``max_steps`` steps (default 1000000; censored); ``"ams"`` is not
-    available yet. The GIL is released; Ctrl-C stops the ensemble.
+    ``max_steps`` steps (default 1000000; censored); ``"ams"``, adaptive
+    multilevel splitting: ``replicas`` independent replicas (default 20) of
+    ``particles`` (default 100), ``kill`` killed per level (default 1), on
+    the reaction ``coordinate`` (the CLI's ``--coordinate``: a
+    trajectory.csv column, ``-COLUMN``, ``|COLUMN-C|`` or ``tilt_energy``;
+    default theta towards the target), at most ``max_trajectories`` paths
+    per replica (default 100000) and ``max_steps`` steps per path (default
+    10000000); without ``reset`` the mean first-passage time by the flux
+    relation (``crossings``, ``direct_steps``, ``pilot_steps``, ``basin``,
+    ``interface`` as the CLI's options). The result has an ``ams`` dict
+    (``coordinate``, ``particles``, ``standard_error``, ``interval``,
+    ``extinct``, ``replica_estimates``, ``flux``, ...); no particle at the
+    target gives estimate 0 with an upper bound. A replica out of budget
+    raises RuntimeError. The GIL is released; Ctrl-C stops the run.
 
     Returns rare.json as a dict, the same figures as the CLI's (apart from
     ``wall_seconds``): ``quantity`` (``"probability"`` or

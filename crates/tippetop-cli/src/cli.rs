@@ -63,7 +63,7 @@ pub enum Command {
     /// Run a Langevin scenario N times (an ensemble) and write statistics.
     #[command(long_about = crate::ensemble_cmd::ENSEMBLE_LONG_ABOUT)]
     Ensemble(crate::ensemble_cmd::EnsembleArgs),
-    /// Join the outputs of a sweep's (or an ensemble's) shards.
+    /// Join the outputs of a sweep's (an ensemble's, a bit's, a splitting's) shards.
     #[command(long_about = crate::sweep_cmd::MERGE_LONG_ABOUT)]
     Merge(crate::sweep_cmd::MergeArgs),
     /// Stability of the steady motions (θ = 0, π/2, π) beside the paper's App. B.
@@ -83,9 +83,9 @@ pub enum Command {
     /// Can the nano tippe top be a memory bit? A report with numbers (minutes).
     #[command(long_about = crate::device_cmd::DEVICE_LONG_ABOUT)]
     Device(crate::device_cmd::DeviceArgs),
-    /// Rare events: P(target before reset) or a mean first-passage time (exact 1D, direct).
+    /// Rare events: P(target before reset) or a mean first-passage time (exact 1D, direct, splitting).
     #[command(long_about = crate::rare_cmd::RARE_LONG_ABOUT)]
-    Rare(crate::rare_cmd::RareArgs),
+    Rare(Box<crate::rare_cmd::RareArgs>),
     /// Animate a run: DIR/animation.gif and DIR/viewer.html (a 3D view in the browser).
     #[command(long_about = crate::animate::ANIMATE_LONG_ABOUT)]
     Animate(crate::animate::AnimateArgs),

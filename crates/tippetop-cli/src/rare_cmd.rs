@@ -5,15 +5,20 @@
 //! rare.md.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::{ArgGroup, Args};
+use tippetop::analysis::rare::ams::{Ams, Hooks, Replica, Settings};
 use tippetop::analysis::rare::exact::{Edge, Exact, Positive, Quantity};
-use tippetop::analysis::rare::problem::{self, DEFAULT_REPLICAS, Problem, RareMethod, Report};
+use tippetop::analysis::rare::problem::{
+    self, AmsPart, DEFAULT_REPLICAS, Problem, RareMethod, Report,
+};
+use tippetop::analysis::sweep::ShardInfo;
 
 use crate::output::{OutDir, write_bytes_atomic};
+use crate::partial::{check_checksum, checksum};
 use crate::scenario_load::input_error;
 
 /// Long help of `tippetop rare`.
@@ -37,7 +42,23 @@ Methods:
           solver.samples do not cut a run short. p with the Wilson 95 % interval (censored or
           failed runs widen it upwards); the mean time with mean +- t(0.975, n-1) s/sqrt(n) (with
           censored runs: a lower bound, the interval open above).
-  ams     adaptive multilevel splitting (not available yet).
+  ams     adaptive multilevel splitting (generalised AMS, Brehier et al. 2016; docs/physics.md
+          §27) on the full stochastic dynamics (Langevin or Brownian, any model and force):
+          --replicas M independent replicas (default 20) of --particles n (default 100); each
+          level kills the --kill k lowest paths (by their maximum of the coordinate) and
+          branches survivors. Every path is watched at every step and runs until the target,
+          the reset, the horizon or --max-steps steps from its root (default 1e7; a path cut
+          there counts as a miss, reported as truncated). Probability: the replicas' mean with
+          Student's t 95 % interval; no particle at the target: estimate 0 with the upper bound
+          1 - 0.05^(1/(nM)). Without --reset: the mean first-passage time by the flux relation
+          tau = T1 + C (1/p - 1) + S (a direct run per replica collects --crossings crossings
+          of the interface coordinate > Z_S, within --direct-steps; a pilot run of
+          --pilot-steps places the basin and the interface unless --basin/--interface give
+          them). --max-trajectories bounds a replica's paths (a replica that needs more: exit
+          code 3, the replicas in replicas.json). The coordinate (--coordinate) only changes
+          the variance, never the mean.
+          --shard K/N runs the K-th of N blocks of the replicas (replicas.json, rare_shard.json,
+          shard.json); tippetop merge DIR... joins them into the files of the unsharded run.
 
 Writes into --out:
   rare.json  quantity (\"probability\" or \"mean_first_passage_time\"), estimate, ci95 [lo, hi]
@@ -47,7 +68,12 @@ Writes into --out:
              window; else exact_unavailable, the reason), the conditions, the budgets, the
              tallies of a direct ensemble, the scenario
   rare.md    the answer in words, 4 significant figures
-The files are the same bytes for any --threads, apart from wall_seconds. Bad input (a condition
+  levels.png, levels.svg  (ams) each replica's levels against the estimated probability of
+             passing them, with the estimate and the exact value
+  rare.json with ams: an \"ams\" object (coordinate, particles, kill, standard_error, interval,
+             extinct, iterations, truncated, failed, replica_estimates, flux: the flux relation's
+             parts)
+The files are the same bytes for any --threads or --shard layout, apart from wall_seconds. Bad input (a condition
 that holds at the start, --method exact where it is not exact, budgets out of range) exits with
 code 2 and writes nothing; runs that fail part-way are counted, the files written, and the
 command exits with code 3.";
@@ -60,7 +86,9 @@ command exits with code 3.";
                   tippetop rare --preset nano-physical --set solver.method=brownian --set solver.dt=2e-15 \\\n    \
                   --target 'theta<1.22,theta>1.92' --method exact --out out/rare\n  \
                   tippetop rare scenarios/thermal.toml --target 'theta>1.9' --reset 'theta<1.2' \\\n    \
-                  --method direct --replicas 2000 --out out/rare"
+                  --method direct --replicas 2000 --out out/rare\n  \
+                  tippetop rare scenarios/thermal.toml --target 'theta>2.5' --reset 'theta<1.565' \\\n    \
+                  --method ams --coordinate theta --replicas 20 --out out/rare-ams"
 )]
 pub struct RareArgs {
     /// Scenario file (TOML): a Langevin or Brownian run at temperature > 0.
@@ -90,15 +118,70 @@ pub struct RareArgs {
     #[arg(long, value_name = "METHOD", default_value = "direct")]
     pub method: String,
 
-    /// Independent runs of the direct method (>= 1; default 1000).
+    /// Independent runs of the direct method (>= 1; default 1000), or
+    /// independent replicas of the splitting (>= 2; default 20).
     #[arg(long, value_name = "N")]
     pub replicas: Option<usize>,
+
+    /// ams: the reaction coordinate, whose levels split the paths: a
+    /// trajectory.csv column (theta, omega, ...), -COLUMN, |COLUMN-C| (e.g.
+    /// '|theta-1.5708|', C in SI units) or tilt_energy [J]. Default: theta
+    /// oriented towards the target ('theta>b': theta; 'theta<a': -theta;
+    /// both: |theta-c| from the window's middle c, or tilt_energy in the
+    /// Langevin mode); theta for a target on other columns.
+    #[arg(long, value_name = "XI", allow_hyphen_values = true)]
+    pub coordinate: Option<String>,
+
+    /// ams: particles per replica, 2 to 100000 (default 100).
+    #[arg(long, value_name = "N")]
+    pub particles: Option<usize>,
+
+    /// ams: particles killed per iteration, 1 to particles - 1 (default 1).
+    #[arg(long, value_name = "K")]
+    pub kill: Option<usize>,
+
+    /// ams: most paths one replica may run, particles to 16777200 (default
+    /// 100000); a replica that needs more has no estimate (exit code 3).
+    #[arg(long, value_name = "N")]
+    pub max_trajectories: Option<u64>,
+
+    /// ams, mean first-passage time: interface crossings a replica's direct
+    /// run collects as starting states, 1 to 100000 (default 100).
+    #[arg(long, value_name = "N")]
+    pub crossings: Option<usize>,
+
+    /// ams, mean first-passage time: step budget of a replica's direct run,
+    /// 1 to 10000000 (default 10000000).
+    #[arg(long, value_name = "N")]
+    pub direct_steps: Option<u64>,
+
+    /// ams, mean first-passage time: steps of the pilot run that places the
+    /// basin and the interface, 1000 to 10000000 (default 100000).
+    #[arg(long, value_name = "N")]
+    pub pilot_steps: Option<u64>,
+
+    /// ams, mean first-passage time: the basin, coordinate <= Z_A (default:
+    /// the pilot run's median of the coordinate).
+    #[arg(long, value_name = "Z_A", allow_negative_numbers = true)]
+    pub basin: Option<f64>,
+
+    /// ams, mean first-passage time: the interface, coordinate > Z_S
+    /// (default: the pilot run's 90 % quantile).
+    #[arg(long, value_name = "Z_S", allow_negative_numbers = true)]
+    pub interface: Option<f64>,
+
+    /// ams: run only the K-th of N blocks of the replicas and write
+    /// replicas.json, rare_shard.json and shard.json (join the shards with
+    /// tippetop merge: the files of the unsharded run).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
 
     /// Horizon T [s]: p = P(target before reset and before T).
     #[arg(long, value_name = "T", allow_negative_numbers = true)]
     pub horizon: Option<f64>,
 
-    /// Step budget of one trajectory, 1 to 20000000 (default 1000000).
+    /// Step budget of one trajectory, 1 to 20000000 (default 1000000); ams:
+    /// of one path counted from its root, 1 to 10000000 (default 10000000).
     #[arg(long, value_name = "N")]
     pub max_steps: Option<u64>,
 
@@ -223,7 +306,10 @@ fn summary_lines(p: &Problem, r: &Report, wall: f64) -> Vec<String> {
             let bound = r
                 .tally
                 .as_ref()
-                .is_some_and(|t| q == Quantity::MeanFirstPassageTime && t.censored > 0);
+                .is_some_and(|t| q == Quantity::MeanFirstPassageTime && t.censored > 0)
+                || r.ams
+                    .as_ref()
+                    .is_some_and(|a| a.estimate.interval == "bound");
             lines.push(format!(
                 "{} = {}{} (95 % CI {}), {}: {} trajectories, {} steps, {:.1} s",
                 question(p),
@@ -235,6 +321,9 @@ fn summary_lines(p: &Problem, r: &Report, wall: f64) -> Vec<String> {
                 r.steps,
                 wall
             ));
+            if let Some(a) = &r.ams {
+                lines.push(ams_line(a, q));
+            }
             match &r.exact {
                 Some(e) => lines.push(format!("exact (1D): {}", exact_words(e, q))),
                 None => lines.push(format!(
@@ -276,19 +365,23 @@ fn markdown(p: &Problem, r: &Report, wall: f64) -> String {
                 with_unit(r.estimate, q),
                 interval(r.ci95, q)
             );
-            let _ = writeln!(
-                s,
-                "{} trajectories, {} steps in {:.1} s: {} met the target, {} the reset, {} reached the horizon, {} used their whole budget of {} steps, {} failed.\n",
-                r.trajectories,
-                r.steps,
-                wall,
-                t.target,
-                t.reset,
-                t.horizon,
-                t.censored,
-                p.max_steps,
-                t.failed
-            );
+            if let Some(a) = &r.ams {
+                let _ = writeln!(s, "{}\n", ams_paragraph(p, r, a, wall));
+            } else {
+                let _ = writeln!(
+                    s,
+                    "{} trajectories, {} steps in {:.1} s: {} met the target, {} the reset, {} reached the horizon, {} used their whole budget of {} steps, {} failed.\n",
+                    r.trajectories,
+                    r.steps,
+                    wall,
+                    t.target,
+                    t.reset,
+                    t.horizon,
+                    t.censored,
+                    p.max_steps,
+                    t.failed
+                );
+            }
             match &r.exact {
                 Some(e) => {
                     let _ = writeln!(
@@ -326,6 +419,345 @@ fn markdown(p: &Problem, r: &Report, wall: f64) -> String {
     s
 }
 
+/// The unit of a coordinate, for the figure's axis.
+fn coordinate_unit(xi: &str) -> &'static str {
+    let name = xi.trim_start_matches(['-', '|']);
+    let name = name.split(['-', '|']).next().unwrap_or("");
+    match name {
+        "t" => "s",
+        "theta" => "rad",
+        "theta_dot" | "Omega" | "omega" => "rad/s",
+        "N" => "N",
+        "slip" | "hx" | "hy" => "m/s",
+        "energy" | "work_friction" | "work_applied" | "tilt_energy" => "J",
+        "x" | "y" | "z" | "xp" | "yp" => "m",
+        "J" => "kg m²/s",
+        _ => "1",
+    }
+}
+
+/// The splitting in one console line.
+fn ams_line(a: &AmsPart, q: Quantity) -> String {
+    let e = &a.estimate;
+    let s = &a.settings;
+    let mut l = format!(
+        "splitting on {}: {} replicas of {} particles (kill {}), {} levels, standard error {}",
+        a.coordinate,
+        e.replicas,
+        e.particles,
+        s.kill,
+        e.iterations,
+        if e.standard_error.is_finite() {
+            with_unit(e.standard_error, q)
+        } else {
+            "unbounded".into()
+        }
+    );
+    if e.extinct {
+        l.push_str("; no particle met the target: the estimate is a bound");
+    }
+    if e.truncated > 0 {
+        let _ = write!(l, "; {} paths cut by --max-steps", e.truncated);
+    }
+    if e.failed > 0 {
+        let _ = write!(l, "; {} paths failed", e.failed);
+    }
+    l
+}
+
+/// The splitting in words, for rare.md.
+fn ams_paragraph(p: &Problem, r: &Report, a: &AmsPart, wall: f64) -> String {
+    let e = &a.estimate;
+    let s = &a.settings;
+    let q = r.quantity;
+    let mut t = format!(
+        "Adaptive multilevel splitting (generalised AMS, Bréhier et al. 2016; docs/physics.md §27) \
+         on the coordinate `{}`: {} independent replicas of {} particles, at least {} killed per \
+         level; {} levels, {} trajectories, {} steps in {:.1} s. ",
+        a.coordinate, e.replicas, e.particles, s.kill, e.iterations, r.trajectories, r.steps, wall
+    );
+    let _ = write!(
+        t,
+        "Standard error {} ({}). ",
+        if e.standard_error.is_finite() {
+            with_unit(e.standard_error, q)
+        } else {
+            "unbounded".into()
+        },
+        match e.interval {
+            "student_t" => "the 95 % interval is the replicas' mean ± Student's t standard errors",
+            "rule_of_three" =>
+                "no particle of any replica met the target: the estimate is 0 and the interval's upper end is 1 − 0.05^(1/(particles × replicas))",
+            "lognormal_delta" =>
+                "flux relation, delta method over the replicas, log-normal 95 % interval",
+            "bound" => "no particle met the target: the time is bounded below only",
+            other => other,
+        }
+    );
+    if let Some(f) = &e.flux {
+        let unit = coordinate_unit(&a.coordinate);
+        let _ = write!(
+            t,
+            "Flux relation τ = T₁ + C (1/p − 1) + S: basin {} ≤ {} {unit}, interface {} > {} {unit}; p = {} \
+             (P(target before the basin) from a crossing), T₁ = {} s, C = {} s, S = {}; escape rate {} 1/s. ",
+            a.coordinate,
+            s4(f.basin),
+            a.coordinate,
+            s4(f.interface),
+            s4(f.probability),
+            s4(f.first_crossing_time),
+            s4(f.cycle_time),
+            f.transit_time
+                .map(|x| format!("{} s", s4(x)))
+                .unwrap_or_else(|| "unknown".into()),
+            s4(f.rate)
+        );
+    }
+    if e.truncated > 0 {
+        let _ = write!(
+            t,
+            "{} paths were cut by the step budget ({} steps from their root): the estimate is of the event within that budget. ",
+            e.truncated, p.max_steps
+        );
+    }
+    if e.failed > 0 {
+        let _ = write!(
+            t,
+            "{} paths failed (first: {}). ",
+            e.failed,
+            e.first_failure.clone().unwrap_or_default()
+        );
+    }
+    t.push_str("\n\n![splitting levels](levels.png)\n\nThe figure: each replica's levels Z_j of the coordinate against the estimated probability that a path's maximum of the coordinate passes them, Π(1 − K/n) (one curve per replica).");
+    t.trim_end().to_string()
+}
+
+/// `levels.png`/`.svg` in `dir`: each replica's staircase (level, estimated
+/// P(max ξ > level)), with the estimate and the exact value as lines; the
+/// legend where the staircases (falling to the right) leave room.
+fn levels_figure(dir: &Path, r: &Report, a: &AmsPart) -> Result<()> {
+    use crate::plot::{Legend, PlotOpts, Series, line_plot};
+    let mut series = Vec::new();
+    let mut lo = 1.0f64;
+    let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (i, rep) in a.replicas.iter().enumerate() {
+        let (xs, ys): (Vec<f64>, Vec<f64>) = rep
+            .levels
+            .iter()
+            .filter(|l| l[0].is_finite() && l[0] > f64::MIN && l[1] > f64::MIN)
+            .map(|l| (l[0], 10f64.powf(l[1])))
+            .unzip();
+        for &x in &xs {
+            x0 = x0.min(x);
+            x1 = x1.max(x);
+        }
+        if let Some(m) = ys.iter().copied().reduce(f64::min) {
+            lo = lo.min(m);
+        }
+        let name = if i == 0 {
+            format!("replicas ({}), one staircase each", a.replicas.len())
+        } else {
+            String::new()
+        };
+        series.push(Series::new(name, xs, ys).color((31, 119, 180)).width(1));
+    }
+    if x0 >= x1 {
+        (x0, x1) = (0.0, 1.0);
+    }
+    let p_final = match &a.estimate.flux {
+        Some(f) => f.probability,
+        None => r.estimate,
+    };
+    if p_final > 0.0 {
+        let what = match &a.estimate.flux {
+            Some(_) => "p, from the interface to the target,",
+            None => "estimate",
+        };
+        series.push(
+            Series::new(
+                format!("{what} {}", s4(p_final)),
+                vec![x0, x1],
+                vec![p_final; 2],
+            )
+            .color((0, 0, 0))
+            .dashed(),
+        );
+        lo = lo.min(p_final);
+    }
+    if r.quantity == Quantity::Probability {
+        if let Some(w) = r.exact.and_then(|e| e.watched) {
+            if w.value > 0.0 && w.value.is_finite() {
+                series.push(
+                    Series::new(
+                        format!("exact (1D, watched every step) {}", s4(w.value)),
+                        vec![x0, x1],
+                        vec![w.value; 2],
+                    )
+                    .color((214, 39, 40))
+                    .dashed(),
+                );
+                lo = lo.min(w.value);
+            }
+        }
+    }
+    let unit = coordinate_unit(&a.coordinate);
+    let y_label = match &a.estimate.flux {
+        Some(_) => "P(max ξ > level | crossing) [1]",
+        None => "P(max ξ > level) [1]",
+    };
+    // The staircases fall from (ξ0, 1) to the right: over two decades
+    // or more the upper right corner is empty; else the legend goes below
+    // them, at the lower left.
+    let legend = if lo < 1e-2 {
+        Legend::UpperRight
+    } else {
+        Legend::LowerLeft
+    };
+    let opts = PlotOpts {
+        log_y: true,
+        y_range: Some((lo / 10.0, 1.5)),
+        legend,
+        ..PlotOpts::default()
+    };
+    line_plot(
+        &dir.join("levels"),
+        &format!("Splitting levels: {} replicas", a.replicas.len()),
+        &format!("level of ξ = {} [{unit}]", a.coordinate),
+        y_label,
+        &series,
+        &opts,
+    )
+}
+
+/// What defines a splitting's output (`--method ams`): the scenario's
+/// sources and every option that changes a figure. A shard records it in
+/// `rare_shard.json`; `tippetop merge` rebuilds the question from it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct AmsInputs {
+    /// `--preset`.
+    pub preset: Option<String>,
+    /// The scenario file's text.
+    pub toml_text: Option<String>,
+    /// `--set`, in order.
+    pub sets: Vec<String>,
+    /// `--target`.
+    pub target: String,
+    /// `--reset`.
+    pub reset: Option<String>,
+    /// `--horizon` \[s\].
+    pub horizon: Option<f64>,
+    /// `--max-steps`.
+    pub max_steps: Option<u64>,
+    /// `--coordinate`.
+    pub coordinate: Option<String>,
+    /// `--replicas`.
+    pub replicas: Option<usize>,
+    /// `--particles`.
+    pub particles: Option<usize>,
+    /// `--kill`.
+    pub kill: Option<usize>,
+    /// `--max-trajectories`.
+    pub max_trajectories: Option<u64>,
+    /// `--crossings`.
+    pub crossings: Option<usize>,
+    /// `--direct-steps`.
+    pub direct_steps: Option<u64>,
+    /// `--pilot-steps`.
+    pub pilot_steps: Option<u64>,
+    /// `--basin`.
+    pub basin: Option<f64>,
+    /// `--interface`.
+    pub interface: Option<f64>,
+}
+
+impl AmsInputs {
+    fn of(args: &RareArgs, toml_text: Option<String>) -> AmsInputs {
+        AmsInputs {
+            preset: args.preset.clone(),
+            toml_text,
+            sets: args.sets.clone(),
+            target: args.target.clone(),
+            reset: args.reset.clone(),
+            horizon: args.horizon,
+            max_steps: args.max_steps,
+            coordinate: args.coordinate.clone(),
+            replicas: args.replicas,
+            particles: args.particles,
+            kill: args.kill,
+            max_trajectories: args.max_trajectories,
+            crossings: args.crossings,
+            direct_steps: args.direct_steps,
+            pilot_steps: args.pilot_steps,
+            basin: args.basin,
+            interface: args.interface,
+        }
+    }
+
+    /// The question and its splitting (the checks of [`Problem::new`] and
+    /// [`problem::ams_for`]; runs the pilot run of a mean first-passage
+    /// time).
+    fn setup(&self) -> Result<(Problem, Ams), tippetop::Error> {
+        let scenario = tippetop::Scenario::load(
+            self.preset.as_deref(),
+            self.toml_text.as_deref(),
+            &self.sets,
+        )?;
+        let d = Settings::default();
+        let prob = Problem::for_ams(
+            scenario,
+            &self.target,
+            self.reset.as_deref(),
+            self.horizon,
+            self.max_steps,
+        )?;
+        let settings = Settings {
+            replicas: self.replicas.unwrap_or(d.replicas),
+            particles: self.particles.unwrap_or(d.particles),
+            kill: self.kill.unwrap_or(d.kill),
+            max_trajectories: self.max_trajectories.unwrap_or(d.max_trajectories),
+            crossings: self.crossings.unwrap_or(d.crossings),
+            direct_steps: self.direct_steps.unwrap_or(d.direct_steps),
+            pilot_steps: self.pilot_steps.unwrap_or(d.pilot_steps),
+            basin: self.basin,
+            interface: self.interface,
+            ..d
+        };
+        let ams = problem::ams_for(&prob, self.coordinate.as_deref(), settings)?;
+        Ok((prob, ams))
+    }
+
+    /// The fingerprint of the splitting, for its shards.
+    fn fingerprint(&self) -> String {
+        let grid = tippetop::analysis::sweep::Sweep {
+            preset: self.preset.clone(),
+            toml_text: self.toml_text.clone(),
+            sets: self.sets.clone(),
+            axes: Vec::new(),
+        };
+        let options = serde_json::to_string(self).unwrap_or_default();
+        grid.fingerprint_of("tippetop rare 1", &[("options", options)])
+    }
+}
+
+/// The options of the splitting that other methods refuse.
+fn ams_only(args: &RareArgs) -> Option<&'static str> {
+    [
+        (args.coordinate.is_some(), "--coordinate"),
+        (args.particles.is_some(), "--particles"),
+        (args.kill.is_some(), "--kill"),
+        (args.max_trajectories.is_some(), "--max-trajectories"),
+        (args.crossings.is_some(), "--crossings"),
+        (args.direct_steps.is_some(), "--direct-steps"),
+        (args.pilot_steps.is_some(), "--pilot-steps"),
+        (args.basin.is_some(), "--basin"),
+        (args.interface.is_some(), "--interface"),
+        (args.shard.is_some(), "--shard"),
+    ]
+    .into_iter()
+    .find(|(given, _)| *given)
+    .map(|(_, key)| key)
+}
+
 /// Run `tippetop rare`. Bad input: one line and exit code 2 (returned as
 /// `Ok`), nothing written; `Err` for I/O failures.
 pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
@@ -340,6 +772,16 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
     };
     if let Err(e) = tippetop::analysis::sweep::threads(args.threads) {
         return Ok(input_error(e));
+    }
+    if method != RareMethod::Ams {
+        if let Some(key) = ams_only(args) {
+            return Ok(input_error(format!(
+                "{key}: given with --method {} (an option of --method ams)",
+                method.name()
+            )));
+        }
+    } else {
+        return run_ams(args, AmsInputs::of(args, toml_text), started, quiet);
     }
     let scenario =
         match tippetop::Scenario::load(args.preset.as_deref(), toml_text.as_deref(), &args.sets) {
@@ -358,9 +800,7 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
     };
     let replicas = args.replicas.unwrap_or(DEFAULT_REPLICAS);
     let report = match method {
-        RareMethod::Ams => {
-            return Ok(input_error("--method ams is not available yet"));
-        }
+        RareMethod::Ams => unreachable!("handled above"),
         RareMethod::Exact => {
             if args.replicas.is_some() {
                 return Ok(input_error(
@@ -387,7 +827,7 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
             });
             pb.finish_and_clear();
             match r {
-                Ok(r) => return finish(args, &prob, &r, out, started, quiet),
+                Ok(r) => return finish(&args.out, &prob, &r, out, started, quiet),
                 Err(e) => {
                     out.abandon();
                     if e.is_input() {
@@ -399,13 +839,295 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
         }
     };
     let out = OutDir::open(&args.out)?;
-    finish(args, &prob, &report, out, started, quiet)
+    finish(&args.out, &prob, &report, out, started, quiet)
+}
+
+/// File of a shard's replicas.
+const REPLICAS_JSON: &str = "replicas.json";
+/// File of a shard's inputs.
+const INPUTS_JSON: &str = "rare_shard.json";
+
+/// A replica as a shard writes it: a level at `-inf` (a particle that met
+/// the reset at once) becomes `f64::MIN`, which JSON can hold (the picture
+/// leaves both out).
+fn storable(mut r: Replica) -> Replica {
+    for l in &mut r.levels {
+        if !l[0].is_finite() {
+            l[0] = f64::MIN;
+        }
+        if !l[1].is_finite() {
+            l[1] = f64::MIN;
+        }
+    }
+    r
+}
+
+/// `--method ams`: the replicas (all, or a shard's), then the report (or
+/// the shard's files).
+fn run_ams(
+    args: &RareArgs,
+    inputs: AmsInputs,
+    started: std::time::Instant,
+    quiet: bool,
+) -> Result<ExitCode> {
+    let shard = match args
+        .shard
+        .as_deref()
+        .map(tippetop::analysis::sweep::Shard::parse)
+        .transpose()
+    {
+        Ok(s) => s,
+        Err(e) => return Ok(input_error(e)),
+    };
+    let setup = if quiet {
+        inputs.setup()
+    } else {
+        let sp = crate::progress::spinner(quiet, "rare (ams): checking the question");
+        let r = inputs.setup();
+        sp.finish_and_clear();
+        r
+    };
+    let (prob, ams) = match setup {
+        Ok(x) => x,
+        Err(e) if e.is_input() => return Ok(input_error(e)),
+        Err(e) => {
+            eprintln!("error: {e}");
+            return Ok(ExitCode::from(3));
+        }
+    };
+    let m = ams.settings().replicas;
+    let range = match shard {
+        None => 0..m,
+        Some(sh) => match tippetop::analysis::sweep::shard_range(m, sh) {
+            Ok(r) => r,
+            Err(e) => {
+                return Ok(input_error(
+                    e.to_string()
+                        .replace("a sweep of", "a splitting of")
+                        .replace("cases", "replicas")
+                        .replace("case", "replica"),
+                ));
+            }
+        },
+    };
+    let out = OutDir::open(&args.out)?;
+    let pb = crate::progress::bar(quiet, range.len() as u64, "rare (ams) replicas");
+    let len = range.len() as f64;
+    let progress = |f: f64| pb.set_position((f * len).round() as u64);
+    let hooks = Hooks {
+        progress: Some(&progress),
+        cancel: None,
+    };
+    let mut replicas = Vec::with_capacity(range.len());
+    let ran = ams.run(range.clone(), args.threads, hooks, &mut |r| {
+        replicas.push(storable(r));
+        true
+    });
+    pb.finish_and_clear();
+    if let Err(e) = ran {
+        out.abandon();
+        return Ok(input_error(e));
+    }
+    if let Some(sh) = shard {
+        return write_shard(out, &args.out, &inputs, sh, m, range, &replicas, quiet);
+    }
+    match problem::by_ams(&prob, &ams, replicas.clone()) {
+        Ok(r) => finish(&args.out, &prob, &r, out, started, quiet),
+        Err(e) if e.is_input() => {
+            out.abandon();
+            Ok(input_error(e))
+        }
+        Err(e) => partial_replicas(out, &args.out, &replicas, &e),
+    }
+}
+
+/// A splitting that did not finish (a replica out of budget): the
+/// replicas (partial output) in replicas.json, the error, exit code 3.
+fn partial_replicas(
+    out: OutDir,
+    dir: &Path,
+    replicas: &[Replica],
+    e: &tippetop::Error,
+) -> Result<ExitCode> {
+    let mut text = serde_json::to_string_pretty(&serde_json::json!({ "replicas": replicas }))?;
+    text.push('\n');
+    write_bytes_atomic(&out.stage().join(REPLICAS_JSON), text.as_bytes())?;
+    out.commit(&[REPLICAS_JSON])?;
+    eprintln!(
+        "error: {e} (the replicas are in {})",
+        dir.join(REPLICAS_JSON).display()
+    );
+    Ok(ExitCode::from(3))
+}
+
+/// A shard of a splitting: replicas.json (its replicas),
+/// rare_shard.json (the inputs), shard.json (what it covers, checksums).
+#[allow(clippy::too_many_arguments)]
+fn write_shard(
+    out: OutDir,
+    dir: &Path,
+    inputs: &AmsInputs,
+    sh: tippetop::analysis::sweep::Shard,
+    total: usize,
+    range: std::ops::Range<usize>,
+    replicas: &[Replica],
+    quiet: bool,
+) -> Result<ExitCode> {
+    let info = ShardInfo {
+        fingerprint: inputs.fingerprint(),
+        k: sh.k,
+        n: sh.n,
+        total_cases: total,
+        first_index: range.start,
+        end_index: range.end,
+        axes: Vec::new(),
+        checksums: Default::default(),
+    };
+    let mut reps = serde_json::to_string_pretty(&serde_json::json!({ "replicas": replicas }))?;
+    reps.push('\n');
+    let mut inp = serde_json::to_string_pretty(inputs)?;
+    inp.push('\n');
+    let stage = out.stage().to_path_buf();
+    write_bytes_atomic(&stage.join(REPLICAS_JSON), reps.as_bytes())?;
+    write_bytes_atomic(&stage.join(INPUTS_JSON), inp.as_bytes())?;
+    crate::sweep_cmd::write_info(
+        &stage,
+        &info,
+        &[
+            (REPLICAS_JSON, checksum(reps.as_bytes())),
+            (INPUTS_JSON, checksum(inp.as_bytes())),
+        ],
+    )?;
+    out.commit(&["shard.json"])?;
+    if !quiet {
+        println!(
+            "shard {}/{}: replicas {}..{} of {total} -> {}",
+            sh.k,
+            sh.n,
+            range.start,
+            range.end,
+            dir.join(REPLICAS_JSON).display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Whether `dir` holds a shard of a splitting (`rare_shard.json` beside
+/// `shard.json`), for `tippetop merge`.
+pub fn is_rare_shard_dir(dir: &Path) -> bool {
+    dir.join(INPUTS_JSON).is_file() && dir.join("shard.json").is_file()
+}
+
+#[derive(serde::Deserialize)]
+struct ReplicasFile {
+    replicas: Vec<Replica>,
+}
+
+/// `tippetop merge` of the shards of one splitting: rare.json, rare.md and
+/// the levels' figure of the unsharded run (the same bytes apart from
+/// wall_seconds, here the merge's time).
+pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode> {
+    let started = std::time::Instant::now();
+    let what = "a directory written by tippetop rare --method ams --shard, with shard.json, \
+                rare_shard.json and replicas.json";
+    let mut shards: Vec<(ShardInfo, Vec<Replica>, AmsInputs)> = Vec::new();
+    for dir in &args.dirs {
+        let _reading = crate::output::read_lock(dir)?;
+        let got = (|| {
+            let small = |name: &str| crate::scenario_load::read_small(&dir.join(name), what);
+            let info: ShardInfo = serde_json::from_str(&small("shard.json")?)
+                .map_err(|e| format!("{}: {e} ({what})", dir.join("shard.json").display()))?;
+            let (reps, inp) = (small(REPLICAS_JSON)?, small(INPUTS_JSON)?);
+            check_checksum(&info.checksums, dir, REPLICAS_JSON, reps.as_bytes())?;
+            check_checksum(&info.checksums, dir, INPUTS_JSON, inp.as_bytes())?;
+            let reps: ReplicasFile = serde_json::from_str(&reps)
+                .map_err(|e| format!("{}: {e} ({what})", dir.join(REPLICAS_JSON).display()))?;
+            let inp: AmsInputs = serde_json::from_str(&inp)
+                .map_err(|e| format!("{}: {e} ({what})", dir.join(INPUTS_JSON).display()))?;
+            Ok::<_, String>((info, reps.replicas, inp))
+        })();
+        match got {
+            Ok(s) => shards.push(s),
+            Err(msg) => return Ok(input_error(msg)),
+        }
+    }
+    let (first, _, inputs) = &shards[0];
+    for (i, (info, reps, inp)) in shards.iter().enumerate() {
+        if inp != inputs
+            || info.fingerprint != first.fingerprint
+            || info.fingerprint != inp.fingerprint()
+        {
+            return Ok(input_error(format!(
+                "merge: {} is a shard of another splitting than {} (all shards from one tippetop \
+                 rare --method ams: same scenario, --set and options)",
+                args.dirs[i].display(),
+                args.dirs[0].display()
+            )));
+        }
+        let indices: Vec<usize> = reps.iter().map(|r| r.index).collect();
+        let want: Vec<usize> = (info.first_index..info.end_index).collect();
+        if indices != want || info.total_cases != first.total_cases {
+            return Ok(input_error(format!(
+                "merge: {}: replicas.json does not hold the replicas {}..{} its shard.json names \
+                 ({what})",
+                args.dirs[i].display(),
+                info.first_index,
+                info.end_index
+            )));
+        }
+    }
+    let mut order: Vec<&(ShardInfo, Vec<Replica>, AmsInputs)> = shards.iter().collect();
+    order.sort_by_key(|s| (s.0.first_index, s.0.end_index));
+    let mut replicas: Vec<Replica> = Vec::new();
+    for (info, reps, _) in order {
+        if info.first_index != replicas.len() {
+            return Ok(input_error(format!(
+                "merge: replicas {}..{} of {} are {} (shards that cover every replica exactly once)",
+                replicas.len().min(info.first_index),
+                replicas.len().max(info.first_index),
+                first.total_cases,
+                if info.first_index > replicas.len() {
+                    "missing"
+                } else {
+                    "in two shards"
+                }
+            )));
+        }
+        replicas.extend(reps.iter().cloned());
+    }
+    if replicas.len() != first.total_cases {
+        return Ok(input_error(format!(
+            "merge: replicas {}..{} are missing (shards that cover every replica exactly once)",
+            replicas.len(),
+            first.total_cases
+        )));
+    }
+    let (prob, ams) = match inputs.setup() {
+        Ok(x) => x,
+        Err(e) => return Ok(input_error(format!("merge: {e}"))),
+    };
+    if ams.settings().replicas != replicas.len() {
+        return Ok(input_error(format!(
+            "merge: {} replicas for a splitting of {} ({what})",
+            replicas.len(),
+            ams.settings().replicas
+        )));
+    }
+    let out = OutDir::open(&args.out)?;
+    match problem::by_ams(&prob, &ams, replicas.clone()) {
+        Ok(r) => finish(&args.out, &prob, &r, out, started, quiet),
+        Err(e) if e.is_input() => {
+            out.abandon();
+            Ok(input_error(e))
+        }
+        Err(e) => partial_replicas(out, &args.out, &replicas, &e),
+    }
 }
 
 /// Write rare.json and rare.md, print the summary; exit code 3 if runs
 /// failed.
 fn finish(
-    args: &RareArgs,
+    dir: &Path,
     prob: &Problem,
     report: &Report,
     out: OutDir,
@@ -421,12 +1143,15 @@ fn finish(
         &stage.join("rare.md"),
         markdown(prob, report, wall).as_bytes(),
     )?;
+    if let Some(a) = &report.ams {
+        levels_figure(&stage, report, a)?;
+    }
     out.commit(&["rare.json"])?;
     if !quiet {
         for l in summary_lines(prob, report, wall) {
             println!("{l}");
         }
-        println!("wrote {}", args.out.display());
+        println!("wrote {}", dir.display());
     }
     if let Some(t) = &report.tally {
         if t.failed > 0 {
@@ -435,6 +1160,16 @@ fn finish(
                 t.failed,
                 t.runs(),
                 t.first_error.clone().unwrap_or_default()
+            );
+            return Ok(ExitCode::from(3));
+        }
+    }
+    if let Some(a) = &report.ams {
+        if a.estimate.failed > 0 {
+            eprintln!(
+                "error: {} paths failed (first: {}); the estimate counts them as not reaching the target",
+                a.estimate.failed,
+                a.estimate.first_failure.clone().unwrap_or_default()
             );
             return Ok(ExitCode::from(3));
         }

@@ -168,7 +168,9 @@ pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of
                   the bytes of a one-shot run. So do the shards of a bit design map \
                   (tippetop bit --vary ... --shard K/N: bitmap.csv joined, plots redrawn) and \
                   of a bit ensemble (tippetop bit --runs N --shard K/M: runs.csv joined, \
-                  bit.json, bit.md and the figure recomputed).";
+                  bit.json, bit.md and the figure recomputed), and of a splitting (tippetop \
+                  rare --method ams --shard K/M: the replicas joined, rare.json, rare.md and \
+                  levels.png of the unsharded run, the same bytes apart from wall_seconds).";
 
 /// `tippetop merge`.
 #[derive(Debug, Args)]
@@ -565,6 +567,13 @@ pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
         .is_some_and(|d| crate::bitmap_cmd::is_bitmap_dir(d))
     {
         return crate::bitmap_cmd::merge(args, quiet);
+    }
+    if args
+        .dirs
+        .first()
+        .is_some_and(|d| crate::rare_cmd::is_rare_shard_dir(d))
+    {
+        return crate::rare_cmd::merge(args, quiet);
     }
     if args
         .dirs

@@ -8,7 +8,7 @@ mod common;
 use std::path::Path;
 use std::process::Output;
 
-use common::{bin, json, ok, scratch};
+use common::{bin, json, ok, refused, scratch};
 
 /// The eccentric nano top (a = R/2) in the Brownian mode at 300 K, no
 /// gravity, a 2 kT well at π/2 (width 0.3), started at its bottom; the
@@ -240,8 +240,8 @@ fn bad_input_is_one_line_and_writes_nothing() {
             "--reset: theta<1.6 already holds at the start",
         ),
         (
-            vec!["--target", "theta>1.75", "--method", "ams"],
-            "--method ams is not available yet",
+            vec!["--target", "theta>1.75", "--coordinate", "theta"],
+            "--coordinate: given with --method direct",
         ),
         (
             vec!["--target", "theta>1.75", "--method", "fast"],
@@ -394,4 +394,325 @@ fn horizon_and_censoring() {
     assert!(j["ci95"][1].is_null());
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("= >= 2.000e-14 s"), "{stdout}");
+}
+
+/// The splitting's options for the small Brownian case of [`SCENARIO`].
+fn ams_args<'a>(extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec!["--method", "ams", "--particles", "20"];
+    v.extend_from_slice(extra);
+    v
+}
+
+/// `--method ams` against the exact answer at p ~ 2e-3:
+/// `P(θ > 2.5 before θ < 1.565)` from π/2 (the reset 0.006 rad below the
+/// start) by 20 replicas of 20 particles. The exact value for the path
+/// watched at every step (the splitting watches every step) lies within 3
+/// of the estimate's own standard errors (about 15 %: a bias of a factor
+/// 1.5 fails it), and 3 SE is below the estimate.
+/// rare.json has the fields; rare.md and the figure are written.
+#[test]
+fn ams_agrees_with_exact() {
+    let d = setup("ams");
+    let o = rare(
+        &d,
+        "p",
+        &ams_args(&[
+            "--target",
+            "theta>2.5",
+            "--reset",
+            "theta<1.565",
+            "--replicas",
+            "20",
+        ]),
+    );
+    ok(&o);
+    let j = json(&d.join("p/rare.json"));
+    assert_eq!(j["quantity"], "probability");
+    assert_eq!(j["method"], "ams");
+    assert_eq!(j["replicas"], 20);
+    assert!(j["trajectories"].as_u64().unwrap() >= 400);
+    assert!(j["steps"].as_u64().unwrap() > 200);
+    assert!(j["wall_seconds"].as_f64().unwrap() > 0.0);
+    let a = &j["ams"];
+    assert_eq!(a["coordinate"], "theta");
+    assert_eq!(a["particles"], 20);
+    assert_eq!(a["interval"], "student_t");
+    assert_eq!(a["replica_estimates"].as_array().unwrap().len(), 20);
+    let est = j["estimate"].as_f64().unwrap();
+    let se = a["standard_error"].as_f64().unwrap();
+    let ci = [
+        j["ci95"][0].as_f64().unwrap(),
+        j["ci95"][1].as_f64().unwrap(),
+    ];
+    // The mean of the replicas, recomputed.
+    let reps: Vec<f64> = a["replica_estimates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let mean = reps.iter().sum::<f64>() / 20.0;
+    assert!((mean - est).abs() <= 1e-12 * est);
+    let exact = j["exact"]["watched"].as_f64().unwrap();
+    let z = (est - exact) / se;
+    eprintln!(
+        "ams {est:e} ± {se:e} [{:e}, {:e}], exact {exact:e}: {z:+.2} SE",
+        ci[0], ci[1]
+    );
+    assert!(z.abs() < 3.0, "{z:+.2} SE from the exact {exact:e}");
+    assert!(3.0 * se < est, "3 SE = {} not below the estimate", 3.0 * se);
+    assert!(ci[0] < est && est < ci[1]);
+    assert!(d.join("p/levels.png").is_file() && d.join("p/levels.svg").is_file());
+    let md = std::fs::read_to_string(d.join("p/rare.md")).unwrap();
+    assert!(md.contains("![splitting levels](levels.png)"), "{md}");
+    assert!(md.contains("**ams: "), "{md}");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("splitting on theta: 20 replicas of 20 particles"),
+        "{stdout}"
+    );
+}
+
+/// The mean first-passage time out of `1.3 < θ < 1.84` (the 2 kT well) by
+/// the splitting's flux relation, against the exact time for the watched
+/// path: within 3 of its standard errors; the flux relation's parts are
+/// reported and `rate = 1/estimate`.
+#[test]
+fn ams_mean_first_passage_time() {
+    let d = setup("ams-tau");
+    let o = rare(
+        &d,
+        "t",
+        &ams_args(&[
+            "--target",
+            "theta<1.3,theta>1.84",
+            "--replicas",
+            "5",
+            "--crossings",
+            "20",
+            "--pilot-steps",
+            "10000",
+        ]),
+    );
+    ok(&o);
+    let j = json(&d.join("t/rare.json"));
+    assert_eq!(j["quantity"], "mean_first_passage_time");
+    assert_eq!(j["unit"], "s");
+    let est = j["estimate"].as_f64().unwrap();
+    let se = j["ams"]["standard_error"].as_f64().unwrap();
+    let exact = j["exact"]["watched"].as_f64().unwrap();
+    let z = (est - exact) / se;
+    eprintln!("tau {est:e} ± {se:e} s, exact {exact:e} s: {z:+.2} SE");
+    assert!(z.abs() < 3.0, "{z:+.2} SE from the exact {exact:e} s");
+    assert_eq!(j["ams"]["coordinate"], "|theta-1.57|");
+    let f = &j["ams"]["flux"];
+    assert!((f["rate"].as_f64().unwrap() * est - 1.0).abs() < 1e-12);
+    assert!(f["basin"].as_f64().unwrap() < f["interface"].as_f64().unwrap());
+}
+
+/// A horizon of 5 steps (1e-14 s) that no path can use to climb 0.18 rad
+/// (13 standard deviations of its spread, see `horizon_and_censoring`):
+/// every replica is extinct; the estimate is 0 (not NaN) and the interval
+/// `[0, 1 − 0.05^{1/(n M)}]`, the rule of three for the n M = 60 roots.
+#[test]
+fn ams_extinction_is_zero_with_a_bound() {
+    let d = setup("ams-ext");
+    let o = rare(
+        &d,
+        "x",
+        &ams_args(&[
+            "--target",
+            "theta>1.75",
+            "--reset",
+            "theta<1.39",
+            "--horizon",
+            "1e-14",
+            "--replicas",
+            "3",
+        ]),
+    );
+    ok(&o);
+    let j = json(&d.join("x/rare.json"));
+    assert_eq!(j["estimate"].as_f64(), Some(0.0));
+    let bound = 1.0 - 0.05f64.powf(1.0 / 60.0);
+    assert_eq!(j["ci95"][0].as_f64(), Some(0.0));
+    let hi = j["ci95"][1].as_f64().unwrap();
+    assert!((hi - bound).abs() < 1e-12, "{hi} vs {bound}");
+    assert_eq!(j["ams"]["extinct"], true);
+    assert_eq!(j["ams"]["interval"], "rule_of_three");
+}
+
+fn drop_wall(s: &str) -> String {
+    s.lines()
+        .filter(|l| {
+            !l.contains("\"wall_seconds\"") && !l.contains(" s: ") && !l.contains("steps in ")
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The splitting's files are the same bytes for 1 and 2 threads and for
+/// one run and 3 shards merged (rare.json apart from wall_seconds, rare.md
+/// apart from its wall time, the figure's PNG exactly); a merge with a
+/// shard missing, a shard given twice, or a replicas.json edited is
+/// refused (exit 2, nothing written).
+#[test]
+fn ams_same_bytes_for_threads_and_shards() {
+    let d = setup("ams-shards");
+    let base = ams_args(&[
+        "--target",
+        "theta>1.75",
+        "--reset",
+        "theta<1.3",
+        "--replicas",
+        "5",
+    ]);
+    let with = |extra: &[&'static str]| {
+        let mut v = base.clone();
+        v.extend_from_slice(extra);
+        v
+    };
+    ok(&rare(&d, "one", &with(&["--threads", "1"])));
+    ok(&rare(&d, "two", &with(&["--threads", "2"])));
+    for k in ["1/3", "2/3", "3/3"] {
+        let name = format!("s{}", &k[..1]);
+        ok(&rare(&d, &name, &with(&["--shard", k, "--threads", "2"])));
+        assert!(!d.join(&name).join("rare.json").exists());
+    }
+    let merge = |dirs: &[&str], out: &str| {
+        let mut c = bin();
+        c.arg("merge");
+        for x in dirs {
+            c.arg(d.join(x));
+        }
+        c.arg("--out").arg(d.join(out)).output().unwrap()
+    };
+    ok(&merge(&["s3", "s1", "s2"], "merged"));
+    let read = |p: &str| std::fs::read_to_string(d.join(p)).unwrap();
+    let one = read("one/rare.json");
+    assert!(one.contains("\"method\": \"ams\""));
+    for other in ["two", "merged"] {
+        let b = read(&format!("{other}/rare.json"));
+        assert_eq!(strip_wall(&one), strip_wall(&b), "{other}");
+        assert_eq!(
+            drop_wall(&one),
+            drop_wall(&b),
+            "{other}: only wall_seconds may differ"
+        );
+        assert_eq!(
+            drop_wall(&read("one/rare.md")),
+            drop_wall(&read(&format!("{other}/rare.md"))),
+            "{other}"
+        );
+        assert_eq!(
+            std::fs::read(d.join("one/levels.png")).unwrap(),
+            std::fs::read(d.join(format!("{other}/levels.png"))).unwrap(),
+            "{other}"
+        );
+    }
+    refused(
+        &merge(&["s1", "s3"], "bad1"),
+        &["merge: replicas 2..4 of 5 are missing"],
+    );
+    refused(
+        &merge(&["s1", "s2", "s2", "s3"], "bad2"),
+        &["in two shards"],
+    );
+    let reps = read("s2/replicas.json").replace("\"hits\": ", "\"hits\": 1");
+    std::fs::write(d.join("s2/replicas.json"), reps).unwrap();
+    refused(
+        &merge(&["s1", "s2", "s3"], "bad3"),
+        &["replicas.json", "does not match its checksum"],
+    );
+    for b in ["bad1", "bad2", "bad3"] {
+        assert!(!d.join(b).exists(), "{b} written");
+    }
+}
+
+/// Bad input to `--method ams`: one line naming the option, exit code 2,
+/// nothing written.
+#[test]
+fn ams_bad_input_is_one_line_and_writes_nothing() {
+    let d = setup("ams-bad");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["--target", "theta>1.5", "--reset", "theta<1.3"],
+            "--target: theta>1.5 already holds at the start",
+        ),
+        (
+            vec!["--target", "theta>1.75", "--reset", "theta<1.6"],
+            "--reset: theta<1.6 already holds at the start",
+        ),
+        (
+            vec!["--target", "theta>1.75", "--coordinate", "thetaa"],
+            "--coordinate: \"thetaa\" is not a trajectory.csv column",
+        ),
+        (
+            vec!["--target", "theta>1.75", "--coordinate", "|theta-x|"],
+            "--coordinate: \"x\" is not a number",
+        ),
+        (
+            vec!["--target", "theta>1.75", "--set", "thermal.temperature=0"],
+            "thermal.temperature: 0 K gives no noise",
+        ),
+        (
+            vec!["--target", "theta>1.75", "--replicas", "1"],
+            "--replicas: 1 replicas",
+        ),
+        (
+            vec!["--target", "theta>1.75", "--kill", "20"],
+            "--kill: 20 of 20 particles",
+        ),
+        (
+            vec!["--target", "theta>1.75", "--max-trajectories", "19"],
+            "--max-trajectories: 19",
+        ),
+        (
+            vec!["--target", "theta>1.75", "--max-steps", "0"],
+            "--max-steps: 0 (1 <= steps <= 10000000",
+        ),
+        (
+            vec!["--target", "theta>1.75", "--max-steps", "10000001"],
+            "--max-steps: 10000001",
+        ),
+        (
+            vec!["--target", "theta>1.75", "--shard", "4/3"],
+            "--shard: \"4/3\" is out of range",
+        ),
+        (
+            vec![
+                "--target",
+                "theta>1.75",
+                "--replicas",
+                "3",
+                "--shard",
+                "1/4",
+            ],
+            "--shard: 4 shards for a splitting of 3 replicas",
+        ),
+        (
+            vec!["--target", "theta>1.75", "--crossings", "0"],
+            "--crossings: 0",
+        ),
+        (
+            vec!["--target", "theta>1.75", "--pilot-steps", "10"],
+            "--pilot-steps: 10",
+        ),
+    ];
+    for (i, (args, want)) in cases.iter().enumerate() {
+        let out = format!("o{i}");
+        let mut args = args.clone();
+        if !args.contains(&"--reset") {
+            args.extend(["--reset", "theta<1.3"]);
+        }
+        let o = rare(&d, &out, &ams_args(&args));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(
+            err.starts_with(&format!("error: {want}")),
+            "{args:?}: {err}"
+        );
+        assert!(!d.join(&out).exists(), "{args:?} wrote {out}");
+    }
 }

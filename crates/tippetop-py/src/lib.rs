@@ -833,18 +833,27 @@ fn ensemble<'py>(
 /// answer where θ is exactly a 1D diffusion: the Brownian mode on the
 /// plane; else ValueError with the reason), `"direct"` (`replicas` runs,
 /// default 1000, each until the target or the reset holds at a step's end,
-/// or `max_steps` steps, default 1e6) or `"ams"` (not available yet). The
-/// GIL is released; Ctrl-C stops the ensemble.
+/// or `max_steps` steps, default 1e6) or `"ams"` (adaptive multilevel
+/// splitting: `replicas` independent replicas, default 20, of `particles`,
+/// default 100, killing `kill` per level, default 1, on the reaction
+/// `coordinate`, default θ towards the target (the CLI's `--coordinate`
+/// grammar: a column, `-COLUMN`, `|COLUMN-C|` or `tilt_energy`); budgets
+/// `max_trajectories` per replica (default 1e5) and `max_steps` per path
+/// (default 1e7); without `reset`, the mean first-passage time by the flux
+/// relation with `crossings`, `direct_steps`, `pilot_steps`, `basin`,
+/// `interface` as the CLI's options; a replica out of budget raises
+/// RuntimeError). The GIL is released; Ctrl-C stops the run.
 ///
 /// Returns rare.json as a dict (the same figures, bit for bit, apart from
 /// `wall_seconds`): `quantity`, `unit`, `estimate`, `ln_estimate`, `ci95`,
 /// `method`, `replicas`, `trajectories`, `steps`, `wall_seconds`, `exact`
 /// (dict or None; `exact_unavailable` says why), the conditions, budgets,
-/// `tally` of a direct ensemble, `seed`, `first_run`, `temperature`,
-/// `scenario`. Numbers past f64 or unknown (an interval open above) are
+/// `tally` of a direct ensemble, `ams` of the splitting (coordinate,
+/// sizes, `standard_error`, `interval`, `extinct`, `replica_estimates`,
+/// `flux`), `seed`, `first_run`, `temperature`, `scenario`. Numbers past f64 or unknown (an interval open above) are
 /// None. Bad input raises ValueError naming the option.
 #[pyfunction]
-#[pyo3(signature = (scenario, target, reset = None, method = "direct", replicas = None, horizon = None, max_steps = None, threads = None))]
+#[pyo3(signature = (scenario, target, reset = None, method = "direct", replicas = None, horizon = None, max_steps = None, threads = None, coordinate = None, particles = None, kill = None, max_trajectories = None, crossings = None, direct_steps = None, pilot_steps = None, basin = None, interface = None))]
 #[allow(clippy::too_many_arguments)]
 fn rare<'py>(
     py: Python<'py>,
@@ -856,6 +865,15 @@ fn rare<'py>(
     horizon: Option<f64>,
     max_steps: Option<i64>,
     threads: Option<i64>,
+    coordinate: Option<&str>,
+    particles: Option<i64>,
+    kill: Option<i64>,
+    max_trajectories: Option<i64>,
+    crossings: Option<i64>,
+    direct_steps: Option<i64>,
+    pilot_steps: Option<i64>,
+    basin: Option<f64>,
+    interface: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     use tippetop::analysis::rare::problem::{self, DEFAULT_REPLICAS, Problem, RareMethod};
     let started = Instant::now();
@@ -877,11 +895,96 @@ fn rare<'py>(
     let threads = analysis::sweep::threads(threads).map_err(to_py_err)?;
     let sc = scenario.sc.clone();
     let (target, reset) = (target.to_string(), reset.map(str::to_string));
-    let prob = guarded(|| Problem::new(sc, &target, reset.as_deref(), horizon, max_steps))?
-        .map_err(to_py_err)?;
+    if method != RareMethod::Ams {
+        let given = [
+            (coordinate.is_some(), "--coordinate"),
+            (particles.is_some(), "--particles"),
+            (kill.is_some(), "--kill"),
+            (max_trajectories.is_some(), "--max-trajectories"),
+            (crossings.is_some(), "--crossings"),
+            (direct_steps.is_some(), "--direct-steps"),
+            (pilot_steps.is_some(), "--pilot-steps"),
+            (basin.is_some(), "--basin"),
+            (interface.is_some(), "--interface"),
+        ];
+        if let Some((_, key)) = given.iter().find(|g| g.0) {
+            return Err(PyValueError::new_err(format!(
+                "{key}: given with --method {} (an option of --method ams)",
+                method.name()
+            )));
+        }
+    }
+    let prob = guarded(|| match method {
+        RareMethod::Ams => Problem::for_ams(sc, &target, reset.as_deref(), horizon, max_steps),
+        _ => Problem::new(sc, &target, reset.as_deref(), horizon, max_steps),
+    })?
+    .map_err(to_py_err)?;
     let report = match method {
         RareMethod::Ams => {
-            return Err(PyValueError::new_err("--method ams is not available yet"));
+            use tippetop::analysis::rare::ams::{Hooks, Settings};
+            let d = Settings::default();
+            let big = |v: Option<i64>, key: &str, range: &str| -> PyResult<Option<u64>> {
+                count(v, key, range)
+            };
+            let settings = Settings {
+                replicas: replicas.map_or(d.replicas, |v| v as usize),
+                particles: big(particles, "--particles", "2 <= n <= 100000")?
+                    .map_or(d.particles, |v| v as usize),
+                kill: big(kill, "--kill", "1 <= k < n (--particles)")?
+                    .map_or(d.kill, |v| v as usize),
+                max_trajectories: big(
+                    max_trajectories,
+                    "--max-trajectories",
+                    "n (--particles) <= N <= 16777200 per replica",
+                )?
+                .unwrap_or(d.max_trajectories),
+                crossings: big(crossings, "--crossings", "1 <= crossings <= 100000")?
+                    .map_or(d.crossings, |v| v as usize),
+                direct_steps: big(direct_steps, "--direct-steps", "1 <= steps <= 10000000")?
+                    .unwrap_or(d.direct_steps),
+                pilot_steps: big(pilot_steps, "--pilot-steps", "1000 <= steps <= 10000000")?
+                    .unwrap_or(d.pilot_steps),
+                basin,
+                interface,
+                ..d
+            };
+            let coordinate = coordinate.map(str::to_string);
+            let ams = py
+                .detach(|| guarded(|| problem::ams_for(&prob, coordinate.as_deref(), settings)))?
+                .map_err(to_py_err)?;
+            let m = ams.settings().replicas;
+            let cancel = std::sync::atomic::AtomicBool::new(false);
+            let interrupted: Mutex<Option<PyErr>> = Mutex::new(None);
+            let progress = |_: f64| {
+                if let Err(err) = Python::attach(|py| py.check_signals()) {
+                    if let Ok(mut slot) = interrupted.lock() {
+                        *slot = Some(err);
+                    }
+                    cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+                }
+            };
+            let hooks = Hooks {
+                progress: Some(&progress),
+                cancel: Some(&cancel),
+            };
+            let mut reps = Vec::with_capacity(m);
+            let ran = py.detach(|| {
+                guarded(|| {
+                    ams.run(0..m, Some(threads), hooks, &mut |r| {
+                        reps.push(r);
+                        true
+                    })
+                })
+            })?;
+            if let Some(err) = interrupted.lock().ok().and_then(|mut e| e.take()) {
+                return Err(err);
+            }
+            match ran.map_err(to_py_err)? {
+                true => {}
+                false => return Err(PyRuntimeError::new_err("rare: interrupted")),
+            }
+            py.detach(|| guarded(|| problem::by_ams(&prob, &ams, reps)))?
+                .map_err(to_py_err)?
         }
         RareMethod::Exact => {
             if replicas.is_some() {

@@ -110,7 +110,19 @@ def test_same_figures_as_the_cli(sc, tmp_path):
     [
         (dict(target="theta>1.5"), "--target: theta>1.5 already holds at the start"),
         (dict(target=UP, reset="theta<1.6"), "--reset: theta<1.6 already holds"),
-        (dict(target=UP, method="ams"), "--method ams is not available yet"),
+        (
+            dict(target=UP, reset=DOWN, method="ams", coordinate="thetaa"),
+            '--coordinate: "thetaa" is not a trajectory.csv column',
+        ),
+        (dict(target=UP, coordinate="theta"), "--coordinate: given with --method direct"),
+        (dict(target=UP, reset=DOWN, method="ams", replicas=1), "--replicas: 1 replicas"),
+        (dict(target=UP, reset=DOWN, method="ams", max_trajectories=5), "--max-trajectories: 5"),
+        (dict(target=UP, reset=DOWN, method="ams", max_steps=0), "--max-steps: 0"),
+        (dict(target="theta>1.5", reset=DOWN, method="ams"), "--target: theta>1.5 already holds"),
+        (
+            dict(target=UP, reset=DOWN, method="ams", kill=20, particles=20),
+            "--kill: 20 of 20 particles",
+        ),
         (dict(target=UP, method="fast"), '--method: "fast" is not a method'),
         (dict(target=UP, replicas=0), "--replicas: 0"),
         (dict(target=UP, max_steps=-3), "--max-steps: -3"),
@@ -120,3 +132,51 @@ def test_same_figures_as_the_cli(sc, tmp_path):
 def test_bad_input(sc, kwargs, message):
     with pytest.raises(ValueError, match="^" + message.replace("(", r"\(")):
         tt.rare(sc, **kwargs)
+
+
+def test_ams_agrees_with_exact(sc):
+    # P(theta > 2.5 before theta < 1.565) ~ 2e-3 by 20 replicas of 20
+    # particles: the exact value for the path watched at every step lies
+    # within 3 of the estimate's standard errors, and 3 SE is below the
+    # estimate (the test can fail).
+    r = tt.rare(
+        sc, target="theta>2.5", reset="theta<1.565", method="ams",
+        replicas=20, particles=20, threads=2,
+    )
+    assert r["method"] == "ams" and r["quantity"] == "probability"
+    assert r["replicas"] == 20 and r["trajectories"] >= 400
+    se = r["ams"]["standard_error"]
+    exact = r["exact"]["watched"]
+    assert abs(r["estimate"] - exact) < 3 * se
+    assert 3 * se < r["estimate"]
+    assert r["ams"]["coordinate"] == "theta"
+    assert math.isclose(sum(r["ams"]["replica_estimates"]) / 20, r["estimate"], rel_tol=1e-12)
+
+
+def test_ams_extinction_is_zero_with_a_bound(sc):
+    # 5 steps cannot climb 0.18 rad: no particle meets the target; the
+    # estimate is 0 and the upper end the rule of three for n M roots.
+    r = tt.rare(sc, target=UP, reset="theta<1.39", method="ams", horizon=1e-14,
+                replicas=3, particles=20)
+    assert r["estimate"] == 0.0
+    assert r["ci95"][0] == 0.0
+    assert math.isclose(r["ci95"][1], 1 - 0.05 ** (1 / 60), rel_tol=1e-12)
+    assert r["ams"]["extinct"] is True
+
+
+def test_ams_same_figures_as_the_cli(sc, tmp_path):
+    exe = cli_binary()
+    if exe is None:
+        pytest.skip("no tippetop binary (cargo build first, or set TIPPETOP_BIN)")
+    (tmp_path / "b.toml").write_text(SCENARIO)
+    args = ["--target", UP, "--reset", DOWN, "--method", "ams", "--replicas", "5",
+            "--particles", "20"]
+    subprocess.run(
+        [str(exe), "rare", str(tmp_path / "b.toml"), *args, "--quiet", "--out", str(tmp_path / "o")],
+        check=True,
+    )
+    cli = json.loads((tmp_path / "o" / "rare.json").read_text())
+    py = tt.rare(sc, target=UP, reset=DOWN, method="ams", replicas=5, particles=20)
+    for d in (cli, py):
+        d.pop("wall_seconds")
+    assert py == cli

@@ -15,6 +15,7 @@
 //! or the horizon: `solver.t_end` and `solver.samples` do not cut it short.
 
 use crate::analysis::ensemble::{self, Exit};
+use crate::analysis::rare::ams::{self, Ams, Coordinate, Estimate, Flux, Replica, Settings};
 use crate::analysis::rare::direct::{self, Tally};
 use crate::analysis::rare::exact::{self, Exact, Quantity};
 use crate::limits::MAX_STEPS;
@@ -158,6 +159,32 @@ impl Problem {
         })
     }
 
+    /// [`Problem::new`] for the splitting: `max_steps` (a path's budget
+    /// from its root) in `1..=`[`ams::MAX_PATH_STEPS`], default
+    /// [`Settings::default`]'s (key `--max-steps`).
+    pub fn for_ams(
+        scenario: Scenario,
+        target: &str,
+        reset: Option<&str>,
+        horizon: Option<f64>,
+        max_steps: Option<u64>,
+    ) -> Result<Problem, Error> {
+        if let Some(m) = max_steps {
+            if !(1..=ams::MAX_PATH_STEPS).contains(&m) {
+                return Err(Error::invalid(
+                    "--max-steps",
+                    format!("{m}"),
+                    format!(
+                        "1 <= steps <= {} per path of --method ams",
+                        ams::MAX_PATH_STEPS
+                    ),
+                ));
+            }
+        }
+        let m = max_steps.unwrap_or(Settings::default().max_steps);
+        Problem::new(scenario, target, reset, horizon, Some(m))
+    }
+
     /// What the question asks.
     pub fn quantity(&self) -> Quantity {
         if self.reset.is_some() || self.horizon.is_some() {
@@ -215,6 +242,21 @@ pub struct Report {
     pub exact_unavailable: Option<String>,
     /// The tallies of a direct ensemble.
     pub tally: Option<Tally>,
+    /// The splitting's details (`--method ams`).
+    pub ams: Option<AmsPart>,
+}
+
+/// What the splitting adds to a [`Report`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct AmsPart {
+    /// The reaction coordinate (canonical spec, [`Coordinate`]'s `Display`).
+    pub coordinate: String,
+    /// The sizes and budgets.
+    pub settings: Settings,
+    /// The combined estimate ([`Ams::combine`]).
+    pub estimate: Estimate,
+    /// The replicas, in replica order (their levels draw the picture).
+    pub replicas: Vec<Replica>,
 }
 
 /// The exact answer beside a simulation: `(Some, None)` where it applies,
@@ -243,6 +285,7 @@ pub fn by_exact(p: &Problem) -> Result<Report, Error> {
         exact: Some(e),
         exact_unavailable: None,
         tally: None,
+        ams: None,
     })
 }
 
@@ -310,7 +353,130 @@ pub fn by_direct(
         exact,
         exact_unavailable,
         tally: Some(tally),
+        ams: None,
     })
+}
+
+/// The splitting of a question ([`Ams::new`]): the reaction coordinate
+/// `coordinate` (`--coordinate`, [`Coordinate::parse`]; `None`: the
+/// default, [`Coordinate::default_for`] the scenario and the target) and
+/// `settings`, whose `max_steps` is replaced by the question's. Errors:
+/// [`Error::Invalid`] naming the option (a coordinate that is not a
+/// column, budgets out of range, a horizon without a reset, ...); a pilot
+/// run that fails (mean first-passage time): its run-time error.
+pub fn ams_for(p: &Problem, coordinate: Option<&str>, settings: Settings) -> Result<Ams, Error> {
+    let coordinate = match coordinate {
+        Some(c) => Coordinate::parse(c)?,
+        None => Coordinate::default_for(&p.scenario, &p.target),
+    };
+    let settings = Settings {
+        max_steps: p.max_steps,
+        ..settings
+    };
+    Ams::new(
+        ams::Problem {
+            scenario: p.scenario.clone(),
+            target: p.target.clone(),
+            reset: p.reset.clone(),
+            coordinate,
+            horizon: p.horizon,
+        },
+        settings,
+    )
+}
+
+/// The splitting's report from all the replicas of `ams` (made by
+/// [`ams_for`] from `p`), in replica order: [`Ams::combine`] (its errors:
+/// a replica without an estimate is a run-time error), the exact answer
+/// beside it where it applies. The same bits for any thread count or
+/// shard layout that delivers the same replicas.
+pub fn by_ams(p: &Problem, ams: &Ams, replicas: Vec<Replica>) -> Result<Report, Error> {
+    let est = ams.combine(&replicas)?;
+    let (exact, exact_unavailable) = exact_beside(p);
+    Ok(Report {
+        quantity: p.quantity(),
+        method: RareMethod::Ams,
+        estimate: est.estimate,
+        ci95: est.ci95,
+        replicas: est.replicas,
+        trajectories: est.trajectories,
+        steps: est.steps,
+        exact,
+        exact_unavailable,
+        tally: None,
+        ams: Some(AmsPart {
+            coordinate: ams.problem().coordinate.to_string(),
+            settings: ams.settings().clone(),
+            estimate: est,
+            replicas,
+        }),
+    })
+}
+
+/// The splitting's part of [`Document`] (`--method ams`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct AmsDoc {
+    /// The reaction coordinate ξ (`--coordinate`, canonical).
+    pub coordinate: String,
+    /// Particles per replica `n`.
+    pub particles: usize,
+    /// Particles killed per iteration at least `k`.
+    pub kill: usize,
+    /// Most paths per replica.
+    pub max_trajectories: u64,
+    /// Mean first-passage time: crossing states per replica, the direct
+    /// run's and the pilot run's step budgets.
+    pub crossings: usize,
+    /// The direct run's step budget (per replica).
+    pub direct_steps: u64,
+    /// The pilot run's steps.
+    pub pilot_steps: u64,
+    /// Standard error of `estimate` (\[1\] or \[s\]; null if unbounded).
+    pub standard_error: f64,
+    /// How `ci95` was made: `student_t`, `rule_of_three`,
+    /// `lognormal_delta` or `bound`.
+    pub interval: &'static str,
+    /// Cox's log-normal interval of the replicas' mean (probability).
+    pub ci95_lognormal: Option<[f64; 2]>,
+    /// No particle of any replica met the target (estimate 0, or a lower
+    /// bound for a time).
+    pub extinct: bool,
+    /// Splitting iterations (levels) over all replicas.
+    pub iterations: u64,
+    /// Paths cut by the step budget.
+    pub truncated: u64,
+    /// Paths that failed.
+    pub failed: u64,
+    /// The first failure's message.
+    pub first_failure: Option<String>,
+    /// Each replica's estimate (a probability; for a time, its `p`), in
+    /// replica order.
+    pub replica_estimates: Vec<f64>,
+    /// The flux relation's parts (mean first-passage time).
+    pub flux: Option<Flux>,
+}
+
+fn ams_doc(a: &AmsPart) -> AmsDoc {
+    let (s, e) = (&a.settings, &a.estimate);
+    AmsDoc {
+        coordinate: a.coordinate.clone(),
+        particles: s.particles,
+        kill: s.kill,
+        max_trajectories: s.max_trajectories,
+        crossings: s.crossings,
+        direct_steps: s.direct_steps,
+        pilot_steps: s.pilot_steps,
+        standard_error: e.standard_error,
+        interval: e.interval,
+        ci95_lognormal: e.ci95_lognormal,
+        extinct: e.extinct,
+        iterations: e.iterations,
+        truncated: e.truncated,
+        failed: e.failed,
+        first_failure: e.first_failure.clone(),
+        replica_estimates: a.replicas.iter().map(|r| r.estimate).collect(),
+        flux: e.flux.clone(),
+    }
 }
 
 /// An absorbing edge of the θ window in [`ExactDoc`].
@@ -402,6 +568,9 @@ pub struct Document {
     /// The tallies of a direct ensemble.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tally: Option<TallyDoc>,
+    /// The splitting's details (`--method ams`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ams: Option<AmsDoc>,
     /// `thermal.seed`.
     pub seed: Option<u64>,
     /// `thermal.run` of the first replica.
@@ -460,6 +629,7 @@ impl Report {
                 failed: t.failed,
                 first_error: t.first_error.clone(),
             }),
+            ams: self.ams.as_ref().map(ams_doc),
             seed: p.scenario.thermal.seed,
             first_run: p.scenario.thermal.run,
             temperature: p.scenario.thermal.temperature,
