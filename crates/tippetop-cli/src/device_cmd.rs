@@ -135,9 +135,17 @@ fn ams_time(m: &Measured) -> String {
 /// A splitting estimate of a probability, with its interval.
 fn ams_p(m: &Measured) -> String {
     if m.extinct {
-        format!("0 (no path reached it; 95 % upper bound {})", sig(m.ci95[1]))
+        format!(
+            "0 (no path reached it; 95 % upper bound {})",
+            sig(m.ci95[1])
+        )
     } else {
-        format!("{} (95 %: {} – {})", sig(m.estimate), sig(m.ci95[0]), sig(m.ci95[1]))
+        format!(
+            "{} (95 %: {} – {})",
+            sig(m.estimate),
+            sig(m.ci95[0]),
+            sig(m.ci95[1])
+        )
     }
 }
 
@@ -643,7 +651,9 @@ fn rare_section(s: &mut String, r: &DeviceReport) {
             s,
             "| {} | {} | {} | {} | {} |",
             d.temperature,
-            d.depth.map(ev).unwrap_or_else(|| "none up to 100 eV".into()),
+            d.depth
+                .map(ev)
+                .unwrap_or_else(|| "none up to 100 eV".into()),
             d.depth_overdamped
                 .map(ev)
                 .unwrap_or_else(|| "none up to 100 eV".into()),

@@ -62,10 +62,15 @@ fn overdamped_twin_is_the_brownian_modes_exact_answer() {
         let mut b = sc.clone();
         b.solver.method = Method::Brownian;
         b.surface.contact = ContactMode::Bilateral;
+        b.solver.dt = Some(2e-16);
         let target = Exit::parse(&format!("theta<{},theta>{}", ONE[0], ONE[1])).unwrap();
         let e = exact::exact(&b, &target, None).unwrap();
         let ln = dr::ln_overdamped_residence(&sc).unwrap();
-        assert!((e.value.ln - ln).abs() < 1e-9 * ln.abs(), "{t} K: {} vs {ln}", e.value.ln);
+        assert!(
+            (e.value.ln - ln).abs() < 1e-9 * ln.abs(),
+            "{t} K: {} vs {ln}",
+            e.value.ln
+        );
         // And it is below the TST bound of the Langevin top: the overdamped
         // rate at the edge is ~19 times TST's (module doc).
         assert!(ln < dr::ln_tst_residence(&sc) - 1.0);
@@ -149,14 +154,27 @@ fn survival_curve_is_the_replicas_mean_step_function() {
 
 #[test]
 fn retention_beyond_reach_says_so_and_gives_the_bound() {
-    let r = dr::lying_retention(4.0, 1.1 * EV, Some(Sizes { replicas: 2, particles: 2 }), Some(1)).unwrap();
+    let r = dr::lying_retention(
+        4.0,
+        1.1 * EV,
+        Some(Sizes {
+            replicas: 2,
+            particles: 2,
+        }),
+        Some(1),
+    )
+    .unwrap();
     assert!(r.ams.is_none());
     assert_eq!(r.not_measured, Some("beyond_reach"));
     assert!(r.barrier_kt > dr::REACH_KT);
     // Past f64: the log only, consistent with Laplace's limit.
     assert!(r.tst.seconds.is_none());
     let want = ln_tst_laplace(4.0, 1.1 * EV) / std::f64::consts::LN_10;
-    assert!((r.tst.log10_seconds - want).abs() < 1e-2, "{}", r.tst.log10_seconds);
+    assert!(
+        (r.tst.log10_seconds - want).abs() < 1e-2,
+        "{}",
+        r.tst.log10_seconds
+    );
 }
 
 /// The splitting's residence at 300 K against the TST bound: its interval
@@ -166,12 +184,24 @@ fn retention_beyond_reach_says_so_and_gives_the_bound() {
 /// above 0.9; 2 allows the estimate's own spread at 10 × 50).
 #[test]
 fn splitting_retention_at_300_k_meets_the_tst_bound() {
-    let r = dr::lying_retention(300.0, 1.1 * EV, Some(Sizes { replicas: 10, particles: 50 }), None).unwrap();
+    let r = dr::lying_retention(
+        300.0,
+        1.1 * EV,
+        Some(Sizes {
+            replicas: 10,
+            particles: 50,
+        }),
+        None,
+    )
+    .unwrap();
     let m = r.ams.unwrap();
     let tst = r.tst.seconds.unwrap();
     assert!(m.ci95[0] <= m.estimate && m.estimate <= m.ci95[1]);
     assert!(m.ci95[1] >= tst, "{m:?} vs TST {tst}");
-    assert!(m.estimate <= 2.0 * tst && m.estimate >= 0.5 * tst, "{m:?} vs TST {tst}");
+    assert!(
+        m.estimate <= 2.0 * tst && m.estimate >= 0.5 * tst,
+        "{m:?} vs TST {tst}"
+    );
 }
 
 /// The write's P_hold is 1 − exp(−h/τ), and with a 1 ns phase the fall
@@ -189,7 +219,10 @@ fn write_error_is_the_holds_escape_at_the_presets_well() {
         1e-10,
         (tau, [5e-4, 1.2e-3]),
         6e-11,
-        Sizes { replicas: 3, particles: 10 },
+        Sizes {
+            replicas: 3,
+            particles: 10,
+        },
         None,
     )
     .unwrap();

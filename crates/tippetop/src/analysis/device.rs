@@ -572,9 +572,8 @@ fn rare(
     let mut designs = Vec::new();
     for t in [300.0, 77.0] {
         stage(&format!("{t} K: the smallest well depth for 10 years"));
-        let ln_tst = |d: f64| -> Result<f64, Error> {
-            Ok(dr::ln_tst_residence(&dr::lying_scenario(t, d)?))
-        };
+        let ln_tst =
+            |d: f64| -> Result<f64, Error> { Ok(dr::ln_tst_residence(&dr::lying_scenario(t, d)?)) };
         let ln_od = |d: f64| -> Result<f64, Error> {
             dr::ln_overdamped_residence(&dr::lying_scenario(t, d)?)
         };

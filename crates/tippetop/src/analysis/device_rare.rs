@@ -235,9 +235,10 @@ pub fn ln_tst_residence(sc: &Scenario) -> f64 {
 /// the well's bottom π/2 \[ln s\].
 pub fn ln_overdamped_residence(sc: &Scenario) -> Result<f64, Error> {
     let d = twin(sc).diffusion();
-    Ok(d
-        .mean_exit_time(Some(ONE[0]), Some(ONE[1]), std::f64::consts::FRAC_PI_2)?
-        .ln)
+    Ok(
+        d.mean_exit_time(Some(ONE[0]), Some(ONE[1]), std::f64::consts::FRAC_PI_2)?
+            .ln,
+    )
 }
 
 /// The potential's rise from π/2 to the window's (higher) edge \[J\].
@@ -431,7 +432,10 @@ pub fn write_error(
         hold_escape,
         hold_escape_ci95,
         rate: e.estimate + hold_escape,
-        ci95: [e.ci95[0] + hold_escape_ci95[0], e.ci95[1] + hold_escape_ci95[1]],
+        ci95: [
+            e.ci95[0] + hold_escape_ci95[0],
+            e.ci95[1] + hold_escape_ci95[1],
+        ],
     })
 }
 
