@@ -8,7 +8,7 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::Args;
-use tippetop::analysis::device::{self, DeviceOptions, DeviceReport, Found, TEN_YEARS, Tally};
+use tippetop::analysis::device::{self, DeviceOptions, DeviceReport, Found, Tally};
 use tippetop::analysis::device_rare::{self as dr, BigTime, LyingRetention, Measured, Sizes};
 
 use crate::output::{OutDir, write_bytes_atomic};
@@ -58,15 +58,6 @@ pub struct DeviceArgs {
 
 fn g(v: f64) -> String {
     format!("{v:.3e}")
-}
-
-/// A time in seconds, or "> 1e300 s" past f64's range.
-fn secs(v: f64) -> String {
-    if v.is_finite() {
-        g(v)
-    } else {
-        "> 1e300".into()
-    }
 }
 
 /// `x` with 4 significant figures (plain between 1e-3 and 1e5).
@@ -483,13 +474,11 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
         let ret = t
             .one_retention
             .map(|e| {
-                let yrs = e.mean_time / (TEN_YEARS / 10.0);
                 format!(
-                    "{} s = {:.2e} yr (95 %: {}–{} s)",
-                    secs(e.mean_time),
-                    yrs,
-                    secs(e.time_ci95[0]),
-                    secs(e.time_ci95[1])
+                    "{} (95 %: {} – {})",
+                    dur(e.mean_time),
+                    dur(e.time_ci95[0]),
+                    dur(e.time_ci95[1])
                 )
             })
             .unwrap_or_else(|| "no fit".into());
