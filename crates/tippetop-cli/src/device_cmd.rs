@@ -26,9 +26,15 @@ pub const DEVICE_LONG_ABOUT: &str =
     P(erase), Wilson intervals; the smallest force whose every run writes; how long the standing
     state lasts (first passage out of zero); the lying state's retention from the Arrhenius fit
     of escape rates at three raised temperatures (extrapolated, and labelled so); the highest
-    temperature with 10 years of retention.
-Writes device.json and device.md into --out. Takes minutes (a progress line per stage);
---quick cuts every ensemble and search for a first look.";
+    temperature with 10 years of retention (the cross-check);
+  - computed directly (issue 27, docs/physics.md §23.3): the lying state's retention at 4, 77
+    and 300 K by splitting, beside transition-state theory's lower bound and the overdamped
+    twin's exact answer (4 K: beyond any sampler, said so); the write error rates at 300 K of
+    the paper's write and the search's best; the smallest well depth for 10 years at 300 K and
+    77 K, and that design's write (force, shortest time with an error rate <= 1e-9).
+Writes device.json and device.md into --out. Takes minutes (about 340 CPU-s at the default sizes; a progress
+line per stage); --quick cuts every ensemble, search and splitting (and leaves out the splitting
+at 77 K and at the design depths) for a first look.";
 
 /// `tippetop device`.
 #[derive(Debug, Args)]
