@@ -8,7 +8,8 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::Args;
-use tippetop::analysis::device::{self, DeviceOptions, DeviceReport, Found, TEN_YEARS, Tally};
+use tippetop::analysis::device::{self, DeviceOptions, DeviceReport, Found, Tally};
+use tippetop::analysis::device_rare::{self as dr, BigTime, LyingRetention, Measured, Sizes};
 
 use crate::output::{OutDir, write_bytes_atomic};
 use crate::scenario_load::input_error;
@@ -25,9 +26,15 @@ pub const DEVICE_LONG_ABOUT: &str =
     P(erase), Wilson intervals; the smallest force whose every run writes; how long the standing
     state lasts (first passage out of zero); the lying state's retention from the Arrhenius fit
     of escape rates at three raised temperatures (extrapolated, and labelled so); the highest
-    temperature with 10 years of retention.
-Writes device.json and device.md into --out. Takes minutes (a progress line per stage);
---quick cuts every ensemble and search for a first look.";
+    temperature with 10 years of retention (the cross-check);
+  - computed directly (issue 27, docs/physics.md §23.3): the lying state's retention at 4, 77
+    and 300 K by splitting, beside transition-state theory's lower bound and the overdamped
+    twin's exact answer (4 K: beyond any sampler, said so); the write error rates at 300 K of
+    the paper's write and the search's best; the smallest well depth for 10 years at 300 K and
+    77 K, and that design's write (force, shortest time with an error rate <= 1e-9).
+Writes device.json and device.md into --out. Takes minutes (about 340 CPU-s at the default sizes; a progress
+line per stage); --quick cuts every ensemble, search and splitting (and leaves out the splitting
+at 77 K and at the design depths) for a first look.";
 
 /// `tippetop device`.
 #[derive(Debug, Args)]
@@ -59,12 +66,118 @@ fn g(v: f64) -> String {
     format!("{v:.3e}")
 }
 
-/// A time in seconds, or "> 1e300 s" past f64's range.
-fn secs(v: f64) -> String {
-    if v.is_finite() {
-        g(v)
+/// `x` with 4 significant figures (plain between 1e-3 and 1e5).
+fn sig(x: f64) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    let e = x.abs().log10().floor() as i64;
+    if (-3..5).contains(&e) {
+        let d = (3 - e).max(0) as usize;
+        format!("{x:.d$}")
     } else {
-        "> 1e300".into()
+        format!("{x:.3e}")
+    }
+}
+
+const YEAR: f64 = 365.25 * 86400.0;
+
+/// A duration in readable units: ps … s, hours, days, years.
+fn dur(s: f64) -> String {
+    if !s.is_finite() {
+        return "beyond 1e300 s".into();
+    }
+    let (x, u) = if s < 1e-9 {
+        (s * 1e12, "ps")
+    } else if s < 1e-6 {
+        (s * 1e9, "ns")
+    } else if s < 1e-3 {
+        (s * 1e6, "µs")
+    } else if s < 1.0 {
+        (s * 1e3, "ms")
+    } else if s < 3600.0 {
+        (s, "s")
+    } else if s < 86400.0 {
+        (s / 3600.0, "h")
+    } else if s < YEAR {
+        (s / 86400.0, "days")
+    } else {
+        (s / YEAR, "years")
+    };
+    format!("{} {u}", sig(x))
+}
+
+/// A time that may exceed f64.
+fn big(t: &BigTime) -> String {
+    match t.seconds {
+        Some(s) => dur(s),
+        None => {
+            let y = t.log10_seconds - YEAR.log10();
+            let e = y.floor();
+            format!("{:.2} × 10^{e:.0} years", 10f64.powf(y - e))
+        }
+    }
+}
+
+/// A splitting estimate of a time, with its interval.
+fn ams_time(m: &Measured) -> String {
+    format!(
+        "{} (95 %: {} – {})",
+        dur(m.estimate),
+        dur(m.ci95[0]),
+        dur(m.ci95[1])
+    )
+}
+
+/// A splitting estimate of a probability, with its interval.
+fn ams_p(m: &Measured) -> String {
+    if m.extinct {
+        format!(
+            "0 (no path reached it; 95 % upper bound {})",
+            sig(m.ci95[1])
+        )
+    } else {
+        format!(
+            "{} (95 %: {} – {})",
+            sig(m.estimate),
+            sig(m.ci95[0]),
+            sig(m.ci95[1])
+        )
+    }
+}
+
+fn ev(j: f64) -> String {
+    format!("{} eV", sig(j / dr::EV))
+}
+
+/// Why a retention was not measured, in words.
+fn not_measured(l: &LyingRetention) -> String {
+    match l.not_measured {
+        Some("beyond_reach") => format!("beyond any sampler's reach ({} kT)", sig(l.barrier_kt)),
+        _ => "not measured (--quick)".into(),
+    }
+}
+
+/// One sentence on the lying state's retention at one temperature.
+fn lying_words(l: &LyingRetention) -> String {
+    match &l.ams {
+        Some(m) => format!(
+            "at {} K it lasts {} by splitting (barrier {} kT)",
+            l.temperature,
+            ams_time(m),
+            sig(l.barrier_kt)
+        ),
+        None if l.not_measured == Some("beyond_reach") => format!(
+            "at {} K the barrier is {} kT, beyond any sampler's reach: at least {} (transition-state bound)",
+            l.temperature,
+            sig(l.barrier_kt),
+            big(&l.tst)
+        ),
+        None => format!(
+            "at {} K (not measured by this run) at least {} (transition-state bound)",
+            l.temperature,
+            big(&l.tst)
+        ),
     }
 }
 
@@ -226,8 +339,57 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
         .t_ten_years
         .map(|(t, [lo, hi])| format!("{t:.0} K (95 %: {lo:.0}–{hi:.0} K; extrapolated)"))
         .unwrap_or_else(|| "no temperature (no fit)".into());
+    let rare = &r.rare;
+    let lying: Vec<String> = rare.lying.iter().rev().map(lying_words).collect();
     ans.push(format!(
-        "The lying state holds 10 years up to {ten}, thanks to the modelled stem well."
+        "The lying state (the stem's 1.1 eV well), computed directly: {}.",
+        lying.join("; ")
+    ));
+    for w in &rare.writes {
+        ans.push(format!(
+            "At 300 K {} fails with probability {} (95 %: {} – {}), {}.",
+            w.label,
+            sig(w.rate),
+            sig(w.ci95[0]),
+            sig(w.ci95[1]),
+            if w.hold_escape > w.late.ci95[1] {
+                "set by the lying state's own escape during the hold"
+            } else {
+                "set by the fall arriving late"
+            }
+        ));
+    }
+    for d in &rare.designs {
+        if let Some(depth) = d.depth {
+            ans.push(format!(
+                "For 10 years at {} K the well must be {} deep{}.",
+                d.temperature,
+                ev(depth),
+                d.check
+                    .as_ref()
+                    .and_then(|c| c.ams.as_ref())
+                    .map(|m| format!(" (splitting at that depth: {})", ams_time(m)))
+                    .unwrap_or_default()
+            ));
+        }
+    }
+    if let Some(w) = &rare.design_write {
+        ans.push(match (w.write_time, &w.check) {
+            (Some(t), Some(c)) => format!(
+                "That 300 K design writes with no force at all (the standing state has no barrier) in {} with an error rate of {} (95 % upper {}).",
+                dur(t + c.hold),
+                sig(c.rate),
+                sig(c.ci95[1])
+            ),
+            _ => format!(
+                "That 300 K design writes with no force, but no write time within {} reached an error rate of {}.",
+                dur(w.horizon),
+                sig(dr::ERROR_TARGET)
+            ),
+        });
+    }
+    ans.push(format!(
+        "(Cross-check, extrapolated: the Arrhenius fit gives 10 years up to {ten}.)"
     ));
     let zero_holds = r.thermal.iter().any(|t| t.zero_left.0 * 2 < t.zero_left.1);
     let _ = writeln!(
@@ -318,13 +480,11 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
         let ret = t
             .one_retention
             .map(|e| {
-                let yrs = e.mean_time / (TEN_YEARS / 10.0);
                 format!(
-                    "{} s = {:.2e} yr (95 %: {}–{} s)",
-                    secs(e.mean_time),
-                    yrs,
-                    secs(e.time_ci95[0]),
-                    secs(e.time_ci95[1])
+                    "{} (95 %: {} – {})",
+                    dur(e.mean_time),
+                    dur(e.time_ci95[0]),
+                    dur(e.time_ci95[1])
                 )
             })
             .unwrap_or_else(|| "no fit".into());
@@ -341,8 +501,12 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
             ret
         );
     }
+    rare_section(&mut s, r);
     let rt = &r.retention;
-    let _ = writeln!(s, "\n## The lying state's retention\n");
+    let _ = writeln!(
+        s,
+        "\n## Cross-check: the lying state's retention extrapolated (Arrhenius)\n"
+    );
     let _ = writeln!(
         s,
         "Escape out of state 1 from the well's bottom, measured at raised temperatures (first passages, \
@@ -381,6 +545,149 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
     s
 }
 
+/// The rare events, computed directly (issue 27).
+fn rare_section(s: &mut String, r: &DeviceReport) {
+    let rare = &r.rare;
+    let _ = writeln!(s, "\n## The lying state's retention, computed directly\n");
+    let _ = writeln!(
+        s,
+        "Mean residence in state 1 (θ in π/2 ± 0.35) from the well's bottom, Langevin, by adaptive multilevel \
+         splitting (docs/physics.md §27: the flux relation, replicas' 95 % interval). Beside it, two closed answers: \
+         transition-state theory (TST), a lower bound of the residence (every escape crosses an edge; docs/physics.md \
+         §23.3), and the exact mean exit time of the overdamped twin (the same top and frictions in the Brownian mode, \
+         an exact 1D diffusion; faster than the Langevin top, which is not overdamped here). A barrier above {} kT is \
+         beyond any sampler's reach and is said so.\n",
+        dr::REACH_KT
+    );
+    let _ = writeln!(
+        s,
+        "| T [K] | barrier | splitting (Langevin) | TST lower bound | overdamped twin, exact | Arrhenius (extrapolated) |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|");
+    for l in &rare.lying {
+        let arr = r
+            .thermal
+            .iter()
+            .find(|t| t.temperature == l.temperature)
+            .and_then(|t| t.one_retention)
+            .map(|e| dur(e.mean_time))
+            .unwrap_or_else(|| "-".into());
+        let ams = match &l.ams {
+            Some(m) => format!(
+                "{} ({} paths, {} steps)",
+                ams_time(m),
+                m.trajectories,
+                m.steps
+            ),
+            None => not_measured(l),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} = {} kT | {} | {} | {} | {} |",
+            l.temperature,
+            ev(l.barrier),
+            sig(l.barrier_kt),
+            ams,
+            big(&l.tst),
+            big(&l.overdamped_exact),
+            arr
+        );
+    }
+    let _ = writeln!(s, "\n## Write error rates at 300 K\n");
+    let _ = writeln!(
+        s,
+        "A write fails if θ is outside state 1 at any step of the hold (stricter than the bit's rows). Its rate is at \
+         most P_late + P_hold: P_late, the fall not yet past θ = {} rad by {} before the hold (splitting on the time; \
+         measured at {} at the latest, a bound for later times since it only decreases), and P_hold = 1 − exp(−hold/τ), \
+         the settled top leaving during the hold (τ the residence above).\n",
+        sig(dr::SETTLE),
+        dur(dr::RELAX),
+        dur(device::WRITE_HORIZON)
+    );
+    let _ = writeln!(
+        s,
+        "| write | force (H_x, H_y) | phase, hold | P_late | P_hold | error rate (95 %) |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|");
+    let write_row = |s: &mut String, w: &dr::WriteError| {
+        let _ = writeln!(
+            s,
+            "| {} | ({}, {}) N | {}, {} | {}{} | {} | {} ({} – {}) |",
+            w.label,
+            sig(w.force[0]),
+            sig(w.force[1]),
+            dur(w.phase),
+            dur(w.hold),
+            if w.late_bound { "≤ " } else { "" },
+            ams_p(&w.late),
+            sig(w.hold_escape),
+            sig(w.rate),
+            sig(w.ci95[0]),
+            sig(w.ci95[1])
+        );
+    };
+    for w in &rare.writes {
+        write_row(s, w);
+    }
+    let _ = writeln!(s, "\n## The design: a well deep enough for 10 years\n");
+    let _ = writeln!(
+        s,
+        "The smallest depth of the stem's well (its binding) whose TST residence, a lower bound, is 10 years: \
+         sufficient (bisection to 1e-6; the overdamped twin's exact answer beside it), checked by splitting at that depth.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| T [K] | depth (TST bound) | depth (overdamped twin) | barrier at that depth | splitting there |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|");
+    for d in &rare.designs {
+        let check = d.check.as_ref();
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} |",
+            d.temperature,
+            d.depth
+                .map(ev)
+                .unwrap_or_else(|| "none up to 100 eV".into()),
+            d.depth_overdamped
+                .map(ev)
+                .unwrap_or_else(|| "none up to 100 eV".into()),
+            check
+                .map(|c| format!("{} kT", sig(c.barrier_kt)))
+                .unwrap_or_else(|| "-".into()),
+            check
+                .and_then(|c| c.ams.as_ref())
+                .map(ams_time)
+                .unwrap_or_else(|| check.map(not_measured).unwrap_or_else(|| "-".into()))
+        );
+    }
+    if let Some(w) = &rare.design_write {
+        let _ = writeln!(
+            s,
+            "\nThe 300 K design's write: the smallest force is **{} N** (the standing state has no barrier: the top \
+             falls into the lying well by itself). The shortest write time with an error rate ≤ {} is {} (the replicas' \
+             survival curve of the fall reaches the target less P_hold at {}, plus {} to settle, plus the hold).",
+            w.force,
+            sig(dr::ERROR_TARGET),
+            w.write_time
+                .zip(w.check.as_ref())
+                .map(|(t, c)| format!("**{}**", dur(t + c.hold)))
+                .unwrap_or_else(|| format!("not reached within {}", dur(w.horizon))),
+            w.arrival.map(dur).unwrap_or_else(|| "-".into()),
+            dur(dr::RELAX)
+        );
+        if let Some(c) = &w.check {
+            let _ = writeln!(s, "\nChecked by a fresh splitting run at that time:\n");
+            let _ = writeln!(
+                s,
+                "| write | force (H_x, H_y) | phase, hold | P_late | P_hold | error rate (95 %) |"
+            );
+            let _ = writeln!(s, "|---|---|---|---|---|---|");
+            write_row(s, c);
+        }
+    }
+}
+
 /// Run `tippetop device`.
 pub fn run(args: &DeviceArgs, quiet: bool) -> Result<ExitCode> {
     let d = DeviceOptions::default();
@@ -389,11 +696,25 @@ pub fn run(args: &DeviceArgs, quiet: bool) -> Result<ExitCode> {
     } else {
         (d.runs, d.budget, d.retention_runs)
     };
+    let small = Sizes {
+        replicas: 4,
+        particles: 20,
+    };
     let opts = DeviceOptions {
         runs: args.runs.unwrap_or(runs),
         budget: args.budget.unwrap_or(budget),
         retention_runs: args.retention_runs.unwrap_or(rr),
         threads: args.threads,
+        rare_retention: if args.quick { small } else { d.rare_retention },
+        rare_deep: if args.quick { None } else { d.rare_deep },
+        rare_write: if args.quick {
+            Sizes {
+                replicas: 3,
+                particles: 10,
+            }
+        } else {
+            d.rare_write
+        },
         ..d
     };
     for (key, v, hi) in [

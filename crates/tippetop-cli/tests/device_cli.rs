@@ -99,6 +99,66 @@ fn device_report_is_consistent() {
     let want = depth * (1.0 - (-(0.35f64 / 0.3).powi(2) / 2.0).exp());
     let got = rt["barrier_potential"].as_f64().unwrap();
     assert!((got / want - 1.0).abs() < 1e-9, "{got} vs {want}");
+    // The rare events (issue 27). The lying state at 4, 77, 300 K: the
+    // same closed-form barrier; at 4 K beyond reach (1 575 kT), said so;
+    // at 300 K measured; TST's bound and the overdamped twin's value fall
+    // with T (and the twin is the faster: no inertia).
+    let rare = &r["rare"];
+    let lying = rare["lying"].as_array().unwrap();
+    assert_eq!(lying.len(), 3);
+    let mut last = f64::INFINITY;
+    for l in lying {
+        let t = l["temperature"].as_f64().unwrap();
+        let b = l["barrier"].as_f64().unwrap();
+        assert!((b / want - 1.0).abs() < 1e-9, "{b}");
+        let kt = l["barrier_kt"].as_f64().unwrap();
+        assert!((kt / (want / (1.380649e-23 * t)) - 1.0).abs() < 1e-9);
+        let tst = l["tst"]["log10_seconds"].as_f64().unwrap();
+        let od = l["overdamped_exact"]["log10_seconds"].as_f64().unwrap();
+        assert!(tst < last && od < tst, "{l}");
+        last = tst;
+        match t as u32 {
+            4 => {
+                assert!(l["ams"].is_null());
+                assert_eq!(l["not_measured"], "beyond_reach");
+                assert!(l["tst"]["seconds"].is_null());
+            }
+            77 => assert_eq!(l["not_measured"], "not_asked", "--quick: {l}"),
+            _ => {
+                let m = &l["ams"];
+                let (e, lo, hi) = (
+                    m["estimate"].as_f64().unwrap(),
+                    m["ci95"][0].as_f64().unwrap(),
+                    m["ci95"][1].as_f64().unwrap(),
+                );
+                assert!(lo <= e && e <= hi, "{m}");
+                // TST bounds the residence from below: the interval reaches it.
+                assert!(hi >= 10f64.powf(tst), "{m} vs TST 1e{tst}");
+            }
+        }
+    }
+    assert!(md.contains("beyond any sampler's reach"), "{md}");
+    assert!(!md.contains("inf yr") && !md.contains("NaN"), "{md}");
+    // Writes: the error rate is P_late + P_hold, P_hold = 1 − exp(−h/τ).
+    let tau = lying[2]["ams"]["estimate"].as_f64().unwrap();
+    for w in rare["writes"].as_array().unwrap() {
+        let (late, hold, rate) = (
+            w["late"]["estimate"].as_f64().unwrap(),
+            w["hold_escape"].as_f64().unwrap(),
+            w["rate"].as_f64().unwrap(),
+        );
+        assert!((hold / -(-1e-10 / tau).exp_m1() - 1.0).abs() < 1e-12, "{w}");
+        assert_eq!(rate, late + hold);
+    }
+    // The design: deeper for 300 K than for 77 K (about T's ratio).
+    let d = rare["designs"].as_array().unwrap();
+    let (d300, d77) = (
+        d[0]["depth"].as_f64().unwrap(),
+        d[1]["depth"].as_f64().unwrap(),
+    );
+    assert!(d300 / d77 > 3.5 && d300 / d77 < 4.3, "{d300} / {d77}");
+    let dw = &rare["design_write"];
+    assert_eq!(dw["force"], 0.0);
 }
 
 #[test]

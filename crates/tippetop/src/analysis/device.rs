@@ -34,6 +34,7 @@
 use serde::Serialize;
 
 use super::bit::{self, PhaseResult, Z95, wilson};
+use super::device_rare::{self as dr, DesignWrite, LyingRetention, Sizes, WriteError};
 use super::ensemble::{EscapeRate, Exit, escape_rate};
 use super::retention::{ArrheniusFit, Extrapolation, RatePoint, fit_arrhenius};
 use super::search::{ProtocolSearch, SearchResult};
@@ -65,6 +66,13 @@ pub struct DeviceOptions {
     pub temperatures: [f64; 3],
     /// Threads (`None`: one per core).
     pub threads: Option<usize>,
+    /// Splitting sizes of the lying state's retention at 300 K.
+    pub rare_retention: Sizes,
+    /// Splitting sizes of the deeper barriers (77 K, the design's checks;
+    /// `None`: not measured, the closed answers only).
+    pub rare_deep: Option<Sizes>,
+    /// Splitting sizes of the writes' error rates.
+    pub rare_write: Sizes,
 }
 
 impl Default for DeviceOptions {
@@ -75,6 +83,18 @@ impl Default for DeviceOptions {
             retention_runs: 16,
             temperatures: [4.0, 77.0, 300.0],
             threads: None,
+            rare_retention: Sizes {
+                replicas: 20,
+                particles: 100,
+            },
+            rare_deep: Some(Sizes {
+                replicas: 10,
+                particles: 50,
+            }),
+            rare_write: Sizes {
+                replicas: 10,
+                particles: 30,
+            },
         }
     }
 }
@@ -228,8 +248,42 @@ pub struct DeviceReport {
     pub deterministic: Vec<Deterministic>,
     /// C60 on graphene at each temperature.
     pub thermal: Vec<Thermal>,
-    /// The lying state's retention fit.
+    /// The lying state's retention fit (the extrapolated cross-check).
     pub retention: Retention,
+    /// Rare events computed directly (issue 27): retention, write error
+    /// rates, the design.
+    pub rare: Rare,
+}
+
+/// The report's rare events ([`super::device_rare`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Rare {
+    /// The lying state's retention at each temperature (the stem's
+    /// 1.1 eV well).
+    pub lying: Vec<LyingRetention>,
+    /// Write error rates at 300 K: the paper's write, and the best write
+    /// of the protocol search (the paper's model) applied over the phase.
+    pub writes: Vec<WriteError>,
+    /// The smallest well depth for 10 years at 300 K and at 77 K.
+    pub designs: Vec<Design>,
+    /// The design's write at 300 K (the 300 K depth).
+    pub design_write: Option<DesignWrite>,
+}
+
+/// The smallest well depth (the stem's binding) that keeps the lying state
+/// 10 years at one temperature.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Design {
+    /// Temperature \[K\].
+    pub temperature: f64,
+    /// Smallest depth whose TST residence (a lower bound) is 10 years \[J\]:
+    /// sufficient.
+    pub depth: Option<f64>,
+    /// Smallest depth whose overdamped twin's exact residence is 10 years
+    /// \[J\].
+    pub depth_overdamped: Option<f64>,
+    /// The splitting's check at `depth` (`ams: None` beyond its reach).
+    pub check: Option<LyingRetention>,
 }
 
 fn det_text(preset: &str, h: f64) -> String {
@@ -439,10 +493,122 @@ pub fn report(opts: &DeviceOptions, stage: &mut dyn FnMut(&str)) -> Result<Devic
             one_retention,
         });
     }
+    let rare = rare(opts, &deterministic, stage)?;
     Ok(DeviceReport {
         deterministic,
         thermal,
         retention,
+        rare,
+    })
+}
+
+/// The phase and hold of the thermal bit \[s\] (as [`hot_text`]).
+const HOT_PHASE: f64 = 5e-10;
+const HOT_HOLD: f64 = 1e-10;
+/// The horizon of the writes' splitting on the time \[s\].
+pub const WRITE_HORIZON: f64 = 2e-10;
+
+fn rare(
+    opts: &DeviceOptions,
+    det: &[Deterministic],
+    stage: &mut dyn FnMut(&str),
+) -> Result<Rare, Error> {
+    let depth = Scenario::nano_physical().wells[0].depth;
+    let mut lying = Vec::new();
+    for &t in &opts.temperatures {
+        stage(&format!("{t} K: the lying state's retention by splitting"));
+        let sizes = if t >= 300.0 {
+            Some(opts.rare_retention)
+        } else {
+            opts.rare_deep
+        };
+        lying.push(dr::lying_retention(t, depth, sizes, opts.threads)?);
+    }
+    // The lying state's residence at 300 K: measured, else the TST bound.
+    let tau = |l: &LyingRetention| -> (f64, [f64; 2]) {
+        match &l.ams {
+            Some(m) if m.estimate > 0.0 => (m.estimate, m.ci95),
+            _ => {
+                let s = l.tst.seconds.unwrap_or(f64::MAX);
+                (s, [s, s])
+            }
+        }
+    };
+    let hot = lying
+        .iter()
+        .find(|l| l.temperature == 300.0)
+        .cloned()
+        .map_or_else(|| dr::lying_retention(300.0, depth, None, opts.threads), Ok)?;
+    let mut writes = Vec::new();
+    let h = 1e-22;
+    let mut protocols = vec![("the paper's write".to_string(), [h, h])];
+    if let Some(f) = det
+        .iter()
+        .find(|d| d.preset == "nano")
+        .and_then(|d| d.search_write.as_ref())
+        .filter(|f| f.found)
+    {
+        let w = f.windows[0];
+        protocols.push((
+            "the search's best write (the paper's model), over the phase".into(),
+            [w[0] * w[1].cos(), w[0] * w[1].sin()],
+        ));
+    }
+    for (label, force) in protocols {
+        stage(&format!("300 K: error rate of {label}"));
+        writes.push(dr::write_error(
+            &label,
+            300.0,
+            depth,
+            force,
+            HOT_PHASE,
+            HOT_HOLD,
+            tau(&hot),
+            WRITE_HORIZON,
+            opts.rare_write,
+            opts.threads,
+        )?);
+    }
+    let mut designs = Vec::new();
+    for t in [300.0, 77.0] {
+        stage(&format!("{t} K: the smallest well depth for 10 years"));
+        let ln_tst =
+            |d: f64| -> Result<f64, Error> { Ok(dr::ln_tst_residence(&dr::lying_scenario(t, d)?)) };
+        let ln_od = |d: f64| -> Result<f64, Error> {
+            dr::ln_overdamped_residence(&dr::lying_scenario(t, d)?)
+        };
+        let d = dr::min_depth(&ln_tst)?;
+        let depth_overdamped = dr::min_depth(&ln_od)?;
+        stage(&format!("{t} K: checking that depth by splitting"));
+        let check = match d {
+            Some(d) => Some(dr::lying_retention(t, d, opts.rare_deep, opts.threads)?),
+            None => None,
+        };
+        designs.push(Design {
+            temperature: t,
+            depth: d,
+            depth_overdamped,
+            check,
+        });
+    }
+    stage("300 K: the design's write (no force; the shortest write time)");
+    let design_write = match designs[0].check.as_ref() {
+        Some(c) => Some(dr::design_write(
+            300.0,
+            c.depth,
+            HOT_HOLD,
+            tau(c),
+            WRITE_HORIZON,
+            opts.rare_write,
+            opts.threads,
+        )?),
+        None => None,
+    };
+    Ok(Rare {
+        lying,
+        writes,
+        designs,
+        design_write,
     })
 }
 

@@ -6,6 +6,7 @@ pub mod asymptotics;
 pub mod bit;
 pub mod bitmap;
 pub mod device;
+pub mod device_rare;
 pub mod ensemble;
 pub mod friction;
 pub mod rare;
