@@ -62,22 +62,15 @@ pub struct DeviceArgs {
     pub threads: Option<usize>,
 }
 
+/// `v` with 4 significant figures (`tippetop::human`: plain between 1e-3
+/// and 1e4, else `1.234e-22`; `0` for zero).
 fn g(v: f64) -> String {
-    format!("{v:.3e}")
+    tippetop::human::sig(v, 4)
 }
 
-/// `x` with 4 significant figures (plain between 1e-3 and 1e5).
+/// The same as [`g`].
 fn sig(x: f64) -> String {
-    if x == 0.0 {
-        return "0".into();
-    }
-    let e = x.abs().log10().floor() as i64;
-    if (-3..5).contains(&e) {
-        let d = (3 - e).max(0) as usize;
-        format!("{x:.d$}")
-    } else {
-        format!("{x:.3e}")
-    }
+    g(x)
 }
 
 const YEAR: f64 = 365.25 * 86400.0;
