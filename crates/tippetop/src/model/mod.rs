@@ -58,7 +58,8 @@ impl std::fmt::Display for ModelError {
         match self {
             ModelError::Singular { theta } => write!(
                 f,
-                "theta = {theta:e} rad reached the pole of the Euler angles (|sin theta| < {:e}, or theta outside (0, pi)): the reduced model divides by sin theta there; use model = \"vector\" (the default) or \"rigid\"",
+                "theta = {} rad reached the pole of the Euler angles (|sin theta| < {:e}, or theta outside (0, pi)): the reduced model divides by sin theta there; use model = \"vector\" (the default) or \"rigid\"",
+                crate::human::s4(*theta),
                 reduced::SIN_GUARD
             ),
             ModelError::Chattering { reversals } => write!(

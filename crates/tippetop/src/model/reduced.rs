@@ -735,14 +735,15 @@ impl super::ContactModel<DIM> for Reduced {
     fn describe_state(&self, y: &[f64]) -> String {
         let tu = self.scales.time;
         let vu = self.scales.velocity();
+        let h = crate::human::s4;
         format!(
-            "state: theta = {}, theta_dot = {:e} rad/s, Omega = {:e} rad/s, omega = {:e} rad/s, ux = {:e} m/s, uy = {:e} m/s",
-            y[TH],
-            y[THD] / tu,
-            y[OM] / tu,
-            y[W] / tu,
-            y[UX] * vu,
-            y[UY] * vu
+            "state: theta = {} rad, theta_dot = {} rad/s, Omega = {} rad/s, omega = {} rad/s, ux = {} m/s, uy = {} m/s",
+            h(y[TH]),
+            h(y[THD] / tu),
+            h(y[OM] / tu),
+            h(y[W] / tu),
+            h(y[UX] * vu),
+            h(y[UY] * vu)
         )
     }
 }

@@ -1512,16 +1512,17 @@ fn describe_state(m: &Rigid, y: &[f64]) -> String {
     let mut a = [0.0; DIM];
     a.copy_from_slice(y);
     let s = sample_of(m, 0.0, &a);
+    let h = crate::human::s4;
     format!(
-        "state: theta = {}, theta_dot = {:e} rad/s, Omega = {:e} rad/s, omega = {:e} rad/s, ux = {:e} m/s, uy = {:e} m/s, uz = {:e} m/s, gap = {:e} m ({:?})",
-        s.theta,
-        s.theta_dot,
-        s.precession,
-        s.spin,
-        s.ux,
-        s.uy,
-        s.uz,
-        m.gap(&a) * m.scales.length,
+        "state: theta = {} rad, theta_dot = {} rad/s, Omega = {} rad/s, omega = {} rad/s, ux = {} m/s, uy = {} m/s, uz = {} m/s, gap = {} m ({:?})",
+        h(s.theta),
+        h(s.theta_dot),
+        h(s.precession),
+        h(s.spin),
+        h(s.ux),
+        h(s.uy),
+        h(s.uz),
+        h(m.gap(&a) * m.scales.length),
         m.phase
     )
 }

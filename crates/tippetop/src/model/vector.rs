@@ -936,16 +936,17 @@ impl Vector {
     pub fn describe(&self, y: &[f64]) -> String {
         let tu = self.scales.time;
         let vu = self.scales.velocity();
+        let h = crate::human::s4;
         format!(
-            "state: k = ({}, {}, {}), w = ({:e}, {:e}, {:e}) rad/s, v = ({:e}, {:e}) m/s",
-            y[K],
-            y[K + 1],
-            y[K + 2],
-            y[OMEGA] / tu,
-            y[OMEGA + 1] / tu,
-            y[OMEGA + 2] / tu,
-            y[VEL] * vu,
-            y[VEL + 1] * vu
+            "state: k = ({}, {}, {}), w = ({}, {}, {}) rad/s, v = ({}, {}) m/s",
+            h(y[K]),
+            h(y[K + 1]),
+            h(y[K + 2]),
+            h(y[OMEGA] / tu),
+            h(y[OMEGA + 1] / tu),
+            h(y[OMEGA + 2] / tu),
+            h(y[VEL] * vu),
+            h(y[VEL + 1] * vu)
         )
     }
 }

@@ -95,8 +95,8 @@ pub(crate) fn unstable_rk4(
     let rel = track.balance_rel();
     if sc.solver.method == Method::Rk4 && (rel.is_nan() || rel > RK4_UNSTABLE_BALANCE) {
         let msg = format!(
-            "the RK4 solution became unstable (energy balance error {rel:.1e} of max |E|): the fixed step t_end / steps = {:e} s is too long for this motion, raise solver.steps or use method = \"adaptive\"; it ended with: {why}",
-            sc.solver.t_end / sc.solver.steps as f64
+            "the RK4 solution became unstable (energy balance error {rel:.1e} of max |E|): the fixed step t_end / steps = {} s is too long for this motion, raise solver.steps or use method = \"adaptive\"; it ended with: {why}",
+            crate::human::s4(sc.solver.t_end / sc.solver.steps as f64)
         );
         (Failure::Unstable, msg)
     } else if sc.solver.method == Method::Rk4 {
