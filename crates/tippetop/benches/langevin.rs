@@ -23,10 +23,7 @@
 //!   Ornstein–Uhlenbeck updates (`OdeSystem::thermostat` twice on one
 //!   state, then the next state: the pattern of a run, where the second half
 //!   of step n and the first half of step n + 1 see the same axis), and
-//!   RK4's 4 evaluations of the right-hand side, and the same at
-//!   `LANES` = 4 states at once (`rhs_4_lanes_*`: `Vector::rhs_lanes`, the
-//!   lane kernel, AVX2 where the CPU has it; per element, one state's 4
-//!   evaluations).
+//!   RK4's 4 evaluations of the right-hand side.
 //!
 //! `cargo bench -p tippetop --bench langevin`
 
@@ -37,7 +34,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use tippetop::{
     Adhesion, ModelKind, Scenario,
     integrate::{self, OdeSystem, Options, Stepper},
-    model::vector::{DIM, Vector, lanes::LANES},
+    model::vector::{DIM, Vector},
     random::Stream,
     simulate,
 };
@@ -202,7 +199,7 @@ fn bench_parts(c: &mut Criterion) {
         // states of the run, 1 000 … 1 003 steps), as RK4's stages have:
         // the wells' torque is cached on the axis bits, so 4 evaluations
         // at one state would measure one `atan2` instead of four.
-        let lane_states: [[f64; DIM]; LANES] =
+        let lane_states: [[f64; DIM]; 4] =
             std::array::from_fn(|j| bare(&mut m.clone(), y0, &opts, (1000 + j) as f64 * h));
         let mut dy = [0.0; DIM];
         g.bench_function(format!("rhs_4_{name}"), |b| {
@@ -213,21 +210,6 @@ fn bench_parts(c: &mut Criterion) {
                 }
             })
         });
-        // The same at LANES states at once: 4 calls of the lane kernel
-        // (`model::vector::lanes`; runs do not use it yet) on those 4
-        // states; per element, one state's 4 evaluations.
-        let mut dys = [[0.0; DIM]; LANES];
-        g.throughput(Throughput::Elements(LANES as u64));
-        g.bench_function(format!("rhs_4_lanes_{name}"), |b| {
-            b.iter(|| {
-                let ys = black_box(&lane_states);
-                for _ in 0..4 {
-                    assert!(m.rhs_lanes(ys, &mut dys), "lanes cover the preset");
-                    black_box(&dys);
-                }
-            })
-        });
-        g.throughput(Throughput::Elements(1));
     }
     g.finish();
 }

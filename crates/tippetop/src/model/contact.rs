@@ -450,45 +450,6 @@ impl ContactState {
         }
     }
 
-    /// [`ContactState::coefficient`] at `L` slips at once (component
-    /// arrays), the same bits lane by lane, where every lane takes the
-    /// common branch of the Coulomb laws (`|v|²` a normal number, `μ <
-    /// 1e150`): `None` otherwise (the caller then asks lane by lane). For the
-    /// lane kernel (`model::vector::lanes`).
-    #[inline(always)]
-    pub(crate) fn coefficient_lanes<const L: usize>(
-        &self,
-        v: [[f64; L]; 2],
-    ) -> Option<[[f64; L]; 2]> {
-        let mu = self.mu;
-        if !matches!(self.law, FrictionLaw::Coulomb | FrictionLaw::CoulombSliding) || mu >= 1e150 {
-            return None;
-        }
-        let r2: [f64; L] = std::array::from_fn(|i| v[0][i] * v[0][i] + v[1][i] * v[1][i]);
-        if !r2
-            .iter()
-            .all(|r| (f64::MIN_POSITIVE..f64::INFINITY).contains(r))
-        {
-            return None;
-        }
-        let k: [f64; L] = std::array::from_fn(|i| mu / r2[i].sqrt());
-        let mut f = [
-            std::array::from_fn(|i| k[i] * v[0][i]),
-            std::array::from_fn(|i| k[i] * v[1][i]),
-        ];
-        if self.exact {
-            // v ≠ 0 here (|v|² is normal): the continuation through zero.
-            let d = self.slip_ref.get();
-            for i in 0..L {
-                let back = v[0][i] * d[0] + v[1][i] * d[1] < 0.0;
-                let (f0, f1) = (f[0][i], f[1][i]);
-                f[0][i] = if back { -f0 } else { f0 };
-                f[1][i] = if back { -f1 } else { f1 };
-            }
-        }
-        Some(f)
-    }
-
     /// The friction coefficient `f(v)` as [`ContactState::coefficient`],
     /// in the rigid model's order of operations, which rounds differently:
     /// `|v|` by `hypot` and one division per component (`μ v_i/|v|`,
@@ -554,52 +515,6 @@ impl ContactState {
     #[inline(always)]
     pub(crate) fn closure(&self, q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
         closure_normal(self.contact, self.normal_branch, q, dp, dm)
-    }
-
-    /// [`ContactState::closure`] and [`ContactState::friction_normal`] at
-    /// `L` states at once, the same bits lane by lane, where every lane
-    /// takes the one-division branch (both `D(±)` positive and below 1e100,
-    /// `|Q| > 1e-200`; the paper's contact: `D(+) > 0`): `(N, N_f)`, `None`
-    /// otherwise (the caller then asks lane by lane). For the lane kernel.
-    #[inline(always)]
-    pub(crate) fn closure_lanes<const L: usize>(
-        &self,
-        q: [f64; L],
-        dp: [f64; L],
-        dm: [f64; L],
-    ) -> Option<([f64; L], [f64; L])> {
-        let n: [f64; L] = match (self.contact, self.normal_branch) {
-            (ContactMode::Paper, _) => {
-                if !dp.iter().all(|&d| d > 0.0) {
-                    return None;
-                }
-                std::array::from_fn(|i| q[i] / dp[i])
-            }
-            (ContactMode::Bilateral, Some(pos)) => {
-                let ok = (0..L).all(|i| {
-                    dp[i] > 0.0 && dm[i] > 0.0 && dp[i] < f64::INFINITY && dm[i] < f64::INFINITY
-                });
-                if !ok {
-                    return None;
-                }
-                std::array::from_fn(|i| q[i] / if pos { dp[i] } else { dm[i] })
-            }
-            _ => {
-                let ok = (0..L).all(|i| {
-                    dp[i] > 0.0
-                        && dm[i] > 0.0
-                        && dp[i] < 1e100
-                        && dm[i] < 1e100
-                        && q[i].abs() > 1e-200
-                });
-                if !ok {
-                    return None;
-                }
-                std::array::from_fn(|i| q[i] / if q[i] > 0.0 { dp[i] } else { dm[i] })
-            }
-        };
-        let nf = std::array::from_fn(|i| friction_normal(self.contact, self.normal_branch, n[i]));
-        Some((n, nf))
     }
 
     /// The normal force the friction sees: `N` with its sign for the paper's

@@ -57,8 +57,6 @@
 
 use std::cell::RefCell;
 
-pub mod lanes;
-
 use super::ContactState;
 use super::reduced::{Mode, ModelError, Scales};
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
