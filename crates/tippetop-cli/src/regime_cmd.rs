@@ -92,7 +92,7 @@ pub fn run(args: &RegimeArgs) -> anyhow::Result<ExitCode> {
     }
     for l in regime::lines(&sc, &rep) {
         let v = match l.value {
-            Some(v) => format!("{v:.3e}"),
+            Some(v) => tippetop::human::sig(v, 4),
             None => "null".into(),
         };
         println!("{:<42} {:>10}  {}", l.key, v, l.verdict);

@@ -8,6 +8,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use tippetop::analysis::retention::{RatePoint, check_temperature, fit_arrhenius};
+use tippetop::human::s4;
 
 use crate::output::write_bytes_atomic;
 
@@ -149,25 +150,32 @@ pub fn run(args: &RetentionArgs, quiet: bool) -> Result<ExitCode> {
     if !quiet {
         for p in &points {
             println!(
-                "T = {:>8.2} K   k = {:.4e} 1/s (ln k ± {:.3})",
-                p.temperature, p.rate, p.ln_rate_se
+                "T = {:>8.2} K   k = {} 1/s (ln k ± {:.3})",
+                p.temperature,
+                s4(p.rate),
+                p.ln_rate_se
             );
         }
         println!(
-            "barrier        E = {:.4e} J = {:.4} eV ± {:.4} eV (fit; chi2 {:.3}, dof {})",
-            fit.barrier,
+            "barrier        E = {} J = {:.4} eV ± {:.4} eV (fit; chi2 {:.3}, dof {})",
+            s4(fit.barrier),
             fit.barrier_ev,
             fit.barrier_se / 1.602176634e-19,
             fit.chi2,
             fit.dof
         );
         println!(
-            "at {} K       k = {:.4e} 1/s (95 % CI {:.4e} .. {:.4e})",
-            args.temperature, at.rate, at.rate_ci95[0], at.rate_ci95[1]
+            "at {} K       k = {} 1/s (95 % CI {} .. {})",
+            args.temperature,
+            s4(at.rate),
+            s4(at.rate_ci95[0]),
+            s4(at.rate_ci95[1])
         );
         println!(
-            "retention     1/k = {:.4e} s (95 % CI {:.4e} .. {:.4e} s)",
-            at.mean_time, at.time_ci95[0], at.time_ci95[1]
+            "retention     1/k = {} s (95 % CI {} .. {} s)",
+            s4(at.mean_time),
+            s4(at.time_ci95[0]),
+            s4(at.time_ci95[1])
         );
     }
     if let Some(out) = &args.out {
