@@ -68,11 +68,6 @@ fn g(v: f64) -> String {
     tippetop::human::sig(v, 4)
 }
 
-/// The same as [`g`].
-fn sig(x: f64) -> String {
-    g(x)
-}
-
 const YEAR: f64 = 365.25 * 86400.0;
 
 /// A duration in readable units: ps … s, hours, days, years.
@@ -97,7 +92,7 @@ fn dur(s: f64) -> String {
     } else {
         (s / YEAR, "years")
     };
-    format!("{} {u}", sig(x))
+    format!("{} {u}", g(x))
 }
 
 /// A time that may exceed f64.
@@ -125,28 +120,25 @@ fn ams_time(m: &Measured) -> String {
 /// A splitting estimate of a probability, with its interval.
 fn ams_p(m: &Measured) -> String {
     if m.extinct {
-        format!(
-            "0 (no path reached it; 95 % upper bound {})",
-            sig(m.ci95[1])
-        )
+        format!("0 (no path reached it; 95 % upper bound {})", g(m.ci95[1]))
     } else {
         format!(
             "{} (95 %: {} – {})",
-            sig(m.estimate),
-            sig(m.ci95[0]),
-            sig(m.ci95[1])
+            g(m.estimate),
+            g(m.ci95[0]),
+            g(m.ci95[1])
         )
     }
 }
 
 fn ev(j: f64) -> String {
-    format!("{} eV", sig(j / dr::EV))
+    format!("{} eV", g(j / dr::EV))
 }
 
 /// Why a retention was not measured, in words.
 fn not_measured(l: &LyingRetention) -> String {
     match l.not_measured {
-        Some("beyond_reach") => format!("beyond any sampler's reach ({} kT)", sig(l.barrier_kt)),
+        Some("beyond_reach") => format!("beyond any sampler's reach ({} kT)", g(l.barrier_kt)),
         _ => "not measured (--quick)".into(),
     }
 }
@@ -158,12 +150,12 @@ fn lying_words(l: &LyingRetention) -> String {
             "at {} K it lasts {} by splitting (barrier {} kT)",
             l.temperature,
             ams_time(m),
-            sig(l.barrier_kt)
+            g(l.barrier_kt)
         ),
         None if l.not_measured == Some("beyond_reach") => format!(
             "at {} K the barrier is {} kT, beyond any sampler's reach: at least {} (transition-state bound)",
             l.temperature,
-            sig(l.barrier_kt),
+            g(l.barrier_kt),
             big(&l.tst)
         ),
         None => format!(
@@ -342,9 +334,9 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
         ans.push(format!(
             "At 300 K {} fails with probability {} (95 %: {} – {}), {}.",
             w.label,
-            sig(w.rate),
-            sig(w.ci95[0]),
-            sig(w.ci95[1]),
+            g(w.rate),
+            g(w.ci95[0]),
+            g(w.ci95[1]),
             if w.hold_escape > w.late.ci95[1] {
                 "set by the lying state's own escape during the hold"
             } else {
@@ -371,13 +363,13 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
             (Some(t), Some(c)) => format!(
                 "That 300 K design writes with no force at all (the standing state has no barrier) in {} with an error rate of {} (95 % upper {}).",
                 dur(t + c.hold),
-                sig(c.rate),
-                sig(c.ci95[1])
+                g(c.rate),
+                g(c.ci95[1])
             ),
             _ => format!(
                 "That 300 K design writes with no force, but no write time within {} reached an error rate of {}.",
                 dur(w.horizon),
-                sig(dr::ERROR_TARGET)
+                g(dr::ERROR_TARGET)
             ),
         });
     }
@@ -579,7 +571,7 @@ fn rare_section(s: &mut String, r: &DeviceReport) {
             "| {} | {} = {} kT | {} | {} | {} | {} |",
             l.temperature,
             ev(l.barrier),
-            sig(l.barrier_kt),
+            g(l.barrier_kt),
             ams,
             big(&l.tst),
             big(&l.overdamped_exact),
@@ -593,7 +585,7 @@ fn rare_section(s: &mut String, r: &DeviceReport) {
          most P_late + P_hold: P_late, the fall not yet past θ = {} rad by {} before the hold (splitting on the time; \
          measured at {} at the latest, a bound for later times since it only decreases), and P_hold = 1 − exp(−hold/τ), \
          the settled top leaving during the hold (τ the residence above).\n",
-        sig(dr::SETTLE),
+        g(dr::SETTLE),
         dur(dr::RELAX),
         dur(device::WRITE_HORIZON)
     );
@@ -607,16 +599,16 @@ fn rare_section(s: &mut String, r: &DeviceReport) {
             s,
             "| {} | ({}, {}) N | {}, {} | {}{} | {} | {} ({} – {}) |",
             w.label,
-            sig(w.force[0]),
-            sig(w.force[1]),
+            g(w.force[0]),
+            g(w.force[1]),
             dur(w.phase),
             dur(w.hold),
             if w.late_bound { "≤ " } else { "" },
             ams_p(&w.late),
-            sig(w.hold_escape),
-            sig(w.rate),
-            sig(w.ci95[0]),
-            sig(w.ci95[1])
+            g(w.hold_escape),
+            g(w.rate),
+            g(w.ci95[0]),
+            g(w.ci95[1])
         );
     };
     for w in &rare.writes {
@@ -646,7 +638,7 @@ fn rare_section(s: &mut String, r: &DeviceReport) {
                 .map(ev)
                 .unwrap_or_else(|| "none up to 100 eV".into()),
             check
-                .map(|c| format!("{} kT", sig(c.barrier_kt)))
+                .map(|c| format!("{} kT", g(c.barrier_kt)))
                 .unwrap_or_else(|| "-".into()),
             check
                 .and_then(|c| c.ams.as_ref())
@@ -661,7 +653,7 @@ fn rare_section(s: &mut String, r: &DeviceReport) {
              falls into the lying well by itself). The shortest write time with an error rate ≤ {} is {} (the replicas' \
              survival curve of the fall reaches the target less P_hold at {}, plus {} to settle, plus the hold).",
             w.force,
-            sig(dr::ERROR_TARGET),
+            g(dr::ERROR_TARGET),
             w.write_time
                 .zip(w.check.as_ref())
                 .map(|(t, c)| format!("**{}**", dur(t + c.hold)))

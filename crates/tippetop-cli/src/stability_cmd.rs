@@ -151,12 +151,6 @@ fn h(x: f64) -> String {
     tippetop::human::sig(x, 4)
 }
 
-/// A complex number for people: `re+imi` / `re-imi`.
-fn cplx(re: f64, im: f64) -> String {
-    let sign = if im < 0.0 { '-' } else { '+' };
-    format!("{}{sign}{}i", h(re), h(im.abs()))
-}
-
 fn eigs(l: &Linearisation) -> String {
     l.eigenvalues
         .iter()
@@ -164,7 +158,7 @@ fn eigs(l: &Linearisation) -> String {
             if e.im == 0.0 {
                 h(e.re)
             } else {
-                cplx(e.re, e.im)
+                tippetop::human::complex(e.re, e.im)
             }
         })
         .collect::<Vec<_>>()
@@ -287,7 +281,7 @@ pub fn table(r: &StabilityReport, sc: Option<&Scenario>) -> String {
                         h(x.spin),
                         x.eigenvalues
                             .iter()
-                            .map(|e| cplx(e.re, e.im))
+                            .map(|e| tippetop::human::complex(e.re, e.im))
                             .collect::<Vec<_>>()
                             .join(", "),
                         x.verdict.map(|v| v.as_str()).unwrap_or("-")

@@ -37,6 +37,13 @@ pub fn s4(x: f64) -> String {
     sig(x, 4)
 }
 
+/// A complex number `re ± im i` for people, each part by [`s4`]
+/// (`0.3436+107.3i`, `-2.668e-4-0.5030i`).
+pub fn complex(re: f64, im: f64) -> String {
+    let sign = if im < 0.0 { '-' } else { '+' };
+    format!("{}{sign}{}i", s4(re), s4(im.abs()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -67,5 +74,7 @@ mod tests {
         }
         assert_eq!(sig(0.04061824921529044, 3), "0.0406");
         assert_eq!(sig(1.2207963267948965, 3), "1.22");
+        assert_eq!(complex(0.34360, -107.32), "0.3436-107.3i");
+        assert_eq!(complex(-2.6681e-4, 0.503), "-2.668e-4+0.5030i");
     }
 }

@@ -319,10 +319,7 @@ fn eig_list(e: &[Eig]) -> String {
             if e.im == 0.0 {
                 s4(e.re)
             } else {
-                {
-                    let sign = if e.im < 0.0 { '-' } else { '+' };
-                    format!("{}{sign}{}i", s4(e.re), s4(e.im.abs()))
-                }
+                crate::human::complex(e.re, e.im)
             }
         })
         .collect::<Vec<_>>()
