@@ -13,7 +13,6 @@ is none.
 import csv
 import json
 import subprocess
-import sys
 import threading
 import time
 
@@ -21,7 +20,7 @@ import numpy as np
 import pytest
 
 import tippetop as tt
-from _helpers import bits, cli_binary
+from _helpers import bits, cli_binary, gil_counts
 
 
 def assert_same_arrays(a, b):
@@ -222,35 +221,10 @@ def test_run_releases_the_gil(nano):
     releases it itself: a pure-Python loop lets the counter stand still, a
     run lets it advance."""
     sc = nano.set("solver.t_end", 3e-4)
-    counter = [0]
-    stop = threading.Event()
-
-    def count():
-        while not stop.is_set():
-            counter[0] += 1
-            time.sleep(0)  # releases the GIL, so the main thread can take it
-
-    old = sys.getswitchinterval()
-    th = threading.Thread(target=count)
-    th.start()
-    try:
-        while counter[0] == 0:
-            time.sleep(0.001)
-        sys.setswitchinterval(100.0)
-        c0 = counter[0]
-        x = 0
-        for i in range(200_000):
-            x += i
-        c1 = counter[0]
-        tr = tt.run(sc)
-        c2 = counter[0]
-    finally:
-        sys.setswitchinterval(old)
-        stop.set()
-        th.join()
+    control, during, tr = gil_counts(lambda: tt.run(sc))
     assert tr.error is None
-    assert c1 == c0, "the control loop let the thread run: the test cannot tell"
-    assert c2 > c1, "the counter stood still while tt.run ran: the GIL was held"
+    assert control == 0, "the control loop let the thread run: the test cannot tell"
+    assert during > 0, "the counter stood still while tt.run ran: the GIL was held"
 
 
 def test_simulation_used_from_two_threads_never_deadlocks(nano):

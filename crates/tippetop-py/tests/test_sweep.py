@@ -4,7 +4,6 @@ one row per case), checked against the CLI's own sweep.csv bit for bit."""
 import _thread
 import csv
 import subprocess
-import sys
 import threading
 import time
 
@@ -12,7 +11,7 @@ import numpy as np
 import pytest
 
 import tippetop as tt
-from _helpers import bits, cli_binary
+from _helpers import bits, cli_binary, gil_counts
 
 FIELDS = [
     "theta_final",
@@ -218,35 +217,11 @@ def test_bad_input_has_the_cli_line(base, tmp_path):
 def test_sweep_releases_the_gil(base):
     """As test_basic's test of tt.run: a Python thread's counter advances
     while tt.sweep runs, with a switch interval far longer than the test."""
-    counter = [0]
-    stop = threading.Event()
-
-    def count():
-        while not stop.is_set():
-            counter[0] += 1
-            time.sleep(0)
-
-    old = sys.getswitchinterval()
-    th = threading.Thread(target=count)
-    th.start()
-    try:
-        while counter[0] == 0:
-            time.sleep(0.001)
-        sys.setswitchinterval(100.0)
-        c0 = counter[0]
-        x = 0
-        for i in range(200_000):
-            x += i
-        c1 = counter[0]
-        sw = tt.sweep(base, vary={"top.offset": (3e-4, 6e-3, 4)}, threads=1)
-        c2 = counter[0]
-    finally:
-        sys.setswitchinterval(old)
-        stop.set()
-        th.join()
+    vary = {"top.offset": (3e-4, 6e-3, 4)}
+    control, during, sw = gil_counts(lambda: tt.sweep(base, vary=vary, threads=1))
     assert len(sw["status"]) == 4
-    assert c1 == c0, "the control loop let the thread run: the test cannot tell"
-    assert c2 > c1, "the counter stood still while tt.sweep ran: the GIL was held"
+    assert control == 0, "the control loop let the thread run: the test cannot tell"
+    assert during > 0, "the counter stood still while tt.sweep ran: the GIL was held"
 
 
 def test_ctrl_c_stops_a_sweep(base):
