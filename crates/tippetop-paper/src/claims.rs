@@ -168,7 +168,7 @@ pub fn gravity_irrelevant(runs: &Runs) -> Claim {
         measured: format!("max over t of |θ_g − θ_9.8| for g = 0, 100: bilateral {dg_b:.3e} rad; paper contact {dg_p:.3e} rad"),
         settings: format!("{} with --set surface.gravity=0|100", runs.settings(NANO_BILATERAL)),
         verdict: Verdict::combine(v(dg_b), v(dg_p)),
-        why: "Criterion: reproduced if the curves differ by ≤ 0.05 rad everywhere, partly if ≤ 0.3 rad. m g = 1.2e-23 N is 8x smaller than H, so gravity is a small perturbation, but the motion amplifies small differences over the window.".into(),
+        why: "Criterion: reproduced if the curves differ by ≤ 0.05 rad everywhere, partly if ≤ 0.3 rad. m g = 1.17e-23 N is 12x smaller than the applied force (H_x = H_y = 0.1 zN, |H| = 0.141 zN), so gravity is a small perturbation, but the motion amplifies small differences over the window.".into(),
     }
 }
 
@@ -472,7 +472,7 @@ pub fn stays_in_contact(runs: &Runs) -> Claim {
         ),
         settings: both(runs, NANO_BILATERAL, NANO_PAPER),
         verdict: Verdict::from_levels(cb.contact_lost_at.is_none() && cp.contact_lost_at.is_none(), false),
-        why: "A negative N means the surface would have to pull the top down: a real top would leave the surface at the first crossing (contact = \"unilateral\" stops the run there). The applied force (0.1 zN) is 8x the weight (0.012 zN), so nothing keeps the C60 on the graphene.".into(),
+        why: "A negative N means the surface would have to pull the top down: a real top would leave the surface at the first crossing (contact = \"unilateral\" stops the run there). The applied force (H_x = H_y = 0.1 zN, |H| = 0.141 zN) is 12x the weight (m g = 0.0117 zN; `tippetop regime --preset nano`: applied_over_weight 12.07), so nothing keeps the C60 on the graphene.".into(),
     }
 }
 
