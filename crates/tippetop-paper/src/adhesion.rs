@@ -462,7 +462,7 @@ impl Study {
                     "| {} | {} | {} | {:.4} | {} | {:.3} ± {:.3} | {} | {:.4e} | {:.1}% | {} | {} | {} | {:.2e} | {:.1e} | {:.2e} | {} |\n",
                     case.label,
                     setting,
-                    m.status.replace('|', "/"),
+                    crate::report::clip(&m.status, 80).replace('|', "/"),
                     m.theta_max,
                     fmt_t(m.first_above_half_pi),
                     m.lying_second_half.0,
@@ -533,16 +533,25 @@ impl Study {
                 "Not confirmed."
             }
         ));
-        b.push_str("\n**The paper's claims under adhesion** (\"holds\" if the criterion holds in all four adhesion settings, \"partly\" in some, \"fails\" in none):\n\n| claim | criterion | no adhesion | with adhesion | under adhesion | in plain words |\n|---|---|---|---|---|---|\n");
+        b.push_str("\n**The paper's claims under adhesion** (\"holds\" if the criterion holds in all four adhesion settings, \"partly\" in some, \"fails\" in none):\n\n| claim | no adhesion | under adhesion |\n|---|---|---|\n");
         for c in &self.claims {
             b.push_str(&format!(
-                "| {} | {} | {} | {} | **{}** | {} |\n",
-                c.claim,
-                c.criterion,
-                c.without,
-                c.with,
+                "| {} | {} | **{}** |\n",
+                crate::report::clip(&c.claim, 80).replace('|', "\\|"),
+                if c.holds_without { "holds" } else { "fails" },
                 word(c.verdict),
-                c.plain
+            ));
+        }
+        b.push('\n');
+        for c in &self.claims {
+            b.push_str(&format!(
+                "- **{}** ({}): {} Criterion: {}. No adhesion: {}. With adhesion: {}.\n",
+                c.claim,
+                word(c.verdict),
+                c.plain,
+                c.criterion.trim_end_matches('.'),
+                c.without.trim_end_matches('.'),
+                c.with.trim_end_matches('.'),
             ));
         }
         b.push_str("\nFigures: ");
@@ -555,13 +564,25 @@ impl Study {
                 .collect::<Vec<_>>()
                 .join(", "),
         );
-        b.push_str(" (θ(t) with and without adhesion; the zoom: with and without the applied force). Adhesion runs:\n\n| run | settings | steps | J drift |\n|---|---|---|---|\n");
-        for r in self.rows.iter().map(|r| &r.run).chain(&self.controls) {
+        b.push_str(" (θ(t) with and without adhesion; the zoom: with and without the applied force). Adhesion runs:\n\n| run | steps | J drift |\n|---|---|---|\n");
+        let runs: Vec<&crate::Run> = self
+            .rows
+            .iter()
+            .map(|r| &r.run)
+            .chain(&self.controls)
+            .collect();
+        for r in &runs {
             let su = &r.trajectory.summary;
             b.push_str(&format!(
-                "| {} | `{}` | {} | {:.1e} |\n",
-                r.name, r.settings, su.steps, su.jellett_max_rel_drift
+                "| {} | {} | {} |\n",
+                r.name,
+                su.steps,
+                tippetop::human::sig(su.jellett_max_rel_drift, 2)
             ));
+        }
+        b.push_str("\nTheir settings:\n\n");
+        for r in &runs {
+            b.push_str(&format!("- {}: `{}`\n", r.name, r.settings));
         }
         (
             "Adhesion: what van der Waals binding does to the paper's story".into(),

@@ -4,6 +4,7 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use tippetop::analysis::stability;
+use tippetop::human::{s4, sig};
 use tippetop::{Error, Trajectory};
 
 use crate::runs::{
@@ -72,6 +73,10 @@ pub fn nano_lies_down_50us(runs: &Runs, c: Ctx) -> Claim {
             fmt_mode("paper contact", NANO_PAPER),
             status(runs.tr(NANO_PAPER_RK4))
         ),
+        summary: {
+            let (mean, amp) = c.lying(runs.tr(NANO_BILATERAL));
+            format!("θ = {} ± {} rad over the second half, not π/2 = 1.571", sig(mean, 3), sig(amp, 3))
+        },
         settings: both(runs, NANO_BILATERAL, NANO_PAPER),
         verdict: Verdict::combine(verdict(NANO_BILATERAL), verdict(NANO_PAPER)),
         why: "Criterion: reproduced if over the second half of the window the mean θ is within 0.1 rad of π/2 and the half-range ≤ 0.15 rad; partly if the mean is within 0.25 rad (it oscillates about π/2 but with large amplitude).".into(),
@@ -116,6 +121,12 @@ pub fn precession_jumps_then_oscillates(runs: &Runs, c: Ctx) -> Claim {
             t10_p * US,
             mean_p / rms_p
         ),
+        summary: format!(
+            "max |Ω| {} rad/s, reached 10 % by {} µs; mean/rms {} late",
+            sig(om_b, 3),
+            sig(t10_b * US, 3),
+            sig(mean_b / rms_b, 2)
+        ),
         settings: both(runs, NANO_BILATERAL, NANO_PAPER),
         verdict: Verdict::combine(v(t10_b, mean_b, rms_b), v(t10_p, mean_p, rms_p)),
         why: "Criterion: |Ω| reaches 10% of its maximum within 1 µs, and over the second half |mean Ω| ≤ 0.2 rms Ω; partly if only one holds.".into(),
@@ -146,6 +157,12 @@ pub fn spin_reverses_to_30mhz(runs: &Runs, c: Ctx) -> Claim {
             us_or_never(trev_b),
             us_or_never(trev_p),
         ),
+        summary: format!(
+            "ω < 0 from {} µs; ω(t_end) = {} rad/s (paper contact {})",
+            us_or_never(trev_b),
+            sig(wend_b, 3),
+            sig(wend_p, 3)
+        ),
         settings: both(runs, NANO_BILATERAL, NANO_PAPER),
         verdict: Verdict::combine(v(trev_b, wend_b), v(trev_p, wend_p)),
         why: "Criterion: ω reverses and |ω(100 µs)| is within a factor 2 of 3e7 rad/s (if the paper meant 30 MHz as a frequency, 1.9e8 rad/s, no run comes close).".into(),
@@ -166,6 +183,7 @@ pub fn gravity_irrelevant(runs: &Runs) -> Claim {
         claim: "The motion is not affected by gravity: θ(t) for g = 0, 9.8 and 100 m/s² almost coincide.".into(),
         paper_value: "curves almost coincide".into(),
         measured: format!("max over t of |θ_g − θ_9.8| for g = 0, 100: bilateral {dg_b:.3e} rad; paper contact {dg_p:.3e} rad"),
+        summary: format!("θ for g = 0, 100 differs from g = 9.8 by up to {} rad", sig(dg_b.max(dg_p), 3)),
         settings: format!("{} with --set surface.gravity=0|100", runs.settings(NANO_BILATERAL)),
         verdict: Verdict::combine(v(dg_b), v(dg_p)),
         why: "Criterion: reproduced if the curves differ by ≤ 0.05 rad everywhere, partly if ≤ 0.3 rad. m g = 1.17e-23 N is 12x smaller than the applied force (H_x = H_y = 0.1 zN, |H| = 0.141 zN), so gravity is a small perturbation, but the motion amplifies small differences over the window.".into(),
@@ -217,6 +235,11 @@ pub fn jellett_zero(runs: &Runs) -> Claim {
             "J(0) = C ω0 (R cos θ0 − a) = {j0:.4e} kg m³/s = {:.2e} of C max|ω| R; max relative drift over the accurate runs {jd_acc:.1e} (all runs incl. RK4/500, the Contensou run excepted: {jd:.1e})",
             j0 / jscale
         ),
+        summary: format!(
+            "J conserved to {} (relative), but J(0) = {} kg m³/s ≠ 0",
+            sig(jd_acc, 2),
+            sig(j0, 3)
+        ),
         settings: "all runs".into(),
         verdict: Verdict::from_levels(jd_acc <= 1e-9 && j0.abs() <= 1e-12 * jscale, jd_acc <= 1e-9),
         why: "J is conserved (to the integrator's accuracy, as it must be for any force applied at the contact point), but it is not zero: it equals its initial value C ω0 (R cos θ0 − a), negligible only next to the later spin.".into(),
@@ -243,6 +266,11 @@ pub fn reversal_stands_up(runs: &Runs) -> Claim {
             t_rev * US,
             min_after(REVERSAL_BILATERAL),
             min_after(REVERSAL_PAPER)
+        ),
+        summary: format!(
+            "θ dips to {} rad after the reversal, then lies again ({} rad)",
+            sig(min_after(REVERSAL_BILATERAL), 3),
+            sig(rev_mean_b, 3)
         ),
         settings: both(runs, REVERSAL_BILATERAL, REVERSAL_PAPER),
         verdict: Verdict::combine(
@@ -282,6 +310,16 @@ pub fn classical_flips(runs: &Runs) -> Claim {
             cc.first_time_theta_above_half_pi.map(|t| format!("{t:.3}")).unwrap_or("never".into()),
             status(runs.tr(CLASSICAL_RK4))
         ),
+        summary: {
+            let ends = |th: f64| if th > PI - 0.3 { "inverts" } else { "stays up" };
+            format!(
+                "exact Coulomb: {}, θ(end) = {} rad; regularised: {}, {} rad",
+                ends(ce.theta_final),
+                sig(ce.theta_final, 3),
+                ends(creg.theta_final),
+                sig(creg.theta_final, 3)
+            )
+        },
         settings: format!(
             "{}; {}; {}; {}",
             runs.settings(CLASSICAL_EXACT),
@@ -321,6 +359,7 @@ pub fn c_over_a_irrelevant(runs: &Runs, c: Ctx) -> Claim {
         claim: "The ratio C/A in (0, 1) does not affect the result: the nano top never inverts.".into(),
         paper_value: "no effect".into(),
         measured: format!("{} (bilateral); spread of mean θ {spread:.3} rad", meas.join("; ")),
+        summary: format!("no inversion for C/A = 0.2, 0.5, 0.8; mean θ spread {} rad", sig(spread, 2)),
         settings: format!("{} --set top.inertia_axial=(0.2|0.5|0.8)·A", runs.settings(NANO_BILATERAL)),
         verdict: Verdict::from_levels(!flip && spread <= 0.1, !flip),
         why: "Criterion: no run inverts (θ_final < π − 0.3) and the mean lying angle differs by ≤ 0.1 rad; partly if none inverts but the lying state differs. (ω itself scales as 1/C: ω̇ = R sin θ F_y/C.)".into(),
@@ -344,6 +383,12 @@ pub fn c1_fit(runs: &Runs, c: Ctx, app_c: &crate::figures::AppC) -> Claim {
         paper_value: "c1 = 3e6 rad/s, slope −R H/C".into(),
         measured: format!(
             "fit over the second half: bilateral c1 = {c1_b:.3e} rad/s, dω/dt = {sl_b:.3e} rad/s²; paper contact c1 = {c1_p:.3e}, dω/dt = {sl_p:.3e}; −R H/C = {slope_th:.3e} rad/s²"
+        ),
+        summary: format!(
+            "c1 = {} rad/s, slope {} rad/s² (−R H/C = {})",
+            sig(c1_b, 3),
+            sig(sl_b, 3),
+            sig(slope_th, 3)
         ),
         settings: both(runs, NANO_BILATERAL, NANO_PAPER),
         verdict: Verdict::combine(v(c1_b, sl_b), v(c1_p, sl_p)),
@@ -369,6 +414,7 @@ pub fn u_at_t_star(runs: &Runs, c: Ctx) -> Claim {
         claim: "At t* = 5e-5 s the centre of mass moves with u = (u1, u2) ≈ (−6e-7, −4e-3) m/s.".into(),
         paper_value: "(−6e-7, −4e-3) m/s".into(),
         measured: format!("bilateral ({ux_b:.3e}, {uy_b:.3e}) m/s; paper contact ({ux_p:.3e}, {uy_p:.3e}) m/s"),
+        summary: format!("u = ({}, {}) m/s", sig(ux_b, 3), sig(uy_b, 3)),
         settings: both(runs, NANO_BILATERAL, NANO_PAPER),
         verdict: Verdict::combine(v(ux_b, uy_b), v(ux_p, uy_p)),
         why: "Criterion: both components within a factor 2 (same sign); partly if only u_y. u_x oscillates with the nutation, so a single instant is a fragile benchmark.".into(),
@@ -398,6 +444,7 @@ pub fn step_8us_theta_2_1(runs: &Runs, c: Ctx) -> Claim {
         measured: format!(
             "bilateral: max θ on [8, 20] µs = {mx8b:.3}, mean θ over the second half {mean8b:.3} ± {amp8b:.3}; paper contact: {mx8p:.3}, {mean8p:.3} ± {amp8p:.3}"
         ),
+        summary: format!("θ_max {} on [8, 20] µs, then {} ± {} rad", sig(mx8b, 3), sig(mean8b, 3), sig(amp8b, 3)),
         settings: both(runs, STEP8[0], STEP8[1]),
         verdict: Verdict::combine(v(mx8b, mean8b), v(mx8p, mean8p)),
         why: "Criterion: max θ within 0.2 of 2.1 and mean within 0.2 of π/2; partly if only the oscillation about π/2 (mean within 0.3).".into(),
@@ -421,6 +468,7 @@ pub fn step_1us_no_stable_lying(runs: &Runs, c: Ctx) -> Claim {
             runs.tr(STEP1[0]).summary.theta_max,
             runs.tr(STEP1[1]).summary.theta_max
         ),
+        summary: format!("no stable lying: θ = {} ± {} rad late", sig(mean1b, 3), sig(amp1b, 3)),
         settings: both(runs, STEP1[0], STEP1[1]),
         verdict: Verdict::combine(v(mean1b, amp1b), v(mean1p, amp1p)),
         why: "Criterion: 'lying stably' means mean θ within 0.1 rad of π/2 with half-range ≤ 0.15 rad over the second half; the claim holds if that is not met.".into(),
@@ -449,6 +497,7 @@ pub fn nano_never_flips(runs: &Runs) -> Claim {
         claim: "Unlike the classical top, the nano top does not flip over (θ never approaches π).".into(),
         paper_value: "no inversion".into(),
         measured: format!("largest θ over the constant-force nano runs {th_max:.3} rad, largest final θ {th_fin:.3} rad"),
+        summary: format!("θ never above {} rad (π − 0.3 = 2.842)", sig(th_max, 3)),
         settings: "nano runs with g = 0, 9.8, 100, bilateral and paper contact".into(),
         verdict: Verdict::from_levels(th_max < PI - 0.3, th_fin < PI - 0.3),
         why: "Criterion: θ stays below π − 0.3 throughout; partly if it passes above but does not stay.".into(),
@@ -470,6 +519,11 @@ pub fn stays_in_contact(runs: &Runs) -> Claim {
             us_or_never(cp.contact_lost_at),
             100.0 * cp.negative_normal_fraction
         ),
+        summary: format!(
+            "N < 0 first at {} µs, then {} % of the time",
+            us_or_never(cb.contact_lost_at),
+            sig(100.0 * cb.negative_normal_fraction, 3)
+        ),
         settings: both(runs, NANO_BILATERAL, NANO_PAPER),
         verdict: Verdict::from_levels(cb.contact_lost_at.is_none() && cp.contact_lost_at.is_none(), false),
         why: "A negative N means the surface would have to pull the top down: a real top would leave the surface at the first crossing (contact = \"unilateral\" stops the run there). The applied force (H_x = H_y = 0.1 zN, |H| = 0.141 zN) is 12x the weight (m g = 0.0117 zN; `tippetop regime --preset nano`: applied_over_weight 12.07), so nothing keeps the C60 on the graphene.".into(),
@@ -490,9 +544,10 @@ pub fn upright_stable_b2(runs: &Runs) -> Claim {
             "with H, θ leaves 0.1 rad and first exceeds π/2 at {} µs (bilateral)",
             us_or_never(upright_t)
         ),
+        summary: format!("with H the top leaves upright: θ > π/2 at {} µs", us_or_never(upright_t)),
         settings: runs.settings(NANO_BILATERAL).to_string(),
         verdict: Verdict::from_levels(upright_t.is_none(), false),
-        why: "The paper's own Figs. 2-4 contradict B2: with H the top leaves the upright state at once. (B2) drops the gyroscopic and friction terms; the stability analysis of the analysis issue treats this properly.".into(),
+        why: "The paper's own Figs. 2-4 contradict B2: with H the top leaves the upright state at once. (B2) drops the gyroscopic and friction terms; `tippetop stability` keeps them (its full linearisation: App. B rows below).".into(),
     }
 }
 
@@ -529,6 +584,11 @@ pub fn rk4_500_adequate(runs: &Runs) -> Claim {
             rk4_runs.len(),
             status(runs.tr(CLASSICAL_RK4))
         ),
+        summary: format!(
+            "{rk_fail} of {} RK4/500 runs blow up; nano off by {} rad before it",
+            rk4_runs.len(),
+            sig(rk_d, 3)
+        ),
         settings: "paper contact, coulomb_sliding, solver.method = rk4, steps = 500".into(),
         verdict: Verdict::from_levels(rk_d <= 0.01 && rk_fail == 0, rk_d <= 0.3 && rk_fail == 0),
         why: "Criterion: RK4/500 within 0.01 rad of the accurate solution of the same equations and no blow-up; partly within 0.3 rad.".into(),
@@ -554,6 +614,7 @@ pub fn app_b(runs: &Runs) -> Result<Vec<Claim>, Error> {
                 claim: format!("App. B ({}), {top_name} top: {}", c.id, c.configuration),
                 paper_value: c.paper.clone(),
                 measured: c.full.clone(),
+                summary: app_b_summary(&c.full),
                 settings: format!(
                     "{}; linearised with the {:?} law, eps = {:e} m/s (tippetop stability)",
                     r.settings, st.law, st.eps
@@ -564,6 +625,32 @@ pub fn app_b(runs: &Runs) -> Result<Vec<Claim>, Error> {
         }
     }
     Ok(claims)
+}
+
+/// The table's line for an App. B check: the full linearisation's verdict
+/// with friction and its largest growth rate, from `full` ("... with
+/// friction (...): stable (max Re λ = -23.73 1/s; ..."), else its first
+/// sentence.
+fn app_b_summary(full: &str) -> String {
+    const MAX: &str = "(max Re λ = ";
+    if let Some(re) = full.find(MAX)
+        && let Some(colon) = full[..re].rfind(": ")
+    {
+        let word = full[colon + 2..re].trim();
+        let val = &full[re + MAX.len()..];
+        let val = val.split(" 1/s").next().unwrap_or(val);
+        let case = if full[..re].contains("with friction") {
+            "with friction"
+        } else if full.starts_with("H = 0") {
+            "H = 0"
+        } else {
+            "full"
+        };
+        if let Ok(x) = val.parse::<f64>() {
+            return format!("linearised ({case}): {word}, max Re λ = {} 1/s", s4(x));
+        }
+    }
+    crate::report::clip(full.split(". ").next().unwrap_or(full), 80)
 }
 
 /// Every claim, in the report's order.

@@ -134,6 +134,9 @@ pub struct Claim {
     pub paper_value: String,
     /// What we measured (numbers with units).
     pub measured: String,
+    /// What we measured in one line for the report's table (at most 80
+    /// characters, 3-4 significant figures with units).
+    pub summary: String,
     /// Runs and settings used.
     pub settings: String,
     /// Verdict.

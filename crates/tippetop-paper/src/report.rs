@@ -1,44 +1,122 @@
-//! The Markdown report of a reproduction: every claim beside what we
-//! measured, the extra sections, the figures and the table of runs.
+//! The Markdown report of a reproduction, for a referee: an abstract of
+//! the decisive findings, a table of every claim with one-line results
+//! (each cell at most 80 characters), the claims in detail, the extra
+//! sections, the figures, and the runs with their failure messages as
+//! footnotes.
 
-use crate::{Reproduction, Verdict};
+use crate::{Claim, Reproduction, Verdict};
 
-/// The Markdown report: every claim beside what we measured.
-pub fn report_markdown(rep: &Reproduction) -> String {
-    let mut s = String::new();
-    s.push_str(
-        "# tippetop reproduction of *Dynamics of nano tippe top* (Chan, Thamwattana & Hill)\n\n",
-    );
-    if rep.quick {
-        s.push_str("**Quick mode: every window shortened 10x. The verdicts below are NOT meaningful.**\n\n");
+/// The claims the abstract reports, each with its lead-in, in this order.
+const ABSTRACT: &[(&str, &str)] = &[
+    (
+        "rk4_500_adequate",
+        "The paper's integrator (RK4 on 500 steps)",
+    ),
+    ("stays_in_contact", "The contact"),
+    ("nano_lies_down_50us", "Lying down"),
+    ("reversal_stands_up", "The reversed force"),
+    ("upright_stable_b2", "Upright stability (App. B)"),
+    ("classical_flips", "The classical top"),
+    ("jellett_zero", "Jellett's integral"),
+];
+
+/// `s` cut to at most `n` characters at a word boundary, with "…" when cut.
+pub(crate) fn clip(s: &str, n: usize) -> String {
+    if s.chars().count() <= n {
+        return s.to_string();
     }
-    s.push_str("Each claim of the paper beside what tippetop measured. Three computations of each nano result:\n\n");
-    s.push_str("- **bilateral (accurate)**: exact Coulomb friction (`coulomb`), contact held with friction μ|N|, adaptive DOP853 at rtol 1e-10. The physically consistent reading of the paper's model.\n");
-    s.push_str("- **paper contact (accurate)**: the paper's literal law `−μ N v/|v|` with N's sign (`contact = \"paper\"`, `friction_law = \"coulomb_sliding\"`), solved accurately: what the paper's equations give.\n");
-    s.push_str("- **RK4/500 (paper's method)**: the same equations with classical RK4 on 500 steps over the window.\n\n");
-    s.push_str("Derivations and every modelling choice: `docs/physics.md`. Verdict criteria are stated in each row.\n\n");
-    let count = |v: Verdict| rep.claims.iter().filter(|c| c.verdict == v).count();
-    s.push_str(&format!(
-        "**Summary**: {} reproduced, {} partly, {} not reproduced.\n\n",
+    let mut out = String::new();
+    for w in s.split(' ') {
+        if out.chars().count() + w.chars().count() + 2 > n {
+            break;
+        }
+        if !out.is_empty() {
+            out.push(' ');
+        }
+        out.push_str(w);
+    }
+    out.push('…');
+    out
+}
+
+/// A table cell: `|` escaped, newlines flattened.
+fn cell(s: &str) -> String {
+    s.replace('|', "\\|").replace('\n', " ")
+}
+
+/// The paper's value for the table: the statement after the equation
+/// (App. B's "ε̈ = …: always stable, …") when the whole is too long, clipped.
+fn paper_cell(p: &str) -> String {
+    let short = if p.chars().count() > 80 {
+        p.split_once(": ").map_or(p, |(_, rest)| rest)
+    } else {
+        p
+    };
+    cell(&clip(short.split("; ").next().unwrap_or(short), 80))
+}
+
+fn verdict_counts(claims: &[Claim]) -> (usize, usize, usize) {
+    let count = |v: Verdict| claims.iter().filter(|c| c.verdict == v).count();
+    (
         count(Verdict::Reproduced),
         count(Verdict::Partly),
-        count(Verdict::NotReproduced)
+        count(Verdict::NotReproduced),
+    )
+}
+
+fn push_abstract(s: &mut String, rep: &Reproduction) {
+    let (yes, partly, no) = verdict_counts(&rep.claims);
+    s.push_str("## Abstract\n\n");
+    s.push_str(&format!(
+        "Of the paper's {} checkable claims, tippetop reproduces {yes}, {partly} in part and {no} not \
+         (criteria with each claim below).",
+        rep.claims.len()
     ));
-    s.push_str("| claim | paper | measured | verdict | why |\n|---|---|---|---|---|\n");
+    for (id, lead) in ABSTRACT {
+        if let Some(c) = rep.claims.iter().find(|c| c.id == *id) {
+            s.push_str(&format!(
+                " **{lead}** ({}): {}.",
+                c.verdict.as_str(),
+                c.summary
+            ));
+        }
+    }
+    s.push_str("\n\n");
+}
+
+fn push_claims(s: &mut String, rep: &Reproduction) {
+    s.push_str("## The claims\n\n");
+    s.push_str(
+        "| claim | paper | measured (bilateral unless said) | verdict |\n|---|---|---|---|\n",
+    );
     for c in &rep.claims {
         s.push_str(&format!(
-            "| **{}**: {} | {} | {} | **{}** | {} |\n",
+            "| [{}](#{}) | {} | {} | **{}** |\n",
             c.id,
-            c.claim.replace('|', "\\|"),
-            c.paper_value.replace('|', "\\|"),
-            c.measured.replace('|', "\\|"),
-            c.verdict.as_str(),
-            c.why.replace('|', "\\|")
+            c.id.to_lowercase(),
+            paper_cell(&c.paper_value),
+            cell(&c.summary),
+            c.verdict.as_str()
         ));
     }
-    for (title, body) in &rep.sections {
-        s.push_str(&format!("\n## {title}\n\n{body}\n"));
+    s.push_str("\n## The claims in detail\n\n");
+    for c in &rep.claims {
+        s.push_str(&format!(
+            "### {}\n\n{}\n\n- **Paper**: {}\n- **Verdict**: **{}**. {}\n- **Measured**:\n",
+            c.id,
+            c.claim,
+            c.paper_value,
+            c.verdict.as_str(),
+            c.why
+        ));
+        for part in c.measured.split("; ") {
+            s.push_str(&format!("  - {part}\n"));
+        }
+        s.push_str(&format!("- **Runs**: `{}`\n\n", c.settings));
     }
+}
+
+fn push_figures(s: &mut String, rep: &Reproduction) {
     s.push_str("\n## Figures\n\n");
     for f in &rep.figures {
         s.push_str(&format!(
@@ -52,21 +130,70 @@ pub fn report_markdown(rep: &Reproduction) -> String {
             s.push_str("### fig05: Fig. 5: precession of the nano tippe top\n\n![fig05](fig05.png)\n\nThe top drawn at several instants of the accurate (bilateral) run.\n\n");
         }
     }
-    s.push_str("## Runs\n\n| run | settings | status | steps | RHS evaluations | J drift | first N < 0 [s] |\n|---|---|---|---|---|---|---|\n");
+}
+
+fn push_runs(s: &mut String, rep: &Reproduction) {
+    s.push_str("## Runs\n\n| run | status | steps | RHS evaluations | J drift | first N < 0 |\n|---|---|---|---|---|---|\n");
+    let mut notes = Vec::new();
     for r in &rep.runs {
         let su = &r.trajectory.summary;
+        let status = match crate::runs::failure(&r.trajectory) {
+            None => "ok".to_string(),
+            Some(msg) => {
+                notes.push(msg);
+                match &r.trajectory.error {
+                    Some(tippetop::Error::Runtime { t, .. }) => {
+                        format!("failed at {} s[^{}]", tippetop::human::s4(*t), notes.len())
+                    }
+                    _ => format!("failed[^{}]", notes.len()),
+                }
+            }
+        };
         s.push_str(&format!(
-            "| {} | `{}` | {} | {} | {} | {:.1e} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} |\n",
             r.name,
-            r.settings,
-            su.status.replace('|', "/"),
+            status,
             su.steps,
             su.rhs_evaluations,
-            su.jellett_max_rel_drift,
+            tippetop::human::sig(su.jellett_max_rel_drift, 2),
             su.contact_lost_at
-                .map(|t| format!("{t:.4e}"))
+                .map(|t| format!("{} s", tippetop::human::s4(t)))
                 .unwrap_or("never".into())
         ));
     }
+    s.push_str("\nEach run's settings (the scenario and its overrides):\n\n");
+    for r in &rep.runs {
+        s.push_str(&format!("- {}: `{}`\n", r.name, r.settings));
+    }
+    if !notes.is_empty() {
+        s.push('\n');
+        for (i, n) in notes.iter().enumerate() {
+            s.push_str(&format!("[^{}]: {}\n", i + 1, n.replace('\n', " ")));
+        }
+    }
+}
+
+/// The Markdown report: an abstract, every claim beside what we measured,
+/// the sections, figures and runs.
+pub fn report_markdown(rep: &Reproduction) -> String {
+    let mut s = String::new();
+    s.push_str(
+        "# tippetop reproduction of *Dynamics of nano tippe top* (Chan, Thamwattana & Hill)\n\n",
+    );
+    if rep.quick {
+        s.push_str("**Quick mode: every window shortened 10x. The verdicts below are NOT meaningful.**\n\n");
+    }
+    push_abstract(&mut s, rep);
+    s.push_str("Each claim of the paper beside what tippetop measured. Three computations of each nano result:\n\n");
+    s.push_str("- **bilateral (accurate)**: exact Coulomb friction (`coulomb`), contact held with friction μ|N|, adaptive DOP853 at rtol 1e-10. The physically consistent reading of the paper's model.\n");
+    s.push_str("- **paper contact (accurate)**: the paper's literal law `−μ N v/|v|` with N's sign (`contact = \"paper\"`, `friction_law = \"coulomb_sliding\"`), solved accurately: what the paper's equations give.\n");
+    s.push_str("- **RK4/500 (paper's method)**: the same equations with classical RK4 on 500 steps over the window.\n\n");
+    s.push_str("Derivations and every modelling choice: `docs/physics.md`. The criterion of each verdict is with the claim in detail.\n\n");
+    push_claims(&mut s, rep);
+    for (title, body) in &rep.sections {
+        s.push_str(&format!("\n## {title}\n\n{body}\n"));
+    }
+    push_figures(&mut s, rep);
+    push_runs(&mut s, rep);
     s
 }

@@ -314,10 +314,25 @@ pub fn status(tr: &Trajectory) -> String {
     match &tr.error {
         None => "completed".into(),
         Some(Error::Runtime { t, why, .. }) => {
-            let short = why.split("; state:").next().unwrap_or(why);
-            format!("FAILED at t = {t:.4e} s: {short}")
+            // The first clause: the report's table of runs has the whole
+            // message (`failure`).
+            let short = why.split(": ").next().unwrap_or(why);
+            let short = short.split("; ").next().unwrap_or(short);
+            format!("failed at t = {} s: {short}", tippetop::human::s4(*t))
         }
-        Some(e) => format!("FAILED: {e}"),
+        Some(e) => format!("failed: {e}"),
+    }
+}
+
+/// A failed run's whole message (without the state dump), or None.
+pub fn failure(tr: &Trajectory) -> Option<String> {
+    match &tr.error {
+        None => None,
+        Some(Error::Runtime { t, why, .. }) => {
+            let why = why.split("; state:").next().unwrap_or(why);
+            Some(format!("at t = {} s: {why}", tippetop::human::s4(*t)))
+        }
+        Some(e) => Some(e.to_string()),
     }
 }
 

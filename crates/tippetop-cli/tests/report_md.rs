@@ -1,0 +1,124 @@
+//! report.md is for a referee (issue #29, 5): it opens with an abstract of
+//! the decisive findings, its table cells hold at most 80 characters, and
+//! its prose holds no machine-precision numbers (10 or more significant
+//! digits) and no `1e300`-style sentinels. Failure messages are footnotes.
+//! Checked on `reproduce --quick --extended` (the adhesion study included).
+
+use std::fs;
+
+use assert_cmd::Command;
+
+/// Numbers in `text` with `min` or more significant digits, outside code
+/// spans (`...`, which hold command lines a user copies, with full digits).
+fn long_numbers(text: &str, min: usize) -> Vec<String> {
+    let mut found = Vec::new();
+    for (i, part) in text.split('`').enumerate() {
+        if i % 2 == 1 {
+            continue; // inside a code span
+        }
+        let b = part.as_bytes();
+        let mut k = 0;
+        while k < b.len() {
+            if b[k].is_ascii_digit()
+                && (k == 0 || !(b[k - 1].is_ascii_alphanumeric() || b[k - 1] == b'_'))
+            {
+                let start = k;
+                while k < b.len() && (b[k].is_ascii_digit() || b[k] == b'.') {
+                    k += 1;
+                }
+                let num = &part[start..k];
+                let digits = num
+                    .trim_start_matches(['0', '.'])
+                    .chars()
+                    .filter(|c| c.is_ascii_digit())
+                    .count();
+                if digits >= min {
+                    found.push(num.to_string());
+                }
+            } else {
+                k += 1;
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn long_numbers_finds_what_it_should() {
+    assert_eq!(
+        long_numbers("t = 2.0000000000000002e-7 s", 10),
+        vec!["2.0000000000000002"]
+    );
+    assert_eq!(
+        long_numbers("0.00004061824921529044 s", 10),
+        vec!["0.00004061824921529044"]
+    );
+    assert!(long_numbers("3.081 µs, 47.9 %, run 12345", 10).is_empty());
+    assert!(long_numbers("`--set x=1.3499999999999998e-6`", 10).is_empty());
+}
+
+#[test]
+fn report_opens_with_an_abstract_and_keeps_cells_short() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("rep");
+    Command::cargo_bin("tippetop")
+        .unwrap()
+        .args([
+            "reproduce",
+            "--quick",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .assert()
+        .success();
+    let report = fs::read_to_string(out.join("report.md")).unwrap();
+    // The abstract comes before any table, with the verdict counts and the
+    // decisive findings' numbers.
+    let abs = report.find("## Abstract").expect("no abstract");
+    let first_table = report.find("\n|").unwrap();
+    assert!(abs < first_table, "the abstract is not first");
+    // The abstract: the paragraph under its heading.
+    let abstract_text = report[abs..]
+        .trim_start_matches("## Abstract")
+        .trim_start()
+        .split("\n\n")
+        .next()
+        .unwrap();
+    for needle in ["reproduces", "RK4", "N < 0", "θ"] {
+        assert!(
+            abstract_text.contains(needle),
+            "the abstract lacks {needle:?}: {abstract_text}"
+        );
+    }
+    // One sentence of counts, then one per finding, each led by a bold name.
+    let sentences = abstract_text.matches(" **").count() + 1;
+    assert!(
+        (5..=10).contains(&sentences),
+        "{sentences} sentences: {abstract_text}"
+    );
+    // Every table cell at most 80 characters.
+    for line in report.lines().filter(|l| l.starts_with('|')) {
+        for c in line.split(" | ") {
+            let c = c.trim_matches(|ch| ch == '|' || ch == ' ');
+            assert!(
+                c.chars().count() <= 80,
+                "a cell of {} characters: {c}",
+                c.chars().count()
+            );
+        }
+    }
+    // Failure messages live in footnotes, referenced from the runs table.
+    assert!(
+        report.contains("[^1]: at t = "),
+        "no footnote for a failed run"
+    );
+    assert!(!report.contains("the analysis issue"), "internal jargon");
+    // Human numbers: no 10+ significant digits outside code spans, no e300.
+    let long = long_numbers(&report, 10);
+    assert!(
+        long.is_empty(),
+        "machine-precision numbers in report.md: {long:?}"
+    );
+    assert!(!report.contains("e300"), "a 1e300 sentinel in report.md");
+}
