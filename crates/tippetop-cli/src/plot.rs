@@ -155,8 +155,12 @@ impl RefLine {
 /// Where the legend goes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Legend {
-    /// Upper right corner of the plot area.
+    /// In a strip above the plot area, outside the data (wrapping onto
+    /// more rows when the entries do not fit in one): never over a curve.
+    /// A panel with a single named curve gets none (its y label names it).
     #[default]
+    Above,
+    /// Upper right corner of the plot area.
     UpperRight,
     /// Upper left.
     UpperLeft,
@@ -168,6 +172,38 @@ pub enum Legend {
     MiddleRight,
     /// No legend.
     None,
+}
+
+/// A vertical mark at `x` (a force switch, a reversal, a phase boundary):
+/// a dashed dark line with its label written at the top of the plot area.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VLine {
+    /// Where \[x units\].
+    pub x: f64,
+    /// Text beside the line's top, e.g. `"force reversed"`.
+    pub label: String,
+}
+
+impl VLine {
+    /// A mark at `x` labelled `label`.
+    pub fn new(x: f64, label: impl Into<String>) -> Self {
+        VLine {
+            x,
+            label: label.into(),
+        }
+    }
+}
+
+/// A shaded window `[x0, x1]` (a hold, a force pulse) with its label at the
+/// top left of the window.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Span {
+    /// Start \[x units\].
+    pub x0: f64,
+    /// End \[x units\].
+    pub x1: f64,
+    /// Text at the top of the window (may be empty).
+    pub label: String,
 }
 
 /// Options of a line plot (or of one panel of [`multi_panel`], which takes
@@ -186,6 +222,10 @@ pub struct PlotOpts {
     pub y_range: Option<(f64, f64)>,
     /// Legend position.
     pub legend: Legend,
+    /// Vertical marks (force switches, reversals, phase boundaries).
+    pub vlines: Vec<VLine>,
+    /// Shaded windows (holds, pulses), drawn under the curves.
+    pub spans: Vec<Span>,
     /// Equal scales on x and y (a circle is drawn as a circle): the y
     /// range keeps its lower end and is extended or cut to the plotting
     /// area's aspect, computed from the layout of each backend.
@@ -200,7 +240,9 @@ impl Default for PlotOpts {
             hlines: Vec::new(),
             x_range: None,
             y_range: None,
-            legend: Legend::UpperRight,
+            legend: Legend::Above,
+            vlines: Vec::new(),
+            spans: Vec::new(),
             equal_aspect: false,
         }
     }
@@ -213,8 +255,8 @@ pub struct Panel {
     pub y_label: String,
     /// The curves.
     pub series: Vec<Series>,
-    /// `log_y`, `hlines`, `y_range`, `legend` of this panel (`size` and
-    /// `x_range` are the figure's).
+    /// `log_y`, `hlines`, `y_range`, `legend`, `vlines`, `spans` of this
+    /// panel (`size` and `x_range` are the figure's).
     pub opts: PlotOpts,
 }
 
@@ -520,6 +562,14 @@ fn draw_panel<DB: DrawingBackend>(
             data_range(ys, o.log_y, 0.05)
         }
     };
+    // The legend strip above the plot (Legend::Above).
+    // One named curve needs no legend: the y label names it.
+    let named = panel.series.iter().filter(|s| !s.name.is_empty()).count();
+    let area = if o.legend == Legend::Above && named > 1 {
+        draw_legend_strip(area, panel, *palette_next)?
+    } else {
+        area.clone()
+    };
     // PNG: y label unrotated in its own line above the plot (issue #655).
     let area = if bitmap {
         let (label_row, rest) = area.split_vertically(24);
@@ -578,6 +628,79 @@ fn draw_panel<DB: DrawingBackend>(
     }
 }
 
+/// The colour of each series of `panel`, as `draw_panel_in` assigns them
+/// (the next palette colours, from `palette_next`, for series without one).
+fn series_colors(panel: &Panel, palette_next: usize) -> Vec<(u8, u8, u8)> {
+    let mut next = palette_next;
+    panel
+        .series
+        .iter()
+        .map(|s| {
+            s.style.color.unwrap_or_else(|| {
+                let c = PALETTE[next % PALETTE.len()];
+                next += 1;
+                c
+            })
+        })
+        .collect()
+}
+
+/// Draw the legend of `panel` in rows across the top of `area` (outside the
+/// plot) and return the rest of the area.
+fn draw_legend_strip<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    panel: &Panel,
+    palette_next: usize,
+) -> std::result::Result<DrawingArea<DB, Shift>, String> {
+    const ROW: i32 = 22;
+    const SAMPLE: i32 = 26;
+    let style = font(14.0);
+    let colors = series_colors(panel, palette_next);
+    let (w, _) = area.dim_in_pixel();
+    let left = 60i32;
+    let right = w as i32 - 24;
+    // Lay the entries out first (to know the strip's height).
+    let mut placed = Vec::new();
+    let (mut x, mut row) = (left, 0i32);
+    for (s, rgb) in panel.series.iter().zip(&colors) {
+        if s.name.is_empty() {
+            continue;
+        }
+        let (tw, _) = area.estimate_text_size(&s.name, &style).map_err(err)?;
+        let width = SAMPLE + 6 + tw as i32 + 18;
+        if x + width > right && x > left {
+            row += 1;
+            x = left;
+        }
+        placed.push((x, row, s, *rgb));
+        x += width;
+    }
+    let rows = row + 1;
+    let (strip, rest) = area.split_vertically((rows * ROW + 6) as u32);
+    for (x, row, s, rgb) in placed {
+        let y = 4 + row * ROW + ROW / 2;
+        let line = RGBColor(rgb.0, rgb.1, rgb.2).stroke_width(s.style.width.max(2));
+        if s.style.dashed {
+            strip
+                .draw(&DashedPathElement::new(
+                    vec![(x, y), (x + SAMPLE, y)],
+                    6,
+                    3,
+                    line,
+                ))
+                .map_err(err)?;
+        } else {
+            strip
+                .draw(&PathElement::new(vec![(x, y), (x + SAMPLE, y)], line))
+                .map_err(err)?;
+        }
+        strip
+            .draw_text(&s.name, &style, (x + SAMPLE + 6, y - 8))
+            .map_err(err)?;
+    }
+    Ok(rest)
+}
+
 #[allow(clippy::too_many_arguments)]
 fn draw_panel_in<DB, YS>(
     area: &DrawingArea<DB, Shift>,
@@ -634,6 +757,55 @@ where
             mesh.y_desc(panel.y_label.as_str());
         }
         mesh.draw().map_err(err)?;
+    }
+
+    // Shaded windows and vertical marks, under the curves.
+    let (ya, yb) = if log_y { (y0, y1) } else { (y0 * ky, y1 * ky) };
+    let mark = RGBColor(70, 70, 70);
+    for sp in &o.spans {
+        if !(sp.x0.is_finite() && sp.x1.is_finite()) {
+            continue;
+        }
+        let (a, b) = ((sp.x0 * kx).max(xa), (sp.x1 * kx).min(xb));
+        if a >= b {
+            continue;
+        }
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(a, ya), (b, yb)],
+                RGBColor(150, 150, 150).mix(0.15).filled(),
+            )))
+            .map_err(err)?;
+        if !sp.label.is_empty() {
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at((a, yb))
+                        + Text::new(sp.label.clone(), (4, 4), font(13.0).color(&mark)),
+                ))
+                .map_err(err)?;
+        }
+    }
+    for v in &o.vlines {
+        let vx = v.x * kx;
+        if !vx.is_finite() || vx < xa || vx > xb {
+            continue;
+        }
+        chart
+            .draw_series(DashedLineSeries::new(
+                vec![(vx, ya), (vx, yb)],
+                5,
+                4,
+                mark.stroke_width(1),
+            ))
+            .map_err(err)?;
+        if !v.label.is_empty() {
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at((vx, yb))
+                        + Text::new(v.label.clone(), (4, 18), font(13.0).color(&mark)),
+                ))
+                .map_err(err)?;
+        }
     }
 
     // Reference lines.
@@ -709,7 +881,7 @@ where
         }
     }
 
-    if any_named && o.legend != Legend::None {
+    if any_named && !matches!(o.legend, Legend::None | Legend::Above) {
         let pos = match o.legend {
             Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
             Legend::LowerRight => SeriesLabelPosition::LowerRight,
