@@ -101,6 +101,9 @@ pub struct Series {
     pub ys: Vec<f64>,
     /// Colour, width, dashes.
     pub style: LineStyle,
+    /// A band `(lo, hi)` at the same `xs`, shaded in the series' colour
+    /// under its line (an envelope; see [`Series::envelope`]).
+    pub band: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 impl Series {
@@ -111,7 +114,27 @@ impl Series {
             xs,
             ys,
             style: LineStyle::default(),
+            band: None,
         }
+    }
+
+    /// A fast oscillation drawn so that it can be read: its running mean as
+    /// the line and its running min–max as a shaded band, each over a
+    /// sliding window of `window` x units centred on `points` equally spaced
+    /// x values (the window slides, so the band does not zigzag with how
+    /// the periods fall into fixed bins). Non-finite samples are skipped;
+    /// a grid point with none in its window is a gap.
+    pub fn envelope(
+        name: impl Into<String>,
+        xs: &[f64],
+        ys: &[f64],
+        points: usize,
+        window: f64,
+    ) -> Self {
+        let e = running_envelope(xs, ys, points, window);
+        let mut s = Series::new(name, e.0, e.1);
+        s.band = Some((e.2, e.3));
+        s
     }
 
     /// Set the colour.
@@ -557,7 +580,10 @@ fn draw_panel<DB: DrawingBackend>(
             let ys = panel
                 .series
                 .iter()
-                .flat_map(|s| s.ys.iter().copied())
+                .flat_map(|s| {
+                    let band = s.band.iter().flat_map(|(l, h)| l.iter().chain(h));
+                    s.ys.iter().chain(band).copied()
+                })
                 .chain(o.hlines.iter().map(|h| h.y));
             data_range(ys, o.log_y, 0.05)
         }
@@ -680,6 +706,14 @@ fn draw_legend_strip<DB: DrawingBackend>(
     for (x, row, s, rgb) in placed {
         let y = 4 + row * ROW + ROW / 2;
         let line = RGBColor(rgb.0, rgb.1, rgb.2).stroke_width(s.style.width.max(2));
+        if s.band.is_some() {
+            strip
+                .draw(&Rectangle::new(
+                    [(x, y - 7), (x + SAMPLE, y + 7)],
+                    RGBColor(rgb.0, rgb.1, rgb.2).mix(0.25).filled(),
+                ))
+                .map_err(err)?;
+        }
         if s.style.dashed {
             strip
                 .draw(&DashedPathElement::new(
@@ -845,6 +879,36 @@ where
             }
         };
         let style = RGBColor(rgb.0, rgb.1, rgb.2).stroke_width(s.style.width);
+        if let Some((lo, hi)) = &s.band {
+            // One polygon per run of finite points: lo forward, hi back.
+            let fill = RGBColor(rgb.0, rgb.1, rgb.2).mix(0.25).filled();
+            let mut run: Vec<(f64, f64, f64)> = Vec::new();
+            let flush = |run: &mut Vec<(f64, f64, f64)>| -> Vec<(f64, f64)> {
+                let mut poly: Vec<(f64, f64)> = run.iter().map(|p| (p.0, p.1)).collect();
+                poly.extend(run.iter().rev().map(|p| (p.0, p.2)));
+                run.clear();
+                poly
+            };
+            let mut polys = Vec::new();
+            for ((&x, &l), &h) in s.xs.iter().zip(lo).zip(hi) {
+                let ok = x.is_finite() && l.is_finite() && h.is_finite() && !(log_y && l <= 0.0);
+                if ok {
+                    run.push((x * kx, l * ky, h * ky));
+                } else if run.len() > 1 {
+                    polys.push(flush(&mut run));
+                } else {
+                    run.clear();
+                }
+            }
+            if run.len() > 1 {
+                polys.push(flush(&mut run));
+            }
+            for poly in polys {
+                chart
+                    .draw_series(std::iter::once(Polygon::new(poly, fill)))
+                    .map_err(err)?;
+            }
+        }
         let mut labelled = false;
         for seg in segments(&s.xs, &s.ys, log_y, (kx, ky)) {
             let anno = if s.style.dashed {
@@ -1097,6 +1161,53 @@ pub fn colormap(t: f64) -> RGBColor {
 /// Split a curve into drawable runs (gaps at non-finite points, and at
 /// y <= 0 on a log axis).
 /// Coordinates are multiplied by `(kx, ky)`.
+/// `(x, mean, min, max)` of `ys` over a window of width `window` sliding
+/// across `points` equally spaced x values of the data's extent (see
+/// [`Series::envelope`]). `xs` must be sorted.
+pub fn running_envelope(
+    xs: &[f64],
+    ys: &[f64],
+    points: usize,
+    window: f64,
+) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
+    let finite: Vec<(f64, f64)> = xs
+        .iter()
+        .zip(ys)
+        .filter(|(x, y)| x.is_finite() && y.is_finite())
+        .map(|(x, y)| (*x, *y))
+        .collect();
+    let (mut gx, mut mean, mut lo, mut hi) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (Some(first), Some(last)) = (finite.first(), finite.last()) else {
+        return (gx, mean, lo, hi);
+    };
+    let (a, b) = (first.0, last.0);
+    let n = points.max(2);
+    let half = 0.5 * window.max(0.0);
+    let (mut i0, mut i1) = (0usize, 0usize);
+    for k in 0..n {
+        let x = a + (b - a) * k as f64 / (n - 1) as f64;
+        while i0 < finite.len() && finite[i0].0 < x - half {
+            i0 += 1;
+        }
+        i1 = i1.max(i0);
+        while i1 < finite.len() && finite[i1].0 <= x + half {
+            i1 += 1;
+        }
+        gx.push(x);
+        let w = &finite[i0..i1];
+        if w.is_empty() {
+            mean.push(f64::NAN);
+            lo.push(f64::NAN);
+            hi.push(f64::NAN);
+        } else {
+            mean.push(w.iter().map(|p| p.1).sum::<f64>() / w.len() as f64);
+            lo.push(w.iter().map(|p| p.1).fold(f64::INFINITY, f64::min));
+            hi.push(w.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max));
+        }
+    }
+    (gx, mean, lo, hi)
+}
+
 fn segments(xs: &[f64], ys: &[f64], log_y: bool, (kx, ky): (f64, f64)) -> Vec<Vec<(f64, f64)>> {
     let mut out = Vec::new();
     let mut cur = Vec::new();
@@ -1340,6 +1451,52 @@ mod tests {
         assert!(svg.starts_with("<svg") && svg.contains("θ [rad]") && svg.contains("Nutation"));
         // Only the two figures: no temporary files left behind.
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+    }
+
+    #[test]
+    fn running_envelope_of_a_fast_sine() {
+        // y = x/10 + sin(2π x): over a window of whole periods the mean is
+        // the trend x/10 (to the sampling), the band ±1 around it.
+        let xs: Vec<f64> = (0..=20_000).map(|i| i as f64 * 1e-3).collect();
+        let ys: Vec<f64> = xs.iter().map(|x| 0.1 * x + (2.0 * PI * x).sin()).collect();
+        let (gx, mean, lo, hi) = running_envelope(&xs, &ys, 41, 2.0);
+        assert_eq!(gx.len(), 41);
+        for k in 5..36 {
+            let trend = 0.1 * gx[k];
+            assert!(
+                (mean[k] - trend).abs() < 2e-3,
+                "mean {} at {}",
+                mean[k],
+                gx[k]
+            );
+            assert!(
+                (hi[k] - trend - 1.0).abs() < 0.11,
+                "hi {} at {}",
+                hi[k],
+                gx[k]
+            );
+            assert!(
+                (lo[k] - trend + 1.0).abs() < 0.11,
+                "lo {} at {}",
+                lo[k],
+                gx[k]
+            );
+        }
+        let (_tmp, dir) = out_dir();
+        let s = Series::envelope("y", &xs, &ys, 200, 2.0);
+        line_plot(
+            &dir.join("envelope"),
+            "Envelope",
+            "x",
+            "y",
+            &[
+                s.clone(),
+                Series::new("trend", gx.clone(), gx.iter().map(|x| 0.1 * x).collect()),
+            ],
+            &PlotOpts::default(),
+        )
+        .unwrap();
+        check_png(&dir.join("envelope.png"), DEFAULT_SIZE);
     }
 
     #[test]
