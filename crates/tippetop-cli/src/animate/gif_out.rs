@@ -57,6 +57,9 @@ const STAGE: V3 = [0.90, 0.89, 0.86];
 const GRID: V3 = [0.74, 0.73, 0.70];
 const TRACE: RGBColor = RGBColor(20, 120, 140);
 
+/// Colour of the applied-force arrow and its label.
+const FORCE: RGBColor = RGBColor(230, 110, 0);
+
 /// Colour of the stem (§26), before shading.
 const STEM: V3 = [0.62, 0.45, 0.25];
 
@@ -270,6 +273,48 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
     root.draw(&Circle::new(o, dot_r, RGBColor(200, 20, 30).filled()))
         .map_err(err)?;
 
+    // The applied force: an arrow on the floor from the contact point,
+    // 1.5 R long at the run's largest |H|, where not behind the sphere.
+    let fmag = f.force[0].hypot(f.force[1]);
+    if movie.force_max > 0.0 && fmag > 0.0 {
+        let len = 1.5 * rr * fmag / movie.force_max;
+        let dir = [f.force[0] / fmag, f.force[1] / fmag, 0.0];
+        let base = [f.contact[0], f.contact[1], 0.0];
+        let tip = axpy(base, len, dir);
+        let side = [-dir[1], dir[0], 0.0];
+        let head = 0.3 * rr.min(len);
+        let back = axpy(tip, -head, dir);
+        let style = FORCE.stroke_width(3);
+        let mut shaft: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+        for s in 0..=60 {
+            let p = axpy(base, s as f64 / 60.0 * (len - 0.5 * head), dir);
+            if cam.hidden_by_sphere(p, pose.centre, rr) {
+                shaft.push(Vec::new());
+            } else if let Some(last) = shaft.last_mut() {
+                last.push(screen(p));
+            }
+        }
+        // Each visible part is straight: draw it as one segment (a thick
+        // polyline of many short pieces would zigzag in the bitmap).
+        for part in shaft.iter().filter(|p| p.len() > 1) {
+            let ends = [part[0], part[part.len() - 1]];
+            for run in clipped_runs(&ends, w, h) {
+                root.draw(&PathElement::new(run, style)).map_err(err)?;
+            }
+        }
+        if !cam.hidden_by_sphere(tip, pose.centre, rr) {
+            root.draw(&Polygon::new(
+                vec![
+                    pixel(tip),
+                    pixel(axpy(back, 0.5 * head, side)),
+                    pixel(axpy(back, -0.5 * head, side)),
+                ],
+                FORCE.filled(),
+            ))
+            .map_err(err)?;
+        }
+    }
+
     let size = (h as f64 / 22.0).clamp(10.0, 28.0);
     let t_last = movie.frames[movie.frames.len() - 1].t;
     let (unit, uname) = time_unit(t_last);
@@ -283,6 +328,43 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
             l.clone(),
             (8, 6 + (n as f64 * size * 1.2) as i32),
             font(size),
+        ))
+        .map_err(err)?;
+    }
+    if movie.force_max > 0.0 {
+        root.draw(&Text::new(
+            format!("→ applied force H = {} N", tippetop::human::s4(fmag)),
+            (8, 6 + (2.0 * size * 1.2) as i32),
+            font(size * 0.8).color(&FORCE),
+        ))
+        .map_err(err)?;
+    }
+    // The scale bar (true length along the screen's horizontal, which is
+    // level in the lab: the camera is orthographic).
+    let (bar_m, bar_label) = &movie.scale_bar;
+    let bar_px = (bar_m * cam.scale).round() as i32;
+    if bar_px > 4 {
+        let (bx, by) = (
+            12,
+            h as i32 - (size * 0.9) as i32 - 14 - (size * 0.8) as i32,
+        );
+        let ink = RGBColor(40, 40, 40);
+        root.draw(&PathElement::new(
+            vec![(bx, by), (bx + bar_px, by)],
+            ink.stroke_width(3),
+        ))
+        .map_err(err)?;
+        for x in [bx, bx + bar_px] {
+            root.draw(&PathElement::new(
+                vec![(x, by - 5), (x, by + 5)],
+                ink.stroke_width(2),
+            ))
+            .map_err(err)?;
+        }
+        root.draw(&Text::new(
+            bar_label.clone(),
+            (bx + bar_px + 8, by - (size * 0.35) as i32),
+            font(size * 0.7).color(&ink),
         ))
         .map_err(err)?;
     }
@@ -518,6 +600,60 @@ pub fn write_gif(path: &Path, movie: &Movie, settings: &Settings) -> Result<GifS
 #[cfg(test)]
 mod tests {
     use super::*;
+    /// The applied force is an orange arrow on the floor from the contact
+    /// point: a pixel 1.0 R along it (screen-horizontal, outside the
+    /// sphere's silhouette) is orange with the force and not without.
+    #[test]
+    fn the_force_arrow_is_drawn() {
+        let (r, a) = (0.015, 0.0015);
+        let pose = Pose::new([0.0, 0.0, r - a], [1.0, 0.0, 0.0, 0.0], a);
+        let cam = Camera::standard(320, 240, r, pose.centre);
+        let dir = [cam.r[0], cam.r[1]];
+        let n = dir[0].hypot(dir[1]);
+        let frame = |f: f64| super::super::Frame {
+            t: 0.0,
+            theta: 0.0,
+            spin: 0.0,
+            com: [0.0, 0.0, r - a],
+            q: [1.0, 0.0, 0.0, 0.0],
+            contact: [0.0, 0.0],
+            force: [f * dir[0] / n, f * dir[1] / n],
+        };
+        let movie = |f: f64| Movie {
+            title: String::new(),
+            radius: r,
+            offset: a,
+            stem: None,
+            frames: vec![frame(f)],
+            frame_dt: 0.05,
+            fps: 20,
+            trace: vec![[0.0, 0.0, 0.0]],
+            theta_curve: vec![[0.0, 0.0]],
+            source: String::new(),
+            force_max: 1.0,
+            scale_bar: super::super::scale_bar(r),
+        };
+        let settings = Settings {
+            fps: 20,
+            frames: 1,
+            width: 320,
+            height: 240,
+        };
+        let (x, y, _) = cam.project([r * dir[0] / n, r * dir[1] / n, 0.0]);
+        let at = |f: f64| {
+            let mut buf = vec![0u8; 320 * 240 * 3];
+            render_frame(&movie(f), 0, &settings, &mut buf).unwrap();
+            let o = 3 * (y.round() as usize * 320 + x.round() as usize);
+            [buf[o], buf[o + 1], buf[o + 2]]
+        };
+        let with = at(1.0);
+        let without = at(0.0);
+        assert!(with[0] > 200 && with[2] < 60, "arrow pixel {with:?}");
+        assert!(
+            without[0].abs_diff(without[2]) < 40,
+            "no-force pixel {without:?}"
+        );
+    }
 
     /// The stem's ball (§26) is drawn: with the top upright (k = Z), the
     /// toy's stem (r2 = 2.5 mm at d2 = 16 mm, R = 15 mm, a = 1.5 mm) sticks
@@ -537,6 +673,7 @@ mod tests {
             com: [0.0, 0.0, r - a],
             q: [1.0, 0.0, 0.0, 0.0],
             contact: [0.0, 0.0],
+            force: [0.0, 0.0],
         };
         let movie = |stem| Movie {
             title: String::new(),
@@ -549,6 +686,8 @@ mod tests {
             trace: vec![[0.0, 0.0, 0.0]],
             theta_curve: vec![[0.0, 0.0]],
             source: String::new(),
+            force_max: 0.0,
+            scale_bar: super::super::scale_bar(r),
         };
         let settings = Settings {
             fps: 20,

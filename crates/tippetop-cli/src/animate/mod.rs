@@ -32,8 +32,11 @@ pub const ANIMATE_LONG_ABOUT: &str = "Animate the output of `tippetop run ... --
                   shows) and a white cap on the end the symmetry axis points to (the stem's
                   end of a real toy; with top.stem_radius the stem's ball too, shaded where it sticks
                   out of the sphere), the symmetry axis, the centre of mass (red dot, drawn
-                  through the sphere), the contact point's trace on the floor so far, a clock
-                  and the value of theta; an inset map of the whole trace when it is longer
+                  through the sphere), the contact point's trace on the floor so far, the
+                  applied force as an orange arrow on the floor from the contact point (1.5 R
+                  long at the run's largest |H|) with its magnitude [N], a scale bar (a round
+                  length near R: true along the screen's horizontal), a clock and the value of
+                  theta; an inset map of the whole trace when it is longer
                   than the view; fixed oblique orthographic camera (azimuth -65 deg from the lab
                   X axis, elevation 25 deg) that follows the top across the floor; loops
   viewer.html     one self-contained file (no network; open it in any browser, from the
@@ -171,6 +174,9 @@ pub struct Frame {
     pub q: [f64; 4],
     /// Contact point `(x_P, y_P)` on the plane \[m\].
     pub contact: [f64; 2],
+    /// Applied force `(H_x, H_y)` at the contact point \[N\] (zero for a
+    /// trajectory.csv without the columns).
+    pub force: [f64; 2],
 }
 
 impl Frame {
@@ -182,6 +188,7 @@ impl Frame {
             com: [s.x, s.y, s.z],
             q: normalized([s.qw, s.qx, s.qy, s.qz]),
             contact: [s.xp, s.yp],
+            force: [s.hx, s.hy],
         }
     }
 }
@@ -213,6 +220,44 @@ pub struct Movie {
     pub theta_curve: Vec<[f64; 2]>,
     /// How the frames were obtained (for the printed summary).
     pub source: String,
+    /// Largest |H| over the frames \[N\] (0: no applied force): the
+    /// force arrow is 1.5 R long at this magnitude.
+    pub force_max: f64,
+    /// The scale bar: a round length near R \[m\] and its label.
+    pub scale_bar: (f64, String),
+}
+
+/// A round length (1, 2 or 5 times a power of ten) at most `r` \[m\], and
+/// its label with an SI prefix (`"5 mm"`, `"200 pm"`).
+pub fn scale_bar(r: f64) -> (f64, String) {
+    if !(r.is_finite() && r > 0.0) {
+        return (0.0, String::new());
+    }
+    let p = 10f64.powf(r.log10().floor());
+    let m = [5.0, 2.0, 1.0]
+        .into_iter()
+        .find(|m| m * p <= r * (1.0 + 1e-12))
+        .unwrap_or(1.0);
+    let len = m * p;
+    let prefixes = [
+        (1.0, "m"),
+        (1e-3, "mm"),
+        (1e-6, "µm"),
+        (1e-9, "nm"),
+        (1e-12, "pm"),
+        (1e-15, "fm"),
+    ];
+    let (unit, name) = prefixes
+        .into_iter()
+        .find(|(u, _)| len >= u * (1.0 - 1e-9))
+        .unwrap_or((1e-15, "fm"));
+    let v = len / unit;
+    let text = if (v - v.round()).abs() < 1e-9 {
+        format!("{}", v.round())
+    } else {
+        format!("{v}")
+    };
+    (len, format!("{text} {name}"))
 }
 
 /// Largest number of rows kept for the trace and for θ(t).
@@ -250,6 +295,8 @@ fn parse_rows(path: &Path, text: &str) -> std::result::Result<Rows, String> {
             )
         })?;
     }
+    // The applied force (optional: older files lack it).
+    let force_idx = ["hx", "hy"].map(|name| header.iter().position(|h| *h == name));
     let mut frames = Vec::new();
     for (n, line) in lines.enumerate() {
         if line.trim().is_empty() {
@@ -274,6 +321,25 @@ fn parse_rows(path: &Path, text: &str) -> std::result::Result<Rows, String> {
         {
             return Err(bad(path, format!("row {}: time goes backwards", n + 2)));
         }
+        let mut force = [0.0; 2];
+        for (k, i) in force_idx.iter().enumerate() {
+            if let Some(i) = i {
+                force[k] = fields
+                    .get(*i)
+                    .and_then(|f| f.trim().parse::<f64>().ok())
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| {
+                        bad(
+                            path,
+                            format!(
+                                "row {}: column {} is not a finite number",
+                                n + 2,
+                                ["hx", "hy"][k]
+                            ),
+                        )
+                    })?;
+            }
+        }
         frames.push(Frame {
             t: v[0],
             theta: v[1],
@@ -281,6 +347,7 @@ fn parse_rows(path: &Path, text: &str) -> std::result::Result<Rows, String> {
             com: [v[3], v[4], v[5]],
             q: normalized([v[6], v[7], v[8], v[9]]),
             contact: [v[10], v[11]],
+            force,
         });
     }
     if frames.len() < 2 || frames[frames.len() - 1].t <= frames[0].t {
@@ -350,6 +417,8 @@ fn interpolate(rows: &[Frame], t: f64) -> Frame {
         com: std::array::from_fn(|i| l(a.com[i], b.com[i])),
         q: slerp(a.q, b.q, s),
         contact: std::array::from_fn(|i| l(a.contact[i], b.contact[i])),
+        // A force switches rather than glides: the row before's value.
+        force: a.force,
     }
 }
 
@@ -456,12 +525,17 @@ pub fn load_movie(dir: &Path, settings: &Settings) -> std::result::Result<Movie,
         radius: scenario.top.radius,
         offset: scenario.top.offset,
         stem: scenario.top.stem.map(|st| (st.radius, st.distance)),
-        frames,
         frame_dt,
         fps: settings.fps,
         trace: thin(&trace, TRACE_POINTS),
         theta_curve: thin(&theta_curve, TRACE_POINTS),
         source,
+        force_max: frames
+            .iter()
+            .map(|f| f.force[0].hypot(f.force[1]))
+            .fold(0.0, f64::max),
+        scale_bar: scale_bar(scenario.top.radius),
+        frames,
     })
 }
 
@@ -537,6 +611,16 @@ pub fn run(args: &AnimateArgs, quiet: bool) -> Result<ExitCode> {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn scale_bar_is_a_round_length_below_r() {
+        assert_eq!(scale_bar(0.015), (0.01, "10 mm".to_string()));
+        assert_eq!(scale_bar(3.55e-10).1, "200 pm");
+        assert!((scale_bar(3.55e-10).0 - 2e-10).abs() < 1e-24);
+        assert_eq!(scale_bar(0.005).1, "5 mm");
+        assert_eq!(scale_bar(1.0).1, "1 m");
+        assert_eq!(scale_bar(2.5e-6).1, "2 µm");
+    }
     use super::*;
 
     fn args(fps: &str, duration: &str, size: &str) -> AnimateArgs {

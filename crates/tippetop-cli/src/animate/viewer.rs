@@ -42,6 +42,9 @@ pub fn html(movie: &Movie, settings: &Settings) -> Result<String> {
         "com": f.iter().map(|x| x.com).collect::<Vec<_>>(),
         "q": f.iter().map(|x| x.q).collect::<Vec<_>>(),
         "contact": f.iter().map(|x| x.contact).collect::<Vec<_>>(),
+        "force": f.iter().map(|x| x.force).collect::<Vec<_>>(),
+        "force_max": movie.force_max,
+        "scale_bar": [movie.scale_bar.0, movie.scale_bar.1.clone()],
         "trace": movie.trace,
         "theta_curve": movie.theta_curve,
     });
