@@ -5,6 +5,7 @@ use std::io::IsTerminal;
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use tippetop::human;
 
 /// True when progress should be drawn: not `quiet` and stderr is a terminal.
 pub fn visible(quiet: bool) -> bool {
@@ -54,16 +55,27 @@ pub const LOG_EVERY_SECONDS: u64 = 10;
 type LogSink = Box<dyn FnMut(&str)>;
 
 /// Progress of one simulation, fed by
-/// [`tippetop::simulate_with_progress`]: a bar on a terminal; without one
-/// (a log, a batch job) a line `simulating: 43 % (t = 4.3 s of 10 s)` on
-/// stderr every [`LOG_EVERY_SECONDS`] seconds, so a long run shows it is
-/// alive; nothing with `--quiet`.
+/// [`tippetop::simulate_with_progress`]: a bar on a terminal (with the
+/// simulated time); without one (a log, a batch job) a line every
+/// [`LOG_EVERY_SECONDS`] seconds on stderr, `simulating: 1.2 % (t = 12.3 ms
+/// of 1.00 s; 2.27 ms of run time per second, 7 min 15 s left at that
+/// rate)`, so a long run shows it is alive and when it will end; nothing
+/// with `--quiet`. When the run's time advances ten times (then a hundred,
+/// ...) slower than over its first interval, it says so once per decade:
+/// the step size is falling by decades, which is how a state running away
+/// (a spin or a stiffness growing without bound) looks before it fails.
 pub struct RunProgress {
     bar: ProgressBar,
     log: Option<LogSink>,
     every: Duration,
     t_end: f64,
     last_line: std::time::Instant,
+    /// (wall time, fraction) at the last measured interval.
+    last: (std::time::Instant, f64),
+    /// Simulated seconds per wall second over the first interval.
+    first_rate: Option<f64>,
+    /// Decades of slow-down already reported.
+    warned_decades: i32,
 }
 
 impl RunProgress {
@@ -83,28 +95,53 @@ impl RunProgress {
         let bar = ProgressBar::with_draw_target(Some(1000), target(quiet));
         bar.set_style(
             ProgressStyle::with_template(
-                "simulating [{bar:40}] {percent:>3} % [{elapsed} < {eta}]",
+                "simulating [{bar:40}] {percent:>3} % {msg} [{elapsed} < {eta}]",
             )
             .expect("valid template")
             .progress_chars("=> "),
         );
+        let now = std::time::Instant::now();
         RunProgress {
             bar,
             log,
             every,
             t_end,
-            last_line: std::time::Instant::now(),
+            last_line: now,
+            last: (now, 0.0),
+            first_rate: None,
+            warned_decades: 0,
         }
     }
 
     /// The run has done `fraction` (in `[0, 1]`) of its time span.
     pub fn update(&mut self, fraction: f64) {
         self.bar.set_position((fraction * 1000.0) as u64);
+        let now = std::time::Instant::now();
+        let wall = now.duration_since(self.last.0).as_secs_f64();
+        if wall < self.every.as_secs_f64().max(1e-9) && !self.every.is_zero() {
+            return;
+        }
+        // Simulated seconds per wall second over this interval.
+        let rate = (fraction - self.last.1) * self.t_end / wall.max(1e-9);
+        self.last = (now, fraction);
+        self.bar.set_message(format!(
+            "t = {} of {}",
+            human::si(fraction * self.t_end, "s", 3),
+            human::si(self.t_end, "s", 3)
+        ));
+        let first = *self.first_rate.get_or_insert(rate);
+        let warning =
+            slowdown_warning(first, rate, &mut self.warned_decades, fraction * self.t_end);
         if let Some(log) = &mut self.log {
-            if self.last_line.elapsed() >= self.every {
-                self.last_line = std::time::Instant::now();
-                log(&log_line(fraction, self.t_end));
+            if self.last_line.elapsed() >= self.every || self.every.is_zero() {
+                self.last_line = now;
+                log(&log_line(fraction, self.t_end, rate));
             }
+            if let Some(w) = &warning {
+                log(w);
+            }
+        } else if let Some(w) = warning {
+            self.bar.println(w);
         }
     }
 
@@ -114,12 +151,54 @@ impl RunProgress {
     }
 }
 
-/// The progress line for a log: `simulating: 43 % (t = 4.3 s of 10 s)`.
-pub fn log_line(fraction: f64, t_end: f64) -> String {
+/// The warning, once per decade, when the run's time advances 10^n times
+/// slower than at first (`rate` against `first` \[s of run time / s\]).
+fn slowdown_warning(first: f64, rate: f64, warned: &mut i32, t: f64) -> Option<String> {
+    if !(first > 0.0 && rate.is_finite()) {
+        return None;
+    }
+    let decades = if rate > 0.0 {
+        (first / rate).log10().floor() as i32
+    } else {
+        *warned + 1
+    };
+    if decades <= *warned || decades < 1 {
+        return None;
+    }
+    *warned = decades;
+    let factor = format!("{:.0}", 10f64.powi(decades));
+    Some(format!(
+        "warning: at t = {} the run advances {factor}x slower than at its start ({} of run time per second, was {}): \
+         its step size is falling by decades, as when the state runs away (a spin or a stiffness growing \
+         without bound); it stops at solver.max_steps if it does not recover",
+        human::si(t, "s", 3),
+        human::si(rate, "s", 3),
+        human::si(first, "s", 3)
+    ))
+}
+
+/// The progress line for a log: `simulating: 43.0 % (t = 4.30 s of 10.0 s;
+/// 1.20 s of run time per second, 4 s left at that rate)`.
+pub fn log_line(fraction: f64, t_end: f64, rate: f64) -> String {
+    let pct = 100.0 * fraction;
+    let left = if rate > 0.0 {
+        format!(
+            "{} left at that rate",
+            human::duration((1.0 - fraction) * t_end / rate)
+        )
+    } else {
+        "no progress in this interval".into()
+    };
     format!(
-        "simulating: {:.0} % (t = {:.4e} s of {t_end} s)",
-        100.0 * fraction,
-        fraction * t_end
+        "simulating: {} % (t = {} of {}; {} of run time per second, {left})",
+        if pct < 10.0 {
+            format!("{pct:.1}")
+        } else {
+            format!("{pct:.0}")
+        },
+        human::si(fraction * t_end, "s", 3),
+        human::si(t_end, "s", 3),
+        human::si(rate, "s", 3),
     )
 }
 
@@ -128,9 +207,10 @@ mod tests {
     use std::{cell::RefCell, rc::Rc, time::Duration};
 
     /// Without a terminal the run logs a line per interval (here: every
-    /// update), with the percentage and the simulated time.
+    /// update), with the percentage, the simulated time, the rate and what
+    /// is left; when the rate falls by a decade it warns, once per decade.
     #[test]
-    fn run_progress_logs_lines() {
+    fn run_progress_logs_lines_and_warns_of_a_slowdown() {
         let lines = Rc::new(RefCell::new(Vec::<String>::new()));
         let sink = lines.clone();
         let mut p = super::RunProgress::with_log(
@@ -144,13 +224,19 @@ mod tests {
         p.update(0.25);
         p.update(0.5);
         p.finish();
-        assert_eq!(
-            *lines.borrow(),
-            [
-                "simulating: 25 % (t = 5.0000e-1 s of 2 s)",
-                "simulating: 50 % (t = 1.0000e0 s of 2 s)"
-            ]
+        let l = lines.borrow();
+        assert_eq!(l.len(), 2, "{l:?}");
+        assert!(
+            l[0].starts_with("simulating: 25 % (t = 500 ms of 2.00 s; "),
+            "{}",
+            l[0]
         );
+        assert!(
+            l[1].starts_with("simulating: 50 % (t = 1.00 s of 2.00 s; "),
+            "{}",
+            l[1]
+        );
+        assert!(l[1].contains("of run time per second") && l[1].contains("left at that rate"));
         // A long interval: nothing yet.
         let lines = Rc::new(RefCell::new(Vec::<String>::new()));
         let sink = lines.clone();
@@ -167,10 +253,29 @@ mod tests {
     }
 
     #[test]
+    fn slowdown_warns_once_per_decade() {
+        let mut warned = 0;
+        assert!(super::slowdown_warning(1.0, 0.5, &mut warned, 1.0).is_none());
+        let w = super::slowdown_warning(1.0, 0.09, &mut warned, 1.0).unwrap();
+        assert!(
+            w.starts_with("warning: at t = 1.00 s the run advances 10x slower"),
+            "{w}"
+        );
+        assert!(super::slowdown_warning(1.0, 0.05, &mut warned, 2.0).is_none());
+        let w = super::slowdown_warning(1.0, 0.001, &mut warned, 3.0).unwrap();
+        assert!(w.contains("1000x slower"), "{w}");
+        assert!(super::slowdown_warning(1.0, 0.0, &mut warned, 3.0).is_some());
+    }
+
+    #[test]
     fn log_line_reads_well() {
         assert_eq!(
-            super::log_line(0.43, 10.0),
-            "simulating: 43 % (t = 4.3000e0 s of 10 s)"
+            super::log_line(0.43, 10.0, 1.2),
+            "simulating: 43 % (t = 4.30 s of 10.0 s; 1.20 s of run time per second, 5 s left at that rate)"
+        );
+        assert_eq!(
+            super::log_line(0.012, 1.0, 2.27e-3),
+            "simulating: 1.2 % (t = 12.0 ms of 1.00 s; 2.27 ms of run time per second, 7 min 15 s left at that rate)"
         );
     }
 }

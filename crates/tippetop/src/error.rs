@@ -17,7 +17,7 @@ pub enum Error {
     /// A run that failed while integrating; `t` is the time of failure \[s\].
     /// The state there is the last row of the run's output (the summary's
     /// `*_final` values, [`crate::Simulation::state`]).
-    #[error("at t = {t:e} s: {why}")]
+    #[error("at t = {} s: {why}", crate::human::s4(*t))]
     Runtime {
         /// Simulated time of the failure \[s\].
         t: f64,

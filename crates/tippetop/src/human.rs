@@ -44,6 +44,61 @@ pub fn complex(re: f64, im: f64) -> String {
     format!("{}{sign}{}i", s4(re), s4(im.abs()))
 }
 
+/// `x` in `unit` with an SI prefix and `digits` significant figures, the
+/// mantissa in [1, 1000): `si(3.081e-6, "s", 4)` is `3.081 µs`,
+/// `si(1.414e-21, "N", 4)` `1.414 zN`, from yocto (1e-24) to yotta
+/// (1e24); outside that, and for 0 or what is not finite, [`sig`] with the
+/// bare unit.
+pub fn si(x: f64, unit: &str, digits: usize) -> String {
+    const PREFIXES: [&str; 17] = [
+        "y", "z", "a", "f", "p", "n", "µ", "m", "", "k", "M", "G", "T", "P", "E", "Z", "Y",
+    ];
+    if x == 0.0 || !x.is_finite() {
+        return format!("{} {unit}", sig(x, digits));
+    }
+    // The exponent after rounding (999.96 ms is 1.000 s).
+    let sci = format!("{:.*e}", digits.clamp(1, 17) - 1, x.abs());
+    let exp: i32 = sci
+        .split_once('e')
+        .expect("`e` format")
+        .1
+        .parse()
+        .expect("exponent");
+    let k = exp.div_euclid(3);
+    if !(-8..=8).contains(&k) {
+        return format!("{} {unit}", sig(x, digits));
+    }
+    // The mantissa rounded to `digits` figures, written without a power
+    // of ten (it is in [1, 1000): `420`, not `4.2e2`).
+    let digits = digits.clamp(1, 17);
+    let v: f64 = format!("{:.*e}", digits - 1, x / 10f64.powi(3 * k))
+        .parse()
+        .expect("a number");
+    let decimals = (digits as i32 - 1 - (exp - 3 * k)).max(0) as usize;
+    format!("{v:.decimals$} {}{unit}", PREFIXES[(k + 8) as usize])
+}
+
+/// A wall-clock duration for people: `42 s`, `3 min 20 s`, `2 h 05 min`,
+/// `3.2 days`; under a second as [`si`] (`350 ms`).
+pub fn duration(seconds: f64) -> String {
+    if !seconds.is_finite() || seconds < 0.0 {
+        return "unknown".into();
+    }
+    if seconds < 1.0 {
+        return si(seconds, "s", 2);
+    }
+    let s = seconds.round() as u64;
+    if s < 60 {
+        format!("{s} s")
+    } else if s < 3600 {
+        format!("{} min {:02} s", s / 60, s % 60)
+    } else if s < 48 * 3600 {
+        format!("{} h {:02} min", s / 3600, (s % 3600) / 60)
+    } else {
+        format!("{} days", sig(seconds / 86400.0, 2))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -76,5 +131,25 @@ mod tests {
         assert_eq!(sig(1.2207963267948965, 3), "1.22");
         assert_eq!(complex(0.34360, -107.32), "0.3436-107.3i");
         assert_eq!(complex(-2.6681e-4, 0.503), "-2.668e-4+0.5030i");
+    }
+
+    #[test]
+    fn si_prefixes_and_durations() {
+        assert_eq!(si(3.081e-6, "s", 4), "3.081 µs");
+        assert_eq!(si(1.414e-22, "N", 4), "141.4 yN");
+        assert_eq!(si(1.414e-21, "N", 4), "1.414 zN");
+        assert_eq!(si(0.0123, "s", 3), "12.3 ms");
+        assert_eq!(si(0.99996, "s", 4), "1.000 s");
+        assert_eq!(si(1.0, "s", 3), "1.00 s");
+        assert_eq!(si(2.5e9, "rad/s", 2), "2.5 Grad/s");
+        assert_eq!(si(-4.2e-10, "m", 2), "-420 pm");
+        assert_eq!(si(0.0, "s", 3), "0 s");
+        assert_eq!(si(1e-30, "s", 3), "1.00e-30 s");
+        assert_eq!(duration(0.35), "350 ms");
+        assert_eq!(duration(42.4), "42 s");
+        assert_eq!(duration(200.0), "3 min 20 s");
+        assert_eq!(duration(7500.0), "2 h 05 min");
+        assert_eq!(duration(3.2 * 86400.0), "3.2 days");
+        assert_eq!(duration(f64::INFINITY), "unknown");
     }
 }

@@ -68,7 +68,8 @@ impl std::fmt::Display for ModelError {
             ),
             ModelError::Painleve { theta, solutions } => write!(
                 f,
-                "Painleve paradox at theta = {theta}: the theta_ddot-N system with friction has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists"
+                "Painleve paradox at theta = {} rad: the theta_ddot-N system with friction has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists",
+                crate::human::s4(*theta)
             ),
         }
     }

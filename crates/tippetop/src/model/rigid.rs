@@ -302,11 +302,13 @@ impl std::fmt::Display for RigidError {
         match self {
             RigidError::Painleve { theta, solutions } => write!(
                 f,
-                "Painleve paradox at theta = {theta}: the N equation with friction has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists"
+                "Painleve paradox at theta = {} rad: the N equation with friction has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists",
+                crate::human::s4(*theta)
             ),
             RigidError::ImpactJam { theta } => write!(
                 f,
-                "touchdown at theta = {theta}: the sliding friction impulse has a non-positive effective mass (impact Painleve case); no impulse satisfies the impact law"
+                "touchdown at theta = {} rad: the sliding friction impulse has a non-positive effective mass (impact Painleve case); no impulse satisfies the impact law",
+                crate::human::s4(*theta)
             ),
             RigidError::Chattering { reversals } => write!(
                 f,

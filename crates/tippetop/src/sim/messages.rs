@@ -72,7 +72,8 @@ pub(crate) fn law_phrase(law: crate::FrictionLaw) -> String {
 /// of equations), naming the run's law.
 pub(crate) fn painleve_why(sc: &Scenario, system: &str, theta: f64, solutions: usize) -> String {
     format!(
-        "Painleve paradox at theta = {theta}: the {system} with {} has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists",
+        "Painleve paradox at theta = {} rad: the {system} with {} has {solutions} consistent solutions (m a h mu sin(theta)/A too large); no unique motion exists",
+        crate::human::s4(theta),
         law_phrase(sc.surface.law)
     )
 }
