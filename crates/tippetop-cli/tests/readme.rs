@@ -1,7 +1,7 @@
-//! The README is part of the interface: its "every key explained" scenario
-//! must run as written and name every key the validator accepts, its
-//! `trajectory.csv` table must list every column, and its example commands
-//! must run.
+//! The README and the user guide (docs/guide.md) are part of the interface:
+//! the guide's "every key" scenario must run as written and name every key
+//! the validator accepts, its `trajectory.csv` table must list every column,
+//! and the example commands of both must run.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -13,9 +13,20 @@ fn tippetop() -> Command {
     Command::cargo_bin("tippetop").unwrap()
 }
 
-fn readme() -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../README.md");
+/// The text of `rel`, a path from the repository's root.
+fn doc(rel: &str) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(rel);
     fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn readme() -> String {
+    doc("README.md")
+}
+
+fn guide() -> String {
+    doc("docs/guide.md")
 }
 
 /// The code blocks of `text` fenced with ```` ```LANG ````, in order.
@@ -47,19 +58,23 @@ fn blocks(text: &str, lang: &str) -> Vec<String> {
     out
 }
 
-/// The scenario block of the README (the one that starts with `preset =`).
+/// The scenario block of the guide (the one with `[solver]` and `[top]`).
 fn every_key_block() -> String {
-    let all = blocks(&readme(), "toml");
+    let all = blocks(&guide(), "toml");
     let found: Vec<_> = all
         .into_iter()
         .filter(|b| b.contains("[solver]") && b.contains("[top]"))
         .collect();
-    assert_eq!(found.len(), 1, "expected one full scenario block in README");
+    assert_eq!(
+        found.len(),
+        1,
+        "expected one full scenario block in docs/guide.md"
+    );
     found[0].clone()
 }
 
 /// The list the validator prints after `marker` in its error for `--set
-/// SET` (an independent source: the README is not consulted).
+/// SET` (an independent source: the docs are not consulted).
 fn validator_list(set: &str, marker: &str) -> Vec<String> {
     let out = tippetop()
         .args(["run", "--preset", "nano", "--set", set, "--out"])
@@ -141,7 +156,7 @@ fn every_key_scenario_runs_as_written() {
         .unwrap();
     assert!(
         o.status.success(),
-        "README scenario failed: {}",
+        "docs/guide.md scenario failed: {}",
         String::from_utf8_lossy(&o.stderr)
     );
     let summary = fs::read_to_string(out.join("summary.json")).unwrap();
@@ -157,17 +172,19 @@ fn every_key_scenario_names_every_valid_key() {
         for key in valid_keys(&table) {
             assert!(
                 documented.contains(&(table.clone(), key.clone())),
-                "README's scenario block does not explain {table}.{key}"
+                "docs/guide.md's scenario block does not explain {table}.{key}"
             );
         }
     }
 }
 
 #[test]
-fn readme_lists_every_trajectory_column_with_a_unit() {
-    let text = readme();
+fn guide_lists_every_trajectory_column_with_a_unit() {
+    let text = guide();
     let heading = "The columns of `trajectory.csv`";
-    let text = &text[text.find(heading).expect("README lacks the column table")..];
+    let text = &text[text
+        .find(heading)
+        .expect("docs/guide.md lacks the column table")..];
     for col in tippetop::trajectory::COLUMNS {
         // A row of the column table: "| `col` | unit | meaning |", or a
         // row shared by several columns ("| `ux`, `uy` | m/s | ...").
@@ -177,7 +194,7 @@ fn readme_lists_every_trajectory_column_with_a_unit() {
                     .nth(1)
                     .is_some_and(|c| c.split(',').any(|n| n.trim() == format!("`{col}`")))
         });
-        let row = row.unwrap_or_else(|| panic!("README has no table row for column {col}"));
+        let row = row.unwrap_or_else(|| panic!("docs/guide.md has no table row for column {col}"));
         let cells: Vec<&str> = row.split('|').map(str::trim).collect();
         assert!(cells.len() >= 4, "{row}");
         assert!(!cells[2].is_empty(), "no unit for {col}: {row}");
@@ -185,13 +202,13 @@ fn readme_lists_every_trajectory_column_with_a_unit() {
     }
 }
 
-/// Every `cargo run --release -- ARGS` line of the README's shell blocks runs
-/// with the built binary (exit 0), `--out` redirected to a temporary
-/// directory.
+/// Every `cargo run --release -- ARGS` line of the shell blocks of the
+/// README, then of the guide, runs with the built binary (exit 0), `--out`
+/// redirected to a temporary directory (a command both give runs once).
 #[test]
 fn readme_commands_run() {
-    let text = readme();
-    let mut commands = Vec::new();
+    let text = readme() + &guide();
+    let mut commands: Vec<Vec<String>> = Vec::new();
     for b in blocks(&text, "") {
         let joined = b.replace("\\\n", " ");
         for line in joined.lines() {
@@ -203,7 +220,9 @@ fn readme_commands_run() {
                     .split_whitespace()
                     .map(|a| a.replace('"', ""))
                     .collect();
-                commands.push(args);
+                if !commands.contains(&args) {
+                    commands.push(args);
+                }
             }
         }
     }
