@@ -271,3 +271,119 @@ fn readme_commands_run() {
     }
     let _ = fs::remove_dir_all(&base);
 }
+
+/// The GitHub anchor of a heading: lower case, letters, digits, `_` and
+/// `-` kept, spaces as `-`, everything else dropped; a repeated heading
+/// gets `-1`, `-2`, ...
+fn slug(heading: &str) -> String {
+    heading
+        .chars()
+        .filter_map(|c| match c {
+            ' ' => Some('-'),
+            c if c.is_alphanumeric() || c == '_' || c == '-' => Some(c),
+            _ => None,
+        })
+        .flat_map(char::to_lowercase)
+        .collect()
+}
+
+/// The anchors of a Markdown text: its headings' slugs (outside code
+/// blocks) and every `<a id="...">`.
+fn anchors(text: &str) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    let mut seen: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
+    let mut fenced = false;
+    for line in text.lines() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        if let Some(h) = line.strip_prefix('#') {
+            let h = h.trim_start_matches('#');
+            if h.starts_with(' ') {
+                let s = slug(h.trim());
+                let n = seen.entry(s.clone()).or_insert(0);
+                out.insert(if *n == 0 {
+                    s.clone()
+                } else {
+                    format!("{s}-{n}")
+                });
+                *n += 1;
+            }
+        }
+        let mut rest = line;
+        while let Some(i) = rest.find("<a id=\"") {
+            rest = &rest[i + 7..];
+            if let Some(j) = rest.find('"') {
+                out.insert(rest[..j].to_string());
+            }
+        }
+    }
+    out
+}
+
+/// Every relative link of README.md and docs/*.md (`[text](target)`, outside
+/// code blocks) names a file that exists, and its `#anchor`, if any, is a
+/// heading or an `<a id>` of that file (of the same file for `(#anchor)`).
+#[test]
+fn doc_links_resolve() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut files = vec![root.join("README.md")];
+    for e in fs::read_dir(root.join("docs")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "md") {
+            files.push(p);
+        }
+    }
+    let mut checked = 0;
+    let mut bad = Vec::new();
+    for file in &files {
+        let text = fs::read_to_string(file).unwrap();
+        let mut fenced = false;
+        for (n, line) in text.lines().enumerate() {
+            if line.trim_start().starts_with("```") {
+                fenced = !fenced;
+                continue;
+            }
+            if fenced {
+                continue;
+            }
+            // Inline code is not a link: keep the text between code spans.
+            let prose: String = line.split('`').step_by(2).collect::<Vec<_>>().join(" ");
+            let mut rest = prose.as_str();
+            while let Some(i) = rest.find("](") {
+                rest = &rest[i + 2..];
+                let Some(j) = rest.find(')') else { break };
+                let target = &rest[..j];
+                rest = &rest[j..];
+                if target.contains("://") || target.starts_with("mailto:") {
+                    continue;
+                }
+                let (path, anchor) = match target.split_once('#') {
+                    Some((p, a)) => (p, Some(a)),
+                    None => (target, None),
+                };
+                let dest = if path.is_empty() {
+                    file.clone()
+                } else {
+                    file.parent().unwrap().join(path)
+                };
+                checked += 1;
+                let at = format!("{}:{}: ({target})", file.display(), n + 1);
+                if !dest.exists() {
+                    bad.push(format!("{at}: no such file"));
+                } else if let Some(a) = anchor {
+                    let t = fs::read_to_string(&dest).unwrap_or_default();
+                    if !anchors(&t).contains(a) {
+                        bad.push(format!("{at}: no anchor #{a}"));
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked >= 20, "only {checked} links found");
+    assert!(bad.is_empty(), "broken links:\n{}", bad.join("\n"));
+}

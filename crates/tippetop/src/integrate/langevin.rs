@@ -20,7 +20,7 @@
 //! whatever the friction matrix) and the deterministic part (RK4: its error
 //! in the invariant measure is of order 4) keeps the properties that
 //! matter: a symmetric (Strang) splitting, weak order 2, the right
-//! velocity distribution for any configuration (docs/physics.md §21; the
+//! velocity distribution for any configuration (docs/physics.md#langevin; the
 //! order is measured in tests/physics/thermal.rs).
 //!
 //! `solver.method = "brownian"` uses the same engine with one

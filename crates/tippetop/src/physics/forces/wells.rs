@@ -1,4 +1,4 @@
-//! Orientation wells, the `[[well]]` entries (docs/physics.md §20): each a
+//! Orientation wells, the `[[well]]` entries (docs/physics.md#wells): each a
 //! Gaussian well in the nutation angle θ, `theta` θ_i \[rad\], `depth` d_i
 //! \[J\], `width` w_i \[rad\], with the potential
 //!
@@ -38,7 +38,7 @@
 //!   tilt; at exactly `sin θ = 0` its direction is undefined and the models
 //!   apply none (a peak's tip: an equilibrium, unstable). `U` is continuous,
 //!   so the energy balance holds through the pole; the reduced model stops
-//!   near it anyway (docs/physics.md §9).
+//!   near it anyway (docs/physics.md#failures).
 
 use super::{Applied, Energy, ForceTerm, Kind, Properties};
 
@@ -123,7 +123,7 @@ impl ForceTerm for Wells {
     }
     fn properties(&self) -> Properties {
         Properties {
-            closure: "a torque -U'(theta) about y (perpendicular to k and Z): G += tau_y, Q += a s tau_y/A (docs/physics.md §20)",
+            closure: "a torque -U'(theta) about y (perpendicular to k and Z): G += tau_y, Q += a s tau_y/A (docs/physics.md#wells)",
             conserves_jellett: true,
             energy: Energy::Potential,
         }
