@@ -93,7 +93,7 @@ impl<const N: usize> Langevin<N> {
     /// `k h`, else the next multiple of `h`. The slack grows with `k`: `t/h`
     /// of a grid time `k h` is `k` only to a few ulps of `k` (2e-9 at
     /// `k = 1e7`), and a fixed slack of 1e-9 then put `t` just below `k`
-    /// and returned `t` itself (zero-length steps, found in session 9).
+    /// and returned `t` itself (zero-length steps).
     fn next_grid(&self, t: f64) -> f64 {
         let x = t / self.h;
         let slack = LANDING_SLACK.max(8.0 * f64::EPSILON * x.abs());

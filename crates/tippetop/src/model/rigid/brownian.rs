@@ -170,8 +170,8 @@ impl Rigid {
         let Some(b) = self.thermal else { return Ok(()) };
         // A step of zero length is the identity (the noise's amplitude
         // `sqrt(2 kT/(γ h))` would be infinite). The engine no longer takes
-        // such steps (its landing slack grows with the step number since
-        // session 9); this guard stays for direct callers.
+        // such steps (its landing slack grows with the step
+        // number); this guard stays for direct callers.
         if h.is_nan() || h <= 0.0 {
             return Ok(());
         }
@@ -501,7 +501,7 @@ mod tests {
     /// A scheme of weak order `p` has `E_h − E_{h/2} ∝ h^p`, so successive
     /// differences shrink by `2^p`. Bossy, Gobet & Talay (2004) prove order
     /// 1 for the symmetrised reflected Euler scheme in R^d. Measured
-    /// (200 000 paths, session 9; docs/physics.md#brownian-wall): the gap's
+    /// (200 000 paths; docs/physics.md#brownian-wall): the gap's
     /// differences 0.00310 ± 0.00019, 0.00104 ± 0.00013, 0.00048 ± 0.00009
     /// (order 1.6, 1.1), but `cos θ`'s 0.00317 ± 0.00013, 0.00227 ± 0.00009,
     /// 0.00166 ± 0.00006 (order 0.48, 0.45): the tilt converges at order

@@ -243,8 +243,7 @@ pub struct Forces {
     body: actuators::BodyLoad,
     /// `body.is_zero()`, kept at the latch: the models ask at every
     /// evaluation, and comparing the load's 24 numbers cost ~77
-    /// instructions an evaluation (docs/performance.md, "Langevin lanes
-    /// (session 8)").
+    /// instructions an evaluation (docs/performance.md#langevin-step).
     body_zero: bool,
     /// Latches so far: what the models' evaluation caches key on (the
     /// latched values change only at a latch).

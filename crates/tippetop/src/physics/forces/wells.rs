@@ -85,10 +85,10 @@ pub fn torque(wells: &[Well], theta: f64) -> f64 {
 /// `k_h = 0` (the pole: direction undefined, module doc). `|k_h|` is a
 /// plain square root (|k| ≈ 1 in every model: nothing to overflow; it
 /// underflows to 0 only for `|k_h| < 1e-154`, then the torque is 0; since
-/// session 7, 66 instructions less than `hypot` per call). θ and the
+/// 66 instructions less than `hypot` per call). θ and the
 /// Gaussians use glibc's `atan2` and `exp`: fdlibm's versions in
 /// `detmath` took fewer instructions but more time, their divisions being
-/// on the critical path (docs/performance.md, "Langevin lanes (session 7)").
+/// on the critical path (docs/performance.md#langevin-step).
 #[inline]
 pub fn torque_world(wells: &[Well], k: [f64; 3]) -> [f64; 3] {
     let kh = (k[0] * k[0] + k[1] * k[1]).sqrt();
