@@ -19,7 +19,7 @@
 //! vector and rigid models). The other kinds are declared so that their place is fixed; no
 //! model applies them yet, and [`Applied`] has no slot for them (a term of
 //! such a kind cannot be built until its kind is wired). docs/architecture.md
-//! ("Forces as data") describes the seam.
+//! ("Where to add") describes the seam.
 
 pub mod actuators;
 pub mod adhesion;
