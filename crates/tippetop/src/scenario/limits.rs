@@ -86,7 +86,7 @@ pub const MAX_RUN_BYTES: u64 = 3 << 29;
 /// 1.12 GB; a command that runs several runs at once runs no more of them
 /// than fit ([`fit_threads`]); what grows with the number of runs or cases
 /// has a limit of its own. The whole process adds its code, the plots and
-/// the allocator's slack: the peaks measured at the limits (README,
+/// the allocator's slack: the peaks measured at the limits (docs/guide.md,
 /// "Limits") stay below 4 GB.
 pub const MEMORY_BUDGET: u64 = 3 << 30;
 
