@@ -185,7 +185,7 @@ def physical(y):
     units: the axis k = (sin θ, 0, cos θ), the angular velocity
     w = ((ω − Ω cos θ) sin θ, θ̇, Ω sin²θ + ω cos θ)/RATE and the centre-of-mass
     velocity (u_x, u_y)/(R RATE), all in the precessing frame
-    (docs/physics.md §14). Well conditioned at every θ."""
+    (docs/physics.md#vector-model). Well conditioned at every θ."""
     th, thd, om, w, ux, uy = y
     s, c = math.sin(th), math.cos(th)
     return np.array([s, c, (w - om * c) * s / RATE, thd / RATE, (om * s * s + w * c) / RATE,

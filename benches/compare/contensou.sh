@@ -1,5 +1,5 @@
 #!/bin/bash
-# Cost of Coulomb–Contensou friction (docs/physics.md §25) against the point law, measured as
+# Cost of Coulomb–Contensou friction (docs/physics.md#contensou) against the point law, measured as
 # simulate()'s own wall time (summary.json `wall_seconds`), interleaved, ROUNDS rounds, medians.
 # usage: benches/compare/contensou.sh [ROUNDS]   (from the repository root, after
 #        cargo build --release -p tippetop-cli)

@@ -1,8 +1,8 @@
 """Langevin dynamics of the vector model in numpy, vectorised over N independent runs, against
 tippetop on the same machine in the same run. See README.md in this folder.
 
-The equations are tippetop's (docs/physics.md §14 with mu = 0, §17-§18 the adhesion as a
-vertical load at the contact, §20 the Gaussian wells, §21 the Langevin scheme), written afresh:
+The equations are tippetop's (docs/physics.md#vector-model with mu = 0, §vertical-load-§adhesion the adhesion as a
+vertical load at the contact, §wells the Gaussian wells, §langevin the Langevin scheme), written afresh:
 state (16, N), component-major, in scaled units m = R = 1 and the time unit 1/max(gamma_t,
 gamma_r); one step is O(h/2) RK4(h) O(h/2), O the exact Ornstein-Uhlenbeck step of the five
 generalised velocities in the basis (X, Y | k, e, f) where mass and friction matrices are

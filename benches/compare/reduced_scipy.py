@@ -1,4 +1,4 @@
-"""The reduced tippe-top equations (docs/physics.md §2-§5) in scipy, for
+"""The reduced tippe-top equations (docs/physics.md#kinematics–§normal-force, §friction-laws) in scipy, for
 cross-checks and the performance comparison (benches/compare/README.md).
 
 Usage: python3 reduced_scipy.py classical|nano [--law sliding|regularized] [--eps E]

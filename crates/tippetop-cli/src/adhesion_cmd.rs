@@ -18,7 +18,7 @@ pub const ADHESION_LONG_ABOUT: &str = "The van der Waals adhesion of a fullerene
     atoms/Å², 3.35 Å between sheets), carbon-carbon constants A = 17.4 eV Å^6, B = 29.0e3 \
     eV Å^12 (Girifalco, Hodak & Lee 2000, by mixing rules; quoted, not checked against the \
     paper). The result for graphite (0.88 eV) lies within the published theory values \
-    0.76-0.96 eV; desorption experiments give an apparent 1.3-1.5 eV. docs/physics.md §15 \
+    0.76-0.96 eV; desorption experiments give an apparent 1.3-1.5 eV. docs/physics.md#adhesion-c60 \
     has the derivation and the sources.\n\n\
     Exit codes: 0 ok, 2 bad input (one line naming the option and its range).";
 

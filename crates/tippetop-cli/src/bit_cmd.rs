@@ -50,7 +50,7 @@ and [pi/2 - 0.35, pi/2 + 0.35], disjoint; hold [s] > 0; phase [s] > hold) and [[
 [[erase]] windows (kind = \"contact\", the default: hx, hy, optional hz [N], the paper's force
 at the contact point in the precessing frame; kind = \"tip\": point [m] in the body frame and
 force [N] in the lab frame; kind = \"magnetic\": moment [A m^2] along the axis, field [T] and
-gradient [T/m] in the lab frame, docs/physics.md §24; start, stop [s] from the start of the
+gradient [T/m] in the lab frame, docs/physics.md#actuators; start, stop [s] from the start of the
 phase, start < stop <= phase, stop default phase). The run lasts 2 x phase
 (solver.t_end is replaced), the scenario's own [[force]] list must be empty (a preset's is
 replaced by the protocols), the initial theta must lie in zero. A phase succeeds iff theta stays in
@@ -150,7 +150,7 @@ pub struct BitArgs {
     /// [search] table: phase, windows, actuator ("contact", "tip" with
     /// point [m], "magnetic" with moment [A m^2]), bounds of magnitude
     /// ([N]; |B| [T] for a magnet), angle, start and duration, weight,
-    /// margin, seed, budget, perturbations; docs/physics.md §23.1). Writes
+    /// margin, seed, budget, perturbations; docs/physics.md#search). Writes
     /// search.json, search.md, best.toml, evaluations.csv.
     #[arg(long, conflicts_with_all = ["vary", "shard", "resume"])]
     pub search: bool,

@@ -224,8 +224,8 @@ pub struct RunArgs {
     /// Start from a built-in scenario: "nano" (C60, the paper's Sec. 3),
     /// "nano-physical" (the same C60 on graphene at 300 K: van der Waals
     /// adhesion, a stem's lying well, Langevin damping and noise, 1 ns,
-    /// docs/physics.md §21), "nano-adhesive" (the same without temperature:
-    /// adhesion and superlubric Coulomb friction, §18) or "classical" (the
+    /// docs/physics.md#langevin), "nano-adhesive" (the same without temperature:
+    /// adhesion and superlubric Coulomb friction, §adhesion) or "classical" (the
     /// 15 g toy of the paper's App. A).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,

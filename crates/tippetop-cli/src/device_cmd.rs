@@ -17,7 +17,7 @@ use crate::scenario_load::input_error;
 /// Long help of `tippetop device`.
 pub const DEVICE_LONG_ABOUT: &str =
     "Answer, with numbers, whether the nano tippe top can be a memory bit
-(issue #16; docs/physics.md §23.2). Computes, each by this run:
+(issue #16; docs/physics.md#device). Computes, each by this run:
   - the paper's model (preset nano, T = 0) and the same top with adhesion (nano-adhesive):
     the paper's write and its reversal as the erase (100 us phases), the smallest |H| along the
     paper's direction that writes, the best write and erase found by a protocol search;
@@ -27,7 +27,7 @@ pub const DEVICE_LONG_ABOUT: &str =
     state lasts (first passage out of zero); the lying state's retention from the Arrhenius fit
     of escape rates at three raised temperatures (extrapolated, and labelled so); the highest
     temperature with 10 years of retention (the cross-check);
-  - computed directly (issue 27, docs/physics.md §23.3): the lying state's retention at 4, 77
+  - computed directly (issue 27, docs/physics.md#device-rare): the lying state's retention at 4, 77
     and 300 K by splitting, beside transition-state theory's lower bound and the overdamped
     twin's exact answer (4 K: beyond any sampler, said so); the write error rates at 300 K of
     the paper's write and the search's best; the smallest well depth for 10 years at 300 K and
@@ -238,7 +238,7 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
         s,
         "Computed by `tippetop device` ({} runs per thermal ensemble, {} per search, {} per retention temperature). \
          State 0 = standing, θ in [0, 0.5]; state 1 = lying, θ in [π/2 − 0.35, π/2 + 0.35]; a phase succeeds if θ \
-         stays in the target over its last hold (docs/physics.md §23).\n",
+         stays in the target over its last hold (docs/physics.md#bit).\n",
         opts.runs, opts.budget, opts.retention_runs
     );
     // The answer, sentence by sentence from the numbers above.
@@ -392,7 +392,7 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
             s,
             "What would have to change: a barrier for the standing state too (an orientation well at θ = 0 \
              deeper than ~40 k_B T at the operating temperature for years), and an actuator that reaches the \
-             top (the paper's force at the contact point has no physical actuator, docs/physics.md §23).\n"
+             top (the paper's force at the contact point has no physical actuator, docs/physics.md#bit).\n"
         );
     }
     let _ = writeln!(s, "## The deterministic models (T = 0)\n");
@@ -495,7 +495,7 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
     let _ = writeln!(
         s,
         "Escape out of state 1 from the well's bottom, measured at raised temperatures (first passages, \
-         censored at 4 ns), fitted by ln k = ln ν − E/(k_B T) and extrapolated (docs/physics.md §22). The \
+         censored at 4 ns), fitted by ln k = ln ν − E/(k_B T) and extrapolated (docs/physics.md#retention). The \
          potential's barrier to the window's edge is {} J = {:.3} eV.\n",
         g(rt.barrier_potential),
         rt.barrier_potential / 1.602176634e-19
@@ -537,9 +537,9 @@ fn rare_section(s: &mut String, r: &DeviceReport) {
     let _ = writeln!(
         s,
         "Mean residence in state 1 (θ in π/2 ± 0.35) from the well's bottom, Langevin, by adaptive multilevel \
-         splitting (docs/physics.md §27: the flux relation, replicas' 95 % interval). Beside it, two closed answers: \
+         splitting (docs/physics.md#ams: the flux relation, replicas' 95 % interval). Beside it, two closed answers: \
          transition-state theory (TST), a lower bound of the residence (every escape crosses an edge; docs/physics.md \
-         §23.3), and the exact mean exit time of the overdamped twin (the same top and frictions in the Brownian mode, \
+         §device-rare), and the exact mean exit time of the overdamped twin (the same top and frictions in the Brownian mode, \
          an exact 1D diffusion; faster than the Langevin top, which is not overdamped here). A barrier above {} kT is \
          beyond any sampler's reach and is said so.\n",
         dr::REACH_KT

@@ -35,7 +35,7 @@ Methods:
           plane (wells, gravity, adhesion, contact damping, a constant H_x; conditions on theta
           only; no horizon). Mean first-passage time and splitting probability by quadrature in
           log space (barriers of hundreds of kT; a value past 1e308 is given by its logarithm).
-          Anywhere else it refuses with the reason (exit 2). docs/physics.md §22.1.
+          Anywhere else it refuses with the reason (exit 2). docs/physics.md#rare-exact.
   direct  a plain ensemble of --replicas runs (run K is the scenario with thermal.run = r0 + K),
           each until the target or the reset holds at the end of a step (a tie goes to the
           target), or the horizon, or --max-steps steps (censored): solver.t_end and
@@ -43,7 +43,7 @@ Methods:
           failed runs widen it upwards); the mean time with mean +- t(0.975, n-1) s/sqrt(n) (with
           censored runs: a lower bound, the interval open above).
   ams     adaptive multilevel splitting (generalised AMS, Brehier et al. 2016; docs/physics.md
-          §27) on the full stochastic dynamics (Langevin or Brownian, any model and force):
+          §ams) on the full stochastic dynamics (Langevin or Brownian, any model and force):
           --replicas M independent replicas (default 20) of --particles n (default 100); each
           level kills the --kill k lowest paths (by their maximum of the coordinate) and
           branches survivors. Every path is watched at every step and runs until the target,
@@ -471,7 +471,7 @@ fn ams_paragraph(p: &Problem, r: &Report, a: &AmsPart, wall: f64) -> String {
     let s = &a.settings;
     let q = r.quantity;
     let mut t = format!(
-        "Adaptive multilevel splitting (generalised AMS, Bréhier et al. 2016; docs/physics.md §27) \
+        "Adaptive multilevel splitting (generalised AMS, Bréhier et al. 2016; docs/physics.md#ams) \
          on the coordinate `{}`: {} independent replicas of {} particles, at least {} killed per \
          level; {} levels, {} trajectories, {} steps in {:.1} s. ",
         a.coordinate, e.replicas, e.particles, s.kill, e.iterations, r.trajectories, r.steps, wall

@@ -16,7 +16,7 @@ pub const REGIME_LONG_ABOUT: &str = "The regime a scenario is in: dimensionless 
     orientation correlation time near room temperature); always angular_momentum_over_hbar \
     (C |omega0| / hbar; below 10 classical rotation is questionable). summary.json of every \
     run carries the same object at the run's own temperature (thermal entries null without \
-    one). docs/physics.md §16 has the \
+    one). docs/physics.md#regime has the \
     constants and sources.\n\n\
     Exit codes: 0 ok, 2 bad input (one line naming the key and its range).";
 

@@ -362,7 +362,7 @@ pub fn human_summary(
         if s.first_time_theta_above_half_pi.is_none() && s.rolling_fraction >= 0.5 {
             o.push_str(
                 "             a rolling contact does no work, so friction cannot raise the top \
-                 (docs/physics.md §6); the paper's slip law: surface.friction_law = \"regularized\"\n",
+                 (docs/physics.md#coulomb); the paper's slip law: surface.friction_law = \"regularized\"\n",
             );
         }
     }

@@ -206,7 +206,7 @@ pub fn table(r: &StabilityReport, sc: Option<&Scenario>) -> String {
         s += &format!("    λ [1/s], μ = 0:    {}\n", eigs(&m.frictionless));
     }
     let inv = &r.inversion;
-    s += "\nFull inversion (friction conserves J and dissipates energy: a top whose slip always costs energy ends at the least energy V_J(θ) = J²/(2D(θ)) + m g (R − a cos θ) at its J, docs/physics.md §12):\n";
+    s += "\nFull inversion (friction conserves J and dissipates energy: a top whose slip always costs energy ends at the least energy V_J(θ) = J²/(2D(θ)) + m g (R − a cos θ) at its J, docs/physics.md#stability):\n";
     match inv.threshold_at_pi {
         Some(nc) => {
             s += &format!(

@@ -120,7 +120,7 @@ fn nano_write_succeeds_and_the_reversal_does_not_erase() {
     assert!(d.join("bit/theta.png").is_file() && d.join("bit/theta.svg").is_file());
 }
 
-/// `scenarios/bit/nano_tip.toml` (docs/physics.md §24): a tip at the top
+/// `scenarios/bit/nano_tip.toml` (docs/physics.md#actuators): a tip at the top
 /// of the nano top's sphere (`p = (0, 0, R + a)`) pushing along X with
 /// `F_h` holds it at `tan(θ/2) = F_h R/(m g a)` (torques about P), 1.674
 /// rad for `F_h = 1.3e-24 N`, inside `one`: the write succeeds and over
@@ -203,7 +203,7 @@ fn lift_off_is_a_failure_mode() {
 }
 
 /// With C60/graphene adhesion (the nano-adhesive preset's F_a, E_b) the
-/// top rolls and never lies down (docs/physics.md §18: θ_max 0.100, min
+/// top rolls and never lies down (docs/physics.md#adhesion: θ_max 0.100, min
 /// N_c = F_a (1 + 2.0e-14)): the write never enters `one`, the erase
 /// holds `zero` trivially (from its first row), and the smallest pull-off
 /// margin is just above F_a.
@@ -449,7 +449,7 @@ fn bad_input_names_the_key() {
     expect_input_error(&d, "preset = \"nano\"\n", &[], "bit.hold");
 }
 
-/// The tip and magnetic windows (docs/physics.md §24): missing and
+/// The tip and magnetic windows (docs/physics.md#actuators): missing and
 /// unknown keys, keys of another kind, non-finite values, a gradient that
 /// is not 3x3, stop <= start, and what a model cannot apply (the reduced
 /// model no body actuator, the vector model a tip off the axis): exit 2,

@@ -46,7 +46,7 @@ fn device_report_is_consistent() {
         assert!(rb[0].as_u64().unwrap() <= rb[1].as_u64().unwrap());
         assert!(r["deterministic"][1][k].is_null(), "{k}");
     }
-    // The README's claim: where the reversed contact force fails, a tip
+    // The user guide's claim (docs/guide.md): where the reversed contact force fails, a tip
     // push at the top erases (found within the --quick budget of 180 runs).
     assert_eq!(nano["erase"]["successes"], 0);
     assert_eq!(nano["tip_erase"]["found"], true, "{}", nano["tip_erase"]);

@@ -1,7 +1,7 @@
 //! Issue 26 ("Trust under attack", Done when): a seeded mutation fuzz of
 //! the `tippetop` binary. Each case starts from a seed of the corpus (the
 //! presets, every `scenarios/*.toml` and `scenarios/bit/*.toml`, and the
-//! README's example commands), overrides one to three keys with extreme or
+//! user guide's example commands), overrides one to three keys with extreme or
 //! ordinary values (0, ±1e-320, ±1e308, ±inf, nan, huge integers, wrong
 //! types, every enum name, fast spins), and runs one of `run`, `bit`,
 //! `sweep`, `ensemble` with small budgets (`solver.max_steps = 2000`, a few
@@ -232,7 +232,7 @@ fn file(p: &str, sets: &[&str]) -> Seed {
     }
 }
 
-/// The README's Langevin example (section "Temperature").
+/// The user guide's Langevin example (docs/guide.md, "Temperature").
 const README_LANGEVIN: &[&str] = &[
     "surface.friction=0",
     "solver.method=\"langevin\"",
@@ -246,7 +246,7 @@ const README_LANGEVIN: &[&str] = &[
 ];
 
 /// Seeds of `run` and `sweep`: the presets, `scenarios/*.toml`, the
-/// README's `run` examples.
+/// user guide's `run` examples (docs/guide.md).
 fn run_seeds() -> Vec<Seed> {
     let mut v = vec![
         preset("nano", &[]),
@@ -265,7 +265,7 @@ fn run_seeds() -> Vec<Seed> {
         let rel = format!("scenarios/{}", p.file_name().unwrap().to_str().unwrap());
         v.push(file(&rel, &[]));
     }
-    // README, "Your own top", "Watch it", "Temperature".
+    // docs/guide.md, "Run a top", "Watch it", "Temperature".
     v.push(preset("classical", &["surface.friction=0.2"]));
     v.push(file("scenarios/nano.toml", &["solver.model=\"rigid\""]));
     v.push(preset("classical", &["solver.model=\"reduced\""]));
@@ -287,7 +287,7 @@ fn run_seeds() -> Vec<Seed> {
     v
 }
 
-/// Seeds of `ensemble`: Langevin and Brownian scenarios (README,
+/// Seeds of `ensemble`: Langevin and Brownian scenarios (docs/guide.md,
 /// "Ensembles" and "Retention").
 fn ensemble_seeds() -> Vec<Seed> {
     vec![
@@ -319,7 +319,7 @@ fn ensemble_seeds() -> Vec<Seed> {
 }
 
 /// Seeds of `bit`: `scenarios/bit/*.toml` (the 300 K one shortened to the
-/// budget) and the README's design-map settings.
+/// budget) and the user guide's design-map settings.
 fn bit_seeds() -> Vec<Seed> {
     vec![
         file("scenarios/bit/nano.toml", &[]),

@@ -80,7 +80,7 @@ fn run_rejects_extreme_values_without_panic() {
     }
 }
 
-/// The vertical load `force.K.hz` (docs/physics.md §17) is checked like
+/// The vertical load `force.K.hz` (docs/physics.md#vertical-load) is checked like
 /// `hx`, `hy`: it must be finite, and the time unit it sets,
 /// `sqrt(|(H, hz)| / (m R))`, must be finite too (1e308 N overflows it on
 /// both presets); exit 2, one line naming the key, nothing written, for
@@ -181,9 +181,9 @@ fn stability_checks_its_arguments_first() {
         (vec!["--tol", "nan"], "tol"),
         (vec!["--set", "solver.t_end=1e308"], "solver.t_end"),
         (vec!["--set", "top.mass=1e-320"], "top.mass"),
-        // The linearised model has no vertical load (docs/physics.md §17).
+        // The linearised model has no vertical load (docs/physics.md#vertical-load).
         (vec!["--set", "force.0.hz=1"], "force.0.hz"),
-        // Nor a body actuator (docs/physics.md §24).
+        // Nor a body actuator (docs/physics.md#actuators).
         (
             vec![
                 "--set",
@@ -342,7 +342,7 @@ fn fuzz_cli() {
     assert!(codes[0] > 0 && codes[2] > 0 && codes[3] > 0, "{codes:?}");
 }
 
-/// The `[adhesion]` table (docs/physics.md §18): `force` and `energy` must
+/// The `[adhesion]` table (docs/physics.md#adhesion): `force` and `energy` must
 /// be finite and `>= 0`, and both zero or both positive (a pull-off force
 /// without a binding energy, or an energy without a force, is bad input);
 /// exit 2, one line naming the key, nothing written.
@@ -408,7 +408,7 @@ fn run_rejects_bad_adhesion() {
     }
 }
 
-/// The `[[well]]` entries (docs/physics.md §20): every key finite and in
+/// The `[[well]]` entries (docs/physics.md#wells): every key finite and in
 /// range, every key required, no two wells overlapping (centres closer than
 /// 3 (w_i + w_j)): one line naming the key, exit 2, nothing written.
 #[test]
@@ -537,7 +537,7 @@ fn run_rejects_bad_thermal_input() {
             "thermal.damping_contact",
         ),
         // The rigid Brownian body above a wall (unilateral contact,
-        // physics.md §21.2) with graphene's adhesion: the wall's thermal
+        // physics.md#brownian-wall) with graphene's adhesion: the wall's thermal
         // length kT/F_a = 7 pm binds the step (dt <= 2.8e-18 s here).
         (
             with(
@@ -632,7 +632,7 @@ fn run_rejects_a_bad_contact_radius() {
     }
 }
 
-/// The stem (docs/physics.md §26): bad stem input is one line naming the
+/// The stem (docs/physics.md#stem): bad stem input is one line naming the
 /// key and its range, exit 2, nothing written; the on-plane models stop at
 /// the stem's touchdown with exit 3 (`not_modelled`), the rows so far and
 /// `summary.json` (its stem entries) written.

@@ -1,7 +1,7 @@
-//! The README is part of the interface: its "every key explained" scenario
-//! must run as written and name every key the validator accepts, its
-//! `trajectory.csv` table must list every column, and its example commands
-//! must run.
+//! The README and the user guide (docs/guide.md) are part of the interface:
+//! the guide's "every key" scenario must run as written and name every key
+//! the validator accepts, its `trajectory.csv` table must list every column,
+//! and the example commands of both must run.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -13,9 +13,20 @@ fn tippetop() -> Command {
     Command::cargo_bin("tippetop").unwrap()
 }
 
-fn readme() -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../README.md");
+/// The text of `rel`, a path from the repository's root.
+fn doc(rel: &str) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(rel);
     fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn readme() -> String {
+    doc("README.md")
+}
+
+fn guide() -> String {
+    doc("docs/guide.md")
 }
 
 /// The code blocks of `text` fenced with ```` ```LANG ````, in order.
@@ -47,19 +58,23 @@ fn blocks(text: &str, lang: &str) -> Vec<String> {
     out
 }
 
-/// The scenario block of the README (the one that starts with `preset =`).
+/// The scenario block of the guide (the one with `[solver]` and `[top]`).
 fn every_key_block() -> String {
-    let all = blocks(&readme(), "toml");
+    let all = blocks(&guide(), "toml");
     let found: Vec<_> = all
         .into_iter()
         .filter(|b| b.contains("[solver]") && b.contains("[top]"))
         .collect();
-    assert_eq!(found.len(), 1, "expected one full scenario block in README");
+    assert_eq!(
+        found.len(),
+        1,
+        "expected one full scenario block in docs/guide.md"
+    );
     found[0].clone()
 }
 
 /// The list the validator prints after `marker` in its error for `--set
-/// SET` (an independent source: the README is not consulted).
+/// SET` (an independent source: the docs are not consulted).
 fn validator_list(set: &str, marker: &str) -> Vec<String> {
     let out = tippetop()
         .args(["run", "--preset", "nano", "--set", set, "--out"])
@@ -141,7 +156,7 @@ fn every_key_scenario_runs_as_written() {
         .unwrap();
     assert!(
         o.status.success(),
-        "README scenario failed: {}",
+        "docs/guide.md scenario failed: {}",
         String::from_utf8_lossy(&o.stderr)
     );
     let summary = fs::read_to_string(out.join("summary.json")).unwrap();
@@ -157,17 +172,19 @@ fn every_key_scenario_names_every_valid_key() {
         for key in valid_keys(&table) {
             assert!(
                 documented.contains(&(table.clone(), key.clone())),
-                "README's scenario block does not explain {table}.{key}"
+                "docs/guide.md's scenario block does not explain {table}.{key}"
             );
         }
     }
 }
 
 #[test]
-fn readme_lists_every_trajectory_column_with_a_unit() {
-    let text = readme();
+fn guide_lists_every_trajectory_column_with_a_unit() {
+    let text = guide();
     let heading = "The columns of `trajectory.csv`";
-    let text = &text[text.find(heading).expect("README lacks the column table")..];
+    let text = &text[text
+        .find(heading)
+        .expect("docs/guide.md lacks the column table")..];
     for col in tippetop::trajectory::COLUMNS {
         // A row of the column table: "| `col` | unit | meaning |", or a
         // row shared by several columns ("| `ux`, `uy` | m/s | ...").
@@ -177,7 +194,7 @@ fn readme_lists_every_trajectory_column_with_a_unit() {
                     .nth(1)
                     .is_some_and(|c| c.split(',').any(|n| n.trim() == format!("`{col}`")))
         });
-        let row = row.unwrap_or_else(|| panic!("README has no table row for column {col}"));
+        let row = row.unwrap_or_else(|| panic!("docs/guide.md has no table row for column {col}"));
         let cells: Vec<&str> = row.split('|').map(str::trim).collect();
         assert!(cells.len() >= 4, "{row}");
         assert!(!cells[2].is_empty(), "no unit for {col}: {row}");
@@ -185,13 +202,13 @@ fn readme_lists_every_trajectory_column_with_a_unit() {
     }
 }
 
-/// Every `cargo run --release -- ARGS` line of the README's shell blocks runs
-/// with the built binary (exit 0), `--out` redirected to a temporary
-/// directory.
+/// Every `cargo run --release -- ARGS` line of the shell blocks of the
+/// README, then of the guide, runs with the built binary (exit 0), `--out`
+/// redirected to a temporary directory (a command both give runs once).
 #[test]
 fn readme_commands_run() {
-    let text = readme();
-    let mut commands = Vec::new();
+    let text = readme() + &guide();
+    let mut commands: Vec<Vec<String>> = Vec::new();
     for b in blocks(&text, "") {
         let joined = b.replace("\\\n", " ");
         for line in joined.lines() {
@@ -203,7 +220,9 @@ fn readme_commands_run() {
                     .split_whitespace()
                     .map(|a| a.replace('"', ""))
                     .collect();
-                commands.push(args);
+                if !commands.contains(&args) {
+                    commands.push(args);
+                }
             }
         }
     }
@@ -251,4 +270,120 @@ fn readme_commands_run() {
         );
     }
     let _ = fs::remove_dir_all(&base);
+}
+
+/// The GitHub anchor of a heading: lower case, letters, digits, `_` and
+/// `-` kept, spaces as `-`, everything else dropped; a repeated heading
+/// gets `-1`, `-2`, ...
+fn slug(heading: &str) -> String {
+    heading
+        .chars()
+        .filter_map(|c| match c {
+            ' ' => Some('-'),
+            c if c.is_alphanumeric() || c == '_' || c == '-' => Some(c),
+            _ => None,
+        })
+        .flat_map(char::to_lowercase)
+        .collect()
+}
+
+/// The anchors of a Markdown text: its headings' slugs (outside code
+/// blocks) and every `<a id="...">`.
+fn anchors(text: &str) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    let mut seen: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
+    let mut fenced = false;
+    for line in text.lines() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        if let Some(h) = line.strip_prefix('#') {
+            let h = h.trim_start_matches('#');
+            if h.starts_with(' ') {
+                let s = slug(h.trim());
+                let n = seen.entry(s.clone()).or_insert(0);
+                out.insert(if *n == 0 {
+                    s.clone()
+                } else {
+                    format!("{s}-{n}")
+                });
+                *n += 1;
+            }
+        }
+        let mut rest = line;
+        while let Some(i) = rest.find("<a id=\"") {
+            rest = &rest[i + 7..];
+            if let Some(j) = rest.find('"') {
+                out.insert(rest[..j].to_string());
+            }
+        }
+    }
+    out
+}
+
+/// Every relative link of README.md and docs/*.md (`[text](target)`, outside
+/// code blocks) names a file that exists, and its `#anchor`, if any, is a
+/// heading or an `<a id>` of that file (of the same file for `(#anchor)`).
+#[test]
+fn doc_links_resolve() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut files = vec![root.join("README.md")];
+    for e in fs::read_dir(root.join("docs")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "md") {
+            files.push(p);
+        }
+    }
+    let mut checked = 0;
+    let mut bad = Vec::new();
+    for file in &files {
+        let text = fs::read_to_string(file).unwrap();
+        let mut fenced = false;
+        for (n, line) in text.lines().enumerate() {
+            if line.trim_start().starts_with("```") {
+                fenced = !fenced;
+                continue;
+            }
+            if fenced {
+                continue;
+            }
+            // Inline code is not a link: keep the text between code spans.
+            let prose: String = line.split('`').step_by(2).collect::<Vec<_>>().join(" ");
+            let mut rest = prose.as_str();
+            while let Some(i) = rest.find("](") {
+                rest = &rest[i + 2..];
+                let Some(j) = rest.find(')') else { break };
+                let target = &rest[..j];
+                rest = &rest[j..];
+                if target.contains("://") || target.starts_with("mailto:") {
+                    continue;
+                }
+                let (path, anchor) = match target.split_once('#') {
+                    Some((p, a)) => (p, Some(a)),
+                    None => (target, None),
+                };
+                let dest = if path.is_empty() {
+                    file.clone()
+                } else {
+                    file.parent().unwrap().join(path)
+                };
+                checked += 1;
+                let at = format!("{}:{}: ({target})", file.display(), n + 1);
+                if !dest.exists() {
+                    bad.push(format!("{at}: no such file"));
+                } else if let Some(a) = anchor {
+                    let t = fs::read_to_string(&dest).unwrap_or_default();
+                    if !anchors(&t).contains(a) {
+                        bad.push(format!("{at}: no anchor #{a}"));
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked >= 20, "only {checked} links found");
+    assert!(bad.is_empty(), "broken links:\n{}", bad.join("\n"));
 }

@@ -167,7 +167,7 @@ fn tip_search_finds_a_push_and_best_toml_reproduces_it() {
 }
 
 /// A uniform field on a moment along the axis erases where the paper's
-/// reversed force does not (physics.md §23.1); the best protocol reruns
+/// reversed force does not (physics.md#search); the best protocol reruns
 /// bit for bit from best.toml, as a `kind = "magnetic"` window whose field
 /// lies in the lab X-Z plane at the found polar angle.
 #[test]

@@ -4,7 +4,7 @@
 //! again, the App. D pulses, staying on the surface).
 //!
 //! The adhesion is C60 on one graphene sheet from the continuum
-//! Lennard-Jones helper (`physics::adhesion`, docs/physics.md §15), the
+//! Lennard-Jones helper (`physics::adhesion`, docs/physics.md#adhesion-c60), the
 //! values the `nano-adhesive` preset carries. Four settings per scenario:
 //! exact Coulomb friction with the paper's μ = 0.13 and with the preset's
 //! superlubric μ, each on the vector model (bilateral contact, as the
@@ -428,8 +428,8 @@ impl Study {
         b.push_str(&format!(
             "The paper presses the C60 onto the graphene with its weight m g = {:.3e} N. Van der Waals adhesion adds a pull-off force \
              F_a = {:.4e} N and a binding energy E_b = {:.4e} J ({:.3} eV) (C60 on one graphene sheet, continuum Lennard-Jones, \
-             `physics::adhesion`, docs/physics.md §15; the `nano-adhesive` preset's values): F_a/(m g) = {:.2e}, F_a/max|H| = {:.2e}. \
-             With adhesion the contact reaction is N_c = F_a + N (docs/physics.md §18), and the friction it can hold, μ N_c, is \
+             `physics::adhesion`, docs/physics.md#adhesion-c60; the `nano-adhesive` preset's values): F_a/(m g) = {:.2e}, F_a/max|H| = {:.2e}. \
+             With adhesion the contact reaction is N_c = F_a + N (docs/physics.md#adhesion), and the friction it can hold, μ N_c, is \
              {:.2e} |H| at the paper's μ = {PAPER_MU} and {:.2e} |H| at the superlubric μ = {:e} (the preset's). \
              Each of the paper's nano scenarios is rerun with adhesion under exact Coulomb friction (`coulomb`) in four settings: \
              μ = 0.13 and superlubric μ, each on the vector model (bilateral contact, as the scenario files) and on the rigid body \

@@ -204,7 +204,7 @@ pub fn jellett_zero(runs: &Runs) -> Claim {
     let jscale = cc * wmax * rr;
     let drift = |r: &crate::Run| r.trajectory.summary.jellett_max_rel_drift;
     // The Contensou run is left out: its drilling torque about Z is not a
-    // force at the contact point and changes J (docs/physics.md §25).
+    // force at the contact point and changes J (docs/physics.md#contensou).
     let jd = runs
         .all()
         .iter()

@@ -66,7 +66,7 @@ pub const CLASSICAL_EXACT: &str = "classical_exact_coulomb";
 /// Classical top, regularised friction with ε = 1e-2 m/s.
 pub const CLASSICAL_REGULARIZED: &str = "classical_regularized_1e-2";
 /// Classical top, Coulomb–Contensou friction over a Hertz contact disc of
-/// radius 0.3 mm (docs/physics.md §25).
+/// radius 0.3 mm (docs/physics.md#contensou).
 pub const CLASSICAL_CONTENSOU: &str = "classical_contensou_0.3mm";
 /// Classical top, sliding Coulomb, RK4/500.
 pub const CLASSICAL_RK4: &str = "classical_sliding_rk4_500";

@@ -93,7 +93,7 @@ fn reproduce_produces_every_figure_and_claim() {
 }
 
 /// Verdicts follow the data: the classical top under exact Coulomb friction
-/// rolls (energy conserved, docs/physics.md §6) and cannot invert, so the
+/// rolls (energy conserved, docs/physics.md#coulomb) and cannot invert, so the
 /// "classical top flips" claim cannot be "reproduced"; J is conserved but
 /// J(0) = C ω0 (R cos θ0 − a) ≠ 0, so "J is zero" is at most "partly".
 #[test]
@@ -103,7 +103,7 @@ fn verdicts_follow_the_physics() {
     assert_ne!(v("classical_flips"), Verdict::Reproduced);
     assert_eq!(v("jellett_zero"), Verdict::Partly);
     // Every accurate run conserves J, but the Contensou run, whose drilling
-    // torque about Z changes it (docs/physics.md §25: J̇ = M h).
+    // torque about Z changes it (docs/physics.md#contensou: J̇ = M h).
     for r in &rep.runs {
         if r.name.contains("contensou") {
             assert!(r.trajectory.summary.jellett_max_rel_drift > 1e-3);

@@ -77,14 +77,14 @@ def test_notebook_runs_tiny(tmp_path):
     assert "g=9.8 bilateral" in p.stdout and "regularized: 20 tops" in p.stdout
 
 
-def test_readme_python_example_runs():
-    """The README's ```python block of "From Python", as written."""
-    text = (ROOT / "README.md").read_text()
+def test_guide_python_example_runs():
+    """The user guide's ```python block of "From Python", as written."""
+    text = (ROOT / "docs" / "guide.md").read_text()
     section = text[text.index("## From Python") :]
     block = section[section.index("```python\n") + len("```python\n") :]
     block = block[: block.index("```\n")]
     assert "tt.sweep(" in block
     env = {}
-    exec(compile(block, "README.md", "exec"), env)
+    exec(compile(block, "docs/guide.md", "exec"), env)
     assert env["tr"].error is None
     assert list(env["sw"]["status"]) == ["ok"] * 20

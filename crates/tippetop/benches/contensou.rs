@@ -1,4 +1,4 @@
-//! Coulomb–Contensou friction (docs/physics.md §25): one evaluation of the
+//! Coulomb–Contensou friction (docs/physics.md#contensou): one evaluation of the
 //! exact law (Gauss–Legendre over the contact disc, elliptic integrals by the
 //! AGM) at a few ratios `d = |v|/(r_c |n_Z|)`, of the Padé form, and of the
 //! stick test's gauge (a root-find on the law's limit curve), Hertz pressure.

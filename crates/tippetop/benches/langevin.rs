@@ -1,5 +1,5 @@
 //! Langevin dynamics of the vector model (`solver.method = "langevin"`,
-//! docs/physics.md §21), on one core, reported in steps per second:
+//! docs/physics.md#langevin), on one core, reported in steps per second:
 //!
 //! - `langevin_run`: whole runs in process (`tippetop::simulate`, no
 //!   files) of 10 000 steps of 4 fs (40 ps, 41 samples, the

@@ -10,13 +10,13 @@
 //! | [`FrictionLaw::Regularized`] | `μ v/sqrt(|v|² + ε²)` |
 //! | [`FrictionLaw::Viscous`] | `μ v/ε` (the small-slip limit of the regularised law; unbounded) |
 //! | [`FrictionLaw::Coulomb`] | exact set-valued Coulomb: sliding as above, rolling when the needed friction is within the cone |
-//! | [`FrictionLaw::Contensou`] | Coulomb's law integrated over a contact disc of radius `r_c` (docs/physics.md §25): `μ f(d) v/|v|` with a drilling torque about the normal, `d = |v|/(r_c |n_Z|)`; at `r_c = 0` the exact point law |
+//! | [`FrictionLaw::Contensou`] | Coulomb's law integrated over a contact disc of radius `r_c` (docs/physics.md#contensou): `μ f(d) v/|v|` with a drilling torque about the normal, `d = |v|/(r_c |n_Z|)`; at `r_c = 0` the exact point law |
 
 use crate::Error;
 use std::f64::consts::PI;
 
 /// Pressure distribution over the contact disc of Coulomb–Contensou
-/// friction (docs/physics.md §25; the law is `physics::contensou`).
+/// friction (docs/physics.md#contensou; the law is `physics::contensou`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Pressure {
     /// Hertz: `p ∝ √(1 − ρ²)` (the elastic sphere on a plane; default).
@@ -81,7 +81,7 @@ pub enum FrictionLaw {
         eps: f64,
     },
     /// Coulomb–Contensou friction over a contact disc (docs/physics.md
-    /// §25): the sliding force and the drilling torque about the contact
+    /// §contensou): the sliding force and the drilling torque about the contact
     /// normal, coupled. `radius = 0` is the exact point law
     /// ([`FrictionLaw::Coulomb`]), bit for bit.
     Contensou {
@@ -95,8 +95,8 @@ pub enum FrictionLaw {
 }
 
 /// The speed `|v| + r_c |n_Z|` (scaled: units of the initial `R × rate`,
-/// docs/physics.md §8) at which a run under Coulomb–Contensou friction
-/// declares sliding and spinning both stopped (§25).
+/// docs/physics.md#scaling) at which a run under Coulomb–Contensou friction
+/// declares sliding and spinning both stopped (§contensou).
 pub const CONTENSOU_STICK_SPEED: f64 = 1e-7;
 
 /// Valid range of `surface.contact_radius`, as the error messages state it.
@@ -141,7 +141,7 @@ impl FrictionLaw {
 /// force on the top is `−N f(v)` for slip velocity `v`, with `|f| <= μ`
 /// for the Coulomb laws (the viscous law is unbounded). Stick/slip (the
 /// exact law) is not a function of `v` alone: the models handle it as a
-/// mode on top of this (docs/physics.md §6).
+/// mode on top of this (docs/physics.md#coulomb).
 pub trait SlidingLaw {
     /// `f(v)` for friction coefficient `mu` and slip `v` (same speed unit as
     /// the law's ε). The Coulomb laws give `μ v/|v|`, and 0 at exactly `v = 0`.
@@ -303,7 +303,7 @@ impl Surface {
 }
 
 /// Van der Waals adhesion between the sphere and the plane (the
-/// `[adhesion]` table; docs/physics.md §18). Off when both are zero (the
+/// `[adhesion]` table; docs/physics.md#adhesion). Off when both are zero (the
 /// default); otherwise both must be positive.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Adhesion {

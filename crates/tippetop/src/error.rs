@@ -56,8 +56,8 @@ pub enum Failure {
     /// A numerical method of an analysis did not converge.
     Numerics,
     /// The motion reached a state the model does not follow (a stem the
-    /// model cannot follow, docs/physics.md §26; the Coulomb–Contensou
-    /// stick, which it once named, is modelled, §25).
+    /// model cannot follow, docs/physics.md#stem; the Coulomb–Contensou
+    /// stick, which it once named, is modelled, §contensou).
     NotModelled,
 }
 

@@ -8,7 +8,7 @@
 //! precessing frame: `x` horizontal towards the tilt of the symmetry axis,
 //! `y = Z × x`. `hz` is a vertical load at the same point, positive
 //! pushing the top onto the plane (the force on the top is `−hz Z`,
-//! docs/physics.md §17).
+//! docs/physics.md#vertical-load).
 
 use crate::Error;
 
@@ -154,14 +154,14 @@ impl Forcing {
 }
 
 /// One Bohr magneton \[A m²\] (J/T), CODATA 2018: a moment of `n` μ_B is
-/// `moment = n × BOHR_MAGNETON` (docs/physics.md §24).
+/// `moment = n × BOHR_MAGNETON` (docs/physics.md#actuators).
 pub const BOHR_MAGNETON: f64 = 9.2740100783e-24;
 
-/// A body actuator (docs/physics.md §24): what a `[[force]]`,
+/// A body actuator (docs/physics.md#actuators): what a `[[force]]`,
 /// `[[write]]` or `[[erase]]` window of `kind = "tip"` or `"magnetic"`
 /// applies. Lab frame: `X, Y` horizontal, `Z` up. Body frame: origin at the
 /// centre of mass, `z` along the symmetry axis `k`, `x, y` the body's
-/// material axes (the attitude quaternion's, docs/physics.md §19).
+/// material axes (the attitude quaternion's, docs/physics.md#position).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum BodyActuator {
     /// A tip: the force `force` \[N\] (lab frame, the force on the top)
@@ -177,7 +177,7 @@ pub enum BodyActuator {
     /// A magnetic dipole `μ k` (moment along the symmetry axis) in the lab
     /// field `B(x) = field + gradient · x`: the torque `μ k × field` and the
     /// force `F_j = μ k_i G_ij` at the centre of mass (`G_ij = ∂B_i/∂x_j`,
-    /// the gradient's torque `μ k × G x` is neglected, docs/physics.md §24).
+    /// the gradient's torque `μ k × G x` is neglected, docs/physics.md#actuators).
     /// Its work is integrated (`W_a`).
     Magnetic {
         /// `μ` \[A m²\] along `k` ([`BOHR_MAGNETON`] per μ_B).

@@ -1,5 +1,5 @@
 //! Derived quantities in SI units, written once from their definitions
-//! (docs/physics.md §2, §5) so that every model and every test uses the same
+//! (docs/physics.md#kinematics, §friction-laws) so that every model and every test uses the same
 //! formulas.
 
 use crate::Top;
@@ -70,7 +70,7 @@ pub fn quat_mul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
 
 /// The unit quaternion (body → lab) of the Euler angles: precession `φ`
 /// about the lab `Z`, nutation `θ` about the precessing `ŷ`, spin `ψ` about
-/// the body axis, `q = q_Z(φ) ⊗ q_Y(θ) ⊗ q_Z(ψ)` (docs/physics.md §19). The
+/// the body axis, `q = q_Z(φ) ⊗ q_Y(θ) ⊗ q_Z(ψ)` (docs/physics.md#position). The
 /// axis is `k = (sin θ cos φ, sin θ sin φ, cos θ)`; `φ = ψ = 0` is the
 /// initial attitude of every model.
 pub fn attitude_from_euler(phi: f64, theta: f64, psi: f64) -> [f64; 4] {

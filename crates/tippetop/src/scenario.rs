@@ -12,19 +12,19 @@
 //! mass = 0.015                # m [kg]
 //! inertia_transverse = 1.35e-6  # A [kg m^2], about the centre of mass
 //! inertia_axial = 1.35e-6       # C [kg m^2]
-//! # stem_radius = 0.0025      # r2 [m], the stem's end sphere (rigid model; docs/physics.md §26)
+//! # stem_radius = 0.0025      # r2 [m], the stem's end sphere (rigid model; docs/physics.md#stem)
 //! # stem_distance = 0.0185    # d2 [m], centre of mass to the stem sphere's centre, along k
 //! [surface]
 //! gravity = 9.8               # [m/s^2]
 //! friction = 0.1              # mu
 //! friction_law = "coulomb"    # "coulomb", "coulomb_sliding", "regularized", "viscous",
-//!                             # "contensou", "contensou_pade" (docs/physics.md §25)
+//!                             # "contensou", "contensou_pade" (docs/physics.md#contensou)
 //! # friction_eps = 1e-3       # [m/s], only (and required) with "regularized"/"viscous"
 //! # contact_radius = 3e-4     # r_c [m], 0 <= r_c <= 0.1 radius, only (and required) with "contensou*"
 //! # contact_pressure = "hertz" # or "uniform", only with "contensou*"
 //! contact = "bilateral"       # or "paper", "unilateral"
 //! restitution = 0.0           # [0, 1], rigid model touchdown only
-//! [adhesion]                  # van der Waals adhesion, off by default (docs/physics.md §18)
+//! [adhesion]                  # van der Waals adhesion, off by default (docs/physics.md#adhesion)
 //! force = 0.0                 # F_a [N], pull-off force (> 0 requires energy > 0)
 //! energy = 0.0                # E_b [J], binding energy (> 0 requires force > 0)
 //! [[force]]                   # applied force at the contact point, precessing frame [N]
@@ -54,7 +54,7 @@
 //! model = "reduced"           # or "rigid", "vector"
 //! max_steps = 20000000        # step limit of the run (default; 2e6 with "stiff")
 //! # dt = 1e-14                # [s], the fixed step of method = "langevin" or "brownian" (only there)
-//! [thermal]                   # Langevin dynamics, off by default (docs/physics.md §21)
+//! [thermal]                   # Langevin dynamics, off by default (docs/physics.md#langevin)
 //! temperature = 300.0         # T [K]
 //! damping_translational = 1e11  # gamma_t [1/s]: force -m gamma_t v on the centre of mass
 //! damping_rotational = 1e11   # gamma_r [1/s]: torque -gamma_r I w
@@ -99,16 +99,16 @@ pub struct Scenario {
     /// Applied force schedule.
     pub forcing: Forcing,
     /// The body actuators (`[[force]]` windows of `kind = "tip"` or
-    /// `"magnetic"`, docs/physics.md §24; none by default), in the order
+    /// `"magnetic"`, docs/physics.md#actuators; none by default), in the order
     /// given; written after the contact windows.
     pub actuators: Vec<ActuatorWindow>,
-    /// Orientation wells (docs/physics.md §20; none by default).
+    /// Orientation wells (docs/physics.md#wells; none by default).
     pub wells: Vec<Well>,
     /// Initial state.
     pub initial: Initial,
     /// Solver settings.
     pub solver: SolverSettings,
-    /// Temperature and damping ([`Thermal::NONE`]: none; docs/physics.md §21).
+    /// Temperature and damping ([`Thermal::NONE`]: none; docs/physics.md#langevin).
     pub thermal: Thermal,
 }
 
@@ -159,10 +159,10 @@ impl Scenario {
     }
 
     /// C60 on graphene with van der Waals adhesion, deterministic (issue
-    /// #14, docs/physics.md §18): the nano preset's top, applied force,
+    /// #14, docs/physics.md#adhesion): the nano preset's top, applied force,
     /// initial state and window, with the adhesion of one graphene sheet
     /// from [`crate::physics::adhesion`] (`F_a = 5.92e-10 N`, `E_b = 0.73
-    /// eV`, Girifalco–Hodak–Lee constants, §15) and superlubric friction:
+    /// eV`, Girifalco–Hodak–Lee constants, §adhesion-c60) and superlubric friction:
     /// the exact Coulomb law with `μ = 1e-3`, the upper bound measured for
     /// graphene/C60/graphene (Sasaki et al., Tribology Online 7, 96 (2012)).
     /// No temperature (`--preset nano-adhesive`; [`Scenario::nano_physical`]
@@ -183,7 +183,7 @@ impl Scenario {
         }
     }
 
-    /// C60 on graphene at 300 K (issue #15, docs/physics.md §21): the
+    /// C60 on graphene at 300 K (issue #15, docs/physics.md#langevin): the
     /// [`Scenario::nano_adhesive`] top, adhesion, applied force and initial
     /// state, as a Langevin run:
     ///
@@ -193,7 +193,7 @@ impl Scenario {
     ///   `γ_r = kT/(A D_r)`, research note §1.5); the translational one is
     ///   not measured and taken equal;
     /// - the lying well of a 1 nm nanotube stem adhering to the plane:
-    ///   `θ = π/2`, depth 1.1 eV (0.11 eV/Å of stem, continuum LJ, §20),
+    ///   `θ = π/2`, depth 1.1 eV (0.11 eV/Å of stem, continuum LJ, §wells),
     ///   width 0.3 rad (geometry, not a measurement);
     /// - `dt = 4 fs` (`dt · rate = 0.018` for the well's curvature rate
     ///   `sqrt(d/(w² A)) = 4.4e12 s⁻¹`, the fastest), 1 ns (250 000
@@ -272,7 +272,7 @@ impl Scenario {
         Ok(())
     }
 
-    /// What a stem (docs/physics.md §26) needs besides its geometry: the
+    /// What a stem (docs/physics.md#stem) needs besides its geometry: the
     /// deterministic methods, and in the rigid model unilateral contact
     /// (the main sphere lifts off when the stem lands).
     fn validate_stem(&self) -> Result<(), Error> {
@@ -287,7 +287,7 @@ impl Scenario {
             return Err(Error::invalid(
                 "top.stem_radius",
                 "a stem with [[force]], [adhesion] or [[well]] is not modelled".into(),
-                "a stem with gravity and friction only (docs/physics.md §26)".into(),
+                "a stem with gravity and friction only (docs/physics.md#stem)".into(),
             ));
         }
         if self.solver.method.is_stochastic() {
@@ -1337,7 +1337,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         inertia_axial: s.f64("inertia_axial", req(0.0))?,
         stem: None,
     };
-    // The stem (§26): both keys or neither.
+    // The stem (§stem): both keys or neither.
     let top = match (s.get("stem_radius"), s.get("stem_distance")) {
         (None, None) => top,
         (Some(_), Some(_)) => Top {

@@ -48,8 +48,7 @@ pub fn simulate(scenario: &Scenario) -> Result<Trajectory, Error> {
 /// row is the same bits as [`simulate`]'s, which replays it), but the
 /// per-step record skips Jellett's J and the energy, which the row does not
 /// read: the summary's J drift and energy balance of such a run are those
-/// of its events and segment ends only (docs/performance.md, "Langevin lanes
-/// (session 7)").
+/// of its events and segment ends only (docs/performance.md#langevin-step).
 pub(crate) fn simulate_for_row(scenario: &Scenario) -> Result<Trajectory, Error> {
     scenario.validate()?;
     fn go<M: Model<D> + Clone, const D: usize>(sc: &Scenario, m: M) -> Trajectory {
@@ -291,8 +290,7 @@ impl Simulation {
     /// J and the energy. Samples, events and every row statistic are the
     /// same bits; the summary's J drift and energy balance are those of
     /// the events and segment ends only. For `analysis::ensemble`'s
-    /// `--first-passage` runs (docs/performance.md, "Langevin lanes
-    /// (session 8)").
+    /// `--first-passage` runs (docs/performance.md#langevin-step).
     pub(crate) fn lean(mut self) -> Self {
         with_sim!(&mut self.inner, s => s.light = true);
         self

@@ -181,11 +181,11 @@ pub enum Method {
     /// Langevin dynamics with the fixed step `solver.dt`: the exact
     /// Ornstein–Uhlenbeck step of the damping and its noise around an RK4
     /// step of the deterministic forces (a symmetric splitting, weak order
-    /// 2; docs/physics.md §21). Vector model, no Coulomb friction.
+    /// 2; docs/physics.md#langevin). Vector model, no Coulomb friction.
     Langevin,
     /// The overdamped limit of the Langevin dynamics (Brownian motion of
     /// the axis and the centre with the same damping and forces), fixed step
-    /// `solver.dt`, Euler–Maruyama (weak order 1; docs/physics.md §21): for
+    /// `solver.dt`, Euler–Maruyama (weak order 1; docs/physics.md#langevin): for
     /// windows of microseconds and more, where the Langevin step would need
     /// 1e10 steps.
     Brownian,
@@ -209,7 +209,7 @@ pub enum ModelKind {
     /// The reduced model's physics (the sphere stays on the plane) written
     /// with the symmetry-axis vector, the angular velocity and the
     /// centre-of-mass velocity in the space frame: no Euler angles, so no
-    /// pole singularity and no trigonometry (docs/physics.md §14).
+    /// pole singularity and no trigonometry (docs/physics.md#vector-model).
     Vector,
 }
 

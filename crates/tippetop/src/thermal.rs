@@ -1,7 +1,7 @@
 //! Temperature and damping, the scenario's `[thermal]` table: the data,
 //! its validation (the cross-key rules and the step-size rule of
 //! `solver.method = "langevin"` are `scenario::langevin`'s)
-//! (the physics and the integrator: docs/physics.md §21,
+//! (the physics and the integrator: docs/physics.md#langevin,
 //! `integrate::langevin` and `model::vector`'s thermostat).
 //!
 //! A Langevin run adds to the deterministic forces, each with its matching
@@ -15,7 +15,7 @@
 //!   contact point (`v_P` the horizontal slip velocity).
 //!
 //! The noise is generated in the constrained coordinates of the top on the
-//! plane (its exact Ornstein–Uhlenbeck step, docs/physics.md §21), so the
+//! plane (its exact Ornstein–Uhlenbeck step, docs/physics.md#langevin), so the
 //! velocities have the Maxwell distribution of the constrained top.
 
 use crate::Error;
@@ -26,7 +26,7 @@ pub const BOLTZMANN: f64 = 1.380649e-23;
 /// Largest product of the step and the fastest rate of a Langevin run
 /// ([`step_rates`]): `dt · rate <= 0.02` (about 300 steps per period of the
 /// fastest oscillation, 50 steps per relaxation time). The splitting's
-/// error is second order in this product (docs/physics.md §21, the weak
+/// error is second order in this product (docs/physics.md#langevin, the weak
 /// order measured in tests/physics/thermal.rs).
 pub const MAX_STEP_RATE: f64 = 0.02;
 

@@ -23,14 +23,14 @@ pub struct Top {
     /// Axial principal moment `C` about the centre of mass \[kg m²\].
     pub inertia_axial: f64,
     /// The stem (`top.stem_radius`, `top.stem_distance`), if any: a second
-    /// contact sphere on the symmetry axis (docs/physics.md §26).
+    /// contact sphere on the symmetry axis (docs/physics.md#stem).
     pub stem: Option<Stem>,
 }
 
 /// The stem of a tippe top: a second sphere of radius `r2` whose centre is
 /// on the symmetry axis at `S = O + d2 k`, on the same side of the centre of
 /// mass `O` as the main sphere's centre `C = O + a k` (the stem points up
-/// when the top stands on its heavy end). docs/physics.md §26.
+/// when the top stands on its heavy end). docs/physics.md#stem.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Stem {
     /// Radius `r2` of the stem's end sphere \[m\], `0 < r2 < R`.
@@ -135,7 +135,7 @@ impl Top {
     }
 
     /// `cos θ_td = −(R − r2)/(d2 − a)`: the stem touches the plane while the
-    /// main sphere rests on it at `θ_td` (docs/physics.md §26); `None`
+    /// main sphere rests on it at `θ_td` (docs/physics.md#stem); `None`
     /// without a stem.
     pub fn stem_touchdown_cos(&self) -> Option<f64> {
         self.stem

@@ -48,7 +48,7 @@ pub struct Sample {
     /// `Z = 0`, `Z` up; the origin is below the centre of mass at `t = 0`
     /// (`x = y = 0` there), and the lab `X` is the initial heading: the
     /// axis `k` tilts towards `+X` at `t = 0` (the precessing frame's `x̂`
-    /// starts along `X`, `ŷ = Z × x̂`). docs/physics.md §19.
+    /// starts along `X`, `ŷ = Z × x̂`). docs/physics.md#position.
     pub x: f64,
     /// Centre-of-mass position, lab Y \[m\].
     pub y: f64,
@@ -169,7 +169,7 @@ pub struct EventRecord {
 /// The normal force of a stochastic run averaged over each output interval
 /// (`(t_{i−1}, t_i]`, from its value at every step end weighted by the
 /// step): what the contact carries on the output's time scale, where the
-/// instantaneous reaction is noise-dominated (docs/physics.md §21).
+/// instantaneous reaction is noise-dominated (docs/physics.md#langevin).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct NormalIntervals {
     /// Number of intervals averaged (those the run completed).
@@ -186,7 +186,7 @@ pub struct NormalIntervals {
     pub negative_fraction: f64,
 }
 
-/// The stem's entries of a [`Summary`] (docs/physics.md §26).
+/// The stem's entries of a [`Summary`] (docs/physics.md#stem).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct StemSummary {
     /// First time the stem's sphere touched the plane \[s\], if ever.
@@ -229,14 +229,14 @@ pub struct Summary {
     pub negative_normal_fraction: f64,
     /// Fraction of the simulated time spent rolling (exact Coulomb law).
     pub rolling_fraction: f64,
-    /// With a stem (`top.stem_radius`, docs/physics.md §26):
+    /// With a stem (`top.stem_radius`, docs/physics.md#stem):
     /// `first_stem_contact_at` \[s\] (null if the stem never touched) and
     /// `stem_contact_fraction`; absent from summary.json without a stem.
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
     pub stem: Option<StemSummary>,
     /// Smallest contact reaction `N_c` over the output rows and the final
     /// state \[N\]: how far the run stayed from pulling off (0 in flight);
-    /// `None` without adhesion (docs/physics.md §18).
+    /// `None` without adhesion (docs/physics.md#adhesion).
     pub pull_off_margin_min: Option<f64>,
     /// Stochastic runs (`solver.method = "langevin"` or `"brownian"`): the
     /// normal force averaged over each output interval (the instantaneous

@@ -1,5 +1,5 @@
 //! Orientation wells, the scenario's `[[well]]` entries: the data and its
-//! validation (the physics is `physics::forces::wells`, docs/physics.md §20).
+//! validation (the physics is `physics::forces::wells`, docs/physics.md#wells).
 
 use crate::Error;
 

@@ -1,5 +1,5 @@
 //! The continuum Lennard-Jones adhesion of C60 against published binding
-//! energies (docs/physics.md §15).
+//! energies (docs/physics.md#adhesion-c60).
 
 use tippetop::physics::adhesion::{Adhesion, EV, Substrate};
 

@@ -86,7 +86,7 @@ fn run_results_follow_the_continuous_solution() {
     let r = bit::evaluate_run(&bs, 0, &traj, &stays);
     let (phase, hold) = (bs.bit.phase, bs.bit.hold);
     let one = bs.bit.one;
-    // The paper's write works (physics.md §23): θ enters `one` through its
+    // The paper's write works (physics.md#bit): θ enters `one` through its
     // lower edge and stays.
     assert!(r.write.success(), "{r:?}");
     let ts = r.write.time.unwrap();
@@ -124,7 +124,7 @@ fn run_results_follow_the_continuous_solution() {
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
     assert!(close(r.write.energy.unwrap(), at(phase) - at(0.0)));
     assert!(close(r.erase.energy.unwrap(), at(2.0 * phase) - at(phase)));
-    // The erase fails by leaving `zero` (physics.md §23): it came back to
+    // The erase fails by leaving `zero` (physics.md#bit): it came back to
     // θ ≈ 0.2 and fell again; the rows agree that it was in `zero` at some
     // row of the erase and is out at its end.
     assert_eq!(r.erase.failure, Some(Mode::Left), "{r:?}");

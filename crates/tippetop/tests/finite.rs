@@ -130,7 +130,7 @@ fn a_planted_nan_row_fails_every_kind_of_run() {
 
 /// A run that fails at its start (a Painlevé case at t = 0: no consistent
 /// normal force) writes the state there as its one row: N is undefined
-/// (NaN, as the README says of undefined values), the velocity and the
+/// (NaN, as docs/guide.md says of undefined values), the velocity and the
 /// energy are not: `u_Z = a sin θ θ̇` and `E = ½ m |u|² + ½ A θ̇² + ½ C ω² +
 /// m g (R − a cos θ)` (here Ω = 0 and the centre at rest horizontally).
 /// Both were NaN in the vector and reduced models (`ux = (v·x̂)` read the

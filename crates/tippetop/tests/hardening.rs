@@ -119,7 +119,7 @@ fn samples_are_bounded_by_memory() {
 /// said 144 bytes, the error message 216): a row is one `f64` per
 /// trajectory.csv column but `rolling`, a `u8` padded to 8 (208 bytes),
 /// plus its sample time and a stochastic run's ∫N dt (8 bytes each); the
-/// README and the error message give that figure.
+/// user guide (docs/guide.md, "Limits") and the error message give that figure.
 #[test]
 fn bytes_per_sample_is_derived_from_the_row() {
     use tippetop::trajectory::COLUMNS;
@@ -127,11 +127,11 @@ fn bytes_per_sample_is_derived_from_the_row() {
     assert_eq!(std::mem::size_of::<tippetop::Sample>(), row);
     assert_eq!(limits::BYTES_PER_SAMPLE, (row + 16) as u64);
     assert_eq!(limits::BYTES_PER_SAMPLE, 224);
-    let readme = include_str!("../../../README.md");
+    let readme = include_str!("../../../docs/guide.md");
     let stated = format!("{} bytes per output row", limits::BYTES_PER_SAMPLE);
-    assert!(readme.contains(&stated), "README: {stated:?}");
+    assert!(readme.contains(&stated), "docs/guide.md: {stated:?}");
     for wrong in ["144 bytes", "216 bytes"] {
-        assert!(!readme.contains(wrong), "README still says {wrong}");
+        assert!(!readme.contains(wrong), "docs/guide.md still says {wrong}");
     }
     let e = load("classical", &["solver.samples=5000001"])
         .unwrap_err()

@@ -1,4 +1,4 @@
-//! Full inversion of a dissipating top (docs/physics.md §12 "Full
+//! Full inversion of a dissipating top (docs/physics.md#stability "Full
 //! inversion", `analysis::stability::inversion`): the least energy at fixed
 //! Jellett's J decides where a top with a smooth friction law ends. Checked
 //! against the friction linearisation (an independent computation: dual

@@ -1,9 +1,9 @@
 //! Adaptive multilevel splitting (`analysis::rare::ams`): the sampler
 //! against exact answers, against direct simulation, and its contract
-//! (determinism, budgets, errors, hooks). docs/physics.md §27.
+//! (determinism, budgets, errors, hooks). docs/physics.md#ams.
 //!
 //! The exact answers are those of the Brownian mode on the plane, where θ
-//! is a one-dimensional reversible diffusion (docs/physics.md §22): the
+//! is a one-dimensional reversible diffusion (docs/physics.md#retention): the
 //! splitting probability from the scale density `1/(π D)` and the mean
 //! exit time from Gardiner's double quadrature, both written here again,
 //! independently of the library, and watched every step: each boundary
@@ -68,7 +68,7 @@ fn well_top(depth_kt: f64, width: f64, f: f64) -> Scenario {
 
 /// θ's diffusion coefficient `D(θ) = kT/(γ_r A + γ_t m a² sin²θ)` and the
 /// log of its stationary density `ln π = ln sin θ + ½ ln(1 + m a² sin²θ/A)
-/// − U/kT` (docs/physics.md §21–22), for the Brownian top `sc`.
+/// − U/kT` (docs/physics.md#langevin–§retention), for the Brownian top `sc`.
 struct Diffusion {
     m: f64,
     a: f64,

@@ -112,7 +112,7 @@ fn max_applied_force_follows_the_schedule() {
 
 /// Nano preset with the graphene adhesion of `tippetop adhesion`
 /// (F_a = 5.9159e-10 N, E_b = 0.73 eV): F_a/(m g) = 5.9159e-10 / 1.17208e-23
-/// = 5.04735e13 (nano-physics.md §2: ~5e13), and the friction capacity
+/// = 5.04735e13 (nano-physics.md#kinematics: ~5e13), and the friction capacity
 /// μ (m g + F_a) = 0.13 × 5.91590e-10 N = 7.69067e-11 N, so
 /// |H| / capacity = 1.41421e-22 / 7.69067e-11 = 1.83889e-12.
 #[test]

@@ -716,7 +716,7 @@ fn coulomb_with_paper_contact() {
     );
 }
 
-/// The `nano-adhesive` preset (docs/physics.md §18): the nano preset with
+/// The `nano-adhesive` preset (docs/physics.md#adhesion): the nano preset with
 /// graphene adhesion and superlubric friction, everything else unchanged.
 /// Its adhesion is the continuum-LJ helper's C60-on-graphene binding, which
 /// lies where the literature puts it (nano-physics.md §1.2: E_b 0.73–0.96
@@ -757,7 +757,7 @@ fn nano_adhesive_preset() {
     );
 }
 
-/// The `nano-physical` preset (docs/physics.md §21): the `nano-adhesive`
+/// The `nano-physical` preset (docs/physics.md#langevin): the `nano-adhesive`
 /// top at 300 K as a Langevin run, with a 1.1 eV lying well (a 1 nm stem at
 /// 0.11 eV/Å) and the NMR damping; valid (so within the step rule), round
 /// trip, loaded by name.
@@ -873,7 +873,7 @@ fn thermal_keys_and_their_rules() {
         &sets(&brown(&["solver.model=\"rigid\""])),
     )
     .expect("rigid brownian on the plane");
-    // The contact damping (its coupled mobility, physics.md §21.1), for
+    // The contact damping (its coupled mobility, physics.md#brownian), for
     // both models on the plane.
     for model in ["solver.model=\"vector\"", "solver.model=\"rigid\""] {
         Scenario::load(
@@ -900,7 +900,7 @@ fn thermal_keys_and_their_rules() {
         expect_err(Some("nano"), None, &brown(extra), key);
     }
     // The rigid model above a wall (unilateral contact, docs/physics.md
-    // §21.2): valid, with the paper's contact too (on the plane); with
+    // §brownian-wall): valid, with the paper's contact too (on the plane); with
     // graphene's adhesion the wall's thermal length kT/F_a = 7 pm binds the
     // step: 8e-17 s (within the tilt's rule on the plane) is refused,
     // naming that rate.
@@ -958,7 +958,7 @@ fn thermal_keys_and_their_rules() {
     .expect("T = 0 with damping is valid");
 }
 
-/// `[[force]]` windows of kind "tip" and "magnetic" (docs/physics.md §24)
+/// `[[force]]` windows of kind "tip" and "magnetic" (docs/physics.md#actuators)
 /// parse into `Scenario::actuators` and round-trip through the TOML text.
 #[test]
 fn round_trip_tip_and_magnetic_windows() {

@@ -215,12 +215,12 @@ fn observer_sees_every_accepted_step() {
     }
 }
 
-/// The README's Rust example is the doc test of `Simulation` (which
-/// `cargo test` runs), line for line.
+/// The user guide's Rust example (docs/guide.md, "From Rust") is the doc
+/// test of `Simulation` (which `cargo test` runs), line for line.
 #[test]
-fn readme_example_is_the_doc_test() {
+fn guide_example_is_the_doc_test() {
     let root = env!("CARGO_MANIFEST_DIR");
-    let readme = std::fs::read_to_string(format!("{root}/../../README.md")).unwrap();
+    let readme = std::fs::read_to_string(format!("{root}/../../docs/guide.md")).unwrap();
     let start = readme.find("```rust\n").expect("a rust block") + "```rust\n".len();
     let block: Vec<&str> = readme[start..]
         .split("\n```")
@@ -238,7 +238,7 @@ fn readme_example_is_the_doc_test() {
     let at = doc.windows(block.len()).position(|w| w == block.as_slice());
     assert!(
         at.is_some(),
-        "README example not found in Simulation's doc test"
+        "docs/guide.md's example not found in Simulation's doc test"
     );
 }
 

@@ -60,7 +60,7 @@ const TRACE: RGBColor = RGBColor(20, 120, 140);
 /// Colour of the applied-force arrow and its label.
 const FORCE: RGBColor = RGBColor(230, 110, 0);
 
-/// Colour of the stem (§26), before shading.
+/// Colour of the stem (§stem), before shading.
 const STEM: V3 = [0.62, 0.45, 0.25];
 
 fn to_u8(c: V3) -> [u8; 3] {
@@ -162,7 +162,7 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
         }
     }
 
-    // 3b. The stem's ball (§26), pixel by pixel where it is in front of the
+    // 3b. The stem's ball (§stem), pixel by pixel where it is in front of the
     // sphere (its surface points outside the sphere's silhouette or nearer
     // the camera than the sphere's front), shaded as the sphere.
     if let Some((r2, d2)) = movie.stem {
@@ -213,7 +213,7 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
         (x.clamp(-1e4, 1e4) as i32, y.clamp(-1e4, 1e4) as i32)
     };
     if let Some((r2, d2)) = movie.stem {
-        // The stem (§26): a peg along +k from inside the sphere to a ball of
+        // The stem (§stem): a peg along +k from inside the sphere to a ball of
         // radius r2 at O + d2 k, where not behind the sphere.
         let tip = axpy(pose.com, d2, pose.k);
         let start = axpy(pose.centre, 0.8 * rr, pose.k);
@@ -655,7 +655,7 @@ mod tests {
         );
     }
 
-    /// The stem's ball (§26) is drawn: with the top upright (k = Z), the
+    /// The stem's ball (§stem) is drawn: with the top upright (k = Z), the
     /// toy's stem (r2 = 2.5 mm at d2 = 16 mm, R = 15 mm, a = 1.5 mm) sticks
     /// 2 mm out of the sphere's top; the pixel of the ball's front surface
     /// point with screen offsets (0.5 r2 right, 0.7 r2 up) from its centre

@@ -204,7 +204,7 @@ pub struct Movie {
     pub offset: f64,
     /// The stem (`top.stem_radius` r2, `top.stem_distance` d2) \[m\], if
     /// any: drawn as a peg along `k` ending in a ball of radius r2 centred
-    /// at `O + d2 k` (docs/physics.md §26).
+    /// at `O + d2 k` (docs/physics.md#stem).
     pub stem: Option<(f64, f64)>,
     /// The frames, in time order.
     pub frames: Vec<Frame>,

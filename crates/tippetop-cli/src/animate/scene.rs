@@ -2,7 +2,7 @@
 //! camera, and the colour of a point of the sphere (the same rules as the
 //! viewer's JavaScript, `viewer.html`).
 //!
-//! Geometry (docs/physics.md §1, §19): `O` the centre of mass (`x, y, z`),
+//! Geometry (docs/physics.md#geometry, §position): `O` the centre of mass (`x, y, z`),
 //! `k = q e3 q*` the symmetry axis, the sphere's centre `C = O + a k`, its
 //! radius `R`; the contact point below `C`.
 //!

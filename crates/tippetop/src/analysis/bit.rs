@@ -423,7 +423,7 @@ pub struct Report {
 /// Largest `|Σ h|` of windows acting at the same time \[N\] (the total is
 /// piecewise constant and changes only at window starts and stops, so its
 /// largest value is taken at some start). Body actuators (docs/physics.md
-/// §24) add `|Σ F_tip|` (lab frame) and `Σ |μ| |G|` (a magnet's largest
+/// §actuators) add `|Σ F_tip|` (lab frame) and `Σ |μ| |G|` (a magnet's largest
 /// gradient force, `|G|` the Frobenius norm): exact for one kind, an upper
 /// bound when kinds in different frames act together.
 pub fn max_applied_force(windows: &[Actuator]) -> f64 {

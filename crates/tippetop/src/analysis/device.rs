@@ -1,4 +1,4 @@
-//! The device report (issue #16 item 6, docs/physics.md §23.2): can the
+//! The device report (issue #16 item 6, docs/physics.md#device): can the
 //! nano tippe top be a memory bit? Numbers for the paper's model, for the
 //! same top with van der Waals adhesion, and for C60 on graphene at 4, 77
 //! and 300 K, each computed here from the bit harness

@@ -1,5 +1,5 @@
 //! The device report's rare events (issue 27 item 4, docs/physics.md
-//! §23.3): the lying state's retention and the write's error rate of
+//! §device-rare): the lying state's retention and the write's error rate of
 //! `nano-physical` (C60 on graphene, Langevin), computed directly by
 //! adaptive multilevel splitting ([`super::rare::ams`]) at the temperature
 //! that matters, with two closed answers beside them:

@@ -1,5 +1,5 @@
 //! The ε study: the regularised Coulomb law `μ N v/√(|v|² + ε²)` against the
-//! exact stick/slip law as ε → 0 (docs/physics.md §6).
+//! exact stick/slip law as ε → 0 (docs/physics.md#coulomb).
 //!
 //! What is compared, for each ε and for the exact law:
 //! - the end state θ(t_end), ω(t_end);

@@ -5,7 +5,7 @@
 //! orientation survive thermal motion. Each entry is a number, or `None`
 //! where it is undefined (no adhesion, no temperature, zero weight).
 //!
-//! Constants (docs/physics.md §16): Boltzmann's `k_B = 1.380649e-23 J/K`
+//! Constants (docs/physics.md#regime): Boltzmann's `k_B = 1.380649e-23 J/K`
 //! and `ħ = 1.054571817e-34 J s` (exact and CODATA 2018); the
 //! reorientational correlation time of C60 `τ = 9.1 ps` (solid C60 at
 //! 283 K, NMR, Johnson et al.; 15.5 ps in solution), the scale on which

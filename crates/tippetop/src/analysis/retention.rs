@@ -1,7 +1,7 @@
 //! Retention: how long a state holds at a target temperature, from escape
 //! rates measured at raised temperatures (or lowered barriers), where the
 //! escape is fast enough to simulate, extrapolated by the Arrhenius law
-//! (docs/physics.md §22).
+//! (docs/physics.md#retention).
 //!
 //! Escape over a barrier of many kT, after the top has settled in its
 //! well, is a Poisson process (Kramers): its rate `k` is measured by an

@@ -1,5 +1,5 @@
 //! Protocol search for a memory bit at T = 0 (issue #16 item 5,
-//! docs/physics.md §23.1): minimise `time + weight × energy` over the
+//! docs/physics.md#search): minimise `time + weight × energy` over the
 //! windows of one phase, subject to success with a margin.
 //!
 //! **Optimiser.** Nelder–Mead from the `argmin` crate (a maintained

@@ -20,7 +20,7 @@
 //! whatever the friction matrix) and the deterministic part (RK4: its error
 //! in the invariant measure is of order 4) keeps the properties that
 //! matter: a symmetric (Strang) splitting, weak order 2, the right
-//! velocity distribution for any configuration (docs/physics.md §21; the
+//! velocity distribution for any configuration (docs/physics.md#langevin; the
 //! order is measured in tests/physics/thermal.rs).
 //!
 //! `solver.method = "brownian"` uses the same engine with one
@@ -93,7 +93,7 @@ impl<const N: usize> Langevin<N> {
     /// `k h`, else the next multiple of `h`. The slack grows with `k`: `t/h`
     /// of a grid time `k h` is `k` only to a few ulps of `k` (2e-9 at
     /// `k = 1e7`), and a fixed slack of 1e-9 then put `t` just below `k`
-    /// and returned `t` itself (zero-length steps, found in session 9).
+    /// and returned `t` itself (zero-length steps).
     fn next_grid(&self, t: f64) -> f64 {
         let x = t / self.h;
         let slack = LANDING_SLACK.max(8.0 * f64::EPSILON * x.abs());

@@ -58,7 +58,7 @@
 //!
 //! `J` by central differences of `rhs`, column `j` with the step
 //! `δ_j = sqrt(eps) max(|y_j|, 1)` (the states are in scaled units, see
-//! docs/physics.md §5), recomputed at every accepted step (N ≤ 15) and
+//! docs/physics.md#friction-laws), recomputed at every accepted step (N ≤ 15) and
 //! reused by the attempts that follow a rejection (same point). Central,
 //! not forward: the regularised friction force varies on the slip scale ε,
 //! which is 5e-6 in scaled units for ε = 1e-5 m/s on the classical top, so

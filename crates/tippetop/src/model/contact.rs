@@ -4,7 +4,7 @@
 //! normal-force closure with its branches, the applied force terms latched
 //! for the segment, sliding or rolling, the slip hint and reference, the
 //! latched `N = 0` branch, the stick margin, chatter detection and the
-//! evaluation count (docs/physics.md §4, §6).
+//! evaluation count (docs/physics.md#normal-force, §coulomb).
 
 use std::cell::Cell;
 
@@ -70,7 +70,7 @@ pub struct ContactState {
     /// (`bilateral_normal`) and the friction sees `|N|`. The driver
     /// latches the consistent branch at the start of each segment and makes
     /// `N = 0` a terminal event where it flips it, so that no step straddles
-    /// the kink of `μ|N|` (docs/physics.md §4). Falls back to the
+    /// the kink of `μ|N|` (docs/physics.md#normal-force). Falls back to the
     /// consistent rule unless both `D(±) > 0`, so Painlevé states are still
     /// detected.
     pub normal_branch: Option<bool>,
@@ -83,7 +83,7 @@ pub struct ContactState {
     last_slip: Cell<[f64; 2]>,
     /// Right-hand-side evaluations so far (all segments).
     pub evaluations: u64,
-    /// Coulomb–Contensou friction with `r_c > 0` (docs/physics.md §25):
+    /// Coulomb–Contensou friction with `r_c > 0` (docs/physics.md#contensou):
     /// the contact radius (scaled), the pressure and the Padé flag. `None`
     /// for every other law, and for `r_c = 0`, which runs as the exact
     /// point law.
@@ -91,7 +91,7 @@ pub struct ContactState {
     /// Coulomb–Contensou slip-off: the force and torque coefficients
     /// `(f, τ)` that [`ContactState::drilling`] gives at exactly `v = 0`,
     /// `n_z = 0` after the stick ends (the point of the limit curve where
-    /// the needed wrench left it, §25); `None` in stick and before any
+    /// the needed wrench left it, §contensou); `None` in stick and before any
     /// stick (zero friction there).
     contensou_hint: Option<([f64; 2], f64)>,
     /// Bumped at every change of `contensou_hint`: the models' evaluation
@@ -102,7 +102,7 @@ pub struct ContactState {
     /// and θ's maxima are not located between steps (the noise makes θ̇
     /// change sign at almost every step; the step ends are tracked).
     pub langevin: bool,
-    /// `cos θ_td` of the stem's touchdown (docs/physics.md §26), `None`
+    /// `cos θ_td` of the stem's touchdown (docs/physics.md#stem), `None`
     /// without a stem: the on-plane models stop there.
     pub stem_cos: Option<f64>,
 }
@@ -121,7 +121,7 @@ impl ContactState {
         };
         // Contensou with r_c = 0 is the exact point law, run as it (bit for
         // bit); with r_c > 0 a smooth law of (v, n_Z) without a rolling
-        // mode (§25).
+        // mode (§contensou).
         let (law, contensou) = match law.contensou() {
             Some((0.0, _, _)) => (FrictionLaw::Coulomb, None),
             Some((r, p, pade)) => (law, Some((r / scales.length, p, pade))),
@@ -151,7 +151,7 @@ impl ContactState {
         }
     }
 
-    /// Coulomb–Contensou friction (§25), `None` unless the law is it with
+    /// Coulomb–Contensou friction (§contensou), `None` unless the law is it with
     /// `r_c > 0`: for the slip `v` and the spin about the contact normal
     /// `n_z` (scaled), the force coefficient vector `f` (the friction force
     /// is `−N_f f`, `|f| <= μ`) and the torque coefficient `τ` (the drilling
@@ -160,7 +160,7 @@ impl ContactState {
     /// After a stick, while `|v| + r_c |n_z|` is below
     /// [`CONTENSOU_HINT_SPEED`], they are the slip-off hint, the point of
     /// the limit curve where the stick ended; before any stick, zero at
-    /// exactly `v = 0`, `n_z = 0` (§25).
+    /// exactly `v = 0`, `n_z = 0` (§contensou).
     #[inline]
     pub(crate) fn drilling(&self, v: [f64; 2], nz: f64) -> Option<([f64; 2], f64)> {
         let (rc, p, pade) = self.contensou?;
@@ -188,7 +188,7 @@ impl ContactState {
     }
 
     /// The arrival at the Coulomb–Contensou stick (sliding and spinning
-    /// both stopped, §25) as an event function: `|v| + r_c |n_z| − δ`,
+    /// both stopped, §contensou) as an event function: `|v| + r_c |n_z| − δ`,
     /// `δ` = [`CONTENSOU_STICK_SPEED`] (scaled). Near the stick the law is
     /// smooth but stiff (the torque's slope in `n_z` grows like `1/|v|`),
     /// and `|v| + r_c |n_z|` reaches zero without changing sign, so the
@@ -287,7 +287,7 @@ impl ContactState {
     /// `(|F_f|/(μ|N|), |M|/(μ|N| r_c))` with respect to the law's limit
     /// curve ([`crate::physics::contensou::gauge`]), which is the point
     /// law's margin where `M = 0`. The stick holds while it is `>= 0`
-    /// (docs/physics.md §25).
+    /// (docs/physics.md#contensou).
     pub(crate) fn stick_margin_wrench(&self, normal: f64, friction: [f64; 2], torque: f64) -> f64 {
         let Some((rc, p, pade)) = self.contensou else {
             return self.stick_margin(normal, friction);
@@ -356,7 +356,7 @@ impl ContactState {
 
     /// The latched contact-point force (H and the vertical load h_z), scaled,
     /// with the adhesion's load `F_a` in contact added to `h_z`
-    /// (docs/physics.md §18): the on-plane models' closure, reaction `N_c`
+    /// (docs/physics.md#adhesion): the on-plane models' closure, reaction `N_c`
     /// and friction all see it through this one value (the rigid model
     /// adds its phase's own load to `ContactState::forces`).
     #[inline(always)]
@@ -372,7 +372,7 @@ impl ContactState {
         &self.forces
     }
 
-    /// The orientation wells, depths scaled (docs/physics.md §20; empty
+    /// The orientation wells, depths scaled (docs/physics.md#wells; empty
     /// without wells).
     #[inline(always)]
     pub fn wells(&self) -> &[crate::physics::forces::wells::Well] {
@@ -545,7 +545,7 @@ impl ContactState {
     }
 }
 
-/// The Coulomb–Contensou stick's constraint wrench (docs/physics.md §25),
+/// The Coulomb–Contensou stick's constraint wrench (docs/physics.md#contensou),
 /// for every model (scaled, `m = 1`): with the inertia `A`, `C` about the
 /// axis `k` and `r` from the centre of mass to the contact point, the
 /// contact force `F` (at P) and the torque `M` about the vertical `Z` that

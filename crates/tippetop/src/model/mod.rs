@@ -25,7 +25,7 @@ pub enum Mode {
     /// Slip held at zero; friction is the constraint force. Under
     /// Coulomb–Contensou friction the stick: the spin about the vertical is
     /// held at zero too, and the drilling torque is a constraint torque
-    /// (docs/physics.md §25).
+    /// (docs/physics.md#contensou).
     Rolling,
 }
 
@@ -161,7 +161,7 @@ pub(crate) trait Model<const D: usize>: OdeSystem<D> + Sized {
     fn adhesive(&self) -> bool {
         false
     }
-    /// True when the top has a stem (docs/physics.md §26): the summary then
+    /// True when the top has a stem (docs/physics.md#stem): the summary then
     /// reports `first_stem_contact_at` and `stem_contact_fraction`.
     fn has_stem(&self) -> bool {
         false
@@ -204,7 +204,7 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     /// Horizontal slip velocity at a state (scaled; the model's own frame).
     fn slip_of(&self, y: &[f64; D]) -> [f64; 2];
     /// The spin about the contact normal, `n_Z` (scaled): the drilling
-    /// rate of Coulomb–Contensou friction (docs/physics.md §25).
+    /// rate of Coulomb–Contensou friction (docs/physics.md#contensou).
     fn spin_z(&self, y: &[f64; D]) -> f64;
     /// The state with its velocity replaced by the rolling (zero-slip) one.
     fn to_rolling(&self, y: &[f64; D]) -> [f64; D];
@@ -214,13 +214,13 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     /// Normal force, friction and the drilling torque about the vertical
     /// (scaled, the model's frame) at a state in the current mode: the
     /// torque is the Coulomb–Contensou law's while sliding, the stick's
-    /// constraint torque in its stick (docs/physics.md §25), zero for the
+    /// constraint torque in its stick (docs/physics.md#contensou), zero for the
     /// other laws.
     fn contact_wrench(&self, y: &[f64; D]) -> Result<(f64, [f64; 2], f64), ModelError>;
     /// The state with its velocities changed by the impulse at the contact
     /// (force and torque about the vertical) that brings the slip and the
     /// spin about the vertical to zero: the Coulomb–Contensou stick
-    /// (docs/physics.md §25; [`contact::stick_solve`]), the impulse's work
+    /// (docs/physics.md#contensou; [`contact::stick_solve`]), the impulse's work
     /// (the kinetic energy's change, `<= 0`) added to `W_f`.
     fn to_stick(&self, y: &[f64; D]) -> [f64; D];
     /// Stick margin while rolling or stuck (scaled force):

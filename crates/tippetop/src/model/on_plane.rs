@@ -3,7 +3,7 @@
 //! [`ContactModel`]. Exact Coulomb law: the slip-zero and stick-limit events
 //! end a segment, where the mode switches and the integration restarts;
 //! bilateral contact while sliding: `N = 0` ends a segment, where the
-//! latched branch flips (docs/physics.md §4).
+//! latched branch flips (docs/physics.md#normal-force).
 
 use crate::integrate::{Direction, Event};
 use crate::model::{ContactModel, Flow, Mode, Model, ModelError};
@@ -32,7 +32,7 @@ fn settle_at_zero_slip<M: ContactModel<D>, const D: usize>(
 }
 
 /// Arrive at the Coulomb–Contensou stick (sliding and spinning both
-/// stopped, §25): the state is put on the stick (an impulse, its work in
+/// stopped, §contensou): the state is put on the stick (an impulse, its work in
 /// `W_f`), and the needed wrench decides: stick if it is inside the limit
 /// curve, else slide off along it. Returns the state and true if stuck.
 fn settle_at_stick<M: ContactModel<D>, const D: usize>(
@@ -169,7 +169,7 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                     direction,
                     terminal,
                     // Latched: smooth through N = 0, so the restart state
-                    // can come from a step (docs/physics.md §4).
+                    // can come from a step (docs/physics.md#normal-force).
                     step_to_event: terminal && plane.latches_normal(),
                 }
             }),
@@ -192,7 +192,7 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
         };
         if self.plane().is_contensou() {
             // Sliding: the arrival at the stick; stuck: the needed wrench
-            // leaving the limit curve (§25).
+            // leaving the limit curve (§contensou).
             match self.plane().mode {
                 Mode::Sliding => ev.push((
                     Watch::ContensouStick,
@@ -209,7 +209,7 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
             }
         }
         if let Some(c_td) = self.plane().stem_cos {
-            // The stem reaches the plane where θ rises through θ_td (§26).
+            // The stem reaches the plane where θ rises through θ_td (§stem).
             ev.push((
                 Watch::StemTouch,
                 Event {
@@ -327,7 +327,7 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                     t * self.time_unit(),
                     Failure::NotModelled,
                     format!(
-                        "the stem touches the plane at theta = theta_td = {} rad (cos theta_td = -(R - r2)/(d2 - a) = {c_td}; docs/physics.md §26): the reduced and vector models keep the main sphere on the plane and cannot follow the stem's contact, use model = \"rigid\"; {}",
+                        "the stem touches the plane at theta = theta_td = {} rad (cos theta_td = -(R - r2)/(d2 - a) = {c_td}; docs/physics.md#stem): the reduced and vector models keep the main sphere on the plane and cannot follow the stem's contact, use model = \"rigid\"; {}",
                         c_td.acos(),
                         ContactModel::describe_state(self, y)
                     ),

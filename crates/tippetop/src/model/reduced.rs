@@ -1,5 +1,5 @@
 //! The paper's Euler-angle model (App. A), derived afresh in
-//! `docs/physics.md` §2–§4, with the normal force solved together with θ̈.
+//! `docs/physics.md` §kinematics–§normal-force, with the normal force solved together with θ̈.
 //!
 //! State (scaled units, see [`Scales`]):
 //! `[θ, θ̇, Ω, ω, u_x, u_y, W_f, W_a, φ, ψ, x, y, c_φ, s_φ]`
@@ -11,11 +11,11 @@
 //! (`ẋ + i ẏ = (c_φ + i s_φ)(u_x + i u_y)`) and the precession's direction
 //! `(c_φ, s_φ) ≈ (cos φ, sin φ)`, carried as `ċ_φ = −s_φ Ω`, `ṡ_φ = c_φ Ω` so
 //! that the right-hand side takes no sine or cosine of φ (docs/physics.md
-//! §19).
+//! §position).
 //!
 //! Two modes: [`Mode::Sliding`] (friction from the friction law) and
 //! [`Mode::Rolling`] (exact Coulomb law only: slip held at zero, the
-//! friction is the constraint force, §4 of docs/physics.md).
+//! friction is the constraint force, §normal-force of docs/physics.md).
 
 use std::cell::RefCell;
 
@@ -54,7 +54,7 @@ pub const PSI: usize = 9;
 pub const POS: usize = 10;
 /// Index of `c_φ ≈ cos φ` (quadrature; `s_φ ≈ sin φ` follows). Not
 /// normalised: `c_φ² + s_φ²` drifts from 1 by the integration error
-/// (docs/physics.md §19 gives the measured size).
+/// (docs/physics.md#position gives the measured size).
 pub const DIR: usize = 12;
 
 /// The quadratures' derivatives `[φ̇, ψ̇, ẋ, ẏ, ċ_φ, ṡ_φ]` at a state, with
@@ -183,7 +183,7 @@ pub struct Reduced {
     pub top: Top,
     /// g \[m/s²\].
     pub gravity_si: f64,
-    /// The orientation wells in SI (for the energy column; §20).
+    /// The orientation wells in SI (for the energy column; §wells).
     wells_si: Vec<crate::physics::forces::wells::Well>,
     /// The last evaluation made by `eval` (see [`LastEval`]).
     last: RefCell<Option<LastEval>>,
@@ -326,7 +326,7 @@ impl Reduced {
         let v = [ux - h * thd, uy + s * (w - om * c + a * om)];
         // Off the critical path (independent of the friction): 1/(ia s).
         let inv_ias = inv_ia / s;
-        // Coulomb–Contensou (§25): the force coefficient and the drilling
+        // Coulomb–Contensou (§contensou): the force coefficient and the drilling
         // torque's, from the slip and the spin about Z, n_Z = Ω s² + ω c.
         let nz = om * s * s + w * c;
         let (f, tau) = match self.plane.drilling(v, nz) {
@@ -336,12 +336,12 @@ impl Reduced {
         let cp = self.plane.contact_point();
         let [hx, hy] = cp.h;
         // Gyroscopic term of A θ̈, with the wells' torque τ_y = −U′(θ)
-        // (docs/physics.md §20).
+        // (docs/physics.md#wells).
         let gyro = self.with_wells(-om * (ic * w - ia * om * c) * s, th);
         let as_ = a * s;
         let q = self.g + a * c * thd * thd + as_ * (gyro + h * hx) * inv_ia;
         // The vertical load h_z at P: Q + h_z D₀, D₀ = 1 + a² s²/A
-        // (docs/physics.md §17).
+        // (docs/physics.md#vertical-load).
         let q = cp.closure_q(q, 1.0 + as_ * as_ * inv_ia);
         // N (1 + a s (a s − σ h f_x)/A) = Q, σ the sign of N the friction sees.
         let dp = 1.0 + as_ * (as_ - h * f[0]) * inv_ia;
@@ -351,7 +351,7 @@ impl Reduced {
         let ff = [-nf * f[0], -nf * f[1]];
         let fx = ff[0] - hx;
         let fy = ff[1] - hy;
-        // The vertical force at P is N − h_z (§17).
+        // The vertical force at P is N − h_z (§vertical-load).
         let thdd = (gyro - as_ * cp.vertical_total(normal) - h * fx) * inv_ia;
         let mut omd = (thd * (ic * w - 2.0 * ia * om * c) + (a - c) * fy) * inv_ias;
         let mut wd = s * fy * inv_ic;
@@ -394,7 +394,7 @@ impl Reduced {
     }
 
     /// Rolling: v_P = 0 held; θ̈, N and the friction solved with the motion
-    /// (docs/physics.md §4). Regular at every θ except through the Ω
+    /// (docs/physics.md#normal-force). Regular at every θ except through the Ω
     /// equation's 1/sin θ, which the caller guards.
     #[inline(always)]
     fn eval_rolling(&self, y: &[f64; DIM], s: f64, c: f64) -> Eval {
@@ -410,7 +410,7 @@ impl Reduced {
         let thdd = (gyro - a * s * self.g - a * s * thd * thd + h * om * uy)
             / (ia + a * a * s * s + h * h);
         // The plane's reaction: the vertical constraint force plus the
-        // load h_z (§17).
+        // load h_z (§vertical-load).
         let cp = self.plane.contact_point();
         let normal = cp.reaction(self.g + a * c * thd * thd + a * s * thdd);
         let fx = h * thdd + a * s * thd * thd - om * uy;
@@ -423,7 +423,7 @@ impl Reduced {
             - om * s * s * thd;
         let a11 = 1.0 + s * s * inv_ic + (a - c) * (a - c) * inv_ia;
         let (fy, torque) = if self.plane.is_contensou() {
-            // The Coulomb–Contensou stick (§25): n_Z = Ω s² + ω c held at
+            // The Coulomb–Contensou stick (§contensou): n_Z = Ω s² + ω c held at
             // zero too, the drilling torque M about Z a fourth unknown.
             // With A s Ω̇ = P + (a − c) F_y + M s and C ω̇ = s F_y + M c,
             // the ŷ rolling equation and d n_Z/dt = 0 are the symmetric
@@ -468,7 +468,7 @@ impl Reduced {
     }
 
     /// The state put on the Coulomb–Contensou stick by the impulse that
-    /// brings the slip and the spin about Z to zero (§25): in the
+    /// brings the slip and the spin about Z to zero (§contensou): in the
     /// precessing frame `k = (s, 0, c)`, `w = ((ω − Ω c) s, θ̇, n_Z)`,
     /// `r = a k − Z`, the impulse of [`super::contact::stick_solve`]
     /// (`b = −v_P`, `β = −n_Z`) changes `u` by its horizontal part and `w`
@@ -513,7 +513,7 @@ impl Reduced {
         ys
     }
 
-    /// `gyro` plus the wells' torque about ŷ, `τ_y = −U′(θ)` (§20): it
+    /// `gyro` plus the wells' torque about ŷ, `τ_y = −U′(θ)` (§wells): it
     /// enters `A θ̈` beside the gyroscopic term, and so the closure's `Q`
     /// (`a s τ_y/A`) and the rolling equation. `gyro` itself without wells
     /// (bit for bit).
@@ -528,7 +528,7 @@ impl Reduced {
     }
 
     /// `e + U(θ)`, the wells' potential (scaled; `e` itself without
-    /// wells, §20).
+    /// wells, §wells).
     #[inline]
     fn with_well_potential(&self, e: f64, theta: f64) -> f64 {
         crate::physics::forces::wells::with_potential(self.plane.wells(), e, theta)
@@ -691,7 +691,7 @@ impl super::ContactModel<DIM> for Reduced {
         let u_si = [u[0] * vu, u[1] * vu, u[2] * vu];
         let (theta, thd, om, w) = (y[TH], y[THD] / tu, y[OM] / tu, y[W] / tu);
         let h = m.applied();
-        // Position and attitude (docs/physics.md §19): the plane is z = 0,
+        // Position and attitude (docs/physics.md#position): the plane is z = 0,
         // the centre of mass at height R − a cos θ, the contact point below
         // the sphere's centre C = O + a k.
         let (l, a) = (sc.length, m.a);

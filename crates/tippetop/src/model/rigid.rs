@@ -22,7 +22,7 @@
 //! about the axis (the spin angle) along, and `k = q e3 q*` holds to the
 //! integration error. Integrating `k` and the world-frame `n` rather than `q`
 //! and the body-frame rates is what keeps Jellett's `J` (docs/physics.md
-//! §11): `k` and `n` turn only at the precession and nutation rates, while
+//! §rigid-model): `k` and `n` turn only at the precession and nutation rates, while
 //! `q` and the body-frame rates turn with the spin, and an error in the spin
 //! phase of `q` that `n_b` does not share rotates the world `n` about `k`,
 //! which changes `J`.
@@ -45,7 +45,7 @@
 //! `F = N Z + F_f − H − h_z Z`: the vertical load `h_z` (force terms,
 //! [`crate::physics::forces`]) adds `h_z (1/m + a w_Z)` to the closure's `Q`
 //! below and `h_z` to the rolling `N`; `N` is the plane's reaction
-//! (docs/physics.md §17). `H = h_x x̂ + h_y ŷ` is the paper's retarding force
+//! (docs/physics.md#vertical-load). `H = h_x x̂ + h_y ŷ` is the paper's retarding force
 //! (the force on the top is `−H`), `x̂` the horizontal unit vector along the
 //! horizontal projection of `k`, `ŷ = Z × x̂` (world `X`, `Y` when `k` is
 //! exactly vertical). `(h_x, h_y)` is latched per segment in
@@ -366,10 +366,10 @@ pub struct Rigid {
     /// Unit system.
     pub scales: Scales,
     /// Centre offset of the active contact sphere along `k` (scaled): `a/R`
-    /// for the main sphere, `d2/R` for the stem's (§26).
+    /// for the main sphere, `d2/R` for the stem's (§stem).
     a: f64,
     /// Radius of the active contact sphere (scaled): 1 for the main sphere,
-    /// `r2/R` for the stem's (§26).
+    /// `r2/R` for the stem's (§stem).
     rho: f64,
     /// The main sphere's `(a/R, 1)` and the stem's `(d2/R, r2/R)` (`None`
     /// without a stem): the active one is in `a`, `rho`.
@@ -377,7 +377,7 @@ pub struct Rigid {
     /// True while the stem's sphere is the active contact sphere.
     pub on_stem: bool,
     /// True in the two-contact phase: the main sphere and the stem both on
-    /// the plane (§26; `phase` is then `Contact`).
+    /// the plane (§stem; `phase` is then `Contact`).
     pub both: bool,
     /// Time of the last switch of the active sphere (scaled): the other
     /// sphere's gap is 0 there ([`Rigid::other_touchdown_function`]).
@@ -483,7 +483,7 @@ impl Rigid {
         set3(&mut y, AXIS, rotate(q, Z));
         if i.heading != 0.0 {
             // Turned by the heading about Z (the dynamics are the same;
-            // docs/physics.md §19): v, n, k, and the attitude q_Z(φ₀) ⊗ q.
+            // docs/physics.md#position): v, n, k, and the attitude q_Z(φ₀) ⊗ q.
             let rz = super::vec3::RotZ::new(i.heading);
             for at in [VEL, OMEGA, AXIS] {
                 let v = rz.apply(v3(&y, at));
@@ -552,10 +552,10 @@ impl Rigid {
         let (k, n, r) = (kin.k, kin.n, kin.r);
         let fh = self.applied_world(&kin);
         let cp = self.contact.forces().contact_point();
-        // The whole applied force at P: −H and the load −h_z Z (§17); its
+        // The whole applied force at P: −H and the load −h_z Z (§vertical-load); its
         // work is W_a.
         let fa = [fh[0], fh[1], cp.vertical_total(fh[2])];
-        // Adhesion (§18), along the vertical through P: the load F_a in
+        // Adhesion (§adhesion), along the vertical through P: the load F_a in
         // contact, −U′(gap) in flight; applied as a load at P, no work in W_a
         // (its potential is in the energy). `cp` itself without adhesion.
         let cv = self.contact.forces().centre_vertical();
@@ -567,7 +567,7 @@ impl Rigid {
         let wk = dot(n, k);
         // Gyroscopic angular acceleration (world): −I⁻¹ (n × I n).
         let ndot0 = scale(-1.0, self.inv_inertia(k, cross(n, self.inertia(k, n))));
-        // The wells' torque τ = −U′(θ) ŷ (§20), a couple: its angular
+        // The wells' torque τ = −U′(θ) ŷ (§wells), a couple: its angular
         // acceleration τ/A (τ ⊥ k) joins the torque-free one, which the
         // closure and the rolling constraint read. None without wells.
         let wells = self.contact.wells();
@@ -577,7 +577,7 @@ impl Rigid {
                 crate::physics::forces::wells::torque_world(wells, k),
             )
         });
-        // The body actuators' wrench (§24): its angular acceleration I⁻¹τ
+        // The body actuators' wrench (§actuators): its angular acceleration I⁻¹τ
         // joins the torque-free one as the wells' does, its force F the
         // free acceleration (gravity g Z − F in Q and the rolling b).
         let body = self.body_wrench(y, k);
@@ -601,9 +601,9 @@ impl Rigid {
         let nn = dot(n, n);
         // Q: −(gap acceleration) with N = 0 and no friction (H = −fh).
         let q_free = gv[2] + self.a * (-dot(fh, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
-        // The load h_z at P: Q + h_z D₀, D₀ = 1/m + a w_Z (§17).
+        // The load h_z at P: Q + h_z D₀, D₀ = 1/m + a w_Z (§vertical-load).
         let q_free = cp.closure_q(q_free, 1.0 + self.a * w[2]);
-        // Coulomb–Contensou (§25): the drilling torque about Z, M = −N_f τ
+        // Coulomb–Contensou (§contensou): the drilling torque about Z, M = −N_f τ
         // (contact, sliding only).
         let mut drill = None;
         let (normal, ff, rolling_force) = match (self.phase, self.contact.mode) {
@@ -617,7 +617,7 @@ impl Rigid {
                 );
                 let force = if self.contact.is_contensou() {
                     // The Coulomb–Contensou stick: n_Z held at zero too,
-                    // the drilling torque a fourth unknown (§25).
+                    // the drilling torque a fourth unknown (§contensou).
                     let (force, m) =
                         super::contact::stick_solve(self.ia, self.ic, k, r, b, -ndot0[2]);
                     drill = Some(m);
@@ -627,7 +627,7 @@ impl Rigid {
                 };
                 // Friction needed: the plane supplies F + H = F − fa.
                 let ff = [force[0] - fl[0], force[1] - fl[1], 0.0];
-                // The plane's reaction: F_Z plus the load (§17).
+                // The plane's reaction: F_Z plus the load (§vertical-load).
                 (cp.reaction(force[2]), ff, Some(force))
             }
             (Phase::Contact, Mode::Sliding) => {
@@ -665,7 +665,7 @@ impl Rigid {
         let kdot = cross(n, k);
         let torque = sub(cross(r, force), scale((self.ic - self.ia) * wk, kdot));
         let torque = match drill {
-            // The drilling torque M Z; it does not enter the closure (§25).
+            // The drilling torque M Z; it does not enter the closure (§contensou).
             Some(mz) => add(torque, [0.0, 0.0, mz]),
             None => torque,
         };
@@ -699,7 +699,7 @@ impl Rigid {
             dy[WA] = dot(fa, kin.vp);
         }
         if let Some((fb, tb)) = body {
-            // The actuators' power F·v_O + τ·n (§24), rolling or not, with
+            // The actuators' power F·v_O + τ·n (§actuators), rolling or not, with
             // the velocity the energy uses.
             dy[WA] += dot(fb, self.output_velocity(y, &kin)) + dot(tb, n);
         }
@@ -714,7 +714,7 @@ impl Rigid {
     }
 
     /// The body actuators' wrench `(F, τ)` at a state (scaled, lab;
-    /// docs/physics.md §24), `None` without actuators; an off-axis tip's
+    /// docs/physics.md#actuators), `None` without actuators; an off-axis tip's
     /// material axes from the attitude quaternion.
     #[inline]
     fn body_wrench(&self, y: &[f64; DIM], k: V3) -> Option<(V3, V3)> {
@@ -754,7 +754,7 @@ impl Rigid {
             .stick_margin_wrench(e.normal, horizontal(e.friction), e.torque)
     }
 
-    /// Project onto the Coulomb–Contensou stick (§25): onto the contact
+    /// Project onto the Coulomb–Contensou stick (§contensou): onto the contact
     /// constraint, then the impulse at P with the torque about Z
     /// ([`super::contact::stick_solve`], `b = −v_P`, `β = −n_Z`) that
     /// brings the slip and the spin about Z to zero, and `v = −n × r`.
@@ -842,7 +842,7 @@ impl Rigid {
     }
 
     /// One Euler–Maruyama step of the overdamped dynamics in contact
-    /// (`solver.method = "brownian"`, docs/physics.md §21): the vector
+    /// (`solver.method = "brownian"`, docs/physics.md#langevin): the vector
     /// model's step ([`super::thermostat::overdamped`]: the same basis,
     /// mobility, drift and normals, with or without the contact damping)
     /// with the generalised force at
@@ -946,7 +946,7 @@ impl Rigid {
 
     /// Total energy `½ m |v|² + ½ n·I n + m g z_O`, plus in flight the
     /// adhesion's potential counted from contact, `E_b (1 − exp(−F_a z/E_b))`
-    /// at the gap `z` (§18; zero in contact and without adhesion) (scaled).
+    /// at the gap `z` (§adhesion; zero in contact and without adhesion) (scaled).
     pub fn energy_scaled(&self, y: &[f64; DIM]) -> f64 {
         let kin = self.kin(y);
         let (z, _) = self.vertical(y, &kin);
@@ -967,7 +967,7 @@ impl Rigid {
 
     /// `e` plus, in flight with adhesion, the potential `U(gap) − U(0)`
     /// (`e` itself otherwise, bit for bit).
-    /// Also adds the wells' potential `U(θ)` (§20; nothing without wells).
+    /// Also adds the wells' potential `U(θ)` (§wells; nothing without wells).
     fn with_gap_potential(&self, e: f64, y: &[f64; DIM]) -> f64 {
         let cv = self.contact.forces().centre_vertical();
         let e = if self.phase == Phase::Flight && cv.force > 0.0 {
@@ -1058,7 +1058,7 @@ impl Rigid {
 }
 
 impl Rigid {
-    /// The touchdown impulse under Coulomb–Contensou friction (§25): the
+    /// The touchdown impulse under Coulomb–Contensou friction (§contensou): the
     /// module doc's law with the drilling torque. Try sticking: the impulse
     /// `Π` at P and the angular impulse `Π_M` about Z
     /// ([`super::contact::stick_solve`], `b` the stick target: zero
@@ -1413,7 +1413,7 @@ fn slide_off(m: &mut Rigid, y: &mut [f64; DIM]) {
 }
 
 /// Arrive at the Coulomb–Contensou stick (sliding and spinning both
-/// stopped, in contact; §25): project onto the stick (the projection's
+/// stopped, in contact; §contensou): project onto the stick (the projection's
 /// energy change is booked into `W_f`) and stick if the needed wrench is
 /// inside the limit curve, else slide off along it. Returns true if stuck.
 fn settle_at_stick(m: &mut Rigid, y: &mut [f64; DIM]) -> bool {
@@ -1457,7 +1457,7 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
     } else {
         ev.map(|e| e.normal).unwrap_or(f64::NAN)
     };
-    // Position and attitude (docs/physics.md §19): the state's x_O (its
+    // Position and attitude (docs/physics.md#position): the state's x_O (its
     // height the contact constraint's value in contact, the state's in
     // flight);
     // the quaternion turned onto the integrated axis k, which the dynamics,
@@ -1779,7 +1779,7 @@ impl Model<DIM> for Rigid {
                 t * tu,
                 Failure::NotModelled,
                 format!(
-                    "sliding and spinning both stopped while the main sphere and the stem both touch the plane: the Coulomb-Contensou stick at two contacts is not modelled (docs/physics.md §25, §26); {}",
+                    "sliding and spinning both stopped while the main sphere and the stem both touch the plane: the Coulomb-Contensou stick at two contacts is not modelled (docs/physics.md#contensou, §stem); {}",
                     describe_state(self, y)
                 ),
             )),

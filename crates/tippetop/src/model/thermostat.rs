@@ -1,11 +1,11 @@
 //! The heat bath of the Langevin method for a top on the plane: the exact
 //! Ornstein–Uhlenbeck step of its generalised velocities `(v_x, v_y, w)` at
-//! fixed axis `k` (docs/physics.md §21), written over plain vectors so the
+//! fixed axis `k` (docs/physics.md#langevin), written over plain vectors so the
 //! models that keep the sphere on the plane share it (the rigid model in
 //! contact and in flight, and the vector model), with a cache of its
 //! coefficients ([`OuCache`]); and the overdamped (Brownian) step on the
 //! plane, without ([`overdamped_on_plane`]) and with the contact damping
-//! ([`overdamped_coupled`], §21.1). The coupled step is not cached: the
+//! ([`overdamped_coupled`], §brownian). The coupled step is not cached: the
 //! axis moves at every Brownian step, so a cache keyed by its bits would
 //! never hit.
 
@@ -63,7 +63,7 @@ pub(crate) struct Body {
 
 /// The generalised velocities of one Euler–Maruyama step of the
 /// overdamped dynamics on the plane (`solver.method = "brownian"`,
-/// docs/physics.md §21), in the basis `(X, Y | k̂, ê, f̂)` where `Γ` is
+/// docs/physics.md#langevin), in the basis `(X, Y | k̂, ê, f̂)` where `Γ` is
 /// diagonal: `p_i = M_i a_i/Γ_i + sqrt(2 kT/(Γ_i h)) ξ_i` with `a` the
 /// acceleration at rest in that basis, plus along `ê` the drift
 /// `−kT [(μ_θ − μ_φ) cot θ + μ_θ ∂_θ ln s + ∂_θ μ_θ]` that makes the Langevin
@@ -182,7 +182,7 @@ pub(crate) fn friction_lab(b: &Bath, body: &Body, k: V3, dk: Option<V3>) -> nalg
     g
 }
 
-/// The overdamped step with the contact damping (docs/physics.md §21.1):
+/// The overdamped step with the contact damping (docs/physics.md#brownian):
 /// in the lab basis `(X, Y | X, Y, Z)` of `(v_h, w)`, with the full
 /// friction matrix `Γ(k)` of [`friction_lab`] and the mobility `μ = Γ⁻¹`
 /// (5×5, coupling the translation with the rotations),
@@ -349,7 +349,7 @@ struct Coupled {
 }
 
 /// The exact Ornstein–Uhlenbeck step over `h` of `(v_h, w)` on the plane
-/// at axis `k`, with 5 standard normals `xi` (docs/physics.md §21). Without
+/// at axis `k`, with 5 standard normals `xi` (docs/physics.md#langevin). Without
 /// contact damping `M` and `Γ` are diagonal in `(X, Y | k̂, ê, f̂)`; with it,
 /// the 5×5 problem is solved in the eigenbasis of `M^{−1/2} Γ M^{−1/2}`
 /// (`Γ` gains `c Pᵀ P`, `P` the map to the horizontal slip

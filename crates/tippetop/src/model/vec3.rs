@@ -137,7 +137,7 @@ pub(crate) fn rotate(rv: V3, v: V3) -> V3 {
 
 /// The lab-frame rotation by the rotation vector `rv` applied to an
 /// attitude carried as `p ⊗ q_Z(ψ)` (`p` body → lab with its axis along
-/// `k`, not turning about it; docs/physics.md §19): the rotation split into
+/// `k`, not turning about it; docs/physics.md#position): the rotation split into
 /// its swing (about an axis normal to `k̂ = k/|k|`) and its twist about `k̂`,
 /// `r = s ⊗ t` (`t = (r_w, (r⃗·k̂) k̂)` normalised, `s = r ⊗ t*`), so that
 /// `r ⊗ p ⊗ q_Z(ψ) = (s ⊗ p) ⊗ q_Z(ψ + α)`. Returns `s ⊗ p` (renormalised)

@@ -2,7 +2,7 @@
 //! plane (bilateral or paper contact; unilateral contact stops at lift-off),
 //! written with the symmetry axis `k`, the angular velocity `w` and the
 //! horizontal centre-of-mass velocity, all in the space frame
-//! (docs/physics.md §14).
+//! (docs/physics.md#vector-model).
 //!
 //! Same physics as [`super::reduced`] (same friction laws, normal-force
 //! closure, exact stick/slip, applied force in the precessing frame), but:
@@ -27,7 +27,7 @@
 //! along `k` without turning about it (`ṗ = ½ (0, w − (w·k) k) ⊗ p`) and
 //! the spin angle `ψ = ω₀ t + χ`, `χ̇ = w·k − ω₀` (`ω₀` the initial spin),
 //! and the centre of mass's lab position (`ẋ = v_x`, `ẏ = v_y`),
-//! docs/physics.md §19.
+//! docs/physics.md#position.
 //!
 //! # Equations (m = R = 1)
 //!
@@ -41,7 +41,7 @@
 //! - `I ẇ = r × F − (C − A)(w·k) k̇`, `I⁻¹ x = x/A + (1/C − 1/A)(x·k) k`;
 //! - a vertical load `h_z` at `P` (the force on the top is `−h_z Z`) adds
 //!   `h_z (1 + a u_Z)` to `Q` below; the vertical force at `P` is `N − h_z`
-//!   (docs/physics.md §17);
+//!   (docs/physics.md#vertical-load);
 //! - the contact closure `v̇_Z = N − g = −a k̈_Z` gives
 //!   `N D(σ) = Q` with `e = k × Z`, `u = (e × r)/A`,
 //!   `D(σ) = 1 + a (u_Z − σ f·u)`,
@@ -53,7 +53,7 @@
 //! `k̇ = w × k` keeps `|k|` constant exactly, so `|k| = 1` drifts only by
 //! the integration error; no stabilising term is added (one was tried,
 //! `− κ (|k|² − 1) k`: at κ = 1 per time unit it cost up to 26 % more
-//! evaluations and six times the J drift, docs/physics.md §14).
+//! evaluations and six times the J drift, docs/physics.md#vector-model).
 
 use std::cell::RefCell;
 
@@ -91,7 +91,7 @@ pub const POS: usize = 15;
 /// (`wk = w·k`), and `χ̇ = w·k − ω₀`. `p` turns only as fast as the axis
 /// does (`|w_⊥| = |k̇|`), which the step-size control resolves; the spin,
 /// however fast, enters the scalar quadrature `χ` alone (docs/physics.md
-/// §19).
+/// §position).
 #[inline(always)]
 fn attitude_rate(w: V3, k: V3, wk: f64, spin_ref: f64, y: &[f64; DIM]) -> ([f64; 4], f64) {
     let w = [w[0] - wk * k[0], w[1] - wk * k[1], w[2] - wk * k[2]];
@@ -111,7 +111,7 @@ fn attitude_rate(w: V3, k: V3, wk: f64, spin_ref: f64, y: &[f64; DIM]) -> ([f64;
 /// control and the cap of the step at the stability limit `6.1/ρ`. Without
 /// the Euler angles' 1/sin θ the classical top with regularised friction is
 /// stability-bound (the slip relaxes at ≈ 3μg/ε), and the error-based
-/// control alone overshoots the limit again and again (docs/physics.md §14;
+/// control alone overshoots the limit again and again (docs/physics.md#vector-model;
 /// the measurements that chose these values: docs/performance.md,
 /// "DOP853's step control for the vector model").
 pub const DOP853_BETA: f64 = 0.04;
@@ -290,7 +290,7 @@ impl Vector {
 
     /// The exact Ornstein–Uhlenbeck step over `h` (scaled) of the
     /// generalised velocities `u = (v_x, v_y, w)` at fixed axis `k`
-    /// (docs/physics.md §21): `du = −M⁻¹Γ u dt + M⁻¹ dF`, `⟨dF dFᵀ⟩ =
+    /// (docs/physics.md#langevin): `du = −M⁻¹Γ u dt + M⁻¹ dF`, `⟨dF dFᵀ⟩ =
     /// 2 kT Γ dt`. Without contact damping `M` and `Γ` are diagonal in the
     /// basis `(X, Y | k, ê, f̂)`, `ê = k × Z/|k × Z|`, `f̂ = k × ê`:
     /// `M = (1, 1 | C, A + a² sin²θ, A)`, `Γ = (γ_t, γ_t | γ_r C,
@@ -317,9 +317,9 @@ impl Vector {
 
     /// One Euler–Maruyama step over `h` (scaled) of the overdamped
     /// (Brownian) dynamics, `solver.method = "brownian"` (docs/physics.md
-    /// §21): the generalised velocity is `p = Γ⁻¹ Q + sqrt(2 kT/h) Γ^{−1/2} ξ`
+    /// §langevin): the generalised velocity is `p = Γ⁻¹ Q + sqrt(2 kT/h) Γ^{−1/2} ξ`
     /// in the basis `(X, Y | k̂, ê, f̂)` (`Γ` diagonal there without contact
-    /// damping; with it, the coupled step of §21.1,
+    /// damping; with it, the coupled step of §brownian,
     /// [`super::thermostat::overdamped_coupled`]), `Q` the generalised force
     /// at rest (the right-hand side at
     /// zero velocity times `M`: gravity, the applied force, wells, the
@@ -423,7 +423,7 @@ impl Vector {
             return y;
         }
         // Turned by the heading about Z: k, w, v, and the attitude
-        // q_Z(φ₀) ⊗ q (the dynamics are the same; docs/physics.md §19).
+        // q_Z(φ₀) ⊗ q (the dynamics are the same; docs/physics.md#position).
         let mut y = y;
         let rz = super::vec3::RotZ::new(i.heading);
         for at in [K, OMEGA] {
@@ -532,9 +532,9 @@ impl Vector {
                 Some(true) => 2,
             },
             p.contact_point().hz.to_bits(),
-            // The body actuators change only at a latch (§24).
+            // The body actuators change only at a latch (§actuators).
             p.forces().generation(),
-            // The Coulomb–Contensou slip-off hint (§25).
+            // The Coulomb–Contensou slip-off hint (§contensou).
             p.hint_generation(),
         ];
         key[DIM..].copy_from_slice(&inputs);
@@ -579,7 +579,7 @@ impl Vector {
             .plane
             .regularized_eps()
             .map(|eps| (vp[0] * vp[0] + vp[1] * vp[1] + eps * eps).sqrt());
-        // Coulomb–Contensou (§25): the drilling torque's coefficient, from
+        // Coulomb–Contensou (§contensou): the drilling torque's coefficient, from
         // the slip and the spin about Z, w_Z.
         let mut tau = None;
         let f = match reg_d {
@@ -597,9 +597,9 @@ impl Vector {
         };
         let hw = self.applied_world(k);
         // Angular acceleration without the contact force (k̇ ⊥ k, so
-        // I⁻¹ k̇ = k̇/A), with the wells' torque (§20).
+        // I⁻¹ k̇ = k̇/A), with the wells' torque (§wells).
         let w0 = self.with_wells(scale(-self.gyro * wk, kd), k);
-        // The body actuators' wrench (§24): F adds to the free
+        // The body actuators' wrench (§actuators): F adds to the free
         // acceleration (g_z = g − F_Z in Q), I⁻¹τ to ẇ₀.
         let body = self.body_wrench(k);
         let (w0, g_z) = match body {
@@ -611,7 +611,7 @@ impl Vector {
         let wkd_z = w[0] * kd[1] - w[1] * kd[0];
         let q = g_z + a * (hw[0] * u[0] + hw[1] * u[1] - dot(w0, e) - wkd_z);
         // The vertical load h_z at P: Q + h_z D₀, D₀ = 1 + a u_Z
-        // (docs/physics.md §17).
+        // (docs/physics.md#vertical-load).
         let cp = self.plane.contact_point();
         let q = cp.closure_q(q, 1.0 + a * u[2]);
         let (q, dp, dm) = match reg_d {
@@ -628,14 +628,14 @@ impl Vector {
         let normal = self.plane.normal(q, dp, dm, || Self::theta(y))?;
         let nf = self.plane.friction_normal(normal);
         let ff = [-nf * f[0], -nf * f[1]];
-        // The vertical force at P is N − h_z (§17).
+        // The vertical force at P is N − h_z (§vertical-load).
         let force = [ff[0] - hw[0], ff[1] - hw[1], cp.vertical_total(normal)];
         let mut wd = add(w0, self.inv_inertia(k, cross(r, force)));
         let mut wf = ff[0] * vp[0] + ff[1] * vp[1];
         let mut torque = 0.0;
         if let Some(tau) = tau {
             // The drilling torque M Z (M = −N_f τ): I⁻¹ M Z; its power
-            // M w_Z. It does not enter the closure (§25).
+            // M w_Z. It does not enter the closure (§contensou).
             let mz = -nf * tau;
             wd = add(wd, self.inv_inertia(k, [0.0, 0.0, mz]));
             wf += mz * w[2];
@@ -662,7 +662,7 @@ impl Vector {
             v[1],
         ];
         if let Some((fb, tb)) = body {
-            // Its horizontal force and its power F·v_O + τ·w (§24).
+            // Its horizontal force and its power F·v_O + τ·w (§actuators).
             dy[VEL] += fb[0];
             dy[VEL + 1] += fb[1];
             dy[WA] += dot(fb, [v[0], v[1], -a * kd[2]]) + dot(tb, w);
@@ -691,7 +691,7 @@ impl Vector {
             wr,
         } = *kn;
         let w0 = self.with_wells(scale(-self.gyro * wk, kd), k);
-        // The body actuators' wrench (§24): I⁻¹τ joins ẇ₀, F the right-hand
+        // The body actuators' wrench (§actuators): I⁻¹τ joins ẇ₀, F the right-hand
         // side (b = (g Z − F) − ẇ₀ × r − a w × k̇).
         let body = self.body_wrench(k);
         let (w0, gv) = match body {
@@ -713,7 +713,7 @@ impl Vector {
         let hw = self.applied_world(k);
         let (force, wd, torque) = if self.plane.is_contensou() {
             // The Coulomb–Contensou stick: w_Z held at zero too, the
-            // drilling torque M a fourth unknown (§25).
+            // drilling torque M a fourth unknown (§contensou).
             let (force, m) = super::contact::stick_solve(self.ia, self.ic, k, r, b, -w0[2]);
             let wd = add(w0, self.inv_inertia(k, add(cross(r, force), [0.0, 0.0, m])));
             (force, wd, m)
@@ -728,7 +728,7 @@ impl Vector {
         ];
         if let Some((fb, tb)) = body {
             // The centre of mass accelerates with F + the contact force;
-            // the actuators' power F·v_O + τ·w (§24; the contact force does
+            // the actuators' power F·v_O + τ·w (§actuators; the contact force does
             // no work while rolling).
             dy[VEL] += fb[0];
             dy[VEL + 1] += fb[1];
@@ -736,7 +736,7 @@ impl Vector {
         }
         Eval {
             dy,
-            // The plane's reaction: the constraint force plus the load (§17).
+            // The plane's reaction: the constraint force plus the load (§vertical-load).
             normal: self.plane.contact_point().reaction(force[2]),
             friction: [force[0] + hw[0], force[1] + hw[1]],
             slip: [0.0, 0.0],
@@ -748,7 +748,7 @@ impl Vector {
     /// The state put on the Coulomb–Contensou stick by the impulse
     /// ([`super::contact::stick_solve`] with `b = −v_P`, `β = −w_Z`) that
     /// brings the slip and the spin about Z to zero; `v` then the rolling
-    /// velocity, the kinetic energy's change added to `W_f` (§25).
+    /// velocity, the kinetic energy's change added to `W_f` (§contensou).
     pub fn stick_state(&self, y: &[f64; DIM]) -> [f64; DIM] {
         let kn = self.kin(y);
         let vp = [y[VEL] + kn.wr[0], y[VEL + 1] + kn.wr[1], 0.0];
@@ -769,7 +769,7 @@ impl Vector {
     }
 
     /// `w0` plus the wells' torque over A, `τ/A` with `τ = −U′(θ) ŷ`
-    /// (`τ ⊥ k`, so `I⁻¹ τ = τ/A`; docs/physics.md §20): the closure reads
+    /// (`τ ⊥ k`, so `I⁻¹ τ = τ/A`; docs/physics.md#wells): the closure reads
     /// it through `ẇ₀·e`, the rolling constraint through `ẇ₀ × r`. `w0`
     /// itself without wells (bit for bit).
     #[inline(always)]
@@ -792,7 +792,7 @@ impl Vector {
     }
 
     /// The body actuators' wrench `(F, τ)` at a state (scaled, lab;
-    /// docs/physics.md §24), `None` without actuators. Only actuators on
+    /// docs/physics.md#actuators), `None` without actuators. Only actuators on
     /// the axis: the material axes an off-axis one needs are the attitude's,
     /// whose spin angle `ω₀ t + χ` needs the time, which the evaluation does
     /// not read; the scenario's validation refuses them in this model
@@ -833,7 +833,7 @@ impl Vector {
         let en = 0.5 * dot(v, v)
             + 0.5 * dot(kn.w, self.inertia(kn.k, kn.w))
             + self.g * (1.0 - self.a * kn.k[2]);
-        // The wells' potential U(θ) (§20; nothing without wells).
+        // The wells' potential U(θ) (§wells; nothing without wells).
         crate::physics::forces::wells::with_potential(self.plane.wells(), en, Self::theta(y))
     }
 
@@ -865,7 +865,7 @@ impl Vector {
     /// about the body axis by the spin angle `ψ = ω₀ t + χ`,
     /// `q = p ⊗ (cos ψ/2, 0, 0, sin ψ/2)`. `ω₀ t` is one rounded product, so
     /// the angle keeps its precision at any number of turns (its absolute
-    /// error is that of `t` itself times ω₀; docs/physics.md §19).
+    /// error is that of `t` itself times ω₀; docs/physics.md#position).
     pub fn attitude(&self, t: f64, y: &[f64; DIM]) -> [f64; 4] {
         let p = crate::observe::attitude_with_axis(
             [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]],
@@ -892,7 +892,7 @@ impl Vector {
                 (v, f64::NAN, self.slip_of(y), self.energy_with(y, v))
             }
         };
-        // Position and attitude (docs/physics.md §19).
+        // Position and attitude (docs/physics.md#position).
         let (l, a) = (sc.length, self.a);
         // The unit axis (|k| = 1 holds only to the integration error), as θ.
         let k = [y[K], y[K + 1], y[K + 2]];

@@ -19,7 +19,7 @@
 //! ranges used: `ln` within 1 ulp on (0, 4], `sin_cos_turns` within 2 ulps
 //! of the exactly rounded `sin 2πu`, `cos 2πu` on [0, 1].
 //!
-//! Tried and dropped (session 7): fdlibm's `atan2` and `exp` for the wells'
+//! Tried and dropped: fdlibm's `atan2` and `exp` for the wells'
 //! torque, within 1 ulp of glibc's and with fewer instructions, but slower
 //! (their divisions on the critical path against glibc's table-driven,
 //! FMA-using versions: RK4's 4 evaluations 570–780 ns against 490 ns;

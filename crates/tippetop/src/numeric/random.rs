@@ -59,7 +59,7 @@
 //! normal addressable on its own. Its cost is one `ln`, one `sqrt` and one
 //! `sin_cos` per pair, our own ([`crate::detmath`], fdlibm's polynomials:
 //! below 2 ulps, branch-free, vectorised over the pairs of a call;
-//! docs/performance.md, "Random streams" and "Langevin lanes (session 7)").
+//! docs/performance.md#random-streams and #langevin-step).
 //!
 //! Uniform `k` and normal `k` of one step come from the same block: a caller
 //! that needs both kinds in one step takes them at disjoint indices.
@@ -67,9 +67,9 @@
 //! Reproducibility: the words and the uniforms are integer or exact
 //! arithmetic, and the normals plain IEEE double arithmetic (our own `ln`
 //! and `sin_cos`, no fused multiply–add): bit-identical on every platform.
-//! (Until session 6 the normals used the platform's libm; session 7's
+//! (Before commit 65ed400 the normals used the platform's libm; today's
 //! normals differ from those in the last bits, so stochastic outputs of
-//! session 6 are not reproduced bit for bit.)
+//! older versions are not reproduced bit for bit.)
 
 use rand_philox::philox4x32_10;
 
@@ -195,10 +195,10 @@ impl Stream {
     /// of [`LANES`] blocks, the blocks one by one (`philox4x32_10`, the same
     /// words as [`Stream::block`]), their uniforms into an array, then the
     /// pairs in a fixed-length loop the compiler vectorises (`pair` is
-    /// branch-free for the normals). Session 6 used `rand_philox`'s
-    /// `fill_u32`, which takes its scalar path one word at a time below 16
-    /// blocks: the same words; 10 normals take 1 354 instructions against
-    /// 2 446 (callgrind, docs/performance.md).
+    /// branch-free for the normals). `rand_philox`'s
+    /// `fill_u32` takes its scalar path one word at a time below 16
+    /// blocks: the same words; 10 normals take 1 354 instructions here, 2 446
+    /// with it (callgrind, docs/performance.md).
     fn fill_pairs(&self, step: u64, out: &mut [f64], pair: impl Fn(f64, f64) -> (f64, f64)) {
         assert!(
             out.len() as u64 <= 2 * BLOCKS_PER_STEP,
@@ -230,8 +230,7 @@ impl Stream {
 /// AVX2 build where the CPU has it (4 lanes of `f64` per register against
 /// SSE2's 2; the same operations, none fused, so the same bits: test
 /// `avx2_transform_is_the_baseline_bit_for_bit`). 10 normals: 1 311 → 1 062
-/// instructions, 91 → 82 ns (docs/performance.md, "Langevin lanes
-/// (session 8)").
+/// instructions, 91 → 82 ns (docs/performance.md#langevin-step).
 #[inline(always)]
 fn transform(u: &[f64; 2 * LANES], pair: &impl Fn(f64, f64) -> (f64, f64)) -> [f64; 2 * LANES] {
     #[cfg(target_arch = "x86_64")]
@@ -299,8 +298,8 @@ pub fn unit_open(bits: u64) -> f64 {
 /// independent standard normals `(r cos 2πu₂, r sin 2πu₂)`, `r = √(−2 ln u₁)`,
 /// with our own `ln` and `sin_cos` ([`crate::detmath`]: fdlibm's polynomials
 /// in plain `f64` arithmetic, the same bits on every platform; `sqrt` is
-/// IEEE's correctly rounded one). Since session 7; before, the platform's
-/// libm (`ln`, `sin_cos(2π u₂)`), whose outputs differ in the last bits.
+/// IEEE's correctly rounded one), not the platform's libm (`ln`,
+/// `sin_cos(2π u₂)`), whose outputs differ in the last bits.
 #[inline(always)]
 #[must_use]
 pub fn box_muller(u1: f64, u2: f64) -> (f64, f64) {

@@ -2,7 +2,7 @@
 //! the continuum Lennard-Jones approximation (Girifalco's "smeared atoms"):
 //! the binding energy E_b, the equilibrium height, the pull-off force F_a
 //! and the normal stiffness. These set the load that presses a C60 onto the
-//! surface, about 5e13 times the weight the paper uses (docs/physics.md §15).
+//! surface, about 5e13 times the weight the paper uses (docs/physics.md#adhesion-c60).
 //!
 //! # Model
 //!
@@ -36,7 +36,7 @@
 //! numbers themselves could not be checked against the source here. What
 //! is checked: the continuum result lies within the spread of published
 //! binding energies (0.76 eV DFT on a graphene flake, 0.96 eV linear-response
-//! vdW theory on graphite; docs/physics.md §15).
+//! vdW theory on graphite; docs/physics.md#adhesion-c60).
 
 use crate::Error;
 

@@ -1,6 +1,6 @@
 //! Coulomb–Contensou friction: Coulomb's law integrated over a circular
 //! contact disc of radius `r_c` that slides with velocity `v` and spins
-//! about its normal with `ω_z` (docs/physics.md §25).
+//! about its normal with `ω_z` (docs/physics.md#contensou).
 //!
 //! With `d = |v|/(r_c |ω_z|)` the friction force on the body is
 //! `F = −μ N f(d) v/|v|` and the drilling torque about the normal
@@ -254,7 +254,7 @@ pub fn exact(p: Pressure, d: f64) -> (f64, f64) {
 
 /// Coefficients `(a, b, g, e)` of the Padé form ([`pade`]) for a pressure,
 /// fitted here (minimax over `10⁻³ <= d <= 10³`) with the exact limits
-/// imposed (docs/physics.md §25).
+/// imposed (docs/physics.md#contensou).
 fn pade_coefficients(p: Pressure) -> (f64, f64, f64, f64) {
     match p {
         Pressure::Uniform => (1.379, 0.5567, 1.301, 0.5123),
@@ -325,7 +325,7 @@ pub fn law(p: Pressure, pade_form: bool, d: f64) -> (f64, f64) {
 /// `mn = |M|/(μ N r_c)` (both `>= 0`), `(λ, d)` such that
 /// `(fn_, mn) = λ (f(d), m(d))`: the ray from the origin through the pair
 /// meets the curve at the point of parameter `d`, and the pair lies inside
-/// the admissible set of the stick (docs/physics.md §25) iff `λ <= 1`.
+/// the admissible set of the stick (docs/physics.md#contensou) iff `λ <= 1`.
 /// `d` is also the ratio `|v|/(r_c |n_Z|)` with which the contact slips
 /// off where the pair leaves the set there. `(0, 0)` gives `(0, 0)`.
 ///

@@ -1,5 +1,5 @@
 //! The unit system of the scaled models: one tolerance means the same for
-//! the C60 top and the toy (docs/physics.md §8).
+//! the C60 top and the toy (docs/physics.md#scaling).
 
 use crate::Scenario;
 

@@ -1,5 +1,5 @@
 //! The keys of the body actuators (`kind = "tip"` and `kind = "magnetic"`,
-//! docs/physics.md §24) in a window of `[[force]]`, `[[write]]` or
+//! docs/physics.md#actuators) in a window of `[[force]]`, `[[write]]` or
 //! `[[erase]]`: one parser for the three lists.
 //!
 //! ```toml

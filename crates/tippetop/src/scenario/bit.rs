@@ -19,11 +19,11 @@
 //! hx = -1e-22
 //! hy = -1e-22
 //! [[erase]]
-//! kind = "tip"                 # a tip at a body point (docs/physics.md §24)
+//! kind = "tip"                 # a tip at a body point (docs/physics.md#actuators)
 //! point = [0.0, 0.0, 7e-10]    # [m], body frame (origin the centre of mass, z along k)
 //! force = [1e-22, 0.0, 0.0]    # [N], lab frame, the force on the top
 //! [[erase]]
-//! kind = "magnetic"            # a dipole mu k in a lab field (docs/physics.md §24)
+//! kind = "magnetic"            # a dipole mu k in a lab field (docs/physics.md#actuators)
 //! moment = 9.2740100783e-24    # [A m^2] (one Bohr magneton)
 //! field = [0.0, 0.0, 1.0]      # [T], uniform (default 0)
 //! gradient = [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]  # [T/m] (default 0)
@@ -119,7 +119,7 @@ pub enum ActuatorKind {
     /// precessing frame (a `[[force]]` window; `hx`, `hy`, `hz`).
     Contact,
     /// A tip or a magnetic dipole (`kind = "tip"`, `"magnetic"`): a body
-    /// actuator of the run (docs/physics.md §24); `hx`, `hy`, `hz` are 0.
+    /// actuator of the run (docs/physics.md#actuators); `hx`, `hy`, `hz` are 0.
     Body(BodyActuator),
 }
 

@@ -1,5 +1,5 @@
 //! The cross-key rules of `solver.method = "langevin"` and `[thermal]`,
-//! and the step-size rule (docs/physics.md §21; the keys themselves:
+//! and the step-size rule (docs/physics.md#langevin; the keys themselves:
 //! [`crate::thermal`]).
 
 use crate::thermal::{
@@ -100,7 +100,7 @@ pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
             "sqrt(depth / width^2 / inertia_transverse) of a well",
         ));
     }
-    // The body actuators (docs/physics.md §24): each window's rate.
+    // The body actuators (docs/physics.md#actuators): each window's rate.
     for w in &sc.actuators {
         out.push((
             w.actuator.rate(m, top.radius, a_in),
@@ -153,7 +153,7 @@ pub fn brownian_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
 /// The largest ratio of the contact damping's rates to the bath's own
 /// (`c/(m γ_t)`, `c (R + a)²/(γ_r A)`, `c R²/(γ_r C)`): the condition number
 /// the contact damping adds to the friction matrix of the overdamped step
-/// (docs/physics.md §21.1). Infinite when a bath damping is zero.
+/// (docs/physics.md#brownian). Infinite when a bath damping is zero.
 pub fn contact_ratio(sc: &Scenario) -> f64 {
     let c = sc.thermal.damping_contact;
     if c == 0.0 {
@@ -181,7 +181,7 @@ fn bath_contact_scale(sc: &Scenario) -> f64 {
 }
 
 /// The rates \[1/s\] the step of the rigid model's Brownian run above a
-/// wall (unilateral contact, docs/physics.md §21.2) must resolve besides
+/// wall (unilateral contact, docs/physics.md#brownian-wall) must resolve besides
 /// [`brownian_rates`]: the gap's diffusion over the wall's thermal length
 /// `kT/F_w` (`F_w = m g + F_a + |h_z|`, the potential's slope at the
 /// wall), `F_w² (1/(m γ_t) + a²/(γ_r A))/kT` (so the rms step of the gap is
@@ -214,7 +214,7 @@ pub fn wall_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
 }
 
 /// The cross-key rules of the thermal keys and `solver.method =
-/// "langevin"` (docs/physics.md §21):
+/// "langevin"` (docs/physics.md#langevin):
 ///
 /// - `[thermal]` keys other than the defaults, and `solver.dt`, only with
 ///   `method = "langevin"`; `"langevin"` needs `solver.dt` and the vector
@@ -226,9 +226,9 @@ pub fn wall_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
 ///   an upright top undamped);
 /// - `method = "brownian"`: `γ_t > 0`, `γ_r > 0` always, a contact damping
 ///   at most `MAX_BROWNIAN_CONTACT_RATIO` times the bath's own
-///   ([`contact_ratio`]: the conditioning of the coupled mobility, §21.1),
+///   ([`contact_ratio`]: the conditioning of the coupled mobility, §brownian),
 ///   none for the rigid model with unilateral contact (the free body above
-///   a wall, §21.2, whose step rule adds [`wall_rates`]);
+///   a wall, §brownian-wall, whose step rule adds [`wall_rates`]);
 /// - the step rule `dt · max(step_rates) <= MAX_STEP_RATE`, the number of
 ///   steps within the step limit and at least `samples − 1`.
 pub fn check(sc: &Scenario) -> Result<(), Error> {
@@ -264,7 +264,7 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
     }
     let rigid_langevin = so.model == crate::ModelKind::Rigid;
     // The rigid model's Brownian method with unilateral contact is the
-    // overdamped free body above a wall (docs/physics.md §21.2): its step
+    // overdamped free body above a wall (docs/physics.md#brownian-wall): its step
     // must resolve the wall's thermal length too ([`wall_rates`]).
     let wall = rigid_langevin && brownian && sc.surface.contact == crate::ContactMode::Unilateral;
     if so.model != crate::ModelKind::Vector && !rigid_langevin {
@@ -327,7 +327,7 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
                     "{:e} with model = \"rigid\", method = \"brownian\" and contact = \"unilateral\"",
                     th.damping_contact
                 ),
-                "0 for the free body above a wall (it touches the plane at instants only, docs/physics.md §21.2); contact = \"bilateral\" keeps the top on the plane with its contact damping".into(),
+                "0 for the free body above a wall (it touches the plane at instants only, docs/physics.md#brownian-wall); contact = \"bilateral\" keeps the top on the plane with its contact damping".into(),
             ));
         }
         let ratio = contact_ratio(sc);

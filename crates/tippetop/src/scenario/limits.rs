@@ -86,7 +86,7 @@ pub const MAX_RUN_BYTES: u64 = 3 << 29;
 /// 1.12 GB; a command that runs several runs at once runs no more of them
 /// than fit ([`fit_threads`]); what grows with the number of runs or cases
 /// has a limit of its own. The whole process adds its code, the plots and
-/// the allocator's slack: the peaks measured at the limits (README,
+/// the allocator's slack: the peaks measured at the limits (docs/guide.md,
 /// "Limits") stay below 4 GB.
 pub const MEMORY_BUDGET: u64 = 3 << 30;
 
@@ -163,7 +163,7 @@ fn rates(sc: &Scenario) -> [(f64, String, &'static str); 10] {
         .fold((String::from("force.0.hx"), -1.0), |best, (k, v)| {
             if v.abs() > best.1 { (k, v.abs()) } else { best }
         });
-    // The body actuators (docs/physics.md §24): the sum of each window's
+    // The body actuators (docs/physics.md#actuators): the sum of each window's
     // largest rate bounds what any combination of them sets (zero without).
     let nf = sc.forcing.windows.len();
     let (act_key, act_rate) = sc
@@ -522,7 +522,7 @@ pub fn friction_relaxation_rate(sc: &Scenario) -> Option<f64> {
 }
 
 /// With adhesion the regularised and viscous laws are stiffer by
-/// `(g + F_a/m)/g` (docs/physics.md §18): their slip relaxes at
+/// `(g + F_a/m)/g` (docs/physics.md#adhesion): their slip relaxes at
 /// [`friction_relaxation_rate`] `λ`. An explicit method needs steps below
 /// its stability bound (`h λ <= 6` for DOP853, `h λ <= 2.78` for RK4), so a
 /// run that would need more steps than its step limit (adaptive) or whose
@@ -530,7 +530,7 @@ pub fn friction_relaxation_rate(sc: &Scenario) -> Option<f64> {
 /// of running into the step limit after minutes or diverging. Checked only
 /// with adhesion on; the stiff method is left to its step limit (measured on
 /// the nano preset with the graphene values it completes in the vector
-/// model and reaches its limit in the others, docs/physics.md §18).
+/// model and reaches its limit in the others, docs/physics.md#adhesion).
 fn check_adhesive_friction(sc: &Scenario) -> Result<(), Error> {
     let Some(lambda) = friction_relaxation_rate(sc).filter(|_| sc.adhesion.is_on()) else {
         return Ok(());

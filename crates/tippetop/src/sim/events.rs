@@ -27,24 +27,24 @@ pub enum Watch {
     SlipZero,
     /// The stick margin μ|N| − |F| falls through 0 (exact Coulomb law,
     /// rolling), or `μ|N| (1 − λ)`, `λ` the gauge of the needed force and
-    /// drilling torque (Coulomb–Contensou stick, §25): the contact starts
+    /// drilling torque (Coulomb–Contensou stick, §contensou): the contact starts
     /// to slip.
     StickLimit,
-    /// Sliding and spinning both stop (Coulomb–Contensou friction, §25):
+    /// Sliding and spinning both stop (Coulomb–Contensou friction, §contensou):
     /// the contact sticks there if the needed wrench is inside the limit
     /// curve (it leaves the stick at [`Watch::StickLimit`]).
     ContensouStick,
     /// The contact sphere that is not the active one (the stem's while the
     /// main sphere is, or was last, on the plane, and the other way round)
-    /// reaches the plane (rigid model with a stem, docs/physics.md §26):
+    /// reaches the plane (rigid model with a stem, docs/physics.md#stem):
     /// an impact of that sphere, which becomes the active one.
     SphereTouchdown,
     /// One of the two normal forces of the two-contact phase (main sphere
-    /// and stem both on the plane, rigid model, §26) falls through 0: that
+    /// and stem both on the plane, rigid model, §stem) falls through 0: that
     /// sphere lifts off and the other carries on alone.
     SphereLiftoff,
     /// θ reaches the stem's touchdown angle θ_td (on-plane models with a
-    /// stem, §26): they cannot follow the stem's contact and stop there.
+    /// stem, §stem): they cannot follow the stem's contact and stop there.
     StemTouch,
     /// θ crosses the edge level `j` of a watched θ window
     /// ([`crate::sim::watch`]): never terminal.
@@ -78,7 +78,7 @@ pub enum Happened {
     /// Sliding and spinning both stopped and the contact sticks
     /// (Coulomb–Contensou friction; its end is a [`Happened::Slip`]).
     ContensouStick,
-    /// The stem's sphere landed on the plane (docs/physics.md §26).
+    /// The stem's sphere landed on the plane (docs/physics.md#stem).
     StemTouchdown,
     /// The stem's sphere left the plane (into flight, or the main sphere
     /// landed).

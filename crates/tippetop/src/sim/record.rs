@@ -192,7 +192,7 @@ pub(crate) struct RunEnd<'a> {
     /// True when the scenario has adhesion (`pull_off_margin_min` is then
     /// reported).
     pub adhesive: bool,
-    /// With a stem (docs/physics.md §26): the first time the stem touched
+    /// With a stem (docs/physics.md#stem): the first time the stem touched
     /// \[s\] and the fraction of the time on the stem; `None` without one.
     pub stem: Option<(Option<f64>, f64)>,
     /// Stochastic runs: `∫ N dt` \[N, scaled time\] over each output
@@ -623,7 +623,7 @@ impl RunLog {
         }
     }
 
-    /// The stem's sphere lands at `t` (docs/physics.md §26): records
+    /// The stem's sphere lands at `t` (docs/physics.md#stem): records
     /// `"stem_touchdown"` and starts an interval on the stem.
     pub(crate) fn stem_on(&mut self, t: f64) {
         self.push(t, Happened::StemTouchdown);

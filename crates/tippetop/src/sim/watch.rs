@@ -1,4 +1,4 @@
-//! θ windows watched on the continuous solution (docs/physics.md §23): for
+//! θ windows watched on the continuous solution (docs/physics.md#bit): for
 //! a window `[lo, hi]` of θ and a time interval `[from, to]`, whether θ was
 //! ever in the window during the interval, whether it is in at `to`, and
 //! when its final unbroken stay began — located by events at the window's

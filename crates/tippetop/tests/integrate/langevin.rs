@@ -144,7 +144,7 @@ fn scheme_second_moment(h: f64, t_end: f64) -> f64 {
 /// (2) The scheme's error, computed exactly, falls as h²: the ratio of the
 /// errors at h = 0.125 and 0.0625 is 4 (p = 2 ± 0.1; at h = 1 → 0.5 the
 /// ratio is still ~2: the pre-asymptotic range, measured and reported in
-/// docs/physics.md §21).
+/// docs/physics.md#langevin).
 #[test]
 fn weak_order_two_on_the_thermostatted_oscillator() {
     let t_end = 2.0;

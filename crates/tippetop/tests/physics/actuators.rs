@@ -1,4 +1,4 @@
-//! The body actuators (docs/physics.md §24): a tip at a body point and a
+//! The body actuators (docs/physics.md#actuators): a tip at a body point and a
 //! magnetic dipole `μ k` in a lab field, `[[force]]` windows of
 //! `kind = "tip"` and `"magnetic"`, in the vector and rigid models. Closed
 //! forms in flight (rigid), the comparison with the contact-point force
@@ -466,7 +466,7 @@ fn tip_through_the_contact_point_equals_the_contact_point_force() {
 /// (b) Along a whole run: a tip at the sphere's centre (`point = (0, 0,
 /// a)`) pushing vertically down, whose line is the vertical through `P` at
 /// every attitude, moves the top as the vertical load `h_z` at `P` does
-/// (§17), and does no work in contact (`v_Cz = 0`).
+/// (§vertical-load), and does no work in contact (`v_Cz = 0`).
 #[test]
 fn tip_at_the_sphere_centre_moves_the_top_as_the_vertical_load() {
     // The exact law (the top rolls from 0.1 s: the rolling constraint) and

@@ -1,4 +1,4 @@
-//! Van der Waals adhesion, the `[adhesion]` table (docs/physics.md §18), run
+//! Van der Waals adhesion, the `[adhesion]` table (docs/physics.md#adhesion), run
 //! over every model: the slip-to-roll time of a sphere against the closed
 //! form with the load `F_a`, Jellett's J and the energy balance with
 //! adhesion, and lift-off under unilateral contact exactly where a pull at

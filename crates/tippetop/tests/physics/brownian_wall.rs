@@ -1,5 +1,5 @@
 //! The rigid model's Brownian mode above a wall (`surface.contact =
-//! "unilateral"`, docs/physics.md §21.2): the overdamped free body with the
+//! "unilateral"`, docs/physics.md#brownian-wall): the overdamped free body with the
 //! plane as a reflecting wall.
 //!
 //! - the closed form in gravity (no adhesion, no wells): the density
@@ -58,7 +58,7 @@ fn wall_top(beta_mgr: f64) -> Scenario {
     sc
 }
 
-/// The step at the Brownian rule's limit (docs/physics.md §21, §21.2:
+/// The step at the Brownian rule's limit (docs/physics.md#langevin, §brownian-wall:
 /// the fastest of `kT/(γ_r A)`, `kT/(γ_r C)`, the tilt's rate under the
 /// load, the gap's diffusion over the wall's thermal length and the
 /// adhesion's curvature), `steps` steps, a row every `every`.
@@ -165,7 +165,7 @@ fn records(tr: &Trajectory) -> (usize, usize) {
     (lifts, kinds.len() - lifts)
 }
 
-/// Test 1 of §21.2: `m g R/kT = 1.5`, `a = 0.6 R` (`b = m g a/kT = 0.9`):
+/// Test 1 of §brownian-wall: `m g R/kT = 1.5`, `a = 0.6 R` (`b = m g a/kT = 0.9`):
 /// `⟨cos θ⟩ = coth b − 1/b` = 0.284956, `⟨cos²θ⟩ = 1 − 2⟨cos θ⟩/b`
 /// = 0.366764 (uniform: 0 and 1/3; the on-plane top's would differ), the
 /// gap's mean `kT/(m g)` and `P(gap < 0.05 kT/(m g)) = 1 − e^{−0.05}`
@@ -348,7 +348,7 @@ fn well_above_the_wall() {
     );
 }
 
-/// Test 2 of §21.2: the free body far from the wall (g = 0): pulled up
+/// Test 2 of §brownian-wall: the free body far from the wall (g = 0): pulled up
 /// 100 R by an upward force at the contact point (`h_z = −1.3 kT/R` for
 /// the first 80 % of a rise time), then free: the centre's MSD is
 /// `6 D τ` (`D = kT/(m γ_t)`) and the axis correlation `⟨k(0)·k(τ)⟩ =
@@ -428,7 +428,7 @@ fn free_body_far_from_the_wall() {
     }
 }
 
-/// Test 3 of §21.2: the paper's contact (which never flies) takes the
+/// Test 3 of §brownian-wall: the paper's contact (which never flies) takes the
 /// on-plane step as bilateral contact does: with μ = 0 the same path bit
 /// for bit (nano-physical, 20 000 steps).
 #[test]

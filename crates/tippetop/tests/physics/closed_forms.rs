@@ -42,7 +42,7 @@ fn steady_free_precession_sphere() {
 }
 
 /// Small nutation about a steady precession on a frictionless plane: the
-/// period matches the Routhian linearisation (docs/physics.md §10), an
+/// period matches the Routhian linearisation (docs/physics.md#closed-forms), an
 /// independent Lagrangian route.
 #[test]
 fn nutation_frequency_matches_routhian() {
@@ -111,7 +111,7 @@ fn nutation_frequency_matches_routhian() {
 
 /// The classical top inverts with the regularised law (ε = 1e-2 m/s), and late
 /// in the run n_Z approaches ω0 (R cos θ0 − a)/(R + a) within the bound that
-/// θ's distance from π allows (docs/physics.md §7).
+/// θ's distance from π allows (docs/physics.md#invariants).
 #[test]
 fn classical_inverts_regularized_and_nz_limit() {
     each_model(&[], |m| {
@@ -187,7 +187,7 @@ const PAINLEVE_SUBCRITICAL_COST: Filter = too_slow(
 
 /// Painlevé: with slip purely along +x and μ large enough that
 /// m a h μ sin θ / A > 1 + m a² sin²θ / A, the θ̈–N system has no consistent
-/// solution (docs/physics.md §4): the run stops at once and says so
+/// solution (docs/physics.md#normal-force): the run stops at once and says so
 /// (1.2 μ_crit). Below μ_crit (0.8 μ_crit) the run completes.
 #[test]
 fn painleve_case_is_reported() {

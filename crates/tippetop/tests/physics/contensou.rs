@@ -1,4 +1,4 @@
-//! Coulomb–Contensou friction (docs/physics.md §25): the law itself against
+//! Coulomb–Contensou friction (docs/physics.md#contensou): the law itself against
 //! 30-digit references and its closed-form limits, the Padé form's error,
 //! the flat disc of Farkas et al. (2003), and the law in the models.
 
@@ -99,7 +99,7 @@ fn exact_law_matches_30_digit_references() {
     assert!(worst < 1e-14, "worst error {worst:e}");
 }
 
-/// The closed-form limits of §25: the torque at zero slip `⟨ρ⟩` (2/3
+/// The closed-form limits of §contensou: the torque at zero slip `⟨ρ⟩` (2/3
 /// uniform, 3π/16 Hertz), the force at small slip `f'(0) d` (1, 3π/8),
 /// and the large-slip tails `1 − f ≈ ⟨ρ²⟩/(4d²)`, `m ≈ ⟨ρ²⟩/(2d)` — each
 /// through the quadrature (d >= 1e-5, above the series cut at 1e-6).
@@ -569,7 +569,7 @@ fn eccentric_top_sticks_and_slips_within_the_limit_curve() {
 /// difference in θ, ω/(100 rad/s) and the slip from the point law's run
 /// shrinks like r_c²: while d = |v|/(r_c |n_Z|) is large, the force's
 /// correction is `1 − f ≈ ⟨ρ²⟩/(4d²)` and the torque
-/// `μ N r_c m ≈ μ N ⟨ρ²⟩ r_c² |n_Z|/(2|v|)`, both O(r_c²) (§25): ×10
+/// `μ N r_c m ≈ μ N ⟨ρ²⟩ r_c² |n_Z|/(2|v|)`, both O(r_c²) (§contensou): ×10
 /// smaller r_c, ×100 smaller difference within 10 % (measured 99.997).
 #[test]
 fn small_contact_radius_approaches_the_point_law() {
@@ -606,7 +606,7 @@ fn small_contact_radius_approaches_the_point_law() {
 }
 
 /// The rigid model's touchdown impulse under Coulomb–Contensou friction
-/// (docs/physics.md §25), on a state of the classical top (θ = 0.5) given a
+/// (docs/physics.md#contensou), on a state of the classical top (θ = 0.5) given a
 /// downward velocity (restitution e = 0.5), with `Π = Δv` (m = 1, scaled)
 /// and the angular impulse about Z `Π_M = (I Δn − r × Π)_Z` read off the
 /// state's jump:

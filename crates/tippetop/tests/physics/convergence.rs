@@ -220,7 +220,7 @@ fn crossings(tr: &Trajectory) -> (usize, usize) {
 }
 
 /// The kink of the friction μ|N| where the bilateral normal force changes
-/// sign (docs/physics.md §4): the drivers latch the branch of the closure,
+/// sign (docs/physics.md#normal-force): the drivers latch the branch of the closure,
 /// stop at N = 0 and restart on the other branch from a step of the method,
 /// so no step straddles the kink. The nano preset crosses N = 0 275 times
 /// in 100 µs.
@@ -272,7 +272,7 @@ fn nano_converges_through_the_normal_force_sign_changes() {
 /// attempts on nano at rtol 1e-10. Measured: 10 % with the Euler angles,
 /// whose 1/sin θ adds its own; 0.4 % in vector form; rigid 10 of 2 582
 /// (0.39 %; 36 % before the latched branch, 5.9 % with the latched branch
-/// and the body-frame state, docs/physics.md §11). Evaluating μ|N| on the
+/// and the body-frame state, docs/physics.md#rigid-model). Evaluating μ|N| on the
 /// consistent branch at every stage rejected 35 % and 36 % of the attempts
 /// (Euler angles, vector form): every crossing cost a cascade of rejections.
 /// The bound is each model's own measured share with margin (issue #13's

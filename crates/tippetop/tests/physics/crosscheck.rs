@@ -203,7 +203,7 @@ fn vector_fewer_evaluations_than_euler_angles() {
 }
 
 /// At one physical state the vector form and the Euler angles give the same
-/// instantaneous dynamics (docs/physics.md §14: the vector closure is §4's
+/// instantaneous dynamics (docs/physics.md#vector-model: the vector closure is §normal-force's
 /// term by term): N, the friction force, θ̈, ω̇ and the two work rates agree
 /// to rounding (1e-12 of their scale) on random states of both presets,
 /// sliding under three laws and both contact modes, and rolling under the

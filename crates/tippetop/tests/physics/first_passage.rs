@@ -1,6 +1,6 @@
 //! Escape out of a window of θ in the overdamped (Brownian) mode, against
 //! the exact mean first-passage time of its one-dimensional diffusion
-//! (docs/physics.md §22, "the Kramers check"): what the retention
+//! (docs/physics.md#retention, "the Kramers check"): what the retention
 //! machinery (`--first-passage`, escape rates, `tippetop retention`)
 //! measures, checked where the answer is known in closed form.
 //!
@@ -8,7 +8,7 @@
 //! `D(θ) = kT/Γ_θ`, `Γ_θ = γ_r A + γ_t m a² sin²θ` (the tilt mode's
 //! friction: the rotation about the horizontal axis and the centre's
 //! vertical velocity `a sin θ θ̇`), and stationary density
-//! `π(θ) ∝ sin θ s(θ) e^{−U/kT}`, `s = sqrt(1 + m a² sin²θ/A)` (§21). Its
+//! `π(θ) ∝ sin θ s(θ) e^{−U/kT}`, `s = sqrt(1 + m a² sin²θ/A)` (§langevin). Its
 //! mean exit time from `(lo, hi)` started at `θ0` solves `L τ = −1`,
 //! `τ(lo) = τ(hi) = 0`, `L f = (π D f′)′/π`:
 //!
@@ -19,7 +19,7 @@
 //!
 //! (Gardiner, Handbook of Stochastic Methods, §5.2.7), computed by the
 //! product function `analysis::rare::exact` (its Green's-function form,
-//! adaptive Gauss–Kronrod in log space, docs/physics.md §22.1). The run is
+//! adaptive Gauss–Kronrod in log space, docs/physics.md#rare-exact). The run is
 //! watched at every second step (rows every `2 dt`), and a discretely watched path
 //! exits later than the continuous one: to leading order the window is
 //! wider by `β sqrt(2 D Δ)` at each edge, `β = −ζ(1/2)/sqrt(2π) = 0.5826`
@@ -164,7 +164,7 @@ fn brownian_escape_time_is_the_exact_mean_first_passage_time() {
 }
 
 /// The exact answer where the mobility and the drift have every term the
-/// θ diffusion can have (docs/physics.md §22.1): the contact damping
+/// θ diffusion can have (docs/physics.md#rare-exact): the contact damping
 /// (`c = m γ_t`, which both slows the tilt, `Γ` +55 % at θ = π/2, and
 /// halves the share of the contact-point force that turns it), a constant
 /// applied force along the tilt (`H_x R` ≈ 4.5 kT per radian), gravity

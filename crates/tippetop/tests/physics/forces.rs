@@ -1,5 +1,5 @@
 //! The vertical load at the contact point, `force.K.hz` (docs/physics.md
-//! §17), run over every model (`reduced`, `vector`, `rigid`): the normal
+//! §vertical-load), run over every model (`reduced`, `vector`, `rigid`): the normal
 //! force and the slip-to-roll time of a sphere against their closed forms,
 //! the motion of a frictionless top unchanged by the load, Jellett's J and
 //! the energy balance with a load switched on and off, and the work of a
@@ -24,7 +24,7 @@ fn load(hz: f64, start: f64, stop: f64) -> Forcing {
     }
 }
 
-/// (a) A sphere (a = 0) has `N = m g + h_z` exactly (§17: `Q = m g`,
+/// (a) A sphere (a = 0) has `N = m g + h_z` exactly (§vertical-load: `Q = m g`,
 /// `D(σ) = D₀ = 1`), sliding and rolling, pushed (`h_z = 2 m g`) or pulled
 /// (`h_z = −m g/2`, bilateral contact).
 #[test]
@@ -66,7 +66,7 @@ fn sphere_normal_force_is_weight_plus_load() {
 
 /// (a) Without friction the load acts along the constraint's own line: the
 /// motion of an eccentric top (the classical top, a = R/10) is unchanged
-/// and `N` is larger by exactly `h_z` at every instant (§17: `N − h_z =
+/// and `N` is larger by exactly `h_z` at every instant (§vertical-load: `N − h_z =
 /// Q/D₀`). A torque computed from `N` instead of `N − h_z` would tilt the
 /// top by `a s h_z/A`; a wrong `D₀` would change `N − h_z`. The load is
 /// switched on at 0.201 s and off at 0.601 s (between samples: the sample
@@ -141,7 +141,7 @@ fn frictionless_top_moves_as_without_load_and_n_grows_by_hz() {
 /// (b) A sliding sphere under the exact Coulomb law with a load: the slip
 /// falls at `μ (g + h_z/m)(1 + m R²/C)`, so for `C = 2/5 m R²` rolling
 /// starts at `t_r = 2 v0 / (7 μ (g + h_z/m))` and the sphere then rolls at
-/// `(2/7) v0` whatever the load (§17).
+/// `(2/7) v0` whatever the load (§vertical-load).
 #[test]
 fn sliding_sphere_rolls_at_the_loaded_coulomb_time() {
     let (theta, spin, mu) = (0.5f64, 50.0, 0.2);
@@ -252,7 +252,7 @@ fn jellett_and_energy_balance_hold_under_a_load() {
         );
         // The nano bar of the unloaded tests at the preset's rtol 1e-10
         // (every model, the rigid one since its axis/space-rate state,
-        // docs/physics.md §11).
+        // docs/physics.md#rigid-model).
         assert!(s.jellett_max_rel_drift <= 1e-10, "{model:?}");
         assert!(s.energy_balance_max_rel_error <= 1e-8, "{model:?}");
     }

@@ -5,7 +5,7 @@
 use crate::spec::*;
 use tippetop::{ContactMode, ForceWindow, Forcing, FrictionLaw, Scenario};
 
-/// Jellett's J is conserved for any force at P (docs/physics.md §7): to
+/// Jellett's J is conserved for any force at P (docs/physics.md#invariants): to
 /// 1e-10 of C max|ω| R with rtol 1e-10 on the nano preset, every schedule,
 /// the tracked drift and the sampled J.
 #[test]

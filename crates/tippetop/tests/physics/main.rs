@@ -17,7 +17,7 @@
 //! - `crosscheck`: the models against each other;
 //! - `forces`: the applied force terms (the vertical load `force.K.hz`);
 //! - `actuators`: the body actuators (a tip at a body point, a magnetic
-//!   dipole in a field; §24): closed forms in flight, the contact-point
+//!   dipole in a field; §actuators): closed forms in flight, the contact-point
 //!   force through P, the energy balance, Jellett's J;
 //! - `adhesion`: van der Waals adhesion (`[adhesion]`, a centre-vertical term);
 //! - `wells`: orientation wells (`[[well]]`, a torque about `ŷ ⊥ k`):
@@ -25,7 +25,7 @@
 //! - `position`: where the top is (position, attitude, contact point);
 //! - `initial`: the lab-frame initial state and the heading (isotropy);
 //! - `rigid`: what only the rigid model has (attitude, flight, impacts);
-//! - `stem`: the stem's second contact sphere (§26): θ_td, the energy
+//! - `stem`: the stem's second contact sphere (§stem): θ_td, the energy
 //!   balance across its touchdowns, its Jellett integral, the on-plane stop;
 //! - `first_passage`: the Brownian escape time against the exact mean
 //!   first-passage time (the retention machinery's closed-form check);

@@ -1,4 +1,4 @@
-//! Where the top is (docs/physics.md §19): the centre-of-mass position
+//! Where the top is (docs/physics.md#position): the centre-of-mass position
 //! `x, y, z`, the attitude quaternion `qw, qx, qy, qz` (body → lab) and the
 //! contact point `xp, yp`, in every model. The closed forms and the
 //! conventions (lab frame, initial heading, `k = q e3 q*`) are written here

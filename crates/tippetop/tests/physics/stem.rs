@@ -1,4 +1,4 @@
-//! The stem (docs/physics.md §26): a second contact sphere of radius r2 on
+//! The stem (docs/physics.md#stem): a second contact sphere of radius r2 on
 //! the symmetry axis at d2 from the centre of mass. Its touchdown angle in
 //! closed form, the energy balance across the switches of spheres (impact
 //! losses booked into the friction work), the stem's own Jellett integral
@@ -183,7 +183,7 @@ fn stem_jellett_integral_conserved_with_point_law() {
 /// summary's `first_stem_contact_at` at that time. θ there (the final
 /// state, `theta_final`) to 1e-9 (event location, as above); the stop time
 /// agrees with the rigid model's touchdown to 1e-6 s (the same motion on
-/// the main sphere up to there: §25's cross-check of the three models to
+/// the main sphere up to there: §contensou's cross-check of the three models to
 /// 1e-6 rad).
 #[test]
 fn on_plane_models_stop_at_theta_td() {
@@ -381,7 +381,7 @@ fn stem_validation_errors_name_the_key() {
     assert_eq!(again.top.stem, sc.top.stem);
 }
 
-/// The two-contact phase (§26): while both spheres are on the plane, both
+/// The two-contact phase (§stem): while both spheres are on the plane, both
 /// constraints hold, so `k_Z = cos θ_td` (to the integration's drift, 1e-9
 /// at rtol 1e-10 over the phase's ~10³ steps) and both normal forces are
 /// non-negative (the phase ends where one falls through zero). The toy at

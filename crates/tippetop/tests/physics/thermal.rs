@@ -1,5 +1,5 @@
 //! Langevin dynamics (`solver.method = "langevin"`, `[thermal]`,
-//! docs/physics.md §21), vector model: equipartition of the constrained
+//! docs/physics.md#langevin), vector model: equipartition of the constrained
 //! top, the orientation density at `g = 0` (not uniform: the centre's
 //! height follows the tilt), the Ornstein–Uhlenbeck mean-square
 //! displacement, the exact energy decay at `T = 0`, the splitting without
@@ -814,7 +814,7 @@ fn free_body_in_flight_is_uniform() {
 /// model's step with its own generalised force at rest: with the same seed
 /// its path is the vector model's to rounding (100 000 steps of
 /// nano-physical; bar 1e-12), without and with the contact damping
-/// (`c/m = γ_t`, the coupled step of §21.1): measured max |Δθ| = 2.2e-16
+/// (`c/m = γ_t`, the coupled step of §brownian): measured max |Δθ| = 2.2e-16
 /// and 1.1e-16 (θ moves by up to 1.55 and 0.59 rad).
 #[test]
 fn rigid_brownian_follows_the_vector_path() {
@@ -1014,7 +1014,7 @@ fn brownian_contact_run() -> &'static (Scenario, Trajectory) {
 
 /// With the contact damping the Brownian mode's mobility `Γ⁻¹` depends on
 /// θ and on the axis's horizontal direction and couples the centre to the
-/// tilt and the spin (docs/physics.md §21.1); its drift `kT ∇·μ + kT μ ∇ ln
+/// tilt and the spin (docs/physics.md#brownian); its drift `kT ∇·μ + kT μ ∇ ln
 /// s` keeps the orientation at the Boltzmann density `sin θ s(θ)
 /// e^{−U/kT}` (the Langevin run's; `μ_θ` is not symmetric about π/2 here,
 /// so a wrong drift moves `⟨cos θ⟩`). Measured by editing the step (same

@@ -1,4 +1,4 @@
-//! Orientation wells, `[[well]]` (docs/physics.md §20), over every model:
+//! Orientation wells, `[[well]]` (docs/physics.md#wells), over every model:
 //! the small-oscillation period about a well's minimum against its closed
 //! form (a sphere, and an eccentric top whose period also tests the
 //! closure), the energy with the well's potential (conserved without
@@ -43,7 +43,7 @@ fn crossings(tr: &tippetop::Trajectory, level: f64) -> Vec<f64> {
 
 /// The measured period and the closed form `2π/ν` with
 /// `ν² = U″(θ_w)/(A + m a² sin²θ_w) = (d/w²)/(A + m a² sin²θ_w)` (the
-/// Routhian of §10 with `g = 0`, `ω = Ω = 0`: `(A + m a² s²) θ̈ +
+/// Routhian of §closed-forms with `g = 0`, `ω = Ω = 0`: `(A + m a² s²) θ̈ +
 /// m a² s c θ̇² = −U′(θ)`), amplitude `ε w` and its anharmonic correction:
 /// `U = d (x²/2 − x⁴/8 + ...)`, `x = (θ − θ_w)/w`, so `ẍ = −ν² (x − x³/2)`
 /// and the period is `(2π/ν)(1 + 3 ε²/16)` to `O(ε⁴)` (Duffing; the
@@ -232,19 +232,19 @@ fn a_well_holds_below_its_depth_and_releases_above() {
 }
 
 /// (d) The pole: a wide well around the vertical (θ_w = 0.6, w = 0.3)
-/// slopes at θ = 0 (`U′(0) = −d (0.6/0.3²) e^{−2} = −0.90 d` per radian: a conical peak, §20). A
+/// slopes at θ = 0 (`U′(0) = −d (0.6/0.3²) e^{−2} = −0.90 d` per radian: a conical peak, §wells). A
 /// sphere (a = 0, frictionless, no spin, g = 0) thrown towards the vertical
 /// from θ = 0.3 with `½ A θ̇² = d` has more than the peak's height
 /// `U(0) − U(0.3) = d (e^{−1/2} − e^{−2}) = 0.47 d`: its axis passes
 /// through the vertical (the motion is planar, so within rounding of it),
 /// the torque's direction flips there, and it comes out on the other side;
 /// the energy balance holds through the kink. The reduced model cannot pass
-/// the pole (§9).
+/// the pole (§failures).
 #[test]
 fn energy_holds_through_the_pole_of_a_sloped_well() {
     let filters = [spec::cannot(
         tippetop::ModelKind::Reduced,
-        "the Euler angles are singular at the pole (§9)",
+        "the Euler angles are singular at the pole (§failures)",
     )];
     each_model(&filters, |model| {
         let well = Well {

@@ -1,7 +1,7 @@
 //! Adaptive multilevel splitting (AMS) on the full stochastic dynamics:
 //! probabilities far below what brute force reaches and mean escape times
 //! far beyond a simulation's span, with 95 % intervals from independent
-//! replicas (docs/physics.md §27: the algorithm, why it is unbiased, the
+//! replicas (docs/physics.md#ams: the algorithm, why it is unbiased, the
 //! intervals).
 //!
 //! # What it estimates
@@ -43,7 +43,7 @@
 //! with `ξ > Z`, continued with fresh noise. At the end
 //! `p̂ = Π_j (1 − K_j/n) × (particles at the target)/n`, unbiased for any
 //! `n`, `k` and ξ (the reference above, Theorem 4.1; sketch in
-//! docs/physics.md §27).
+//! docs/physics.md#ams).
 //!
 //! # Paths, noise and reproducibility
 //!

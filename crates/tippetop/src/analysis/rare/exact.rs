@@ -2,7 +2,7 @@
 //! first-passage time and the splitting probability of a reversible
 //! diffusion on an interval, by quadrature in log space, and the θ
 //! diffusion of a scenario where it is exactly one-dimensional (the
-//! Brownian mode on the plane; docs/physics.md §22.1).
+//! Brownian mode on the plane; docs/physics.md#rare-exact).
 //!
 //! # The diffusion
 //!
@@ -508,13 +508,13 @@ impl Diffusion {
 // The θ diffusion of a scenario.
 
 /// The nutation angle θ of the overdamped (Brownian) top on the plane as a
-/// one-dimensional diffusion (docs/physics.md §22.1): on `[0, π]`, with
+/// one-dimensional diffusion (docs/physics.md#rare-exact): on `[0, π]`, with
 ///
 /// - `D(θ) = kT/Γ(θ)` \[rad²/s\], `Γ = γ_r A + m γ_t a² sin²θ +
 ///   c m γ_t ℓ²/(m γ_t + c)`, `ℓ = R − a cos θ` (the tilt's friction: the
 ///   rotation, the centre's vertical velocity, and the contact damping `c`
 ///   in series with the centre's translational friction, the lever `ℓ`
-///   from the contact point: the θθ element of the inverse of §21.1's
+///   from the contact point: the θθ element of the inverse of §brownian's
 ///   5×5 friction matrix);
 /// - `π(θ) ∝ sin θ s(θ) e^{−U/kT}`, `s = sqrt(1 + m a² sin²θ/A)`,
 ///   `U = −m g a cos θ + Σ wells − h_eff (R θ − a sin θ)` \[J\], where
@@ -543,7 +543,7 @@ pub struct ThetaDiffusion {
     pub damping_contact: f64,
     /// The constant `H_x` \[N\] (the sum over the windows; 0 without).
     pub hx: f64,
-    /// The orientation wells (docs/physics.md §20).
+    /// The orientation wells (docs/physics.md#wells).
     pub wells: Vec<crate::Well>,
 }
 
@@ -556,7 +556,7 @@ fn not_exact(key: &str, why: String, fix: &str) -> Error {
 impl ThetaDiffusion {
     /// The θ diffusion of `sc`, or `Err(Error::Invalid)` naming the key
     /// that makes θ not an exactly one-dimensional, time-homogeneous
-    /// diffusion (docs/physics.md §22.1):
+    /// diffusion (docs/physics.md#rare-exact):
     ///
     /// - `solver.method` other than `"brownian"` (deterministic runs; the
     ///   Langevin run's θ carries θ̇, so θ alone is not Markov);

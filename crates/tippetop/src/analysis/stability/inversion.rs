@@ -1,7 +1,7 @@
 //! Where a dissipating top ends: the minimum of its energy at fixed
-//! Jellett's J (docs/physics.md §12, "Full inversion").
+//! Jellett's J (docs/physics.md#stability, "Full inversion").
 //!
-//! Friction at the contact point conserves `J = L·(R Z − a k)` (§7) and
+//! Friction at the contact point conserves `J = L·(R Z − a k)` (§invariants) and
 //! dissipates energy, so a top whose friction never stops acting (a smooth
 //! law: slip, however small, costs energy) ends at a state of least energy
 //! for its J. For a given θ the kinetic energy `½ L·I⁻¹L + ½ m |u|²` at

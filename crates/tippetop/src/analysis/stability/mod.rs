@@ -4,7 +4,7 @@
 //! # Method
 //!
 //! **Model.** The reduced Euler-angle model divides by sin θ, so it cannot be
-//! linearised at θ = 0 or π. Here the same physics (docs/physics.md §2–§5) is
+//! linearised at θ = 0 or π. Here the same physics (docs/physics.md#kinematics–§normal-force, §friction-laws) is
 //! written for the symmetry axis `k` directly: state
 //! `x = (ξ, η, n_1, n_2, n_3, u_1, u_2)`, where `n` is the angular velocity and
 //! `u` the horizontal centre-of-mass velocity (components in a frame turning
@@ -15,7 +15,7 @@
 //! equations are Euler's about the centre of mass,
 //! `I ṅ = r × F_P − (C − A)(k·n)(n × k)`, `r = a k − R Z`, Newton's
 //! `m u̇ = F_P − m g Z`, with the normal force solved from the contact
-//! constraint `u_z = −a k̇_z` together with `ṅ` (as in §4), and a **smooth**
+//! constraint `u_z = −a k̇_z` together with `ṅ` (as in §normal-force), and a **smooth**
 //! friction law (Coulomb is not differentiable at zero slip):
 //! regularised `μ N v/√(|v|² + ε²)` or viscous `μ N v/ε`. Both have the same
 //! linearisation at zero slip (`μ N/ε` per unit slip), so at the steady
@@ -327,8 +327,8 @@ fn eig_list(e: &[Eig]) -> String {
 }
 
 /// Whether the analysis covers `sc`: the linearised model has no vertical
-/// load (`force.K.hz`, docs/physics.md §17), no adhesion (§18) and no body
-/// actuator (§24), so a
+/// load (`force.K.hz`, docs/physics.md#vertical-load), no adhesion (§adhesion) and no body
+/// actuator (§actuators), so a
 /// scenario with one is bad input naming the key.
 pub fn supports(sc: &Scenario) -> Result<(), Error> {
     if sc.adhesion.is_on() {
@@ -343,7 +343,7 @@ pub fn supports(sc: &Scenario) -> Result<(), Error> {
         return Err(Error::invalid(
             &format!("force.{k}.kind"),
             format!(
-                "the stability analysis does not model a body actuator (\"{}\", docs/physics.md §24)",
+                "the stability analysis does not model a body actuator (\"{}\", docs/physics.md#actuators)",
                 sc.actuators[0].actuator.name()
             ),
             "\"contact\"; use `tippetop run` for a tip or a magnet".into(),

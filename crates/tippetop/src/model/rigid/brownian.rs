@@ -1,6 +1,6 @@
 //! The overdamped (Brownian) rigid top above a hard unilateral wall
 //! (`solver.model = "rigid"`, `solver.method = "brownian"`,
-//! `surface.contact = "unilateral"`; docs/physics.md §21.2).
+//! `surface.contact = "unilateral"`; docs/physics.md#brownian-wall).
 //!
 //! The top is a free body: one Euler–Maruyama step of the centre (3D,
 //! mobility `1/(m γ_t)`) and of the attitude (a rotation by the rotation
@@ -21,7 +21,7 @@
 //! The on-plane constrained step ([`Rigid::brownian_step`]) is the model of
 //! a bilateral (rigid) contact; it is not used here (its stationary density
 //! carries the constraint's metric factor `sqrt(1 + m a² sin²θ/A)`, the
-//! free body's on the wall does not: Fixman's theorem, docs §21.2).
+//! free body's on the wall does not: Fixman's theorem, docs §brownian-wall).
 //!
 //! The `N` column is the wall's mean force over the last step, its
 //! impulse over the step ([`Wall::force`]).
@@ -170,8 +170,8 @@ impl Rigid {
         let Some(b) = self.thermal else { return Ok(()) };
         // A step of zero length is the identity (the noise's amplitude
         // `sqrt(2 kT/(γ h))` would be infinite). The engine no longer takes
-        // such steps (its landing slack grows with the step number since
-        // session 9); this guard stays for direct callers.
+        // such steps (its landing slack grows with the step
+        // number); this guard stays for direct callers.
         if h.is_nan() || h <= 0.0 {
             return Ok(());
         }
@@ -349,7 +349,7 @@ impl Rigid {
 #[cfg(test)]
 mod tests {
     //! The wall's treatment measured against the closed form of
-    //! docs/physics.md §21.2 (test 1 there), with the model's mirror and
+    //! docs/physics.md#brownian-wall (test 1 there), with the model's mirror and
     //! two wrong schemes, on the same normals: how many standard errors a
     //! wrong wall is off.
     use super::*;
@@ -431,7 +431,7 @@ mod tests {
         (c, g, below)
     }
 
-    /// Test 1 of §21.2 on the model's step: `⟨cos θ⟩ = coth b − 1/b` with
+    /// Test 1 of §brownian-wall on the model's step: `⟨cos θ⟩ = coth b − 1/b` with
     /// `b = m g a/kT = 0.9` (0.28491), the gap exponential with mean
     /// `kT/(m g)` (1 in these units) and `P(gap < 0.05 kT/(m g)) = 1 −
     /// e^{−0.05}` (0.048771). Clipping (a projection onto the wall) puts an
@@ -501,7 +501,7 @@ mod tests {
     /// A scheme of weak order `p` has `E_h − E_{h/2} ∝ h^p`, so successive
     /// differences shrink by `2^p`. Bossy, Gobet & Talay (2004) prove order
     /// 1 for the symmetrised reflected Euler scheme in R^d. Measured
-    /// (200 000 paths, session 9; docs/physics.md §21.2): the gap's
+    /// (200 000 paths; docs/physics.md#brownian-wall): the gap's
     /// differences 0.00310 ± 0.00019, 0.00104 ± 0.00013, 0.00048 ± 0.00009
     /// (order 1.6, 1.1), but `cos θ`'s 0.00317 ± 0.00013, 0.00227 ± 0.00009,
     /// 0.00166 ± 0.00006 (order 0.48, 0.45): the tilt converges at order
@@ -603,7 +603,7 @@ mod tests {
             // from the differences' SEs) above 0.3; the tilt's (SE ~0.08)
             // within 0.35 of 1/2, which excludes 1 (a known gap: a scheme
             // that reaches order 1 for the tilt fails here, on purpose, and
-            // updates this test and §21.2).
+            // updates this test and §brownian-wall).
             assert!(
                 d[0].0 > 4.0 * d[0].1 && d[2].0 > 4.0 * d[2].1,
                 "{name}: {d:?}"

@@ -1,4 +1,4 @@
-//! The stem (docs/physics.md §26): a second contact sphere of radius `r2`
+//! The stem (docs/physics.md#stem): a second contact sphere of radius `r2`
 //! (scaled `r2/R`) centred on the symmetry axis at `S = O + d2 k`.
 //!
 //! The rigid model's contact geometry is that of its *active* sphere (the
@@ -217,7 +217,7 @@ impl Rigid {
                 t * tu,
                 Failure::NotModelled,
                 format!(
-                    "the main sphere and the stem touch the plane at once at t = {:e} s ({why}): this two-contact problem is not modelled (docs/physics.md §26); {}",
+                    "the main sphere and the stem touch the plane at once at t = {:e} s ({why}): this two-contact problem is not modelled (docs/physics.md#stem); {}",
                     t * tu,
                     describe_state(m, y)
                 ),
@@ -347,7 +347,7 @@ impl Rigid {
         self.two_contact(y).map(|(e, _)| e)
     }
 
-    /// The two-contact phase (§26): the main sphere and the stem both on the
+    /// The two-contact phase (§stem): the main sphere and the stem both on the
     /// plane, sliding. With `r_j = c_j k − rho_j Z`, the friction
     /// coefficient vector `f_j` of each contact's slip `v + n × r_j` (and the
     /// drilling `τ_j`, Contensou), `F_j = N_j (Z − f_j)`, both constraints
@@ -443,7 +443,7 @@ impl Rigid {
                 friction,
                 kin,
                 q_free: q[0],
-                // Both contacts' drilling torques about Z (§25).
+                // Both contacts' drilling torques about Z (§contensou).
                 torque: -normals[0] * tau[0] - normals[1] * tau[1],
             },
             normals,

@@ -1,4 +1,4 @@
-//! The body actuators (docs/physics.md §24): a tip pushing at a body point
+//! The body actuators (docs/physics.md#actuators): a tip pushing at a body point
 //! and a magnetic dipole along the symmetry axis in a lab field, the
 //! `[[force]]`, `[[write]]` and `[[erase]]` windows of `kind = "tip"` and
 //! `kind = "magnetic"`. Both are [`Kind::BodyPoint`] terms: each applies a
@@ -18,7 +18,7 @@
 //!
 //! - the free accelerations gain it: `v̇ += F/m`, `ẇ₀ += I⁻¹ τ` (`ẇ₀` the
 //!   angular acceleration without the contact force), so the normal-force
-//!   closure `N D(σ) = Q` (§4, §11) gets `Q −= F_Z/m + a (I⁻¹τ)·e` with
+//!   closure `N D(σ) = Q` (§normal-force, §rigid-model) gets `Q −= F_Z/m + a (I⁻¹τ)·e` with
 //!   `D(σ)` unchanged (`e = k × Z`: `Q` is minus the gap's acceleration
 //!   without the contact force), and the rolling constraint's right-hand
 //!   side `b = g Z − ẇ₀ × r − a w × k̇` gets `−F/m` and the new `ẇ₀`;
@@ -201,7 +201,7 @@ impl ForceTerm for Actuators {
     }
     fn properties(&self) -> Properties {
         Properties {
-            closure: "a wrench: v' += F/m, w0' += I^-1 tau, so Q -= F_Z/m + a (I^-1 tau).e and the rolling b -= F/m (docs/physics.md §24)",
+            closure: "a wrench: v' += F/m, w0' += I^-1 tau, so Q -= F_Z/m + a (I^-1 tau).e and the rolling b -= F/m (docs/physics.md#actuators)",
             conserves_jellett: false,
             energy: Energy::Integrated,
         }

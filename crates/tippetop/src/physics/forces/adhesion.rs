@@ -1,10 +1,10 @@
-//! Van der Waals adhesion, the `[adhesion]` table (docs/physics.md §18):
+//! Van der Waals adhesion, the `[adhesion]` table (docs/physics.md#adhesion):
 //! pull-off force `F_a` \[N\] and binding energy `E_b` \[J\], a force along
 //! the vertical through the sphere's centre, pulling the top onto the plane.
 //!
 //! - In contact: a load `F_a`. Its line is the vertical through the
 //!   sphere's centre, which passes through the contact point `P`, so it
-//!   enters exactly as a vertical load at `P` (§17): the closure is
+//!   enters exactly as a vertical load at `P` (§vertical-load): the closure is
 //!   `N_c D(σ) = Q + F_a D₀`, the plane's reaction `N_c` (the `N` column)
 //!   is `F_a` plus what the contact must supply besides, the friction sees
 //!   `N_c`; without friction the motion is that without adhesion and
@@ -14,7 +14,7 @@
 //! - In flight (rigid model): the force `−U′(z) Z` with
 //!   `U(z) = −E_b exp(−F_a z/E_b)`, `z` the gap: `U(0) = −E_b`,
 //!   `−U′(0) = F_a` (continuous at lift-off), monotone, separation work `E_b`.
-//! - Jellett's J: conserved (a force whose line passes through `P`, §7).
+//! - Jellett's J: conserved (a force whose line passes through `P`, §invariants).
 //! - Energy: a potential. In contact it is the constant `U(0)`, and the
 //!   force does no work (`v_Pz = 0`); the energy the models report counts it
 //!   from contact, `U(z) − U(0) = E_b (1 − exp(−F_a z/E_b))`, zero in contact,
@@ -49,7 +49,7 @@ impl ForceTerm for Adhesion {
     }
     fn properties(&self) -> Properties {
         Properties {
-            closure: "in contact Q += F_a D0 (N_c = F_a + N); in flight the gap potential U(z) = -E_b exp(-F_a z/E_b) (docs/physics.md §18)",
+            closure: "in contact Q += F_a D0 (N_c = F_a + N); in flight the gap potential U(z) = -E_b exp(-F_a z/E_b) (docs/physics.md#adhesion)",
             conserves_jellett: true,
             energy: Energy::Potential,
         }

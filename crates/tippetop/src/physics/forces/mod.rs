@@ -7,19 +7,19 @@
 //! implementing [`ForceTerm`]) plus its scenario keys and one line in
 //! [`Forces::of`]. Each term states, in code ([`ForceTerm::properties`])
 //! and in its doc, how it enters the normal-force closure `N D(σ) = Q`
-//! (docs/physics.md §4), whether it conserves Jellett's J (§7) and whether
+//! (docs/physics.md#normal-force), whether it conserves Jellett's J (§invariants) and whether
 //! it has a potential or its work is integrated (like `W_a`).
 //!
 //! Wired today: [`Kind::ContactPoint`], with the terms [`retarding::Retarding`]
 //! (the paper's `H`) and [`vertical_load::VerticalLoad`] (`force.K.hz`,
-//! §17), and [`Kind::CentreVertical`], with the term [`adhesion::Adhesion`]
-//! (van der Waals adhesion, §18), [`Kind::Torque`], with the term
-//! [`wells::Wells`] (orientation wells, §20), and [`Kind::BodyPoint`], with
-//! the terms [`actuators::Actuators`] (tips and magnetic dipoles, §24;
+//! §vertical-load), and [`Kind::CentreVertical`], with the term [`adhesion::Adhesion`]
+//! (van der Waals adhesion, §adhesion), [`Kind::Torque`], with the term
+//! [`wells::Wells`] (orientation wells, §wells), and [`Kind::BodyPoint`], with
+//! the terms [`actuators::Actuators`] (tips and magnetic dipoles, §actuators;
 //! vector and rigid models). The other kinds are declared so that their place is fixed; no
 //! model applies them yet, and [`Applied`] has no slot for them (a term of
 //! such a kind cannot be built until its kind is wired). docs/architecture.md
-//! ("Forces as data") describes the seam.
+//! ("Where to add") describes the seam.
 
 pub mod actuators;
 pub mod adhesion;
@@ -35,17 +35,17 @@ use crate::Scenario;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kind {
     /// A force at the contact point `P`, components in the precessing frame
-    /// `(x̂, ŷ, Z)` (docs/physics.md §1); the force on the top is
+    /// `(x̂, ŷ, Z)` (docs/physics.md#geometry); the force on the top is
     /// `−(h_x x̂ + h_y ŷ + h_z Z)` (the paper's sign). Closure: it changes
-    /// the gap's acceleration by `(K F)_Z` (`K` the contact matrix of §11),
+    /// the gap's acceleration by `(K F)_Z` (`K` the contact matrix of §rigid-model),
     /// so `Q` gains `a (H·w)` for the horizontal part and `h_z D₀` for the
-    /// vertical part, `D₀ = D(σ)` without friction (§17). Conserves J (its
-    /// moment about the centre of mass is `r × F`, §7). No potential: its
+    /// vertical part, `D₀ = D(σ)` without friction (§vertical-load). Conserves J (its
+    /// moment about the centre of mass is `r × F`, §invariants). No potential: its
     /// work `∫ F·v_P dt` is integrated in `W_a` (zero while rolling; the
     /// vertical part does work only in flight). Wired in every model.
     ContactPoint,
     /// A force along the vertical through the sphere's centre that depends
-    /// on the contact state (docs/physics.md §18): in contact a load `F_a`
+    /// on the contact state (docs/physics.md#adhesion): in contact a load `F_a`
     /// that adds to the plane's reaction (`N_c = F_a + N`, where `N − F_a`
     /// is what the closure gives the motion; no torque about `P`, no
     /// work), in flight (rigid model) the force `−U′(gap)` of a potential
@@ -56,7 +56,7 @@ pub enum Kind {
     /// A wrench from the body: a force `F` at the centre of mass and a
     /// torque `τ` about it, lab frame (a tip at a body point: `F` and
     /// `ρ × F`; a magnetic dipole: `μ k × B` and `∇(μ k·B)`;
-    /// [`actuators`], docs/physics.md §24). It adds to the free
+    /// [`actuators`], docs/physics.md#actuators). It adds to the free
     /// accelerations, `v̇ += F/m`, `ẇ₀ += I⁻¹ τ`, so `Q` gains
     /// `−F_Z/m − a (I⁻¹ τ)·e` and the rolling constraint's right-hand side
     /// `−F/m`. J: `dJ/dt = −τ·r`, conserved only if the line of a tip's
@@ -66,11 +66,11 @@ pub enum Kind {
     BodyPoint,
     /// A pure torque (a couple). Wired for torques about the horizontal
     /// axis `ŷ ⊥ k` that derive from a potential in θ
-    /// ([`wells::Wells`], docs/physics.md §20): it adds `τ/A` to the
+    /// ([`wells::Wells`], docs/physics.md#wells): it adds `τ/A` to the
     /// torque-free angular acceleration, so it enters `Q` through `ṅ`
     /// (`Q += a s τ_y/A`); J conserved (`τ ⊥ k`, `τ ⊥ Z`); potential `U(θ)`
     /// in the energy. A magnetic field's torque `μ k × B` is applied as
-    /// a [`Kind::BodyPoint`] wrench (with its gradient force, §24). Other
+    /// a [`Kind::BodyPoint`] wrench (with its gradient force, §actuators). Other
     /// torques (drilling, rolling resistance) are not wired: in general J
     /// is not conserved and the work is integrated.
     Torque,
@@ -184,7 +184,7 @@ pub struct ContactPointForce {
 impl ContactPointForce {
     /// The same force with `load` added to the vertical load `h_z`: how
     /// the models apply a centre-vertical force `load` (its line passes
-    /// through `P`, §18). `self` itself when `load` is zero (bit for bit).
+    /// through `P`, §adhesion). `self` itself when `load` is zero (bit for bit).
     #[inline(always)]
     pub fn with_load(self, load: f64) -> Self {
         if load == 0.0 {
@@ -198,7 +198,7 @@ impl ContactPointForce {
     }
 
     /// `Q` of the closure `N D(σ) = Q` with the load: `Q + h_z D₀`, `D₀`
-    /// the closure's `D(σ)` without friction (docs/physics.md §17). `Q`
+    /// the closure's `D(σ)` without friction (docs/physics.md#vertical-load). `Q`
     /// itself when there is no load (bit for bit).
     #[inline(always)]
     pub fn closure_q(&self, q: f64, d0: f64) -> f64 {
@@ -243,8 +243,7 @@ pub struct Forces {
     body: actuators::BodyLoad,
     /// `body.is_zero()`, kept at the latch: the models ask at every
     /// evaluation, and comparing the load's 24 numbers cost ~77
-    /// instructions an evaluation (docs/performance.md, "Langevin lanes
-    /// (session 8)").
+    /// instructions an evaluation (docs/performance.md#langevin-step).
     body_zero: bool,
     /// Latches so far: what the models' evaluation caches key on (the
     /// latched values change only at a latch).

@@ -1,11 +1,11 @@
 //! The paper's retarding force `H = (H_x, H_y)` at the contact point
-//! (eq. 1.3; docs/physics.md §3.1): keys `force.K.hx`, `force.K.hy`. The
+//! (eq. 1.3; docs/physics.md#applied-force): keys `force.K.hx`, `force.K.hy`. The
 //! force on the top is `−H`, components in the precessing frame.
 //!
-//! - Closure: `Q` gains `a (H·w)` (`w = (I⁻¹ e) × r`, §11; `m a s h H_x/A`
-//!   in the Euler angles, §4). While rolling it drops out of the motion and
-//!   only changes the friction needed (§6).
-//! - Jellett's J: conserved (a force at `P`, §7).
+//! - Closure: `Q` gains `a (H·w)` (`w = (I⁻¹ e) × r`, §rigid-model; `m a s h H_x/A`
+//!   in the Euler angles, §normal-force). While rolling it drops out of the motion and
+//!   only changes the friction needed (§coulomb).
+//! - Jellett's J: conserved (a force at `P`, §invariants).
 //! - Energy: no potential; its work `W_a = ∫ (−H)·v_P dt` is integrated
 //!   (zero while rolling).
 
@@ -36,7 +36,7 @@ impl ForceTerm for Retarding {
     }
     fn properties(&self) -> Properties {
         Properties {
-            closure: "Q += a H·w (docs/physics.md §4, §11)",
+            closure: "Q += a H·w (docs/physics.md#normal-force, §rigid-model)",
             conserves_jellett: true,
             energy: Energy::Integrated,
         }

@@ -1,5 +1,5 @@
 //! A vertical load at the contact point, `force.K.hz` \[N\] (docs/physics.md
-//! §17): positive pushes the top onto the plane, so the force on the top is
+//! §vertical-load): positive pushes the top onto the plane, so the force on the top is
 //! `−h_z Z` at `P`. `N` stays the plane's reaction; the total vertical force
 //! at `P` is `N − h_z`.
 //!
@@ -9,7 +9,7 @@
 //!   own line and the plane takes it up; it changes the motion only through
 //!   the friction, which sees `N`. A sphere (`a = 0`) has `N = m g + h_z`.
 //!   Rolling: the constraint force is unchanged, `N = F_Z + h_z`.
-//! - Jellett's J: conserved (a force at `P`, §7).
+//! - Jellett's J: conserved (a force at `P`, §invariants).
 //! - Energy: no potential. It does no work in contact (`v_Pz = 0`); in
 //!   flight (rigid model) its work `−h_z v_Pz` is integrated in `W_a`.
 
@@ -40,7 +40,7 @@ impl ForceTerm for VerticalLoad {
     }
     fn properties(&self) -> Properties {
         Properties {
-            closure: "Q += hz D0, D0 = D without friction (docs/physics.md §17)",
+            closure: "Q += hz D0, D0 = D without friction (docs/physics.md#vertical-load)",
             conserves_jellett: true,
             energy: Energy::Integrated,
         }

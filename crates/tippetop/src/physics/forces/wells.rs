@@ -1,4 +1,4 @@
-//! Orientation wells, the `[[well]]` entries (docs/physics.md §20): each a
+//! Orientation wells, the `[[well]]` entries (docs/physics.md#wells): each a
 //! Gaussian well in the nutation angle θ, `theta` θ_i \[rad\], `depth` d_i
 //! \[J\], `width` w_i \[rad\], with the potential
 //!
@@ -38,7 +38,7 @@
 //!   tilt; at exactly `sin θ = 0` its direction is undefined and the models
 //!   apply none (a peak's tip: an equilibrium, unstable). `U` is continuous,
 //!   so the energy balance holds through the pole; the reduced model stops
-//!   near it anyway (docs/physics.md §9).
+//!   near it anyway (docs/physics.md#failures).
 
 use super::{Applied, Energy, ForceTerm, Kind, Properties};
 
@@ -85,10 +85,10 @@ pub fn torque(wells: &[Well], theta: f64) -> f64 {
 /// `k_h = 0` (the pole: direction undefined, module doc). `|k_h|` is a
 /// plain square root (|k| ≈ 1 in every model: nothing to overflow; it
 /// underflows to 0 only for `|k_h| < 1e-154`, then the torque is 0; since
-/// session 7, 66 instructions less than `hypot` per call). θ and the
+/// 66 instructions less than `hypot` per call). θ and the
 /// Gaussians use glibc's `atan2` and `exp`: fdlibm's versions in
 /// `detmath` took fewer instructions but more time, their divisions being
-/// on the critical path (docs/performance.md, "Langevin lanes (session 7)").
+/// on the critical path (docs/performance.md#langevin-step).
 #[inline]
 pub fn torque_world(wells: &[Well], k: [f64; 3]) -> [f64; 3] {
     let kh = (k[0] * k[0] + k[1] * k[1]).sqrt();
@@ -123,7 +123,7 @@ impl ForceTerm for Wells {
     }
     fn properties(&self) -> Properties {
         Properties {
-            closure: "a torque -U'(theta) about y (perpendicular to k and Z): G += tau_y, Q += a s tau_y/A (docs/physics.md §20)",
+            closure: "a torque -U'(theta) about y (perpendicular to k and Z): G += tau_y, Q += a s tau_y/A (docs/physics.md#wells)",
             conserves_jellett: true,
             energy: Energy::Potential,
         }

@@ -31,7 +31,7 @@ pub enum Coordinate {
     /// energy on the plane, the wells and gravity's share of the potential):
     /// in the Langevin mode, where the tilt oscillates in its well, the
     /// committor of an escape depends on θ̇ as much as on θ, and this is the
-    /// coordinate that follows it (docs/physics.md §27). It needs the
+    /// coordinate that follows it (docs/physics.md#ams). It needs the
     /// scenario ([`Coordinate::value_in`]).
     TiltEnergy,
 }
@@ -117,7 +117,7 @@ impl Coordinate {
     /// whose levels follow an oscillating tilt's chance to escape (with
     /// `|θ − c|` the replicas' estimates of `nano-physical`'s escape spread
     /// over seven decades, with the tilt energy over one and a half:
-    /// docs/physics.md §27).
+    /// docs/physics.md#ams).
     pub fn default_for(sc: &Scenario, target: &Exit) -> Coordinate {
         match Coordinate::toward(target) {
             Coordinate::Distance { column: 1, .. }
