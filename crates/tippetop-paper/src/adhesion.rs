@@ -670,6 +670,7 @@ impl Study {
                          under exact Coulomb friction (dashed: rigid body, unilateral contact). With adhesion the curves lie on each other.",
                         case.file, self.force, self.energy
                     ),
+                    ..Default::default()
                 }
             })
             .collect();
@@ -704,6 +705,7 @@ impl Study {
             curves,
             hlines: vec![],
             note: "scenarios/fig06_reversal.toml with adhesion, and the same with every force set to 0 (dashed): the curves coincide (the table's Δθ(H)); the top rolls, and θ oscillates between its start 0.1 rad and ~0 without ever lying down.".into(),
+            ..Default::default()
         });
         figs
     }

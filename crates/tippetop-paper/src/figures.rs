@@ -66,6 +66,7 @@ fn three(
             ),
         ],
         hlines,
+        vlines: switch_marks(runs, runs3[0]),
         note: with_failures(
             note,
             &[
@@ -74,7 +75,34 @@ fn three(
                 ("paper contact RK4/500 (paper's method)", runs.tr(runs3[2])),
             ],
         ),
+        ..Default::default()
     }
+}
+
+/// The force switches of `run`'s scenario inside its window, as vertical
+/// marks (time \[s\], label): "force reversed" where H changes sign,
+/// "force off" where it drops to zero, "force on", or "force switches".
+pub fn switch_marks(runs: &Runs, run: &str) -> Vec<(f64, String)> {
+    let sc = &runs.get(run).scenario;
+    let t_end = sc.solver.t_end;
+    sc.switch_times()
+        .into_iter()
+        .filter(|&t| t > 0.0 && t < t_end)
+        .map(|t| {
+            let dt = 1e-9 * t_end;
+            let (a, b) = (sc.forcing.at(t - dt), sc.forcing.at(t + dt));
+            let label = if b == (0.0, 0.0) {
+                "force off"
+            } else if a == (0.0, 0.0) {
+                "force on"
+            } else if b == (-a.0, -a.1) {
+                "force reversed"
+            } else {
+                "force switches"
+            };
+            (t, label.to_string())
+        })
+        .collect()
 }
 
 /// `note`, followed by a sentence for each curve whose run failed: where
@@ -140,21 +168,26 @@ pub fn fig02(runs: &Runs) -> Figure {
             "H_x = H_y = 0.1 zN from t = 0; window 100 µs (our choice: the paper's text speaks of ~50 µs).",
             &[("g=9.8 paper contact RK4/500", runs.tr(NANO_PAPER_RK4))],
         ),
+        ..Default::default()
     }
 }
 
 /// Fig. 3: Ω of the nano top.
 pub fn fig03(runs: &Runs) -> Figure {
-    three(
+    let f = three(
         runs,
         "03",
         "Fig. 3: precession rate Ω of the nano top",
         "Ω [rad/s]",
         |s| s.precession,
         NANO3,
-        "Same runs as Fig. 2, g = 9.8.",
+        "Same runs as Fig. 2, g = 9.8. Ω nutates faster than the figure can show: each curve is drawn as its running mean with its running min–max band.",
         zero_line(),
-    )
+    );
+    Figure {
+        envelope: true,
+        ..f
+    }
 }
 
 /// Fig. 4: ω of the nano top.
@@ -232,6 +265,7 @@ pub fn fig07(runs: &Runs) -> Figure {
                 runs.tr(CLASSICAL_RK4),
             )],
         ),
+        ..Default::default()
     }
 }
 
@@ -320,6 +354,7 @@ pub fn fig08(runs: &Runs, c: &AppC) -> Figure {
             "ω = −R H t/C + c1, fitted over the second half of the window. Max relative error there (paper contact): fitted c1 {:.3}, paper's c1 {:.3}; bilateral: {:.3}, {:.3}.",
             p.c2_fitted.rel, p.c2_paper.rel, b.c2_fitted.rel, b.c2_paper.rel
         ),
+        ..Default::default()
     }
 }
 
@@ -361,6 +396,8 @@ pub fn fig09(runs: &Runs, c: &AppC) -> Figure {
             p.c3_fitted.rel,
             p.c3_paper.rel
         ),
+        envelope: true,
+        ..Default::default()
     }
 }
 
@@ -402,6 +439,8 @@ fn fig_u(runs: &Runs, c: &AppC, component: usize) -> Figure {
         note: format!(
             "{PAPER_CONSTANTS_NOTE} Max relative error over the second half (paper contact): paper's constants {err_paper:.3}, constants from the numerics {err_numerics:.3}."
         ),
+        envelope: true,
+        ..Default::default()
     }
 }
 

@@ -61,7 +61,7 @@ pub struct Curve {
 }
 
 /// The data of one figure of the paper.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct Figure {
     /// Two-digit figure number, "02" … "15" (or a study's name, "eps_10s").
     pub id: String,
@@ -77,6 +77,11 @@ pub struct Figure {
     pub curves: Vec<Curve>,
     /// Horizontal reference lines (value, label).
     pub hlines: Vec<(f64, String)>,
+    /// Vertical marks (time \[s\], label): force switches and reversals.
+    pub vlines: Vec<(f64, String)>,
+    /// A fast oscillation (nutation): drawn as each curve's running mean
+    /// with its running min–max band, so curves and laws can be compared.
+    pub envelope: bool,
     /// What the figure shows and what we chose.
     pub note: String,
 }

@@ -197,6 +197,7 @@ pub fn extended(
                 .collect(),
             hlines: theta_lines(),
             note: "Regularised Coulomb μ N v/√(|v|² + ε²) for ε = 1e-2, 1e-3, 1e-4 m/s against the exact stick/slip law.".into(),
+            ..Default::default()
         });
     }
     let study = crate::adhesion::study(runs, opts, progress)?;
