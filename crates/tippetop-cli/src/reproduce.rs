@@ -306,6 +306,21 @@ fn write_fig05(dir: &Path, rep: &Reproduction) -> Result<()> {
         let o = (centre.0 - aa * k.0, centre.1 - aa * k.1);
         let (xs, ys) = circle(0.12 * rr, o.0, o.1);
         series.push(Series::new("", xs, ys).color((0, 0, 0)));
+        // The heavy end: the sphere's surface within 35° of −k (the side
+        // of the centre of mass), drawn thick.
+        let pole = (-k.1).atan2(-k.0);
+        let (xs, ys): (Vec<f64>, Vec<f64>) = (0..=30)
+            .map(|j| {
+                let p = pole + (j as f64 / 30.0 - 0.5) * 70f64.to_radians();
+                (centre.0 + rr * p.cos(), centre.1 + rr * p.sin())
+            })
+            .unzip();
+        let name = if i == 0 {
+            "heavy end (side of the centre of mass)"
+        } else {
+            ""
+        };
+        series.push(Series::new(name, xs, ys).color((0, 0, 0)).width(6));
     }
     let n = rep.snapshots.len() as f64;
     let x_range = (-1.5 * rr, (n - 1.0) * spacing + 1.5 * rr);
@@ -323,7 +338,7 @@ fn write_fig05(dir: &Path, rep: &Reproduction) -> Result<()> {
     };
     line_plot(
         &dir.join("fig05"),
-        "Fig. 5: precession of the nano tippe top (accurate run; black circle: centre of mass)",
+        "Fig. 5: precession of the nano tippe top (accurate run; black circle: centre of mass; thick arc: heavy end)",
         "x [Å] (instants side by side)",
         "z [Å]",
         &series,
