@@ -127,6 +127,31 @@ impl<const N: usize> Dop853<N> {
     }
 }
 
+/// [`combine!`] over the components in `range` only (the others of the
+/// result stay zero): the same additions in the same order for each of them.
+macro_rules! combine_in {
+    ($coef:expr, $k:expr, $range:expr; $($j:literal)*) => {{
+        let mut acc = [0.0; N];
+        $(
+            let a: f64 = $coef[$j];
+            if a != 0.0 {
+                for n in $range {
+                    acc[n] += a * $k[$j][n];
+                }
+            }
+        )*
+        acc
+    }};
+}
+
+/// The stage state's starting value: the components outside
+/// `S::STAGE_READ` are never formed; NaN in debug builds (a right-hand side
+/// that reads one fails its tests), 0 in release.
+#[inline(always)]
+fn unread_stage_state<S: OdeSystem<N>, const N: usize>() -> [f64; N] {
+    [if cfg!(debug_assertions) { f64::NAN } else { 0.0 }; N]
+}
+
 /// Stages 1–11 of the method for the step from `(t, y)` to
 /// `t_new = t + hs` into `k[1..12]` (`k[0] = f(t, y)` given); returns the
 /// 12th stage's state `ŷ` (at `t_new`). Shared by the step and by
@@ -141,13 +166,16 @@ fn method_stages<S: OdeSystem<N>, const N: usize>(
     k: &mut [[f64; N]; 16],
     stats: &mut Stats,
 ) -> Result<[f64; N], Fail<S::Error>> {
-    let mut yt = [0.0; N];
-    // Stage s from the stages j < s (row s of A).
+    let mut yt = unread_stage_state::<S, N>();
+    // Stage s from the stages j < s (row s of A), over the components the
+    // right-hand side reads (`OdeSystem::STAGE_READ`).
     macro_rules! stage {
         ($s:literal; $($j:literal)*) => {{
-            let acc = combine!(A[$s], k; $($j)*);
-            for n in 0..N {
-                yt[n] = y[n] + hs * acc[n];
+            for r in S::STAGE_READ {
+                let acc = combine_in!(A[$s], k, r.clone(); $($j)*);
+                for n in r.clone() {
+                    yt[n] = y[n] + hs * acc[n];
+                }
             }
             let ts = if C[$s] == 1.0 { t_new } else { t + C[$s] * hs };
             eval(sys, ts, &yt, &mut k[$s], stats)?;
@@ -255,8 +283,10 @@ impl<const N: usize> Engine<N> for Dop853<N> {
             const _: () = assert!(STAGES == 12);
             // 8th-order solution (weights b_j = A[12][j]).
             let incr = combine!(A[STAGES], self.k; 0 1 2 3 4 5 6 7 8 9 10 11);
-            let bhh = combine!(BHH, self.k; 0 1 2 3 4 5 6 7 8 9 10 11);
-            let e5 = combine!(E5, self.k; 0 1 2 3 4 5 6 7 8 9 10 11);
+            // The error estimates over the controlled components only.
+            let controlled = S::CONTROLLED;
+            let bhh = combine_in!(BHH, self.k, 0..controlled; 0 1 2 3 4 5 6 7 8 9 10 11);
+            let e5 = combine_in!(E5, self.k, 0..controlled; 0 1 2 3 4 5 6 7 8 9 10 11);
             let mut y_new = [0.0; N];
             let mut err = 0.0;
             let mut err2 = 0.0;
@@ -268,7 +298,6 @@ impl<const N: usize> Engine<N> for Dop853<N> {
             // The error norm over the controlled components only (the
             // quadratures after them are carried along, see
             // `OdeSystem::CONTROLLED`).
-            let controlled = S::CONTROLLED;
             for n in 0..controlled {
                 let sk = self.atol + self.rtol * y[n].abs().max(y_new[n].abs());
                 err2 += ((incr[n] - bhh[n]) / sk).powi(2);
@@ -348,12 +377,14 @@ impl<const N: usize> Engine<N> for Dop853<N> {
             return Ok(());
         }
         let h = self.h_step;
-        let mut yt = [0.0; N];
+        let mut yt = unread_stage_state::<S, N>();
         macro_rules! stage {
             ($s:literal; $($j:literal)*) => {{
-                let acc = combine!(A[$s], self.k; $($j)*);
-                for n in 0..N {
-                    yt[n] = self.y0[n] + h * acc[n];
+                for r in S::STAGE_READ {
+                    let acc = combine_in!(A[$s], self.k, r.clone(); $($j)*);
+                    for n in r.clone() {
+                        yt[n] = self.y0[n] + h * acc[n];
+                    }
                 }
                 eval(sys, self.t0 + C[$s] * h, &yt, &mut self.k[$s], stats)?;
             }};

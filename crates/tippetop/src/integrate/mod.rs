@@ -112,6 +112,16 @@ pub trait OdeSystem<const N: usize> {
     /// as they were). Default: every component.
     const CONTROLLED: usize = N;
 
+    /// The components DOP853 forms at its intermediate stages, as ranges of
+    /// indices: those the right-hand side reads, and at least the
+    /// controlled ones (`..CONTROLLED`, which the stiffness estimate reads
+    /// at the 12th stage). A component outside (a quadrature or a work
+    /// integral no derivative reads) is still integrated, with the same
+    /// bits: its stage values are simply never formed, which the right-hand
+    /// side does not notice (they hold NaN in debug builds, so a read shows
+    /// in the tests). Default: every component.
+    const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..N];
+
     /// The Jacobian's block among the quadratures, `∂f_i/∂y_j` for `i, j >=
     /// CONTROLLED`, written into `jac[i][j]` (the caller has zeroed it), at
     /// `(t, y)` with `f = f(t, y)`. Used by Rodas4P, which takes the other

@@ -566,6 +566,9 @@ impl Reduced {
 impl OdeSystem<DIM> for Reduced {
     type Error = ModelError;
     const CONTROLLED: usize = CONTROLLED;
+    /// The controlled components and `(c_φ, s_φ)`: `φ, ψ` and the position
+    /// are read by no derivative.
+    const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..CONTROLLED, DIR..DIM];
 
     /// With `(c, s) = (c_φ, s_φ)`: `ẋ = c u_x − s u_y`, `ẏ = s u_x + c u_y`
     /// give `∂ẋ/∂c = u_x`, `∂ẋ/∂s = −u_y`, `∂ẏ/∂c = u_y`, `∂ẏ/∂s = u_x`;

@@ -952,6 +952,9 @@ impl Vector {
 impl OdeSystem<DIM> for Vector {
     type Error = ModelError;
     const CONTROLLED: usize = CONTROLLED;
+    /// `k, w, v` and the works (controlled), `p`: `χ` and the position are
+    /// read by no derivative.
+    const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..TWIST];
 
     /// `∂ṗ/∂p = ½ L(w_⊥)` (left multiplication by `(0, w − (w·k) k)`); `χ`
     /// and the position read no quadrature.
