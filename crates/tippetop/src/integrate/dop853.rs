@@ -97,12 +97,7 @@ impl<const N: usize> Dop853<N> {
         h0: Option<f64>,
         h_max: f64,
     ) -> Self {
-        check_adaptive("DOP853", rtol, atol, h0, h_max);
-        assert!(
-            (0.0..=0.2).contains(&beta),
-            "DOP853 beta must be in [0, 0.2], got {beta}"
-        );
-        Dop853 {
+        let mut e = Dop853 {
             rtol,
             atol,
             h_max,
@@ -111,9 +106,9 @@ impl<const N: usize> Dop853<N> {
             initialized: false,
             rejected: false,
             beta,
-            expo1: 1.0 / 8.0 - 0.2 * beta,
+            expo1: 0.0,
             stability_cap,
-            facold: 1e-4,
+            facold: 0.0,
             t0: 0.0,
             y0: [0.0; N],
             t1: 0.0,
@@ -123,7 +118,44 @@ impl<const N: usize> Dop853<N> {
             k: [[0.0; N]; 16],
             cont: [[0.0; N]; 7],
             dense_ready: false,
-        }
+        };
+        e.renew(rtol, atol, beta, stability_cap, h0, h_max);
+        e
+    }
+
+    /// Make this stepper what [`Dop853::new`] with these arguments makes,
+    /// keeping only its buffers (the stages, the interpolant and the step's
+    /// ends, which `restart` and the next step overwrite before reading):
+    /// a new segment without clearing 3 kB (docs/performance.md).
+    pub(super) fn renew(
+        &mut self,
+        rtol: f64,
+        atol: f64,
+        beta: f64,
+        stability_cap: bool,
+        h0: Option<f64>,
+        h_max: f64,
+    ) {
+        check_adaptive("DOP853", rtol, atol, h0, h_max);
+        assert!(
+            (0.0..=0.2).contains(&beta),
+            "DOP853 beta must be in [0, 0.2], got {beta}"
+        );
+        self.rtol = rtol;
+        self.atol = atol;
+        self.h_max = h_max;
+        self.h0 = h0;
+        self.h = 0.0;
+        self.initialized = false;
+        self.rejected = false;
+        self.beta = beta;
+        self.expo1 = 1.0 / 8.0 - 0.2 * beta;
+        self.stability_cap = stability_cap;
+        self.facold = 1e-4;
+        self.t0 = 0.0;
+        self.t1 = 0.0;
+        self.h_step = 0.0;
+        self.dense_ready = false;
     }
 }
 
