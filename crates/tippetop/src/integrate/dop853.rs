@@ -5,7 +5,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::dop853_coefficients::{A, BHH, C, D, E5};
-use super::{Engine, Fail, OdeSystem, Stats, check_adaptive, eval, hinit};
+use super::{Engine, Fail, OdeSystem, Stats, check_adaptive, eval, eval_accepted, hinit};
 
 /// Safety factor of the step-size controller.
 const SAFE: f64 = 0.9;
@@ -353,7 +353,7 @@ impl<const N: usize> Engine<N> for Dop853<N> {
             let fac = (fac11 / self.facold.powf(self.beta) / SAFE).clamp(FACC2, FACC1);
             if err <= 1.0 {
                 let mut f_new = [0.0; N];
-                eval(sys, t_new, &y_new, &mut f_new, stats)?;
+                eval_accepted(sys, t_new, &y_new, &mut f_new, stats)?;
                 let mut h_new = hs / fac;
                 if self.rejected {
                     h_new = h_new.min(hs);

@@ -98,6 +98,20 @@ pub trait OdeSystem<const N: usize> {
     fn begin_segment(&mut self, _t: f64, _y: &[f64; N]) {}
     /// Evaluate `dy = f(t, y)`.
     fn rhs(&mut self, t: f64, y: &[f64; N], dy: &mut [f64; N]) -> Result<(), Self::Error>;
+    /// [`OdeSystem::rhs`] at the end of a step the engine has accepted
+    /// (DOP853's FSAL stage `f(t_new, y_new)`): the state the driver's
+    /// event functions and observers read next, so a model may keep what it
+    /// computed here for them. Must give the same `dy` as `rhs`. Default:
+    /// `rhs`.
+    #[inline(always)]
+    fn rhs_accepted(
+        &mut self,
+        t: f64,
+        y: &[f64; N],
+        dy: &mut [f64; N],
+    ) -> Result<(), Self::Error> {
+        self.rhs(t, y, dy)
+    }
 
     /// Number of leading components under error control: the adaptive
     /// engines' error norm, Hairer's initial step (`hinit`) and DOP853's
@@ -429,6 +443,19 @@ mod roots;
 mod rosenbrock;
 
 /// One counted right-hand-side evaluation (every stepper counts through here).
+/// [`eval`] through [`OdeSystem::rhs_accepted`].
+fn eval_accepted<S: OdeSystem<N>, const N: usize>(
+    sys: &mut S,
+    t: f64,
+    y: &[f64; N],
+    dy: &mut [f64; N],
+    stats: &mut Stats,
+) -> Result<(), Fail<S::Error>> {
+    stats.rhs_evals += 1;
+    sys.rhs_accepted(t, y, dy)
+        .map_err(|err| Fail::Rhs { t, err })
+}
+
 fn eval<S: OdeSystem<N>, const N: usize>(
     sys: &mut S,
     t: f64,
