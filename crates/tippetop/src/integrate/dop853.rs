@@ -181,7 +181,11 @@ macro_rules! combine_in {
 /// that reads one fails its tests), 0 in release.
 #[inline(always)]
 fn unread_stage_state<S: OdeSystem<N>, const N: usize>() -> [f64; N] {
-    [if cfg!(debug_assertions) { f64::NAN } else { 0.0 }; N]
+    [if cfg!(debug_assertions) {
+        f64::NAN
+    } else {
+        0.0
+    }; N]
 }
 
 /// Stages 1–11 of the method for the step from `(t, y)` to

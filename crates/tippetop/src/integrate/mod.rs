@@ -104,12 +104,7 @@ pub trait OdeSystem<const N: usize> {
     /// computed here for them. Must give the same `dy` as `rhs`. Default:
     /// `rhs`.
     #[inline(always)]
-    fn rhs_accepted(
-        &mut self,
-        t: f64,
-        y: &[f64; N],
-        dy: &mut [f64; N],
-    ) -> Result<(), Self::Error> {
+    fn rhs_accepted(&mut self, t: f64, y: &[f64; N], dy: &mut [f64; N]) -> Result<(), Self::Error> {
         self.rhs(t, y, dy)
     }
 
