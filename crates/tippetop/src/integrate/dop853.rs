@@ -180,7 +180,7 @@ macro_rules! combine_in {
 /// `S::STAGE_READ` are never formed; NaN in debug builds (a right-hand side
 /// that reads one fails its tests), 0 in release.
 #[inline(always)]
-fn unread_stage_state<S: OdeSystem<N>, const N: usize>() -> [f64; N] {
+fn unread_stage_state<const N: usize>() -> [f64; N] {
     [if cfg!(debug_assertions) {
         f64::NAN
     } else {
@@ -202,7 +202,7 @@ fn method_stages<S: OdeSystem<N>, const N: usize>(
     k: &mut [[f64; N]; 16],
     stats: &mut Stats,
 ) -> Result<[f64; N], Fail<S::Error>> {
-    let mut yt = unread_stage_state::<S, N>();
+    let mut yt = unread_stage_state::<N>();
     // Stage s from the stages j < s (row s of A), over the components the
     // right-hand side reads (`OdeSystem::STAGE_READ`).
     macro_rules! stage {
@@ -413,7 +413,7 @@ impl<const N: usize> Engine<N> for Dop853<N> {
             return Ok(());
         }
         let h = self.h_step;
-        let mut yt = unread_stage_state::<S, N>();
+        let mut yt = unread_stage_state::<N>();
         macro_rules! stage {
             ($s:literal; $($j:literal)*) => {{
                 for r in S::STAGE_READ {

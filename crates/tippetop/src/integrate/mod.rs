@@ -129,6 +129,8 @@ pub trait OdeSystem<const N: usize> {
     /// bits: its stage values are simply never formed, which the right-hand
     /// side does not notice (they hold NaN in debug builds, so a read shows
     /// in the tests). Default: every component.
+    // A list of ranges (here one), not the range's elements.
+    #[allow(clippy::single_range_in_vec_init)]
     const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..N];
 
     /// The Jacobian's block among the quadratures, `∂f_i/∂y_j` for `i, j >=

@@ -962,6 +962,8 @@ impl OdeSystem<DIM> for Vector {
     const CONTROLLED: usize = CONTROLLED;
     /// `k, w, v` and the works (controlled), `p`: `χ` and the position are
     /// read by no derivative.
+    // A list of ranges (here one), not the range's elements.
+    #[allow(clippy::single_range_in_vec_init)]
     const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..TWIST];
 
     /// `∂ṗ/∂p = ½ L(w_⊥)` (left multiplication by `(0, w − (w·k) k)`); `χ`
