@@ -551,6 +551,9 @@ struct Sim<M, const D: usize> {
     nonfinite_at: Option<f64>,
     logs_crossings: bool,
     active: Option<Active<M, D>>,
+    /// The engine of the last ended segment, renewed for the next one
+    /// ([`AnyEngine::renew`]: no 3 kB cleared per segment).
+    spare: Option<AnyEngine<D>>,
     done: bool,
     /// An ensemble's run ([`simulate_for_row`]): the per-step record keeps
     /// θ and the spin only (not J and the energy, which the row does not
@@ -615,6 +618,7 @@ impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
                     ended: a.ended,
                 }
             }),
+            spare: None,
             done: self.done,
             light: self.light,
             normal_buckets: self.normal_buckets.clone(),
@@ -684,6 +688,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             nonfinite_at: None,
             logs_crossings: !m.flies(),
             active: None,
+            spare: None,
             done: false,
             light: false,
             normal_buckets: sc
@@ -861,7 +866,13 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         {
             *first_step = self.noise_base + self.steps_seen;
         }
-        let eng = AnyEngine::new(&self.opts, t, seg_end);
+        let eng = match self.spare.take() {
+            Some(mut e) => {
+                e.renew(&self.opts, t, seg_end);
+                e
+            }
+            None => AnyEngine::new(&self.opts, t, seg_end),
+        };
         let mut st = Stepping::new(eng, events.len(), self.samples.len());
         let samples = &mut self.samples;
         let nonfinite_at = &mut self.nonfinite_at;
@@ -1113,6 +1124,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         self.stats.steps += a.st.stats.steps;
         debug_assert_eq!(self.stats.steps, self.steps_seen);
         self.stats.rejected += a.st.stats.rejected;
+        self.spare = Some(a.st.eng);
         self.t = t;
         self.y = y;
         let flow = match index {

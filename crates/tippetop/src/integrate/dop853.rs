@@ -5,7 +5,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::dop853_coefficients::{A, BHH, C, D, E5};
-use super::{Engine, Fail, OdeSystem, Stats, check_adaptive, eval, hinit};
+use super::{Engine, Fail, OdeSystem, Stats, check_adaptive, eval, eval_accepted, hinit};
 
 /// Safety factor of the step-size controller.
 const SAFE: f64 = 0.9;
@@ -97,12 +97,7 @@ impl<const N: usize> Dop853<N> {
         h0: Option<f64>,
         h_max: f64,
     ) -> Self {
-        check_adaptive("DOP853", rtol, atol, h0, h_max);
-        assert!(
-            (0.0..=0.2).contains(&beta),
-            "DOP853 beta must be in [0, 0.2], got {beta}"
-        );
-        Dop853 {
+        let mut e = Dop853 {
             rtol,
             atol,
             h_max,
@@ -111,9 +106,9 @@ impl<const N: usize> Dop853<N> {
             initialized: false,
             rejected: false,
             beta,
-            expo1: 1.0 / 8.0 - 0.2 * beta,
+            expo1: 0.0,
             stability_cap,
-            facold: 1e-4,
+            facold: 0.0,
             t0: 0.0,
             y0: [0.0; N],
             t1: 0.0,
@@ -123,8 +118,74 @@ impl<const N: usize> Dop853<N> {
             k: [[0.0; N]; 16],
             cont: [[0.0; N]; 7],
             dense_ready: false,
-        }
+        };
+        e.renew(rtol, atol, beta, stability_cap, h0, h_max);
+        e
     }
+
+    /// Make this stepper what [`Dop853::new`] with these arguments makes,
+    /// keeping only its buffers (the stages, the interpolant and the step's
+    /// ends, which `restart` and the next step overwrite before reading):
+    /// a new segment without clearing 3 kB (docs/performance.md).
+    pub(super) fn renew(
+        &mut self,
+        rtol: f64,
+        atol: f64,
+        beta: f64,
+        stability_cap: bool,
+        h0: Option<f64>,
+        h_max: f64,
+    ) {
+        check_adaptive("DOP853", rtol, atol, h0, h_max);
+        assert!(
+            (0.0..=0.2).contains(&beta),
+            "DOP853 beta must be in [0, 0.2], got {beta}"
+        );
+        self.rtol = rtol;
+        self.atol = atol;
+        self.h_max = h_max;
+        self.h0 = h0;
+        self.h = 0.0;
+        self.initialized = false;
+        self.rejected = false;
+        self.beta = beta;
+        self.expo1 = 1.0 / 8.0 - 0.2 * beta;
+        self.stability_cap = stability_cap;
+        self.facold = 1e-4;
+        self.t0 = 0.0;
+        self.t1 = 0.0;
+        self.h_step = 0.0;
+        self.dense_ready = false;
+    }
+}
+
+/// [`combine!`] over the components in `range` only (the others of the
+/// result stay zero): the same additions in the same order for each of them.
+macro_rules! combine_in {
+    ($coef:expr, $k:expr, $range:expr; $($j:literal)*) => {{
+        let mut acc = [0.0; N];
+        $(
+            let a: f64 = $coef[$j];
+            if a != 0.0 {
+                for n in $range {
+                    acc[n] += a * $k[$j][n];
+                }
+            }
+        )*
+        acc
+    }};
+}
+
+/// The stage state's starting value: the components outside
+/// `S::STAGE_READ` are never formed; NaN in debug builds (a right-hand side
+/// that reads one fails its tests), 0 in release.
+#[inline(always)]
+fn unread_stage_state<const N: usize>() -> [f64; N] {
+    [if cfg!(debug_assertions) {
+        f64::NAN
+    } else {
+        0.0
+    }; N]
 }
 
 /// Stages 1–11 of the method for the step from `(t, y)` to
@@ -141,13 +202,16 @@ fn method_stages<S: OdeSystem<N>, const N: usize>(
     k: &mut [[f64; N]; 16],
     stats: &mut Stats,
 ) -> Result<[f64; N], Fail<S::Error>> {
-    let mut yt = [0.0; N];
-    // Stage s from the stages j < s (row s of A).
+    let mut yt = unread_stage_state::<N>();
+    // Stage s from the stages j < s (row s of A), over the components the
+    // right-hand side reads (`OdeSystem::STAGE_READ`).
     macro_rules! stage {
         ($s:literal; $($j:literal)*) => {{
-            let acc = combine!(A[$s], k; $($j)*);
-            for n in 0..N {
-                yt[n] = y[n] + hs * acc[n];
+            for r in S::STAGE_READ {
+                let acc = combine_in!(A[$s], k, r.clone(); $($j)*);
+                for n in r.clone() {
+                    yt[n] = y[n] + hs * acc[n];
+                }
             }
             let ts = if C[$s] == 1.0 { t_new } else { t + C[$s] * hs };
             eval(sys, ts, &yt, &mut k[$s], stats)?;
@@ -255,8 +319,10 @@ impl<const N: usize> Engine<N> for Dop853<N> {
             const _: () = assert!(STAGES == 12);
             // 8th-order solution (weights b_j = A[12][j]).
             let incr = combine!(A[STAGES], self.k; 0 1 2 3 4 5 6 7 8 9 10 11);
-            let bhh = combine!(BHH, self.k; 0 1 2 3 4 5 6 7 8 9 10 11);
-            let e5 = combine!(E5, self.k; 0 1 2 3 4 5 6 7 8 9 10 11);
+            // The error estimates over the controlled components only.
+            let controlled = S::CONTROLLED;
+            let bhh = combine_in!(BHH, self.k, 0..controlled; 0 1 2 3 4 5 6 7 8 9 10 11);
+            let e5 = combine_in!(E5, self.k, 0..controlled; 0 1 2 3 4 5 6 7 8 9 10 11);
             let mut y_new = [0.0; N];
             let mut err = 0.0;
             let mut err2 = 0.0;
@@ -268,7 +334,6 @@ impl<const N: usize> Engine<N> for Dop853<N> {
             // The error norm over the controlled components only (the
             // quadratures after them are carried along, see
             // `OdeSystem::CONTROLLED`).
-            let controlled = S::CONTROLLED;
             for n in 0..controlled {
                 let sk = self.atol + self.rtol * y[n].abs().max(y_new[n].abs());
                 err2 += ((incr[n] - bhh[n]) / sk).powi(2);
@@ -292,7 +357,7 @@ impl<const N: usize> Engine<N> for Dop853<N> {
             let fac = (fac11 / self.facold.powf(self.beta) / SAFE).clamp(FACC2, FACC1);
             if err <= 1.0 {
                 let mut f_new = [0.0; N];
-                eval(sys, t_new, &y_new, &mut f_new, stats)?;
+                eval_accepted(sys, t_new, &y_new, &mut f_new, stats)?;
                 let mut h_new = hs / fac;
                 if self.rejected {
                     h_new = h_new.min(hs);
@@ -348,12 +413,14 @@ impl<const N: usize> Engine<N> for Dop853<N> {
             return Ok(());
         }
         let h = self.h_step;
-        let mut yt = [0.0; N];
+        let mut yt = unread_stage_state::<N>();
         macro_rules! stage {
             ($s:literal; $($j:literal)*) => {{
-                let acc = combine!(A[$s], self.k; $($j)*);
-                for n in 0..N {
-                    yt[n] = self.y0[n] + h * acc[n];
+                for r in S::STAGE_READ {
+                    let acc = combine_in!(A[$s], self.k, r.clone(); $($j)*);
+                    for n in r.clone() {
+                        yt[n] = self.y0[n] + h * acc[n];
+                    }
                 }
                 eval(sys, self.t0 + C[$s] * h, &yt, &mut self.k[$s], stats)?;
             }};

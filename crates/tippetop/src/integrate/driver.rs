@@ -249,6 +249,31 @@ impl<const N: usize> AnyEngine<N> {
 }
 
 impl<const N: usize> AnyEngine<N> {
+    /// Become [`AnyEngine::new`]`(opts, t0, t_end)`: a DOP853 engine for
+    /// DOP853 settings is renewed in place (its buffers kept, see
+    /// `Dop853::renew`), any other is replaced.
+    pub(crate) fn renew(&mut self, opts: &Options, t0: f64, t_end: f64) {
+        match (self, opts.stepper) {
+            (
+                AnyEngine::Dop853(e),
+                Stepper::Dop853 {
+                    rtol,
+                    atol,
+                    beta,
+                    stability_cap,
+                },
+            ) => e.renew(
+                rtol,
+                atol,
+                beta,
+                stability_cap,
+                opts.h0,
+                default_h_max(opts, t0, t_end),
+            ),
+            (this, _) => *this = AnyEngine::new(opts, t0, t_end),
+        }
+    }
+
     /// Set the random stream's counter of the next step (stochastic
     /// engines; nothing for the deterministic ones).
     pub(crate) fn set_noise_counter(&mut self, next_step: u64) {

@@ -98,6 +98,15 @@ pub trait OdeSystem<const N: usize> {
     fn begin_segment(&mut self, _t: f64, _y: &[f64; N]) {}
     /// Evaluate `dy = f(t, y)`.
     fn rhs(&mut self, t: f64, y: &[f64; N], dy: &mut [f64; N]) -> Result<(), Self::Error>;
+    /// [`OdeSystem::rhs`] at the end of a step the engine has accepted
+    /// (DOP853's FSAL stage `f(t_new, y_new)`): the state the driver's
+    /// event functions and observers read next, so a model may keep what it
+    /// computed here for them. Must give the same `dy` as `rhs`. Default:
+    /// `rhs`.
+    #[inline(always)]
+    fn rhs_accepted(&mut self, t: f64, y: &[f64; N], dy: &mut [f64; N]) -> Result<(), Self::Error> {
+        self.rhs(t, y, dy)
+    }
 
     /// Number of leading components under error control: the adaptive
     /// engines' error norm, Hairer's initial step (`hinit`) and DOP853's
@@ -111,6 +120,18 @@ pub trait OdeSystem<const N: usize> {
     /// controlled components, the step sequence and the counters bit for bit
     /// as they were). Default: every component.
     const CONTROLLED: usize = N;
+
+    /// The components DOP853 forms at its intermediate stages, as ranges of
+    /// indices: those the right-hand side reads, and at least the
+    /// controlled ones (`..CONTROLLED`, which the stiffness estimate reads
+    /// at the 12th stage). A component outside (a quadrature or a work
+    /// integral no derivative reads) is still integrated, with the same
+    /// bits: its stage values are simply never formed, which the right-hand
+    /// side does not notice (they hold NaN in debug builds, so a read shows
+    /// in the tests). Default: every component.
+    // A list of ranges (here one), not the range's elements.
+    #[allow(clippy::single_range_in_vec_init)]
+    const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..N];
 
     /// The Jacobian's block among the quadratures, `∂f_i/∂y_j` for `i, j >=
     /// CONTROLLED`, written into `jac[i][j]` (the caller has zeroed it), at
@@ -419,6 +440,19 @@ mod roots;
 mod rosenbrock;
 
 /// One counted right-hand-side evaluation (every stepper counts through here).
+/// [`eval`] through [`OdeSystem::rhs_accepted`].
+fn eval_accepted<S: OdeSystem<N>, const N: usize>(
+    sys: &mut S,
+    t: f64,
+    y: &[f64; N],
+    dy: &mut [f64; N],
+    stats: &mut Stats,
+) -> Result<(), Fail<S::Error>> {
+    stats.rhs_evals += 1;
+    sys.rhs_accepted(t, y, dy)
+        .map_err(|err| Fail::Rhs { t, err })
+}
+
 fn eval<S: OdeSystem<N>, const N: usize>(
     sys: &mut S,
     t: f64,

@@ -161,9 +161,24 @@ impl ContactState {
     /// [`CONTENSOU_HINT_SPEED`], they are the slip-off hint, the point of
     /// the limit curve where the stick ended; before any stick, zero at
     /// exactly `v = 0`, `n_z = 0` (§contensou).
-    #[inline]
+    /// Inlined test for the law: the other laws pay one branch, not a call.
+    #[inline(always)]
     pub(crate) fn drilling(&self, v: [f64; 2], nz: f64) -> Option<([f64; 2], f64)> {
         let (rc, p, pade) = self.contensou?;
+        Some(self.drilling_law(v, nz, rc, p, pade))
+    }
+
+    /// [`ContactState::drilling`] for Coulomb–Contensou friction with
+    /// contact radius `rc`, pressure `p` and Padé flag `pade`.
+    #[inline(never)]
+    fn drilling_law(
+        &self,
+        v: [f64; 2],
+        nz: f64,
+        rc: f64,
+        p: crate::contact::Pressure,
+        pade: bool,
+    ) -> ([f64; 2], f64) {
         let mu = self.mu;
         let speed = v[0].hypot(v[1]);
         let spin = rc * nz.abs();
@@ -172,10 +187,10 @@ impl ContactState {
             // about Z zero to the rounding of the state (its drift in the
             // stick), which must not pick the torque's sign.
             if speed + spin <= CONTENSOU_HINT_SPEED {
-                return Some(hint);
+                return hint;
             }
         } else if speed == 0.0 && spin == 0.0 {
-            return Some(([0.0, 0.0], 0.0));
+            return ([0.0, 0.0], 0.0);
         }
         let d = speed / spin;
         let (f, m) = if pade {
@@ -184,7 +199,7 @@ impl ContactState {
             crate::physics::contensou::exact(p, d)
         };
         let k = if speed > 0.0 { mu * f / speed } else { 0.0 };
-        Some(([k * v[0], k * v[1]], mu * rc * m * nz.signum()))
+        ([k * v[0], k * v[1]], mu * rc * m * nz.signum())
     }
 
     /// The arrival at the Coulomb–Contensou stick (sliding and spinning

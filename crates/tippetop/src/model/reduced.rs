@@ -305,6 +305,28 @@ impl Reduced {
         Ok(e)
     }
 
+    /// Keep `e`, the evaluation at `y` with `(s, c) = y[TH].sin_cos()`, in
+    /// [`Reduced::eval`]'s cache.
+    #[inline(always)]
+    fn remember(&mut self, y: &[f64; DIM], s: f64, c: f64, e: Eval) {
+        let p = &self.plane;
+        let cp = p.contact_point();
+        let key = inputs_key(
+            [cp.h[0], cp.h[1], cp.hz],
+            p.slip_hint,
+            p.slip_ref.get(),
+            p.hint_generation(),
+        );
+        *self.last.get_mut() = Some(LastEval {
+            y: bits(y),
+            mode: p.mode,
+            branch: p.normal_branch,
+            key,
+            sc: (s, c),
+            eval: e,
+        });
+    }
+
     /// `eval` with `(s, c) = y[TH].sin_cos()` given.
     #[inline(always)]
     fn eval_sc(&self, y: &[f64; DIM], s: f64, c: f64) -> Result<Eval, ModelError> {
@@ -566,6 +588,9 @@ impl Reduced {
 impl OdeSystem<DIM> for Reduced {
     type Error = ModelError;
     const CONTROLLED: usize = CONTROLLED;
+    /// The controlled components and `(c_φ, s_φ)`: `φ, ψ` and the position
+    /// are read by no derivative.
+    const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..CONTROLLED, DIR..DIM];
 
     /// With `(c, s) = (c_φ, s_φ)`: `ẋ = c u_x − s u_y`, `ẏ = s u_x + c u_y`
     /// give `∂ẋ/∂c = u_x`, `∂ẋ/∂s = −u_y`, `∂ẏ/∂c = u_y`, `∂ẏ/∂s = u_x`;
@@ -606,6 +631,25 @@ impl OdeSystem<DIM> for Reduced {
             return Err(ModelError::Singular { theta: y[TH] });
         }
         *dy = self.eval_sc(y, s, c)?.dy;
+        Ok(())
+    }
+
+    /// `rhs`, the evaluation kept in [`Reduced::eval`]'s cache for the
+    /// driver's events and observers, which read the accepted state next.
+    fn rhs_accepted(
+        &mut self,
+        _t: f64,
+        y: &[f64; DIM],
+        dy: &mut [f64; DIM],
+    ) -> Result<(), ModelError> {
+        self.plane.start_evaluation()?;
+        let (s, c) = y[TH].sin_cos();
+        if self.plane.mode == Mode::Rolling && at_pole(y[TH], s) {
+            return Err(ModelError::Singular { theta: y[TH] });
+        }
+        let e = self.eval_sc(y, s, c)?;
+        *dy = e.dy;
+        self.remember(y, s, c, e);
         Ok(())
     }
 }

@@ -512,6 +512,21 @@ impl Vector {
     /// Evaluate the model at a state in the current mode (cached: see
     /// the `last` field).
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
+        let key = self.cache_key(y);
+        if let Some((k, e)) = &*self.last.borrow() {
+            if *k == key {
+                return Ok(*e);
+            }
+        }
+        let e = self.eval_now(y)?;
+        *self.last.borrow_mut() = Some((key, e));
+        Ok(e)
+    }
+
+    /// The key of [`Vector::eval`]'s cache: the state's bits, the mode and
+    /// every input the evaluation reads.
+    #[inline(always)]
+    fn cache_key(&self, y: &[f64; DIM]) -> [u64; DIM + 11] {
         let mut key = [0u64; DIM + 11];
         for (k, v) in key.iter_mut().zip(y) {
             *k = v.to_bits();
@@ -538,14 +553,7 @@ impl Vector {
             p.hint_generation(),
         ];
         key[DIM..].copy_from_slice(&inputs);
-        if let Some((k, e)) = &*self.last.borrow() {
-            if *k == key {
-                return Ok(*e);
-            }
-        }
-        let e = self.eval_now(y)?;
-        *self.last.borrow_mut() = Some((key, e));
-        Ok(e)
+        key
     }
 
     /// Evaluate the model at a state in the current mode, uncached.
@@ -952,6 +960,11 @@ impl Vector {
 impl OdeSystem<DIM> for Vector {
     type Error = ModelError;
     const CONTROLLED: usize = CONTROLLED;
+    /// `k, w, v` and the works (controlled), `p`: `χ` and the position are
+    /// read by no derivative.
+    // A list of ranges (here one), not the range's elements.
+    #[allow(clippy::single_range_in_vec_init)]
+    const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..TWIST];
 
     /// `∂ṗ/∂p = ½ L(w_⊥)` (left multiplication by `(0, w − (w·k) k)`); `χ`
     /// and the position read no quadrature.
@@ -1006,6 +1019,22 @@ impl OdeSystem<DIM> for Vector {
     fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {
         self.plane.start_evaluation()?;
         *dy = self.eval_now(y)?.dy;
+        Ok(())
+    }
+
+    /// `rhs`, the evaluation kept in [`Vector::eval`]'s cache: the driver's
+    /// events and observers read the accepted state next (the normal
+    /// force, the energy), which then costs no second evaluation.
+    fn rhs_accepted(
+        &mut self,
+        _t: f64,
+        y: &[f64; DIM],
+        dy: &mut [f64; DIM],
+    ) -> Result<(), ModelError> {
+        self.plane.start_evaluation()?;
+        let e = self.eval_now(y)?;
+        *dy = e.dy;
+        *self.last.get_mut() = Some((self.cache_key(y), e));
         Ok(())
     }
 }
