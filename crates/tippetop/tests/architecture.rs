@@ -217,3 +217,148 @@ fn cycle_detector_finds_a_cycle() {
         ["Error", "model", "sim"]
     );
 }
+
+// ---------------------------------------------------------------------------
+// File level, every crate (issue #28, 4): no two files depend on each other,
+// directly or around a loop. See support/source_graph.rs for what counts.
+
+#[path = "support/source_graph.rs"]
+mod source_graph;
+
+use source_graph::{Crate, Graph};
+
+/// The repository's root (this crate is `crates/tippetop`).
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .ancestors()
+        .nth(2)
+        .unwrap()
+        .to_path_buf()
+}
+
+/// Every crate under `crates/`, the workspace's members and `tippetop-py`
+/// (outside the workspace, its source read all the same).
+fn crate_dirs() -> Vec<PathBuf> {
+    let mut dirs: Vec<PathBuf> = fs::read_dir(workspace().join("crates"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.join("Cargo.toml").exists() && p.join("src").is_dir())
+        .collect();
+    dirs.sort();
+    dirs
+}
+
+fn rel(p: &Path) -> String {
+    p.strip_prefix(workspace()).unwrap_or(p).display().to_string()
+}
+
+/// The file graph of the crate rooted at `root`.
+fn file_graph(root: &Path) -> Graph {
+    let mut g = Graph::new();
+    Crate::read(root).edges(&mut g);
+    g
+}
+
+/// Each knot of files that depend on each other, with one cycle and the
+/// edges inside it (each with a path that makes it).
+fn knot_report(g: &Graph) -> String {
+    let mut out = String::new();
+    for knot in source_graph::knots(g) {
+        let cycle = source_graph::cycle_in(g, &knot);
+        out += &format!(
+            "import cycle among {} files: {}\n",
+            knot.len(),
+            cycle.iter().map(|f| rel(f)).collect::<Vec<_>>().join(" -> ")
+        );
+        for a in &knot {
+            for (b, why) in &g[a] {
+                if knot.contains(b) {
+                    out += &format!("    {} -> {}  ({why})\n", rel(a), rel(b));
+                }
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn no_file_depends_on_itself_around_a_loop_in_any_crate() {
+    let mut report = String::new();
+    let mut crates = 0;
+    for dir in crate_dirs() {
+        for root in source_graph::crate_roots(&dir) {
+            crates += 1;
+            let r = knot_report(&file_graph(&root));
+            if !r.is_empty() {
+                report += &format!("crate {}:\n{r}", rel(&root));
+            }
+        }
+    }
+    // tippetop, tippetop-cli (lib and bin), tippetop-paper, tippetop-py.
+    assert!(crates >= 5, "{crates} crate roots found");
+    assert!(report.is_empty(), "\n{report}");
+}
+
+/// The reader sees the edges it must, each kind of path once.
+#[test]
+fn file_graph_reader_sees_uses_paths_macros_and_reexports() {
+    let dir = std::env::temp_dir().join(format!("tippetop-arch-{}", std::process::id()));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(dir.join("a")).unwrap();
+    let files = [
+        // The parent's `mod`, re-export and use of its children do not
+        // count.
+        (
+            "lib.rs",
+            "mod a; mod b; mod c; mod d; pub use a::{A, inner::I};\n\
+             pub use d::D; fn uses_d() -> D { todo!() }",
+        ),
+        ("a.rs", "pub mod inner; pub struct A; pub use crate::b::B;"),
+        ("a/inner.rs", "pub struct I; fn f() { super::A; }"),
+        // A path in a macro call, through the root's re-export.
+        ("b.rs", "pub struct B; fn g() { println!(\"{}\", crate::I); }"),
+        // A name imported through a re-export chain counts as its home;
+        // a test module does not count.
+        (
+            "c.rs",
+            "use crate::a::B as Bee; fn h(_: Bee) {}\n\
+             #[cfg(test)] mod tests { use crate::d::D; }",
+        ),
+        ("d.rs", "pub struct D; #[arg(value_parser = crate::c::h)] struct X;"),
+    ];
+    for (f, text) in files {
+        fs::write(dir.join(f), text).unwrap();
+    }
+    let g = file_graph(&dir.join("lib.rs"));
+    let dir = &dir;
+    let mut edges: Vec<String> = g
+        .iter()
+        .flat_map(|(a, to)| {
+            to.keys().map(move |b| {
+                format!(
+                    "{} -> {}",
+                    a.strip_prefix(dir).unwrap().display(),
+                    b.strip_prefix(dir).unwrap().display()
+                )
+            })
+        })
+        .collect();
+    edges.sort();
+    assert_eq!(
+        edges,
+        [
+            "a.rs -> b.rs",
+            "a/inner.rs -> a.rs",
+            "b.rs -> a/inner.rs",
+            "c.rs -> b.rs",
+            "d.rs -> c.rs",
+        ]
+    );
+    // No knot: b -> inner -> a -> b is one.
+    let knots = source_graph::knots(&g);
+    assert_eq!(knots.len(), 1, "{knots:?}");
+    assert_eq!(knots[0].len(), 3);
+    let report = knot_report(&g);
+    assert!(report.contains("import cycle among 3 files"), "{report}");
+    fs::remove_dir_all(dir).unwrap();
+}
