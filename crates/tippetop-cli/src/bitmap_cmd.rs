@@ -1,6 +1,6 @@
 //! `tippetop bit FILE --vary KEY=FROM:TO:N ...`: design maps of a memory
 //! bit ([`tippetop::analysis::bitmap`]), streamed into `bitmap.csv` in grid
-//! order like a sweep's rows ([`crate::sweep_cmd::stream_rows`]: shards,
+//! order like a sweep's rows ([`crate::common::grid::stream_rows`]: shards,
 //! `--resume`, `tippetop merge`), with heat maps of the write probability
 //! and the write switching time.
 
@@ -12,11 +12,12 @@ use anyhow::{Context, Result};
 use tippetop::analysis::bitmap::{self, BitMap};
 use tippetop::analysis::sweep::{Axis, Shard, ShardInfo, Sweep};
 
-use crate::bit_cmd::BitArgs;
+use crate::bit_args::BitArgs;
+use crate::common::args::MergeArgs;
+use crate::common::grid::{GridInput, Streamed, read_shard_of, stream_rows, write_info};
 use crate::output::{OutDir, write_bytes_atomic};
 use crate::partial::checksum_text;
 use crate::scenario_load::input_error;
-use crate::sweep_cmd::{GridInput, MergeArgs, Streamed, read_shard_of, stream_rows, write_info};
 
 /// The CSV a map streams its rows into while it runs.
 pub const PARTIAL_CSV: &str = "bitmap.csv.partial";

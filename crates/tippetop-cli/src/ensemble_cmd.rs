@@ -507,7 +507,7 @@ fn write_fan(dir: &Path, hist: &Histograms, runs: u64) -> Result<()> {
         .iter()
         .filter_map(|&i| hist.times[i])
         .fold(0.0, f64::max);
-    let (scale, unit) = crate::run::time_unit(t_end);
+    let (scale, unit) = crate::common::time_unit(t_end);
     let xs: Vec<f64> = idx
         .iter()
         .map(|&i| hist.times[i].unwrap_or(f64::NAN) * scale)
@@ -560,7 +560,7 @@ pub fn is_ensemble_dir(dir: &Path) -> bool {
 /// `histograms.csv` added, the rest recomputed from them: byte for byte the
 /// files of a one-shot run (the plots aside). Bad input: one line, exit
 /// code 2, nothing written.
-pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode> {
+pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitCode> {
     let mut shards: Vec<(EnsembleShard, String)> = Vec::new();
     let mut hists: Vec<(usize, Histograms)> = Vec::new();
     for dir in &args.dirs {

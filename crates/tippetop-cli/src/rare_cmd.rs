@@ -990,7 +990,7 @@ fn write_shard(
     let stage = out.stage().to_path_buf();
     write_bytes_atomic(&stage.join(REPLICAS_JSON), reps.as_bytes())?;
     write_bytes_atomic(&stage.join(INPUTS_JSON), inp.as_bytes())?;
-    crate::sweep_cmd::write_info(
+    crate::common::grid::write_info(
         &stage,
         &info,
         &[
@@ -1026,7 +1026,7 @@ struct ReplicasFile {
 /// `tippetop merge` of the shards of one splitting: rare.json, rare.md and
 /// the levels' figure of the unsharded run (the same bytes apart from
 /// wall_seconds, here the merge's time).
-pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode> {
+pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitCode> {
     let started = std::time::Instant::now();
     let what = "a directory written by tippetop rare --method ams --shard, with shard.json, \
                 rare_shard.json and replicas.json";

@@ -14,7 +14,7 @@ use tippetop::analysis::bit::{Z95, wilson};
 use tippetop::analysis::search::{Evaluation, ProtocolSearch};
 use tippetop::scenario::search::SearchActuator;
 
-use crate::bit_cmd::BitArgs;
+use crate::bit_args::BitArgs;
 use crate::output::{OutDir, fmt_f64, write_bytes_atomic};
 use crate::scenario_load::input_error;
 

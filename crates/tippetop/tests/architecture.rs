@@ -249,7 +249,10 @@ fn crate_dirs() -> Vec<PathBuf> {
 }
 
 fn rel(p: &Path) -> String {
-    p.strip_prefix(workspace()).unwrap_or(p).display().to_string()
+    p.strip_prefix(workspace())
+        .unwrap_or(p)
+        .display()
+        .to_string()
 }
 
 /// The file graph of the crate rooted at `root`.
@@ -268,7 +271,11 @@ fn knot_report(g: &Graph) -> String {
         out += &format!(
             "import cycle among {} files: {}\n",
             knot.len(),
-            cycle.iter().map(|f| rel(f)).collect::<Vec<_>>().join(" -> ")
+            cycle
+                .iter()
+                .map(|f| rel(f))
+                .collect::<Vec<_>>()
+                .join(" -> ")
         );
         for a in &knot {
             for (b, why) in &g[a] {
@@ -316,7 +323,10 @@ fn file_graph_reader_sees_uses_paths_macros_and_reexports() {
         ("a.rs", "pub mod inner; pub struct A; pub use crate::b::B;"),
         ("a/inner.rs", "pub struct I; fn f() { super::A; }"),
         // A path in a macro call, through the root's re-export.
-        ("b.rs", "pub struct B; fn g() { println!(\"{}\", crate::I); }"),
+        (
+            "b.rs",
+            "pub struct B; fn g() { println!(\"{}\", crate::I); }",
+        ),
         // A name imported through a re-export chain counts as its home;
         // a test module does not count.
         (
@@ -324,7 +334,10 @@ fn file_graph_reader_sees_uses_paths_macros_and_reexports() {
             "use crate::a::B as Bee; fn h(_: Bee) {}\n\
              #[cfg(test)] mod tests { use crate::d::D; }",
         ),
-        ("d.rs", "pub struct D; #[arg(value_parser = crate::c::h)] struct X;"),
+        (
+            "d.rs",
+            "pub struct D; #[arg(value_parser = crate::c::h)] struct X;",
+        ),
     ];
     for (f, text) in files {
         fs::write(dir.join(f), text).unwrap();

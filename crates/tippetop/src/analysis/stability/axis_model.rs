@@ -24,7 +24,6 @@ pub struct Physics {
     pub eps: f64,
 }
 
-
 /// Derivatives of the reduced variables computed by the axis-vector model
 /// (SI), for checking it against the reduced model away from the poles.
 #[derive(Debug, Clone, Copy, PartialEq)]
