@@ -84,19 +84,14 @@ the step size. A key no point accepts, or a bad range: one line naming it, exit 
                   tippetop bit scenarios/bit/nano.toml --vary write.0.hy=0:1e-21:50 \\\n      \
                   --vary write.0.stop=1e-5:1e-4:50 --out out/bitmap"
 )]
+#[command(
+    mut_arg("scenario", |a| a.help("Scenario file (TOML) with [bit], [[write]] and [[erase]]")),
+    mut_arg("sets", |a| a.help("Override one value, e.g. `--set write.0.hy=2e-22` or `--set bit.hold=1e-5`; repeatable, applied in order after the file")),
+)]
 pub struct BitArgs {
-    /// Scenario file (TOML) with [bit], [[write]] and [[erase]].
-    #[arg(value_name = "SCENARIO.toml")]
-    pub scenario: Option<PathBuf>,
-
-    /// Start from a built-in scenario ("nano", "nano-physical", "nano-adhesive", "classical").
-    #[arg(long, value_name = "NAME")]
-    pub preset: Option<String>,
-
-    /// Override one value, e.g. `--set write.0.hy=2e-22` or `--set
-    /// bit.hold=1e-5`; repeatable, applied in order after the file.
-    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
-    pub sets: Vec<String>,
+    /// The scenario: file, preset, overrides.
+    #[command(flatten)]
+    pub source: crate::common::args::ScenarioArgs,
 
     /// Number of runs at T > 0 (default 100; with --vary, per grid point); at
     /// T = 0 only 1.
@@ -107,9 +102,9 @@ pub struct BitArgs {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
-    /// Number of threads, 1 to 1024 (default: one per core).
-    #[arg(long, value_name = "T")]
-    pub threads: Option<usize>,
+    /// `--threads`.
+    #[command(flatten)]
+    pub cores: crate::common::args::ThreadsArg,
 
     /// A design map: vary one key (as in --set: a scenario key, bit.KEY,
     /// write.K.KEY, erase.K.KEY) over N values from FROM to TO, both

@@ -31,18 +31,22 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     if !args.vary.is_empty() {
         return crate::bitmap_cmd::run(args, quiet);
     }
-    let toml_text = match crate::scenario_load::read_text(args.scenario.as_deref()) {
+    let toml_text = match crate::scenario_load::read_text(args.source.scenario.as_deref()) {
         Ok(t) => t,
         Err(code) => return Ok(code),
     };
     if args.search {
         return crate::search_cmd::run(args, toml_text.as_deref(), quiet);
     }
-    let threads = match sweep::threads(args.threads) {
+    let threads = match sweep::threads(args.cores.threads) {
         Ok(t) => t,
         Err(e) => return Ok(input_error(e)),
     };
-    let bs = match BitScenario::load(args.preset.as_deref(), toml_text.as_deref(), &args.sets) {
+    let bs = match BitScenario::load(
+        args.source.preset.as_deref(),
+        toml_text.as_deref(),
+        &args.source.sets,
+    ) {
         Ok(b) => b,
         Err(e) => return Ok(input_error(e)),
     };
@@ -331,9 +335,9 @@ fn check_run_line(body: &str, run: u64) -> std::result::Result<bool, &'static st
 /// (preset, file, `--set`s) and the number of runs.
 fn ensemble_grid(args: &BitArgs, toml_text: Option<String>) -> Sweep {
     Sweep {
-        preset: args.preset.clone(),
+        preset: args.source.preset.clone(),
         toml_text,
-        sets: args.sets.clone(),
+        sets: args.source.sets.clone(),
         axes: Vec::new(),
     }
 }

@@ -39,19 +39,19 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         shard,
         threads,
     } = match GridInput::parse(
-        args.scenario.as_deref(),
+        args.source.scenario.as_deref(),
         &args.vary,
         args.shard.as_deref(),
-        args.threads,
+        args.cores.threads,
     ) {
         Ok(g) => g,
         Err(code) => return Ok(code),
     };
     let map = BitMap {
         grid: Sweep {
-            preset: args.preset.clone(),
+            preset: args.source.preset.clone(),
             toml_text,
-            sets: args.sets.clone(),
+            sets: args.source.sets.clone(),
             axes,
         },
         runs: args.runs.unwrap_or(bitmap::DEFAULT_RUNS),

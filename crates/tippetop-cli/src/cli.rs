@@ -205,7 +205,7 @@ mod tests {
         .unwrap();
         match c.command {
             Command::Run(r) => {
-                assert_eq!(r.sets, ["a.b=1", "c.d=2"]);
+                assert_eq!(r.source.sets, ["a.b=1", "c.d=2"]);
                 assert_eq!(r.out, PathBuf::from("out/run"));
             }
             _ => unreachable!(),

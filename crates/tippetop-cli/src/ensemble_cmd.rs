@@ -81,19 +81,15 @@ directory is locked while the command runs.";
                   tippetop merge shards/* --out result\n  \
                   tippetop run scenarios/thermal.toml --set thermal.run=17 --out out/run17   (replay run 17)"
 )]
+#[command(
+    mut_arg("scenario", |a| a.help("Scenario file (TOML): a Langevin run at temperature > 0")),
+    mut_arg("preset", |a| a.help("Start from a built-in scenario (\"nano\", \"nano-physical\", \"classical\")")),
+    mut_arg("sets", |a| a.help("Override one scenario value for every run, e.g. `--set thermal.temperature=77`; repeatable, applied in order after the file")),
+)]
 pub struct EnsembleArgs {
-    /// Scenario file (TOML): a Langevin run at temperature > 0.
-    #[arg(value_name = "SCENARIO.toml")]
-    pub scenario: Option<PathBuf>,
-
-    /// Start from a built-in scenario ("nano", "nano-physical", "classical").
-    #[arg(long, value_name = "NAME")]
-    pub preset: Option<String>,
-
-    /// Override one scenario value for every run, e.g. `--set
-    /// thermal.temperature=77`; repeatable, applied in order after the file.
-    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
-    pub sets: Vec<String>,
+    /// The scenario: file, preset, overrides.
+    #[command(flatten)]
+    pub source: crate::common::args::ScenarioArgs,
 
     /// Number of runs N (1 to 1000000; run K uses thermal.run = r0 + K).
     #[arg(long, value_name = "N")]
@@ -104,9 +100,9 @@ pub struct EnsembleArgs {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
-    /// Number of threads, 1 to 1024 (default: one per core).
-    #[arg(long, value_name = "T")]
-    pub threads: Option<usize>,
+    /// `--threads`.
+    #[command(flatten)]
+    pub cores: crate::common::args::ThreadsArg,
 
     /// Run only the K-th of N contiguous blocks of runs (1 <= K <= N);
     /// join the outputs with `tippetop merge`.
@@ -162,7 +158,7 @@ use crate::scenario_load::input_error;
 /// Run `tippetop ensemble`. Bad input: one line on stderr and exit code 2
 /// (returned as `Ok`), nothing written; `Err` for I/O failures.
 pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
-    let toml_text = match crate::scenario_load::read_text(args.scenario.as_deref()) {
+    let toml_text = match crate::scenario_load::read_text(args.source.scenario.as_deref()) {
         Ok(t) => t,
         Err(code) => return Ok(code),
     };
@@ -170,7 +166,7 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
         Ok(s) => s.unwrap_or(Shard::ALL),
         Err(e) => return Ok(input_error(e)),
     };
-    let threads = match sweep::threads(args.threads) {
+    let threads = match sweep::threads(args.cores.threads) {
         Ok(t) => t,
         Err(e) => return Ok(input_error(e)),
     };
@@ -183,7 +179,12 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
         Ok(e) => e,
         Err(e) => return Ok(input_error(e)),
     };
-    let ens = match Ensemble::new(args.preset.clone(), toml_text, args.sets.clone(), args.runs) {
+    let ens = match Ensemble::new(
+        args.source.preset.clone(),
+        toml_text,
+        args.source.sets.clone(),
+        args.runs,
+    ) {
         Ok(e) => e.with_exit(exit),
         Err(e) => return Ok(input_error(e)),
     };

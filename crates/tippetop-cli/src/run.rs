@@ -101,24 +101,13 @@ left alone.";
                   paper's Euler-angle equations themselves (what reproduce runs; theta must stay in (0, pi));\n\
                   \"rigid\" full 3D body with flight and impacts (contact = \"unilateral\")."
 )]
+#[command(
+    mut_arg("preset", |a| a.help("Start from a built-in scenario: \"nano\" (C60, the paper's Sec. 3), \"nano-physical\" (the same C60 on graphene at 300 K: van der Waals adhesion, a stem's lying well, Langevin damping and noise, 1 ns, docs/physics.md §21), \"nano-adhesive\" (the same without temperature: adhesion and superlubric Coulomb friction, §18) or \"classical\" (the 15 g toy of the paper's App. A)")),
+)]
 pub struct RunArgs {
-    /// Scenario file (TOML).
-    #[arg(value_name = "SCENARIO.toml")]
-    pub scenario: Option<PathBuf>,
-
-    /// Start from a built-in scenario: "nano" (C60, the paper's Sec. 3),
-    /// "nano-physical" (the same C60 on graphene at 300 K: van der Waals
-    /// adhesion, a stem's lying well, Langevin damping and noise, 1 ns,
-    /// docs/physics.md §21), "nano-adhesive" (the same without temperature:
-    /// adhesion and superlubric Coulomb friction, §18) or "classical" (the
-    /// 15 g toy of the paper's App. A).
-    #[arg(long, value_name = "NAME")]
-    pub preset: Option<String>,
-
-    /// Override one scenario value, e.g. `--set top.offset=0.002`; repeatable,
-    /// applied in order after the file.
-    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
-    pub sets: Vec<String>,
+    /// The scenario: file, preset, overrides.
+    #[command(flatten)]
+    pub source: crate::common::args::ScenarioArgs,
 
     /// Output directory (created if missing; locked while the run writes;
     /// the previous run's files in it are replaced or removed; another
@@ -149,14 +138,18 @@ impl RunArgs {
 /// I/O and plotting failures.
 pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     // 1. Everything that can be bad input, before touching --out.
-    let toml_text = match &args.scenario {
+    let toml_text = match &args.source.scenario {
         Some(path) => Some(tippetop::limits::read_file(path)?),
         None => None,
     };
-    for s in &args.sets {
+    for s in &args.source.sets {
         check_set_syntax(s)?;
     }
-    let scenario = scenario_load::load(args.preset.as_deref(), toml_text.as_deref(), &args.sets)?;
+    let scenario = scenario_load::load(
+        args.source.preset.as_deref(),
+        toml_text.as_deref(),
+        &args.source.sets,
+    )?;
     scenario.validate()?;
     check_out_dir(&args.out)?;
 

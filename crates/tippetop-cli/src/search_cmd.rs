@@ -42,10 +42,11 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
             "--runs: the search runs deterministic runs (T = 0): omit --runs".to_string(),
         ));
     }
-    let search = match ProtocolSearch::new(toml_text, args.preset.as_deref(), &args.sets) {
-        Ok(s) => s,
-        Err(e) => return Ok(input_error(e)),
-    };
+    let search =
+        match ProtocolSearch::new(toml_text, args.source.preset.as_deref(), &args.source.sets) {
+            Ok(s) => s,
+            Err(e) => return Ok(input_error(e)),
+        };
     let spec = search.spec.clone();
     let (kind, point, moment) = match spec.actuator {
         SearchActuator::Contact => ("contact", None, None),

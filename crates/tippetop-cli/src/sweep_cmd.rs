@@ -109,20 +109,15 @@ cap the step size) make each case cheaper (docs/performance.md).";
                   --shard 3/8 --threads 4 --out shards/3 --quiet\n  \
                   tippetop merge shards/* --out result"
 )]
+#[command(
+    mut_arg("scenario", |a| a.help("Scenario file (TOML); optional with --preset")),
+    mut_arg("preset", |a| a.help("Start from a built-in scenario: \"nano\", \"nano-physical\" (C60 on graphene at 300 K), \"nano-adhesive\" (the same, deterministic) or \"classical\"")),
+    mut_arg("sets", |a| a.help("Override one scenario value for every case, e.g. `--set solver.t_end=2`; repeatable, applied in order after the file (a --vary of the same key wins)")),
+)]
 pub struct SweepArgs {
-    /// Scenario file (TOML); optional with --preset.
-    #[arg(value_name = "SCENARIO.toml")]
-    pub scenario: Option<PathBuf>,
-
-    /// Start from a built-in scenario: "nano", "nano-physical" (C60 on graphene at 300 K), "nano-adhesive" (the same, deterministic) or "classical".
-    #[arg(long, value_name = "NAME")]
-    pub preset: Option<String>,
-
-    /// Override one scenario value for every case, e.g. `--set
-    /// solver.t_end=2`; repeatable, applied in order after the file (a
-    /// --vary of the same key wins).
-    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
-    pub sets: Vec<String>,
+    /// The scenario: file, preset, overrides.
+    #[command(flatten)]
+    pub source: crate::common::args::ScenarioArgs,
 
     /// Vary one key (as in --set) over N values from FROM to TO, both
     /// included; `:log` for geometric spacing. Repeatable: the cases form a
@@ -135,9 +130,9 @@ pub struct SweepArgs {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
-    /// Number of threads, 1 to 1024 (default: one per core).
-    #[arg(long, value_name = "T")]
-    pub threads: Option<usize>,
+    /// `--threads`.
+    #[command(flatten)]
+    pub cores: crate::common::args::ThreadsArg,
 
     /// Run only the K-th of N contiguous blocks of cases (1 <= K <= N);
     /// join the outputs with `tippetop merge`.
@@ -162,18 +157,18 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
         shard,
         threads,
     } = match GridInput::parse(
-        args.scenario.as_deref(),
+        args.source.scenario.as_deref(),
         &args.vary,
         args.shard.as_deref(),
-        args.threads,
+        args.cores.threads,
     ) {
         Ok(g) => g,
         Err(code) => return Ok(code),
     };
     let sw = Sweep {
-        preset: args.preset.clone(),
+        preset: args.source.preset.clone(),
         toml_text,
-        sets: args.sets.clone(),
+        sets: args.source.sets.clone(),
         axes,
     };
     if let Err(e) = sw.validate() {

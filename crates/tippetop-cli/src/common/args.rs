@@ -20,3 +20,31 @@ pub struct MergeArgs {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 }
+
+/// Where a scenario comes from: `[SCENARIO.toml] [--preset NAME] [--set
+/// TABLE.KEY=VALUE ...]`, the preset first, the file over it, then each
+/// `--set` in order. Flattened into every command that reads a scenario;
+/// a command words an argument's help for itself with `mut_arg`.
+#[derive(Debug, Clone, Args)]
+pub struct ScenarioArgs {
+    /// Scenario file (TOML).
+    #[arg(value_name = "SCENARIO.toml")]
+    pub scenario: Option<PathBuf>,
+
+    /// Start from a built-in scenario ("nano", "nano-physical", "nano-adhesive", "classical").
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+
+    /// Override one scenario value, e.g. `--set top.offset=0.002`; repeatable,
+    /// applied in order after the file.
+    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
+    pub sets: Vec<String>,
+}
+
+/// `--threads`, for the commands that run on all cores.
+#[derive(Debug, Clone, Copy, Args)]
+pub struct ThreadsArg {
+    /// Number of threads, 1 to 1024 (default: one per core).
+    #[arg(long, value_name = "T")]
+    pub threads: Option<usize>,
+}
