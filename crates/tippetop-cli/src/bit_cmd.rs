@@ -50,28 +50,10 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         Ok(b) => b,
         Err(e) => return Ok(input_error(e)),
     };
-    let sc = &bs.scenario;
     let stochastic = bit::is_stochastic(&bs);
-    let runs = match (stochastic, args.runs) {
-        (false, None | Some(1)) => 1,
-        (false, Some(n)) => {
-            return Ok(input_error(format!(
-                "--runs: {n} runs of a deterministic scenario would all be the same \
-                 (1, or omit it, at T = 0; N >= 1 with solver.method = \"langevin\" at T > 0)"
-            )));
-        }
-        (true, n) => {
-            let n = n.unwrap_or(DEFAULT_RUNS);
-            let room = MAX_RUNS - sc.thermal.run.min(MAX_RUNS);
-            if n == 0 || n > MAX_ENSEMBLE_RUNS || n as u64 > room {
-                return Ok(input_error(format!(
-                    "--runs: {n} runs from thermal.run = {} (1 <= N <= {MAX_ENSEMBLE_RUNS}, \
-                     with the run indices thermal.run .. thermal.run + N - 1 below 4294967296)",
-                    sc.thermal.run
-                )));
-            }
-            n
-        }
+    let runs = match run_count(args, &bs, stochastic) {
+        Ok(n) => n,
+        Err(code) => return Ok(code),
     };
     let threads = match bit::threads_within_memory(&bs, runs, threads) {
         Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
@@ -108,68 +90,22 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     // run is run again.
     let mut kept: Option<tippetop::Trajectory> = None;
     if stochastic {
-        // The runs stream into runs.csv.partial in run order (beside the
-        // shard.json.partial that identifies the ensemble), so --resume can
-        // keep them; then they are read back for the statistics (the rows
-        // round-trip exactly).
-        let sh = shard.unwrap_or(Shard::ALL);
-        let info = ShardInfo {
-            fingerprint: ensemble_grid(args, toml_text.clone())
-                .fingerprint_of("tippetop bit 1", &[("runs", runs.to_string())]),
-            k: sh.k,
-            n: sh.n,
-            total_cases: runs,
-            first_index: range.start,
-            end_index: range.end,
-            axes: Vec::new(),
-            checksums: Default::default(),
-        };
-        let mut info_json = serde_json::to_string_pretty(&info)?;
-        info_json.push('\n');
-        let spec = crate::common::grid::Streamed {
-            partial_csv: PARTIAL_RUNS,
-            partial_info: crate::common::grid::PARTIAL_INFO,
-            header: format!("{}\n", bit::CSV_HEADER),
-            what: "bit ensemble",
-            unit: "run",
-            resume: args.resume,
-            quiet,
-        };
-        let r0 = sc.thermal.run;
-        let streamed = crate::common::grid::stream_rows(
+        results = match stream_ensemble(
             &mut out,
-            &spec,
-            &info,
-            &info_json,
-            &|text| runs_prefix(text, r0 + range.start as u64, range.len()),
-            &mut |todo, sink| {
-                sweep::run_ordered(
-                    todo,
-                    Some(threads),
-                    &|k| bit::run_one(&bs, k as u64),
-                    &mut |r| sink(bit::csv_row(&r), r.status != "ok"),
-                )
-            },
-        )?;
-        if let Err(code) = streamed {
-            out.abandon();
-            return Ok(code);
-        }
-        let text = String::from_utf8(crate::output::read_plain(&args.out.join(PARTIAL_RUNS))?)?;
-        results = text
-            .lines()
-            .skip(1)
-            .map(|l| {
-                bit::parse_csv_row(l)
-                    .ok_or_else(|| anyhow::anyhow!("{PARTIAL_RUNS}: unreadable row {l:?}"))
-            })
-            .collect::<Result<_>>()?;
-        anyhow::ensure!(
-            results.len() == range.len(),
-            "{PARTIAL_RUNS}: {} rows for {} runs",
-            results.len(),
-            range.len()
-        );
+            args,
+            &bs,
+            toml_text.clone(),
+            runs,
+            (shard, range.clone()),
+            threads,
+            quiet,
+        )? {
+            Ok(r) => r,
+            Err(code) => {
+                out.abandon();
+                return Ok(code);
+            }
+        };
     } else {
         let sc = bs.run_scenario(0);
         let mut progress = crate::progress::RunProgress::new(quiet, sc.solver.t_end);
@@ -203,6 +139,113 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         );
     }
     write_bit(out, &args.out, &bs, &results, !stochastic, kept, quiet)
+}
+
+/// The number of runs: 1 at T = 0, `--runs` (default [`DEFAULT_RUNS`]) at
+/// T > 0. Bad input: one line on stderr, `Err(exit code 2)`.
+fn run_count(
+    args: &BitArgs,
+    bs: &BitScenario,
+    stochastic: bool,
+) -> std::result::Result<usize, ExitCode> {
+    let sc = &bs.scenario;
+    match (stochastic, args.runs) {
+        (false, None | Some(1)) => Ok(1),
+        (false, Some(n)) => Err(input_error(format!(
+            "--runs: {n} runs of a deterministic scenario would all be the same \
+             (1, or omit it, at T = 0; N >= 1 with solver.method = \"langevin\" at T > 0)"
+        ))),
+        (true, n) => {
+            let n = n.unwrap_or(DEFAULT_RUNS);
+            let room = MAX_RUNS - sc.thermal.run.min(MAX_RUNS);
+            if n == 0 || n > MAX_ENSEMBLE_RUNS || n as u64 > room {
+                return Err(input_error(format!(
+                    "--runs: {n} runs from thermal.run = {} (1 <= N <= {MAX_ENSEMBLE_RUNS}, \
+                     with the run indices thermal.run .. thermal.run + N - 1 below 4294967296)",
+                    sc.thermal.run
+                )));
+            }
+            Ok(n)
+        }
+    }
+}
+
+/// The runs `range` of a bit ensemble of `runs` (its shard `shard`),
+/// streamed into runs.csv.partial in run order (beside the
+/// shard.json.partial that identifies the ensemble), so --resume can keep
+/// them; then read back for the statistics (the rows round-trip exactly).
+/// Bad input: one line on stderr, `Ok(Err(exit code 2))` (the caller
+/// abandons `out`).
+#[allow(clippy::too_many_arguments)]
+fn stream_ensemble(
+    out: &mut OutDir,
+    args: &BitArgs,
+    bs: &BitScenario,
+    toml_text: Option<String>,
+    runs: usize,
+    (shard, range): (Option<Shard>, std::ops::Range<usize>),
+    threads: usize,
+    quiet: bool,
+) -> Result<std::result::Result<Vec<RunResult>, ExitCode>> {
+    let sc = &bs.scenario;
+    let sh = shard.unwrap_or(Shard::ALL);
+    let info = ShardInfo {
+        fingerprint: ensemble_grid(args, toml_text)
+            .fingerprint_of("tippetop bit 1", &[("runs", runs.to_string())]),
+        k: sh.k,
+        n: sh.n,
+        total_cases: runs,
+        first_index: range.start,
+        end_index: range.end,
+        axes: Vec::new(),
+        checksums: Default::default(),
+    };
+    let mut info_json = serde_json::to_string_pretty(&info)?;
+    info_json.push('\n');
+    let spec = crate::common::grid::Streamed {
+        partial_csv: PARTIAL_RUNS,
+        partial_info: crate::common::grid::PARTIAL_INFO,
+        header: format!("{}\n", bit::CSV_HEADER),
+        what: "bit ensemble",
+        unit: "run",
+        resume: args.resume,
+        quiet,
+    };
+    let r0 = sc.thermal.run;
+    let streamed = crate::common::grid::stream_rows(
+        out,
+        &spec,
+        &info,
+        &info_json,
+        &|text| runs_prefix(text, r0 + range.start as u64, range.len()),
+        &mut |todo, sink| {
+            sweep::run_ordered(
+                todo,
+                Some(threads),
+                &|k| bit::run_one(bs, k as u64),
+                &mut |r| sink(bit::csv_row(&r), r.status != "ok"),
+            )
+        },
+    )?;
+    if let Err(code) = streamed {
+        return Ok(Err(code));
+    }
+    let text = String::from_utf8(crate::output::read_plain(&args.out.join(PARTIAL_RUNS))?)?;
+    let results: Vec<RunResult> = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            bit::parse_csv_row(l)
+                .ok_or_else(|| anyhow::anyhow!("{PARTIAL_RUNS}: unreadable row {l:?}"))
+        })
+        .collect::<Result<_>>()?;
+    anyhow::ensure!(
+        results.len() == range.len(),
+        "{PARTIAL_RUNS}: {} rows for {} runs",
+        results.len(),
+        range.len()
+    );
+    Ok(Ok(results))
 }
 
 /// Write the outputs of a whole bit (`results` of every run, in run

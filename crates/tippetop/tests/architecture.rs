@@ -409,12 +409,8 @@ const NOT_SPLIT_YET: &[(&str, &str)] = &[
     ),
     ("crates/tippetop/src/analysis/stability/mod.rs", "analyse"),
     ("crates/tippetop-cli/src/animate/gif_out.rs", "render_frame"),
-    ("crates/tippetop-cli/src/bit_cmd.rs", "run"),
-    ("crates/tippetop-cli/src/device_cmd.rs", "markdown"),
-    ("crates/tippetop-cli/src/ensemble_cmd.rs", "ensemble"),
     ("crates/tippetop-cli/src/partial.rs", "verify"),
     ("crates/tippetop-cli/src/plot.rs", "draw_heatmap"),
-    ("crates/tippetop-cli/src/search_cmd.rs", "run"),
     ("crates/tippetop-paper/src/adhesion.rs", "claims"),
     ("crates/tippetop-py/src/lib.rs", "rare"),
 ];
