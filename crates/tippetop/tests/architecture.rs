@@ -407,7 +407,6 @@ const NOT_SPLIT_YET: &[(&str, &str)] = &[
         "crates/tippetop/src/analysis/stability/frozen.rs",
         "frozen_spin",
     ),
-    ("crates/tippetop/src/analysis/stability/mod.rs", "analyse"),
     ("crates/tippetop-cli/src/animate/gif_out.rs", "render_frame"),
     ("crates/tippetop-cli/src/partial.rs", "verify"),
     ("crates/tippetop-cli/src/plot.rs", "draw_heatmap"),
