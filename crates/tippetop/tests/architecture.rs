@@ -403,13 +403,7 @@ const MOVED_BY_ISSUE_28: &[(&str, &str)] = &[
 /// Orchestration functions not split yet (issue 28, 4): this list only
 /// shrinks.
 const NOT_SPLIT_YET: &[(&str, &str)] = &[
-    (
-        "crates/tippetop/src/analysis/stability/frozen.rs",
-        "frozen_spin",
-    ),
     ("crates/tippetop-cli/src/animate/gif_out.rs", "render_frame"),
-    ("crates/tippetop-cli/src/partial.rs", "verify"),
-    ("crates/tippetop-cli/src/plot.rs", "draw_heatmap"),
     ("crates/tippetop-paper/src/adhesion.rs", "claims"),
     ("crates/tippetop-py/src/lib.rs", "rare"),
 ];
