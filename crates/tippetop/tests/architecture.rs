@@ -404,7 +404,6 @@ const MOVED_BY_ISSUE_28: &[(&str, &str)] = &[
 /// shrinks.
 const NOT_SPLIT_YET: &[(&str, &str)] = &[
     ("crates/tippetop-cli/src/animate/gif_out.rs", "render_frame"),
-    ("crates/tippetop-paper/src/adhesion.rs", "claims"),
     ("crates/tippetop-py/src/lib.rs", "rare"),
 ];
 
