@@ -143,6 +143,7 @@ impl Command {
 mod tests {
     use super::*;
     use clap::CommandFactory;
+    use std::path::PathBuf;
 
     #[test]
     fn clap_definition_is_consistent() {

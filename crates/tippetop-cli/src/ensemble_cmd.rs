@@ -444,7 +444,7 @@ fn kept_rows(
 /// included), line by line.
 fn read_stats(csv_partial: &Path) -> Result<EnsembleStats> {
     let mut acc = StatsAcc::default();
-    let f = open_plain(&csv_partial, std::fs::OpenOptions::new().read(true))?;
+    let f = open_plain(csv_partial, std::fs::OpenOptions::new().read(true))?;
     for (j, line) in std::io::BufReader::new(f).lines().enumerate().skip(1) {
         let line = line.with_context(|| format!("reading {}", csv_partial.display()))?;
         acc.push_line(j + 1, &line).map_err(anyhow::Error::new)?;
