@@ -403,7 +403,6 @@ const MOVED_BY_ISSUE_28: &[(&str, &str)] = &[
 /// Orchestration functions not split yet (issue 28, 4): this list only
 /// shrinks.
 const NOT_SPLIT_YET: &[(&str, &str)] = &[
-    ("crates/tippetop-cli/src/animate/gif_out.rs", "render_frame"),
     ("crates/tippetop-py/src/lib.rs", "rare"),
 ];
 
