@@ -402,9 +402,7 @@ const MOVED_BY_ISSUE_28: &[(&str, &str)] = &[
 
 /// Orchestration functions not split yet (issue 28, 4): this list only
 /// shrinks.
-const NOT_SPLIT_YET: &[(&str, &str)] = &[
-    ("crates/tippetop-py/src/lib.rs", "rare"),
-];
+const NOT_SPLIT_YET: &[(&str, &str)] = &[("crates/tippetop-py/src/lib.rs", "rare")];
 
 /// Every function and method (test code excluded) of `crates/*/src` longer
 /// than [`LONG`] lines: (file, name, lines).
