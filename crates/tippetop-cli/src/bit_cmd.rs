@@ -6,11 +6,10 @@
 //! ordered parallel runner ([`sweep::run_ordered`]).
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::Result;
-use clap::{ArgGroup, Args};
 use tippetop::analysis::bit::{self, Block, Mode, Report, RunResult};
 use tippetop::analysis::sweep::{self, Shard, ShardInfo, Sweep};
 use tippetop::scenario::bit::BitScenario;
@@ -19,142 +18,10 @@ use tippetop::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
 use crate::output::{OutDir, write_bytes_atomic};
 use crate::partial::{check_checksum, checksum};
 
+pub use crate::bit_args::{BIT_LONG_ABOUT, BitArgs};
+
 /// Runs of an ensemble when `--runs` is not given (T > 0).
 pub const DEFAULT_RUNS: usize = 100;
-
-/// Long help of `tippetop bit`.
-pub const BIT_LONG_ABOUT: &str = "Run a memory bit: write (phase 1, target bit.one), then erase
-(phase 2, target bit.zero), and write into --out:
-  bit.json       for write, erase (all runs), erase_given_write (runs whose write succeeded)
-                 and cycle (both succeeded): runs, successes, probability, ci95 (Wilson 95 %
-                 at T > 0; [p, p] with deterministic = true for the single run at T = 0),
-                 time_median, time_q25, time_q75 (switching time: the start of the final stay
-                 in the target window, from the phase start; cycle: from the write's start)
-                 [s], energy_median (net work of the applied force on the top over the phase)
-                 [J], max_applied_force (largest total of the windows acting at once) [N],
-                 failures per mode (never_entered, left, too_late, run_failed, lifted_off);
-                 pull_off_margin_min over the runs [N] (with adhesion); the bit and protocols
-  bit.md         the same in words, with theta.png
-  theta.png, theta.svg   theta(t) of a typical run (the first with the most frequent outcome)
-  theta_PHASE_MODE.png, .svg   ensembles: theta(t) of the first run whose write or erase
-                 failed as MODE, one per failure mode seen (linked from bit.md)
-  runs.csv       one row per run: run (thermal.run), status, then for write and erase:
-                 outcome (ok or the failure mode), time [s], energy [J]; pull_off_margin_min
-  bit.toml       the resolved bit scenario, every key explicit: `tippetop bit bit.toml`
-                 runs it again
-  scenario.toml  the run's scenario (run 0): `tippetop run scenario.toml --set thermal.run=R`
-                 replays run R alone
-
-The scenario file has a [bit] table (zero = [lo, hi], one = [lo, hi] [rad], defaults [0, 0.5]
-and [pi/2 - 0.35, pi/2 + 0.35], disjoint; hold [s] > 0; phase [s] > hold) and [[write]],
-[[erase]] windows (kind = \"contact\", the default: hx, hy, optional hz [N], the paper's force
-at the contact point in the precessing frame; kind = \"tip\": point [m] in the body frame and
-force [N] in the lab frame; kind = \"magnetic\": moment [A m^2] along the axis, field [T] and
-gradient [T/m] in the lab frame, docs/physics.md#actuators; start, stop [s] from the start of the
-phase, start < stop <= phase, stop default phase). The run lasts 2 x phase
-(solver.t_end is replaced), the scenario's own [[force]] list must be empty (a preset's is
-replaced by the protocols), the initial theta must lie in zero. A phase succeeds iff theta stays in
-its target window during its last hold seconds on the continuous solution (events at the
-window's edges; an excursion within one integration step is not seen, and the step is at most
-the row spacing: at least 10 rows per hold); its switching time is the crossing into the window.
---set reaches bit.KEY, write.K.KEY and erase.K.KEY. At T > 0
-(solver.method = \"langevin\" or \"brownian\") --runs N runs (default 100, at most 1000000), run K with
-thermal.run = r0 + K, independent of --threads; --shard K/M runs only the K-th of M blocks of
-the runs and writes runs.csv (those runs), shard.json and bit.toml: tippetop merge of the
-shards' directories writes the outputs of the unsharded run, byte for byte (--shard at T = 0
-is bad input: one run). A run that fails part-way is a result (its
-phases from the failure on are run_failed or lifted_off; exit code 0). Bad input exits with
-code 2 and writes nothing.
-
-Design maps: --vary KEY=FROM:TO:N[:log] (repeatable, the grammar of tippetop sweep; any key
---set reaches: write.0.hy, write.0.stop, erase.1.hx, bit.hold, thermal.temperature, ...) runs
-the bit at every point of the grid and writes into --out:
-  bitmap.csv   one row per point in grid order (first --vary slowest): the varied keys; for
-               each of write, erase, erase_given_write, cycle: BLOCK_runs, _successes,
-               _probability, _ci_lo, _ci_hi, _time_median, _time_q25, _time_q75 [s],
-               _energy_median [J], _max_applied_force [N], _never_entered, _left, _too_late,
-               _run_failed, _lifted_off; then runs, deterministic, pull_off_margin_min [N],
-               status (ok, or why the point's scenario is invalid: empty figures)
-  shard.json   what the CSV covers, for tippetop merge
-  bitmap.png, bitmap.svg   one --vary: write probability (with its 95 % interval) and median
-               write time against the key
-  write_probability.png/.svg, write_time.png/.svg   two or more --vary: heat maps over the
-               first two keys (the others at their first value; at most 250 values per axis)
-Each row is the single `tippetop bit --set KEY=VALUE ...` run of its point. At T > 0 a point is
---runs N runs (default 100, at most 1000000; a point at T = 0 runs once), run K with thermal.run = r0 + K at
-every point (common random numbers). The points run in parallel (--threads), the rows stream
-into bitmap.csv.partial in grid order (memory flat in the number of points); the bytes do not
-depend on --threads. --shard K/N runs the K-th of N blocks of points (join them with tippetop
-merge: the bytes of an unsharded run); --resume continues an interrupted map. Keep
-solver.samples at 1 + 10 x 2 phase / hold, the least the hold check takes: the rows also cap
-the step size. A key no point accepts, or a bad range: one line naming it, exit code 2.";
-
-/// `tippetop bit`.
-#[derive(Debug, Args)]
-#[command(
-    group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
-    after_help = "Examples:\n  \
-                  tippetop bit scenarios/bit/nano.toml --out out/bit\n  \
-                  tippetop bit scenarios/bit/nano.toml --set write.0.hy=2e-22 --out out/bit2\n  \
-                  tippetop bit scenarios/bit/nano.toml --vary write.0.hy=0:1e-21:50 \\\n      \
-                  --vary write.0.stop=1e-5:1e-4:50 --out out/bitmap"
-)]
-pub struct BitArgs {
-    /// Scenario file (TOML) with [bit], [[write]] and [[erase]].
-    #[arg(value_name = "SCENARIO.toml")]
-    pub scenario: Option<PathBuf>,
-
-    /// Start from a built-in scenario ("nano", "nano-physical", "nano-adhesive", "classical").
-    #[arg(long, value_name = "NAME")]
-    pub preset: Option<String>,
-
-    /// Override one value, e.g. `--set write.0.hy=2e-22` or `--set
-    /// bit.hold=1e-5`; repeatable, applied in order after the file.
-    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
-    pub sets: Vec<String>,
-
-    /// Number of runs at T > 0 (default 100; with --vary, per grid point); at
-    /// T = 0 only 1.
-    #[arg(long, value_name = "N")]
-    pub runs: Option<usize>,
-
-    /// Output directory (created if missing; locked while the command runs).
-    #[arg(long, value_name = "DIR")]
-    pub out: PathBuf,
-
-    /// Number of threads, 1 to 1024 (default: one per core).
-    #[arg(long, value_name = "T")]
-    pub threads: Option<usize>,
-
-    /// A design map: vary one key (as in --set: a scenario key, bit.KEY,
-    /// write.K.KEY, erase.K.KEY) over N values from FROM to TO, both
-    /// included (`:log` for geometric spacing). Repeatable: the points form
-    /// a grid, the first --vary varying slowest; writes bitmap.csv.
-    #[arg(long = "vary", value_name = "KEY=FROM:TO:N[:log]")]
-    pub vary: Vec<String>,
-
-    /// Run only the K-th of N contiguous blocks of the grid points (with
-    /// --vary) or of the runs (an ensemble at T > 0); join the outputs
-    /// with `tippetop merge`.
-    #[arg(long, value_name = "K/N")]
-    pub shard: Option<String>,
-
-    /// Continue an interrupted map (--vary; from DIR/bitmap.csv.partial) or
-    /// ensemble (T > 0; from DIR/runs.csv.partial) with the same scenario,
-    /// --set, --vary, --runs and --shard: the runs on disk are kept and
-    /// the outputs are those of an uninterrupted run, byte for byte.
-    #[arg(long)]
-    pub resume: bool,
-
-    /// Search the protocol of one phase instead (T = 0; the file's
-    /// [search] table: phase, windows, actuator ("contact", "tip" with
-    /// point [m], "magnetic" with moment [A m^2]), bounds of magnitude
-    /// ([N]; |B| [T] for a magnet), angle, start and duration, weight,
-    /// margin, seed, budget, perturbations; docs/physics.md#search). Writes
-    /// search.json, search.md, best.toml, evaluations.csv.
-    #[arg(long, conflicts_with_all = ["vary", "shard", "resume"])]
-    pub search: bool,
-}
 
 use crate::scenario_load::input_error;
 
@@ -164,43 +31,29 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     if !args.vary.is_empty() {
         return crate::bitmap_cmd::run(args, quiet);
     }
-    let toml_text = match crate::scenario_load::read_text(args.scenario.as_deref()) {
+    let toml_text = match crate::scenario_load::read_text(args.source.scenario.as_deref()) {
         Ok(t) => t,
         Err(code) => return Ok(code),
     };
     if args.search {
         return crate::search_cmd::run(args, toml_text.as_deref(), quiet);
     }
-    let threads = match sweep::threads(args.threads) {
+    let threads = match sweep::threads(args.cores.threads) {
         Ok(t) => t,
         Err(e) => return Ok(input_error(e)),
     };
-    let bs = match BitScenario::load(args.preset.as_deref(), toml_text.as_deref(), &args.sets) {
+    let bs = match BitScenario::load(
+        args.source.preset.as_deref(),
+        toml_text.as_deref(),
+        &args.source.sets,
+    ) {
         Ok(b) => b,
         Err(e) => return Ok(input_error(e)),
     };
-    let sc = &bs.scenario;
     let stochastic = bit::is_stochastic(&bs);
-    let runs = match (stochastic, args.runs) {
-        (false, None | Some(1)) => 1,
-        (false, Some(n)) => {
-            return Ok(input_error(format!(
-                "--runs: {n} runs of a deterministic scenario would all be the same \
-                 (1, or omit it, at T = 0; N >= 1 with solver.method = \"langevin\" at T > 0)"
-            )));
-        }
-        (true, n) => {
-            let n = n.unwrap_or(DEFAULT_RUNS);
-            let room = MAX_RUNS - sc.thermal.run.min(MAX_RUNS);
-            if n == 0 || n > MAX_ENSEMBLE_RUNS || n as u64 > room {
-                return Ok(input_error(format!(
-                    "--runs: {n} runs from thermal.run = {} (1 <= N <= {MAX_ENSEMBLE_RUNS}, \
-                     with the run indices thermal.run .. thermal.run + N - 1 below 4294967296)",
-                    sc.thermal.run
-                )));
-            }
-            n
-        }
+    let runs = match run_count(args, &bs, stochastic) {
+        Ok(n) => n,
+        Err(code) => return Ok(code),
     };
     let threads = match bit::threads_within_memory(&bs, runs, threads) {
         Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
@@ -237,68 +90,22 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     // run is run again.
     let mut kept: Option<tippetop::Trajectory> = None;
     if stochastic {
-        // The runs stream into runs.csv.partial in run order (beside the
-        // shard.json.partial that identifies the ensemble), so --resume can
-        // keep them; then they are read back for the statistics (the rows
-        // round-trip exactly).
-        let sh = shard.unwrap_or(Shard::ALL);
-        let info = ShardInfo {
-            fingerprint: ensemble_grid(args, toml_text.clone())
-                .fingerprint_of("tippetop bit 1", &[("runs", runs.to_string())]),
-            k: sh.k,
-            n: sh.n,
-            total_cases: runs,
-            first_index: range.start,
-            end_index: range.end,
-            axes: Vec::new(),
-            checksums: Default::default(),
-        };
-        let mut info_json = serde_json::to_string_pretty(&info)?;
-        info_json.push('\n');
-        let spec = crate::sweep_cmd::Streamed {
-            partial_csv: PARTIAL_RUNS,
-            partial_info: crate::sweep_cmd::PARTIAL_INFO,
-            header: format!("{}\n", bit::CSV_HEADER),
-            what: "bit ensemble",
-            unit: "run",
-            resume: args.resume,
-            quiet,
-        };
-        let r0 = sc.thermal.run;
-        let streamed = crate::sweep_cmd::stream_rows(
+        results = match stream_ensemble(
             &mut out,
-            &spec,
-            &info,
-            &info_json,
-            &|text| runs_prefix(text, r0 + range.start as u64, range.len()),
-            &mut |todo, sink| {
-                sweep::run_ordered(
-                    todo,
-                    Some(threads),
-                    &|k| bit::run_one(&bs, k as u64),
-                    &mut |r| sink(bit::csv_row(&r), r.status != "ok"),
-                )
-            },
-        )?;
-        if let Err(code) = streamed {
-            out.abandon();
-            return Ok(code);
-        }
-        let text = String::from_utf8(crate::output::read_plain(&args.out.join(PARTIAL_RUNS))?)?;
-        results = text
-            .lines()
-            .skip(1)
-            .map(|l| {
-                bit::parse_csv_row(l)
-                    .ok_or_else(|| anyhow::anyhow!("{PARTIAL_RUNS}: unreadable row {l:?}"))
-            })
-            .collect::<Result<_>>()?;
-        anyhow::ensure!(
-            results.len() == range.len(),
-            "{PARTIAL_RUNS}: {} rows for {} runs",
-            results.len(),
-            range.len()
-        );
+            args,
+            &bs,
+            toml_text.clone(),
+            runs,
+            (shard, range.clone()),
+            threads,
+            quiet,
+        )? {
+            Ok(r) => r,
+            Err(code) => {
+                out.abandon();
+                return Ok(code);
+            }
+        };
     } else {
         let sc = bs.run_scenario(0);
         let mut progress = crate::progress::RunProgress::new(quiet, sc.solver.t_end);
@@ -332,6 +139,113 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         );
     }
     write_bit(out, &args.out, &bs, &results, !stochastic, kept, quiet)
+}
+
+/// The number of runs: 1 at T = 0, `--runs` (default [`DEFAULT_RUNS`]) at
+/// T > 0. Bad input: one line on stderr, `Err(exit code 2)`.
+fn run_count(
+    args: &BitArgs,
+    bs: &BitScenario,
+    stochastic: bool,
+) -> std::result::Result<usize, ExitCode> {
+    let sc = &bs.scenario;
+    match (stochastic, args.runs) {
+        (false, None | Some(1)) => Ok(1),
+        (false, Some(n)) => Err(input_error(format!(
+            "--runs: {n} runs of a deterministic scenario would all be the same \
+             (1, or omit it, at T = 0; N >= 1 with solver.method = \"langevin\" at T > 0)"
+        ))),
+        (true, n) => {
+            let n = n.unwrap_or(DEFAULT_RUNS);
+            let room = MAX_RUNS - sc.thermal.run.min(MAX_RUNS);
+            if n == 0 || n > MAX_ENSEMBLE_RUNS || n as u64 > room {
+                return Err(input_error(format!(
+                    "--runs: {n} runs from thermal.run = {} (1 <= N <= {MAX_ENSEMBLE_RUNS}, \
+                     with the run indices thermal.run .. thermal.run + N - 1 below 4294967296)",
+                    sc.thermal.run
+                )));
+            }
+            Ok(n)
+        }
+    }
+}
+
+/// The runs `range` of a bit ensemble of `runs` (its shard `shard`),
+/// streamed into runs.csv.partial in run order (beside the
+/// shard.json.partial that identifies the ensemble), so --resume can keep
+/// them; then read back for the statistics (the rows round-trip exactly).
+/// Bad input: one line on stderr, `Ok(Err(exit code 2))` (the caller
+/// abandons `out`).
+#[allow(clippy::too_many_arguments)]
+fn stream_ensemble(
+    out: &mut OutDir,
+    args: &BitArgs,
+    bs: &BitScenario,
+    toml_text: Option<String>,
+    runs: usize,
+    (shard, range): (Option<Shard>, std::ops::Range<usize>),
+    threads: usize,
+    quiet: bool,
+) -> Result<std::result::Result<Vec<RunResult>, ExitCode>> {
+    let sc = &bs.scenario;
+    let sh = shard.unwrap_or(Shard::ALL);
+    let info = ShardInfo {
+        fingerprint: ensemble_grid(args, toml_text)
+            .fingerprint_of("tippetop bit 1", &[("runs", runs.to_string())]),
+        k: sh.k,
+        n: sh.n,
+        total_cases: runs,
+        first_index: range.start,
+        end_index: range.end,
+        axes: Vec::new(),
+        checksums: Default::default(),
+    };
+    let mut info_json = serde_json::to_string_pretty(&info)?;
+    info_json.push('\n');
+    let spec = crate::common::grid::Streamed {
+        partial_csv: PARTIAL_RUNS,
+        partial_info: crate::common::grid::PARTIAL_INFO,
+        header: format!("{}\n", bit::CSV_HEADER),
+        what: "bit ensemble",
+        unit: "run",
+        resume: args.resume,
+        quiet,
+    };
+    let r0 = sc.thermal.run;
+    let streamed = crate::common::grid::stream_rows(
+        out,
+        &spec,
+        &info,
+        &info_json,
+        &|text| runs_prefix(text, r0 + range.start as u64, range.len()),
+        &mut |todo, sink| {
+            sweep::run_ordered(
+                todo,
+                Some(threads),
+                &|k| bit::run_one(bs, k as u64),
+                &mut |r| sink(bit::csv_row(&r), r.status != "ok"),
+            )
+        },
+    )?;
+    if let Err(code) = streamed {
+        return Ok(Err(code));
+    }
+    let text = String::from_utf8(crate::output::read_plain(&args.out.join(PARTIAL_RUNS))?)?;
+    let results: Vec<RunResult> = text
+        .lines()
+        .skip(1)
+        .map(|l| {
+            bit::parse_csv_row(l)
+                .ok_or_else(|| anyhow::anyhow!("{PARTIAL_RUNS}: unreadable row {l:?}"))
+        })
+        .collect::<Result<_>>()?;
+    anyhow::ensure!(
+        results.len() == range.len(),
+        "{PARTIAL_RUNS}: {} rows for {} runs",
+        results.len(),
+        range.len()
+    );
+    Ok(Ok(results))
 }
 
 /// Write the outputs of a whole bit (`results` of every run, in run
@@ -464,9 +378,9 @@ fn check_run_line(body: &str, run: u64) -> std::result::Result<bool, &'static st
 /// (preset, file, `--set`s) and the number of runs.
 fn ensemble_grid(args: &BitArgs, toml_text: Option<String>) -> Sweep {
     Sweep {
-        preset: args.preset.clone(),
+        preset: args.source.preset.clone(),
         toml_text,
-        sets: args.sets.clone(),
+        sets: args.source.sets.clone(),
         axes: Vec::new(),
     }
 }
@@ -499,7 +413,7 @@ fn write_shard(
     let (csv, toml) = (runs_csv(results), bs.to_toml_string());
     write_bytes_atomic(&stage.join(RUNS_CSV), csv.as_bytes())?;
     write_bytes_atomic(&stage.join("bit.toml"), toml.as_bytes())?;
-    crate::sweep_cmd::write_info(
+    crate::common::grid::write_info(
         &stage,
         &info,
         &[
@@ -531,7 +445,7 @@ pub fn is_bit_shard_dir(dir: &Path) -> bool {
 /// `tippetop merge` of the shards of one bit ensemble: the outputs of an
 /// unsharded run (bit.json, bit.md, runs.csv, bit.toml, scenario.toml, the
 /// figure), byte for byte.
-pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode> {
+pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitCode> {
     let mut shards: Vec<(ShardInfo, String)> = Vec::new();
     let mut tomls: Vec<String> = Vec::new();
     let what = "a directory written by tippetop bit --shard, with shard.json, runs.csv, bit.toml";
@@ -781,7 +695,7 @@ fn theta_figure_named(
 ) -> Result<()> {
     use crate::plot::{self, Legend, PlotOpts, RefLine, Series};
     let t_end = 2.0 * bs.bit.phase;
-    let (scale, unit) = crate::run::time_unit(t_end);
+    let (scale, unit) = crate::common::time_unit(t_end);
     let t: Vec<f64> = traj.samples.iter().map(|x| x.t * scale).collect();
     let th: Vec<f64> = traj.samples.iter().map(|x| x.theta).collect();
     let b = &bs.bit;

@@ -1,6 +1,6 @@
 //! `tippetop bit FILE --vary KEY=FROM:TO:N ...`: design maps of a memory
 //! bit ([`tippetop::analysis::bitmap`]), streamed into `bitmap.csv` in grid
-//! order like a sweep's rows ([`crate::sweep_cmd::stream_rows`]: shards,
+//! order like a sweep's rows ([`crate::common::grid::stream_rows`]: shards,
 //! `--resume`, `tippetop merge`), with heat maps of the write probability
 //! and the write switching time.
 
@@ -12,11 +12,12 @@ use anyhow::{Context, Result};
 use tippetop::analysis::bitmap::{self, BitMap};
 use tippetop::analysis::sweep::{Axis, Shard, ShardInfo, Sweep};
 
-use crate::bit_cmd::BitArgs;
+use crate::bit_args::BitArgs;
+use crate::common::args::MergeArgs;
+use crate::common::grid::{GridInput, Streamed, read_shard_of, stream_rows, write_info};
 use crate::output::{OutDir, write_bytes_atomic};
 use crate::partial::checksum_text;
 use crate::scenario_load::input_error;
-use crate::sweep_cmd::{GridInput, MergeArgs, Streamed, read_shard_of, stream_rows, write_info};
 
 /// The CSV a map streams its rows into while it runs.
 pub const PARTIAL_CSV: &str = "bitmap.csv.partial";
@@ -38,19 +39,19 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         shard,
         threads,
     } = match GridInput::parse(
-        args.scenario.as_deref(),
+        args.source.scenario.as_deref(),
         &args.vary,
         args.shard.as_deref(),
-        args.threads,
+        args.cores.threads,
     ) {
         Ok(g) => g,
         Err(code) => return Ok(code),
     };
     let map = BitMap {
         grid: Sweep {
-            preset: args.preset.clone(),
+            preset: args.source.preset.clone(),
             toml_text,
-            sets: args.sets.clone(),
+            sets: args.source.sets.clone(),
             axes,
         },
         runs: args.runs.unwrap_or(bitmap::DEFAULT_RUNS),

@@ -241,8 +241,26 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
          stays in the target over its last hold (docs/physics.md#bit).\n",
         opts.runs, opts.budget, opts.retention_runs
     );
-    // The answer, sentence by sentence from the numbers above.
-    let _ = writeln!(s, "## Answer\n");
+    answer_section(&mut s, r);
+    deterministic_section(&mut s, r);
+    thermal_section(&mut s, r);
+    rare_section(&mut s, r);
+    retention_section(&mut s, r);
+    s
+}
+
+/// The highest temperature with 10 years of retention, in words (the
+/// Arrhenius extrapolation).
+fn ten_years_words(r: &DeviceReport) -> String {
+    r.retention
+        .t_ten_years
+        .map(|(t, [lo, hi])| format!("{t:.0} K (95 %: {lo:.0}–{hi:.0} K; extrapolated)"))
+        .unwrap_or_else(|| "no temperature (no fit)".into())
+}
+
+/// The report's answer, sentence by sentence from the numbers below it.
+fn answer_sentences(r: &DeviceReport) -> Vec<String> {
+    let ten = ten_years_words(r);
     let mut ans: Vec<String> = Vec::new();
     let det = |name: &str| r.deterministic.iter().find(|d| d.preset == name);
     let mut tip_sentence: Option<String> = None;
@@ -319,11 +337,6 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
         "With no force at all the top \"writes\" (falls into the lying well) in {} runs.",
         free.join(", ")
     ));
-    let ten = r
-        .retention
-        .t_ten_years
-        .map(|(t, [lo, hi])| format!("{t:.0} K (95 %: {lo:.0}–{hi:.0} K; extrapolated)"))
-        .unwrap_or_else(|| "no temperature (no fit)".into());
     let rare = &r.rare;
     let lying: Vec<String> = rare.lying.iter().rev().map(lying_words).collect();
     ans.push(format!(
@@ -376,6 +389,13 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
     ans.push(format!(
         "(Cross-check, extrapolated: the Arrhenius fit gives 10 years up to {ten}.)"
     ));
+    ans
+}
+
+/// "## Answer": the sentences of [`answer_sentences`] under a one-word verdict.
+fn answer_section(s: &mut String, r: &DeviceReport) {
+    let _ = writeln!(s, "## Answer\n");
+    let ans = answer_sentences(r);
     let zero_holds = r.thermal.iter().any(|t| t.zero_left.0 * 2 < t.zero_left.1);
     let _ = writeln!(
         s,
@@ -395,6 +415,10 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
              top (the paper's force at the contact point has no physical actuator, docs/physics.md#bit).\n"
         );
     }
+}
+
+/// "## The deterministic models (T = 0)".
+fn deterministic_section(s: &mut String, r: &DeviceReport) {
     let _ = writeln!(s, "## The deterministic models (T = 0)\n");
     for d in &r.deterministic {
         let _ = writeln!(s, "### Preset `{}`\n", d.preset);
@@ -445,6 +469,10 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
             );
         }
     }
+}
+
+/// "## C60 on graphene": the table of the thermal runs.
+fn thermal_section(s: &mut String, r: &DeviceReport) {
     let _ = writeln!(s, "## C60 on graphene (`nano-physical`), 0.5 ns phases\n");
     let _ = writeln!(
         s,
@@ -486,7 +514,11 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
             ret
         );
     }
-    rare_section(&mut s, r);
+}
+
+/// "## Cross-check": the lying state's retention extrapolated.
+fn retention_section(s: &mut String, r: &DeviceReport) {
+    let ten = ten_years_words(r);
     let rt = &r.retention;
     let _ = writeln!(
         s,
@@ -527,7 +559,6 @@ fn markdown(r: &DeviceReport, opts: &DeviceOptions) -> String {
     } else {
         let _ = writeln!(s, "\nNo fit (too few passages).");
     }
-    s
 }
 
 /// The rare events, computed directly (issue 27).

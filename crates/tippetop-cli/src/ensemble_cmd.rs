@@ -81,19 +81,15 @@ directory is locked while the command runs.";
                   tippetop merge shards/* --out result\n  \
                   tippetop run scenarios/thermal.toml --set thermal.run=17 --out out/run17   (replay run 17)"
 )]
+#[command(
+    mut_arg("scenario", |a| a.help("Scenario file (TOML): a Langevin run at temperature > 0")),
+    mut_arg("preset", |a| a.help("Start from a built-in scenario (\"nano\", \"nano-physical\", \"classical\")")),
+    mut_arg("sets", |a| a.help("Override one scenario value for every run, e.g. `--set thermal.temperature=77`; repeatable, applied in order after the file")),
+)]
 pub struct EnsembleArgs {
-    /// Scenario file (TOML): a Langevin run at temperature > 0.
-    #[arg(value_name = "SCENARIO.toml")]
-    pub scenario: Option<PathBuf>,
-
-    /// Start from a built-in scenario ("nano", "nano-physical", "classical").
-    #[arg(long, value_name = "NAME")]
-    pub preset: Option<String>,
-
-    /// Override one scenario value for every run, e.g. `--set
-    /// thermal.temperature=77`; repeatable, applied in order after the file.
-    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
-    pub sets: Vec<String>,
+    /// The scenario: file, preset, overrides.
+    #[command(flatten)]
+    pub source: crate::common::args::ScenarioArgs,
 
     /// Number of runs N (1 to 1000000; run K uses thermal.run = r0 + K).
     #[arg(long, value_name = "N")]
@@ -104,9 +100,9 @@ pub struct EnsembleArgs {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
-    /// Number of threads, 1 to 1024 (default: one per core).
-    #[arg(long, value_name = "T")]
-    pub threads: Option<usize>,
+    /// `--threads`.
+    #[command(flatten)]
+    pub cores: crate::common::args::ThreadsArg,
 
     /// Run only the K-th of N contiguous blocks of runs (1 <= K <= N);
     /// join the outputs with `tippetop merge`.
@@ -162,41 +158,10 @@ use crate::scenario_load::input_error;
 /// Run `tippetop ensemble`. Bad input: one line on stderr and exit code 2
 /// (returned as `Ok`), nothing written; `Err` for I/O failures.
 pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
-    let toml_text = match crate::scenario_load::read_text(args.scenario.as_deref()) {
-        Ok(t) => t,
+    let (ens, shard, threads, info, info_json) = match inputs(args, quiet)? {
+        Ok(i) => i,
         Err(code) => return Ok(code),
     };
-    let shard = match args.shard.as_deref().map(Shard::parse).transpose() {
-        Ok(s) => s.unwrap_or(Shard::ALL),
-        Err(e) => return Ok(input_error(e)),
-    };
-    let threads = match sweep::threads(args.threads) {
-        Ok(t) => t,
-        Err(e) => return Ok(input_error(e)),
-    };
-    let exit = match args
-        .first_passage
-        .as_deref()
-        .map(ensemble::Exit::parse)
-        .transpose()
-    {
-        Ok(e) => e,
-        Err(e) => return Ok(input_error(e)),
-    };
-    let ens = match Ensemble::new(args.preset.clone(), toml_text, args.sets.clone(), args.runs) {
-        Ok(e) => e.with_exit(exit),
-        Err(e) => return Ok(input_error(e)),
-    };
-    let threads = match ens.threads_within_memory(threads) {
-        Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
-        Err(e) => return Ok(input_error(e)),
-    };
-    let info = match ens.shard_info(shard) {
-        Ok(i) => i,
-        Err(e) => return Ok(input_error(e)),
-    };
-    let mut info_json = serde_json::to_string_pretty(&info)?;
-    info_json.push('\n');
 
     let mut out = OutDir::open(&args.out)?;
     let dir = args.out.clone();
@@ -206,109 +171,13 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
     let sum = crate::partial::sum_name(PARTIAL_CSV);
     let range = info.first_index..info.end_index;
 
-    // Never through a link (planted, it would make the command overwrite
-    // its target).
-    for name in [PARTIAL_CSV, PARTIAL_INFO, PARTIAL_HIST, sum.as_str()] {
-        if let Err(e) = check_plain(&dir.join(name)) {
+    let (kept, checkpoint) = match kept_rows(args, quiet, &ens, &info, &info_json)? {
+        Ok(k) => k,
+        Err(code) => {
             out.abandon();
-            return Ok(input_error(e));
+            return Ok(code);
         }
-    }
-    let mut kept = crate::partial::Kept::default();
-    let mut checkpoint: Option<Checkpoint> = None;
-    if args.resume {
-        if !info_partial.exists() {
-            if !quiet {
-                eprintln!(
-                    "note: no partial ensemble to resume in {}: starting from the first run",
-                    dir.display()
-                );
-            }
-        } else {
-            let old = String::from_utf8_lossy(&read_plain(&info_partial)?).into_owned();
-            // The same ensemble: the same description (checksums aside,
-            // which only a finished run records).
-            let same = old == info_json
-                || serde_json::from_str::<EnsembleShard>(&old).is_ok_and(|mut o| {
-                    o.checksums.clear();
-                    o == info
-                });
-            if !same {
-                out.abandon();
-                return Ok(input_error(format!(
-                    "--resume: the partial ensemble in {} is another one, not this one \
-                     (fingerprint {}, runs {}..{} of {}) (the same scenario, --set, --runs \
-                     and --shard as the interrupted run; without --resume a new ensemble \
-                     starts over)",
-                    dir.display(),
-                    info.fingerprint,
-                    info.first_index,
-                    info.end_index,
-                    info.total_runs
-                )));
-            }
-            let names = crate::partial::Names {
-                dir: &dir,
-                partial: PARTIAL_CSV,
-                what: "ensemble",
-                unit: "run",
-            };
-            kept = match crate::partial::verify(
-                &names,
-                &|text| ens.complete_prefix(info.first_index, text),
-                quiet,
-            )? {
-                Ok(k) => k,
-                Err(msg) => {
-                    out.abandon();
-                    return Ok(input_error(msg));
-                }
-            };
-            if kept.rows > range.len() {
-                out.abandon();
-                return Ok(input_error(format!(
-                    "--resume: {}: {} rows, more than the {} runs of this ensemble (a partial \
-                     file as tippetop wrote it; without --resume the ensemble starts over)",
-                    csv_partial.display(),
-                    kept.rows,
-                    range.len()
-                )));
-            }
-            // The histogram checkpoint, trusted only if a verified
-            // checkpoint of the CSV records its hash (it then holds the
-            // counts of that checkpoint's rows).
-            if kept.rows > 0 && hist_partial.exists() {
-                let bytes = read_plain(&hist_partial)?;
-                let h = fnv1a(FNV_OFFSET, &bytes);
-                checkpoint = kept
-                    .checkpoints
-                    .iter()
-                    .rev()
-                    .find(|c| c.extra == Some(h))
-                    .and_then(|at| {
-                        serde_json::from_slice::<Checkpoint>(&bytes)
-                            .ok()
-                            .filter(|c| c.rows == at.rows)
-                    })
-                    .filter(|c| {
-                        c.fingerprint == info.fingerprint
-                            && c.first_index == info.first_index
-                            && c.rows <= kept.rows
-                            && c.hist.bins == BINS
-                            && c.hist.ranges == ens.ranges()
-                            && c.hist.times.len() == ens.scenario.solver.samples
-                    });
-                if checkpoint.is_none() && !quiet {
-                    eprintln!(
-                        "note: {} does not match a checkpoint of {}: the kept runs run again \
-                         for their histogram counts",
-                        hist_partial.display(),
-                        csv_partial.display()
-                    );
-                }
-            }
-        }
-    }
+    };
 
     out.claim(&[PARTIAL_CSV, PARTIAL_INFO, PARTIAL_HIST, sum.as_str()])?;
     write_bytes_atomic(&info_partial, info_json.as_bytes())?;
@@ -372,15 +241,7 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
     save_checkpoint(&mut w, &hist_partial, &info, &hist)?;
     let hash = w.finish()?;
 
-    // The statistics, from the file as written (kept rows included), line
-    // by line.
-    let mut acc = StatsAcc::default();
-    let f = open_plain(&csv_partial, std::fs::OpenOptions::new().read(true))?;
-    for (j, line) in std::io::BufReader::new(f).lines().enumerate().skip(1) {
-        let line = line.with_context(|| format!("reading {}", csv_partial.display()))?;
-        acc.push_line(j + 1, &line).map_err(anyhow::Error::new)?;
-    }
-    let stats = acc.finish();
+    let stats = read_stats(&csv_partial)?;
     out.adopt(PARTIAL_CSV, "ensemble.csv");
     write_results(out.stage(), &info, &hist, &stats)?;
     write_info(out.stage(), &info, checksum_text(hash), &hist)?;
@@ -404,6 +265,191 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
         print_stats(&stats);
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The ensemble, its shard, the threads and the shard's description (and
+/// its JSON) from the arguments. Bad input: one line on stderr, `Ok(Err(exit
+/// code 2))`.
+#[allow(clippy::type_complexity)]
+fn inputs(
+    args: &EnsembleArgs,
+    quiet: bool,
+) -> Result<std::result::Result<(Ensemble, Shard, usize, EnsembleShard, String), ExitCode>> {
+    let toml_text = match crate::scenario_load::read_text(args.source.scenario.as_deref()) {
+        Ok(t) => t,
+        Err(code) => return Ok(Err(code)),
+    };
+    let shard = match args.shard.as_deref().map(Shard::parse).transpose() {
+        Ok(s) => s.unwrap_or(Shard::ALL),
+        Err(e) => return Ok(Err(input_error(e))),
+    };
+    let threads = match sweep::threads(args.cores.threads) {
+        Ok(t) => t,
+        Err(e) => return Ok(Err(input_error(e))),
+    };
+    let exit = match args
+        .first_passage
+        .as_deref()
+        .map(ensemble::Exit::parse)
+        .transpose()
+    {
+        Ok(e) => e,
+        Err(e) => return Ok(Err(input_error(e))),
+    };
+    let ens = match Ensemble::new(
+        args.source.preset.clone(),
+        toml_text,
+        args.source.sets.clone(),
+        args.runs,
+    ) {
+        Ok(e) => e.with_exit(exit),
+        Err(e) => return Ok(Err(input_error(e))),
+    };
+    let threads = match ens.threads_within_memory(threads) {
+        Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
+        Err(e) => return Ok(Err(input_error(e))),
+    };
+    let info = match ens.shard_info(shard) {
+        Ok(i) => i,
+        Err(e) => return Ok(Err(input_error(e))),
+    };
+    let mut info_json = serde_json::to_string_pretty(&info)?;
+    info_json.push('\n');
+    Ok(Ok((ens, shard, threads, info, info_json)))
+}
+
+/// What an interrupted run of this ensemble left in `--out` that
+/// `--resume` keeps: the verified rows, and the histogram checkpoint if
+/// one matches them. Bad input (partial files that are links, another
+/// ensemble's, damaged): one line on stderr, `Ok(Err(exit code 2))` (the
+/// caller abandons `--out`).
+#[allow(clippy::type_complexity)]
+fn kept_rows(
+    args: &EnsembleArgs,
+    quiet: bool,
+    ens: &Ensemble,
+    info: &EnsembleShard,
+    info_json: &str,
+) -> Result<std::result::Result<(crate::partial::Kept, Option<Checkpoint>), ExitCode>> {
+    let dir = args.out.clone();
+    let csv_partial = dir.join(PARTIAL_CSV);
+    let info_partial = dir.join(PARTIAL_INFO);
+    let hist_partial = dir.join(PARTIAL_HIST);
+    let sum = crate::partial::sum_name(PARTIAL_CSV);
+    let range = info.first_index..info.end_index;
+
+    // Never through a link (planted, it would make the command overwrite
+    // its target).
+    for name in [PARTIAL_CSV, PARTIAL_INFO, PARTIAL_HIST, sum.as_str()] {
+        if let Err(e) = check_plain(&dir.join(name)) {
+            return Ok(Err(input_error(e)));
+        }
+    }
+    let mut kept = crate::partial::Kept::default();
+    let mut checkpoint: Option<Checkpoint> = None;
+    if args.resume {
+        if !info_partial.exists() {
+            if !quiet {
+                eprintln!(
+                    "note: no partial ensemble to resume in {}: starting from the first run",
+                    dir.display()
+                );
+            }
+        } else {
+            let old = String::from_utf8_lossy(&read_plain(&info_partial)?).into_owned();
+            // The same ensemble: the same description (checksums aside,
+            // which only a finished run records).
+            let same = old == info_json
+                || serde_json::from_str::<EnsembleShard>(&old).is_ok_and(|mut o| {
+                    o.checksums.clear();
+                    o == *info
+                });
+            if !same {
+                return Ok(Err(input_error(format!(
+                    "--resume: the partial ensemble in {} is another one, not this one \
+                     (fingerprint {}, runs {}..{} of {}) (the same scenario, --set, --runs \
+                     and --shard as the interrupted run; without --resume a new ensemble \
+                     starts over)",
+                    dir.display(),
+                    info.fingerprint,
+                    info.first_index,
+                    info.end_index,
+                    info.total_runs
+                ))));
+            }
+            let names = crate::partial::Names {
+                dir: &dir,
+                partial: PARTIAL_CSV,
+                what: "ensemble",
+                unit: "run",
+            };
+            kept = match crate::partial::verify(
+                &names,
+                &|text| ens.complete_prefix(info.first_index, text),
+                quiet,
+            )? {
+                Ok(k) => k,
+                Err(msg) => {
+                    return Ok(Err(input_error(msg)));
+                }
+            };
+            if kept.rows > range.len() {
+                return Ok(Err(input_error(format!(
+                    "--resume: {}: {} rows, more than the {} runs of this ensemble (a partial \
+                     file as tippetop wrote it; without --resume the ensemble starts over)",
+                    csv_partial.display(),
+                    kept.rows,
+                    range.len()
+                ))));
+            }
+            // The histogram checkpoint, trusted only if a verified
+            // checkpoint of the CSV records its hash (it then holds the
+            // counts of that checkpoint's rows).
+            if kept.rows > 0 && hist_partial.exists() {
+                let bytes = read_plain(&hist_partial)?;
+                let h = fnv1a(FNV_OFFSET, &bytes);
+                checkpoint = kept
+                    .checkpoints
+                    .iter()
+                    .rev()
+                    .find(|c| c.extra == Some(h))
+                    .and_then(|at| {
+                        serde_json::from_slice::<Checkpoint>(&bytes)
+                            .ok()
+                            .filter(|c| c.rows == at.rows)
+                    })
+                    .filter(|c| {
+                        c.fingerprint == info.fingerprint
+                            && c.first_index == info.first_index
+                            && c.rows <= kept.rows
+                            && c.hist.bins == BINS
+                            && c.hist.ranges == ens.ranges()
+                            && c.hist.times.len() == ens.scenario.solver.samples
+                    });
+                if checkpoint.is_none() && !quiet {
+                    eprintln!(
+                        "note: {} does not match a checkpoint of {}: the kept runs run again \
+                         for their histogram counts",
+                        hist_partial.display(),
+                        csv_partial.display()
+                    );
+                }
+            }
+        }
+    }
+    Ok(Ok((kept, checkpoint)))
+}
+
+/// The statistics of the ensemble, from its CSV as written (kept rows
+/// included), line by line.
+fn read_stats(csv_partial: &Path) -> Result<EnsembleStats> {
+    let mut acc = StatsAcc::default();
+    let f = open_plain(csv_partial, std::fs::OpenOptions::new().read(true))?;
+    for (j, line) in std::io::BufReader::new(f).lines().enumerate().skip(1) {
+        let line = line.with_context(|| format!("reading {}", csv_partial.display()))?;
+        acc.push_line(j + 1, &line).map_err(anyhow::Error::new)?;
+    }
+    Ok(acc.finish())
 }
 
 fn print_stats(stats: &EnsembleStats) {
@@ -507,7 +553,7 @@ fn write_fan(dir: &Path, hist: &Histograms, runs: u64) -> Result<()> {
         .iter()
         .filter_map(|&i| hist.times[i])
         .fold(0.0, f64::max);
-    let (scale, unit) = crate::run::time_unit(t_end);
+    let (scale, unit) = crate::common::time_unit(t_end);
     let xs: Vec<f64> = idx
         .iter()
         .map(|&i| hist.times[i].unwrap_or(f64::NAN) * scale)
@@ -560,7 +606,7 @@ pub fn is_ensemble_dir(dir: &Path) -> bool {
 /// `histograms.csv` added, the rest recomputed from them: byte for byte the
 /// files of a one-shot run (the plots aside). Bad input: one line, exit
 /// code 2, nothing written.
-pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode> {
+pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitCode> {
     let mut shards: Vec<(EnsembleShard, String)> = Vec::new();
     let mut hists: Vec<(usize, Histograms)> = Vec::new();
     for dir in &args.dirs {

@@ -6,11 +6,14 @@
 
 pub mod adhesion_cmd;
 pub mod animate;
+pub mod bit_args;
 pub mod bit_cmd;
 pub mod bitmap_cmd;
 pub mod cli;
+pub mod common;
 pub mod device_cmd;
 pub mod ensemble_cmd;
+pub mod merge_cmd;
 pub mod output;
 pub mod partial;
 pub mod plot;

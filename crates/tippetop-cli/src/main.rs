@@ -12,8 +12,8 @@ use std::process::ExitCode;
 use clap::{CommandFactory, FromArgMatches};
 use tippetop_cli::cli::{Cli, Command};
 use tippetop_cli::{
-    adhesion_cmd, animate, bit_cmd, device_cmd, ensemble_cmd, rare_cmd, regime_cmd, reproduce,
-    retention_cmd, run, show_cmd, stability_cmd, sweep_cmd,
+    adhesion_cmd, animate, bit_cmd, device_cmd, ensemble_cmd, merge_cmd, rare_cmd, regime_cmd,
+    reproduce, retention_cmd, run, show_cmd, stability_cmd, sweep_cmd,
 };
 
 fn main() -> ExitCode {
@@ -47,7 +47,7 @@ fn main() -> ExitCode {
         Command::Reproduce(args) => reproduce::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),
         Command::Sweep(args) => sweep_cmd::sweep(args, cli.quiet),
         Command::Ensemble(args) => ensemble_cmd::ensemble(args, cli.quiet),
-        Command::Merge(args) => sweep_cmd::merge(args, cli.quiet),
+        Command::Merge(args) => merge_cmd::run(args, cli.quiet),
         Command::Stability(args) => stability_cmd::run(args, cli.quiet),
         Command::Adhesion(args) => adhesion_cmd::run(args),
         Command::Regime(args) => regime_cmd::run(args),

@@ -203,12 +203,7 @@ pub fn verify(
             return Ok(Err(format!("--resume: {e}")));
         }
     }
-    let refuse = |at: String, what_is_wrong: String| {
-        Ok(Err(format!(
-            "--resume: {at}: {what_is_wrong} (a partial file as tippetop wrote it; without \
-             --resume the {what} starts over)"
-        )))
-    };
+    let refuse = |at: String, what_is_wrong: String| Ok(Err(refusal(at, what_is_wrong, what)));
     if !path.exists() {
         return Ok(Ok(Kept::default()));
     }
@@ -226,31 +221,10 @@ pub fn verify(
     }
     let sum = read_plain(&sum_path)?;
     let sum = String::from_utf8_lossy(&sum);
-    let mut cps: Vec<(usize, Checkpoint)> = Vec::new();
-    for (i, line) in sum.split_inclusive('\n').enumerate() {
-        let Some(body) = line.strip_suffix('\n') else {
-            // A torn last line: the checkpoint was being written.
-            break;
-        };
-        if body.starts_with('#') {
-            continue;
-        }
-        let Some(cp) = Checkpoint::parse(body) else {
-            return refuse(
-                format!("{}:{}", sum_path.display(), i + 1),
-                "not a checkpoint (ROWS BYTES HASH [HASH])".into(),
-            );
-        };
-        if let Some((_, prev)) = cps.last() {
-            if cp.rows < prev.rows || cp.bytes < prev.bytes {
-                return refuse(
-                    format!("{}:{}", sum_path.display(), i + 1),
-                    "a checkpoint before the one on the line above it".into(),
-                );
-            }
-        }
-        cps.push((i + 1, cp));
-    }
+    let cps = match read_checkpoints(&sum, &sum_path, what) {
+        Ok(c) => c,
+        Err(msg) => return Ok(Err(msg)),
+    };
     if cps.is_empty() {
         if !quiet {
             eprintln!(
@@ -281,40 +255,14 @@ pub fn verify(
         h = fnv1a(h, &data[pos..end]);
         pos = end;
         if h != cp.hash {
-            // Where: the first row the row check refuses, if it is one of
-            // the lines the checkpoint covers, else those lines.
-            let text = String::from_utf8_lossy(&data);
-            let p = prefix(&text);
-            let first = prev_rows.map_or(1, |r| r + 2);
-            let last = cp.rows + 1;
-            if p.bytes == 0 {
-                return refuse(
-                    format!("{}:1", path.display()),
-                    format!("not the header of this {what}"),
-                );
-            }
-            if p.problem.is_some() && (first..=last).contains(&(p.rows + 2)) {
-                return refuse(
-                    format!("{}:{}", path.display(), p.rows + 2),
-                    format!(
-                        "not a row of this {what} ({})",
-                        p.problem.unwrap_or("unreadable")
-                    ),
-                );
-            }
-            let lines = if first == last {
-                format!("{first}")
-            } else {
-                format!("{first}-{last}")
-            };
-            return refuse(
-                format!("{}:{lines}", path.display()),
-                format!(
-                    "does not match its checksum in {}:{sum_line} (the file was edited or \
-                     damaged)",
-                    sum_path.display()
-                ),
-            );
+            return Ok(Err(mismatch(
+                &data,
+                prefix,
+                (prev_rows, cp.rows, sum_line),
+                &path,
+                &sum_path,
+                what,
+            )));
         }
         prev_rows = Some(cp.rows);
     }
@@ -359,6 +307,99 @@ pub fn verify(
         failed: p.failed,
         checkpoints: cps.into_iter().map(|(_, c)| c).collect(),
     }))
+}
+
+/// The message of a refused partial file: `at` (file and line) and what
+/// is wrong; `what` runs (`"sweep"`, ...).
+fn refusal(at: String, what_is_wrong: String, what: &str) -> String {
+    format!(
+        "--resume: {at}: {what_is_wrong} (a partial file as tippetop wrote it; without \
+         --resume the {what} starts over)"
+    )
+}
+
+/// The checkpoints of a `.sum` file (`sum`, read from `sum_path`) with
+/// their line numbers, up to a torn last line. `Err`: the message refusing
+/// a line that is not a checkpoint or goes backwards.
+fn read_checkpoints(
+    sum: &str,
+    sum_path: &Path,
+    what: &str,
+) -> std::result::Result<Vec<(usize, Checkpoint)>, String> {
+    let refuse = |at: String, what_is_wrong: String| Err(refusal(at, what_is_wrong, what));
+    let mut cps: Vec<(usize, Checkpoint)> = Vec::new();
+    for (i, line) in sum.split_inclusive('\n').enumerate() {
+        let Some(body) = line.strip_suffix('\n') else {
+            // A torn last line: the checkpoint was being written.
+            break;
+        };
+        if body.starts_with('#') {
+            continue;
+        }
+        let Some(cp) = Checkpoint::parse(body) else {
+            return refuse(
+                format!("{}:{}", sum_path.display(), i + 1),
+                "not a checkpoint (ROWS BYTES HASH [HASH])".into(),
+            );
+        };
+        if let Some((_, prev)) = cps.last() {
+            if cp.rows < prev.rows || cp.bytes < prev.bytes {
+                return refuse(
+                    format!("{}:{}", sum_path.display(), i + 1),
+                    "a checkpoint before the one on the line above it".into(),
+                );
+            }
+        }
+        cps.push((i + 1, cp));
+    }
+    Ok(cps)
+}
+
+/// Why the data do not match a checkpoint (`rows` = (rows of the previous
+/// checkpoint, rows of this one, its line in `sum_path`)): the first row
+/// the row check refuses, if it is one of the lines the checkpoint
+/// covers, else those lines.
+fn mismatch(
+    data: &[u8],
+    prefix: &dyn Fn(&str) -> Prefix,
+    (prev_rows, rows, sum_line): (Option<usize>, usize, usize),
+    path: &Path,
+    sum_path: &Path,
+    what: &str,
+) -> String {
+    let refuse = |at: String, what_is_wrong: String| refusal(at, what_is_wrong, what);
+    let text = String::from_utf8_lossy(data);
+    let p = prefix(&text);
+    let first = prev_rows.map_or(1, |r| r + 2);
+    let last = rows + 1;
+    if p.bytes == 0 {
+        return refuse(
+            format!("{}:1", path.display()),
+            format!("not the header of this {what}"),
+        );
+    }
+    if p.problem.is_some() && (first..=last).contains(&(p.rows + 2)) {
+        return refuse(
+            format!("{}:{}", path.display(), p.rows + 2),
+            format!(
+                "not a row of this {what} ({})",
+                p.problem.unwrap_or("unreadable")
+            ),
+        );
+    }
+    let lines = if first == last {
+        format!("{first}")
+    } else {
+        format!("{first}-{last}")
+    };
+    refuse(
+        format!("{}:{lines}", path.display()),
+        format!(
+            "does not match its checksum in {}:{sum_line} (the file was edited or \
+             damaged)",
+            sum_path.display()
+        ),
+    )
 }
 
 /// Bytes of rows buffered before a checkpoint is due (see

@@ -1052,40 +1052,52 @@ fn draw_heatmap<DB: DrawingBackend>(
     });
     chart.draw_series(cells).map_err(err)?;
     // Overlay curves: data coordinates to cell-index coordinates.
-    let to_index = |vals: &[f64], v: f64| -> Option<f64> {
-        if !v.is_finite() || vals.is_empty() {
-            return None;
-        }
-        if vals.len() == 1 {
-            return Some(0.0);
-        }
-        let n = vals.len();
-        let seg = |i: usize| {
-            let (a, b) = (vals[i], vals[i + 1]);
-            i as f64 + (v - a) / (b - a)
-        };
-        let i = (0..n - 1)
-            .find(|&i| (vals[i] - v) * (vals[i + 1] - v) <= 0.0)
-            .unwrap_or(if (v - vals[0]).abs() < (v - vals[n - 1]).abs() {
-                0
-            } else {
-                n - 2
-            });
-        let idx = seg(i);
-        (-0.5..=n as f64 - 0.5).contains(&idx).then_some(idx)
-    };
     for (lx, ly) in lines {
         let pts: Vec<(f64, f64)> = lx
             .iter()
             .zip(ly)
-            .filter_map(|(&x, &y)| Some((to_index(xs, x)?, to_index(ys, y)?)))
+            .filter_map(|(&x, &y)| Some((cell_index(xs, x)?, cell_index(ys, y)?)))
             .collect();
         chart
             .draw_series(LineSeries::new(pts, WHITE.stroke_width(3)))
             .map_err(err)?;
     }
+    draw_colour_bar(&bar, z_label, (z0, z1), log_z)
+}
 
-    // Colour bar: linear in z, or in log10 z.
+/// A data coordinate `v` as a cell-index coordinate of the grid values
+/// `vals` (linear between neighbouring values; `None` off the grid).
+fn cell_index(vals: &[f64], v: f64) -> Option<f64> {
+    if !v.is_finite() || vals.is_empty() {
+        return None;
+    }
+    if vals.len() == 1 {
+        return Some(0.0);
+    }
+    let n = vals.len();
+    let seg = |i: usize| {
+        let (a, b) = (vals[i], vals[i + 1]);
+        i as f64 + (v - a) / (b - a)
+    };
+    let i = (0..n - 1)
+        .find(|&i| (vals[i] - v) * (vals[i + 1] - v) <= 0.0)
+        .unwrap_or(if (v - vals[0]).abs() < (v - vals[n - 1]).abs() {
+            0
+        } else {
+            n - 2
+        });
+    let idx = seg(i);
+    (-0.5..=n as f64 - 0.5).contains(&idx).then_some(idx)
+}
+
+/// The colour bar of a heat map beside it in `bar`: linear in z, or in
+/// log10 z.
+fn draw_colour_bar<DB: DrawingBackend>(
+    bar: &DrawingArea<DB, Shift>,
+    z_label: &str,
+    (z0, z1): (f64, f64),
+    log_z: bool,
+) -> DrawResult {
     let (b0, b1) = if log_z {
         (z0.log10(), z1.log10())
     } else {

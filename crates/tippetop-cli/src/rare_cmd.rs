@@ -90,19 +90,15 @@ command exits with code 3.";
                   tippetop rare scenarios/thermal.toml --target 'theta>2.5' --reset 'theta<1.565' \\\n    \
                   --method ams --coordinate theta --replicas 20 --out out/rare-ams"
 )]
+#[command(
+    mut_arg("scenario", |a| a.help("Scenario file (TOML): a Langevin or Brownian run at temperature > 0")),
+    mut_arg("preset", |a| a.help("Start from a built-in scenario (\"nano\", \"nano-physical\", \"classical\")")),
+    mut_arg("sets", |a| a.help("Override one scenario value, e.g. `--set thermal.temperature=77`; repeatable, applied in order after the file")),
+)]
 pub struct RareArgs {
-    /// Scenario file (TOML): a Langevin or Brownian run at temperature > 0.
-    #[arg(value_name = "SCENARIO.toml")]
-    pub scenario: Option<PathBuf>,
-
-    /// Start from a built-in scenario ("nano", "nano-physical", "classical").
-    #[arg(long, value_name = "NAME")]
-    pub preset: Option<String>,
-
-    /// Override one scenario value, e.g. `--set thermal.temperature=77`;
-    /// repeatable, applied in order after the file.
-    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
-    pub sets: Vec<String>,
+    /// The scenario: file, preset, overrides.
+    #[command(flatten)]
+    pub source: crate::common::args::ScenarioArgs,
 
     /// The target condition (the `--first-passage` grammar), e.g.
     /// `theta<1.22,theta>1.92`.
@@ -189,9 +185,9 @@ pub struct RareArgs {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
-    /// Number of threads, 1 to 1024 (default: one per core).
-    #[arg(long, value_name = "T")]
-    pub threads: Option<usize>,
+    /// `--threads`.
+    #[command(flatten)]
+    pub cores: crate::common::args::ThreadsArg,
 }
 
 /// A positive value with 4 significant figures from its logarithm (so
@@ -673,9 +669,9 @@ pub struct AmsInputs {
 impl AmsInputs {
     fn of(args: &RareArgs, toml_text: Option<String>) -> AmsInputs {
         AmsInputs {
-            preset: args.preset.clone(),
+            preset: args.source.preset.clone(),
             toml_text,
-            sets: args.sets.clone(),
+            sets: args.source.sets.clone(),
             target: args.target.clone(),
             reset: args.reset.clone(),
             horizon: args.horizon,
@@ -762,7 +758,7 @@ fn ams_only(args: &RareArgs) -> Option<&'static str> {
 /// `Ok`), nothing written; `Err` for I/O failures.
 pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
     let started = std::time::Instant::now();
-    let toml_text = match crate::scenario_load::read_text(args.scenario.as_deref()) {
+    let toml_text = match crate::scenario_load::read_text(args.source.scenario.as_deref()) {
         Ok(t) => t,
         Err(code) => return Ok(code),
     };
@@ -770,7 +766,7 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
         Ok(m) => m,
         Err(e) => return Ok(input_error(e)),
     };
-    if let Err(e) = tippetop::analysis::sweep::threads(args.threads) {
+    if let Err(e) = tippetop::analysis::sweep::threads(args.cores.threads) {
         return Ok(input_error(e));
     }
     if method != RareMethod::Ams {
@@ -783,11 +779,14 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
     } else {
         return run_ams(args, AmsInputs::of(args, toml_text), started, quiet);
     }
-    let scenario =
-        match tippetop::Scenario::load(args.preset.as_deref(), toml_text.as_deref(), &args.sets) {
-            Ok(s) => s,
-            Err(e) => return Ok(input_error(e)),
-        };
+    let scenario = match tippetop::Scenario::load(
+        args.source.preset.as_deref(),
+        toml_text.as_deref(),
+        &args.source.sets,
+    ) {
+        Ok(s) => s,
+        Err(e) => return Ok(input_error(e)),
+    };
     let prob = match Problem::new(
         scenario,
         &args.target,
@@ -821,7 +820,7 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
             }
             let out = OutDir::open(&args.out)?;
             let pb = crate::progress::bar(quiet, replicas as u64, "rare (direct)");
-            let r = problem::by_direct(&prob, replicas, args.threads, &mut |done| {
+            let r = problem::by_direct(&prob, replicas, args.cores.threads, &mut |done| {
                 pb.set_position(done as u64);
                 true
             });
@@ -919,7 +918,7 @@ fn run_ams(
         cancel: None,
     };
     let mut replicas = Vec::with_capacity(range.len());
-    let ran = ams.run(range.clone(), args.threads, hooks, &mut |r| {
+    let ran = ams.run(range.clone(), args.cores.threads, hooks, &mut |r| {
         replicas.push(storable(r));
         true
     });
@@ -990,7 +989,7 @@ fn write_shard(
     let stage = out.stage().to_path_buf();
     write_bytes_atomic(&stage.join(REPLICAS_JSON), reps.as_bytes())?;
     write_bytes_atomic(&stage.join(INPUTS_JSON), inp.as_bytes())?;
-    crate::sweep_cmd::write_info(
+    crate::common::grid::write_info(
         &stage,
         &info,
         &[
@@ -1026,7 +1025,7 @@ struct ReplicasFile {
 /// `tippetop merge` of the shards of one splitting: rare.json, rare.md and
 /// the levels' figure of the unsharded run (the same bytes apart from
 /// wall_seconds, here the merge's time).
-pub fn merge(args: &crate::sweep_cmd::MergeArgs, quiet: bool) -> Result<ExitCode> {
+pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitCode> {
     let started = std::time::Instant::now();
     let what = "a directory written by tippetop rare --method ams --shard, with shard.json, \
                 rare_shard.json and replicas.json";

@@ -2,7 +2,7 @@
 //! scenario's regime needs (`tippetop::analysis::regime`), as a table with
 //! a verdict per line or as JSON.
 
-use std::{path::PathBuf, process::ExitCode};
+use std::process::ExitCode;
 
 use tippetop::{Scenario, analysis::regime};
 
@@ -26,15 +26,15 @@ pub const REGIME_LONG_ABOUT: &str = "The regime a scenario is in: dimensionless 
                   tippetop regime --preset nano --temperature 300\n  \
                   tippetop regime scenarios/nano.toml --temperature 4 --json\n  \
                   tippetop regime --preset classical")]
+#[command(
+    mut_arg("scenario", |a| a.help("Scenario file (TOML); or give --preset")),
+    mut_arg("preset", |a| a.help("Start from a preset: \"nano\", \"nano-physical\" (C60 on graphene at 300 K), \"nano-adhesive\" (the same, deterministic) or \"classical\"")),
+    mut_arg("sets", |a| a.help("Override a scenario key, e.g. --set initial.spin=3e7 (repeatable)")),
+)]
 pub struct RegimeArgs {
-    /// Scenario file (TOML); or give --preset.
-    pub scenario: Option<PathBuf>,
-    /// Start from a preset: "nano", "nano-physical" (C60 on graphene at 300 K), "nano-adhesive" (the same, deterministic) or "classical".
-    #[arg(long)]
-    pub preset: Option<String>,
-    /// Override a scenario key, e.g. --set initial.spin=3e7 (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
+    /// The scenario: file, preset, overrides.
+    #[command(flatten)]
+    pub source: crate::common::args::ScenarioArgs,
     /// Temperature for the thermal ratios [K], 0 to 1e5 (default: the
     /// scenario's thermal.temperature if it has one).
     #[arg(long, allow_negative_numbers = true)]
@@ -46,9 +46,9 @@ pub struct RegimeArgs {
 
 fn load(args: &RegimeArgs) -> Result<Scenario, tippetop::Error> {
     let sc = crate::scenario_load::from_args(
-        args.scenario.as_deref(),
-        args.preset.as_deref(),
-        &args.set,
+        args.source.scenario.as_deref(),
+        args.source.preset.as_deref(),
+        &args.source.sets,
     )?;
     sc.validate()?;
     Ok(sc)

@@ -6,15 +6,39 @@
 //! the `tippetop-paper` crate; this module only writes them.
 
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::Result;
+use clap::Args;
 use tippetop_paper::{self as paper, Figure, Options, Reproduction};
 
-use crate::ReproduceArgs;
 use crate::output::{OutDir, write_bytes_atomic, write_json_pretty, write_series_csv};
 use crate::plot::{Legend, PlotOpts, RefLine, Series, line_plot};
 use crate::progress;
+
+/// `tippetop reproduce`.
+#[derive(Debug, Args)]
+#[command(after_help = "Examples:\n  \
+                        tippetop reproduce --out out\n  \
+                        tippetop reproduce --extended --quiet --out out/full")]
+pub struct ReproduceArgs {
+    /// Output directory for figures, data and the report (locked while
+    /// writing; the previous command's files in it are replaced or removed).
+    #[arg(long, value_name = "DIR", default_value = "out")]
+    pub out: PathBuf,
+
+    /// Also run the extended studies beyond the paper (slower): the ε study
+    /// of the friction law over 10 s and 150 s, the classical inversion
+    /// maps, and the adhesion study (the nano scenarios with C60/graphene
+    /// van der Waals adhesion).
+    #[arg(long)]
+    pub extended: bool,
+
+    /// Shorten every window 10x: a smoke test of the pipeline (the verdicts
+    /// are then meaningless and the report says so).
+    #[arg(long)]
+    pub quick: bool,
+}
 
 /// Reproduce the paper's results into `args.out` (`args.extended` adds the
 /// ε study of the friction law, the inversion maps and the adhesion study).

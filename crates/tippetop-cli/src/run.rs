@@ -12,9 +12,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::Result;
+use clap::{ArgGroup, Args};
 use tippetop::{Error, Scenario, Trajectory};
 
-use crate::cli::RunArgs;
+use crate::common::time_unit;
 use crate::output::{
     OutDir, SummaryDoc, summary_with_status, write_bytes_atomic, write_json_pretty,
     write_trajectory_csv,
@@ -22,20 +23,133 @@ use crate::output::{
 use crate::plot::{self, Legend, Panel, PlotOpts, RefLine, Series};
 use crate::{progress, scenario_load};
 
+/// Long help of `tippetop run`: the files, every `trajectory.csv` column
+/// with its unit, the output directory's lock and manifest.
+pub const RUN_LONG_ABOUT: &str = "Run one scenario and write into --out:
+  trajectory.csv   one row per sample, the columns below
+  summary.json     scalar results, events, wall time and the scenario
+  scenario.toml    the resolved scenario, to run it again
+  theta, spin, diagnostics (.png and .svg)   plots, unless --no-plot
+
+trajectory.csv columns (SI units; angles in rad; frames in docs/physics.md):
+  t              time [s]
+  theta          nutation angle θ between the symmetry axis and the vertical [rad]
+                 (0: standing on the heavy end, centre of mass lowest; pi: inverted)
+  theta_dot      dθ/dt [rad/s]
+  Omega          precession rate Ω = dφ/dt: how fast the direction of the axis's tilt
+                 turns about the vertical (the precessing frame's rate) [rad/s]
+  omega          spin ω, the angular velocity along the symmetry axis [rad/s]
+  ux, uy         centre-of-mass velocity in the precessing frame: x horizontal towards
+                 the tilt of the axis, y = Z × x [m/s]
+  uz             centre-of-mass velocity, vertical [m/s]
+  N              normal force of the plane on the top [N] (negative: the plane would
+                 have to pull, i.e. a real top would lose contact)
+  slip           slip speed |v_P| of the contact point on the plane [m/s]
+  J              Jellett's quantity J = A Ω R sin²θ + C ω (R cos θ − a) [kg m³/s], with
+                 A, C the moments of inertia (transverse, axial), R the radius, a the
+                 offset of the centre of mass (conserved for any force at the
+                 contact point: its drift measures the integration error)
+  energy         total energy: translational + rotational kinetic + m g h, h the height
+                 of the centre of mass above the plane [J]
+  work_friction  work done by friction since t = 0 [J] (<= 0)
+  work_applied   work done by the applied force since t = 0 [J]; energy - energy(0)
+                 = work_friction + work_applied up to the integration error
+  hx, hy         applied force H = (H_x, H_y) in effect, precessing frame [N] (a
+                 retarding force: the force on the top at the contact point is -H)
+  rolling        1 while rolling (exact Coulomb friction: slip held at zero) or stuck
+                 (Coulomb-Contensou friction: slip and spin about the vertical held at
+                 zero), else 0
+  x, y           centre-of-mass position on the plane, lab frame [m]: Z up, the plane
+                 at Z = 0, the origin below the centre of mass at t = 0, X the initial
+                 heading (the axis tilts towards +X at t = 0)
+  z              centre-of-mass height above the plane [m] (R − a cos θ in contact)
+  qw, qx, qy, qz  attitude, unit quaternion body → lab (scalar first; the symmetry
+                 axis is the body's third axis, k = q e3 q*; q = (cos θ/2, 0, sin θ/2, 0)
+                 at t = 0) [1]
+  xp, yp         contact point on the plane, lab frame [m]: the sphere's lowest point,
+                 (x, y) + a (k_X, k_Y)
+
+The scenario is the preset (if given), then the scenario file over it, then each --set in
+order. Bad input exits with code 2 and touches nothing; a run that fails part-way writes what
+it computed and exits with code 3.
+
+The output directory: created if missing and checked (and locked, see below) before the
+simulation starts, so an unwritable --out fails at once with code 1. While a run writes into
+it, DIR/.tippetop.lock holds a lock: any other tippetop command writing into the same directory
+exits at once with code 1 (\"DIR is in use by another tippetop process (pid N)\"); it does
+not wait. The files are written aside and moved in together at the end, summary.json last;
+then the files of the previous command into DIR (listed in DIR/.tippetop-manifest) that this
+run did not write are removed, e.g. the plots after a --no-plot run. Files the tool did not
+write are never touched. (The lock uses flock(2), on Unix; on a file system without locks the
+command goes on with a warning.) The lock file is removed at the end, also on Ctrl-C (SIGINT),
+SIGTERM or SIGHUP, with the files written aside; one left by a killed process is taken over.
+Files in DIR are never written through a symbolic link: a link where the lock or a partial
+file goes is bad input (exit code 2), and a link where a result goes is replaced, its target
+left alone.";
+
+/// `tippetop run`.
+#[derive(Debug, Args)]
+#[command(
+    group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
+    after_help = "Examples:\n  \
+                  tippetop run --preset nano --out out/nano\n  \
+                  tippetop run --preset classical --set solver.t_end=20 --no-plot --out out/long\n  \
+                  tippetop run --preset classical --set solver.model=reduced --no-plot --out out/paper\n  \
+                  tippetop run scenarios/my-top.toml --out out/mine\n\n\
+                  Models (solver.model): \"vector\" (default) the physics of the paper's equations written\n\
+                  without Euler angles: no singularity at theta = 0 or pi, 1.3-3.6x faster; \"reduced\" the\n\
+                  paper's Euler-angle equations themselves (what reproduce runs; theta must stay in (0, pi));\n\
+                  \"rigid\" full 3D body with flight and impacts (contact = \"unilateral\")."
+)]
+#[command(
+    mut_arg("preset", |a| a.help("Start from a built-in scenario: \"nano\" (C60, the paper's Sec. 3), \"nano-physical\" (the same C60 on graphene at 300 K: van der Waals adhesion, a stem's lying well, Langevin damping and noise, 1 ns, docs/physics.md#langevin), \"nano-adhesive\" (the same without temperature: adhesion and superlubric Coulomb friction, docs/physics.md#adhesion) or \"classical\" (the 15 g toy of the paper's App. A)")),
+)]
+pub struct RunArgs {
+    /// The scenario: file, preset, overrides.
+    #[command(flatten)]
+    pub source: crate::common::args::ScenarioArgs,
+
+    /// Output directory (created if missing; locked while the run writes;
+    /// the previous run's files in it are replaced or removed; another
+    /// subcommand's output there is refused unless --force). The default
+    /// is run's own, beside `reproduce`'s `out/`.
+    #[arg(long, value_name = "DIR", default_value = "out/run")]
+    pub out: PathBuf,
+
+    /// Write plots (the default).
+    #[arg(long, overrides_with = "no_plot")]
+    pub plot: bool,
+
+    /// Do not write plots.
+    #[arg(long, overrides_with = "plot")]
+    pub no_plot: bool,
+}
+
+impl RunArgs {
+    /// Whether to write plots (`--plot` unless `--no-plot` came last).
+    pub fn plots(&self) -> bool {
+        !self.no_plot
+    }
+}
+
 /// Run `tippetop run`. Errors: a [`tippetop::Error`] that `is_input()` for
 /// bad input (nothing written), a run-time [`tippetop::Error`] if the run
 /// failed part-way (results up to the failure written), anything else for
 /// I/O and plotting failures.
 pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     // 1. Everything that can be bad input, before touching --out.
-    let toml_text = match &args.scenario {
+    let toml_text = match &args.source.scenario {
         Some(path) => Some(tippetop::limits::read_file(path)?),
         None => None,
     };
-    for s in &args.sets {
+    for s in &args.source.sets {
         check_set_syntax(s)?;
     }
-    let scenario = scenario_load::load(args.preset.as_deref(), toml_text.as_deref(), &args.sets)?;
+    let scenario = scenario_load::load(
+        args.source.preset.as_deref(),
+        toml_text.as_deref(),
+        &args.source.sets,
+    )?;
     scenario.validate()?;
     check_out_dir(&args.out)?;
 
@@ -159,21 +273,6 @@ pub fn write_data(
     let json = dir.join("summary.json");
     write_json_pretty(&json, &doc)?;
     Ok(vec![csv, json, toml])
-}
-
-/// A time axis in readable units: the factor to multiply seconds by, and the
-/// unit's name (s, ms, µs, ns).
-pub fn time_unit(t_max: f64) -> (f64, &'static str) {
-    let t = t_max.abs();
-    if t >= 1.0 || !t.is_finite() || t == 0.0 {
-        (1.0, "s")
-    } else if t >= 1e-3 {
-        (1e3, "ms")
-    } else if t >= 1e-6 {
-        (1e6, "µs")
-    } else {
-        (1e9, "ns")
-    }
 }
 
 /// The stems of the plots [`write_plots`] writes.

@@ -11,10 +11,10 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 use tippetop::analysis::bit::{Z95, wilson};
-use tippetop::analysis::search::{Evaluation, ProtocolSearch};
-use tippetop::scenario::search::SearchActuator;
+use tippetop::analysis::search::{Evaluation, ProtocolSearch, SearchResult};
+use tippetop::scenario::search::{SearchActuator, SearchSpec};
 
-use crate::bit_cmd::BitArgs;
+use crate::bit_args::BitArgs;
 use crate::output::{OutDir, fmt_f64, write_bytes_atomic};
 use crate::scenario_load::input_error;
 
@@ -42,28 +42,16 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
             "--runs: the search runs deterministic runs (T = 0): omit --runs".to_string(),
         ));
     }
-    let search = match ProtocolSearch::new(toml_text, args.preset.as_deref(), &args.sets) {
-        Ok(s) => s,
-        Err(e) => return Ok(input_error(e)),
-    };
+    let search =
+        match ProtocolSearch::new(toml_text, args.source.preset.as_deref(), &args.source.sets) {
+            Ok(s) => s,
+            Err(e) => return Ok(input_error(e)),
+        };
     let spec = search.spec.clone();
     let (kind, point, moment) = match spec.actuator {
         SearchActuator::Contact => ("contact", None, None),
         SearchActuator::Tip { point } => ("tip", Some(point), None),
         SearchActuator::Magnetic { moment } => ("magnetic", None, Some(moment)),
-    };
-    // The components written: the paper's H (precessing frame), the tip's
-    // horizontal lab-frame force, or the field in the lab X-Z plane; the
-    // quantity's symbol and unit.
-    let (comp, symbol, unit) = match spec.actuator {
-        SearchActuator::Contact => (("hx", "hy"), "H", "N"),
-        SearchActuator::Tip { .. } => (("fx", "fy"), "F", "N"),
-        SearchActuator::Magnetic { .. } => (("bx", "bz"), "B", "T"),
-    };
-    // (component 0, component 1) of magnitude m at angle a.
-    let parts = |m: f64, a: f64| match spec.actuator {
-        SearchActuator::Magnetic { .. } => (m * a.sin(), m * a.cos()),
-        _ => (m * a.cos(), m * a.sin()),
     };
     let out = OutDir::open(&args.out)?;
     let stage = out.stage().to_path_buf();
@@ -101,6 +89,76 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
     };
     let found = r.best.success_with_margin;
     let (ok, n) = r.robustness;
+    let json = report_json(&spec, (kind, point, moment), &r);
+    let mut text = serde_json::to_string_pretty(&json)?;
+    text.push('\n');
+    write_bytes_atomic(&stage.join("search.json"), text.as_bytes())?;
+    write_bytes_atomic(&stage.join("evaluations.csv"), csv.as_bytes())?;
+    let best_toml = format!(
+        "# The best {} protocol found by `tippetop bit --search` ({} evaluations, seed {}):\n\
+         # run it with `tippetop bit best.toml --out DIR`.\n{}",
+        spec.phase.name(),
+        r.evaluations,
+        spec.seed,
+        search.text(&r.best_x)
+    );
+    write_bytes_atomic(&stage.join("best.toml"), best_toml.as_bytes())?;
+    let md = markdown(&spec, &r);
+    write_bytes_atomic(&stage.join("search.md"), md.as_bytes())?;
+    out.commit(&["search.json"])?;
+    if !quiet {
+        if found {
+            println!(
+                "found: switching time {} s, energy {} J, merit {}; robustness {ok}/{n}",
+                opt(r.best.time),
+                opt(r.best.energy),
+                fmt_f64(r.best.merit)
+            );
+        } else {
+            println!(
+                "none found in {} evaluations: the closest stayed {} rad outside the target window",
+                r.evaluations,
+                fmt_f64(r.best.distance)
+            );
+        }
+        println!("wrote {}", args.out.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The components written for the actuator, the quantity's symbol and
+/// unit: the paper's H (precessing frame), the tip's horizontal lab-frame
+/// force, or the field in the lab X-Z plane.
+#[allow(clippy::type_complexity)]
+fn components(spec: &SearchSpec) -> ((&'static str, &'static str), &'static str, &'static str) {
+    match spec.actuator {
+        SearchActuator::Contact => (("hx", "hy"), "H", "N"),
+        SearchActuator::Tip { .. } => (("fx", "fy"), "F", "N"),
+        SearchActuator::Magnetic { .. } => (("bx", "bz"), "B", "T"),
+    }
+}
+
+/// (component 0, component 1) of magnitude `m` at angle `a` [rad].
+fn parts(spec: &SearchSpec, m: f64, a: f64) -> (f64, f64) {
+    match spec.actuator {
+        SearchActuator::Magnetic { .. } => (m * a.sin(), m * a.cos()),
+        _ => (m * a.cos(), m * a.sin()),
+    }
+}
+
+/// `search.json`: the spec, the best protocol, its evaluation and
+/// robustness. `actuator`: its kind, tip point and magnetic moment.
+#[allow(clippy::type_complexity)]
+fn report_json(
+    spec: &SearchSpec,
+    actuator: (&str, Option<[f64; 3]>, Option<f64>),
+    r: &SearchResult,
+) -> serde_json::Value {
+    let (kind, point, moment) = actuator;
+    let (comp, _, _) = components(spec);
+    let parts = |m: f64, a: f64| parts(spec, m, a);
+    let found = r.best.success_with_margin;
+    let (ok, n) = r.robustness;
     let ci = wilson(ok, n, Z95);
     let protocol: Vec<serde_json::Value> = r
         .best_x
@@ -112,7 +170,7 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
             })
         })
         .collect();
-    let json = serde_json::json!({
+    serde_json::json!({
         "search": {
             "phase": spec.phase.name(),
             "windows": spec.windows,
@@ -143,20 +201,16 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
             "fraction": (n > 0).then(|| ok as f64 / n as f64),
             "ci95": ci,
         },
-    });
-    let mut text = serde_json::to_string_pretty(&json)?;
-    text.push('\n');
-    write_bytes_atomic(&stage.join("search.json"), text.as_bytes())?;
-    write_bytes_atomic(&stage.join("evaluations.csv"), csv.as_bytes())?;
-    let best_toml = format!(
-        "# The best {} protocol found by `tippetop bit --search` ({} evaluations, seed {}):\n\
-         # run it with `tippetop bit best.toml --out DIR`.\n{}",
-        spec.phase.name(),
-        r.evaluations,
-        spec.seed,
-        search.text(&r.best_x)
-    );
-    write_bytes_atomic(&stage.join("best.toml"), best_toml.as_bytes())?;
+    })
+}
+
+/// `search.md`: what `search.json` says, in words.
+fn markdown(spec: &SearchSpec, r: &SearchResult) -> String {
+    let (comp, symbol, unit) = components(spec);
+    let parts = |m: f64, a: f64| parts(spec, m, a);
+    let found = r.best.success_with_margin;
+    let (ok, n) = r.robustness;
+    let ci = wilson(ok, n, Z95);
     let mut md = String::new();
     let _ = writeln!(md, "# Protocol search ({} phase)\n", spec.phase.name());
     if found {
@@ -213,24 +267,5 @@ pub fn run(args: &BitArgs, toml_text: Option<&str>, quiet: bool) -> Result<ExitC
         md,
         "\nbest.toml runs it again: `tippetop bit best.toml --out DIR`."
     );
-    write_bytes_atomic(&stage.join("search.md"), md.as_bytes())?;
-    out.commit(&["search.json"])?;
-    if !quiet {
-        if found {
-            println!(
-                "found: switching time {} s, energy {} J, merit {}; robustness {ok}/{n}",
-                opt(r.best.time),
-                opt(r.best.energy),
-                fmt_f64(r.best.merit)
-            );
-        } else {
-            println!(
-                "none found in {} evaluations: the closest stayed {} rad outside the target window",
-                r.evaluations,
-                fmt_f64(r.best.distance)
-            );
-        }
-        println!("wrote {}", args.out.display());
-    }
-    Ok(ExitCode::SUCCESS)
+    md
 }

@@ -2,7 +2,7 @@
 //! and verdicts, the frozen-spin analysis when a force is applied, and the
 //! paper's App. B (B1–B4) beside them. See `tippetop::analysis::stability`.
 
-use std::{path::PathBuf, process::ExitCode};
+use std::process::ExitCode;
 
 use tippetop::{
     Scenario,
@@ -34,15 +34,15 @@ errors go to stderr; nothing is written to disk.\n\n\
 Exit codes: 0 done; 2 bad input (scenario key, --spin, --eps or --tol out of range; one line\n\
 `error: KEY: what (valid range)`, nothing computed); 3 the analysis or the run failed part-way\n\
 (e.g. an eigenvalue iteration did not converge); 1 other errors.")]
+#[command(
+    mut_arg("scenario", |a| a.help("Scenario file (TOML); or give --preset")),
+    mut_arg("preset", |a| a.help("Start from a preset: \"nano\", \"nano-physical\" (C60 on graphene at 300 K), \"nano-adhesive\" (the same, deterministic) or \"classical\"")),
+    mut_arg("sets", |a| a.help("Override a scenario key, e.g. --set surface.friction=0 (repeatable)")),
+)]
 pub struct StabilityArgs {
-    /// Scenario file (TOML); or give --preset.
-    pub scenario: Option<PathBuf>,
-    /// Start from a preset: "nano", "nano-physical" (C60 on graphene at 300 K), "nano-adhesive" (the same, deterministic) or "classical".
-    #[arg(long)]
-    pub preset: Option<String>,
-    /// Override a scenario key, e.g. --set surface.friction=0 (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub set: Vec<String>,
+    /// The scenario: file, preset, overrides.
+    #[command(flatten)]
+    pub source: crate::common::args::ScenarioArgs,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -67,7 +67,11 @@ pub struct StabilityArgs {
 }
 
 fn load(args: &StabilityArgs) -> Result<Scenario, tippetop::Error> {
-    crate::scenario_load::from_args(args.scenario.as_deref(), args.preset.as_deref(), &args.set)
+    crate::scenario_load::from_args(
+        args.source.scenario.as_deref(),
+        args.source.preset.as_deref(),
+        &args.source.sets,
+    )
 }
 
 /// Run `tippetop stability`. Exit code 0, 2 for bad input, 3 for a failure

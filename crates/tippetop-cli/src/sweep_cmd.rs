@@ -32,10 +32,14 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 
-use crate::output::{OutDir, check_plain, read_plain, write_bytes_atomic};
-use crate::partial::{PartialWriter, checksum_text};
+use crate::common::args::MergeArgs;
+use crate::common::grid::{
+    GridInput, PARTIAL_INFO, Streamed, read_shard_of, stream_rows, write_info,
+};
+use crate::output::{OutDir, read_plain, write_bytes_atomic};
+use crate::partial::checksum_text;
 use clap::{ArgGroup, Args};
-use tippetop::analysis::sweep::{self, Axis, Shard, ShardInfo, Sweep, Table};
+use tippetop::analysis::sweep::{self, Shard, ShardInfo, Sweep, Table};
 
 /// Long help of `tippetop sweep` (set on the subcommand in `cli.rs`).
 pub const SWEEP_LONG_ABOUT: &str = "Run a grid of scenarios on all cores and write into --out:
@@ -105,20 +109,15 @@ cap the step size) make each case cheaper (docs/performance.md).";
                   --shard 3/8 --threads 4 --out shards/3 --quiet\n  \
                   tippetop merge shards/* --out result"
 )]
+#[command(
+    mut_arg("scenario", |a| a.help("Scenario file (TOML); optional with --preset")),
+    mut_arg("preset", |a| a.help("Start from a built-in scenario: \"nano\", \"nano-physical\" (C60 on graphene at 300 K), \"nano-adhesive\" (the same, deterministic) or \"classical\"")),
+    mut_arg("sets", |a| a.help("Override one scenario value for every case, e.g. `--set solver.t_end=2`; repeatable, applied in order after the file (a --vary of the same key wins)")),
+)]
 pub struct SweepArgs {
-    /// Scenario file (TOML); optional with --preset.
-    #[arg(value_name = "SCENARIO.toml")]
-    pub scenario: Option<PathBuf>,
-
-    /// Start from a built-in scenario: "nano", "nano-physical" (C60 on graphene at 300 K), "nano-adhesive" (the same, deterministic) or "classical".
-    #[arg(long, value_name = "NAME")]
-    pub preset: Option<String>,
-
-    /// Override one scenario value for every case, e.g. `--set
-    /// solver.t_end=2`; repeatable, applied in order after the file (a
-    /// --vary of the same key wins).
-    #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
-    pub sets: Vec<String>,
+    /// The scenario: file, preset, overrides.
+    #[command(flatten)]
+    pub source: crate::common::args::ScenarioArgs,
 
     /// Vary one key (as in --set) over N values from FROM to TO, both
     /// included; `:log` for geometric spacing. Repeatable: the cases form a
@@ -131,9 +130,9 @@ pub struct SweepArgs {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
-    /// Number of threads, 1 to 1024 (default: one per core).
-    #[arg(long, value_name = "T")]
-    pub threads: Option<usize>,
+    /// `--threads`.
+    #[command(flatten)]
+    pub cores: crate::common::args::ThreadsArg,
 
     /// Run only the K-th of N contiguous blocks of cases (1 <= K <= N);
     /// join the outputs with `tippetop merge`.
@@ -147,91 +146,7 @@ pub struct SweepArgs {
     pub resume: bool,
 }
 
-/// Long help of `tippetop merge` (set on the subcommand in `cli.rs`).
-pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of one sweep (tippetop sweep \
-                  --shard K/N) into --out: sweep.csv, byte for byte the file a one-shot run \
-                  of the sweep writes, and shard.json. The shards may come in any order and \
-                  from different layouts (e.g. 1/2 with 3/4 and 4/4); merge checks that \
-                  they belong to the same sweep and cover every case exactly once, that \
-                  each file matches the checksum its shard.json records (an edited or \
-                  damaged shard is refused) and that each row is a row of its case. On any \
-                  mismatch or gap it exits with code 2 and writes nothing; so does an --out \
-                  that is one of the shard directories. Plots as for a \
-                  whole sweep (see tippetop sweep --help). --out is locked and updated as a \
-                  unit as for tippetop sweep (another command writing into it exits with \
-                  code 1). A shard directory that a sweep is still writing into (its lock \
-                  is held) is not read: merge exits with code 1 (\"DIR is in use by \
-                  another tippetop process (pid N); wait until it ends\"). The shards of an \
-                  ensemble (tippetop ensemble --shard K/N; told apart by their shard.json) \
-                  merge the same way: ensemble.csv rows joined in run order, histograms.csv \
-                  counts added, quantiles.csv, summary.json and the fan chart recomputed: \
-                  the bytes of a one-shot run. So do the shards of a bit design map \
-                  (tippetop bit --vary ... --shard K/N: bitmap.csv joined, plots redrawn) and \
-                  of a bit ensemble (tippetop bit --runs N --shard K/M: runs.csv joined, \
-                  bit.json, bit.md and the figure recomputed), and of a splitting (tippetop \
-                  rare --method ams --shard K/M: the replicas joined, rare.json, rare.md and \
-                  levels.png of the unsharded run, the same bytes apart from wall_seconds).";
-
-/// `tippetop merge`.
-#[derive(Debug, Args)]
-#[command(after_help = "Examples:\n  \
-                  tippetop merge shards/1 shards/2 shards/3 shards/4 --out result\n  \
-                  tippetop merge shards/* --out result")]
-pub struct MergeArgs {
-    /// Shard output directories (each with sweep.csv and shard.json).
-    #[arg(value_name = "DIR", required = true)]
-    pub dirs: Vec<PathBuf>,
-
-    /// Output directory (created if missing; locked while merge writes; the
-    /// previous command's files in it are replaced or removed).
-    #[arg(long, value_name = "DIR")]
-    pub out: PathBuf,
-}
-
 use crate::scenario_load::input_error;
-
-/// What the grid commands (`sweep`, `bit --vary`) read from their
-/// arguments before anything else.
-pub struct GridInput {
-    /// The scenario file's text, if any.
-    pub toml_text: Option<String>,
-    /// The `--vary` axes.
-    pub axes: Vec<Axis>,
-    /// `--shard` ([`Shard::ALL`] without it).
-    pub shard: Shard,
-    /// `--threads` (resolved, see [`sweep::threads`]).
-    pub threads: usize,
-}
-
-impl GridInput {
-    /// Read the scenario file and parse `--vary`, `--shard`, `--threads`.
-    /// Bad input: one line on stderr, `Err(exit code 2)`.
-    pub fn parse(
-        scenario: Option<&Path>,
-        vary: &[String],
-        shard: Option<&str>,
-        threads: Option<usize>,
-    ) -> std::result::Result<GridInput, ExitCode> {
-        let toml_text = crate::scenario_load::read_text(scenario)?;
-        let axes = vary
-            .iter()
-            .map(|s| Axis::parse(s))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(input_error)?;
-        let shard = shard
-            .map(Shard::parse)
-            .transpose()
-            .map_err(input_error)?
-            .unwrap_or(Shard::ALL);
-        let threads = sweep::threads(threads).map_err(input_error)?;
-        Ok(GridInput {
-            toml_text,
-            axes,
-            shard,
-            threads,
-        })
-    }
-}
 
 /// Run `tippetop sweep`. Bad input: one line on stderr and exit code 2
 /// (returned as `Ok`); `Err` for I/O failures.
@@ -242,18 +157,18 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
         shard,
         threads,
     } = match GridInput::parse(
-        args.scenario.as_deref(),
+        args.source.scenario.as_deref(),
         &args.vary,
         args.shard.as_deref(),
-        args.threads,
+        args.cores.threads,
     ) {
         Ok(g) => g,
         Err(code) => return Ok(code),
     };
     let sw = Sweep {
-        preset: args.preset.clone(),
+        preset: args.source.preset.clone(),
         toml_text,
-        sets: args.sets.clone(),
+        sets: args.source.sets.clone(),
         axes,
     };
     if let Err(e) = sw.validate() {
@@ -346,242 +261,21 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// How [`stream_rows`] writes a grid's rows: the partial files' names in
-/// the output directory, the CSV's header line (with its `\n`), and words
-/// for the messages (`"sweep"`, `"case"`).
-pub struct Streamed<'a> {
-    /// The CSV being written, e.g. `sweep.csv.partial`.
-    pub partial_csv: &'a str,
-    /// The shard.json of the run being written, e.g. `shard.json.partial`.
-    pub partial_info: &'a str,
-    /// The CSV's header line.
-    pub header: String,
-    /// What runs, for messages: `"sweep"`, `"map"`.
-    pub what: &'a str,
-    /// What a row is, for messages: `"case"`, `"point"`.
-    pub unit: &'a str,
-    /// `--resume`: keep the rows of an interrupted run of the same grid.
-    pub resume: bool,
-    /// `--quiet`: no progress bar, no notes.
-    pub quiet: bool,
-}
-
-/// What [`stream_rows`] ends with.
-#[derive(Debug, Clone, Copy)]
-pub struct StreamDone {
-    /// Rows whose status is not `ok` (kept ones included).
-    pub failed: usize,
-    /// FNV-1a 64 of the whole partial CSV (the final CSV's bytes), for the
-    /// checksum in `shard.json` ([`crate::partial::checksum_text`]).
-    pub hash: u64,
-}
-
-/// Stream the rows of the grid points `info.first_index..info.end_index`
-/// into `spec.partial_csv` (beside `spec.partial_info` = `info_json`, which
-/// identifies the run, and the checkpoints, [`crate::partial`]) in grid
-/// order, with `--resume` (`spec.resume`): keep the verified rows of an
-/// interrupted run of the same grid ([`crate::partial::verify`];
-/// `prefix(text)` checks rows as this grid writes them) and run the rest.
-/// Bad input: the partial files are links or other non-regular files,
-/// another run's partial files, or an edited or damaged partial CSV (one
-/// line, exit code 2, returned as `Ok(Err(code))`, the files left as they
-/// are). `run(todo, sink)` runs the points `todo` in order and hands each
-/// row's CSV line and whether it failed to `sink` (which returns `false`
-/// to stop). The caller adopts the partial CSV.
-#[allow(clippy::type_complexity)]
-pub fn stream_rows(
-    out: &mut OutDir,
-    spec: &Streamed,
-    info: &ShardInfo,
-    info_json: &str,
-    prefix: &dyn Fn(&str) -> sweep::Prefix,
-    run: &mut dyn FnMut(
-        std::ops::Range<usize>,
-        &mut dyn FnMut(String, bool) -> bool,
-    ) -> std::result::Result<bool, tippetop::Error>,
-) -> Result<std::result::Result<StreamDone, ExitCode>> {
-    let dir = out.dir().to_path_buf();
-    let (csv_partial, info_partial) = (dir.join(spec.partial_csv), dir.join(spec.partial_info));
-    let sum = crate::partial::sum_name(spec.partial_csv);
-    let range = info.first_index..info.end_index;
-    let (what, unit, quiet) = (spec.what, spec.unit, spec.quiet);
-
-    // Never through a link (planted, it would make the command overwrite
-    // its target).
-    for name in [spec.partial_csv, spec.partial_info, sum.as_str()] {
-        if let Err(e) = check_plain(&dir.join(name)) {
-            return Ok(Err(input_error(e)));
-        }
-    }
-
-    // What an interrupted run of this grid left, with --resume.
-    let mut kept = crate::partial::Kept::default();
-    if spec.resume {
-        if !info_partial.exists() {
-            if !quiet {
-                eprintln!(
-                    "note: no partial {what} to resume in {}: starting from the first {unit}",
-                    dir.display()
-                );
-            }
-        } else {
-            let old = String::from_utf8_lossy(&read_plain(&info_partial)?).into_owned();
-            // The same run: the same description (checksums aside, which
-            // only a finished run records).
-            let same = old == info_json
-                || serde_json::from_str::<ShardInfo>(&old).is_ok_and(|mut o| {
-                    o.checksums.clear();
-                    o == *info
-                });
-            if !same {
-                let other = match serde_json::from_str::<ShardInfo>(&old) {
-                    Ok(o) => format!(
-                        "fingerprint {}, {unit}s {}..{} of {}",
-                        o.fingerprint, o.first_index, o.end_index, o.total_cases
-                    ),
-                    Err(_) => "unreadable".to_string(),
-                };
-                return Ok(Err(input_error(format!(
-                    "--resume: the partial {what} in {} is another {what} ({other}), not this one \
-                     (fingerprint {}, {unit}s {}..{} of {}) (the same scenario, --set, --vary and \
-                     --shard as the interrupted run; without --resume a new {what} starts over)",
-                    dir.display(),
-                    info.fingerprint,
-                    info.first_index,
-                    info.end_index,
-                    info.total_cases
-                ))));
-            }
-            let names = crate::partial::Names {
-                dir: &dir,
-                partial: spec.partial_csv,
-                what,
-                unit,
-            };
-            kept = match crate::partial::verify(&names, prefix, quiet)? {
-                Ok(k) => k,
-                Err(msg) => return Ok(Err(input_error(msg))),
-            };
-            if kept.rows > range.len() {
-                return Ok(Err(input_error(format!(
-                    "--resume: {}: {} rows, more than the {} {unit}s of this {what} (a partial \
-                     file as tippetop wrote it; without --resume the {what} starts over)",
-                    csv_partial.display(),
-                    kept.rows,
-                    range.len()
-                ))));
-            }
-        }
-    }
-
-    // Stream the rows into the partial CSV in grid order (claimed in the
-    // manifest first, so that a later command into this directory removes
-    // it), beside the partial shard.json, which identifies the run.
-    out.claim(&[spec.partial_csv, spec.partial_info, sum.as_str()])?;
-    write_bytes_atomic(&info_partial, info_json.as_bytes())?;
-    let mut w = PartialWriter::open(&dir, spec.partial_csv, &spec.header, &kept)?;
-    let todo = range.start + kept.rows..range.end;
-    if !quiet && kept.rows > 0 {
-        eprintln!(
-            "resuming: {} of {} {unit}s kept from {} (verified against its checkpoints)",
-            kept.rows,
-            range.len(),
-            csv_partial.display()
-        );
-    }
-    let pb = crate::progress::bar(quiet, range.len() as u64, what);
-    pb.inc(kept.rows as u64);
-    let mut failed = kept.failed;
-    let mut write_error: Option<anyhow::Error> = None;
-    let done = run(todo, &mut |line, bad| {
-        if bad {
-            failed += 1;
-        }
-        w.push(&line);
-        // About once a second (or each MiB): what is on disk and
-        // checkpointed is what --resume keeps.
-        let result = if w.due() { w.checkpoint(None) } else { Ok(()) };
-        pb.inc(1);
-        match result {
-            Ok(()) => true,
-            Err(e) => {
-                write_error = Some(e);
-                false
-            }
-        }
-    });
-    pb.finish_and_clear();
-    if let Err(e) = done {
-        // A thread pool that cannot start (the count is bounded, so this is
-        // the system's limit): an I/O-like failure, exit code 1.
-        anyhow::bail!("{e}");
-    }
-    if let Some(e) = write_error {
-        return Err(e);
-    }
-    let hash = w.finish()?;
-    Ok(Ok(StreamDone { failed, hash }))
-}
-
 /// The file a sweep streams its rows into, in grid order, while it runs;
 /// renamed to `sweep.csv` when the last case is done.
 pub const PARTIAL_CSV: &str = "sweep.csv.partial";
-
-/// What `sweep.csv.partial` holds (the `shard.json` of the running sweep),
-/// so that `--resume` continues only the same sweep; at the end
-/// `shard.json` is written with the checksum of `sweep.csv`.
-pub const PARTIAL_INFO: &str = "shard.json.partial";
 
 /// Largest sweep that gets plots: the plots are drawn from the whole table,
 /// read back from `sweep.csv` (about 300 bytes a case in memory); larger
 /// sweeps get a note instead, and the data stay complete in `sweep.csv`.
 pub const MAX_PLOT_CASES: usize = 100_000;
 
-/// Run `tippetop merge`. Bad input (a missing or foreign shard, a gap, an
-/// overlap): one line on stderr and exit code 2 (returned as `Ok`),
-/// nothing written; `Err` for I/O failures while writing.
+/// Merge the shards of a sweep (`tippetop merge`, after
+/// [`crate::merge_cmd::run`] has checked --out and told the shards'
+/// kind). Bad input (a missing or foreign shard, a gap, an overlap): one
+/// line on stderr and exit code 2 (returned as `Ok`), nothing written;
+/// `Err` for I/O failures while writing.
 pub fn merge(args: &MergeArgs, quiet: bool) -> Result<ExitCode> {
-    if let Err(e) = crate::output::check_out_dir(&args.out) {
-        return Ok(input_error(e));
-    }
-    // --out must not be one of the inputs: the merge would replace the
-    // shard it reads.
-    if let Some(d) = args.dirs.iter().find(|d| same_dir(d, &args.out)) {
-        return Ok(input_error(format!(
-            "--out: {} is {}, one of the shard directories merge reads (a directory that is \
-             not one of them)",
-            args.out.display(),
-            d.display()
-        )));
-    }
-    if args
-        .dirs
-        .first()
-        .is_some_and(|d| crate::ensemble_cmd::is_ensemble_dir(d))
-    {
-        return crate::ensemble_cmd::merge(args, quiet);
-    }
-    if args
-        .dirs
-        .first()
-        .is_some_and(|d| crate::bitmap_cmd::is_bitmap_dir(d))
-    {
-        return crate::bitmap_cmd::merge(args, quiet);
-    }
-    if args
-        .dirs
-        .first()
-        .is_some_and(|d| crate::rare_cmd::is_rare_shard_dir(d))
-    {
-        return crate::rare_cmd::merge(args, quiet);
-    }
-    if args
-        .dirs
-        .first()
-        .is_some_and(|d| crate::bit_cmd::is_bit_shard_dir(d))
-    {
-        return crate::bit_cmd::merge(args, quiet);
-    }
     let mut shards: Vec<(ShardInfo, String)> = Vec::new();
     for dir in &args.dirs {
         // Not while a sweep writes into it (e.g. a task still running):
@@ -645,52 +339,6 @@ fn read_shard(dir: &Path) -> std::result::Result<(ShardInfo, String), String> {
         "sweep.csv",
         "a directory written by tippetop sweep, with shard.json and sweep.csv",
     )
-}
-
-/// A grid shard directory's `shard.json` and its CSV `csv`, checked
-/// against the checksum `shard.json` records for it (`what`: such a
-/// directory, in words, for the messages).
-pub fn read_shard_of(
-    dir: &Path,
-    csv: &str,
-    what: &str,
-) -> std::result::Result<(ShardInfo, String), String> {
-    let read = |name: &str| {
-        let path = dir.join(name);
-        std::fs::read_to_string(&path)
-            .map_err(|e| format!("{}: cannot read it: {e} ({what})", path.display()))
-    };
-    let json = crate::scenario_load::read_small(&dir.join("shard.json"), what)?;
-    let info: ShardInfo = serde_json::from_str(&json).map_err(|e| {
-        format!(
-            "{}: not a shard description: {e} ({what})",
-            dir.join("shard.json").display()
-        )
-    })?;
-    let text = read(csv)?;
-    crate::partial::check_checksum(&info.checksums, dir, csv, text.as_bytes())?;
-    Ok((info, text))
-}
-
-/// Write `shard.json` into `dir` (atomically): `info` with `checksums`
-/// (file name, [`crate::partial::checksum_text`] of its bytes).
-pub fn write_info(dir: &Path, info: &ShardInfo, checksums: &[(&str, String)]) -> Result<()> {
-    let mut info = info.clone();
-    info.checksums = checksums
-        .iter()
-        .map(|(n, c)| (n.to_string(), c.clone()))
-        .collect();
-    let mut json = serde_json::to_string_pretty(&info)?;
-    json.push('\n');
-    write_bytes_atomic(&dir.join("shard.json"), json.as_bytes())
-}
-
-/// Whether `a` and `b` name the same existing directory.
-pub fn same_dir(a: &Path, b: &Path) -> bool {
-    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
-    }
 }
 
 /// Plots of a complete sweep into `dir`: for one axis, curves of the

@@ -740,28 +740,43 @@ fn per_setting(study: &Study, ci: usize, f: &dyn Fn(&Measures) -> String) -> Str
 }
 
 fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
-    let mut out = Vec::new();
-    let lying = |m: &Measures| {
-        format!(
-            "θ_max {:.3}, first θ > π/2 {}, θ 2nd half {:.3} ± {:.3}",
-            m.theta_max,
-            fmt_t(m.first_above_half_pi),
-            m.lying_second_half.0,
-            m.lying_second_half.1
-        )
-    };
-    let max_effect = |ci: usize| {
-        st.case_rows(ci)
-            .filter_map(|r| r.m.force_effect)
-            .fold(0.0, f64::max)
-    };
-    // 1. Lying down.
+    vec![
+        claim_lies_down(st),
+        claim_spin_reversal(st),
+        claim_retraction(st, runs),
+        claim_pulse_8us(st, runs),
+        claim_pulse_1us(st),
+        claim_on_surface(st),
+    ]
+}
+
+/// θ in words: its maximum, its first passage above π/2 and its mean ±
+/// half-range over the second half.
+fn lying_words(m: &Measures) -> String {
+    format!(
+        "θ_max {:.3}, first θ > π/2 {}, θ 2nd half {:.3} ± {:.3}",
+        m.theta_max,
+        fmt_t(m.first_above_half_pi),
+        m.lying_second_half.0,
+        m.lying_second_half.1
+    )
+}
+
+/// The largest change of θ the force makes in the runs of case `ci` [rad].
+fn max_effect(st: &Study, ci: usize) -> f64 {
+    st.case_rows(ci)
+        .filter_map(|r| r.m.force_effect)
+        .fold(0.0, f64::max)
+}
+
+/// Claim 1. Lying down.
+fn claim_lies_down(st: &Study) -> ClaimUnderAdhesion {
     let v = verdict_of(st, 0, &Measures::lies_down);
-    out.push(ClaimUnderAdhesion {
+    ClaimUnderAdhesion {
         claim: "The nano top lies down (θ → π/2) within ~50 µs (constant force)".into(),
         criterion: "over the second half the mean θ is within 0.25 rad of π/2 (it oscillates about lying; the partly level of claim nano_lies_down_50us)".into(),
-        without: with_word(lying(&st.baseline[0]), st.baseline[0].lies_down()),
-        with: per_setting(st, 0, &lying),
+        without: with_word(lying_words(&st.baseline[0]), st.baseline[0].lies_down()),
+        with: per_setting(st, 0, &lying_words),
         holds_without: st.baseline[0].lies_down(),
         verdict: v,
         plain: format!(
@@ -770,10 +785,13 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
             st.case_rows(0).map(|r| r.m.theta_max).fold(0.0, f64::max),
             st.rows[0].run.scenario.initial.theta,
             100.0 * st.case_rows(0).map(|r| r.m.rolling_fraction).fold(1.0, f64::min),
-            max_effect(0)
+            max_effect(st, 0)
         ),
-    });
-    // 2. Spin reversal.
+    }
+}
+
+/// Claim 2. Spin reversal.
+fn claim_spin_reversal(st: &Study) -> ClaimUnderAdhesion {
     let rev = |m: &Measures| m.spin_reversed_at.is_some();
     let v = verdict_of(st, 0, &rev);
     let spin = |m: &Measures| {
@@ -783,7 +801,7 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
             m.omega_final
         )
     };
-    out.push(ClaimUnderAdhesion {
+    ClaimUnderAdhesion {
         claim: "The spin ω reverses and grows to ~3e7 rad/s (constant force)".into(),
         criterion: "ω < 0 at some sample".into(),
         without: with_word(spin(&st.baseline[0]), rev(&st.baseline[0])),
@@ -804,8 +822,11 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
                 .map(|r| r.m.omega_final)
                 .fold(f64::NEG_INFINITY, f64::max)
         ),
-    });
-    // 3. Retraction.
+    }
+}
+
+/// Claim 3. Retraction: the reversed force stands the top up.
+fn claim_retraction(st: &Study, runs: &Runs) -> ClaimUnderAdhesion {
     let t_rev = runs.get(REVERSAL_BILATERAL).scenario.forcing.windows[0].stop;
     let retract = |tr: &Trajectory| {
         let before = runs::lying(tr, 0.5 * t_rev, t_rev).0;
@@ -823,7 +844,7 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
         .count();
     let v = Verdict::from_levels(k == rows1.len(), k > 0);
     let base_tr = runs.tr(REVERSAL_BILATERAL);
-    out.push(ClaimUnderAdhesion {
+    ClaimUnderAdhesion {
         claim: "While lying, the reversed force stands the top up again (force reversed)".into(),
         criterion: format!(
             "it lay down before the reversal at {:.0} µs (mean θ over [{:.0}, {:.0}] µs within 0.25 rad of π/2) and θ comes back below 0.5 rad after it (the partly level of claim reversal_stands_up)",
@@ -834,17 +855,26 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
         without: with_word(fmt_r(retract(base_tr)), stands(retract(base_tr))),
         with: rows1
             .iter()
-            .map(|r| format!("{}: {}", settings()[r.setting].label, fmt_r(retract(&r.run.trajectory))))
+            .map(|r| {
+                format!(
+                    "{}: {}",
+                    settings()[r.setting].label,
+                    fmt_r(retract(&r.run.trajectory))
+                )
+            })
             .collect::<Vec<_>>()
             .join("; "),
         holds_without: stands(retract(base_tr)),
         verdict: v,
         plain: format!(
             "With adhesion there is nothing to stand up from: the top never lies down, and θ(t) with the force forward then reversed differs from θ(t) with no force by at most {:.1e} rad.",
-            max_effect(1)
+            max_effect(st, 1)
         ),
-    });
-    // 4. App. D, 8 µs pulse.
+    }
+}
+
+/// Claim 4. App. D, 8 µs pulse.
+fn claim_pulse_8us(st: &Study, runs: &Runs) -> ClaimUnderAdhesion {
     let q = st.rows[0].run.scenario.solver.t_end / 1e-4;
     let theta_21 = |tr: &Trajectory| runs::window(tr, 8e-6 * q, 2e-5 * q, |s| s.theta).1;
     let rows2: Vec<&Row> = st.case_rows(2).collect();
@@ -855,7 +885,7 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
         .iter()
         .filter(|r| ok8(&r.run.trajectory, &r.m))
         .count();
-    out.push(ClaimUnderAdhesion {
+    ClaimUnderAdhesion {
         claim: "App. D: an 8 µs pulse lays the top down (θ peaks at ~2.1 after the switch-off, then oscillates about π/2)".into(),
         criterion: "max θ on [8, 20] µs above π/2 and the mean θ over the second half within 0.3 rad of π/2 (the partly level of claim step_8us_theta_2_1)".into(),
         without: with_word(
@@ -876,26 +906,32 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
         plain: format!(
             "With adhesion the pulse does nothing visible: θ stays below {:.3} rad and differs from the no-force run by at most {:.1e} rad.",
             rows2.iter().map(|r| r.m.theta_max).fold(0.0, f64::max),
-            max_effect(2)
+            max_effect(st, 2)
         ),
-    });
-    // 5. App. D, 1 µs pulse.
+    }
+}
+
+/// Claim 5. App. D, 1 µs pulse.
+fn claim_pulse_1us(st: &Study) -> ClaimUnderAdhesion {
     let not_lying = |m: &Measures| !m.lies_stably();
     let v = verdict_of(st, 3, &not_lying);
-    out.push(ClaimUnderAdhesion {
+    ClaimUnderAdhesion {
         claim: "App. D: a 1 µs pulse does not make the top lie down stably".into(),
         criterion: "not lying: mean θ over the second half not within 0.1 rad of π/2 with half-range ≤ 0.15 rad (as claim step_1us_no_stable_lying)".into(),
-        without: with_word(lying(&st.baseline[3]), not_lying(&st.baseline[3])),
-        with: per_setting(st, 3, &lying),
+        without: with_word(lying_words(&st.baseline[3]), not_lying(&st.baseline[3])),
+        with: per_setting(st, 3, &lying_words),
         holds_without: not_lying(&st.baseline[3]),
         verdict: v,
         plain: format!(
             "Holds trivially with adhesion: the top does not lie down after any force; θ_max {:.3} rad, the pulse changes θ by at most {:.1e} rad.",
             st.case_rows(3).map(|r| r.m.theta_max).fold(0.0, f64::max),
-            max_effect(3)
+            max_effect(st, 3)
         ),
-    });
-    // 6. Staying on the surface.
+    }
+}
+
+/// Claim 6. Staying on the surface.
+fn claim_on_surface(st: &Study) -> ClaimUnderAdhesion {
     let on = |m: &Measures| m.contact_lost_at.is_none() && m.n_min > 0.0;
     let all_on = st.rows.iter().filter(|r| on(&r.m)).count();
     let base_on = st.baseline.iter().filter(|m| on(m)).count();
@@ -904,7 +940,7 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
         .iter()
         .filter_map(|m| m.contact_lost_at)
         .fold(f64::INFINITY, f64::min);
-    out.push(ClaimUnderAdhesion {
+    ClaimUnderAdhesion {
         claim: "Implicit: the top stays on the surface (all four scenarios)".into(),
         criterion: "N (N_c with adhesion) > 0 in every sample and no lift-off (unilateral runs: the rigid body would fly)".into(),
         without: with_word(
@@ -932,6 +968,5 @@ fn claims(st: &Study, runs: &Runs) -> Vec<ClaimUnderAdhesion> {
         } else {
             format!("With adhesion {} of {} runs still lose contact.", st.rows.len() - all_on, st.rows.len())
         },
-    });
-    out
+    }
 }

@@ -74,37 +74,10 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
     let rr = movie.radius;
     let pose = Pose::new(f.com, f.q, movie.offset);
     let cam = Camera::standard(w, h, rr, pose.centre);
-    let light = cam.light();
     let sweep = (f.spin * movie.frame_dt).abs();
+    let rpx = rr * cam.scale;
 
-    // 1. Floor: a stage around the top with a grid of spacing R, the shadow.
-    let sin_el = cam.d[2];
-    let px_m = 1.0 / cam.scale; // metres per pixel on the screen plane
-    for py in 0..h {
-        for px in 0..w {
-            let q = cam.unproject(px as f64 + 0.5, py as f64 + 0.5);
-            // Along -d down to Z = 0.
-            let s = q[2] / sin_el;
-            let fp = axpy(q, -s, cam.d);
-            let dx = fp[0] - pose.centre[0];
-            let dy = fp[1] - pose.centre[1];
-            let rho = (dx * dx + dy * dy).sqrt() / rr;
-            let stage = (1.0 - (rho - 4.5) / 1.5).clamp(0.0, 1.0);
-            let mut c: V3 =
-                std::array::from_fn(|k| BACKGROUND[k] + stage * (STAGE[k] - BACKGROUND[k]));
-            let line = |v: f64| {
-                let g = v / rr;
-                let dist = (g - g.round()).abs() * rr;
-                (1.0 - dist / (0.8 * px_m / sin_el.max(0.3))).clamp(0.0, 1.0)
-            };
-            let gl = line(fp[0]).max(line(fp[1])) * stage;
-            c = std::array::from_fn(|k| c[k] + gl * (GRID[k] - c[k]));
-            let shadow = 0.35 * (1.0 - (rho - 0.55) / 0.45).clamp(0.0, 1.0);
-            c = c.map(|v| v * (1.0 - shadow));
-            let o = 3 * (py * w + px) as usize;
-            buf[o..o + 3].copy_from_slice(&to_u8(c));
-        }
-    }
+    draw_floor(buf, (w, h), &cam, &pose, rr);
 
     // 2. The contact trace so far (clipped to the image).
     let screen = |p: V3| {
@@ -128,80 +101,9 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
             .map_err(|e| anyhow!("drawing the trace: {e}"))?;
     }
 
-    // 3. The sphere, pixel by pixel, with an anti-aliased edge.
-    let (scx, scy, _) = cam.project(pose.centre);
-    let rpx = rr * cam.scale;
-    let x0 = (scx - rpx - 2.0).floor().max(0.0) as u32;
-    let x1 = ((scx + rpx + 2.0).ceil().max(0.0) as u32).min(w);
-    let y0 = (scy - rpx - 2.0).floor().max(0.0) as u32;
-    let y1 = ((scy + rpx + 2.0).ceil().max(0.0) as u32).min(h);
-    for py in y0..y1 {
-        for px in x0..x1 {
-            let ex = (px as f64 + 0.5 - scx) / rpx;
-            let ey = -(py as f64 + 0.5 - scy) / rpx;
-            let r2 = ex * ex + ey * ey;
-            let alpha = (rpx * (1.0 - r2.sqrt()) + 0.5).clamp(0.0, 1.0);
-            if alpha <= 0.0 {
-                continue;
-            }
-            let (ex, ey) = if r2 > 1.0 {
-                let r = r2.sqrt();
-                (ex / r, ey / r)
-            } else {
-                (ex, ey)
-            };
-            let ez = (1.0 - ex * ex - ey * ey).max(0.0).sqrt();
-            let n: V3 = std::array::from_fn(|k| ex * cam.r[k] + ey * cam.u[k] + ez * cam.d[k]);
-            let b = pose.to_body(n);
-            let c = surface_colour(n, b, light, cam.d, sweep);
-            let o = 3 * (py * w + px) as usize;
-            for k in 0..3 {
-                let old = buf[o + k] as f64 / 255.0;
-                buf[o + k] = ((old + alpha * (c[k] - old)).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
-            }
-        }
-    }
-
-    // 3b. The stem's ball (§stem), pixel by pixel where it is in front of the
-    // sphere (its surface points outside the sphere's silhouette or nearer
-    // the camera than the sphere's front), shaded as the sphere.
-    if let Some((r2, d2)) = movie.stem {
-        let sc = axpy(pose.com, d2, pose.k);
-        let (bx, by, _) = cam.project(sc);
-        let bpx = r2 * cam.scale;
-        let xa = (bx - bpx - 2.0).floor().max(0.0) as u32;
-        let xb = ((bx + bpx + 2.0).ceil().max(0.0) as u32).min(w);
-        let ya = (by - bpx - 2.0).floor().max(0.0) as u32;
-        let yb = ((by + bpx + 2.0).ceil().max(0.0) as u32).min(h);
-        for py in ya..yb {
-            for px in xa..xb {
-                let ex = (px as f64 + 0.5 - bx) / bpx;
-                let ey = -(py as f64 + 0.5 - by) / bpx;
-                let e2 = ex * ex + ey * ey;
-                let alpha = (bpx * (1.0 - e2.sqrt()) + 0.5).clamp(0.0, 1.0);
-                if alpha <= 0.0 {
-                    continue;
-                }
-                let (ex, ey) = if e2 > 1.0 {
-                    let r = e2.sqrt();
-                    (ex / r, ey / r)
-                } else {
-                    (ex, ey)
-                };
-                let ez = (1.0 - ex * ex - ey * ey).max(0.0).sqrt();
-                let n: V3 = std::array::from_fn(|k| ex * cam.r[k] + ey * cam.u[k] + ez * cam.d[k]);
-                if cam.hidden_by_sphere(axpy(sc, r2, n), pose.centre, rr) {
-                    continue;
-                }
-                let lam = dot(n, light).max(0.0);
-                let c: V3 = std::array::from_fn(|k| STEM[k] * (0.3 + 0.7 * lam));
-                let o = 3 * (py * w + px) as usize;
-                for k in 0..3 {
-                    let old = buf[o + k] as f64 / 255.0;
-                    buf[o + k] = ((old + alpha * (c[k] - old)).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
-                }
-            }
-        }
+    draw_sphere(buf, (w, h), &cam, &pose, rr, sweep);
+    if let Some(stem) = movie.stem {
+        draw_stem_ball(buf, (w, h), &cam, &pose, rr, stem);
     }
 
     // 4. Axis (visible parts), centre of mass, text, map.
@@ -376,7 +278,143 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
     ))
     .map_err(err)?;
 
-    // The map of the whole trace when it is longer than the view.
+    draw_map(&root, movie, i, size)?;
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+/// The floor: a stage around the top with a grid of spacing R, the
+/// shadow (RGB pixels of a `w` x `h` image in `buf`).
+fn draw_floor(buf: &mut [u8], (w, h): (u32, u32), cam: &Camera, pose: &Pose, rr: f64) {
+    let sin_el = cam.d[2];
+    let px_m = 1.0 / cam.scale; // metres per pixel on the screen plane
+    for py in 0..h {
+        for px in 0..w {
+            let q = cam.unproject(px as f64 + 0.5, py as f64 + 0.5);
+            // Along -d down to Z = 0.
+            let s = q[2] / sin_el;
+            let fp = axpy(q, -s, cam.d);
+            let dx = fp[0] - pose.centre[0];
+            let dy = fp[1] - pose.centre[1];
+            let rho = (dx * dx + dy * dy).sqrt() / rr;
+            let stage = (1.0 - (rho - 4.5) / 1.5).clamp(0.0, 1.0);
+            let mut c: V3 =
+                std::array::from_fn(|k| BACKGROUND[k] + stage * (STAGE[k] - BACKGROUND[k]));
+            let line = |v: f64| {
+                let g = v / rr;
+                let dist = (g - g.round()).abs() * rr;
+                (1.0 - dist / (0.8 * px_m / sin_el.max(0.3))).clamp(0.0, 1.0)
+            };
+            let gl = line(fp[0]).max(line(fp[1])) * stage;
+            c = std::array::from_fn(|k| c[k] + gl * (GRID[k] - c[k]));
+            let shadow = 0.35 * (1.0 - (rho - 0.55) / 0.45).clamp(0.0, 1.0);
+            c = c.map(|v| v * (1.0 - shadow));
+            let o = 3 * (py * w + px) as usize;
+            buf[o..o + 3].copy_from_slice(&to_u8(c));
+        }
+    }
+}
+
+/// The sphere, pixel by pixel, with an anti-aliased edge.
+fn draw_sphere(buf: &mut [u8], (w, h): (u32, u32), cam: &Camera, pose: &Pose, rr: f64, sweep: f64) {
+    let light = cam.light();
+    let (scx, scy, _) = cam.project(pose.centre);
+    let rpx = rr * cam.scale;
+    let x0 = (scx - rpx - 2.0).floor().max(0.0) as u32;
+    let x1 = ((scx + rpx + 2.0).ceil().max(0.0) as u32).min(w);
+    let y0 = (scy - rpx - 2.0).floor().max(0.0) as u32;
+    let y1 = ((scy + rpx + 2.0).ceil().max(0.0) as u32).min(h);
+    for py in y0..y1 {
+        for px in x0..x1 {
+            let ex = (px as f64 + 0.5 - scx) / rpx;
+            let ey = -(py as f64 + 0.5 - scy) / rpx;
+            let r2 = ex * ex + ey * ey;
+            let alpha = (rpx * (1.0 - r2.sqrt()) + 0.5).clamp(0.0, 1.0);
+            if alpha <= 0.0 {
+                continue;
+            }
+            let (ex, ey) = if r2 > 1.0 {
+                let r = r2.sqrt();
+                (ex / r, ey / r)
+            } else {
+                (ex, ey)
+            };
+            let ez = (1.0 - ex * ex - ey * ey).max(0.0).sqrt();
+            let n: V3 = std::array::from_fn(|k| ex * cam.r[k] + ey * cam.u[k] + ez * cam.d[k]);
+            let b = pose.to_body(n);
+            let c = surface_colour(n, b, light, cam.d, sweep);
+            let o = 3 * (py * w + px) as usize;
+            for k in 0..3 {
+                let old = buf[o + k] as f64 / 255.0;
+                buf[o + k] = ((old + alpha * (c[k] - old)).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+            }
+        }
+    }
+}
+
+/// The stem's ball (§stem) of radius `r2` at O + `d2` k, pixel by pixel
+/// where it is in front of the sphere (its surface points outside the
+/// sphere's silhouette or nearer the camera than the sphere's front),
+/// shaded as the sphere.
+fn draw_stem_ball(
+    buf: &mut [u8],
+    (w, h): (u32, u32),
+    cam: &Camera,
+    pose: &Pose,
+    rr: f64,
+    (r2, d2): (f64, f64),
+) {
+    let light = cam.light();
+    let sc = axpy(pose.com, d2, pose.k);
+    let (bx, by, _) = cam.project(sc);
+    let bpx = r2 * cam.scale;
+    let xa = (bx - bpx - 2.0).floor().max(0.0) as u32;
+    let xb = ((bx + bpx + 2.0).ceil().max(0.0) as u32).min(w);
+    let ya = (by - bpx - 2.0).floor().max(0.0) as u32;
+    let yb = ((by + bpx + 2.0).ceil().max(0.0) as u32).min(h);
+    for py in ya..yb {
+        for px in xa..xb {
+            let ex = (px as f64 + 0.5 - bx) / bpx;
+            let ey = -(py as f64 + 0.5 - by) / bpx;
+            let e2 = ex * ex + ey * ey;
+            let alpha = (bpx * (1.0 - e2.sqrt()) + 0.5).clamp(0.0, 1.0);
+            if alpha <= 0.0 {
+                continue;
+            }
+            let (ex, ey) = if e2 > 1.0 {
+                let r = e2.sqrt();
+                (ex / r, ey / r)
+            } else {
+                (ex, ey)
+            };
+            let ez = (1.0 - ex * ex - ey * ey).max(0.0).sqrt();
+            let n: V3 = std::array::from_fn(|k| ex * cam.r[k] + ey * cam.u[k] + ez * cam.d[k]);
+            if cam.hidden_by_sphere(axpy(sc, r2, n), pose.centre, rr) {
+                continue;
+            }
+            let lam = dot(n, light).max(0.0);
+            let c: V3 = std::array::from_fn(|k| STEM[k] * (0.3 + 0.7 * lam));
+            let o = 3 * (py * w + px) as usize;
+            for k in 0..3 {
+                let old = buf[o + k] as f64 / 255.0;
+                buf[o + k] = ((old + alpha * (c[k] - old)).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+            }
+        }
+    }
+}
+
+/// The map of the whole trace in a corner of frame `i` when the trace is
+/// longer than the view (`size`: the text size [px]).
+fn draw_map(
+    root: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    movie: &Movie,
+    i: usize,
+    size: f64,
+) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<_>| anyhow!("drawing frame {i}: {e}");
+    let (w, h) = root.dim_in_pixel();
+    let f = &movie.frames[i];
+    let rr = movie.radius;
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for p in &movie.trace {
         for k in 0..2 {
@@ -430,7 +468,6 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
         ))
         .map_err(err)?;
     }
-    root.present().map_err(err)?;
     Ok(())
 }
 

@@ -47,8 +47,7 @@ use crate::{Error, Scenario};
 /// Runs of a tip search per run of a contact search (tip runs are cheap).
 pub const TIP_BUDGET_FACTOR: usize = 15;
 
-/// Ten years \[s\] (Julian).
-pub const TEN_YEARS: f64 = 10.0 * 365.25 * 86400.0;
+pub use super::device_rare::TEN_YEARS;
 /// The standing and lying windows \[rad\] (the bit's defaults).
 const ZERO: [f64; 2] = crate::scenario::bit::ZERO_DEFAULT;
 const ONE: [f64; 2] = crate::scenario::bit::ONE_DEFAULT;

@@ -52,7 +52,8 @@ pub const SETTLE_INSET: f64 = 0.1;
 pub const RELAX: f64 = 1e-11;
 /// The error rate the design must meet.
 pub const ERROR_TARGET: f64 = 1e-9;
-pub use super::device::TEN_YEARS;
+/// Ten years \[s\] (Julian).
+pub const TEN_YEARS: f64 = 10.0 * 365.25 * 86400.0;
 /// One electronvolt \[J\].
 pub const EV: f64 = 1.602176634e-19;
 /// The lying window \[rad\] (the bit's default `one`).

@@ -112,6 +112,12 @@ fn hessenberg(a: &mut [Vec<f64>]) {
     }
 }
 
+/// Eigenvalues of an upper Hessenberg matrix by the Francis double-shift
+/// QR iteration (EISPACK's `hqr`). A numerical kernel kept whole on
+/// purpose (over 150 lines): one loop of deflation, exceptional shifts and
+/// the double-shift sweep sharing their running sums; split, that state
+/// would pass between pieces and the line-by-line match with the published
+/// algorithm would be lost.
 #[allow(clippy::many_single_char_names, unused_assignments)]
 fn hqr(a: &mut [Vec<f64>]) -> Option<Vec<(f64, f64)>> {
     let n = a.len() as isize;

@@ -5,8 +5,24 @@
 
 use serde::Serialize;
 
-use super::linearisation::Physics;
+use crate::Top;
 use crate::numeric::dual::{Num, cross, dot, lift};
+
+/// Physical parameters of a linearisation (SI).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Physics {
+    /// The body.
+    #[serde(skip)]
+    pub top: Top,
+    /// g \[m/s²\].
+    pub gravity: f64,
+    /// μ.
+    pub mu: f64,
+    /// Smooth friction law.
+    pub law: SmoothLaw,
+    /// ε \[m/s\].
+    pub eps: f64,
+}
 
 /// Derivatives of the reduced variables computed by the axis-vector model
 /// (SI), for checking it against the reduced model away from the poles.

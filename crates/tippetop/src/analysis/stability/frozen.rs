@@ -161,25 +161,7 @@ pub fn frozen_spin(
         return out;
     };
     if a < b {
-        let mut fa = f(a, 0.0).unwrap_or(f64::NAN);
-        for _ in 0..200 {
-            let mid = 0.5 * (a + b);
-            let fm = f(mid, 0.0).unwrap_or(f64::NAN);
-            if fm == 0.0 {
-                a = mid;
-                b = mid;
-                break;
-            }
-            if fa * fm < 0.0 {
-                b = mid;
-            } else {
-                a = mid;
-                fa = fm;
-            }
-            if b - a < 1e-15 {
-                break;
-            }
-        }
+        (a, b) = bisect(&f, a, b);
     }
     let tq = 0.5 * (a + b);
     let hs = 1e-6;
@@ -191,9 +173,55 @@ pub fn frozen_spin(
     };
     let dth = (fp - fm) / (2.0 * hs);
     let dthd = (gp - gm) / (2.0 * hs);
-    // λ² − dthd λ − dth = 0
+    let eigs = eigenvalues_of(dth, dthd, tu);
+    let (v, _, _) = verdict_of(&eigs, tol_rel);
+    out.theta_quasi = Some(tq);
+    out.precession = omega_of(tq);
+    out.d_theta = dth / (tu * tu);
+    out.d_theta_dot = dthd / tu;
+    out.eigenvalues = eigs;
+    out.verdict = Some(v);
+    out.note = match variant {
+        FrozenVariant::PrecessionFrozen => {
+            "Ω, ω, u and H held fixed (the paper's App. B assumption)".into()
+        }
+        FrozenVariant::PrecessionFromJellett => {
+            "ω, u and H held fixed, Ω from Jellett's J (gyroscopic coupling kept)".into()
+        }
+    };
+    out
+}
+
+/// Shrink the bracket `[a, b]` of a root of θ̈(θ, 0) (`f(θ, 0)`) by
+/// bisection, to 1e-15 rad or an exact zero.
+fn bisect(f: &dyn Fn(f64, f64) -> Option<f64>, mut a: f64, mut b: f64) -> (f64, f64) {
+    let mut fa = f(a, 0.0).unwrap_or(f64::NAN);
+    for _ in 0..200 {
+        let mid = 0.5 * (a + b);
+        let fm = f(mid, 0.0).unwrap_or(f64::NAN);
+        if fm == 0.0 {
+            a = mid;
+            b = mid;
+            break;
+        }
+        if fa * fm < 0.0 {
+            b = mid;
+        } else {
+            a = mid;
+            fa = fm;
+        }
+        if b - a < 1e-15 {
+            break;
+        }
+    }
+    (a, b)
+}
+
+/// The roots λ of λ² − dthd λ − dth = 0 (scaled units; `tu` the time
+/// unit [s]) as eigenvalues [1/s].
+fn eigenvalues_of(dth: f64, dthd: f64, tu: f64) -> Vec<Eig> {
     let disc = dthd * dthd + 4.0 * dth;
-    let eigs: Vec<Eig> = if disc >= 0.0 {
+    if disc >= 0.0 {
         let sq = disc.sqrt();
         vec![
             Eig {
@@ -217,21 +245,5 @@ pub fn frozen_spin(
                 im: -0.5 * sq / tu,
             },
         ]
-    };
-    let (v, _, _) = verdict_of(&eigs, tol_rel);
-    out.theta_quasi = Some(tq);
-    out.precession = omega_of(tq);
-    out.d_theta = dth / (tu * tu);
-    out.d_theta_dot = dthd / tu;
-    out.eigenvalues = eigs;
-    out.verdict = Some(v);
-    out.note = match variant {
-        FrozenVariant::PrecessionFrozen => {
-            "Ω, ω, u and H held fixed (the paper's App. B assumption)".into()
-        }
-        FrozenVariant::PrecessionFromJellett => {
-            "ω, u and H held fixed, Ω from Jellett's J (gyroscopic coupling kept)".into()
-        }
-    };
-    out
+    }
 }

@@ -7,7 +7,8 @@
 
 use serde::Serialize;
 
-use super::axis_model::{AxisModel, RDIM, SmoothLaw};
+pub use super::axis_model::Physics;
+use super::axis_model::{AxisModel, RDIM};
 use crate::numeric::dual::seeded;
 use crate::numeric::eigen::eigenvalues;
 use crate::{Error, Top};
@@ -60,22 +61,6 @@ pub fn verdict_of(eigs: &[Eig], tol_rel: f64) -> (Verdict, f64, f64) {
         Verdict::Marginal
     };
     (v, max_re, tol)
-}
-
-/// Physical parameters of a linearisation (SI).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Physics {
-    /// The body.
-    #[serde(skip)]
-    pub top: Top,
-    /// g \[m/s²\].
-    pub gravity: f64,
-    /// μ.
-    pub mu: f64,
-    /// Smooth friction law.
-    pub law: SmoothLaw,
-    /// ε \[m/s\].
-    pub eps: f64,
 }
 
 /// The linearisation at one steady motion.

@@ -83,7 +83,7 @@ pub use linearisation::{
 };
 
 use crate::human::s4;
-use crate::{Error, Scenario, simulate};
+use crate::{Error, Scenario, Top, simulate};
 
 /// Options of [`analyse`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -367,14 +367,84 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
     let top = sc.top;
     let g = sc.surface.gravity;
     let mu = sc.surface.friction;
-    let (r, a, ia, ic, m) = (
-        top.radius,
-        top.offset,
-        top.inertia_transverse,
-        top.inertia_axial,
-        top.mass,
-    );
-    let pi = std::f64::consts::PI;
+    let eps = resolved_eps(sc, opts)?;
+    let ph = Physics {
+        top,
+        gravity: g,
+        mu,
+        law: opts.law,
+        eps,
+    };
+    let ph0 = Physics { mu: 0.0, ..ph };
+    let tol = opts.tol_rel;
+    let i = &sc.initial;
+    let j0 = jellett(&top, i.theta, i.precession, i.spin);
+    let lin = Both {
+        ph: &ph,
+        ph0: &ph0,
+        tol,
+    };
+    let mut steady = steady_motions(sc, opts, &lin, j0)?;
+
+    // Late-time state.
+    let late = if opts.run {
+        Some(late_state(sc, opts.late_fraction)?)
+    } else {
+        None
+    };
+    let h_late = sc.forcing.at(sc.solver.t_end);
+    let h_late_mag = h_late.0.hypot(h_late.1);
+    if let Some(l) = &late {
+        if h_late_mag == 0.0 && l.class != "upright" && l.class != "inverted" {
+            let th = l.theta_mean;
+            if let Some(o2) = relative_equilibrium_precession_sq(&top, g, th) {
+                let om = if l.precession_mean < 0.0 { -1.0 } else { 1.0 } * o2.sqrt();
+                steady.push(lin.both(
+                    format!("relative equilibrium at the late mean θ = {th:.4}"),
+                    "member of the zero-slip family at the θ the run settles to".into(),
+                    th,
+                    om,
+                    relative_equilibrium_spin(&top, th, om),
+                )?);
+            }
+        }
+    }
+
+    let applied_max = sc.forcing.max_magnitude();
+    let frozen = frozen_cases(sc, opts, eps, j0, late.as_ref());
+
+    // B1–B4.
+    let n0 = top.mass * g;
+    let h = applied_max / std::f64::consts::SQRT_2; // H_x = H_y = H in the paper
+    let wc = sleeping_threshold(&top, g);
+    let paper = vec![
+        paper_b1(&top, n0, eps, opts, &steady[0]),
+        paper_b2(&top, n0, h, &frozen),
+        paper_b3(&top, n0, wc, eps, opts, &steady[1]),
+        paper_b4(&top, h, &steady, &frozen, late.as_ref()),
+    ];
+
+    Ok(StabilityReport {
+        law: opts.law,
+        eps,
+        tol_rel: tol,
+        mu,
+        gravity: g,
+        jellett: j0,
+        applied_max,
+        sleeping_threshold: wc,
+        inversion: inversion(&top, g, &sc.wells, i.theta, i.precession, i.spin),
+        steady,
+        late,
+        frozen,
+        paper,
+    })
+}
+
+/// ε [m/s] of the smooth law: `--eps`, else the scenario's, else
+/// 1e-3 R max(|ω0|, √(g/R)).
+fn resolved_eps(sc: &Scenario, opts: &Options) -> Result<f64, Error> {
+    let (r, g) = (sc.top.radius, sc.surface.gravity);
     let eps =
         match opts.eps {
             Some(e) => e,
@@ -389,26 +459,52 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
             "a finite speed > 0 [m/s]".into(),
         ));
     }
-    let ph = Physics {
-        top,
-        gravity: g,
-        mu,
-        law: opts.law,
-        eps,
-    };
-    let ph0 = Physics { mu: 0.0, ..ph };
-    let tol = opts.tol_rel;
-    let i = &sc.initial;
-    let j0 = jellett(&top, i.theta, i.precession, i.spin);
-    let both =
-        |name: String, how: String, th: f64, om: f64, w: f64| -> Result<SteadyMotion, Error> {
-            Ok(SteadyMotion {
-                name,
-                how,
-                with_friction: linearise(&ph, th, om, w, tol)?,
-                frictionless: linearise(&ph0, th, om, w, tol)?,
-            })
-        };
+    Ok(eps)
+}
+
+/// Linearises a steady motion with friction and without.
+struct Both<'a> {
+    ph: &'a Physics,
+    ph0: &'a Physics,
+    tol: f64,
+}
+
+impl Both<'_> {
+    fn both(
+        &self,
+        name: String,
+        how: String,
+        th: f64,
+        om: f64,
+        w: f64,
+    ) -> Result<SteadyMotion, Error> {
+        Ok(SteadyMotion {
+            name,
+            how,
+            with_friction: linearise(self.ph, th, om, w, self.tol)?,
+            frictionless: linearise(self.ph0, th, om, w, self.tol)?,
+        })
+    }
+}
+
+/// The steady motions: the poles, the π/2 member of the zero-slip family,
+/// its members with the scenario's Jellett `j0`, and at g = 0 the
+/// relative equilibrium of any Ω.
+fn steady_motions(
+    sc: &Scenario,
+    opts: &Options,
+    lin: &Both,
+    j0: f64,
+) -> Result<Vec<SteadyMotion>, Error> {
+    let top = sc.top;
+    let g = sc.surface.gravity;
+    let (r, a, ia, ic) = (
+        top.radius,
+        top.offset,
+        top.inertia_transverse,
+        top.inertia_axial,
+    );
+    let pi = std::f64::consts::PI;
     let mut steady = Vec::new();
     // Poles.
     let (nz_up, nz_inv, how_pole) = match opts.spin {
@@ -423,14 +519,14 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
             "spin with the scenario's Jellett J".to_string(),
         ),
     };
-    steady.push(both(
+    steady.push(lin.both(
         "upright (θ = 0)".into(),
         format!("{how_pole}: n_Z = {} rad/s", s4(nz_up)),
         0.0,
         0.0,
         nz_up,
     )?);
-    steady.push(both(
+    steady.push(lin.both(
         "inverted (θ = π)".into(),
         format!("{how_pole}: n_Z = {} rad/s", s4(nz_inv)),
         pi,
@@ -441,7 +537,7 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
     // θ* = π/2 member of the family.
     if let Some(o2) = relative_equilibrium_precession_sq(&top, g, pi / 2.0) {
         let om = sgn * o2.sqrt();
-        steady.push(both(
+        steady.push(lin.both(
             "relative equilibrium at θ = π/2".into(),
             "zero slip, u = 0: Ω*² = m g R/C, ω* = −Ω* a/R (any J)".into(),
             pi / 2.0,
@@ -480,7 +576,7 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
                 let th = 0.5 * (lo + hi);
                 if let Some((_, om)) = jof(th) {
                     found += 1;
-                    steady.push(both(
+                    steady.push(lin.both(
                         format!("relative equilibrium with the scenario's J, θ* = {th:.4}"),
                         "zero slip, u = 0, J = J(initial)".into(),
                         th,
@@ -498,7 +594,7 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
             let th = c.acos();
             let s = th.sin();
             let om = j0 / (ia * r * s * s + ic * (r * c - a).powi(2) / r);
-            steady.push(both(
+            steady.push(lin.both(
                 format!("g = 0 relative equilibrium θ* = {th:.4}"),
                 "g = 0: cos θ* = −C a/(R (A − C)) for every Ω; Ω from the scenario's J".into(),
                 th,
@@ -507,32 +603,23 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
             )?);
         }
     }
+    Ok(steady)
+}
 
-    // Late-time state.
-    let late = if opts.run {
-        Some(late_state(sc, opts.late_fraction)?)
-    } else {
-        None
-    };
-    let h_late = sc.forcing.at(sc.solver.t_end);
-    let h_late_mag = h_late.0.hypot(h_late.1);
-    if let Some(l) = &late {
-        if h_late_mag == 0.0 && l.class != "upright" && l.class != "inverted" {
-            let th = l.theta_mean;
-            if let Some(o2) = relative_equilibrium_precession_sq(&top, g, th) {
-                let om = if l.precession_mean < 0.0 { -1.0 } else { 1.0 } * o2.sqrt();
-                steady.push(both(
-                    format!("relative equilibrium at the late mean θ = {th:.4}"),
-                    "member of the zero-slip family at the θ the run settles to".into(),
-                    th,
-                    om,
-                    relative_equilibrium_spin(&top, th, om),
-                )?);
-            }
-        }
-    }
-
-    // Frozen spin (H ≠ 0).
+/// The frozen-spin analyses (H ≠ 0): near θ = 0 and π, and at the late
+/// state of the run (near π/2 without a run), each with Ω frozen and Ω
+/// from Jellett's J.
+fn frozen_cases(
+    sc: &Scenario,
+    opts: &Options,
+    eps: f64,
+    j0: f64,
+    late: Option<&LateState>,
+) -> Vec<FrozenCase> {
+    let (r, a, ic) = (sc.top.radius, sc.top.offset, sc.top.inertia_axial);
+    let pi = std::f64::consts::PI;
+    let tol = opts.tol_rel;
+    let i = &sc.initial;
     let mut frozen = Vec::new();
     let applied_max = sc.forcing.max_magnitude();
     if applied_max > 0.0 {
@@ -569,7 +656,7 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
                 t_force: 0.0,
             },
         );
-        if let Some(l) = &late {
+        if let Some(l) = late {
             add(
                 "late-time state of the run",
                 FrozenInput {
@@ -595,216 +682,217 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
             );
         }
     }
+    frozen
+}
 
-    // B1–B4.
-    let n0 = m * g;
-    let h = applied_max / std::f64::consts::SQRT_2; // H_x = H_y = H in the paper
-    let wc = sleeping_threshold(&top, g);
-    let up = &steady[0];
-    let inv = &steady[1];
-    let mut paper = Vec::new();
-    {
-        let w = up.with_friction.spin;
-        let nu_p = (ic * w + (ic * ic * w * w + 4.0 * ia * a * n0).sqrt()) / (2.0 * ia);
-        let nu_m = (ic * w - (ic * ic * w * w + 4.0 * ia * a * n0).sqrt()) / (2.0 * ia);
-        let v = up.with_friction.verdict;
-        paper.push(PaperCheck {
-            id: "B1".into(),
-            configuration: format!("θ = 0, H = 0, ω = {} rad/s", s4(w)),
-            paper: format!("ε̈ = −aNε/A: always stable, one frequency √(a m g/A) = {} rad/s",
-                s4((a * n0 / ia).sqrt())),
-            full: format!(
-                "μ = 0: marginal (stable), two frequencies ν± = [Cω ± √(C²ω² + 4 A a m g)]/(2A) = {}, {} rad/s (verdict {}); with friction ({} ε = {} m/s): {} (max Re λ = {} 1/s; λ = {})",
-                s4(nu_p),
-                s4(nu_m),
-                up.frictionless.verdict.as_str(),
-                opts.law.name(),
-                s4(eps),
-                v.as_str(),
-                s4(up.with_friction.max_re),
-                eig_list(&up.with_friction.eigenvalues)
-            ),
-            agree: if v == Verdict::Unstable { "no" } else { "partly" }.into(),
-            dropped: "the gyroscopic term −Ω(Cω − AΩ cos θ) sin θ (Ω set to 0; with J conserved Ω → Cω/(2A) at θ → 0, which adds C²ω²/(4A) to the stiffness), and the friction torque −h F_x, which is what destabilises the upright top".into(),
-        });
+/// B1: the upright top without a force.
+fn paper_b1(top: &Top, n0: f64, eps: f64, opts: &Options, up: &SteadyMotion) -> PaperCheck {
+    let (a, ia, ic) = (top.offset, top.inertia_transverse, top.inertia_axial);
+    let w = up.with_friction.spin;
+    let nu_p = (ic * w + (ic * ic * w * w + 4.0 * ia * a * n0).sqrt()) / (2.0 * ia);
+    let nu_m = (ic * w - (ic * ic * w * w + 4.0 * ia * a * n0).sqrt()) / (2.0 * ia);
+    let v = up.with_friction.verdict;
+    PaperCheck {
+        id: "B1".into(),
+        configuration: format!("θ = 0, H = 0, ω = {} rad/s", s4(w)),
+        paper: format!("ε̈ = −aNε/A: always stable, one frequency √(a m g/A) = {} rad/s",
+            s4((a * n0 / ia).sqrt())),
+        full: format!(
+            "μ = 0: marginal (stable), two frequencies ν± = [Cω ± √(C²ω² + 4 A a m g)]/(2A) = {}, {} rad/s (verdict {}); with friction ({} ε = {} m/s): {} (max Re λ = {} 1/s; λ = {})",
+            s4(nu_p),
+            s4(nu_m),
+            up.frictionless.verdict.as_str(),
+            opts.law.name(),
+            s4(eps),
+            v.as_str(),
+            s4(up.with_friction.max_re),
+            eig_list(&up.with_friction.eigenvalues)
+        ),
+        agree: if v == Verdict::Unstable { "no" } else { "partly" }.into(),
+        dropped: "the gyroscopic term −Ω(Cω − AΩ cos θ) sin θ (Ω set to 0; with J conserved Ω → Cω/(2A) at θ → 0, which adds C²ω²/(4A) to the stiffness), and the friction torque −h F_x, which is what destabilises the upright top".into(),
     }
-    {
-        if h == 0.0 {
-            paper.push(PaperCheck {
-                id: "B2".into(),
-                configuration: "θ = 0 with H_x = H_y = H".into(),
-                paper: "n/a: the scenario has H = 0 (B2 reduces to B1)".into(),
-                full: "n/a".into(),
-                agree: "n/a".into(),
-                dropped: "as B1, and the fact that H ≠ 0 leaves no equilibrium".into(),
-            });
-        } else {
-            let eq = (r - a) * h / (a * n0);
-            let fz: Vec<&FrozenCase> = frozen
-                .iter()
-                .filter(|f| f.name.starts_with("near θ = 0"))
-                .collect();
-            let desc = fz
-                .iter()
-                .map(|f| match f.result.theta_quasi {
-                    Some(tq) => format!(
-                        "{:?}: θ_q = {tq:.4}, λ = {} ({})",
-                        f.result.variant,
-                        eig_list(&f.result.eigenvalues),
-                        f.result.verdict.map(|v| v.as_str()).unwrap_or("-")
-                    ),
-                    None => format!("{:?}: {}", f.result.variant, f.result.note),
-                })
-                .collect::<Vec<_>>()
-                .join("; ");
-            paper.push(PaperCheck {
-                id: "B2".into(),
-                configuration: format!("θ = 0, H = {} N", s4(h)),
-                paper: format!("ε̈ = −aNε/A + (R − a)H/A: 'stable', about ε_q = (R − a)H/(a m g) = {} rad", s4(eq)),
-                full: format!(
-                    "no equilibrium (H ≠ 0: ω changes). Frozen-spin (quasi-static), not a true equilibrium: {desc}"
-                ),
-                agree: if eq > 0.3 { "no" } else { "partly" }.into(),
-                dropped: "as B1; and ε_q is not small when (R − a)H > 0.3 a m g, so the linearisation about θ = 0 does not apply: the drive tips the top over".into(),
-            });
+}
+
+/// B2: the upright top with the force H_x = H_y = H.
+fn paper_b2(top: &Top, n0: f64, h: f64, frozen: &[FrozenCase]) -> PaperCheck {
+    let (r, a) = (top.radius, top.offset);
+    if h == 0.0 {
+        PaperCheck {
+            id: "B2".into(),
+            configuration: "θ = 0 with H_x = H_y = H".into(),
+            paper: "n/a: the scenario has H = 0 (B2 reduces to B1)".into(),
+            full: "n/a".into(),
+            agree: "n/a".into(),
+            dropped: "as B1, and the fact that H ≠ 0 leaves no equilibrium".into(),
         }
-    }
-    {
-        let w = inv.with_friction.spin;
-        let grow = (((ic + ia) * w * w + a * n0) / ia).sqrt();
-        let v = inv.with_friction.verdict;
-        paper.push(PaperCheck {
-            id: "B3".into(),
-            configuration: format!(
-                "θ = π, H = 0, ω = {} rad/s (spin about the vertical {})",
-                s4(w),
-                s4(-w)
-            ),
-            paper: format!("ε̈ = [(C + A)Ω² + aN]ε/A with Ω = ω: always unstable, growth {} 1/s", s4(grow)),
-            full: format!(
-                "μ = 0: stable iff C²ω² > 4 A m g a, ω_c = {} rad/s, here |ω|/ω_c = {:.3}: {}; with friction ({} ε = {} m/s): {} (max Re λ = {} 1/s; λ = {})",
-                s4(wc),
-                w.abs() / wc,
-                inv.frictionless.verdict.as_str(),
-                opts.law.name(),
-                s4(eps),
-                v.as_str(),
-                s4(inv.with_friction.max_re),
-                eig_list(&inv.with_friction.eigenvalues)
-            ),
-            agree: if v == Verdict::Unstable { "yes" } else { "no" }.into(),
-            dropped: "Ω = ω is not a property of θ → π (there Ω is undefined; with J conserved Ω → −Cω/(2A)); with that, −Ω(Cω − AΩ cos θ) sin θ gives −C²ω²/(4A) ε instead of +(C + A)ω² ε, i.e. ε̈ = [a m g − C²ω²/(4A)]ε/A: the sleeping-top criterion. Friction (R + a)F_x is dropped too.".into(),
-        });
-    }
-    {
-        let lying = steady
+    } else {
+        let eq = (r - a) * h / (a * n0);
+        let fz: Vec<&FrozenCase> = frozen
             .iter()
-            .find(|s| s.name == "relative equilibrium at θ = π/2");
-        let mut full = String::new();
-        let mut agree = "n/a".to_string();
-        if let Some(l) = lying {
-            let o = l.with_friction.precession;
-            full += &format!(
-                "H = 0: the zero-slip steady motion at π/2 has Ω* = {} rad/s, ω* = {}; paper (AΩ² > aH = 0) says stable; full linearisation: {} (max Re λ = {} 1/s; λ = {}); μ = 0: {}. ",
-                s4(o),
-                s4(l.with_friction.spin),
-                l.with_friction.verdict.as_str(),
-                s4(l.with_friction.max_re),
-                eig_list(&l.with_friction.eigenvalues),
-                l.frictionless.verdict.as_str()
-            );
-            agree = if l.with_friction.verdict == Verdict::Unstable {
-                "no".into()
-            } else {
-                "yes".into()
-            };
-        } else {
-            full += "H = 0: no zero-slip steady motion at π/2 (g = 0). ";
+            .filter(|f| f.name.starts_with("near θ = 0"))
+            .collect();
+        let desc = fz
+            .iter()
+            .map(|f| match f.result.theta_quasi {
+                Some(tq) => format!(
+                    "{:?}: θ_q = {tq:.4}, λ = {} ({})",
+                    f.result.variant,
+                    eig_list(&f.result.eigenvalues),
+                    f.result.verdict.map(|v| v.as_str()).unwrap_or("-")
+                ),
+                None => format!("{:?}: {}", f.result.variant, f.result.note),
+            })
+            .collect::<Vec<_>>()
+            .join("; ");
+        PaperCheck {
+            id: "B2".into(),
+            configuration: format!("θ = 0, H = {} N", s4(h)),
+            paper: format!("ε̈ = −aNε/A + (R − a)H/A: 'stable', about ε_q = (R − a)H/(a m g) = {} rad", s4(eq)),
+            full: format!(
+                "no equilibrium (H ≠ 0: ω changes). Frozen-spin (quasi-static), not a true equilibrium: {desc}"
+            ),
+            agree: if eq > 0.3 { "no" } else { "partly" }.into(),
+            dropped: "as B1; and ε_q is not small when (R − a)H > 0.3 a m g, so the linearisation about θ = 0 does not apply: the drive tips the top over".into(),
         }
-        let mut paper_txt =
-            "ε̈ = −(AΩ² − aH)ε/A − (HR − CωΩ − aN)/A: stable iff AΩ² > aH".to_string();
-        if h > 0.0 {
-            for f in frozen
-                .iter()
-                .filter(|f| f.name.starts_with("late") || f.name.contains("π/2"))
-            {
-                full += &match f.result.theta_quasi {
-                    Some(tq) => format!(
-                        "H ≠ 0, frozen-spin (quasi-static), not a true equilibrium, {:?} at the {}: θ_q = {tq:.4} (θ_q − π/2 = {}), Ω = {}, ω = {}, λ = {} ({}). ",
-                        f.result.variant,
-                        f.name,
-                        s4(tq - pi / 2.0),
-                        s4(f.result.precession),
-                        s4(f.result.spin),
-                        eig_list(&f.result.eigenvalues),
-                        f.result.verdict.map(|v| v.as_str()).unwrap_or("-")
-                    ),
-                    None => format!("H ≠ 0, {:?}: {}. ", f.result.variant, f.result.note),
-                };
-            }
-            if let Some(l) = &late {
-                let o = l.precession_mean;
-                paper_txt += &format!(
-                    "; at the late state Ω = {}: AΩ² − aH = {} ⇒ {}",
-                    s4(o),
-                    s4(ia * o * o - a * h),
-                    if ia * o * o > a * h {
-                        "stable"
-                    } else {
-                        "unstable"
-                    }
-                );
-                let fj = frozen.iter().find(|f| {
-                    f.name.starts_with("late")
-                        && f.result.variant == FrozenVariant::PrecessionFromJellett
-                });
-                let ff = frozen.iter().find(|f| {
-                    f.name.starts_with("late")
-                        && f.result.variant == FrozenVariant::PrecessionFrozen
-                });
-                let paper_stable = ia * o * o > a * h;
-                if let (Some(fj), Some(ff)) = (fj, ff) {
-                    let vj = fj.result.verdict;
-                    let vf = ff.result.verdict;
-                    agree = format!(
-                        "{} (Ω frozen: {}; Ω from J: {})",
-                        if vj
-                            .map(|v| (v != Verdict::Unstable) == paper_stable)
-                            .unwrap_or(false)
-                        {
-                            "partly"
-                        } else {
-                            "no"
-                        },
-                        vf.map(|v| v.as_str()).unwrap_or("no quasi-equilibrium"),
-                        vj.map(|v| v.as_str()).unwrap_or("no quasi-equilibrium")
-                    );
-                }
-            }
-        }
-        paper.push(PaperCheck {
-            id: "B4".into(),
-            configuration: format!("θ = π/2, H = {} N", s4(h)),
-            paper: paper_txt,
-            full,
-            agree,
-            dropped: "the gyroscopic coupling through Ω(θ): with J conserved ∂Ω/∂θ = Cω/A at π/2, which adds ≈ C²ω²/A to the stiffness (the nutation frequency Cω/A); the friction μN in F_x; and that H ≠ 0 leaves no equilibrium (ω changes at −R H/C)".into(),
-        });
     }
+}
 
-    Ok(StabilityReport {
-        law: opts.law,
-        eps,
-        tol_rel: tol,
-        mu,
-        gravity: g,
-        jellett: j0,
-        applied_max,
-        sleeping_threshold: wc,
-        inversion: inversion(&top, g, &sc.wells, i.theta, i.precession, i.spin),
-        steady,
-        late,
-        frozen,
-        paper,
-    })
+/// B3: the inverted top without a force.
+fn paper_b3(
+    top: &Top,
+    n0: f64,
+    wc: f64,
+    eps: f64,
+    opts: &Options,
+    inv: &SteadyMotion,
+) -> PaperCheck {
+    let (a, ia, ic) = (top.offset, top.inertia_transverse, top.inertia_axial);
+    let w = inv.with_friction.spin;
+    let grow = (((ic + ia) * w * w + a * n0) / ia).sqrt();
+    let v = inv.with_friction.verdict;
+    PaperCheck {
+        id: "B3".into(),
+        configuration: format!(
+            "θ = π, H = 0, ω = {} rad/s (spin about the vertical {})",
+            s4(w),
+            s4(-w)
+        ),
+        paper: format!("ε̈ = [(C + A)Ω² + aN]ε/A with Ω = ω: always unstable, growth {} 1/s", s4(grow)),
+        full: format!(
+            "μ = 0: stable iff C²ω² > 4 A m g a, ω_c = {} rad/s, here |ω|/ω_c = {:.3}: {}; with friction ({} ε = {} m/s): {} (max Re λ = {} 1/s; λ = {})",
+            s4(wc),
+            w.abs() / wc,
+            inv.frictionless.verdict.as_str(),
+            opts.law.name(),
+            s4(eps),
+            v.as_str(),
+            s4(inv.with_friction.max_re),
+            eig_list(&inv.with_friction.eigenvalues)
+        ),
+        agree: if v == Verdict::Unstable { "yes" } else { "no" }.into(),
+        dropped: "Ω = ω is not a property of θ → π (there Ω is undefined; with J conserved Ω → −Cω/(2A)); with that, −Ω(Cω − AΩ cos θ) sin θ gives −C²ω²/(4A) ε instead of +(C + A)ω² ε, i.e. ε̈ = [a m g − C²ω²/(4A)]ε/A: the sleeping-top criterion. Friction (R + a)F_x is dropped too.".into(),
+    }
+}
+
+/// B4: the lying top, with the force H_x = H_y = H.
+fn paper_b4(
+    top: &Top,
+    h: f64,
+    steady: &[SteadyMotion],
+    frozen: &[FrozenCase],
+    late: Option<&LateState>,
+) -> PaperCheck {
+    let (a, ia) = (top.offset, top.inertia_transverse);
+    let pi = std::f64::consts::PI;
+    let lying = steady
+        .iter()
+        .find(|s| s.name == "relative equilibrium at θ = π/2");
+    let mut full = String::new();
+    let mut agree = "n/a".to_string();
+    if let Some(l) = lying {
+        let o = l.with_friction.precession;
+        full += &format!(
+            "H = 0: the zero-slip steady motion at π/2 has Ω* = {} rad/s, ω* = {}; paper (AΩ² > aH = 0) says stable; full linearisation: {} (max Re λ = {} 1/s; λ = {}); μ = 0: {}. ",
+            s4(o),
+            s4(l.with_friction.spin),
+            l.with_friction.verdict.as_str(),
+            s4(l.with_friction.max_re),
+            eig_list(&l.with_friction.eigenvalues),
+            l.frictionless.verdict.as_str()
+        );
+        agree = if l.with_friction.verdict == Verdict::Unstable {
+            "no".into()
+        } else {
+            "yes".into()
+        };
+    } else {
+        full += "H = 0: no zero-slip steady motion at π/2 (g = 0). ";
+    }
+    let mut paper_txt = "ε̈ = −(AΩ² − aH)ε/A − (HR − CωΩ − aN)/A: stable iff AΩ² > aH".to_string();
+    if h > 0.0 {
+        for f in frozen
+            .iter()
+            .filter(|f| f.name.starts_with("late") || f.name.contains("π/2"))
+        {
+            full += &match f.result.theta_quasi {
+                Some(tq) => format!(
+                    "H ≠ 0, frozen-spin (quasi-static), not a true equilibrium, {:?} at the {}: θ_q = {tq:.4} (θ_q − π/2 = {}), Ω = {}, ω = {}, λ = {} ({}). ",
+                    f.result.variant,
+                    f.name,
+                    s4(tq - pi / 2.0),
+                    s4(f.result.precession),
+                    s4(f.result.spin),
+                    eig_list(&f.result.eigenvalues),
+                    f.result.verdict.map(|v| v.as_str()).unwrap_or("-")
+                ),
+                None => format!("H ≠ 0, {:?}: {}. ", f.result.variant, f.result.note),
+            };
+        }
+        if let Some(l) = late {
+            let o = l.precession_mean;
+            paper_txt += &format!(
+                "; at the late state Ω = {}: AΩ² − aH = {} ⇒ {}",
+                s4(o),
+                s4(ia * o * o - a * h),
+                if ia * o * o > a * h {
+                    "stable"
+                } else {
+                    "unstable"
+                }
+            );
+            let fj = frozen.iter().find(|f| {
+                f.name.starts_with("late")
+                    && f.result.variant == FrozenVariant::PrecessionFromJellett
+            });
+            let ff = frozen.iter().find(|f| {
+                f.name.starts_with("late") && f.result.variant == FrozenVariant::PrecessionFrozen
+            });
+            let paper_stable = ia * o * o > a * h;
+            if let (Some(fj), Some(ff)) = (fj, ff) {
+                let vj = fj.result.verdict;
+                let vf = ff.result.verdict;
+                agree = format!(
+                    "{} (Ω frozen: {}; Ω from J: {})",
+                    if vj
+                        .map(|v| (v != Verdict::Unstable) == paper_stable)
+                        .unwrap_or(false)
+                    {
+                        "partly"
+                    } else {
+                        "no"
+                    },
+                    vf.map(|v| v.as_str()).unwrap_or("no quasi-equilibrium"),
+                    vj.map(|v| v.as_str()).unwrap_or("no quasi-equilibrium")
+                );
+            }
+        }
+    }
+    PaperCheck {
+        id: "B4".into(),
+        configuration: format!("θ = π/2, H = {} N", s4(h)),
+        paper: paper_txt,
+        full,
+        agree,
+        dropped: "the gyroscopic coupling through Ω(θ): with J conserved ∂Ω/∂θ = Cω/A at π/2, which adds ≈ C²ω²/A to the stiffness (the nutation frequency Cω/A); the friction μN in F_x; and that H ≠ 0 leaves no equilibrium (ω changes at −R H/C)".into(),
+    }
 }
