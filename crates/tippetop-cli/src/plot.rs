@@ -20,7 +20,8 @@ use std::sync::OnceLock;
 
 use anyhow::{Result, anyhow, bail};
 use plotters::coord::Shift;
-use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
+use plotters::coord::types::RangedCoordf64;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
@@ -735,66 +736,21 @@ fn draw_legend_strip<DB: DrawingBackend>(
     Ok(rest)
 }
 
-#[allow(clippy::too_many_arguments)]
-fn draw_panel_in<DB, YS>(
-    area: &DrawingArea<DB, Shift>,
-    panel: &Panel,
-    x: Range<f64>,
-    y: YS,
-    (y0, y1): (f64, f64),
+/// Shaded windows, vertical marks and horizontal reference lines of `o`
+/// (under the curves), on a chart whose axes are scaled by `(kx, ky)`,
+/// over the drawn range `(xa, xb)`, `(ya, yb)` (scaled coordinates).
+fn draw_marks<DB, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, Y>>,
+    o: &PlotOpts,
+    (xa, xb): (f64, f64),
+    (ya, yb): (f64, f64),
     (kx, ky): (f64, f64),
-    x_label: Option<&str>,
-    bitmap: bool,
-    palette_next: &mut usize,
+    log_y: bool,
 ) -> DrawResult
 where
     DB: DrawingBackend,
-    YS: AsRangedCoord<Value = f64>,
-    YS::CoordDescType: ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64>,
 {
-    let o = &panel.opts;
-    let (xa, xb) = (x.start, x.end);
-    let mut chart = ChartBuilder::on(area)
-        .margin_top(8)
-        .margin_right(24)
-        .margin_left(8)
-        .x_label_area_size(if x_label.is_some() { 50 } else { 24 })
-        .y_label_area_size(if bitmap { 90 } else { 115 })
-        .build_cartesian_2d(x, y)
-        .map_err(err)?;
-
-    let x_step = nice_step((xb - xa).abs() / kx / 10.0);
-    let y_step = nice_step((y1 - y0).abs() / 10.0);
-    let log_y = o.log_y;
-    let x_fmt = move |v: &f64| format_tick(*v / kx, x_step);
-    let y_fmt = move |v: &f64| {
-        if log_y {
-            format_log_tick(*v)
-        } else {
-            format_tick(*v / ky, y_step)
-        }
-    };
-    {
-        let mut mesh = chart.configure_mesh();
-        mesh.x_label_formatter(&x_fmt)
-            .y_label_formatter(&y_fmt)
-            .label_style(font(14.0))
-            .axis_desc_style(font(16.0))
-            .light_line_style(RGBColor(243, 243, 243))
-            .bold_line_style(RGBColor(205, 205, 205))
-            .x_labels(10)
-            .y_labels(if log_y { 12 } else { 8 });
-        if let Some(xl) = x_label {
-            mesh.x_desc(xl);
-        }
-        if !bitmap {
-            mesh.y_desc(panel.y_label.as_str());
-        }
-        mesh.draw().map_err(err)?;
-    }
-
-    // Shaded windows and vertical marks, under the curves.
-    let (ya, yb) = if log_y { (y0, y1) } else { (y0 * ky, y1 * ky) };
     let mark = RGBColor(70, 70, 70);
     for sp in &o.spans {
         if !(sp.x0.is_finite() && sp.x1.is_finite()) {
@@ -868,6 +824,114 @@ where
         }
     }
 
+    Ok(())
+}
+
+/// The band `(lo, hi)` of a series at `xs`, shaded in its colour `rgb`: one
+/// polygon per run of finite points, lo forward and hi back.
+fn draw_band<DB, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, Y>>,
+    xs: &[f64],
+    (lo, hi): &(Vec<f64>, Vec<f64>),
+    rgb: (u8, u8, u8),
+    log_y: bool,
+    (kx, ky): (f64, f64),
+) -> DrawResult
+where
+    DB: DrawingBackend,
+    Y: Ranged<ValueType = f64>,
+{
+    // One polygon per run of finite points: lo forward, hi back.
+    let fill = RGBColor(rgb.0, rgb.1, rgb.2).mix(0.25).filled();
+    let mut run: Vec<(f64, f64, f64)> = Vec::new();
+    let flush = |run: &mut Vec<(f64, f64, f64)>| -> Vec<(f64, f64)> {
+        let mut poly: Vec<(f64, f64)> = run.iter().map(|p| (p.0, p.1)).collect();
+        poly.extend(run.iter().rev().map(|p| (p.0, p.2)));
+        run.clear();
+        poly
+    };
+    let mut polys = Vec::new();
+    for ((&x, &l), &h) in xs.iter().zip(lo).zip(hi) {
+        let ok = x.is_finite() && l.is_finite() && h.is_finite() && !(log_y && l <= 0.0);
+        if ok {
+            run.push((x * kx, l * ky, h * ky));
+        } else if run.len() > 1 {
+            polys.push(flush(&mut run));
+        } else {
+            run.clear();
+        }
+    }
+    if run.len() > 1 {
+        polys.push(flush(&mut run));
+    }
+    for poly in polys {
+        chart
+            .draw_series(std::iter::once(Polygon::new(poly, fill)))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn draw_panel_in<DB, YS>(
+    area: &DrawingArea<DB, Shift>,
+    panel: &Panel,
+    x: Range<f64>,
+    y: YS,
+    (y0, y1): (f64, f64),
+    (kx, ky): (f64, f64),
+    x_label: Option<&str>,
+    bitmap: bool,
+    palette_next: &mut usize,
+) -> DrawResult
+where
+    DB: DrawingBackend,
+    YS: AsRangedCoord<Value = f64>,
+    YS::CoordDescType: ValueFormatter<f64>,
+{
+    let o = &panel.opts;
+    let (xa, xb) = (x.start, x.end);
+    let mut chart = ChartBuilder::on(area)
+        .margin_top(8)
+        .margin_right(24)
+        .margin_left(8)
+        .x_label_area_size(if x_label.is_some() { 50 } else { 24 })
+        .y_label_area_size(if bitmap { 90 } else { 115 })
+        .build_cartesian_2d(x, y)
+        .map_err(err)?;
+
+    let x_step = nice_step((xb - xa).abs() / kx / 10.0);
+    let y_step = nice_step((y1 - y0).abs() / 10.0);
+    let log_y = o.log_y;
+    let x_fmt = move |v: &f64| format_tick(*v / kx, x_step);
+    let y_fmt = move |v: &f64| {
+        if log_y {
+            format_log_tick(*v)
+        } else {
+            format_tick(*v / ky, y_step)
+        }
+    };
+    {
+        let mut mesh = chart.configure_mesh();
+        mesh.x_label_formatter(&x_fmt)
+            .y_label_formatter(&y_fmt)
+            .label_style(font(14.0))
+            .axis_desc_style(font(16.0))
+            .light_line_style(RGBColor(243, 243, 243))
+            .bold_line_style(RGBColor(205, 205, 205))
+            .x_labels(10)
+            .y_labels(if log_y { 12 } else { 8 });
+        if let Some(xl) = x_label {
+            mesh.x_desc(xl);
+        }
+        if !bitmap {
+            mesh.y_desc(panel.y_label.as_str());
+        }
+        mesh.draw().map_err(err)?;
+    }
+
+    draw_marks(&mut chart, o, (xa, xb), (y0 * ky, y1 * ky), (kx, ky), log_y)?;
+
     let mut any_named = false;
     for s in &panel.series {
         let rgb = match s.style.color {
@@ -879,35 +943,8 @@ where
             }
         };
         let style = RGBColor(rgb.0, rgb.1, rgb.2).stroke_width(s.style.width);
-        if let Some((lo, hi)) = &s.band {
-            // One polygon per run of finite points: lo forward, hi back.
-            let fill = RGBColor(rgb.0, rgb.1, rgb.2).mix(0.25).filled();
-            let mut run: Vec<(f64, f64, f64)> = Vec::new();
-            let flush = |run: &mut Vec<(f64, f64, f64)>| -> Vec<(f64, f64)> {
-                let mut poly: Vec<(f64, f64)> = run.iter().map(|p| (p.0, p.1)).collect();
-                poly.extend(run.iter().rev().map(|p| (p.0, p.2)));
-                run.clear();
-                poly
-            };
-            let mut polys = Vec::new();
-            for ((&x, &l), &h) in s.xs.iter().zip(lo).zip(hi) {
-                let ok = x.is_finite() && l.is_finite() && h.is_finite() && !(log_y && l <= 0.0);
-                if ok {
-                    run.push((x * kx, l * ky, h * ky));
-                } else if run.len() > 1 {
-                    polys.push(flush(&mut run));
-                } else {
-                    run.clear();
-                }
-            }
-            if run.len() > 1 {
-                polys.push(flush(&mut run));
-            }
-            for poly in polys {
-                chart
-                    .draw_series(std::iter::once(Polygon::new(poly, fill)))
-                    .map_err(err)?;
-            }
+        if let Some(band) = &s.band {
+            draw_band(&mut chart, &s.xs, band, rgb, log_y, (kx, ky))?;
         }
         let mut labelled = false;
         for seg in segments(&s.xs, &s.ys, log_y, (kx, ky)) {

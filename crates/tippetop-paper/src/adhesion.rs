@@ -421,6 +421,64 @@ impl Study {
         self.rows.iter().filter(move |r| r.case == ci)
     }
 
+    /// The section's end: the paper's claims under adhesion (a short table,
+    /// then each in words), the figures and the adhesion runs.
+    fn claims_and_runs(&self) -> String {
+        let mut b = String::new();
+        b.push_str("\n**The paper's claims under adhesion** (\"holds\" if the criterion holds in all four adhesion settings, \"partly\" in some, \"fails\" in none):\n\n| claim | no adhesion | under adhesion |\n|---|---|---|\n");
+        for c in &self.claims {
+            b.push_str(&format!(
+                "| {} | {} | **{}** |\n",
+                crate::report::clip(&c.claim, 80).replace('|', "\\|"),
+                if c.holds_without { "holds" } else { "fails" },
+                word(c.verdict),
+            ));
+        }
+        b.push('\n');
+        for c in &self.claims {
+            b.push_str(&format!(
+                "- **{}** ({}): {} Criterion: {}. No adhesion: {}. With adhesion: {}.\n",
+                c.claim,
+                word(c.verdict),
+                c.plain,
+                c.criterion.trim_end_matches('.'),
+                c.without.trim_end_matches('.'),
+                c.with.trim_end_matches('.'),
+            ));
+        }
+        b.push_str("\nFigures: ");
+        b.push_str(
+            &CASES
+                .iter()
+                .map(|c| c.fig)
+                .chain(["adhesion_zoom"])
+                .map(|f| format!("[fig{f}](fig{f}.png)"))
+                .collect::<Vec<_>>()
+                .join(", "),
+        );
+        b.push_str(" (θ(t) with and without adhesion; the zoom: with and without the applied force). Adhesion runs:\n\n| run | steps | J drift |\n|---|---|---|\n");
+        let runs: Vec<&crate::Run> = self
+            .rows
+            .iter()
+            .map(|r| &r.run)
+            .chain(&self.controls)
+            .collect();
+        for r in &runs {
+            let su = &r.trajectory.summary;
+            b.push_str(&format!(
+                "| {} | {} | {} |\n",
+                r.name,
+                su.steps,
+                tippetop::human::sig(su.jellett_max_rel_drift, 2)
+            ));
+        }
+        b.push_str("\nTheir settings:\n\n");
+        for r in &runs {
+            b.push_str(&format!("- {}: `{}`\n", r.name, r.settings));
+        }
+        b
+    }
+
     /// The Markdown section (title, body).
     pub fn section(&self) -> (String, String) {
         let sets = settings();
@@ -533,57 +591,7 @@ impl Study {
                 "Not confirmed."
             }
         ));
-        b.push_str("\n**The paper's claims under adhesion** (\"holds\" if the criterion holds in all four adhesion settings, \"partly\" in some, \"fails\" in none):\n\n| claim | no adhesion | under adhesion |\n|---|---|---|\n");
-        for c in &self.claims {
-            b.push_str(&format!(
-                "| {} | {} | **{}** |\n",
-                crate::report::clip(&c.claim, 80).replace('|', "\\|"),
-                if c.holds_without { "holds" } else { "fails" },
-                word(c.verdict),
-            ));
-        }
-        b.push('\n');
-        for c in &self.claims {
-            b.push_str(&format!(
-                "- **{}** ({}): {} Criterion: {}. No adhesion: {}. With adhesion: {}.\n",
-                c.claim,
-                word(c.verdict),
-                c.plain,
-                c.criterion.trim_end_matches('.'),
-                c.without.trim_end_matches('.'),
-                c.with.trim_end_matches('.'),
-            ));
-        }
-        b.push_str("\nFigures: ");
-        b.push_str(
-            &CASES
-                .iter()
-                .map(|c| c.fig)
-                .chain(["adhesion_zoom"])
-                .map(|f| format!("[fig{f}](fig{f}.png)"))
-                .collect::<Vec<_>>()
-                .join(", "),
-        );
-        b.push_str(" (θ(t) with and without adhesion; the zoom: with and without the applied force). Adhesion runs:\n\n| run | steps | J drift |\n|---|---|---|\n");
-        let runs: Vec<&crate::Run> = self
-            .rows
-            .iter()
-            .map(|r| &r.run)
-            .chain(&self.controls)
-            .collect();
-        for r in &runs {
-            let su = &r.trajectory.summary;
-            b.push_str(&format!(
-                "| {} | {} | {} |\n",
-                r.name,
-                su.steps,
-                tippetop::human::sig(su.jellett_max_rel_drift, 2)
-            ));
-        }
-        b.push_str("\nTheir settings:\n\n");
-        for r in &runs {
-            b.push_str(&format!("- {}: `{}`\n", r.name, r.settings));
-        }
+        b.push_str(&self.claims_and_runs());
         (
             "Adhesion: what van der Waals binding does to the paper's story".into(),
             b,

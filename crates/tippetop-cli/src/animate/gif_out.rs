@@ -175,8 +175,68 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
     root.draw(&Circle::new(o, dot_r, RGBColor(200, 20, 30).filled()))
         .map_err(err)?;
 
-    // The applied force: an arrow on the floor from the contact point,
-    // 1.5 R long at the run's largest |H|, where not behind the sphere.
+    let fmag = f.force[0].hypot(f.force[1]);
+    draw_force_arrow(&root, movie, i, &cam, &pose)?;
+
+    let size = (h as f64 / 22.0).clamp(10.0, 28.0);
+    let t_last = movie.frames[movie.frames.len() - 1].t;
+    let (unit, uname) = time_unit(t_last);
+    let dec = time_decimals(movie.frame_dt, unit);
+    let lines = [
+        format!("t = {:.*} {uname}", dec, f.t / unit),
+        format!("θ = {:.3} rad ({:.1}°)", f.theta, f.theta.to_degrees()),
+    ];
+    for (n, l) in lines.iter().enumerate() {
+        root.draw(&Text::new(
+            l.clone(),
+            (8, 6 + (n as f64 * size * 1.2) as i32),
+            font(size),
+        ))
+        .map_err(err)?;
+    }
+    if movie.force_max > 0.0 {
+        root.draw(&Text::new(
+            format!("→ applied force H = {} N", tippetop::human::s4(fmag)),
+            (8, 6 + (2.0 * size * 1.2) as i32),
+            font(size * 0.8).color(&FORCE),
+        ))
+        .map_err(err)?;
+    }
+    draw_scale_bar(&root, movie, i, &cam, size)?;
+    let small = font(size * 0.7).color(&RGBColor(90, 90, 90));
+    root.draw(&Text::new(
+        movie.title.clone(),
+        (8, h as i32 - (size * 0.9) as i32 - 4),
+        small.clone(),
+    ))
+    .map_err(err)?;
+
+    draw_map(&root, movie, i, size)?;
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+/// The applied force of frame `i`: an arrow on the floor from the contact
+/// point, 1.5 R long at the run's largest |H|, where not behind the sphere.
+fn draw_force_arrow(
+    root: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    movie: &Movie,
+    i: usize,
+    cam: &Camera,
+    pose: &Pose,
+) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<_>| anyhow!("drawing frame {i}: {e}");
+    let (w, h) = root.dim_in_pixel();
+    let f = &movie.frames[i];
+    let rr = movie.radius;
+    let screen = |p: V3| {
+        let (x, y, _) = cam.project(p);
+        (x, y)
+    };
+    let pixel = |p: V3| {
+        let (x, y) = screen(p);
+        (x.clamp(-1e4, 1e4) as i32, y.clamp(-1e4, 1e4) as i32)
+    };
     let fmag = f.force[0].hypot(f.force[1]);
     if movie.force_max > 0.0 && fmag > 0.0 {
         let len = 1.5 * rr * fmag / movie.force_max;
@@ -217,32 +277,21 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
         }
     }
 
-    let size = (h as f64 / 22.0).clamp(10.0, 28.0);
-    let t_last = movie.frames[movie.frames.len() - 1].t;
-    let (unit, uname) = time_unit(t_last);
-    let dec = time_decimals(movie.frame_dt, unit);
-    let lines = [
-        format!("t = {:.*} {uname}", dec, f.t / unit),
-        format!("θ = {:.3} rad ({:.1}°)", f.theta, f.theta.to_degrees()),
-    ];
-    for (n, l) in lines.iter().enumerate() {
-        root.draw(&Text::new(
-            l.clone(),
-            (8, 6 + (n as f64 * size * 1.2) as i32),
-            font(size),
-        ))
-        .map_err(err)?;
-    }
-    if movie.force_max > 0.0 {
-        root.draw(&Text::new(
-            format!("→ applied force H = {} N", tippetop::human::s4(fmag)),
-            (8, 6 + (2.0 * size * 1.2) as i32),
-            font(size * 0.8).color(&FORCE),
-        ))
-        .map_err(err)?;
-    }
-    // The scale bar (true length along the screen's horizontal, which is
-    // level in the lab: the camera is orthographic).
+    Ok(())
+}
+
+/// The scale bar of frame `i` (true length along the screen's horizontal,
+/// which is level in the lab: the camera is orthographic; `size`: the text
+/// size \[px\]).
+fn draw_scale_bar(
+    root: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    movie: &Movie,
+    i: usize,
+    cam: &Camera,
+    size: f64,
+) -> Result<()> {
+    let err = |e: DrawingAreaErrorKind<_>| anyhow!("drawing frame {i}: {e}");
+    let (_, h) = root.dim_in_pixel();
     let (bar_m, bar_label) = &movie.scale_bar;
     let bar_px = (bar_m * cam.scale).round() as i32;
     if bar_px > 4 {
@@ -270,16 +319,6 @@ pub fn render_frame(movie: &Movie, i: usize, settings: &Settings, buf: &mut [u8]
         ))
         .map_err(err)?;
     }
-    let small = font(size * 0.7).color(&RGBColor(90, 90, 90));
-    root.draw(&Text::new(
-        movie.title.clone(),
-        (8, h as i32 - (size * 0.9) as i32 - 4),
-        small.clone(),
-    ))
-    .map_err(err)?;
-
-    draw_map(&root, movie, i, size)?;
-    root.present().map_err(err)?;
     Ok(())
 }
 
