@@ -718,6 +718,21 @@ fn theta_figure_named(
             x_range: Some((0.0, t_end * scale)),
             y_range: Some((0.0, std::f64::consts::PI)),
             legend: Legend::None,
+            // The phase boundary, and each phase's hold window (its last
+            // `hold` seconds, where success is judged) shaded.
+            vlines: vec![plot::VLine::new(b.phase * scale, "erase starts")],
+            spans: vec![
+                plot::Span {
+                    x0: (b.phase - b.hold) * scale,
+                    x1: b.phase * scale,
+                    label: "write hold".into(),
+                },
+                plot::Span {
+                    x0: (2.0 * b.phase - b.hold) * scale,
+                    x1: 2.0 * b.phase * scale,
+                    label: "erase hold".into(),
+                },
+            ],
             ..PlotOpts::default()
         },
     )

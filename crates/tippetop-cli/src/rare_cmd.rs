@@ -532,7 +532,7 @@ fn ams_paragraph(p: &Problem, r: &Report, a: &AmsPart, wall: f64) -> String {
 /// P(max ξ > level)), with the estimate and the exact value as lines; the
 /// legend where the staircases (falling to the right) leave room.
 fn levels_figure(dir: &Path, r: &Report, a: &AmsPart) -> Result<()> {
-    use crate::plot::{Legend, PlotOpts, Series, line_plot};
+    use crate::plot::{PlotOpts, Series, line_plot};
     let mut series = Vec::new();
     let mut lo = 1.0f64;
     let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -601,18 +601,9 @@ fn levels_figure(dir: &Path, r: &Report, a: &AmsPart) -> Result<()> {
         Some(_) => "P(max ξ > level | crossing) [1]",
         None => "P(max ξ > level) [1]",
     };
-    // The staircases fall from (ξ0, 1) to the right: over two decades
-    // or more the upper right corner is empty; else the legend goes below
-    // them, at the lower left.
-    let legend = if lo < 1e-2 {
-        Legend::UpperRight
-    } else {
-        Legend::LowerLeft
-    };
     let opts = PlotOpts {
         log_y: true,
         y_range: Some((lo / 10.0, 1.5)),
-        legend,
         ..PlotOpts::default()
     };
     line_plot(

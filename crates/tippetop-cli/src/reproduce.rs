@@ -13,7 +13,7 @@ use clap::Args;
 use tippetop_paper::{self as paper, Figure, Options, Reproduction};
 
 use crate::output::{OutDir, write_bytes_atomic, write_json_pretty, write_series_csv};
-use crate::plot::{Legend, PlotOpts, RefLine, Series, line_plot};
+use crate::plot::{PlotOpts, RefLine, Series, VLine, line_plot};
 use crate::progress;
 
 /// `tippetop reproduce`.
@@ -158,15 +158,24 @@ fn write_figure(dir: &Path, f: &Figure) -> Result<()> {
     if f.id == "02" {
         return write_fig02(dir, f);
     }
+    let span = f
+        .curves
+        .iter()
+        .filter_map(|c| c.t.last().copied())
+        .fold(0.0, f64::max)
+        * f.x_scale;
     let series: Vec<Series> = f
         .curves
         .iter()
         .map(|c| {
-            let s = Series::new(
-                c.name.clone(),
-                c.t.iter().map(|t| t * f.x_scale).collect(),
-                c.y.clone(),
-            );
+            let xs: Vec<f64> = c.t.iter().map(|t| t * f.x_scale).collect();
+            // A nutating curve: its running mean with its min-max band over
+            // 1/100 of the figure's span.
+            let s = if f.envelope {
+                Series::envelope(c.name.clone(), &xs, &c.y, 400, span / 100.0)
+            } else {
+                Series::new(c.name.clone(), xs, c.y.clone())
+            };
             if c.dashed { s.dashed() } else { s }
         })
         .collect();
@@ -176,7 +185,7 @@ fn write_figure(dir: &Path, f: &Figure) -> Result<()> {
             .iter()
             .map(|(y, l)| RefLine::new(*y, l.clone()))
             .collect(),
-        legend: Legend::LowerRight,
+        vlines: vlines(f),
         ..Default::default()
     };
     line_plot(
@@ -189,58 +198,40 @@ fn write_figure(dir: &Path, f: &Figure) -> Result<()> {
     )
 }
 
-/// The envelope of a curve: its smallest and largest value in each of
-/// `bins` equal time windows over `[t0, t1]`, at the windows' centres
-/// (windows without points are skipped).
-fn envelope(t: &[f64], y: &[f64], (t0, t1): (f64, f64), bins: usize) -> [Vec<(f64, f64)>; 2] {
-    let mut lo = vec![f64::INFINITY; bins];
-    let mut hi = vec![f64::NEG_INFINITY; bins];
-    for (&ti, &yi) in t.iter().zip(y) {
-        if !yi.is_finite() || ti < t0 || ti > t1 {
-            continue;
-        }
-        let k = (((ti - t0) / (t1 - t0)) * bins as f64).floor() as usize;
-        let k = k.min(bins - 1);
-        lo[k] = lo[k].min(yi);
-        hi[k] = hi[k].max(yi);
-    }
-    let w = (t1 - t0) / bins as f64;
-    let pick = |v: &[f64]| {
-        v.iter()
-            .enumerate()
-            .filter(|(_, x)| x.is_finite())
-            .map(|(k, &x)| (t0 + (k as f64 + 0.5) * w, x))
-            .collect()
-    };
-    [pick(&lo), pick(&hi)]
+/// The figure's force switches as vertical marks, in its x unit.
+fn vlines(f: &Figure) -> Vec<VLine> {
+    f.vlines
+        .iter()
+        .map(|(t, l)| VLine::new(t * f.x_scale, l.clone()))
+        .collect()
 }
 
 /// Fig. 2, readable: five oscillating θ(t) overlap, so `fig02.png` draws
-/// each curve's envelope (its min and max over 150 windows of the run;
-/// the curves themselves are in fig02.csv), and `fig02_zoom.png` the
-/// curves themselves over the first 10 µs, where they part.
+/// each curve's running mean and min–max band over a sliding window of
+/// 1/40 of the run (the curves themselves are in fig02.csv), and
+/// `fig02_zoom.png` the curves themselves over the first 10 µs, where they
+/// part.
 fn write_fig02(dir: &Path, f: &Figure) -> Result<()> {
     let t_end = f
         .curves
         .iter()
         .filter_map(|c| c.t.last().copied())
         .fold(0.0, f64::max);
-    let mut series = Vec::new();
-    for (i, c) in f.curves.iter().enumerate() {
-        let color = crate::plot::PALETTE[i % crate::plot::PALETTE.len()];
-        let [lo, hi] = envelope(&c.t, &c.y, (0.0, t_end), 150);
-        for (j, env) in [hi, lo].into_iter().enumerate() {
-            let (xs, ys): (Vec<f64>, Vec<f64>) =
-                env.into_iter().map(|(t, y)| (t * f.x_scale, y)).unzip();
-            let name = if j == 0 {
-                c.name.clone()
-            } else {
-                String::new()
-            };
-            let s = Series::new(name, xs, ys).color(color);
-            series.push(if c.dashed { s.dashed() } else { s });
-        }
-    }
+    // Each curve as its running mean with its running min-max band over
+    // 2.5 µs (1/40 of the window, a few nutation periods once the top
+    // lies), sliding: no zigzag from fixed bins.
+    let window = t_end * f.x_scale / 40.0;
+    let series: Vec<Series> = f
+        .curves
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let color = crate::plot::PALETTE[i % crate::plot::PALETTE.len()];
+            let xs: Vec<f64> = c.t.iter().map(|t| t * f.x_scale).collect();
+            let s = Series::envelope(c.name.clone(), &xs, &c.y, 450, window).color(color);
+            if c.dashed { s.dashed() } else { s }
+        })
+        .collect();
     let hlines: Vec<RefLine> = f
         .hlines
         .iter()
@@ -248,12 +239,11 @@ fn write_fig02(dir: &Path, f: &Figure) -> Result<()> {
         .collect();
     let opts = PlotOpts {
         hlines: hlines.clone(),
-        legend: Legend::LowerRight,
         ..Default::default()
     };
     line_plot(
         &dir.join("fig02"),
-        "Fig. 2: θ envelopes (min, max over 0.67 µs), g = 0, 9.8, 100 m/s²",
+        "Fig. 2: θ, running mean and min–max band over 2.5 µs, g = 0, 9.8, 100 m/s²",
         &f.x_label,
         &f.y_label,
         &series,
@@ -278,7 +268,6 @@ fn write_fig02(dir: &Path, f: &Figure) -> Result<()> {
         .collect();
     let opts = PlotOpts {
         hlines,
-        legend: Legend::LowerRight,
         x_range: Some((0.0, zoom_end * f.x_scale)),
         ..Default::default()
     };
@@ -357,7 +346,6 @@ fn write_fig05(dir: &Path, rep: &Reproduction) -> Result<()> {
         y_range: Some((-0.3 * rr, 3.0 * rr)),
         equal_aspect: true,
         hlines: vec![RefLine::new(0.0, "plane")],
-        legend: Legend::UpperRight,
         ..Default::default()
     };
     line_plot(

@@ -20,7 +20,7 @@ use crate::output::{
     OutDir, SummaryDoc, summary_with_status, write_bytes_atomic, write_json_pretty,
     write_trajectory_csv,
 };
-use crate::plot::{self, Legend, Panel, PlotOpts, RefLine, Series};
+use crate::plot::{self, Panel, PlotOpts, RefLine, Series, VLine};
 use crate::{progress, scenario_load};
 
 /// Long help of `tippetop run`: the files, every `trajectory.csv` column
@@ -298,6 +298,13 @@ pub fn write_plots(dir: &Path, scenario: &Scenario, traj: &Trajectory) -> Result
     let col = |f: fn(&tippetop::Sample) -> f64| s.iter().map(f).collect::<Vec<f64>>();
     let x_label = format!("t [{unit}]");
     let x_range = Some((0.0, t_end * k));
+    // The applied force's switches, marked on the time plots.
+    let switches: Vec<VLine> = scenario
+        .switch_times()
+        .into_iter()
+        .filter(|&ts| ts > 0.0 && ts < t_end)
+        .map(|ts| VLine::new(ts * k, "force switch"))
+        .collect();
     let failed = traj.error.is_some();
     let suffix = if failed { " (run failed)" } else { "" };
 
@@ -314,7 +321,7 @@ pub fn write_plots(dir: &Path, scenario: &Scenario, traj: &Trajectory) -> Result
         &PlotOpts {
             hlines: vec![RefLine::new(pi / 2.0, "π/2"), RefLine::new(pi, "π")],
             x_range,
-            legend: Legend::LowerRight,
+            vlines: switches.clone(),
             ..PlotOpts::default()
         },
     )?;
@@ -328,7 +335,15 @@ pub fn write_plots(dir: &Path, scenario: &Scenario, traj: &Trajectory) -> Result
         "rate [rad/s]",
         &[
             Series::new("spin ω", t.clone(), col(|x| x.spin)),
-            Series::new("precession Ω", t.clone(), col(|x| x.precession)),
+            // Ω nutates fast: its running mean and min-max band over 1/100
+            // of the run, so that ω stays visible beside it.
+            Series::envelope(
+                "precession Ω (running mean, min–max band)",
+                &t,
+                &col(|x| x.precession),
+                500,
+                t_end * k / 100.0,
+            ),
         ],
         &PlotOpts {
             hlines: vec![RefLine {
@@ -336,6 +351,7 @@ pub fn write_plots(dir: &Path, scenario: &Scenario, traj: &Trajectory) -> Result
                 label: None,
             }],
             x_range,
+            vlines: switches,
             ..PlotOpts::default()
         },
     )?;

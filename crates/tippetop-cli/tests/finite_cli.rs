@@ -105,7 +105,10 @@ fn a_planted_nan_row_exits_3_with_the_rows_before_it() {
         assert_eq!(o.status.code(), Some(3), "{model}: {err}");
         assert_eq!(err.lines().count(), 1, "{model}: {err}");
         // The planted time, 0.5 s, with 4 significant figures (tippetop::human).
-        assert!(err.starts_with("error: run failed at t = 0.5000 s"), "{err}");
+        assert!(
+            err.starts_with("error: run failed at t = 0.5000 s"),
+            "{err}"
+        );
         assert!(err.contains("NaN in column qw"), "{err}");
         let s = json(&out.join("summary.json"));
         assert_eq!(s["failure"], "non_finite", "{model}");
