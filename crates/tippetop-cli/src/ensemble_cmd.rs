@@ -536,12 +536,13 @@ fn write_results(
     let mut json = serde_json::to_string_pretty(&summary)?;
     json.push('\n');
     write_bytes_atomic(&dir.join("summary.json"), json.as_bytes())?;
-    write_fan(dir, hist, stats.runs)
+    write_fan(dir, hist, stats.runs, info.temperature)
 }
 
-/// The fan chart of θ(t): median, 25–75 % and 5–95 % bands (as their
-/// bounding curves), from the histograms.
-fn write_fan(dir: &Path, hist: &Histograms, runs: u64) -> Result<()> {
+/// The fan chart of θ(t): the median over shaded 25–75 % and 5–95 %
+/// bands, from the histograms; the title names the run count and the
+/// temperature \[K\].
+fn write_fan(dir: &Path, hist: &Histograms, runs: u64, temperature: Option<f64>) -> Result<()> {
     use crate::plot::{PlotOpts, RefLine, Series, line_plot};
     let idx: Vec<usize> = (0..hist.times.len())
         .filter(|&i| hist.times[i].is_some())
@@ -563,22 +564,26 @@ fn write_fan(dir: &Path, hist: &Histograms, runs: u64) -> Result<()> {
             .map(|&i| hist.quantile(i, 0, p).unwrap_or(f64::NAN))
             .collect()
     };
-    let band = (110, 150, 210);
-    let inner = (40, 90, 170);
+    // Bands only (their line is NaN, so not drawn), then the median.
+    let gap = vec![f64::NAN; xs.len()];
+    let mut outer =
+        Series::new("5–95 % of the runs", xs.clone(), gap.clone()).color((110, 150, 210));
+    outer.band = Some((q(0.05), q(0.95)));
+    let mut inner = Series::new("25–75 %", xs.clone(), gap).color((40, 90, 170));
+    inner.band = Some((q(0.25), q(0.75)));
     let series = vec![
-        Series::new("5 %, 95 %", xs.clone(), q(0.05))
-            .color(band)
-            .dashed(),
-        Series::new("", xs.clone(), q(0.95)).color(band).dashed(),
-        Series::new("25 %, 75 %", xs.clone(), q(0.25)).color(inner),
-        Series::new("", xs.clone(), q(0.75)).color(inner),
+        outer,
+        inner,
         Series::new("median", xs.clone(), q(0.5))
             .color((200, 30, 30))
             .width(3),
     ];
+    let at = temperature.map_or(String::new(), |t| {
+        format!(" at {} K", tippetop::human::sig(t, 3))
+    });
     line_plot(
         &dir.join("fan"),
-        &format!("θ(t) over {runs} runs: quantiles"),
+        &format!("θ(t) of {runs} runs{at}: median and quantile bands"),
         &format!("t [{unit}]"),
         "θ [rad]",
         &series,

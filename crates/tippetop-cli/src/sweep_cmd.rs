@@ -378,7 +378,7 @@ fn write_plots(dir: &Path, table: &Table) -> Result<()> {
             multi_panel(
                 &dir.join("sweep"),
                 &format!("Sweep over {key}"),
-                key,
+                &axis_label(key),
                 &[theta, spin, first],
                 &PlotOpts {
                     size: (1000, 900),
@@ -397,8 +397,8 @@ fn write_plots(dir: &Path, table: &Table) -> Result<()> {
             heatmap(
                 &dir.join("sweep"),
                 "θ at the end of each run (grey: failed case)",
-                &table.keys[0],
-                &table.keys[1],
+                &axis_label(&table.keys[0]),
+                &axis_label(&table.keys[1]),
                 "θ final [rad]",
                 &xs,
                 &ys,
@@ -410,5 +410,14 @@ fn write_plots(dir: &Path, table: &Table) -> Result<()> {
             )
         }
         _ => Ok(()),
+    }
+}
+
+/// An axis label for a swept key: the key with its unit (`top.offset [m]`),
+/// `[1]` for a dimensionless scenario key.
+fn axis_label(key: &str) -> String {
+    match tippetop::scenario::key_unit(key) {
+        Some(u) => format!("{key} [{u}]"),
+        None => format!("{key} [1]"),
     }
 }

@@ -805,6 +805,19 @@ enum LawName {
     ContensouPade,
 }
 
+/// The unit of a scenario key as its valid range states it (`"m"` for
+/// `top.offset`, `"N"` for `force.0.hx`; the last `[...]` of the range), or
+/// None (a dimensionless key, or one not in the scenario's tables).
+pub fn key_unit(full_key: &str) -> Option<&'static str> {
+    let table = full_key.split('.').next()?;
+    let key = full_key.rsplit('.').next()?;
+    let range = range_of(keys_of(table)?, key);
+    let end = range.rfind(']')?;
+    let start = range[..end].rfind('[')?;
+    let unit = &range[start + 1..end];
+    (!unit.is_empty() && !unit.contains(',')).then_some(unit)
+}
+
 fn keys_of(table: &str) -> Option<Keys> {
     TABLES.iter().find(|(n, _)| *n == table).map(|(_, k)| *k)
 }

@@ -1116,3 +1116,15 @@ fn dt_rules_name_the_load_that_binds_them() {
         }
     }
 }
+
+/// Sweep axes name their unit from the key's stated range.
+#[test]
+fn key_units_come_from_the_ranges() {
+    use tippetop::scenario::key_unit;
+    assert_eq!(key_unit("top.offset"), Some("m"));
+    assert_eq!(key_unit("top.inertia_axial"), Some("kg m^2"));
+    assert_eq!(key_unit("force.0.hx"), Some("N"));
+    assert_eq!(key_unit("initial.theta"), Some("rad"));
+    assert_eq!(key_unit("surface.friction"), None);
+    assert_eq!(key_unit("nosuch.key"), None);
+}
