@@ -66,6 +66,7 @@ fn report_opens_with_an_abstract_and_keeps_cells_short() {
         .args([
             "reproduce",
             "--quick",
+            "--extended",
             "--quiet",
             "--out",
             out.to_str().unwrap(),
@@ -73,6 +74,8 @@ fn report_opens_with_an_abstract_and_keeps_cells_short() {
         .assert()
         .success();
     let report = fs::read_to_string(out.join("report.md")).unwrap();
+    // The adhesion study's tables are checked too.
+    assert!(report.contains("**The paper's claims under adhesion**"));
     // The abstract comes before any table, with the verdict counts and the
     // decisive findings' numbers.
     let abs = report.find("## Abstract").expect("no abstract");
