@@ -518,8 +518,10 @@ fn prob(p: f64) -> String {
     }
 }
 
-fn opt(v: Option<f64>) -> String {
-    v.map(human).unwrap_or_else(|| "-".into())
+/// `v` with its unit, or `–` (no unit) when there is none.
+fn opt_unit(v: Option<f64>, unit: &str) -> String {
+    v.map(|x| format!("{} {unit}", human(x)))
+        .unwrap_or_else(|| "–".into())
 }
 
 /// A block in one line: `P = 1 [1, 1] (1 of 1 runs), time median 4.1e-5 s`.
@@ -535,7 +537,7 @@ fn one_line(b: &Block) -> String {
         .map(|(m, n)| format!("{m} {n}"))
         .collect();
     format!(
-        "P = {}{ci} ({} of {} runs){}, time median {} s, energy median {} J{}",
+        "P = {}{ci} ({} of {} runs){}, time median {}, energy median {}{}",
         b.probability.map_or_else(|| "-".into(), prob),
         b.successes,
         b.runs,
@@ -544,8 +546,8 @@ fn one_line(b: &Block) -> String {
         } else {
             ""
         },
-        opt(b.time_median),
-        opt(b.energy_median),
+        opt_unit(b.time_median, "s"),
+        opt_unit(b.energy_median, "J"),
         if fails.is_empty() {
             String::new()
         } else {
@@ -790,10 +792,10 @@ fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
         let _ = writeln!(s, "- {}", one_line(blk));
         let _ = writeln!(
             s,
-            "- switching time quartiles: {} s, {} s, {} s",
-            opt(blk.time_q25),
-            opt(blk.time_median),
-            opt(blk.time_q75)
+            "- switching time quartiles: {}, {}, {}",
+            opt_unit(blk.time_q25, "s"),
+            opt_unit(blk.time_median, "s"),
+            opt_unit(blk.time_q75, "s")
         );
         let _ = writeln!(
             s,

@@ -10,6 +10,7 @@ use anyhow::Result;
 use clap::Args;
 use tippetop::analysis::device::{self, DeviceOptions, DeviceReport, Found, Tally};
 use tippetop::analysis::device_rare::{self as dr, BigTime, LyingRetention, Measured, Sizes};
+use tippetop::analysis::retention::Extrapolation;
 
 use crate::output::{OutDir, write_bytes_atomic};
 use crate::scenario_load::input_error;
@@ -70,10 +71,13 @@ fn g(v: f64) -> String {
 
 const YEAR: f64 = 365.25 * 86400.0;
 
-/// A duration in readable units: ps … s, hours, days, years.
+/// A duration in readable units: ps … s, hours, days, years (beyond
+/// 10⁴ years as `1.234 × 10^32 years`, as [`big`] writes times beyond f64).
 fn dur(s: f64) -> String {
     if !s.is_finite() {
-        return "beyond 1e300 s".into();
+        // Not reached: the report's times are finite or come through
+        // [`big`] with their logarithm.
+        return "not finite".into();
     }
     let (x, u) = if s < 1e-9 {
         (s * 1e12, "ps")
@@ -89,22 +93,38 @@ fn dur(s: f64) -> String {
         (s / 3600.0, "h")
     } else if s < YEAR {
         (s / 86400.0, "days")
-    } else {
+    } else if s < 1e4 * YEAR {
         (s / YEAR, "years")
+    } else {
+        return years_pow10(s.log10());
     };
     format!("{} {u}", g(x))
+}
+
+/// `10^log10_seconds` seconds as `1.234 × 10^664 years`.
+fn years_pow10(log10_seconds: f64) -> String {
+    let y = log10_seconds - YEAR.log10();
+    let mut e = y.floor();
+    let mut m = 10f64.powf(y - e);
+    if format!("{m:.3}") == "10.000" {
+        (m, e) = (1.0, e + 1.0);
+    }
+    format!("{m:.3} × 10^{e:.0} years")
 }
 
 /// A time that may exceed f64.
 fn big(t: &BigTime) -> String {
     match t.seconds {
         Some(s) => dur(s),
-        None => {
-            let y = t.log10_seconds - YEAR.log10();
-            let e = y.floor();
-            format!("{:.2} × 10^{e:.0} years", 10f64.powf(y - e))
-        }
+        None => years_pow10(t.log10_seconds),
     }
+}
+
+/// An extrapolated mean retention `1/k` and its 95 % interval, from
+/// `ln k` (finite however far the extrapolation reaches).
+fn extrapolated(e: &Extrapolation) -> (String, String, String) {
+    let at = |z: f64| big(&BigTime::from_ln(-(e.ln_rate + z * e.ln_rate_se)));
+    (at(0.0), at(1.96), at(-1.96))
 }
 
 /// A splitting estimate of a time, with its interval.
@@ -166,8 +186,10 @@ fn lying_words(l: &LyingRetention) -> String {
     }
 }
 
-fn opt(v: Option<f64>) -> String {
-    v.map(g).unwrap_or_else(|| "-".into())
+/// `v` with its unit, or `–` (no unit) when there is none.
+fn opt_unit(v: Option<f64>, unit: &str) -> String {
+    v.map(|x| format!("{} {unit}", g(x)))
+        .unwrap_or_else(|| "–".into())
 }
 
 fn p(t: &Tally) -> String {
@@ -215,11 +237,11 @@ fn found_as(f: &Option<Found>, sym: &str) -> String {
                 })
                 .collect();
             format!(
-                "found ({} runs): {}; switches in {} s, work {} J; {}/{} of ±5 % perturbations succeed",
+                "found ({} runs): {}; switches in {}, work {}; {}/{} of ±5 % perturbations succeed",
                 f.evaluations,
                 w.join("; "),
-                opt(f.time),
-                opt(f.energy),
+                opt_unit(f.time, "s"),
+                opt_unit(f.energy, "J"),
                 f.robustness.0,
                 f.robustness.1
             )
@@ -424,10 +446,10 @@ fn deterministic_section(s: &mut String, r: &DeviceReport) {
         let _ = writeln!(s, "### Preset `{}`\n", d.preset);
         let _ = writeln!(
             s,
-            "- The paper's write (H_x = H_y = 0.1 zN, 100 µs): {}, time {} s, work {} J{}.",
+            "- The paper's write (H_x = H_y = 0.1 zN, 100 µs): {}, time {}, work {}{}.",
             p(&d.write),
-            opt(d.write.time_median),
-            opt(d.write.energy_median),
+            opt_unit(d.write.time_median, "s"),
+            opt_unit(d.write.energy_median, "J"),
             fails(&d.write)
         );
         let _ = writeln!(
@@ -493,12 +515,8 @@ fn thermal_section(s: &mut String, r: &DeviceReport) {
         let ret = t
             .one_retention
             .map(|e| {
-                format!(
-                    "{} (95 %: {} – {})",
-                    dur(e.mean_time),
-                    dur(e.time_ci95[0]),
-                    dur(e.time_ci95[1])
-                )
+                let (m, lo, hi) = extrapolated(&e);
+                format!("{m} (95 %: {lo} – {hi})")
             })
             .unwrap_or_else(|| "no fit".into());
         let _ = writeln!(
@@ -586,7 +604,7 @@ fn rare_section(s: &mut String, r: &DeviceReport) {
             .iter()
             .find(|t| t.temperature == l.temperature)
             .and_then(|t| t.one_retention)
-            .map(|e| dur(e.mean_time))
+            .map(|e| extrapolated(&e).0)
             .unwrap_or_else(|| "-".into());
         let ams = match &l.ams {
             Some(m) => format!(
@@ -780,4 +798,48 @@ pub fn run(args: &DeviceArgs, quiet: bool) -> Result<ExitCode> {
         println!("wrote {}", args.out.display());
     }
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_times_read_as_powers_of_ten_of_years() {
+        // 1e4 years is where the power form starts.
+        assert_eq!(dur(1e4 * YEAR), "1.000 × 10^4 years");
+        assert_eq!(dur(9999.0 * YEAR), "9999 years");
+        // A mantissa that rounds to 10 carries into the exponent.
+        assert_eq!(years_pow10((9.9996e5 * YEAR).log10()), "1.000 × 10^6 years");
+        // Beyond f64: from the logarithm.
+        let t =
+            BigTime::from_ln((3.74f64.log10() + 664.0 + YEAR.log10()) * std::f64::consts::LN_10);
+        assert!(t.seconds.is_none());
+        assert_eq!(big(&t), "3.740 × 10^664 years");
+        assert_eq!(dur(3.3e-3), "3.300 ms");
+    }
+
+    #[test]
+    fn extrapolations_beyond_f64_are_finite_text() {
+        // ln k = −2000: 1/k = e^2000 s = 10^868.6 s, beyond f64; the
+        // interval e^(2000 ∓ 1.96·10).
+        let e = Extrapolation {
+            temperature: 4.0,
+            rate: 0.0,
+            ln_rate: -2000.0,
+            rate_ci95: [0.0, 0.0],
+            ln_rate_se: 10.0,
+            mean_time: f64::INFINITY,
+            time_ci95: [f64::INFINITY; 2],
+        };
+        let (m, lo, hi) = extrapolated(&e);
+        let log10_years = |ln_s: f64| ln_s / std::f64::consts::LN_10 - YEAR.log10();
+        let want = |ln_s: f64| {
+            let y = log10_years(ln_s);
+            format!("{:.3} × 10^{} years", 10f64.powf(y - y.floor()), y.floor())
+        };
+        assert_eq!(m, want(2000.0));
+        assert_eq!(lo, want(2000.0 - 19.6));
+        assert_eq!(hi, want(2000.0 + 19.6));
+    }
 }

@@ -23,6 +23,20 @@ fn device_report_is_consistent() {
     let r = json(&d.join("dev/device.json"));
     let md = std::fs::read_to_string(d.join("dev/device.md")).unwrap();
     assert!(md.contains("## Answer"), "{md}");
+    // One number format for people (issue #29, 5): no machine-precision
+    // numbers, no `1e300`/`inf` stand-ins (a 4 K retention beyond f64 reads
+    // `3.740 × 10^664 years`), in the report and on the console.
+    let console = format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    for (name, text) in [("device.md", &md), ("the console", &console)] {
+        let long = common::long_numbers(text, 10);
+        assert!(long.is_empty(), "long numbers in {name}: {long:?}");
+        let sent = common::sentinels(text);
+        assert!(sent.is_empty(), "sentinels in {name}: {sent:?}");
+    }
     // The paper's write on the paper's model: the same bit as
     // scenarios/bit/nano.toml, so the same switching time, bit for bit.
     let o = bin()

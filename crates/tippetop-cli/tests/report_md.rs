@@ -8,40 +8,8 @@ use std::fs;
 
 use assert_cmd::Command;
 
-/// Numbers in `text` with `min` or more significant digits, outside code
-/// spans (`...`, which hold command lines a user copies, with full digits).
-fn long_numbers(text: &str, min: usize) -> Vec<String> {
-    let mut found = Vec::new();
-    for (i, part) in text.split('`').enumerate() {
-        if i % 2 == 1 {
-            continue; // inside a code span
-        }
-        let b = part.as_bytes();
-        let mut k = 0;
-        while k < b.len() {
-            if b[k].is_ascii_digit()
-                && (k == 0 || !(b[k - 1].is_ascii_alphanumeric() || b[k - 1] == b'_'))
-            {
-                let start = k;
-                while k < b.len() && (b[k].is_ascii_digit() || b[k] == b'.') {
-                    k += 1;
-                }
-                let num = &part[start..k];
-                let digits = num
-                    .trim_start_matches(['0', '.'])
-                    .chars()
-                    .filter(|c| c.is_ascii_digit())
-                    .count();
-                if digits >= min {
-                    found.push(num.to_string());
-                }
-            } else {
-                k += 1;
-            }
-        }
-    }
-    found
-}
+mod common;
+use common::{long_numbers, sentinels};
 
 #[test]
 fn long_numbers_finds_what_it_should() {
@@ -123,5 +91,16 @@ fn report_opens_with_an_abstract_and_keeps_cells_short() {
         long.is_empty(),
         "machine-precision numbers in report.md: {long:?}"
     );
-    assert!(!report.contains("e300"), "a 1e300 sentinel in report.md");
+    let sent = sentinels(&report);
+    assert!(sent.is_empty(), "sentinels in report.md: {sent:?}");
+}
+
+#[test]
+fn sentinels_finds_what_it_should() {
+    assert_eq!(
+        sentinels("beyond 1e300 s (95 %: > 1e300–> 1e300 s)").len(),
+        3
+    );
+    assert_eq!(sentinels("= inf yr, ratio NaN"), vec!["inf", "NaN"]);
+    assert!(sentinels("infinite, 1e30 s, `x = 1e300`, 3.740 × 10^664 years").is_empty());
 }

@@ -1,5 +1,6 @@
-//! Helpers shared by the `tippetop bit` family's end-to-end tests
-//! (bit_cli.rs, search_cli.rs, device_cli.rs).
+//! Helpers shared by the end-to-end tests: the `tippetop bit` family
+//! (bit_cli.rs, search_cli.rs, device_cli.rs) and the human-output scans
+//! (report_md.rs, human_numbers.rs: [`long_numbers`], [`sentinels`]).
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -97,4 +98,59 @@ pub fn names(dir: &Path) -> Vec<String> {
         .collect();
     v.sort();
     v
+}
+
+/// Numbers in `text` with `min` or more significant digits, outside code
+/// spans (`...`, which hold command lines a user copies, with full digits).
+pub fn long_numbers(text: &str, min: usize) -> Vec<String> {
+    let mut found = Vec::new();
+    for (i, part) in text.split('`').enumerate() {
+        if i % 2 == 1 {
+            continue; // inside a code span
+        }
+        let b = part.as_bytes();
+        let mut k = 0;
+        while k < b.len() {
+            if b[k].is_ascii_digit()
+                && (k == 0 || !(b[k - 1].is_ascii_alphanumeric() || b[k - 1] == b'_'))
+            {
+                let start = k;
+                while k < b.len() && (b[k].is_ascii_digit() || b[k] == b'.') {
+                    k += 1;
+                }
+                let num = &part[start..k];
+                let digits = num
+                    .trim_start_matches(['0', '.'])
+                    .chars()
+                    .filter(|c| c.is_ascii_digit())
+                    .count();
+                if digits >= min {
+                    found.push(num.to_string());
+                }
+            } else {
+                k += 1;
+            }
+        }
+    }
+    found
+}
+
+/// Sentinels a human output must not show (issue #29, 5): `1e300`-style
+/// stand-ins for infinity, `inf`, `NaN`. Outside code spans.
+pub fn sentinels(text: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for (i, part) in text.split('`').enumerate() {
+        if i % 2 == 1 {
+            continue;
+        }
+        for w in part.split(|c: char| c.is_whitespace() || "()[],;:=".contains(c)) {
+            let bare = w.trim_start_matches(['>', '<', '-', '+']);
+            let lower = bare.to_ascii_lowercase();
+            if lower.contains("e300") || lower.contains("e+300") || lower == "inf" || lower == "nan"
+            {
+                found.push(w.to_string());
+            }
+        }
+    }
+    found
 }

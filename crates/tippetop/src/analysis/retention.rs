@@ -60,8 +60,12 @@ pub struct ArrheniusFit {
 pub struct Extrapolation {
     /// Temperature \[K\].
     pub temperature: f64,
-    /// Predicted escape rate \[1/s\].
+    /// Predicted escape rate \[1/s\] (`0` where it underflows f64: see
+    /// [`Extrapolation::ln_rate`]).
     pub rate: f64,
+    /// `ln` of the predicted rate in 1/s: finite where `rate` and
+    /// `mean_time` are not (far extrapolations).
+    pub ln_rate: f64,
     /// Its 95 % interval (normal on `ln k`) \[1/s\].
     pub rate_ci95: [f64; 2],
     /// Standard error of `ln k`.
@@ -258,6 +262,7 @@ impl ArrheniusFit {
         Extrapolation {
             temperature,
             rate,
+            ln_rate: y,
             rate_ci95: [lo, hi],
             ln_rate_se: se,
             mean_time: 1.0 / rate,
