@@ -55,7 +55,9 @@ impl Top {
         let a = 2.0 / 3.0 * mass * radius * radius;
         Top {
             radius,
-            offset: 0.1 * radius,
+            // a = 0.1 R = 0.355 Å, with its digits (`0.1 * radius` rounds
+            // to 3.5500000000000007e-11).
+            offset: 3.55e-11,
             mass,
             inertia_transverse: a,
             inertia_axial: 0.5 * a,
@@ -68,7 +70,11 @@ impl Top {
     pub fn classical() -> Self {
         let radius = 0.015;
         let mass = 0.015;
-        let i = 0.4 * mass * radius * radius;
+        // A = C = (2/5) M R² = 1.35e-6 kg m², written with the digits the
+        // paper's values give it: `0.4 * mass * radius * radius` rounds to
+        // 1.3499999999999998e-6, one ulp below, which every resolved
+        // scenario file would then show (tests/preset_digits.rs checks both).
+        let i = 1.35e-6;
         Top {
             radius,
             offset: 0.1 * radius,
