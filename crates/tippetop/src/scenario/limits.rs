@@ -581,3 +581,17 @@ fn check_adhesive_friction(sc: &Scenario) -> Result<(), Error> {
     }
     Ok(())
 }
+
+impl crate::physics::units::Scales {
+    /// The scales of a scenario.
+    pub fn of(sc: &Scenario) -> Self {
+        let top = &sc.top;
+        // The inverse of the fastest initial rate; the run limits use the
+        // same unit (`time_unit`, which names each rate for messages).
+        crate::physics::units::Scales {
+            length: top.radius,
+            mass: top.mass,
+            time: time_unit(sc),
+        }
+    }
+}
