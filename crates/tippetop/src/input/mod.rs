@@ -62,6 +62,16 @@ impl Key {
         }
     }
 
+    /// The unit column of `tippetop keys` and docs/keys.md: the unit, `1`
+    /// for a dimensionless number, `-` for a name (a quoted default).
+    pub fn unit_shown(&self) -> &'static str {
+        match self.unit() {
+            Some(u) => u,
+            None if self.default.starts_with('"') => "-",
+            None => "1",
+        }
+    }
+
     /// The unit as the range states it (its last `[...]`, `"m"`, `"N"`), or
     /// `None` for a dimensionless key.
     pub fn unit(&self) -> Option<&'static str> {
@@ -148,7 +158,7 @@ pub fn listing(tables: &[TableSpec]) -> String {
         let wu = t
             .keys
             .iter()
-            .map(|k| k.unit().unwrap_or("1").len())
+            .map(|k| k.unit_shown().len())
             .max()
             .unwrap_or(0);
         let wd = t.keys.iter().map(|k| k.default.len()).max().unwrap_or(0);
@@ -156,7 +166,7 @@ pub fn listing(tables: &[TableSpec]) -> String {
             out.push_str(&format!(
                 "  {:w$}  {:wu$}  {:wd$}  {}  ({})\n",
                 k.name,
-                k.unit().unwrap_or("1"),
+                k.unit_shown(),
                 k.default,
                 k.doc,
                 k.range,
@@ -190,11 +200,11 @@ pub fn markdown(tables: &[TableSpec], command: &str) -> String {
             out.push_str(&format!(
                 "| `{}` | {} | {} | {} | {} |\n",
                 k.name,
-                k.unit().unwrap_or("1"),
-                if k.default.is_empty() {
-                    String::new()
-                } else {
+                k.unit_shown(),
+                if k.default.parse::<f64>().is_ok() || k.default.starts_with(['"', '[']) {
                     format!("`{}`", esc(k.default))
+                } else {
+                    esc(k.default)
                 },
                 esc(k.range),
                 esc(k.doc),
