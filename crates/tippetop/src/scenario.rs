@@ -443,37 +443,8 @@ impl Scenario {
 
     /// The scenario as a complete TOML table (the layout of the file format).
     fn to_table(&self) -> Table {
-        let mut top = Table::new();
-        top.insert("radius".into(), Value::Float(self.top.radius));
-        top.insert("offset".into(), Value::Float(self.top.offset));
-        top.insert("mass".into(), Value::Float(self.top.mass));
-        top.insert(
-            "inertia_transverse".into(),
-            Value::Float(self.top.inertia_transverse),
-        );
-        top.insert("inertia_axial".into(), Value::Float(self.top.inertia_axial));
-        if let Some(st) = self.top.stem {
-            top.insert("stem_radius".into(), Value::Float(st.radius));
-            top.insert("stem_distance".into(), Value::Float(st.distance));
-        }
-
-        let s = &self.surface;
-        let mut surface = Table::new();
-        surface.insert("gravity".into(), Value::Float(s.gravity));
-        surface.insert("friction".into(), Value::Float(s.friction));
-        surface.insert("friction_law".into(), Value::String(s.law.name().into()));
-        if let Some(eps) = s.law.eps() {
-            surface.insert("friction_eps".into(), Value::Float(eps));
-        }
-        if let Some((radius, pressure, _)) = s.law.contensou() {
-            surface.insert("contact_radius".into(), Value::Float(radius));
-            surface.insert(
-                "contact_pressure".into(),
-                Value::String(pressure.name().into()),
-            );
-        }
-        surface.insert("contact".into(), Value::String(s.contact.name().into()));
-        surface.insert("restitution".into(), Value::Float(s.restitution));
+        let top = self.top_table();
+        let surface = self.surface_table();
         // Written only when on, so scenarios without adhesion keep their
         // text (scenario.toml, summary.json) unchanged.
         let adhesion = self.adhesion.is_on() || self.adhesion.energy != 0.0;
@@ -481,76 +452,10 @@ impl Scenario {
         adh.insert("force".into(), Value::Float(self.adhesion.force));
         adh.insert("energy".into(), Value::Float(self.adhesion.energy));
 
-        let force = self
-            .forcing
-            .windows
-            .iter()
-            .map(|w| {
-                let mut t = Table::new();
-                t.insert("hx".into(), Value::Float(w.hx));
-                t.insert("hy".into(), Value::Float(w.hy));
-                // Written only when set, so scenarios without a load keep
-                // their text (scenario.toml, summary.json) unchanged.
-                if w.hz != 0.0 {
-                    t.insert("hz".into(), Value::Float(w.hz));
-                }
-                t.insert("start".into(), Value::Float(w.start));
-                if w.stop != f64::INFINITY {
-                    t.insert("stop".into(), Value::Float(w.stop));
-                }
-                Value::Table(t)
-            })
-            .chain(self.actuators.iter().map(|w| {
-                let mut t = Table::new();
-                actuator::to_table(&w.actuator, &mut t);
-                t.insert("start".into(), Value::Float(w.start));
-                if w.stop != f64::INFINITY {
-                    t.insert("stop".into(), Value::Float(w.stop));
-                }
-                Value::Table(t)
-            }))
-            .collect();
+        let force = self.force_list();
 
-        let i = &self.initial;
-        let mut initial = Table::new();
-        for (k, v) in [
-            ("theta", i.theta),
-            ("theta_dot", i.theta_dot),
-            ("precession", i.precession),
-            ("spin", i.spin),
-            ("ux", i.ux),
-            ("uy", i.uy),
-        ] {
-            initial.insert(k.into(), Value::Float(v));
-        }
-        if i.heading != 0.0 {
-            initial.insert("heading".into(), Value::Float(i.heading));
-        }
-
-        let so = &self.solver;
-        let mut solver = Table::new();
-        solver.insert(
-            "method".into(),
-            Value::String(name_of(METHODS, so.method).into()),
-        );
-        solver.insert("t_end".into(), Value::Float(so.t_end));
-        // `steps` defaults to `samples - 1`: written only when it differs,
-        // so that changing `samples` (or `method`) alone keeps RK4 valid.
-        if so.steps != so.samples.wrapping_sub(1) {
-            solver.insert("steps".into(), Value::Integer(to_i64(so.steps)));
-        }
-        solver.insert("rtol".into(), Value::Float(so.rtol));
-        solver.insert("samples".into(), Value::Integer(to_i64(so.samples)));
-        solver.insert(
-            "model".into(),
-            Value::String(name_of(MODELS, so.model).into()),
-        );
-        if let Some(n) = so.max_steps {
-            solver.insert("max_steps".into(), Value::Integer(to_i64(n as usize)));
-        }
-        if let Some(dt) = so.dt {
-            solver.insert("dt".into(), Value::Float(dt));
-        }
+        let initial = self.initial_table();
+        let solver = self.solver_table();
 
         let mut t = Table::new();
         t.insert("top".into(), Value::Table(top));
@@ -597,6 +502,129 @@ impl Scenario {
             t.insert("thermal".into(), Value::Table(thermal));
         }
         t
+    }
+
+    /// The `[top]` table.
+    fn top_table(&self) -> Table {
+        let mut top = Table::new();
+        top.insert("radius".into(), Value::Float(self.top.radius));
+        top.insert("offset".into(), Value::Float(self.top.offset));
+        top.insert("mass".into(), Value::Float(self.top.mass));
+        top.insert(
+            "inertia_transverse".into(),
+            Value::Float(self.top.inertia_transverse),
+        );
+        top.insert("inertia_axial".into(), Value::Float(self.top.inertia_axial));
+        if let Some(st) = self.top.stem {
+            top.insert("stem_radius".into(), Value::Float(st.radius));
+            top.insert("stem_distance".into(), Value::Float(st.distance));
+        }
+        top
+    }
+
+    /// The `[surface]` table (the friction law's parameters only when used).
+    fn surface_table(&self) -> Table {
+        let s = &self.surface;
+        let mut surface = Table::new();
+        surface.insert("gravity".into(), Value::Float(s.gravity));
+        surface.insert("friction".into(), Value::Float(s.friction));
+        surface.insert("friction_law".into(), Value::String(s.law.name().into()));
+        if let Some(eps) = s.law.eps() {
+            surface.insert("friction_eps".into(), Value::Float(eps));
+        }
+        if let Some((radius, pressure, _)) = s.law.contensou() {
+            surface.insert("contact_radius".into(), Value::Float(radius));
+            surface.insert(
+                "contact_pressure".into(),
+                Value::String(pressure.name().into()),
+            );
+        }
+        surface.insert("contact".into(), Value::String(s.contact.name().into()));
+        surface.insert("restitution".into(), Value::Float(s.restitution));
+        surface
+    }
+
+    /// The `[[force]]` list: contact-point windows, then the body actuators.
+    fn force_list(&self) -> Vec<Value> {
+        let force = self
+            .forcing
+            .windows
+            .iter()
+            .map(|w| {
+                let mut t = Table::new();
+                t.insert("hx".into(), Value::Float(w.hx));
+                t.insert("hy".into(), Value::Float(w.hy));
+                // Written only when set, so scenarios without a load keep
+                // their text (scenario.toml, summary.json) unchanged.
+                if w.hz != 0.0 {
+                    t.insert("hz".into(), Value::Float(w.hz));
+                }
+                t.insert("start".into(), Value::Float(w.start));
+                if w.stop != f64::INFINITY {
+                    t.insert("stop".into(), Value::Float(w.stop));
+                }
+                Value::Table(t)
+            })
+            .chain(self.actuators.iter().map(|w| {
+                let mut t = Table::new();
+                actuator::to_table(&w.actuator, &mut t);
+                t.insert("start".into(), Value::Float(w.start));
+                if w.stop != f64::INFINITY {
+                    t.insert("stop".into(), Value::Float(w.stop));
+                }
+                Value::Table(t)
+            }))
+            .collect();
+        force
+    }
+
+    /// The `[initial]` table (`heading` only when set).
+    fn initial_table(&self) -> Table {
+        let i = &self.initial;
+        let mut initial = Table::new();
+        for (k, v) in [
+            ("theta", i.theta),
+            ("theta_dot", i.theta_dot),
+            ("precession", i.precession),
+            ("spin", i.spin),
+            ("ux", i.ux),
+            ("uy", i.uy),
+        ] {
+            initial.insert(k.into(), Value::Float(v));
+        }
+        if i.heading != 0.0 {
+            initial.insert("heading".into(), Value::Float(i.heading));
+        }
+        initial
+    }
+
+    /// The `[solver]` table (`steps`, `max_steps`, `dt` only when set).
+    fn solver_table(&self) -> Table {
+        let so = &self.solver;
+        let mut solver = Table::new();
+        solver.insert(
+            "method".into(),
+            Value::String(name_of(METHODS, so.method).into()),
+        );
+        solver.insert("t_end".into(), Value::Float(so.t_end));
+        // `steps` defaults to `samples - 1`: written only when it differs,
+        // so that changing `samples` (or `method`) alone keeps RK4 valid.
+        if so.steps != so.samples.wrapping_sub(1) {
+            solver.insert("steps".into(), Value::Integer(to_i64(so.steps)));
+        }
+        solver.insert("rtol".into(), Value::Float(so.rtol));
+        solver.insert("samples".into(), Value::Integer(to_i64(so.samples)));
+        solver.insert(
+            "model".into(),
+            Value::String(name_of(MODELS, so.model).into()),
+        );
+        if let Some(n) = so.max_steps {
+            solver.insert("max_steps".into(), Value::Integer(to_i64(n as usize)));
+        }
+        if let Some(dt) = so.dt {
+            solver.insert("dt".into(), Value::Float(dt));
+        }
+        solver
     }
 }
 
@@ -1611,10 +1639,55 @@ fn section<'a>(merged: &'a Table, name: &str) -> Section<'a> {
 /// defaults; no range checks). `eps_explicit`: `surface.friction_eps` was
 /// given by the file or a `--set` (not only inherited from the preset).
 fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Scenario, Error> {
-    // Required keys have no default without a preset; with a preset every
-    // key is present in `merged` anyway.
-    let req = |d: f64| if has_preset { Some(d) } else { None };
+    // Each table in document order (the first error is the first table's).
+    let top = top_of(merged, has_preset)?;
+    let surface = surface_of(merged, has_preset, eps_explicit)?;
+    let s = section(merged, "adhesion");
+    let adhesion = Adhesion {
+        force: s.f64("force", Some(0.0))?,
+        energy: s.f64("energy", Some(0.0))?,
+    };
 
+    let (forcing, actuators) = forces_of(merged)?;
+    let wells = wells_of(merged)?;
+    let initial = initial_of(merged, has_preset)?;
+    let solver = solver_of(merged, has_preset)?;
+    let s = section(merged, "thermal");
+    let thermal = Thermal {
+        temperature: s.f64("temperature", Some(0.0))?,
+        damping_translational: s.f64("damping_translational", Some(0.0))?,
+        damping_rotational: s.f64("damping_rotational", Some(0.0))?,
+        damping_contact: s.f64("damping_contact", Some(0.0))?,
+        seed: match s.get("seed") {
+            None => None,
+            Some(_) => Some(s.usize("seed", 0)? as u64),
+        },
+        run: s.usize("run", 0)? as u64,
+    };
+
+    Ok(Scenario {
+        top,
+        surface,
+        adhesion,
+        forcing,
+        actuators,
+        wells,
+        initial,
+        solver,
+        thermal,
+        plugins: plugins::parse(merged)?,
+    })
+}
+
+/// Required keys have no default without a preset (`has_preset` false);
+/// with a preset every key is present in the merged table anyway.
+fn required(has_preset: bool, d: f64) -> Option<f64> {
+    if has_preset { Some(d) } else { None }
+}
+
+/// The `[top]` table (the stem: both keys or neither).
+fn top_of(merged: &Table, has_preset: bool) -> Result<Top, Error> {
+    let req = |d: f64| required(has_preset, d);
     let s = section(merged, "top");
     let top = Top {
         radius: s.f64("radius", req(0.0))?,
@@ -1649,7 +1722,12 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
             ));
         }
     };
+    Ok(top)
+}
 
+/// The `[surface]` table with its friction law's parameters.
+fn surface_of(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Surface, Error> {
+    let req = |d: f64| required(has_preset, d);
     let s = section(merged, "surface");
     let gravity = s.f64("gravity", Some(9.8))?;
     let friction = s.f64("friction", req(0.0))?;
@@ -1730,13 +1808,11 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         contact: s.name("contact", CONTACTS, ContactMode::Bilateral)?,
         restitution: s.f64("restitution", Some(0.0))?,
     };
+    Ok(surface)
+}
 
-    let s = section(merged, "adhesion");
-    let adhesion = Adhesion {
-        force: s.f64("force", Some(0.0))?,
-        energy: s.f64("energy", Some(0.0))?,
-    };
-
+/// The `[[force]]` windows: contact-point windows and body actuators.
+fn forces_of(merged: &Table) -> Result<(Forcing, Vec<ActuatorWindow>), Error> {
     let mut windows = Vec::new();
     let mut actuators = Vec::new();
     if let Some(Value::Array(list)) = merged.get("force") {
@@ -1772,7 +1848,11 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         }
     }
     let forcing = Forcing { windows };
+    Ok((forcing, actuators))
+}
 
+/// The `[[well]]` list (every key of a well required).
+fn wells_of(merged: &Table) -> Result<Vec<Well>, Error> {
     let mut wells = Vec::new();
     if let Some(Value::Array(list)) = merged.get("well") {
         for (k, w) in list.iter().enumerate() {
@@ -1802,7 +1882,12 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
             });
         }
     }
+    Ok(wells)
+}
 
+/// The `[initial]` table: Euler angles and rates, or lab-frame vectors.
+fn initial_of(merged: &Table, has_preset: bool) -> Result<Initial, Error> {
+    let req = |d: f64| required(has_preset, d);
     let s = section(merged, "initial");
     let initial = if s.get("axis").is_some() {
         Initial::from_lab(
@@ -1830,7 +1915,12 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
             heading: s.f64("heading", Some(0.0))?,
         }
     };
+    Ok(initial)
+}
 
+/// The `[solver]` table.
+fn solver_of(merged: &Table, has_preset: bool) -> Result<SolverSettings, Error> {
+    let req = |d: f64| required(has_preset, d);
     let s = section(merged, "solver");
     let method = s.name("method", METHODS, Method::Adaptive)?;
     let t_end = s.f64("t_end", req(0.0))?;
@@ -1852,32 +1942,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
             Some(_) => Some(s.f64("dt", None)?),
         },
     };
-
-    let s = section(merged, "thermal");
-    let thermal = Thermal {
-        temperature: s.f64("temperature", Some(0.0))?,
-        damping_translational: s.f64("damping_translational", Some(0.0))?,
-        damping_rotational: s.f64("damping_rotational", Some(0.0))?,
-        damping_contact: s.f64("damping_contact", Some(0.0))?,
-        seed: match s.get("seed") {
-            None => None,
-            Some(_) => Some(s.usize("seed", 0)? as u64),
-        },
-        run: s.usize("run", 0)? as u64,
-    };
-
-    Ok(Scenario {
-        top,
-        surface,
-        adhesion,
-        forcing,
-        actuators,
-        wells,
-        initial,
-        solver,
-        thermal,
-        plugins: plugins::parse(merged)?,
-    })
+    Ok(solver)
 }
 
 // ---------------------------------------------------------------------------

@@ -396,8 +396,6 @@ const KERNELS: &[(&str, &str)] = &[("crates/tippetop/src/numeric/eigen.rs", "hqr
 /// leave this list with that move. Moved by the input/ and body work of
 /// issue 28 (scenario keys, validation, the models, the integrators).
 const MOVED_BY_ISSUE_28: &[(&str, &str)] = &[
-    ("crates/tippetop/src/scenario.rs", "from_table"),
-    ("crates/tippetop/src/scenario.rs", "to_table"),
     ("crates/tippetop/src/scenario/langevin.rs", "check"),
     ("crates/tippetop/src/scenario/limits.rs", "check_run"),
     ("crates/tippetop/src/model/rigid.rs", "eval"),
