@@ -546,7 +546,7 @@ impl Scenario {
 
     /// The `[[force]]` list: contact-point windows, then the body actuators.
     fn force_list(&self) -> Vec<Value> {
-        let force = self
+        self
             .forcing
             .windows
             .iter()
@@ -574,8 +574,7 @@ impl Scenario {
                 }
                 Value::Table(t)
             }))
-            .collect();
-        force
+            .collect()
     }
 
     /// The `[initial]` table (`heading` only when set).

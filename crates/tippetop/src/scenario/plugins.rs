@@ -131,3 +131,17 @@ impl Forces {
         Forces::new(terms, sc.switch_times(), sc.top.radius)
     }
 }
+
+/// The rates \[1/s\] of the plug-in tables a scenario gives
+/// ([`crate::physics::forces::Plugin::rate`]): (rate, table, formula).
+pub fn rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
+    let top = &sc.top;
+    sc.plugins
+        .iter()
+        .filter_map(|(name, values)| {
+            let p = crate::physics::forces::plugin(name)?;
+            let (r, why) = p.rate(values, top.mass, top.radius, top.inertia_transverse)?;
+            Some((r, p.table().name, why))
+        })
+        .collect()
+}

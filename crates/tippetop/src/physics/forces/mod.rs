@@ -57,6 +57,20 @@ pub trait Plugin: Sync {
     /// The term of `values`, or `None` when it applies nothing (the run is
     /// then that without the table, bit for bit).
     fn term(&self, values: &[f64]) -> Option<Arc<dyn ForceTerm>>;
+    /// The fastest rate \[1/s\] the term sets for a top of mass `mass`
+    /// \[kg\], radius `radius` \[m\] and transverse inertia `inertia`
+    /// \[kg m²\], with its formula: it joins the rates of the time unit
+    /// (`scenario::limits::time_unit`) and of the Langevin step check
+    /// (`scenario::langevin::step_rates`). Default: none.
+    fn rate(
+        &self,
+        _values: &[f64],
+        _mass: f64,
+        _radius: f64,
+        _inertia: f64,
+    ) -> Option<(f64, &'static str)> {
+        None
+    }
 }
 
 /// The force plug-ins: a new one is its file plus one line here.

@@ -55,6 +55,18 @@ impl Plugin for Wind {
     fn kind(&self) -> Kind {
         Kind::BodyPoint
     }
+    fn rate(
+        &self,
+        values: &[f64],
+        mass: f64,
+        radius: f64,
+        _inertia: f64,
+    ) -> Option<(f64, &'static str)> {
+        Some((
+            (values[0].hypot(values[1]) / (mass * radius)).sqrt(),
+            "sqrt(|(fx, fy)| / (mass radius)) (wind)",
+        ))
+    }
     fn term(&self, values: &[f64]) -> Option<Arc<dyn ForceTerm>> {
         let force = [values[0], values[1]];
         (force != [0.0; 2]).then(|| Arc::new(WindTerm { force }) as Arc<dyn ForceTerm>)
