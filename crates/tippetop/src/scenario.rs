@@ -546,8 +546,7 @@ impl Scenario {
 
     /// The `[[force]]` list: contact-point windows, then the body actuators.
     fn force_list(&self) -> Vec<Value> {
-        self
-            .forcing
+        self.forcing
             .windows
             .iter()
             .map(|w| {
