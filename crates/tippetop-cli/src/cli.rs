@@ -92,6 +92,8 @@ pub enum Command {
     Animate(crate::animate::AnimateArgs),
     /// Print a scenario resolved (preset, file, every --set) as TOML.
     Show(crate::show_cmd::ShowArgs),
+    /// Every scenario key: unit, default, range and what it is (docs/keys.md).
+    Keys(crate::keys_cmd::KeysArgs),
 }
 
 /// Help pages start with the usage line, then the description and the
@@ -135,6 +137,7 @@ impl Command {
             Command::Device(_) => "device",
             Command::Rare(_) => "rare",
             Command::Show(_) => "show",
+            Command::Keys(_) => "keys",
         }
     }
 }

@@ -13,6 +13,7 @@ pub mod cli;
 pub mod common;
 pub mod device_cmd;
 pub mod ensemble_cmd;
+pub mod keys_cmd;
 pub mod merge_cmd;
 pub mod output;
 pub mod partial;

@@ -12,8 +12,8 @@ use std::process::ExitCode;
 use clap::{CommandFactory, FromArgMatches};
 use tippetop_cli::cli::{Cli, Command};
 use tippetop_cli::{
-    adhesion_cmd, animate, bit_cmd, device_cmd, ensemble_cmd, merge_cmd, rare_cmd, regime_cmd,
-    reproduce, retention_cmd, run, show_cmd, stability_cmd, sweep_cmd,
+    adhesion_cmd, animate, bit_cmd, device_cmd, ensemble_cmd, keys_cmd, merge_cmd, rare_cmd,
+    regime_cmd, reproduce, retention_cmd, run, show_cmd, stability_cmd, sweep_cmd,
 };
 
 fn main() -> ExitCode {
@@ -57,6 +57,7 @@ fn main() -> ExitCode {
         Command::Device(args) => device_cmd::run(args, cli.quiet),
         Command::Rare(args) => rare_cmd::run(args, cli.quiet),
         Command::Show(args) => Ok(show_cmd::run(args)),
+        Command::Keys(args) => Ok(keys_cmd::run(args)),
     };
     match result {
         Ok(code) => code,

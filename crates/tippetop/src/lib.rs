@@ -17,6 +17,7 @@ pub mod contact;
 pub mod error;
 pub mod forcing;
 pub mod human;
+pub mod input;
 pub mod integrate;
 pub mod model;
 pub(crate) mod numeric;

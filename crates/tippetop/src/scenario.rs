@@ -75,11 +75,13 @@ pub mod actuator;
 pub mod bit;
 pub mod langevin;
 pub mod limits;
+pub mod plugins;
 pub mod search;
 
 use serde::Deserialize as _;
 use toml::{Table, Value};
 
+use crate::input::{Key, PluginTables, TableSpec};
 use crate::well::{self as wells, Well};
 use crate::{
     ActuatorWindow, Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial,
@@ -110,6 +112,9 @@ pub struct Scenario {
     pub solver: SolverSettings,
     /// Temperature and damping ([`Thermal::NONE`]: none; docs/physics.md#langevin).
     pub thermal: Thermal,
+    /// The force plug-ins' tables given (`[wind]`, ...;
+    /// [`crate::physics::forces::PLUGINS`]); none by default.
+    pub plugins: PluginTables,
 }
 
 impl Scenario {
@@ -133,6 +138,7 @@ impl Scenario {
             initial: Initial::paper(),
             solver: SolverSettings::new(1e-4),
             thermal: Thermal::NONE,
+            plugins: PluginTables::NONE,
         }
     }
 
@@ -155,6 +161,7 @@ impl Scenario {
             initial: Initial::paper(),
             solver: SolverSettings::new(10.0),
             thermal: Thermal::NONE,
+            plugins: PluginTables::NONE,
         }
     }
 
@@ -263,6 +270,7 @@ impl Scenario {
             actuator::check_model(w, &prefix, self.solver.model)?;
         }
         wells::validate(&self.wells)?;
+        plugins::validate(self)?;
         self.initial
             .validate(self.solver.model == ModelKind::Reduced)?;
         self.solver.validate()?;
@@ -283,10 +291,11 @@ impl Scenario {
             || !self.actuators.is_empty()
             || self.adhesion.is_on()
             || !self.wells.is_empty()
+            || !self.plugins.is_empty()
         {
             return Err(Error::invalid(
                 "top.stem_radius",
-                "a stem with [[force]], [adhesion] or [[well]] is not modelled".into(),
+                "a stem with [[force]], [adhesion], [[well]] or a force plug-in's table is not modelled".into(),
                 "a stem with gravity and friction only (docs/physics.md#stem)".into(),
             ));
         }
@@ -412,7 +421,7 @@ impl Scenario {
     pub fn to_toml_string(&self) -> String {
         let table = self.to_table();
         let mut out = String::from("# tippetop scenario\n");
-        for &(name, keys) in TABLES {
+        for (name, keys) in all_tables() {
             match table.get(name) {
                 Some(Value::Table(t)) => {
                     out.push_str(&format!("\n[{name}]\n"));
@@ -434,6 +443,69 @@ impl Scenario {
 
     /// The scenario as a complete TOML table (the layout of the file format).
     fn to_table(&self) -> Table {
+        let top = self.top_table();
+        let surface = self.surface_table();
+        // Written only when on, so scenarios without adhesion keep their
+        // text (scenario.toml, summary.json) unchanged.
+        let adhesion = self.adhesion.is_on() || self.adhesion.energy != 0.0;
+        let mut adh = Table::new();
+        adh.insert("force".into(), Value::Float(self.adhesion.force));
+        adh.insert("energy".into(), Value::Float(self.adhesion.energy));
+
+        let force = self.force_list();
+
+        let initial = self.initial_table();
+        let solver = self.solver_table();
+
+        let mut t = Table::new();
+        t.insert("top".into(), Value::Table(top));
+        t.insert("surface".into(), Value::Table(surface));
+        if adhesion {
+            t.insert("adhesion".into(), Value::Table(adh));
+        }
+        t.insert("force".into(), Value::Array(force));
+        // Written only when there are wells (scenario texts without them
+        // unchanged).
+        if !self.wells.is_empty() {
+            let wells = self
+                .wells
+                .iter()
+                .map(|w| {
+                    let mut t = Table::new();
+                    t.insert("theta".into(), Value::Float(w.theta));
+                    t.insert("depth".into(), Value::Float(w.depth));
+                    t.insert("width".into(), Value::Float(w.width));
+                    Value::Table(t)
+                })
+                .collect();
+            t.insert("well".into(), Value::Array(wells));
+        }
+        plugins::to_table(&self.plugins, &mut t);
+        t.insert("initial".into(), Value::Table(initial));
+        t.insert("solver".into(), Value::Table(solver));
+        // Written only when set (scenario texts without it unchanged).
+        let th = &self.thermal;
+        if th.is_set() {
+            let mut thermal = Table::new();
+            for (k, v) in [
+                ("temperature", th.temperature),
+                ("damping_translational", th.damping_translational),
+                ("damping_rotational", th.damping_rotational),
+                ("damping_contact", th.damping_contact),
+            ] {
+                thermal.insert(k.into(), Value::Float(v));
+            }
+            if let Some(seed) = th.seed {
+                thermal.insert("seed".into(), Value::Integer(seed as i64));
+            }
+            thermal.insert("run".into(), Value::Integer(th.run as i64));
+            t.insert("thermal".into(), Value::Table(thermal));
+        }
+        t
+    }
+
+    /// The `[top]` table.
+    fn top_table(&self) -> Table {
         let mut top = Table::new();
         top.insert("radius".into(), Value::Float(self.top.radius));
         top.insert("offset".into(), Value::Float(self.top.offset));
@@ -447,7 +519,11 @@ impl Scenario {
             top.insert("stem_radius".into(), Value::Float(st.radius));
             top.insert("stem_distance".into(), Value::Float(st.distance));
         }
+        top
+    }
 
+    /// The `[surface]` table (the friction law's parameters only when used).
+    fn surface_table(&self) -> Table {
         let s = &self.surface;
         let mut surface = Table::new();
         surface.insert("gravity".into(), Value::Float(s.gravity));
@@ -465,15 +541,12 @@ impl Scenario {
         }
         surface.insert("contact".into(), Value::String(s.contact.name().into()));
         surface.insert("restitution".into(), Value::Float(s.restitution));
-        // Written only when on, so scenarios without adhesion keep their
-        // text (scenario.toml, summary.json) unchanged.
-        let adhesion = self.adhesion.is_on() || self.adhesion.energy != 0.0;
-        let mut adh = Table::new();
-        adh.insert("force".into(), Value::Float(self.adhesion.force));
-        adh.insert("energy".into(), Value::Float(self.adhesion.energy));
+        surface
+    }
 
-        let force = self
-            .forcing
+    /// The `[[force]]` list: contact-point windows, then the body actuators.
+    fn force_list(&self) -> Vec<Value> {
+        self.forcing
             .windows
             .iter()
             .map(|w| {
@@ -500,8 +573,11 @@ impl Scenario {
                 }
                 Value::Table(t)
             }))
-            .collect();
+            .collect()
+    }
 
+    /// The `[initial]` table (`heading` only when set).
+    fn initial_table(&self) -> Table {
         let i = &self.initial;
         let mut initial = Table::new();
         for (k, v) in [
@@ -517,7 +593,11 @@ impl Scenario {
         if i.heading != 0.0 {
             initial.insert("heading".into(), Value::Float(i.heading));
         }
+        initial
+    }
 
+    /// The `[solver]` table (`steps`, `max_steps`, `dt` only when set).
+    fn solver_table(&self) -> Table {
         let so = &self.solver;
         let mut solver = Table::new();
         solver.insert(
@@ -542,109 +622,155 @@ impl Scenario {
         if let Some(dt) = so.dt {
             solver.insert("dt".into(), Value::Float(dt));
         }
-
-        let mut t = Table::new();
-        t.insert("top".into(), Value::Table(top));
-        t.insert("surface".into(), Value::Table(surface));
-        if adhesion {
-            t.insert("adhesion".into(), Value::Table(adh));
-        }
-        t.insert("force".into(), Value::Array(force));
-        // Written only when there are wells (scenario texts without them
-        // unchanged).
-        if !self.wells.is_empty() {
-            let wells = self
-                .wells
-                .iter()
-                .map(|w| {
-                    let mut t = Table::new();
-                    t.insert("theta".into(), Value::Float(w.theta));
-                    t.insert("depth".into(), Value::Float(w.depth));
-                    t.insert("width".into(), Value::Float(w.width));
-                    Value::Table(t)
-                })
-                .collect();
-            t.insert("well".into(), Value::Array(wells));
-        }
-        t.insert("initial".into(), Value::Table(initial));
-        t.insert("solver".into(), Value::Table(solver));
-        // Written only when set (scenario texts without it unchanged).
-        let th = &self.thermal;
-        if th.is_set() {
-            let mut thermal = Table::new();
-            for (k, v) in [
-                ("temperature", th.temperature),
-                ("damping_translational", th.damping_translational),
-                ("damping_rotational", th.damping_rotational),
-                ("damping_contact", th.damping_contact),
-            ] {
-                thermal.insert(k.into(), Value::Float(v));
-            }
-            if let Some(seed) = th.seed {
-                thermal.insert("seed".into(), Value::Integer(seed as i64));
-            }
-            thermal.insert("run".into(), Value::Integer(th.run as i64));
-            t.insert("thermal".into(), Value::Table(thermal));
-        }
-        t
+        solver
     }
 }
 
 // ---------------------------------------------------------------------------
 // Key specification: every table, its keys and each key's valid range.
 
-type Keys = &'static [(&'static str, &'static str)];
+type Keys = &'static [Key];
 
 const PRESET_RANGE: &str = "\"nano\", \"nano-physical\", \"nano-adhesive\" or \"classical\"";
 
 const TOP_KEYS: Keys = &[
-    ("radius", "a finite length > 0 [m]"),
-    ("offset", "0 <= offset < radius [m]"),
-    ("mass", "a finite mass > 0 [kg]"),
-    ("inertia_transverse", "a finite moment > 0 [kg m^2]"),
-    (
+    Key::doc(
+        "radius",
+        "a finite length > 0 [m]",
+        "required",
+        "R, the sphere's radius",
+    ),
+    Key::doc(
+        "offset",
+        "0 <= offset < radius [m]",
+        "required",
+        "a, from the sphere's centre to the centre of mass",
+    ),
+    Key::doc(
+        "mass",
+        "a finite mass > 0 [kg]",
+        "required",
+        "m, the top's mass",
+    ),
+    Key::doc(
+        "inertia_transverse",
+        "a finite moment > 0 [kg m^2]",
+        "required",
+        "A, moment of inertia about a transverse axis through the centre of mass",
+    ),
+    Key::doc(
         "inertia_axial",
         "0 < inertia_axial <= 2 * inertia_transverse [kg m^2]",
+        "required",
+        "C, moment of inertia about the symmetry axis",
     ),
-    ("stem_radius", crate::top::STEM_RADIUS_RANGE),
-    ("stem_distance", crate::top::STEM_DISTANCE_RANGE),
+    Key::doc(
+        "stem_radius",
+        crate::top::STEM_RADIUS_RANGE,
+        "no stem",
+        "r2, the stem's end sphere (rigid model; docs/physics.md#stem)",
+    ),
+    Key::doc(
+        "stem_distance",
+        crate::top::STEM_DISTANCE_RANGE,
+        "no stem",
+        "d2, centre of mass to the stem sphere's centre, along the axis",
+    ),
 ];
 
 const SURFACE_KEYS: Keys = &[
-    ("gravity", "a finite number >= 0 [m/s^2]"),
-    ("friction", "a finite number >= 0"),
-    (
+    Key::doc("gravity", "a finite number >= 0 [m/s^2]", "9.8", "g"),
+    Key::doc(
+        "friction",
+        "a finite number >= 0",
+        "required",
+        "mu, the friction coefficient",
+    ),
+    Key::doc(
         "friction_law",
         "\"coulomb\", \"coulomb_sliding\", \"regularized\", \"viscous\", \"contensou\" or \"contensou_pade\"",
+        "\"coulomb\"",
+        "the friction law (docs/physics.md#contensou)",
     ),
-    ("contact_radius", crate::contact::CONTACT_RADIUS_RANGE),
-    (
+    Key::doc(
+        "contact_radius",
+        crate::contact::CONTACT_RADIUS_RANGE,
+        "required with contensou*",
+        "r_c, the contact patch's radius",
+    ),
+    Key::doc(
         "contact_pressure",
         "\"hertz\" (default) or \"uniform\", only with friction_law = \"contensou\" or \"contensou_pade\"",
+        "\"hertz\"",
+        "the pressure over the contact patch",
     ),
-    (
+    Key::doc(
         "friction_eps",
         "a finite speed > 0 [m/s], only with friction_law = \"regularized\" or \"viscous\"",
+        "required with regularized/viscous",
+        "the regularisation speed",
     ),
-    ("contact", "\"bilateral\", \"paper\" or \"unilateral\""),
-    ("restitution", "0 <= restitution <= 1"),
+    Key::doc(
+        "contact",
+        "\"bilateral\", \"paper\" or \"unilateral\"",
+        "\"bilateral\"",
+        "the contact model (held on the plane, the paper's law, or free to lift off)",
+    ),
+    Key::doc(
+        "restitution",
+        "0 <= restitution <= 1",
+        "0",
+        "coefficient of restitution at touchdown (rigid model)",
+    ),
 ];
 
 const ADHESION_KEYS: Keys = &[
-    ("force", crate::contact::ADHESION_FORCE_RANGE),
-    ("energy", crate::contact::ADHESION_ENERGY_RANGE),
+    Key::doc(
+        "force",
+        crate::contact::ADHESION_FORCE_RANGE,
+        "0",
+        "F_a, the pull-off force (docs/physics.md#adhesion)",
+    ),
+    Key::doc(
+        "energy",
+        crate::contact::ADHESION_ENERGY_RANGE,
+        "0",
+        "E_b, the binding energy",
+    ),
 ];
 
 const FORCE_KEYS: Keys = &[
-    ("kind", actuator::KIND_RANGE),
-    ("hx", "a finite force [N]"),
-    ("hy", "a finite force [N]"),
-    (
+    Key::doc(
+        "kind",
+        actuator::KIND_RANGE,
+        "\"contact\"",
+        "the window's force: at the contact point, a tip or a magnet",
+    ),
+    Key::doc(
+        "hx",
+        "a finite force [N]",
+        "0",
+        "H_x, the paper's force at the contact point, precessing frame",
+    ),
+    Key::doc("hy", "a finite force [N]", "0", "H_y, the same along y"),
+    Key::doc(
         "hz",
         "a finite force [N] (vertical load at the contact point, > 0 pushes onto the plane)",
+        "0",
+        "vertical load at the contact point (docs/physics.md#vertical-load)",
     ),
-    ("start", "a finite time >= 0 [s]"),
-    ("stop", "a finite time > start [s], or omit stop for never"),
+    Key::doc(
+        "start",
+        "a finite time >= 0 [s]",
+        "0",
+        "when the window starts",
+    ),
+    Key::doc(
+        "stop",
+        "a finite time > start [s], or omit stop for never",
+        "never",
+        "when the window stops",
+    ),
     actuator::KEYS[0],
     actuator::KEYS[1],
     actuator::KEYS[2],
@@ -653,36 +779,71 @@ const FORCE_KEYS: Keys = &[
 ];
 
 const WELL_KEYS: Keys = &[
-    ("theta", wells::THETA_RANGE),
-    ("depth", wells::DEPTH_RANGE),
-    ("width", wells::WIDTH_RANGE),
+    Key::doc(
+        "theta",
+        wells::THETA_RANGE,
+        "required",
+        "the well's centre (docs/physics.md#wells)",
+    ),
+    Key::doc("depth", wells::DEPTH_RANGE, "required", "the well's depth"),
+    Key::doc("width", wells::WIDTH_RANGE, "required", "the well's width"),
 ];
 
 const INITIAL_KEYS: Keys = &[
-    (
+    Key::doc(
         "theta",
         "0 < theta < pi [rad]; 0 <= theta <= pi with model = \"vector\" (the default) or \"rigid\"",
+        "required",
+        "the axis's tilt from the vertical",
     ),
-    ("theta_dot", "a finite number [rad/s]"),
-    ("precession", "a finite number [rad/s]"),
-    ("spin", "a finite number [rad/s]"),
-    ("ux", "a finite number [m/s]"),
-    ("uy", "a finite number [m/s]"),
-    (
+    Key::doc("theta_dot", "a finite number [rad/s]", "0", "d theta/dt"),
+    Key::doc(
+        "precession",
+        "a finite number [rad/s]",
+        "0",
+        "Omega, the precession rate",
+    ),
+    Key::doc(
+        "spin",
+        "a finite number [rad/s]",
+        "required",
+        "omega, the spin rate",
+    ),
+    Key::doc(
+        "ux",
+        "a finite number [m/s]",
+        "0",
+        "centre-of-mass velocity, precessing frame x",
+    ),
+    Key::doc(
+        "uy",
+        "a finite number [m/s]",
+        "0",
+        "centre-of-mass velocity, precessing frame y",
+    ),
+    Key::doc(
         "heading",
         "a finite angle [rad] from the lab X axis (default 0)",
+        "0",
+        "the precessing frame's initial heading",
     ),
-    (
+    Key::doc(
         "axis",
         "[x, y, z], the symmetry axis in the lab frame (Z up; nonzero, normalised); with angular_velocity and velocity, instead of theta ... heading",
+        "",
+        "lab-frame initial state: the symmetry axis",
     ),
-    (
+    Key::doc(
         "angular_velocity",
         "[x, y, z] [rad/s], lab frame (default [0, 0, 0]; with axis)",
+        "[0, 0, 0]",
+        "lab-frame initial state: the angular velocity",
     ),
-    (
+    Key::doc(
         "velocity",
         "[x, y] [m/s], horizontal centre-of-mass velocity, lab frame (default [0, 0]; with axis)",
+        "[0, 0]",
+        "lab-frame initial state: the centre of mass's velocity",
     ),
 ];
 
@@ -718,32 +879,120 @@ fn insert_initial(dst: &mut Table, k: &str, v: Value) -> Result<(), Error> {
 }
 
 const SOLVER_KEYS: Keys = &[
-    (
+    Key::doc(
         "method",
         "\"adaptive\", \"rk4\", \"stiff\", \"langevin\" or \"brownian\"",
+        "\"adaptive\"",
+        "the integrator",
     ),
-    ("t_end", "a finite time > 0 [s]"),
-    (
+    Key::doc(
+        "t_end",
+        "a finite time > 0 [s]",
+        "required",
+        "the run's duration",
+    ),
+    Key::doc(
         "steps",
         "an integer >= 1, a multiple of samples - 1 (method = \"rk4\"); default samples - 1",
+        "samples - 1",
+        "RK4's step count",
     ),
-    ("rtol", "1e-14 <= rtol <= 1e-2"),
-    ("samples", "an integer, 2 <= samples <= 5000000"),
-    ("model", "\"reduced\", \"vector\" or \"rigid\""),
-    ("max_steps", crate::state::MAX_STEPS_RANGE),
-    (
+    Key::doc(
+        "rtol",
+        "1e-14 <= rtol <= 1e-2",
+        "1e-10",
+        "relative tolerance (adaptive, stiff)",
+    ),
+    Key::doc(
+        "samples",
+        "an integer, 2 <= samples <= 5000000",
+        "1001",
+        "output rows, evenly spaced from 0 to t_end",
+    ),
+    Key::doc(
+        "model",
+        "\"reduced\", \"vector\" or \"rigid\"",
+        "\"vector\"",
+        "the equations of motion (docs/physics.md)",
+    ),
+    Key::doc(
+        "max_steps",
+        crate::state::MAX_STEPS_RANGE,
+        "20000000 (2000000 with stiff)",
+        "step limit of the run",
+    ),
+    Key::doc(
         "dt",
         "a finite time > 0 [s], the fixed step of method = \"langevin\" or \"brownian\" (only there)",
+        "",
+        "the Langevin or Brownian step",
     ),
 ];
 
 const THERMAL_KEYS: Keys = &[
-    ("temperature", crate::thermal::TEMPERATURE_RANGE),
-    ("damping_translational", crate::thermal::DAMPING_T_RANGE),
-    ("damping_rotational", crate::thermal::DAMPING_R_RANGE),
-    ("damping_contact", crate::thermal::DAMPING_C_RANGE),
-    ("seed", crate::thermal::SEED_RANGE),
-    ("run", crate::thermal::RUN_RANGE),
+    Key::doc(
+        "temperature",
+        crate::thermal::TEMPERATURE_RANGE,
+        "0",
+        "T (docs/physics.md#langevin)",
+    ),
+    Key::doc(
+        "damping_translational",
+        crate::thermal::DAMPING_T_RANGE,
+        "0",
+        "gamma_t: force -m gamma_t v on the centre of mass",
+    ),
+    Key::doc(
+        "damping_rotational",
+        crate::thermal::DAMPING_R_RANGE,
+        "0",
+        "gamma_r: torque -gamma_r I w",
+    ),
+    Key::doc(
+        "damping_contact",
+        crate::thermal::DAMPING_C_RANGE,
+        "0",
+        "c: force -c v_P at the contact point",
+    ),
+    Key::doc(
+        "seed",
+        crate::thermal::SEED_RANGE,
+        "required at T > 0",
+        "key of the random stream",
+    ),
+    Key::doc(
+        "run",
+        crate::thermal::RUN_RANGE,
+        "0",
+        "index of this run in the stream",
+    ),
+];
+
+/// One line per table of [`TABLES`], for `tippetop keys` and docs/keys.md.
+const TABLE_DOCS: &[(&str, &str)] = &[
+    ("top", "the body: a sphere with an offset centre of mass"),
+    ("surface", "the plane: gravity, friction, contact"),
+    (
+        "adhesion",
+        "van der Waals adhesion (off by default; docs/physics.md#adhesion)",
+    ),
+    (
+        "force",
+        "force windows: at the contact point (precessing frame), a tip or a magnet (none by default)",
+    ),
+    (
+        "well",
+        "orientation wells U = -depth exp(-(theta - centre)^2/(2 width^2)) (none by default)",
+    ),
+    (
+        "initial",
+        "the initial state: Euler angles and rates, or lab-frame vectors",
+    ),
+    ("solver", "the integrator, duration, output and model"),
+    (
+        "thermal",
+        "Langevin dynamics: temperature and damping (off by default)",
+    ),
 ];
 
 /// Tables in document order; `force` and `well` are arrays of tables.
@@ -758,7 +1007,32 @@ const TABLES: &[(&str, Keys)] = &[
     ("thermal", THERMAL_KEYS),
 ];
 
-const TOP_LEVEL_RANGE: &str = "valid top-level entries: preset, [top], [surface], [adhesion], [[force]], [[well]], [initial], [solver], [thermal]";
+/// The scenario's own tables, then the force plug-ins' (in the registry's
+/// order), in document order: (name, keys).
+fn all_tables() -> Vec<(&'static str, Keys)> {
+    let mut v: Vec<(&'static str, Keys)> = TABLES.to_vec();
+    v.extend(
+        crate::physics::forces::PLUGINS
+            .iter()
+            .map(|p| (p.table().name, p.table().keys)),
+    );
+    v
+}
+
+/// The valid top-level entries, for the unknown-table error.
+fn top_level_range() -> String {
+    let names: Vec<String> = all_tables()
+        .iter()
+        .map(|(n, _)| {
+            if matches!(*n, "force" | "well") {
+                format!("[[{n}]]")
+            } else {
+                format!("[{n}]")
+            }
+        })
+        .collect();
+    format!("valid top-level entries: preset, {}", names.join(", "))
+}
 
 const LAWS: &[(&str, LawName)] = &[
     ("coulomb", LawName::Coulomb),
@@ -811,26 +1085,45 @@ enum LawName {
 pub fn key_unit(full_key: &str) -> Option<&'static str> {
     let table = full_key.split('.').next()?;
     let key = full_key.rsplit('.').next()?;
-    let range = range_of(keys_of(table)?, key);
-    let end = range.rfind(']')?;
-    let start = range[..end].rfind('[')?;
-    let unit = &range[start + 1..end];
-    (!unit.is_empty() && !unit.contains(',')).then_some(unit)
+    keys_of(table)?.iter().find(|k| k.name == key)?.unit()
+}
+
+/// Every scenario table with its keys, the force plug-ins' included: what
+/// `tippetop keys` lists and docs/keys.md shows.
+pub fn key_tables() -> Vec<TableSpec> {
+    let mut v: Vec<TableSpec> = TABLES
+        .iter()
+        .map(|&(name, keys)| TableSpec {
+            name,
+            array: matches!(name, "force" | "well"),
+            doc: TABLE_DOCS
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map_or("", |(_, d)| *d),
+            keys,
+        })
+        .collect();
+    v.extend(crate::physics::forces::PLUGINS.iter().map(|p| p.table()));
+    v
 }
 
 fn keys_of(table: &str) -> Option<Keys> {
-    TABLES.iter().find(|(n, _)| *n == table).map(|(_, k)| *k)
+    TABLES
+        .iter()
+        .find(|(n, _)| *n == table)
+        .map(|(_, k)| *k)
+        .or_else(|| crate::physics::forces::plugin(table).map(|p| p.table().keys))
 }
 
 fn range_of(keys: Keys, key: &str) -> &'static str {
     keys.iter()
-        .find(|(k, _)| *k == key)
-        .map(|(_, r)| *r)
+        .find(|k| k.name == key)
+        .map(|k| k.range)
         .unwrap_or("")
 }
 
 fn unknown_key(full_key: &str, keys: Keys) -> Error {
-    let list: Vec<&str> = keys.iter().map(|(k, _)| *k).collect();
+    let list: Vec<&str> = keys.iter().map(|k| k.name).collect();
     Error::invalid(
         full_key,
         "unknown key".into(),
@@ -891,7 +1184,7 @@ fn parse_document(text: &str) -> Result<Table, Error> {
 /// Check every key of `t` against `keys`; `prefix` is the full table key.
 fn check_keys(t: &Table, prefix: &str, keys: Keys) -> Result<(), Error> {
     for k in t.keys() {
-        if !keys.iter().any(|(name, _)| name == k) {
+        if !keys.iter().any(|key| key.name == k) {
             return Err(unknown_key(&format!("{prefix}.{k}"), keys));
         }
     }
@@ -944,11 +1237,11 @@ fn merge_file(merged: &mut Table, file: &Table) -> Result<bool, Error> {
             } else {
                 "unknown key"
             };
-            return Err(Error::invalid(name, what.into(), TOP_LEVEL_RANGE.into()));
+            return Err(Error::invalid(name, what.into(), top_level_range()));
         }
     }
     let mut eps_explicit = false;
-    for &(name, keys) in TABLES {
+    for (name, keys) in all_tables() {
         let Some(v) = file.get(name) else { continue };
         if name == "force" || name == "well" {
             let one = if name == "force" { "window" } else { "well" };
@@ -1128,7 +1421,7 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
                     format!("{list}.K.KEY with K = 0, 1, ... (0-based)"),
                 ));
             }
-            if !keys.iter().any(|(name, _)| name == k) {
+            if !keys.iter().any(|key| key.name == *k) {
                 return Err(unknown_key(key, keys));
             }
             let windows = windows_mut(merged, list);
@@ -1166,7 +1459,7 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
         )),
         [table, k] if keys_of(table).is_some() => {
             let keys = keys_of(table).unwrap_or(&[]);
-            if !keys.iter().any(|(name, _)| name == k) {
+            if !keys.iter().any(|key| key.name == *k) {
                 return Err(unknown_key(key, keys));
             }
             if *table == "initial" {
@@ -1180,7 +1473,7 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
             let list: Vec<&str> = keys_of(table)
                 .unwrap_or(&[])
                 .iter()
-                .map(|(k, _)| *k)
+                .map(|k| k.name)
                 .collect();
             Err(Error::invalid(
                 key,
@@ -1191,7 +1484,14 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
         [table, ..] => Err(Error::invalid(
             key,
             format!("unknown table \"{table}\""),
-            "valid tables: top, surface, adhesion, force, well, initial, solver, thermal".into(),
+            format!(
+                "valid tables: {}",
+                all_tables()
+                    .iter()
+                    .map(|(n, _)| *n)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         )),
         [] => unreachable!("split always yields one part"),
     }
@@ -1337,10 +1637,55 @@ fn section<'a>(merged: &'a Table, name: &str) -> Section<'a> {
 /// defaults; no range checks). `eps_explicit`: `surface.friction_eps` was
 /// given by the file or a `--set` (not only inherited from the preset).
 fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Scenario, Error> {
-    // Required keys have no default without a preset; with a preset every
-    // key is present in `merged` anyway.
-    let req = |d: f64| if has_preset { Some(d) } else { None };
+    // Each table in document order (the first error is the first table's).
+    let top = top_of(merged, has_preset)?;
+    let surface = surface_of(merged, has_preset, eps_explicit)?;
+    let s = section(merged, "adhesion");
+    let adhesion = Adhesion {
+        force: s.f64("force", Some(0.0))?,
+        energy: s.f64("energy", Some(0.0))?,
+    };
 
+    let (forcing, actuators) = forces_of(merged)?;
+    let wells = wells_of(merged)?;
+    let initial = initial_of(merged, has_preset)?;
+    let solver = solver_of(merged, has_preset)?;
+    let s = section(merged, "thermal");
+    let thermal = Thermal {
+        temperature: s.f64("temperature", Some(0.0))?,
+        damping_translational: s.f64("damping_translational", Some(0.0))?,
+        damping_rotational: s.f64("damping_rotational", Some(0.0))?,
+        damping_contact: s.f64("damping_contact", Some(0.0))?,
+        seed: match s.get("seed") {
+            None => None,
+            Some(_) => Some(s.usize("seed", 0)? as u64),
+        },
+        run: s.usize("run", 0)? as u64,
+    };
+
+    Ok(Scenario {
+        top,
+        surface,
+        adhesion,
+        forcing,
+        actuators,
+        wells,
+        initial,
+        solver,
+        thermal,
+        plugins: plugins::parse(merged)?,
+    })
+}
+
+/// Required keys have no default without a preset (`has_preset` false);
+/// with a preset every key is present in the merged table anyway.
+fn required(has_preset: bool, d: f64) -> Option<f64> {
+    if has_preset { Some(d) } else { None }
+}
+
+/// The `[top]` table (the stem: both keys or neither).
+fn top_of(merged: &Table, has_preset: bool) -> Result<Top, Error> {
+    let req = |d: f64| required(has_preset, d);
     let s = section(merged, "top");
     let top = Top {
         radius: s.f64("radius", req(0.0))?,
@@ -1375,7 +1720,12 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
             ));
         }
     };
+    Ok(top)
+}
 
+/// The `[surface]` table with its friction law's parameters.
+fn surface_of(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Surface, Error> {
+    let req = |d: f64| required(has_preset, d);
     let s = section(merged, "surface");
     let gravity = s.f64("gravity", Some(9.8))?;
     let friction = s.f64("friction", req(0.0))?;
@@ -1456,13 +1806,11 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         contact: s.name("contact", CONTACTS, ContactMode::Bilateral)?,
         restitution: s.f64("restitution", Some(0.0))?,
     };
+    Ok(surface)
+}
 
-    let s = section(merged, "adhesion");
-    let adhesion = Adhesion {
-        force: s.f64("force", Some(0.0))?,
-        energy: s.f64("energy", Some(0.0))?,
-    };
-
+/// The `[[force]]` windows: contact-point windows and body actuators.
+fn forces_of(merged: &Table) -> Result<(Forcing, Vec<ActuatorWindow>), Error> {
     let mut windows = Vec::new();
     let mut actuators = Vec::new();
     if let Some(Value::Array(list)) = merged.get("force") {
@@ -1498,7 +1846,11 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         }
     }
     let forcing = Forcing { windows };
+    Ok((forcing, actuators))
+}
 
+/// The `[[well]]` list (every key of a well required).
+fn wells_of(merged: &Table) -> Result<Vec<Well>, Error> {
     let mut wells = Vec::new();
     if let Some(Value::Array(list)) = merged.get("well") {
         for (k, w) in list.iter().enumerate() {
@@ -1528,7 +1880,12 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
             });
         }
     }
+    Ok(wells)
+}
 
+/// The `[initial]` table: Euler angles and rates, or lab-frame vectors.
+fn initial_of(merged: &Table, has_preset: bool) -> Result<Initial, Error> {
+    let req = |d: f64| required(has_preset, d);
     let s = section(merged, "initial");
     let initial = if s.get("axis").is_some() {
         Initial::from_lab(
@@ -1556,7 +1913,12 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
             heading: s.f64("heading", Some(0.0))?,
         }
     };
+    Ok(initial)
+}
 
+/// The `[solver]` table.
+fn solver_of(merged: &Table, has_preset: bool) -> Result<SolverSettings, Error> {
+    let req = |d: f64| required(has_preset, d);
     let s = section(merged, "solver");
     let method = s.name("method", METHODS, Method::Adaptive)?;
     let t_end = s.f64("t_end", req(0.0))?;
@@ -1578,31 +1940,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
             Some(_) => Some(s.f64("dt", None)?),
         },
     };
-
-    let s = section(merged, "thermal");
-    let thermal = Thermal {
-        temperature: s.f64("temperature", Some(0.0))?,
-        damping_translational: s.f64("damping_translational", Some(0.0))?,
-        damping_rotational: s.f64("damping_rotational", Some(0.0))?,
-        damping_contact: s.f64("damping_contact", Some(0.0))?,
-        seed: match s.get("seed") {
-            None => None,
-            Some(_) => Some(s.usize("seed", 0)? as u64),
-        },
-        run: s.usize("run", 0)? as u64,
-    };
-
-    Ok(Scenario {
-        top,
-        surface,
-        adhesion,
-        forcing,
-        actuators,
-        wells,
-        initial,
-        solver,
-        thermal,
-    })
+    Ok(solver)
 }
 
 // ---------------------------------------------------------------------------
@@ -1610,8 +1948,8 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
 
 /// Append `key = value` lines for the keys of `t`, in `keys` order.
 fn render_keys(out: &mut String, t: &Table, keys: Keys) {
-    for (k, _) in keys {
-        if let Some(v) = t.get(*k) {
+    for k in keys.iter().map(|k| k.name) {
+        if let Some(v) = t.get(k) {
             out.push_str(&format!("{k} = {}\n", render_value(v)));
         }
     }

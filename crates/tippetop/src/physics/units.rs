@@ -1,9 +1,8 @@
 //! The unit system of the scaled models: one tolerance means the same for
 //! the C60 top and the toy (docs/physics.md#scaling).
 
-use crate::Scenario;
-
-/// Units of the scaled variables: lengths by R, masses by m, times by
+/// Units of the scaled variables (a scenario's: `Scales::of`, in
+/// scenario/limits.rs): lengths by R, masses by m, times by
 /// `1/rate` with `rate` the largest of |ω0|, |Ω0|, |θ̇0|, sqrt(g/R),
 /// sqrt(|H|max/(m R)) and 1/t_end, so that the scale exists for g = 0 and
 /// ω0 = 0 and one tolerance means the same for the C60 top and the toy.
@@ -18,17 +17,6 @@ pub struct Scales {
 }
 
 impl Scales {
-    /// The scales of a scenario.
-    pub fn of(sc: &Scenario) -> Self {
-        let top = &sc.top;
-        // The inverse of the fastest initial rate; the run limits use the
-        // same unit (`limits::time_unit`, which names each rate for messages).
-        Scales {
-            length: top.radius,
-            mass: top.mass,
-            time: crate::limits::time_unit(sc),
-        }
-    }
     /// Velocity unit \[m/s\].
     pub fn velocity(&self) -> f64 {
         self.length / self.time

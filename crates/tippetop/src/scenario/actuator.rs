@@ -27,6 +27,7 @@ use crate::forcing::{
     BodyActuator, MAGNETIC_FIELD_RANGE, MAGNETIC_GRADIENT_RANGE, MAGNETIC_MOMENT_RANGE,
     TIP_FORCE_RANGE, TIP_POINT_RANGE,
 };
+use crate::input::Key;
 use crate::state::ModelKind;
 use crate::{ActuatorWindow, Error};
 
@@ -34,12 +35,37 @@ use crate::{ActuatorWindow, Error};
 pub const KIND_RANGE: &str = "\"contact\" (hx, hy, hz: the paper's force at the contact point), \"tip\" (point, force) or \"magnetic\" (moment, field, gradient)";
 
 /// The body actuators' keys with their ranges (`kind` is the caller's).
-pub const KEYS: [(&str, &str); 5] = [
-    ("point", TIP_POINT_RANGE),
-    ("force", TIP_FORCE_RANGE),
-    ("moment", MAGNETIC_MOMENT_RANGE),
-    ("field", MAGNETIC_FIELD_RANGE),
-    ("gradient", MAGNETIC_GRADIENT_RANGE),
+pub const KEYS: [Key; 5] = [
+    Key::doc(
+        "point",
+        TIP_POINT_RANGE,
+        "required by tip",
+        "the tip's point on the body",
+    ),
+    Key::doc(
+        "force",
+        TIP_FORCE_RANGE,
+        "required by tip",
+        "the tip's force on the top",
+    ),
+    Key::doc(
+        "moment",
+        MAGNETIC_MOMENT_RANGE,
+        "required by magnetic",
+        "the magnetic moment along the axis",
+    ),
+    Key::doc(
+        "field",
+        MAGNETIC_FIELD_RANGE,
+        "[0, 0, 0]",
+        "the uniform field B0",
+    ),
+    Key::doc(
+        "gradient",
+        MAGNETIC_GRADIENT_RANGE,
+        "zero",
+        "the field's gradient G",
+    ),
 ];
 
 /// The keys of the contact force (a `[[force]]` window's own).
@@ -67,7 +93,7 @@ pub(super) fn parse(s: &Section) -> Result<Option<BodyActuator>, Error> {
         "tip" => &["point", "force"],
         _ => &["moment", "field", "gradient"],
     };
-    let others = CONTACT_KEYS.iter().chain(KEYS.iter().map(|(k, _)| k));
+    let others = CONTACT_KEYS.iter().chain(KEYS.iter().map(|k| &k.name));
     if let Some(k) = others
         .filter(|k| !own.contains(k))
         .find(|k| s.get(k).is_some())
@@ -111,8 +137,8 @@ pub(super) fn parse(s: &Section) -> Result<Option<BodyActuator>, Error> {
 
 fn range(key: &str) -> &'static str {
     KEYS.iter()
-        .find(|(k, _)| *k == key)
-        .map(|(_, r)| *r)
+        .find(|k| k.name == key)
+        .map(|k| k.range)
         .unwrap_or("")
 }
 

@@ -51,6 +51,7 @@
 use toml::{Table, Value};
 
 use super::{Keys, Section, check_keys, describe, parse_document, range_of, unknown_key};
+use crate::input::Key;
 use crate::{ActuatorWindow, BodyActuator, Error, ForceWindow, Forcing, Scenario};
 
 /// Fewest output rows per `bit.hold` (the row spacing bounds the adaptive
@@ -70,25 +71,25 @@ pub const ONE_DEFAULT: [f64; 2] = [
 const STATE_RANGE: &str = "[lo, hi] [rad] with 0 <= lo < hi <= pi, zero and one disjoint";
 
 const BIT_KEYS: Keys = &[
-    ("zero", STATE_RANGE),
-    ("one", STATE_RANGE),
-    ("hold", "a finite time > 0 [s]"),
-    ("phase", "a finite time > bit.hold [s]"),
+    Key::new("zero", STATE_RANGE),
+    Key::new("one", STATE_RANGE),
+    Key::new("hold", "a finite time > 0 [s]"),
+    Key::new("phase", "a finite time > bit.hold [s]"),
 ];
 
 const WINDOW_KEYS: Keys = &[
-    ("kind", super::actuator::KIND_RANGE),
-    ("hx", "a finite force [N]"),
-    ("hy", "a finite force [N]"),
-    (
+    Key::new("kind", super::actuator::KIND_RANGE),
+    Key::new("hx", "a finite force [N]"),
+    Key::new("hy", "a finite force [N]"),
+    Key::new(
         "hz",
         "a finite force [N] (vertical load at the contact point, > 0 pushes onto the plane)",
     ),
-    (
+    Key::new(
         "start",
         "a finite time >= 0 [s] from the start of the phase",
     ),
-    (
+    Key::new(
         "stop",
         "a finite time, start < stop <= bit.phase [s] from the start of the phase; default bit.phase",
     ),
@@ -429,7 +430,7 @@ fn apply_bit_set(
     let parts: Vec<&str> = key.split('.').collect();
     match parts.as_slice() {
         ["bit", k] => {
-            if !BIT_KEYS.iter().any(|(n, _)| n == k) {
+            if !BIT_KEYS.iter().any(|key| key.name == *k) {
                 return Err(unknown_key(key, BIT_KEYS));
             }
             bit.insert((*k).to_string(), value);
@@ -448,7 +449,7 @@ fn apply_bit_set(
                     format!("{list}.K.KEY with K = 0, 1, ... (0-based)"),
                 ));
             }
-            if !WINDOW_KEYS.iter().any(|(n, _)| n == k) {
+            if !WINDOW_KEYS.iter().any(|key| key.name == *k) {
                 return Err(unknown_key(key, WINDOW_KEYS));
             }
             let n = windows.len();

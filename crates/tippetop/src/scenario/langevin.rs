@@ -108,6 +108,8 @@ pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
             "a tip's or magnet's rate (sqrt(|F| / (mass radius)), sqrt(|F| |point| / inertia_transverse), sqrt(|moment| |field| / inertia_transverse), ...)",
         ));
     }
+    // The force plug-ins' (docs/extending.md): none without their tables.
+    out.extend(super::plugins::rates(sc));
     out
 }
 

@@ -179,12 +179,19 @@ fn rates(sc: &Scenario) -> [(f64, String, &'static str); 10] {
         .fold((String::from("force"), 0.0), |(bk, br), (k, r)| {
             (if r > br { k } else { bk }, br + r)
         });
+    // The force plug-ins' body forces join the actuators' rate (nothing
+    // changes without their tables).
+    let (act_key, act_rate) = super::plugins::rates(sc)
+        .into_iter()
+        .fold((act_key, act_rate), |(bk, br), (r, name, _)| {
+            (if r > br { name.to_string() } else { bk }, br + r)
+        });
     [
         (i.spin.abs(), "initial.spin".into(), "|spin|"),
         (
             act_rate,
             act_key,
-            "sqrt(|F| / (mass radius)), sqrt(|F| |point| / inertia_transverse), sqrt(|moment| |field| / inertia_transverse), sqrt(|moment| |gradient| / (mass radius)) (tips, magnets)",
+            "sqrt(|F| / (mass radius)), sqrt(|F| |point| / inertia_transverse), sqrt(|moment| |field| / inertia_transverse), sqrt(|moment| |gradient| / (mass radius)) (tips, magnets; a force plug-in's rate, e.g. wind sqrt(|(fx, fy)| / (mass radius)))",
         ),
         (
             i.precession.abs(),
@@ -580,4 +587,18 @@ fn check_adhesive_friction(sc: &Scenario) -> Result<(), Error> {
         crate::Method::Stiff | crate::Method::Langevin | crate::Method::Brownian => {}
     }
     Ok(())
+}
+
+impl crate::physics::units::Scales {
+    /// The scales of a scenario.
+    pub fn of(sc: &Scenario) -> Self {
+        let top = &sc.top;
+        // The inverse of the fastest initial rate; the run limits use the
+        // same unit (`time_unit`, which names each rate for messages).
+        crate::physics::units::Scales {
+            length: top.radius,
+            mass: top.mass,
+            time: time_unit(sc),
+        }
+    }
 }

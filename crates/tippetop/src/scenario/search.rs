@@ -28,6 +28,7 @@ use toml::{Table, Value};
 
 use super::{Keys, check_keys, describe, parse_document, parse_set_value};
 use crate::Error;
+use crate::input::Key;
 
 /// Which phase's protocol is searched.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -107,42 +108,45 @@ pub const MAX_PERTURBATIONS: usize = 10_000;
 
 const BOUNDS: &str = "[lo, hi], finite, lo <= hi";
 const KEYS: Keys = &[
-    ("phase", "\"write\" or \"erase\""),
-    ("windows", "an integer, 1 <= windows <= 8"),
-    ("actuator", "\"contact\", \"tip\" or \"magnetic\""),
-    (
+    Key::new("phase", "\"write\" or \"erase\""),
+    Key::new("windows", "an integer, 1 <= windows <= 8"),
+    Key::new("actuator", "\"contact\", \"tip\" or \"magnetic\""),
+    Key::new(
         "point",
         "[x, y, z] [m], finite: the tip's body point, with actuator = \"tip\" only",
     ),
-    (
+    Key::new(
         "moment",
         "a finite, non-zero moment [A m^2] along k, with actuator = \"magnetic\" only",
     ),
-    (
+    Key::new(
         "magnitude",
         "[lo, hi] [N] (|B| [T] for \"magnetic\"), 0 <= lo <= hi, finite",
     ),
-    ("angle", "[lo, hi] [rad], finite, lo <= hi"),
-    ("start", "[lo, hi] [s], 0 <= lo <= hi < bit.phase"),
-    ("duration", "[lo, hi] [s], 0 < lo <= hi"),
-    ("weight", "a finite weight >= 0 [s/J]"),
-    (
+    Key::new("angle", "[lo, hi] [rad], finite, lo <= hi"),
+    Key::new("start", "[lo, hi] [s], 0 <= lo <= hi < bit.phase"),
+    Key::new("duration", "[lo, hi] [s], 0 < lo <= hi"),
+    Key::new("weight", "a finite weight >= 0 [s/J]"),
+    Key::new(
         "margin",
         "a finite angle >= 0 [rad], less than half the target window",
     ),
-    ("seed", "an integer >= 0"),
-    ("budget", "an integer, 1 <= budget <= 100000"),
-    ("perturbations", "an integer, 0 <= perturbations <= 10000"),
+    Key::new("seed", "an integer >= 0"),
+    Key::new("budget", "an integer, 1 <= budget <= 100000"),
+    Key::new("perturbations", "an integer, 0 <= perturbations <= 10000"),
 ];
 
 /// The valid range of `search.KEY` (as listed in the keys table).
 fn range_of_key(key: &str) -> &'static str {
-    KEYS.iter().find(|(k, _)| *k == key).map_or("", |k| k.1)
+    KEYS.iter().find(|k| k.name == key).map_or("", |k| k.range)
 }
 
 fn bounds(t: &Table, key: &str) -> Result<[f64; 2], Error> {
     let full = format!("search.{key}");
-    let range = KEYS.iter().find(|(k, _)| *k == key).map_or(BOUNDS, |k| k.1);
+    let range = KEYS
+        .iter()
+        .find(|k| k.name == key)
+        .map_or(BOUNDS, |k| k.range);
     let bad = |what: String| Error::invalid(&full, what, range.into());
     let v = t
         .get(key)
@@ -165,7 +169,7 @@ fn bounds(t: &Table, key: &str) -> Result<[f64; 2], Error> {
 }
 
 fn float(t: &Table, key: &str, default: f64) -> Result<f64, Error> {
-    let range = KEYS.iter().find(|(k, _)| *k == key).map_or("", |k| k.1);
+    let range = KEYS.iter().find(|k| k.name == key).map_or("", |k| k.range);
     match t.get(key) {
         None => Ok(default),
         Some(Value::Float(f)) if f.is_finite() && *f >= 0.0 => Ok(*f),
@@ -179,7 +183,7 @@ fn float(t: &Table, key: &str, default: f64) -> Result<f64, Error> {
 }
 
 fn integer(t: &Table, key: &str, default: i64, lo: i64, hi: i64) -> Result<i64, Error> {
-    let range = KEYS.iter().find(|(k, _)| *k == key).map_or("", |k| k.1);
+    let range = KEYS.iter().find(|k| k.name == key).map_or("", |k| k.range);
     match t.get(key) {
         None => Ok(default),
         Some(Value::Integer(i)) if (lo..=hi).contains(i) => Ok(*i),
@@ -216,7 +220,10 @@ impl SearchSpec {
             None => SearchActuator::Contact,
             Some(Value::String(s)) if s == "contact" => SearchActuator::Contact,
             Some(Value::String(s)) if s == "tip" => {
-                let range = KEYS.iter().find(|(k, _)| *k == "point").map_or("", |k| k.1);
+                let range = KEYS
+                    .iter()
+                    .find(|k| k.name == "point")
+                    .map_or("", |k| k.range);
                 let bad = |what: String| Error::invalid("search.point", what, range.into());
                 let v = t
                     .get("point")

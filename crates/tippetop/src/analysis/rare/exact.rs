@@ -628,6 +628,13 @@ impl ThetaDiffusion {
                 "no tip or magnetic [[force]] windows",
             ));
         }
+        if let Some(key) = crate::scenario::plugins::first_key(sc) {
+            return Err(not_exact(
+                &key,
+                "a force plug-in's table is not in the 1D model".into(),
+                "no force plug-in tables ([wind], ...)",
+            ));
+        }
         let mut hx = 0.0;
         for (k, w) in sc.forcing.windows.iter().enumerate() {
             if w.hx != 0.0 {

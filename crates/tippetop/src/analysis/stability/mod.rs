@@ -349,6 +349,13 @@ pub fn supports(sc: &Scenario) -> Result<(), Error> {
             "\"contact\"; use `tippetop run` for a tip or a magnet".into(),
         ));
     }
+    if let Some(key) = crate::scenario::plugins::first_key(sc) {
+        return Err(Error::invalid(
+            &key,
+            "the stability analysis does not model the force plug-ins' tables".into(),
+            "no such table; use `tippetop run`".into(),
+        ));
+    }
     match sc.forcing.windows.iter().position(|w| w.hz != 0.0) {
         Some(k) => Err(Error::invalid(
             &format!("force.{k}.hz"),

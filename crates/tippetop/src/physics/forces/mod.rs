@@ -3,9 +3,11 @@
 //! A *term* is one physical effect with its scenario keys (the paper's
 //! retarding force `H`, a vertical load `h_z`, ...). A *kind* is how a term
 //! enters the equations of motion; every model implements each kind once,
-//! so a new term of an implemented kind is one file here (a type
-//! implementing [`ForceTerm`]) plus its scenario keys and one line in
-//! [`Forces::of`]. Each term states, in code ([`ForceTerm::properties`])
+//! so a new term of an implemented kind is one file here (a [`Plugin`]:
+//! its scenario table, validation, doc and a type implementing
+//! [`ForceTerm`]) plus one line in [`PLUGINS`] (docs/extending.md; the
+//! example is [`wind`]). The older terms keep their keys in the scenario's
+//! own tables and are built in `Forces::of` (scenario/plugins.rs). Each term states, in code ([`ForceTerm::properties`])
 //! and in its doc, how it enters the normal-force closure `N D(σ) = Q`
 //! (docs/physics.md#normal-force), whether it conserves Jellett's J (§invariants) and whether
 //! it has a potential or its work is integrated (like `W_a`).
@@ -26,10 +28,58 @@ pub mod adhesion;
 pub mod retarding;
 pub mod vertical_load;
 pub mod wells;
+pub mod wind;
 
 use std::sync::Arc;
 
-use crate::Scenario;
+use crate::Error;
+use crate::input::TableSpec;
+
+/// A force plug-in: a term with a scenario table of its own, in one file
+/// (its keys with their ranges, defaults and docs; their validation; its
+/// doc; its physics), listed once in [`PLUGINS`]. The scenario parser,
+/// `--set`, `to_toml`, the validation messages and `tippetop keys` learn
+/// its table from there (docs/extending.md). Its values are numbers, one
+/// per key, in the order of its keys (a key left out has its default).
+pub trait Plugin: Sync {
+    /// Its scenario table (name, one-line doc, keys).
+    fn table(&self) -> TableSpec;
+    /// How it enters the models. The reduced model applies only
+    /// [`Kind::ContactPoint`], [`Kind::CentreVertical`] and [`Kind::Torque`]
+    /// terms; a scenario with a plug-in of another kind and
+    /// `model = "reduced"` is refused, naming the table.
+    fn kind(&self) -> Kind;
+    /// Checks beyond each key's bounds ([`crate::input::Key::bounds`],
+    /// checked before); `values` in the order of the keys.
+    fn validate(&self, _values: &[f64]) -> Result<(), Error> {
+        Ok(())
+    }
+    /// The term of `values`, or `None` when it applies nothing (the run is
+    /// then that without the table, bit for bit).
+    fn term(&self, values: &[f64]) -> Option<Arc<dyn ForceTerm>>;
+    /// The fastest rate \[1/s\] the term sets for a top of mass `mass`
+    /// \[kg\], radius `radius` \[m\] and transverse inertia `inertia`
+    /// \[kg m²\], with its formula: it joins the rates of the time unit
+    /// (`scenario::limits::time_unit`) and of the Langevin step check
+    /// (`scenario::langevin::step_rates`). Default: none.
+    fn rate(
+        &self,
+        _values: &[f64],
+        _mass: f64,
+        _radius: f64,
+        _inertia: f64,
+    ) -> Option<(f64, &'static str)> {
+        None
+    }
+}
+
+/// The force plug-ins: a new one is its file plus one line here.
+pub static PLUGINS: &[&dyn Plugin] = &[&wind::Wind];
+
+/// The plug-in whose table is `name`.
+pub fn plugin(name: &str) -> Option<&'static dyn Plugin> {
+    PLUGINS.iter().copied().find(|p| p.table().name == name)
+}
 
 /// How a kind of term enters the models.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -62,7 +112,8 @@ pub enum Kind {
     /// `−F/m`. J: `dJ/dt = −τ·r`, conserved only if the line of a tip's
     /// force passes through `P` (or a field is vertical). Work integrated
     /// (`F·v_O + τ·w`, rolling or not). Wired in the vector and rigid
-    /// models (contact and flight); the reduced model refuses it.
+    /// models (contact and flight); the reduced model refuses it. Terms:
+    /// [`actuators::Actuators`] and the plug-in [`wind::Wind`].
     BodyPoint,
     /// A pure torque (a couple). Wired for torques about the horizontal
     /// axis `ŷ ⊥ k` that derive from a potential in θ
@@ -251,31 +302,16 @@ pub struct Forces {
 }
 
 impl Forces {
-    /// The terms of `sc` (nothing latched: zero force). A new term is one
-    /// line here.
-    pub fn of(sc: &Scenario) -> Self {
-        let mut terms: Vec<Arc<dyn ForceTerm>> =
-            vec![Arc::new(retarding::Retarding::of(&sc.forcing))];
-        if sc.forcing.has_load() {
-            terms.push(Arc::new(vertical_load::VerticalLoad::of(&sc.forcing)));
-        }
-        if sc.adhesion.is_on() {
-            terms.push(Arc::new(adhesion::Adhesion::of(&sc.adhesion)));
-        }
-        if !sc.wells.is_empty() {
-            terms.push(Arc::new(wells::Wells::of(&sc.wells)));
-        }
-        for kind in ["tip", "magnetic"] {
-            if let Some(term) = actuators::Actuators::of(&sc.actuators, kind) {
-                terms.push(Arc::new(term));
-            }
-        }
+    /// The force of `terms` (nothing latched: zero force), switching at
+    /// `switch_times` \[s\] (sorted), for a top of radius `radius` \[m\]
+    /// (the length unit). A scenario's: `Forces::of` (scenario/plugins.rs).
+    pub fn new(terms: Vec<Arc<dyn ForceTerm>>, switch_times: Vec<f64>, radius: f64) -> Self {
         Forces {
             terms,
-            switch_times: sc.switch_times(),
+            switch_times,
             latched: ContactPointForce::default(),
             centre: CentreVertical::default(),
-            radius: sc.top.radius,
+            radius,
             wells: Vec::new(),
             body: actuators::BodyLoad::default(),
             body_zero: true,

@@ -1,0 +1,147 @@
+//! The force plug-ins' tables in a scenario (`[wind]`, ...): parsed,
+//! rendered and validated from the registry
+//! ([`crate::physics::forces::PLUGINS`]), so that a new plug-in needs no
+//! edit here; and a scenario's force terms ([`Forces::of`]).
+
+use std::sync::Arc;
+
+use toml::{Table, Value};
+
+use super::Section;
+use crate::input::{Key, PluginTables};
+use crate::physics::forces::{
+    ForceTerm, Forces, Kind, PLUGINS, actuators, adhesion, retarding, vertical_load, wells,
+};
+use crate::state::ModelKind;
+use crate::{Error, Scenario};
+
+/// A key's default as a number (a plug-in's keys are numbers; `""` is 0).
+fn default_of(k: &Key) -> f64 {
+    k.default.parse().unwrap_or(0.0)
+}
+
+/// The plug-in tables the merged document gives (types and defaults; no
+/// range checks).
+pub(super) fn parse(merged: &Table) -> Result<PluginTables, Error> {
+    let mut out = PluginTables::NONE;
+    for p in PLUGINS {
+        let spec = p.table();
+        let Some(table) = merged.get(spec.name).and_then(Value::as_table) else {
+            continue;
+        };
+        let s = Section {
+            prefix: spec.name.to_string(),
+            keys: spec.keys,
+            table: Some(table),
+        };
+        let values = spec
+            .keys
+            .iter()
+            .map(|k| s.f64(k.name, Some(default_of(k))))
+            .collect::<Result<Vec<_>, _>>()?;
+        out.set(spec.name, values);
+    }
+    Ok(out)
+}
+
+/// The plug-in tables of `tables` as TOML tables, inserted into `t` (only
+/// those given: a scenario without them keeps its text).
+pub(super) fn to_table(tables: &PluginTables, t: &mut Table) {
+    for (name, values) in tables.iter() {
+        let Some(p) = crate::physics::forces::plugin(name) else {
+            continue;
+        };
+        let mut table = Table::new();
+        for (k, v) in p.table().keys.iter().zip(values) {
+            table.insert(k.name.into(), Value::Float(*v));
+        }
+        t.insert(name.into(), Value::Table(table));
+    }
+}
+
+/// Each plug-in table's checks: every number within its key's bounds (the
+/// message names `table.key` and its range), the model applies its kind,
+/// then the plug-in's own checks.
+pub(super) fn validate(sc: &Scenario) -> Result<(), Error> {
+    for (name, values) in sc.plugins.iter() {
+        let Some(p) = crate::physics::forces::plugin(name) else {
+            continue;
+        };
+        let spec = p.table();
+        for (k, &x) in spec.keys.iter().zip(values) {
+            if let Some((lo, hi)) = k.bounds {
+                if !(lo..=hi).contains(&x) {
+                    return Err(Error::invalid(
+                        &format!("{name}.{}", k.name),
+                        format!("{x} is not allowed"),
+                        k.range.into(),
+                    ));
+                }
+            }
+        }
+        let reduced_applies = matches!(
+            p.kind(),
+            Kind::ContactPoint | Kind::CentreVertical | Kind::Torque
+        );
+        if sc.solver.model == ModelKind::Reduced && !reduced_applies {
+            return Err(Error::invalid(
+                name,
+                format!("[{name}] is not available in model = \"reduced\""),
+                format!("[{name}] needs model = \"vector\" (the default) or \"rigid\""),
+            ));
+        }
+        p.validate(values)?;
+    }
+    Ok(())
+}
+
+/// The first plug-in table a scenario gives, as `table.key` of its first
+/// key (for the analyses that do not model the plug-ins), or `None`.
+pub fn first_key(sc: &Scenario) -> Option<String> {
+    let (name, _) = sc.plugins.iter().next()?;
+    let p = crate::physics::forces::plugin(name)?;
+    Some(format!("{name}.{}", p.table().keys.first()?.name))
+}
+
+impl Forces {
+    /// The terms of `sc` (nothing latched: zero force): the scenario's own
+    /// terms, then each plug-in's in the registry's order.
+    pub fn of(sc: &Scenario) -> Self {
+        let mut terms: Vec<Arc<dyn ForceTerm>> =
+            vec![Arc::new(retarding::Retarding::of(&sc.forcing))];
+        if sc.forcing.has_load() {
+            terms.push(Arc::new(vertical_load::VerticalLoad::of(&sc.forcing)));
+        }
+        if sc.adhesion.is_on() {
+            terms.push(Arc::new(adhesion::Adhesion::of(&sc.adhesion)));
+        }
+        if !sc.wells.is_empty() {
+            terms.push(Arc::new(wells::Wells::of(&sc.wells)));
+        }
+        for kind in ["tip", "magnetic"] {
+            if let Some(term) = actuators::Actuators::of(&sc.actuators, kind) {
+                terms.push(Arc::new(term));
+            }
+        }
+        for p in PLUGINS {
+            if let Some(term) = sc.plugins.get(p.table().name).and_then(|v| p.term(v)) {
+                terms.push(term);
+            }
+        }
+        Forces::new(terms, sc.switch_times(), sc.top.radius)
+    }
+}
+
+/// The rates \[1/s\] of the plug-in tables a scenario gives
+/// ([`crate::physics::forces::Plugin::rate`]): (rate, table, formula).
+pub fn rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
+    let top = &sc.top;
+    sc.plugins
+        .iter()
+        .filter_map(|(name, values)| {
+            let p = crate::physics::forces::plugin(name)?;
+            let (r, why) = p.rate(values, top.mass, top.radius, top.inertia_transverse)?;
+            Some((r, p.table().name, why))
+        })
+        .collect()
+}
