@@ -20,7 +20,8 @@
 //! - **Around the wall (quadrature).** A point at distance `δ` from the axis
 //!   has the potential `V(δ) = 2 η_g b ∫₀^π L(s(t)) dt`,
 //!   `s² = b² + δ² − 2bδ cos t`, by Gauss–Legendre on panels graded towards
-//!   `t = 0` (the nearest line; the panels' first width is `(b − δ)/(2b)`).
+//!   `t = 0` (the nearest line; the first panel is `0.2 σ/b` wide, each next
+//!   one three times wider; the same panels for every `δ`).
 //! - **Over the cage (quadrature).** The cage's atoms at polar angle `α`
 //!   (from the tube's axis) and azimuth `ψ` project to the distance
 //!   `δ² = p² + ρ² + 2pρ cos ψ`, `ρ = R sin α`, so
@@ -166,7 +167,10 @@ impl Nanotube {
     pub fn point_potential(&self, delta: f64) -> [f64; 3] {
         let b = self.radius;
         let (ca, cb) = (3.0 * PI / 8.0 * self.lj.a, 63.0 * PI / 256.0 * self.lj.b);
-        let w0 = (0.5 * (b - delta) / b).clamp(1e-6, PI);
+        // The same panels for every δ (so U(p) is one smooth rule): the first
+        // is 0.2 σ/b wide, a fifth of the narrowest peak (the cage's atoms
+        // come no nearer the wall than ~σ at the energies that matter).
+        let w0 = (0.2 * self.lj.sigma() / b).clamp(1e-9, PI);
         let gl = nodes(N_WALL);
         let mut acc = [0.0; 3];
         let mut lo = 0.0;
@@ -345,4 +349,27 @@ pub fn off_axis_radius(tube: &Nanotube) -> Result<f64, Error> {
         }
     }
     Ok(0.5 * (lo + hi))
+}
+
+/// The narrowest tube radius \[m\] that takes the cage in from free space
+/// along its axis (the suction energy `−U(0)` changes sign), for the cage,
+/// wall density and constants of `tube` (its radius is ignored). Narrower
+/// tubes push the cage out; this is below [`Nanotube::min_radius`], so the
+/// command refuses those tubes anyway.
+pub fn acceptance_radius(tube: &Nanotube) -> Result<f64, Error> {
+    let at = |b: f64| Nanotube { radius: b, ..*tube };
+    let hi = tube.min_radius()?;
+    let r = tube.shell.radius;
+    // On the axis with the wall 0.5 σ from the cage the repulsion wins
+    // (as on the sheet at such a gap).
+    let lo = r + 0.5 * tube.lj.sigma();
+    let f = |b: f64| -at(b).energy(0.0);
+    if !(f(lo) < 0.0 && f(hi) > 0.0) {
+        return Err(Error::invalid(
+            "tube_radius",
+            "no sign change of the suction energy between R + 0.5 σ and R + gap".into(),
+            "carbon-like constants".into(),
+        ));
+    }
+    Ok(bisect(f, lo, hi))
 }
