@@ -150,11 +150,16 @@ impl Nanotube {
         if !(self.radius > min && self.radius <= 1e-6) {
             return Err(Error::invalid(
                 "tube_radius",
-                format!(
-                    "{:e} m is not allowed (the cage's wall gap on a flat sheet is {:.4e} m)",
-                    self.radius,
-                    min - self.shell.radius
-                ),
+                if self.radius > min && self.radius.is_finite() {
+                    format!("{:e} m is too wide", self.radius)
+                } else {
+                    format!(
+                        "{:e} m is too narrow: it leaves the cage less than the sheet's \
+                         equilibrium gap {:.4e} m",
+                        self.radius,
+                        min - self.shell.radius
+                    )
+                },
                 format!("above R + gap = {min:.4e} m, up to 1e-6 m"),
             ));
         }
