@@ -151,10 +151,10 @@ impl Nanotube {
             return Err(Error::invalid(
                 "tube_radius",
                 if self.radius > min && self.radius.is_finite() {
-                    format!("{:e} m is too wide", self.radius)
+                    format!("{:e} m: too wide", self.radius)
                 } else {
                     format!(
-                        "{:e} m is too narrow: it leaves the cage less than the sheet's \
+                        "{:e} m: too narrow, it leaves the cage less than the sheet's \
                          equilibrium gap {:.4e} m",
                         self.radius,
                         min - self.shell.radius
