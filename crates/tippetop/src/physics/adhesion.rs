@@ -351,7 +351,7 @@ fn no_well() -> Error {
 
 /// Root of `f` in `[lo, hi]` with `f(lo) < 0 < f(hi)`, by bisection to the
 /// last bit (at most ~1100 halvings of an f64 interval; ~60 here).
-fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+pub(crate) fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     // 2200 halvings exhaust any finite f64 interval; the cap guards NaN.
     for _ in 0..2200 {
         let mid = 0.5 * (lo + hi);
@@ -365,6 +365,31 @@ fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
         }
     }
     0.5 * (lo + hi)
+}
+
+/// Nodes and weights of n-point Gauss–Legendre on [−1, 1] (Newton on
+/// the Legendre recurrence).
+pub(crate) fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+    (0..n)
+        .map(|i| {
+            let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+            loop {
+                let (mut p0, mut p1) = (1.0, x);
+                for k in 2..=n {
+                    let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                    p0 = p1;
+                    p1 = p2;
+                }
+                let dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
+                let dx = p1 / dp;
+                x -= dx;
+                if dx.abs() < 1e-15 {
+                    let w = 2.0 / ((1.0 - x * x) * dp * dp);
+                    return (x, w);
+                }
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -409,31 +434,6 @@ mod tests {
             }
         }
         total
-    }
-
-    /// Nodes and weights of n-point Gauss–Legendre on [−1, 1] (Newton on
-    /// the Legendre recurrence).
-    fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-        (0..n)
-            .map(|i| {
-                let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-                loop {
-                    let (mut p0, mut p1) = (1.0, x);
-                    for k in 2..=n {
-                        let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
-                        p0 = p1;
-                        p1 = p2;
-                    }
-                    let dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
-                    let dx = p1 / dp;
-                    x -= dx;
-                    if dx.abs() < 1e-15 {
-                        let w = 2.0 / ((1.0 - x * x) * dp * dp);
-                        return (x, w);
-                    }
-                }
-            })
-            .collect()
     }
 
     #[test]

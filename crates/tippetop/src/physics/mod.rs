@@ -1,8 +1,10 @@
 //! Physics written once and used by every model (docs/architecture.md):
 //! the unit system of the scaled models, the applied force terms, and the
-//! van der Waals adhesion of a fullerene on graphene or graphite.
+//! van der Waals adhesion of a fullerene on graphene or graphite and
+//! inside a carbon nanotube.
 
 pub mod adhesion;
 pub mod contensou;
 pub mod forces;
+pub mod nanotube;
 pub mod units;
