@@ -1,8 +1,10 @@
 //! Physics written once and used by every model (docs/architecture.md):
-//! the unit system of the scaled models, the applied force terms, and the
+//! the body's contact dynamics in lab vectors (`body`), the unit system of
+//! the scaled models, the applied force terms, and the
 //! van der Waals adhesion of a fullerene on graphene or graphite.
 
 pub mod adhesion;
+pub mod body;
 pub mod contensou;
 pub mod forces;
 pub mod units;
