@@ -229,14 +229,16 @@ impl Body {
             None => w0,
         };
         match wrench {
+            // `g Z` as `(0, 0, g)`: the same bits as `g·Z` (g > 0), three
+            // products less.
             Some((fb, tb)) => Free {
                 w0: add(w0, self.inertia.inverse(at.k, tb)),
-                gv: sub(scale(self.g, Z), fb),
+                gv: sub([0.0, 0.0, self.g], fb),
                 wrench,
             },
             None => Free {
                 w0,
-                gv: scale(self.g, Z),
+                gv: [0.0, 0.0, self.g],
                 wrench: None,
             },
         }
