@@ -398,7 +398,6 @@ const KERNELS: &[(&str, &str)] = &[("crates/tippetop/src/numeric/eigen.rs", "hqr
 const MOVED_BY_ISSUE_28: &[(&str, &str)] = &[
     ("crates/tippetop/src/scenario/langevin.rs", "check"),
     ("crates/tippetop/src/scenario/limits.rs", "check_run"),
-    ("crates/tippetop/src/model/rigid.rs", "eval"),
     ("crates/tippetop/src/integrate/rosenbrock.rs", "step"),
 ];
 

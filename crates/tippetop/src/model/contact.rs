@@ -8,7 +8,6 @@
 
 use std::cell::Cell;
 
-use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
 use super::{Mode, ModelError};
 use crate::physics::forces::{ContactPointForce, Forces};
 use crate::physics::units::Scales;
@@ -465,41 +464,6 @@ impl ContactState {
         }
     }
 
-    /// The friction coefficient `f(v)` as [`ContactState::coefficient`],
-    /// in the rigid model's order of operations, which rounds differently:
-    /// `|v|` by `hypot` and one division per component (`μ v_i/|v|`,
-    /// `μ v_i/sqrt(|v|² + ε²)`, `μ v_i/ε`) where `coefficient` forms
-    /// `(μ/|v|) v_i`. Same slip hint at exactly zero slip and the same
-    /// continuation through zero for the exact law.
-    #[inline(always)]
-    pub(crate) fn coefficient_per_component(&self, v: [f64; 2]) -> [f64; 2] {
-        let mu = self.mu;
-        match self.law {
-            FrictionLaw::Coulomb | FrictionLaw::CoulombSliding | FrictionLaw::Contensou { .. } => {
-                let n = v[0].hypot(v[1]);
-                if n == 0.0 {
-                    return [mu * self.slip_hint[0], mu * self.slip_hint[1]];
-                }
-                let sgn = if self.exact {
-                    let d = self.slip_ref.get();
-                    if v[0] * d[0] + v[1] * d[1] < 0.0 {
-                        -1.0
-                    } else {
-                        1.0
-                    }
-                } else {
-                    1.0
-                };
-                [sgn * mu * v[0] / n, sgn * mu * v[1] / n]
-            }
-            FrictionLaw::Regularized { eps } => {
-                let d = (v[0] * v[0] + v[1] * v[1] + eps * eps).sqrt();
-                [mu * v[0] / d, mu * v[1] / d]
-            }
-            FrictionLaw::Viscous { eps } => [mu * v[0] / eps, mu * v[1] / eps],
-        }
-    }
-
     /// The normal force `N` from the contact closure `N D(σ) = Q`, where
     /// `D(σ) = dp` for the friction that `N >= 0` gives and `dm` for `N < 0`
     /// (the friction sees `|N|`): `"paper"` contact takes `Q/dp` with its
@@ -560,40 +524,37 @@ impl ContactState {
     }
 }
 
-/// The Coulomb–Contensou stick's constraint wrench (docs/physics.md#contensou),
-/// for every model (scaled, `m = 1`): with the inertia `A`, `C` about the
-/// axis `k` and `r` from the centre of mass to the contact point, the
-/// contact force `F` (at P) and the torque `M` about the vertical `Z` that
-/// solve
-///
-/// ```text
-/// K F − c M = b,   −c·F + s M = β,
-/// K x = x − r × I⁻¹(r × x),  c = r × I⁻¹ Z,  s = Z·I⁻¹ Z,
-/// ```
-///
-/// the rolling constraint (`b` the rolling system's right-hand side) and
-/// `ṅ_Z = 0` (`β = −ṅ₀·Z`, `ṅ₀` the angular acceleration without the
-/// contact), or with `b = −v_P`, `β = −n_Z` the impulse `(Π, M)` that
-/// brings the contact point's velocity and the spin about `Z` to zero.
-/// By the Schur complement: `F = K⁻¹ (b + c M)`,
-/// `M = (β + c·K⁻¹b)/(s − c·K⁻¹c)` (the whole matrix is symmetric
-/// positive definite up to the sign of the last row: the denominator is
-/// positive).
-pub(crate) fn stick_solve(ia: f64, ic: f64, k: V3, r: V3, b: V3, beta: f64) -> (V3, f64) {
-    let inv = |x: V3| {
-        add(
-            scale(1.0 / ia, x),
-            scale((1.0 / ic - 1.0 / ia) * dot(x, k), k),
-        )
-    };
-    let kmul = |p: V3| sub(p, cross(r, inv(cross(r, p))));
-    let cols = [kmul([1.0, 0.0, 0.0]), kmul([0.0, 1.0, 0.0]), kmul(Z)];
-    let iz = inv(Z);
-    let c = cross(r, iz);
-    let x1 = solve3(cols, b);
-    let x2 = solve3(cols, c);
-    let m = (beta + dot(c, x1)) / (iz[2] - dot(c, x2));
-    (add(x1, scale(m, x2)), m)
+/// The body's view of the contact ([`crate::physics::body`]): the law and
+/// the closure as [`ContactState`]'s own methods.
+impl crate::physics::body::Friction for ContactState {
+    #[inline(always)]
+    fn mu(&self) -> f64 {
+        ContactState::mu(self)
+    }
+    #[inline(always)]
+    fn regularized_eps(&self) -> Option<f64> {
+        ContactState::regularized_eps(self)
+    }
+    #[inline(always)]
+    fn drilling(&self, v: [f64; 2], wz: f64) -> Option<([f64; 2], f64)> {
+        ContactState::drilling(self, v, wz)
+    }
+    #[inline(always)]
+    fn coefficient(&self, v: [f64; 2]) -> [f64; 2] {
+        ContactState::coefficient(self, v)
+    }
+    #[inline(always)]
+    fn closure(&self, q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
+        ContactState::closure(self, q, dp, dm)
+    }
+    #[inline(always)]
+    fn friction_normal(&self, normal: f64) -> f64 {
+        ContactState::friction_normal(self, normal)
+    }
+    #[inline(always)]
+    fn is_contensou(&self) -> bool {
+        ContactState::is_contensou(self)
+    }
 }
 
 /// The normal force from the contact closure `N D(σ) = Q` (`dp = D(+)`,

@@ -5,7 +5,7 @@ pub(crate) mod on_plane;
 pub mod reduced;
 pub mod rigid;
 pub(crate) mod thermostat;
-pub(crate) mod vec3;
+pub(crate) use crate::numeric::vec3;
 pub mod vector;
 
 pub use contact::ContactState;
@@ -220,7 +220,7 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     /// The state with its velocities changed by the impulse at the contact
     /// (force and torque about the vertical) that brings the slip and the
     /// spin about the vertical to zero: the Coulomb–Contensou stick
-    /// (docs/physics.md#contensou; [`contact::stick_solve`]), the impulse's work
+    /// (docs/physics.md#contensou; [`crate::physics::body::stick_solve`]), the impulse's work
     /// (the kinetic energy's change, `<= 0`) added to `W_f`.
     fn to_stick(&self, y: &[f64; D]) -> [f64; D];
     /// Stick margin while rolling or stuck (scaled force):

@@ -492,7 +492,7 @@ impl Reduced {
     /// The state put on the Coulomb–Contensou stick by the impulse that
     /// brings the slip and the spin about Z to zero (§contensou): in the
     /// precessing frame `k = (s, 0, c)`, `w = ((ω − Ω c) s, θ̇, n_Z)`,
-    /// `r = a k − Z`, the impulse of [`super::contact::stick_solve`]
+    /// `r = a k − Z`, the impulse of [`crate::physics::body::stick_solve`]
     /// (`b = −v_P`, `β = −n_Z`) changes `u` by its horizontal part and `w`
     /// by `I⁻¹ (r × Π + M Z)`; back to `θ̇ = w_y`, `ω = w·k`,
     /// `Ω = w_Z − w_x c/s`; `u` then the rolling velocity; the kinetic
@@ -503,8 +503,13 @@ impl Reduced {
         let r = [self.a * s, 0.0, self.a * c - 1.0];
         let w = [(y[W] - y[OM] * c) * s, y[THD], y[OM] * s * s + y[W] * c];
         let v = self.slip_of(y);
-        let (imp, m) =
-            super::contact::stick_solve(self.ia, self.ic, k, r, [-v[0], -v[1], 0.0], -w[2]);
+        let (imp, m) = crate::physics::body::stick_solve(
+            &crate::physics::body::Inertia::new(self.ia, self.ic),
+            k,
+            r,
+            [-v[0], -v[1], 0.0],
+            -w[2],
+        );
         let torque = [
             r[1] * imp[2] - r[2] * imp[1],
             r[2] * imp[0] - r[0] * imp[2],
@@ -537,16 +542,10 @@ impl Reduced {
 
     /// `gyro` plus the wells' torque about ŷ, `τ_y = −U′(θ)` (§wells): it
     /// enters `A θ̈` beside the gyroscopic term, and so the closure's `Q`
-    /// (`a s τ_y/A`) and the rolling equation. `gyro` itself without wells
-    /// (bit for bit).
+    /// (`a s τ_y/A`) and the rolling equation.
     #[inline(always)]
     fn with_wells(&self, gyro: f64, theta: f64) -> f64 {
-        let wells = self.plane.wells();
-        if wells.is_empty() {
-            gyro
-        } else {
-            gyro + crate::physics::forces::wells::torque(wells, theta)
-        }
+        crate::physics::forces::wells::with_torque(self.plane.wells(), gyro, theta)
     }
 
     /// `e + U(θ)`, the wells' potential (scaled; `e` itself without

@@ -148,9 +148,10 @@
 //! and the chatter detection are the [`ContactState`] the on-plane models
 //! hold ([`Rigid::contact`]); its horizontal vectors are the world `X, Y`
 //! components of this model's 3D vectors (z = 0). The friction coefficient
-//! is `ContactState::coefficient_per_component`, the same law as the
-//! on-plane models' `coefficient` in this model's order of operations
-//! (one division per component), which rounds differently.
+//! is the on-plane models' `ContactState::coefficient` (the law `f(v)`
+//! written once), and the contact dynamics in one-sphere contact and in
+//! flight are [`crate::physics::body`]'s, written once for this model and
+//! the vector model.
 //!
 //! # Outputs
 //!
@@ -200,6 +201,7 @@ mod brownian;
 mod stem;
 
 use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
+use crate::physics::body;
 use crate::sim::events::{Happened, Watch};
 use crate::sim::messages::painleve_why;
 use crate::sim::record::RunLog;
@@ -249,6 +251,22 @@ fn rotate(q: [f64; 4], v: V3) -> V3 {
 
 fn quat_of(y: &[f64; DIM]) -> [f64; 4] {
     [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]]
+}
+
+/// `q̇ = ½ (0, n) ⊗ q − κ (|q|² − 1) q`.
+#[inline(always)]
+fn attitude_rate(qs: [f64; 4], n: V3) -> [f64; 4] {
+    let q2 = qs[0] * qs[0] + qs[1] * qs[1] + qs[2] * qs[2] + qs[3] * qs[3];
+    let st = KAPPA * (q2 - 1.0);
+    let (qw, qv) = (qs[0], [qs[1], qs[2], qs[3]]);
+    let qdw = -0.5 * dot(n, qv);
+    let qdv = scale(0.5, add(scale(qw, n), cross(n, qv)));
+    [
+        qdw - st * qw,
+        qdv[0] - st * qv[0],
+        qdv[1] - st * qv[1],
+        qdv[2] - st * qv[2],
+    ]
 }
 
 fn normalized(q: [f64; 4]) -> [f64; 4] {
@@ -384,6 +402,10 @@ pub struct Rigid {
     switch_start: f64,
     ia: f64,
     ic: f64,
+    /// The inertia (scaled), `A` and `C`.
+    inertia: body::Inertia,
+    /// The wells' torque at the last axis ([`body::WellsTorque`]).
+    wells_torque: body::WellsTorque,
     g: f64,
     restitution: f64,
     /// The contact state (shared with the on-plane models): friction law,
@@ -437,6 +459,11 @@ impl Rigid {
             switch_start: 0.0,
             ia: sc.top.inertia_transverse / scales.inertia(),
             ic: sc.top.inertia_axial / scales.inertia(),
+            inertia: body::Inertia::new(
+                sc.top.inertia_transverse / scales.inertia(),
+                sc.top.inertia_axial / scales.inertia(),
+            ),
+            wells_torque: body::WellsTorque::default(),
             g: sc.surface.gravity * scales.time * scales.time / scales.length,
             restitution: sc.surface.restitution,
             contact: ContactState::new(sc, &scales),
@@ -496,19 +523,15 @@ impl Rigid {
     }
 
     /// I⁻¹ v in the world frame for the symmetry axis k.
-    #[inline]
+    #[inline(always)]
     fn inv_inertia(&self, k: V3, v: V3) -> V3 {
-        let vk = dot(v, k);
-        add(
-            scale(1.0 / self.ia, v),
-            scale((1.0 / self.ic - 1.0 / self.ia) * vk, k),
-        )
+        self.inertia.inverse(k, v)
     }
 
     /// I v in the world frame for the symmetry axis k.
-    #[inline]
+    #[inline(always)]
     fn inertia(&self, k: V3, v: V3) -> V3 {
-        add(scale(self.ia, v), scale((self.ic - self.ia) * dot(v, k), k))
+        self.inertia.apply(k, v)
     }
 
     /// Kinematics at a state.
@@ -537,195 +560,111 @@ impl Rigid {
         }
     }
 
-    /// Applied horizontal force on the top (world): −(h_x x̂ + h_y ŷ).
-    fn applied_world(&self, kin: &Kin) -> V3 {
-        let h = self.contact.applied();
-        scale(-1.0, add(scale(h[0], kin.xh), scale(h[1], kin.yh)))
-    }
-
-    /// Evaluate the model at a state in the current phase.
+    /// Evaluate the model at a state in the current phase: the body's
+    /// contact dynamics ([`crate::physics::body`]) in one-sphere contact
+    /// and in flight, the two-contact phase of the stem (§stem) otherwise.
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, RigidError> {
         if self.both {
             return self.eval_two(y);
         }
         let kin = self.kin(y);
-        let (k, n, r) = (kin.k, kin.n, kin.r);
-        let fh = self.applied_world(&kin);
-        let cp = self.contact.forces().contact_point();
-        // The whole applied force at P: −H and the load −h_z Z (§vertical-load); its
-        // work is W_a.
-        let fa = [fh[0], fh[1], cp.vertical_total(fh[2])];
+        let body = self.body();
+        let at = body::At::new(&body::Plane, self.a, self.rho, kin.k, kin.n);
+        let hw = body::applied_world(self.contact.applied(), kin.k);
         // Adhesion (§adhesion), along the vertical through P: the load F_a in
         // contact, −U′(gap) in flight; applied as a load at P, no work in W_a
         // (its potential is in the energy). `cp` itself without adhesion.
         let cv = self.contact.forces().centre_vertical();
-        let cp = cp.with_load(match self.phase {
-            Phase::Contact => cv.in_contact(),
-            Phase::Flight => cv.at_gap(self.gap(y)),
+        let cp = self
+            .contact
+            .forces()
+            .contact_point()
+            .with_load(match self.phase {
+                Phase::Contact => cv.in_contact(),
+                Phase::Flight => cv.at_gap(self.gap(y)),
+            });
+        let wrench = body::wrench(self.contact.forces(), kin.k, || {
+            crate::physics::forces::actuators::material_axes(quat_of(y), kin.k)
         });
-        let fl = [fh[0], fh[1], cp.vertical_total(fh[2])];
-        let wk = dot(n, k);
-        // Gyroscopic angular acceleration (world): −I⁻¹ (n × I n).
-        let ndot0 = scale(-1.0, self.inv_inertia(k, cross(n, self.inertia(k, n))));
-        // The wells' torque τ = −U′(θ) ŷ (§wells), a couple: its angular
-        // acceleration τ/A (τ ⊥ k) joins the torque-free one, which the
-        // closure and the rolling constraint read. None without wells.
-        let wells = self.contact.wells();
-        let well_acc = (!wells.is_empty()).then(|| {
-            scale(
-                1.0 / self.ia,
-                crate::physics::forces::wells::torque_world(wells, k),
-            )
-        });
-        // The body actuators' wrench (§actuators): its angular acceleration I⁻¹τ
-        // joins the torque-free one as the wells' does, its force F the
-        // free acceleration (gravity g Z − F in Q and the rolling b).
-        let body = self.body_wrench(y, k);
-        let well_acc = match body {
-            Some((_, tb)) => {
-                let acc = self.inv_inertia(k, tb);
-                Some(well_acc.map_or(acc, |w| add(w, acc)))
-            }
-            None => well_acc,
-        };
-        let gv = match body {
-            Some((fb, _)) => sub(scale(self.g, Z), fb),
-            None => scale(self.g, Z),
-        };
-        let ndot0 = match well_acc {
-            Some(acc) => add(ndot0, acc),
-            None => ndot0,
-        };
-        let e = cross(k, Z);
-        let w = cross(self.inv_inertia(k, e), r);
-        let nn = dot(n, n);
-        // Q: −(gap acceleration) with N = 0 and no friction (H = −fh).
-        let q_free = gv[2] + self.a * (-dot(fh, w) - dot(ndot0, e) - n[2] * wk + k[2] * nn);
-        // The load h_z at P: Q + h_z D₀, D₀ = 1/m + a w_Z (§vertical-load).
-        let q_free = cp.closure_q(q_free, 1.0 + self.a * w[2]);
-        // Coulomb–Contensou (§contensou): the drilling torque about Z, M = −N_f τ
-        // (contact, sliding only).
-        let mut drill = None;
-        let (normal, ff, rolling_force) = match (self.phase, self.contact.mode) {
-            (Phase::Flight, _) => (0.0, [0.0; 3], None),
-            (Phase::Contact, Mode::Rolling) => {
-                // Rolling: the total contact force F is the constraint force
-                // holding d/dt (v + n × r) = 0, i.e. K F = b (module doc).
-                let b = sub(
-                    sub(gv, cross(ndot0, r)),
-                    scale(self.a, cross(n, cross(n, k))),
-                );
-                let force = if self.contact.is_contensou() {
-                    // The Coulomb–Contensou stick: n_Z held at zero too,
-                    // the drilling torque a fourth unknown (§contensou).
-                    let (force, m) =
-                        super::contact::stick_solve(self.ia, self.ic, k, r, b, -ndot0[2]);
-                    drill = Some(m);
-                    force
-                } else {
-                    solve3(self.k_columns(k, r), b)
-                };
-                // Friction needed: the plane supplies F + H = F − fa.
-                let ff = [force[0] - fl[0], force[1] - fl[1], 0.0];
-                // The plane's reaction: F_Z plus the load (§vertical-load).
-                (cp.reaction(force[2]), ff, Some(force))
-            }
-            (Phase::Contact, Mode::Sliding) => {
-                // The friction coefficient in the horizontal plane (z = 0).
-                let vp2 = [kin.vp[0], kin.vp[1]];
-                let (f2, tau) = match self.contact.drilling(vp2, n[2]) {
-                    Some((f, t)) => (f, Some(t)),
-                    None => (self.contact.coefficient_per_component(vp2), None),
-                };
-                let f = [f2[0], f2[1], 0.0];
-                let fw = dot(f, w);
-                let dp = 1.0 + self.a * (w[2] - fw);
-                let dm = 1.0 + self.a * (w[2] + fw);
-                let normal = self.contact.closure(q_free, dp, dm).map_err(|solutions| {
-                    RigidError::Painleve {
-                        theta: kin.kh.atan2(k[2]),
-                        solutions,
-                    }
-                })?;
-                let nf = self.contact.friction_normal(normal);
-                drill = tau.map(|t| -nf * t);
-                (normal, scale(-nf, f), None)
-            }
-        };
-        // While rolling, F is the constraint force itself (its horizontal
-        // part is ff + fa up to rounding; use the solution as is).
-        let force = rolling_force.unwrap_or_else(|| add(add(scale(normal, Z), ff), fl));
-        let mut dy = [0.0; DIM];
-        // Translation.
-        set3(&mut dy, POS, v3(y, VEL));
-        set3(&mut dy, VEL, sub(force, gv));
-        // Euler's equations in the world frame: d(I n)/dt = r × F with
-        // İ n = (C − A)(n·k) k̇ (k̇ = n × k ⟂ n), so
-        // ṅ = I⁻¹ (r × F − (C − A)(n·k) k̇).
-        let kdot = cross(n, k);
-        let torque = sub(cross(r, force), scale((self.ic - self.ia) * wk, kdot));
-        let torque = match drill {
-            // The drilling torque M Z; it does not enter the closure (§contensou).
-            Some(mz) => add(torque, [0.0, 0.0, mz]),
-            None => torque,
-        };
-        let ndot = self.inv_inertia(k, torque);
-        set3(
-            &mut dy,
-            OMEGA,
-            match well_acc {
-                Some(acc) => add(ndot, acc),
-                None => ndot,
-            },
+        let free = body.free(
+            &at,
+            self.wells_torque.at(self.contact.wells(), kin.k),
+            wrench,
         );
-        // Attitude: q̇ = ½ (0, n) ⊗ q − κ (|q|² − 1) q.
-        let qs = quat_of(y);
-        let q2 = qs[0] * qs[0] + qs[1] * qs[1] + qs[2] * qs[2] + qs[3] * qs[3];
-        let st = KAPPA * (q2 - 1.0);
-        let (qw, qv) = (qs[0], [qs[1], qs[2], qs[3]]);
-        let qdw = -0.5 * dot(n, qv);
-        let qdv = scale(0.5, add(scale(qw, n), cross(n, qv)));
-        dy[QUAT] = qdw - st * qw;
-        dy[QUAT + 1] = qdv[0] - st * qv[0];
-        dy[QUAT + 2] = qdv[1] - st * qv[1];
-        dy[QUAT + 3] = qdv[2] - st * qv[2];
-        set3(&mut dy, AXIS, kdot);
-        // Work (none while rolling: the contact point does not move).
-        if rolling_force.is_none() {
-            dy[WF] = match drill {
-                Some(mz) => dot(ff, kin.vp) + mz * n[2],
-                None => dot(ff, kin.vp),
-            };
-            dy[WA] = dot(fa, kin.vp);
-        }
-        if let Some((fb, tb)) = body {
+        let (q_free, _) = body.closure_q(&at, &free, hw, &cp);
+        let c = match (self.phase, self.contact.mode) {
+            (Phase::Flight, _) => self.flight(&body, &at, &free, hw, &cp, kin.vp),
+            (Phase::Contact, Mode::Rolling) => body.roll(&self.contact, &at, &free, hw, &cp),
+            (Phase::Contact, Mode::Sliding) => body
+                .slide(&self.contact, &at, &free, hw, &cp, [kin.vp[0], kin.vp[1]])
+                .map_err(|solutions| RigidError::Painleve {
+                    theta: kin.kh.atan2(kin.k[2]),
+                    solutions,
+                })?,
+        };
+        let mut dy = [0.0; DIM];
+        // Translation: v̇ = F − (g Z − F_b).
+        set3(&mut dy, POS, v3(y, VEL));
+        set3(&mut dy, VEL, sub(c.force, free.gv));
+        set3(&mut dy, OMEGA, c.wd);
+        dy[QUAT..QUAT + 4].copy_from_slice(&attitude_rate(quat_of(y), kin.n));
+        set3(&mut dy, AXIS, at.kd);
+        dy[WF] = c.wf;
+        dy[WA] = c.wa;
+        if let Some(wr) = free.wrench {
             // The actuators' power F·v_O + τ·n (§actuators), rolling or not, with
             // the velocity the energy uses.
-            dy[WA] += dot(fb, self.output_velocity(y, &kin)) + dot(tb, n);
+            dy[WA] += body::power(wr, self.output_velocity(y, &kin), kin.n);
         }
         Ok(Eval {
             dy,
-            normal,
-            friction: ff,
+            normal: c.normal,
+            friction: [c.friction[0], c.friction[1], 0.0],
             kin,
             q_free,
-            torque: drill.unwrap_or(0.0),
+            torque: c.torque,
         })
     }
 
-    /// The body actuators' wrench `(F, τ)` at a state (scaled, lab;
-    /// docs/physics.md#actuators), `None` without actuators; an off-axis tip's
-    /// material axes from the attitude quaternion.
-    #[inline]
-    fn body_wrench(&self, y: &[f64; DIM], k: V3) -> Option<(V3, V3)> {
-        let forces = self.contact.forces();
-        if forces.body_is_zero() {
-            return None;
+    /// The body's constants for the active contact sphere.
+    #[inline(always)]
+    fn body(&self) -> body::Body {
+        body::Body {
+            a: self.a,
+            inertia: self.inertia,
+            g: self.g,
         }
-        let b = forces.body();
-        Some(b.wrench(k, || {
-            crate::physics::forces::actuators::material_axes(quat_of(y), k)
-        }))
+    }
+
+    /// Flight: no contact force; the applied force at `P` (`−H` and the
+    /// vertical load with adhesion's pull) acts, and does work at the
+    /// velocity `vp` of the material point at `P`.
+    fn flight(
+        &self,
+        body: &body::Body,
+        at: &body::At,
+        free: &body::Free,
+        hw: V3,
+        cp: &crate::physics::forces::ContactPointForce,
+        vp: V3,
+    ) -> body::Contact {
+        let force = [-hw[0], -hw[1], cp.vertical_total(0.0)];
+        // The work of the applied force at P less adhesion's (its potential
+        // is in the energy).
+        let fa = [
+            -hw[0],
+            -hw[1],
+            self.contact.forces().contact_point().vertical_total(0.0),
+        ];
+        body::Contact {
+            normal: 0.0,
+            friction: [0.0; 2],
+            force,
+            wd: body.angular(at, free, force),
+            wf: 0.0,
+            wa: dot(fa, vp),
+            torque: 0.0,
+        }
     }
 
     /// Columns of the contact matrix `K`, `K F = F/m − r × I⁻¹ (r × F)`:
@@ -756,14 +695,13 @@ impl Rigid {
 
     /// Project onto the Coulomb–Contensou stick (§contensou): onto the contact
     /// constraint, then the impulse at P with the torque about Z
-    /// ([`super::contact::stick_solve`], `b = −v_P`, `β = −n_Z`) that
+    /// ([`body::stick_solve`], `b = −v_P`, `β = −n_Z`) that
     /// brings the slip and the spin about Z to zero, and `v = −n × r`.
     pub fn project_stick(&self, y: &mut [f64; DIM]) {
         self.project_contact(y);
         let kin = self.kin(y);
         let vp = [kin.vp[0], kin.vp[1], 0.0];
-        let (imp, m) =
-            super::contact::stick_solve(self.ia, self.ic, kin.k, kin.r, scale(-1.0, vp), -kin.n[2]);
+        let (imp, m) = body::stick_solve(&self.inertia, kin.k, kin.r, scale(-1.0, vp), -kin.n[2]);
         let n = add(
             kin.n,
             self.inv_inertia(kin.k, add(cross(kin.r, imp), [0.0, 0.0, m])),
@@ -1061,7 +999,7 @@ impl Rigid {
     /// The touchdown impulse under Coulomb–Contensou friction (§contensou): the
     /// module doc's law with the drilling torque. Try sticking: the impulse
     /// `Π` at P and the angular impulse `Π_M` about Z
-    /// ([`super::contact::stick_solve`], `b` the stick target: zero
+    /// ([`body::stick_solve`], `b` the stick target: zero
     /// tangential velocity, `−e v_n⁻` normal; `β = −n_Z`) that leave no slip
     /// and no spin about Z; accept it if `Π_n >= 0` and
     /// `(|Π_t|/(μ Π_n), |Π_M|/(μ Π_n r_c))` is inside the law's limit curve
@@ -1081,7 +1019,7 @@ impl Rigid {
     ) -> Result<([f64; DIM], f64, bool), RigidError> {
         let (k, r, vp, n) = (kin.k, kin.r, kin.vp, kin.n);
         let mu = self.contact.mu();
-        let (stick, sm) = super::contact::stick_solve(self.ia, self.ic, k, r, target, -n[2]);
+        let (stick, sm) = body::stick_solve(&self.inertia, k, r, target, -n[2]);
         let pt = stick[0].hypot(stick[1]);
         let gauge = |pn: f64, ft: f64, mt: f64| {
             crate::physics::contensou::gauge(p, pade, ft / (mu * pn), mt / (mu * pn * rc))

@@ -59,7 +59,8 @@ use std::cell::RefCell;
 
 use super::ContactState;
 use super::reduced::{Mode, ModelError, Scales};
-use super::vec3::{V3, Z, add, cross, dot, scale, solve3, sub};
+use super::vec3::{V3, add, cross, dot, scale};
+use crate::physics::body;
 use crate::{Initial, Sample, Scenario, Top, integrate::OdeSystem};
 
 /// Number of state components.
@@ -144,11 +145,9 @@ pub struct Vector {
     a: f64,
     ia: f64,
     ic: f64,
-    /// 1/A, 1/C − 1/A and (C − A)/A (scaled), so the right-hand side
-    /// multiplies instead of dividing.
-    inv_ia: f64,
-    dinv: f64,
-    gyro: f64,
+    /// The body's constants (`a`, the inertia with 1/A, 1/C − 1/A and
+    /// (C − A)/A so the right-hand side multiplies instead of dividing, g).
+    body: body::Body,
     g: f64,
     /// Friction law, contact, applied force, sliding/rolling and the
     /// driver's flags (shared with the Euler-angle model).
@@ -169,12 +168,8 @@ pub struct Vector {
     /// The Ornstein–Uhlenbeck step's coefficients from the last call
     /// (`ou_step`), reused where their inputs are the same bits.
     ou: super::thermostat::OuCache,
-    /// The wells' torque (`with_wells`) at the last axis `k` (its bits): a
-    /// function of `k` alone, so a Langevin step's first evaluation (after
-    /// the O half step, which does not move `k`) reuses the one at the
-    /// previous step's end, where the driver evaluated N: one `atan2` and
-    /// one `exp` per well less per step, the same bits.
-    wells_last: std::cell::Cell<Option<([u64; 3], V3)>>,
+    /// The wells' torque at the last axis `k` ([`body::WellsTorque`]).
+    wells_torque: body::WellsTorque,
 }
 
 /// `(sin θ, cos θ)` for the initial axis, moved by a few ulps so that the
@@ -214,17 +209,7 @@ fn axis(theta: f64) -> (f64, f64) {
 }
 
 /// Kinematic quantities shared by both modes.
-struct Kin {
-    k: V3,
-    w: V3,
-    /// k̇ = w × k.
-    kd: V3,
-    /// w · k.
-    wk: f64,
-    r: V3,
-    /// w × r.
-    wr: V3,
-}
+type Kin = body::At;
 
 impl Vector {
     /// Build the scaled model of a scenario.
@@ -232,15 +217,18 @@ impl Vector {
         let scales = Scales::of(sc);
         let ia = sc.top.inertia_transverse / scales.inertia();
         let ic = sc.top.inertia_axial / scales.inertia();
+        let g = sc.surface.gravity * scales.time * scales.time / scales.length;
         Vector {
             scales,
             a: sc.top.offset / scales.length,
             ia,
             ic,
-            inv_ia: 1.0 / ia,
-            dinv: 1.0 / ic - 1.0 / ia,
-            gyro: (ic - ia) / ia,
-            g: sc.surface.gravity * scales.time * scales.time / scales.length,
+            body: body::Body {
+                a: sc.top.offset / scales.length,
+                inertia: body::Inertia::new(ia, ic),
+                g,
+            },
+            g,
             plane: ContactState::new(sc, &scales),
             top: sc.top,
             spin_ref: if sc.solver.method == crate::Method::Brownian {
@@ -251,7 +239,7 @@ impl Vector {
             last: RefCell::new(None),
             thermal: super::thermostat::Bath::of(sc, &scales),
             ou: super::thermostat::OuCache::default(),
-            wells_last: std::cell::Cell::new(None),
+            wells_torque: body::WellsTorque::default(),
         }
     }
 
@@ -441,52 +429,25 @@ impl Vector {
     fn kin(&self, y: &[f64; DIM]) -> Kin {
         let k = [y[K], y[K + 1], y[K + 2]];
         let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
-        let r = [self.a * k[0], self.a * k[1], self.a * k[2] - 1.0];
-        Kin {
-            k,
-            w,
-            kd: cross(w, k),
-            wk: dot(w, k),
-            r,
-            wr: cross(w, r),
-        }
+        body::At::new(&body::Plane, self.a, 1.0, k, w)
     }
 
     /// I⁻¹ x for the symmetry axis k.
     #[inline(always)]
     fn inv_inertia(&self, k: V3, x: V3) -> V3 {
-        add(scale(self.inv_ia, x), scale(self.dinv * dot(x, k), k))
+        self.body.inertia.inverse(k, x)
     }
 
     /// I x for the symmetry axis k.
     #[inline(always)]
     fn inertia(&self, k: V3, x: V3) -> V3 {
-        add(scale(self.ia, x), scale((self.ic - self.ia) * dot(x, k), k))
+        self.body.inertia.apply(k, x)
     }
 
     /// The precessing frame's x̂ and ŷ (horizontal; X, Y if k is vertical).
     #[inline]
     fn frame(k: V3) -> (V3, V3) {
-        // |k_h| is O(1) or 0 here: no overflow, so no need for hypot.
-        let kh2 = k[0] * k[0] + k[1] * k[1];
-        let xh = if kh2 > 0.0 {
-            let inv = 1.0 / kh2.sqrt();
-            [k[0] * inv, k[1] * inv, 0.0]
-        } else {
-            [1.0, 0.0, 0.0]
-        };
-        (xh, [-xh[1], xh[0], 0.0])
-    }
-
-    /// The applied force `H` in the space frame (the force on the top is −H).
-    #[inline]
-    fn applied_world(&self, k: V3) -> V3 {
-        let [hx, hy] = self.plane.applied();
-        if hx == 0.0 && hy == 0.0 {
-            return [0.0; 3];
-        }
-        let (xh, yh) = Self::frame(k);
-        add(scale(hx, xh), scale(hy, yh))
+        body::precessing_frame(k)
     }
 
     /// Horizontal slip velocity `v + w × r` (space frame) from the state's v.
@@ -566,202 +527,107 @@ impl Vector {
         }
     }
 
+    /// The free accelerations and the applied force `H` at `kn`
+    /// ([`body::Body::free`]).
+    #[inline(always)]
+    fn free(&self, kn: &Kin) -> (body::Free, V3) {
+        let k = kn.k;
+        let wells = self.wells_torque.at(self.plane.wells(), k);
+        // Only actuators on the axis: the material axes an off-axis one
+        // needs are the attitude's, whose spin angle `ω₀ t + χ` needs the
+        // time, which the evaluation does not read; the scenario's
+        // validation refuses them in this model.
+        let wrench = body::wrench(self.plane.forces(), k, || {
+            unreachable!(
+                "an off-axis actuator in model = \"vector\" (refused by scenario::actuator::check_model)"
+            )
+        });
+        (
+            self.body.free(kn, wells, wrench),
+            body::applied_world(self.plane.applied(), k),
+        )
+    }
+
+    /// Sliding: [`body::Body::slide`] at the state's slip.
     #[inline(always)]
     fn eval_sliding(&self, y: &[f64; DIM], kn: &Kin) -> Result<Eval, ModelError> {
-        let a = self.a;
         let Kin {
-            k,
-            w,
-            kd,
-            wk,
-            r,
-            wr,
+            k, w, kd, wk, wr, ..
         } = *kn;
         let v = [y[VEL], y[VEL + 1]];
         let vp = [v[0] + wr[0], v[1] + wr[1]];
-        // Regularised law: `f = μ v/d`, `d = sqrt(|v|² + ε²)`. The closure
-        // `N D(σ) = Q` is solved as `N (d D(σ)) = d Q`, which needs `d` but
-        // not `μ/d`: that division runs beside the one for N instead of
-        // before it (one division less on the critical path).
-        let reg_d = self
-            .plane
-            .regularized_eps()
-            .map(|eps| (vp[0] * vp[0] + vp[1] * vp[1] + eps * eps).sqrt());
-        // Coulomb–Contensou (§contensou): the drilling torque's coefficient, from
-        // the slip and the spin about Z, w_Z.
-        let mut tau = None;
-        let f = match reg_d {
-            Some(d) => {
-                let kf = self.plane.mu() / d;
-                [kf * vp[0], kf * vp[1]]
-            }
-            None => match self.plane.drilling(vp, w[2]) {
-                Some((f, t)) => {
-                    tau = Some(t);
-                    f
-                }
-                None => self.plane.coefficient(vp),
-            },
-        };
-        let hw = self.applied_world(k);
-        // Angular acceleration without the contact force (k̇ ⊥ k, so
-        // I⁻¹ k̇ = k̇/A), with the wells' torque (§wells).
-        let w0 = self.with_wells(scale(-self.gyro * wk, kd), k);
-        // The body actuators' wrench (§actuators): F adds to the free
-        // acceleration (g_z = g − F_Z in Q), I⁻¹τ to ẇ₀.
-        let body = self.body_wrench(k);
-        let (w0, g_z) = match body {
-            Some((fb, tb)) => (add(w0, self.inv_inertia(k, tb)), self.g - fb[2]),
-            None => (w0, self.g),
-        };
-        let e = [k[1], -k[0], 0.0];
-        let u = scale(self.inv_ia, cross(e, r));
-        let wkd_z = w[0] * kd[1] - w[1] * kd[0];
-        let q = g_z + a * (hw[0] * u[0] + hw[1] * u[1] - dot(w0, e) - wkd_z);
-        // The vertical load h_z at P: Q + h_z D₀, D₀ = 1 + a u_Z
-        // (docs/physics.md#vertical-load).
+        let (free, hw) = self.free(kn);
         let cp = self.plane.contact_point();
-        let q = cp.closure_q(q, 1.0 + a * u[2]);
-        let (q, dp, dm) = match reg_d {
-            Some(d) => {
-                let base = d * (1.0 + a * u[2]);
-                let t = a * self.plane.mu() * (vp[0] * u[0] + vp[1] * u[1]);
-                (d * q, base - t, base + t)
-            }
-            None => {
-                let fu = f[0] * u[0] + f[1] * u[1];
-                (q, 1.0 + a * (u[2] - fu), 1.0 + a * (u[2] + fu))
-            }
-        };
-        let normal = self.plane.normal(q, dp, dm, || Self::theta(y))?;
-        let nf = self.plane.friction_normal(normal);
-        let ff = [-nf * f[0], -nf * f[1]];
-        // The vertical force at P is N − h_z (§vertical-load).
-        let force = [ff[0] - hw[0], ff[1] - hw[1], cp.vertical_total(normal)];
-        let mut wd = add(w0, self.inv_inertia(k, cross(r, force)));
-        let mut wf = ff[0] * vp[0] + ff[1] * vp[1];
-        let mut torque = 0.0;
-        if let Some(tau) = tau {
-            // The drilling torque M Z (M = −N_f τ): I⁻¹ M Z; its power
-            // M w_Z. It does not enter the closure (§contensou).
-            let mz = -nf * tau;
-            wd = add(wd, self.inv_inertia(k, [0.0, 0.0, mz]));
-            wf += mz * w[2];
-            torque = mz;
-        }
+        let c = self
+            .body
+            .slide(&self.plane, kn, &free, hw, &cp, vp)
+            .map_err(|solutions| ModelError::Painleve {
+                theta: Self::theta(y),
+                solutions,
+            })?;
+        let vo = [v[0], v[1], -self.a * kd[2]];
         let (qd, chi) = attitude_rate(w, k, wk, self.spin_ref, y);
         let mut dy = [
-            kd[0],
-            kd[1],
-            kd[2],
-            wd[0],
-            wd[1],
-            wd[2],
-            force[0],
-            force[1],
-            wf,
-            -hw[0] * vp[0] - hw[1] * vp[1],
-            qd[0],
-            qd[1],
-            qd[2],
-            qd[3],
-            chi,
-            v[0],
-            v[1],
+            kd[0], kd[1], kd[2], c.wd[0], c.wd[1], c.wd[2], c.force[0], c.force[1], c.wf, c.wa,
+            qd[0], qd[1], qd[2], qd[3], chi, v[0], v[1],
         ];
-        if let Some((fb, tb)) = body {
+        if let Some(wr) = free.wrench {
             // Its horizontal force and its power F·v_O + τ·w (§actuators).
-            dy[VEL] += fb[0];
-            dy[VEL + 1] += fb[1];
-            dy[WA] += dot(fb, [v[0], v[1], -a * kd[2]]) + dot(tb, w);
+            dy[VEL] += wr.0[0];
+            dy[VEL + 1] += wr.0[1];
+            dy[WA] += body::power(wr, vo, w);
         }
         Ok(Eval {
             dy,
-            normal,
-            friction: ff,
+            normal: c.normal,
+            friction: c.friction,
             slip: vp,
-            v: [v[0], v[1], -a * kd[2]],
-            torque,
+            v: vo,
+            torque: c.torque,
         })
     }
 
-    /// Rolling: the slip held at zero; the whole contact force from one
-    /// 3×3 symmetric positive definite system.
+    /// Rolling: [`body::Body::roll`], the slip held at zero.
     #[inline(always)]
     fn eval_rolling(&self, y: &[f64; DIM], kn: &Kin) -> Eval {
-        let a = self.a;
         let Kin {
-            k,
-            w,
-            kd,
-            wk,
-            r,
-            wr,
+            k, w, kd, wk, wr, ..
         } = *kn;
-        let w0 = self.with_wells(scale(-self.gyro * wk, kd), k);
-        // The body actuators' wrench (§actuators): I⁻¹τ joins ẇ₀, F the right-hand
-        // side (b = (g Z − F) − ẇ₀ × r − a w × k̇).
-        let body = self.body_wrench(k);
-        let (w0, gv) = match body {
-            Some((fb, tb)) => (add(w0, self.inv_inertia(k, tb)), sub(scale(self.g, Z), fb)),
-            None => (w0, scale(self.g, Z)),
-        };
-        // K x = x − r × I⁻¹ (r × x) = (1 + |r|²/A) x − (r·x) r/A
-        //       + (1/C − 1/A) (c·x) c,  c = k × r  (|k| = 1).
-        let c = cross(k, r);
-        let alpha = 1.0 + self.inv_ia * dot(r, r);
-        let col = |x: V3| {
-            add(
-                sub(scale(alpha, x), scale(self.inv_ia * dot(r, x), r)),
-                scale(self.dinv * dot(c, x), c),
-            )
-        };
-        let kmat = [col([1.0, 0.0, 0.0]), col([0.0, 1.0, 0.0]), col(Z)];
-        let b = sub(sub(gv, cross(w0, r)), scale(a, cross(w, kd)));
-        let hw = self.applied_world(k);
-        let (force, wd, torque) = if self.plane.is_contensou() {
-            // The Coulomb–Contensou stick: w_Z held at zero too, the
-            // drilling torque M a fourth unknown (§contensou).
-            let (force, m) = super::contact::stick_solve(self.ia, self.ic, k, r, b, -w0[2]);
-            let wd = add(w0, self.inv_inertia(k, add(cross(r, force), [0.0, 0.0, m])));
-            (force, wd, m)
-        } else {
-            let force = solve3(kmat, b);
-            (force, add(w0, self.inv_inertia(k, cross(r, force))), 0.0)
-        };
+        let (free, hw) = self.free(kn);
+        let cp = self.plane.contact_point();
+        let c = self.body.roll(&self.plane, kn, &free, hw, &cp);
+        let vo = [-wr[0], -wr[1], -self.a * kd[2]];
         let (qd, chi) = attitude_rate(w, k, wk, self.spin_ref, y);
         let mut dy = [
-            kd[0], kd[1], kd[2], wd[0], wd[1], wd[2], force[0], force[1], 0.0, 0.0, qd[0], qd[1],
-            qd[2], qd[3], chi, -wr[0], -wr[1],
+            kd[0], kd[1], kd[2], c.wd[0], c.wd[1], c.wd[2], c.force[0], c.force[1], 0.0, 0.0,
+            qd[0], qd[1], qd[2], qd[3], chi, -wr[0], -wr[1],
         ];
-        if let Some((fb, tb)) = body {
+        if let Some(wr) = free.wrench {
             // The centre of mass accelerates with F + the contact force;
             // the actuators' power F·v_O + τ·w (§actuators; the contact force does
             // no work while rolling).
-            dy[VEL] += fb[0];
-            dy[VEL + 1] += fb[1];
-            dy[WA] = dot(fb, [-wr[0], -wr[1], -a * kd[2]]) + dot(tb, w);
+            dy[VEL] += wr.0[0];
+            dy[VEL + 1] += wr.0[1];
+            dy[WA] = body::power(wr, vo, w);
         }
         Eval {
             dy,
-            // The plane's reaction: the constraint force plus the load (§vertical-load).
-            normal: self.plane.contact_point().reaction(force[2]),
-            friction: [force[0] + hw[0], force[1] + hw[1]],
+            normal: c.normal,
+            friction: c.friction,
             slip: [0.0, 0.0],
-            v: [-wr[0], -wr[1], -a * kd[2]],
-            torque,
+            v: vo,
+            torque: c.torque,
         }
     }
 
     /// The state put on the Coulomb–Contensou stick by the impulse
-    /// ([`super::contact::stick_solve`] with `b = −v_P`, `β = −w_Z`) that
+    /// ([`body::stick_solve`] with `b = −v_P`, `β = −w_Z`) that
     /// brings the slip and the spin about Z to zero; `v` then the rolling
     /// velocity, the kinetic energy's change added to `W_f` (§contensou).
     pub fn stick_state(&self, y: &[f64; DIM]) -> [f64; DIM] {
         let kn = self.kin(y);
         let vp = [y[VEL] + kn.wr[0], y[VEL + 1] + kn.wr[1], 0.0];
-        let (imp, m) =
-            super::contact::stick_solve(self.ia, self.ic, kn.k, kn.r, scale(-1.0, vp), -kn.w[2]);
+        let (imp, m) = body::stick_solve(&self.body.inertia, kn.k, kn.r, scale(-1.0, vp), -kn.w[2]);
         let w = add(
             kn.w,
             self.inv_inertia(kn.k, add(cross(kn.r, imp), [0.0, 0.0, m])),
@@ -774,49 +640,6 @@ impl Vector {
         ys[VEL + 1] = v[1];
         ys[WF] += self.kinetic(&ys) - self.kinetic(y);
         ys
-    }
-
-    /// `w0` plus the wells' torque over A, `τ/A` with `τ = −U′(θ) ŷ`
-    /// (`τ ⊥ k`, so `I⁻¹ τ = τ/A`; docs/physics.md#wells): the closure reads
-    /// it through `ẇ₀·e`, the rolling constraint through `ẇ₀ × r`. `w0`
-    /// itself without wells (bit for bit).
-    #[inline(always)]
-    fn with_wells(&self, w0: V3, k: V3) -> V3 {
-        let wells = self.plane.wells();
-        if wells.is_empty() {
-            w0
-        } else {
-            let key = [k[0].to_bits(), k[1].to_bits(), k[2].to_bits()];
-            let tau = match self.wells_last.get() {
-                Some((kb, tau)) if kb == key => tau,
-                _ => {
-                    let tau = crate::physics::forces::wells::torque_world(wells, k);
-                    self.wells_last.set(Some((key, tau)));
-                    tau
-                }
-            };
-            add(w0, scale(self.inv_ia, tau))
-        }
-    }
-
-    /// The body actuators' wrench `(F, τ)` at a state (scaled, lab;
-    /// docs/physics.md#actuators), `None` without actuators. Only actuators on
-    /// the axis: the material axes an off-axis one needs are the attitude's,
-    /// whose spin angle `ω₀ t + χ` needs the time, which the evaluation does
-    /// not read; the scenario's validation refuses them in this model
-    /// (`scenario::actuator::check_model`).
-    #[inline(always)]
-    fn body_wrench(&self, k: V3) -> Option<(V3, V3)> {
-        let forces = self.plane.forces();
-        if forces.body_is_zero() {
-            return None;
-        }
-        let b = forces.body();
-        Some(b.wrench(k, || {
-            unreachable!(
-                "an off-axis actuator in model = \"vector\" (refused by scenario::actuator::check_model)"
-            )
-        }))
     }
 
     /// Stick margin while rolling: `μ |N| − |F_f|` (scaled force).

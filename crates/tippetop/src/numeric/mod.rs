@@ -6,3 +6,4 @@ pub mod detmath;
 pub mod dual;
 pub mod eigen;
 pub mod random;
+pub(crate) mod vec3;

@@ -91,8 +91,12 @@ fn agrees_with_euler_angles_classical_inversion() {
 }
 
 /// Classical top, exact Coulomb law, 1 s at rtol 1e-12 (sticks at ≈ 0.047 s,
-/// then rolls): the same `stick` and `slip` events (stick times to 3e-12
-/// relative: measured 1e-12 for the rigid model's 3×3 contact solve in 3D),
+/// then rolls): the same `stick` and `slip` events (stick times to 3e-9
+/// relative: the slip-zero event of the rigid model, whose slip `v + n × r`
+/// is a difference of O(1) terms, lands within 6e-13..2.4e-9 of the
+/// reduced model's at rtol 1e-12 depending on the step sequence: measured
+/// over t_end 0.06..2 s and 101 or 1001 samples, before and after the
+/// contact dynamics moved to physics/body.rs; 1.2e-9 here since),
 /// every output within 1e-6 of its scale, the same rolling flag at every
 /// sample and the same rolling fraction.
 #[test]
@@ -108,7 +112,7 @@ fn agrees_with_euler_angles_exact_law() {
         assert_eq!(sr.len(), sv.len());
         assert_eq!(times(&r, "slip").len(), times(&v, "slip").len());
         for (a, b) in sr.iter().zip(&sv) {
-            assert!((a - b).abs() <= 3e-12 * a, "stick {a} vs {b}");
+            assert!((a - b).abs() <= 3e-9 * a, "stick {a} vs {b}");
         }
         for (x, y) in r.samples.iter().zip(&v.samples) {
             assert_eq!(x.rolling, y.rolling, "t {}", x.t);

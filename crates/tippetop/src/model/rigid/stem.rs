@@ -19,7 +19,7 @@
 //! (`not_modelled`).
 
 use super::{
-    AXIS, DIM, Eval, KAPPA, MAX_TRANSITIONS, OMEGA, PENETRATION_GUARD, POS, Phase, QUAT, Rigid,
+    AXIS, DIM, Eval, MAX_TRANSITIONS, OMEGA, PENETRATION_GUARD, POS, Phase, QUAT, Rigid,
     RigidError, V3, VEL, WA, WF, Z, describe_state, enter_contact, quat_of, set3, v3,
 };
 use crate::integrate::{Direction, Event};
@@ -382,7 +382,7 @@ impl Rigid {
             let v2 = [vp[j][0], vp[j][1]];
             let (f2, t) = match self.contact.drilling(v2, n[2]) {
                 Some((f2, t)) => (f2, t),
-                None => (self.contact.coefficient_per_component(v2), 0.0),
+                None => (self.contact.coefficient(v2), 0.0),
             };
             f[j] = [f2[0], f2[1], 0.0];
             tau[j] = t;
@@ -423,15 +423,7 @@ impl Rigid {
         set3(&mut dy, POS, v);
         set3(&mut dy, VEL, sub(force, scale(self.g, Z)));
         set3(&mut dy, OMEGA, self.inv_inertia(k, torque));
-        let qs = quat_of(y);
-        let q2 = qs[0] * qs[0] + qs[1] * qs[1] + qs[2] * qs[2] + qs[3] * qs[3];
-        let st = KAPPA * (q2 - 1.0);
-        let (qw, qv) = (qs[0], [qs[1], qs[2], qs[3]]);
-        let qdv = scale(0.5, add(scale(qw, n), cross(n, qv)));
-        dy[QUAT] = -0.5 * dot(n, qv) - st * qw;
-        dy[QUAT + 1] = qdv[0] - st * qv[0];
-        dy[QUAT + 2] = qdv[1] - st * qv[1];
-        dy[QUAT + 3] = qdv[2] - st * qv[2];
+        dy[QUAT..QUAT + 4].copy_from_slice(&super::attitude_rate(quat_of(y), n));
         set3(&mut dy, super::AXIS, kdot);
         dy[WF] = power;
         dy[WA] = 0.0;

@@ -80,6 +80,19 @@ pub fn torque(wells: &[Well], theta: f64) -> f64 {
         .sum()
 }
 
+/// `base + τ_y(θ)`, the wells' torque about `ŷ` added to `base` (the
+/// reduced model's gyroscopic term of `A θ̈`); `base` itself without wells
+/// (bit for bit). The lab-vector models take [`torque_world`]
+/// (through [`crate::physics::body::WellsTorque`]).
+#[inline(always)]
+pub fn with_torque(wells: &[Well], base: f64, theta: f64) -> f64 {
+    if wells.is_empty() {
+        base
+    } else {
+        base + torque(wells, theta)
+    }
+}
+
 /// The torque `τ_y ŷ` in the space frame for the (not necessarily unit)
 /// axis `k`: `ŷ = (−k_y, k_x, 0)/|k_h|`, θ = atan2(|k_h|, k_Z); zero where
 /// `k_h = 0` (the pole: direction undefined, module doc). `|k_h|` is a

@@ -1,5 +1,6 @@
-//! Small 3-vector helpers shared by the models written in the space frame
-//! ([`super::rigid`], [`super::vector`]): plain `[f64; 3]` arithmetic, kept
+//! Small 3-vector helpers shared by the body's dynamics
+//! ([`crate::physics::body`]) and the models written in the space frame
+//! ([`crate::model::rigid`], [`crate::model::vector`]): plain `[f64; 3]` arithmetic, kept
 //! inline so the right-hand sides stay free of heap traffic and calls.
 
 /// A 3-vector (components in whatever frame the caller uses).
