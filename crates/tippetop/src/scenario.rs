@@ -175,8 +175,8 @@ impl Scenario {
     /// No temperature (`--preset nano-adhesive`; [`Scenario::nano_physical`]
     /// is the same top at 300 K).
     /// The two adhesion values are those `Adhesion::c60_on_graphene().binding()`
-    /// gives (`tippetop adhesion`), written out (the scenario module does not
-    /// import the physics; tests/scenario.rs checks they agree).
+    /// gives (`tippetop adhesion`), written out so that the preset shows the
+    /// same digits as the command (tests/scenario.rs checks they agree).
     pub fn nano_adhesive() -> Self {
         let (force, energy) = (5.915889357711552e-10, 1.169645723902958e-19);
         Scenario {
