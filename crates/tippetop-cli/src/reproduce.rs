@@ -170,8 +170,9 @@ fn write_figure(dir: &Path, f: &Figure) -> Result<()> {
         .map(|c| {
             let xs: Vec<f64> = c.t.iter().map(|t| t * f.x_scale).collect();
             // A nutating curve: its running mean with its min-max band over
-            // 1/100 of the figure's span.
-            let s = if f.envelope {
+            // 1/100 of the figure's span. The closed forms (dashed) are
+            // smooth: drawn as they are, so the legend shows no band for them.
+            let s = if f.envelope && !c.dashed {
                 Series::envelope(c.name.clone(), &xs, &c.y, 400, span / 100.0)
             } else {
                 Series::new(c.name.clone(), xs, c.y.clone())
