@@ -134,27 +134,31 @@ pub struct AdhesionReport {
     pub gravity: f64,
     /// F_a/(m g); null with g = 0 or on a tube's axis.
     pub pull_off_over_weight: Option<f64>,
-    /// Tube only: the cage centre's distance from the axis at equilibrium
-    /// \[m\] (0.0 on the axis).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub offset: Option<f64>,
-    /// Tube only: whether the cage sits on the axis.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub on_axis: Option<bool>,
-    /// Tube only: the wall's radius b \[m\].
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub tube_radius: Option<f64>,
-    /// Tube only, with --chirality: `[N, M]`.
+    /// The tube's fields (`--substrate nanotube` only), at the top level
+    /// of the JSON.
+    #[serde(flatten)]
+    pub tube: Option<Tube>,
+}
+
+/// The fields only a tube has.
+#[derive(Debug, Clone, Serialize)]
+pub struct Tube {
+    /// The cage centre's distance from the axis at equilibrium \[m\] (0.0
+    /// on the axis).
+    pub offset: f64,
+    /// Whether the cage sits on the axis.
+    pub on_axis: bool,
+    /// The wall's radius b \[m\].
+    pub tube_radius: f64,
+    /// With --chirality: `[N, M]`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub chirality: Option<[u32; 2]>,
-    /// Tube only: suction energy −U(0), entering along the axis from free
-    /// space \[J\].
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub suction_energy: Option<f64>,
-    /// Tube only: the suction energy \[eV\].
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub suction_energy_ev: Option<f64>,
-    /// Tube only: the tube radius at which the cage leaves the axis \[m\].
+    /// Suction energy −U(0), entering along the axis from free space \[J\].
+    pub suction_energy: f64,
+    /// The suction energy \[eV\].
+    pub suction_energy_ev: f64,
+    /// The tube radius at which the cage leaves the axis \[m\] (None: not
+    /// found up to b = 1e-6 m).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub off_axis_radius: Option<f64>,
 }
@@ -264,13 +268,7 @@ pub fn report(args: &AdhesionArgs) -> Result<AdhesionReport, tippetop::Error> {
         mass: args.mass,
         gravity: args.gravity,
         pull_off_over_weight: (weight > 0.0).then(|| b.pull_off_force / weight),
-        offset: None,
-        on_axis: None,
-        tube_radius: None,
-        chirality: None,
-        suction_energy: None,
-        suction_energy_ev: None,
-        off_axis_radius: None,
+        tube: None,
     })
 }
 
@@ -349,13 +347,15 @@ fn tube_report(args: &AdhesionArgs) -> Result<AdhesionReport, tippetop::Error> {
             .pull_off_force
             .filter(|_| weight > 0.0)
             .map(|f| f / weight),
-        offset: Some(b.offset),
-        on_axis: Some(b.on_axis),
-        tube_radius: Some(radius),
-        chirality,
-        suction_energy: Some(b.suction_energy),
-        suction_energy_ev: Some(b.suction_energy / EV),
-        off_axis_radius: leaves,
+        tube: Some(Tube {
+            offset: b.offset,
+            on_axis: b.on_axis,
+            tube_radius: radius,
+            chirality,
+            suction_energy: b.suction_energy,
+            suction_energy_ev: b.suction_energy / EV,
+            off_axis_radius: leaves,
+        }),
     })
 }
 
@@ -370,8 +370,8 @@ pub fn run(args: &AdhesionArgs) -> anyhow::Result<ExitCode> {
     };
     if args.json {
         crate::output::print_json(&rep)?;
-    } else if rep.on_axis.is_some() {
-        print!("{}", tube_table(&rep));
+    } else if let Some(tube) = &rep.tube {
+        print!("{}", tube_table(&rep, tube));
     } else {
         print!("{}", table(&rep));
     }
@@ -415,17 +415,17 @@ fn table(r: &AdhesionReport) -> String {
 }
 
 /// The console text of `--substrate nanotube` (4 significant figures).
-fn tube_table(r: &AdhesionReport) -> String {
+fn tube_table(r: &AdhesionReport, t: &Tube) -> String {
     let ev6 = EV * ANGSTROM.powi(6);
     let ev12 = EV * ANGSTROM.powi(12);
     let a = |x: f64| format!("{} Å", s4(x / ANGSTROM));
-    let b = r.tube_radius.unwrap_or(f64::NAN);
-    let tube = match r.chirality {
+    let b = t.tube_radius;
+    let tube = match t.chirality {
         Some([n, m]) => format!("a ({n},{m}) tube, b = {}", a(b)),
         None => format!("a tube of b = {}", a(b)),
     };
-    let on_axis = r.on_axis == Some(true);
-    let offset = r.offset.unwrap_or(f64::NAN);
+    let on_axis = t.on_axis;
+    let offset = t.offset;
     let where_ = if on_axis {
         format!(
             "on the axis; wall gap {} all round: the cage touches nothing",
@@ -452,7 +452,7 @@ fn tube_table(r: &AdhesionReport) -> String {
         None if on_axis => "undefined (on the axis)".into(),
         None => "undefined (g = 0)".into(),
     };
-    let leaves = match r.off_axis_radius {
+    let leaves = match t.off_axis_radius {
         Some(x) => format!("in tubes wider than b = {}", a(x)),
         None => "not found up to b = 1e-6 m".into(),
     };
@@ -471,7 +471,7 @@ fn tube_table(r: &AdhesionReport) -> String {
         s4(r.lj_b / ev12),
         s4(r.binding_energy_ev),
         s4(r.binding_energy),
-        s4(r.suction_energy_ev.unwrap_or(f64::NAN)),
+        s4(t.suction_energy_ev),
         s4(r.stiffness),
         s4(r.vertical_frequency),
         s4(r.mass),
