@@ -878,13 +878,7 @@ fn rare<'py>(
     use tippetop::analysis::rare::problem::{self, DEFAULT_REPLICAS, Problem, RareMethod};
     let started = Instant::now();
     let method = RareMethod::parse(method).map_err(to_py_err)?;
-    let count = |v: Option<i64>, key: &str, range: &str| -> PyResult<Option<u64>> {
-        v.map(|v| {
-            u64::try_from(v)
-                .map_err(|_| PyValueError::new_err(format!("{key}: {v} is not allowed ({range})")))
-        })
-        .transpose()
-    };
+    let count = count_of;
     let replicas = count(replicas, "--replicas", "N >= 1")?;
     let max_steps = count(
         max_steps,
@@ -920,72 +914,23 @@ fn rare<'py>(
     })?
     .map_err(to_py_err)?;
     let report = match method {
-        RareMethod::Ams => {
-            use tippetop::analysis::rare::ams::{Hooks, Settings};
-            let d = Settings::default();
-            let big = |v: Option<i64>, key: &str, range: &str| -> PyResult<Option<u64>> {
-                count(v, key, range)
-            };
-            let settings = Settings {
-                replicas: replicas.map_or(d.replicas, |v| v as usize),
-                particles: big(particles, "--particles", "2 <= n <= 100000")?
-                    .map_or(d.particles, |v| v as usize),
-                kill: big(kill, "--kill", "1 <= k < n (--particles)")?
-                    .map_or(d.kill, |v| v as usize),
-                max_trajectories: big(
-                    max_trajectories,
-                    "--max-trajectories",
-                    "n (--particles) <= N <= 16777200 per replica",
-                )?
-                .unwrap_or(d.max_trajectories),
-                crossings: big(crossings, "--crossings", "1 <= crossings <= 100000")?
-                    .map_or(d.crossings, |v| v as usize),
-                direct_steps: big(direct_steps, "--direct-steps", "1 <= steps <= 10000000")?
-                    .unwrap_or(d.direct_steps),
-                pilot_steps: big(pilot_steps, "--pilot-steps", "1000 <= steps <= 10000000")?
-                    .unwrap_or(d.pilot_steps),
+        RareMethod::Ams => rare_ams(
+            py,
+            &prob,
+            AmsOptions {
+                replicas,
+                particles,
+                kill,
+                max_trajectories,
+                crossings,
+                direct_steps,
+                pilot_steps,
                 basin,
                 interface,
-                ..d
-            };
-            let coordinate = coordinate.map(str::to_string);
-            let ams = py
-                .detach(|| guarded(|| problem::ams_for(&prob, coordinate.as_deref(), settings)))?
-                .map_err(to_py_err)?;
-            let m = ams.settings().replicas;
-            let cancel = std::sync::atomic::AtomicBool::new(false);
-            let interrupted: Mutex<Option<PyErr>> = Mutex::new(None);
-            let progress = |_: f64| {
-                if let Err(err) = Python::attach(|py| py.check_signals()) {
-                    if let Ok(mut slot) = interrupted.lock() {
-                        *slot = Some(err);
-                    }
-                    cancel.store(true, std::sync::atomic::Ordering::Relaxed);
-                }
-            };
-            let hooks = Hooks {
-                progress: Some(&progress),
-                cancel: Some(&cancel),
-            };
-            let mut reps = Vec::with_capacity(m);
-            let ran = py.detach(|| {
-                guarded(|| {
-                    ams.run(0..m, Some(threads), hooks, &mut |r| {
-                        reps.push(r);
-                        true
-                    })
-                })
-            })?;
-            if let Some(err) = interrupted.lock().ok().and_then(|mut e| e.take()) {
-                return Err(err);
-            }
-            match ran.map_err(to_py_err)? {
-                true => {}
-                false => return Err(PyRuntimeError::new_err("rare: interrupted")),
-            }
-            py.detach(|| guarded(|| problem::by_ams(&prob, &ams, reps)))?
-                .map_err(to_py_err)?
-        }
+                coordinate,
+            },
+            threads,
+        )?,
         RareMethod::Exact => {
             if replicas.is_some() {
                 return Err(PyValueError::new_err(
@@ -995,33 +940,155 @@ fn rare<'py>(
             py.detach(|| guarded(|| problem::by_exact(&prob)))?
                 .map_err(to_py_err)?
         }
-        RareMethod::Direct => {
-            let n = replicas.map_or(DEFAULT_REPLICAS, |r| r as usize);
-            let mut interrupted: Option<PyErr> = None;
-            let r = py.detach(|| {
-                guarded(|| {
-                    let mut last = Instant::now();
-                    problem::by_direct(&prob, n, Some(threads), &mut |_| {
-                        if last.elapsed().as_secs_f64() >= 0.1 {
-                            last = Instant::now();
-                            if let Err(err) = Python::attach(|py| py.check_signals()) {
-                                interrupted = Some(err);
-                                return false;
-                            }
-                        }
-                        true
-                    })
-                })
-            })?;
-            if let Some(err) = interrupted {
-                return Err(err);
-            }
-            r.map_err(to_py_err)?
-        }
+        RareMethod::Direct => rare_direct(
+            py,
+            &prob,
+            replicas.map_or(DEFAULT_REPLICAS, |r| r as usize),
+            threads,
+        )?,
     };
     let doc = report.document(&prob, started.elapsed().as_secs_f64());
     let text = serde_json::to_string(&doc).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     py.import("json")?.call_method1("loads", (text,))
+}
+
+/// A count option `key` of `rare` (None: not given), refused below 0 with
+/// its `range`.
+fn count_of(v: Option<i64>, key: &str, range: &str) -> PyResult<Option<u64>> {
+    v.map(|v| {
+        u64::try_from(v)
+            .map_err(|_| PyValueError::new_err(format!("{key}: {v} is not allowed ({range})")))
+    })
+    .transpose()
+}
+
+/// The options of `rare(method="ams")` as given (None: the default).
+struct AmsOptions<'a> {
+    replicas: Option<u64>,
+    particles: Option<i64>,
+    kill: Option<i64>,
+    max_trajectories: Option<i64>,
+    crossings: Option<i64>,
+    direct_steps: Option<i64>,
+    pilot_steps: Option<i64>,
+    basin: Option<f64>,
+    interface: Option<f64>,
+    coordinate: Option<&'a str>,
+}
+
+/// `rare(method="ams")`: the splitting's replicas on `threads` threads,
+/// the GIL released, Ctrl-C polled through the progress hook.
+fn rare_ams(
+    py: Python<'_>,
+    prob: &tippetop::analysis::rare::problem::Problem,
+    o: AmsOptions<'_>,
+    threads: usize,
+) -> PyResult<tippetop::analysis::rare::problem::Report> {
+    use tippetop::analysis::rare::ams::{Hooks, Settings};
+    use tippetop::analysis::rare::problem;
+    let AmsOptions {
+        replicas,
+        particles,
+        kill,
+        max_trajectories,
+        crossings,
+        direct_steps,
+        pilot_steps,
+        basin,
+        interface,
+        coordinate,
+    } = o;
+    let d = Settings::default();
+    let big = count_of;
+    let settings = Settings {
+        replicas: replicas.map_or(d.replicas, |v| v as usize),
+        particles: big(particles, "--particles", "2 <= n <= 100000")?
+            .map_or(d.particles, |v| v as usize),
+        kill: big(kill, "--kill", "1 <= k < n (--particles)")?.map_or(d.kill, |v| v as usize),
+        max_trajectories: big(
+            max_trajectories,
+            "--max-trajectories",
+            "n (--particles) <= N <= 16777200 per replica",
+        )?
+        .unwrap_or(d.max_trajectories),
+        crossings: big(crossings, "--crossings", "1 <= crossings <= 100000")?
+            .map_or(d.crossings, |v| v as usize),
+        direct_steps: big(direct_steps, "--direct-steps", "1 <= steps <= 10000000")?
+            .unwrap_or(d.direct_steps),
+        pilot_steps: big(pilot_steps, "--pilot-steps", "1000 <= steps <= 10000000")?
+            .unwrap_or(d.pilot_steps),
+        basin,
+        interface,
+        ..d
+    };
+    let coordinate = coordinate.map(str::to_string);
+    let ams = py
+        .detach(|| guarded(|| problem::ams_for(prob, coordinate.as_deref(), settings)))?
+        .map_err(to_py_err)?;
+    let m = ams.settings().replicas;
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let interrupted: Mutex<Option<PyErr>> = Mutex::new(None);
+    let progress = |_: f64| {
+        if let Err(err) = Python::attach(|py| py.check_signals()) {
+            if let Ok(mut slot) = interrupted.lock() {
+                *slot = Some(err);
+            }
+            cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+    };
+    let hooks = Hooks {
+        progress: Some(&progress),
+        cancel: Some(&cancel),
+    };
+    let mut reps = Vec::with_capacity(m);
+    let ran = py.detach(|| {
+        guarded(|| {
+            ams.run(0..m, Some(threads), hooks, &mut |r| {
+                reps.push(r);
+                true
+            })
+        })
+    })?;
+    if let Some(err) = interrupted.lock().ok().and_then(|mut e| e.take()) {
+        return Err(err);
+    }
+    match ran.map_err(to_py_err)? {
+        true => {}
+        false => return Err(PyRuntimeError::new_err("rare: interrupted")),
+    }
+    py.detach(|| guarded(|| problem::by_ams(prob, &ams, reps)))?
+        .map_err(to_py_err)
+}
+
+/// `rare(method="direct")`: `n` runs on `threads` threads, the GIL
+/// released, Ctrl-C polled every 0.1 s.
+fn rare_direct(
+    py: Python<'_>,
+    prob: &tippetop::analysis::rare::problem::Problem,
+    n: usize,
+    threads: usize,
+) -> PyResult<tippetop::analysis::rare::problem::Report> {
+    use tippetop::analysis::rare::problem;
+    let mut interrupted: Option<PyErr> = None;
+    let r = py.detach(|| {
+        guarded(|| {
+            let mut last = Instant::now();
+            problem::by_direct(prob, n, Some(threads), &mut |_| {
+                if last.elapsed().as_secs_f64() >= 0.1 {
+                    last = Instant::now();
+                    if let Err(err) = Python::attach(|py| py.check_signals()) {
+                        interrupted = Some(err);
+                        return false;
+                    }
+                }
+                true
+            })
+        })
+    })?;
+    if let Some(err) = interrupted {
+        return Err(err);
+    }
+    r.map_err(to_py_err)
 }
 
 /// A copy of a `Simulation` at one instant (`Simulation.snapshot()`),

@@ -236,34 +236,11 @@ pub fn wall_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
 pub fn check(sc: &Scenario) -> Result<(), Error> {
     let so = &sc.solver;
     let th = &sc.thermal;
+    if !so.method.is_stochastic() {
+        return check_deterministic(sc);
+    }
     let brownian = so.method == crate::Method::Brownian;
     let method = if brownian { "brownian" } else { "langevin" };
-    if !so.method.is_stochastic() {
-        if let Some(dt) = so.dt {
-            return Err(Error::invalid(
-                "solver.dt",
-                format!("{dt} given with a deterministic method"),
-                "only with solver.method = \"langevin\" or \"brownian\" (rk4 takes solver.steps)"
-                    .into(),
-            ));
-        }
-        let set = [
-            ("temperature", th.temperature != 0.0),
-            ("damping_translational", th.damping_translational != 0.0),
-            ("damping_rotational", th.damping_rotational != 0.0),
-            ("damping_contact", th.damping_contact != 0.0),
-            ("seed", th.seed.is_some()),
-            ("run", th.run != 0),
-        ];
-        if let Some((key, _)) = set.iter().find(|(_, on)| *on) {
-            return Err(Error::invalid(
-                &format!("thermal.{key}"),
-                "needs solver.method = \"langevin\" or \"brownian\"".into(),
-                "temperature and damping are integrated by the Langevin and Brownian methods only: set solver.method = \"langevin\" and solver.dt".into(),
-            ));
-        }
-        return Ok(());
-    }
     let rigid_langevin = so.model == crate::ModelKind::Rigid;
     // The rigid model's Brownian method with unilateral contact is the
     // overdamped free body above a wall (docs/physics.md#brownian-wall): its step
@@ -307,68 +284,118 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
         ));
     }
     if brownian {
-        for (key, v) in [
-            ("damping_translational", th.damping_translational),
-            ("damping_rotational", th.damping_rotational),
-        ] {
-            if v <= 0.0 {
-                return Err(Error::invalid(
-                    &format!("thermal.{key}"),
-                    format!("{v} with method = \"brownian\""),
-                    "> 0 [1/s] with method = \"brownian\" (the mobility is its inverse)".into(),
-                ));
-            }
-        }
-        if wall && th.damping_contact != 0.0 {
-            // Above a wall the body touches the plane at instants only (a
-            // reflected diffusion): a viscous slip law has no contact time
-            // to act over, and ignoring the key silently would mislead.
-            return Err(Error::invalid(
-                "thermal.damping_contact",
-                format!(
-                    "{:e} with model = \"rigid\", method = \"brownian\" and contact = \"unilateral\"",
-                    th.damping_contact
-                ),
-                "0 for the free body above a wall (it touches the plane at instants only, docs/physics.md#brownian-wall); contact = \"bilateral\" keeps the top on the plane with its contact damping".into(),
-            ));
-        }
-        let ratio = contact_ratio(sc);
-        if ratio > MAX_BROWNIAN_CONTACT_RATIO {
-            let limit = MAX_BROWNIAN_CONTACT_RATIO * bath_contact_scale(sc);
-            return Err(Error::invalid(
-                "thermal.damping_contact",
-                format!(
-                    "{:e} with method = \"brownian\" is {ratio:.3e} times the bath's own damping",
-                    th.damping_contact
-                ),
-                format!(
-                    "at most {limit:.3e} [N s/m] with method = \"brownian\" here: {MAX_BROWNIAN_CONTACT_RATIO:e} times the smallest of mass damping_translational, damping_rotational inertia_transverse / (radius + offset)^2 and damping_rotational inertia_axial / radius^2 (beyond, the friction matrix is too ill-conditioned for its mobility)"
-                ),
-            ));
-        }
+        check_brownian(sc, wall)?;
     }
     if th.is_hot() {
-        if th.seed.is_none() {
+        check_hot(th)?;
+    }
+    check_step(sc, dt, brownian, wall)
+}
+
+/// A deterministic method takes no `solver.dt` and no `[thermal]` key.
+fn check_deterministic(sc: &Scenario) -> Result<(), Error> {
+    let th = &sc.thermal;
+    if let Some(dt) = sc.solver.dt {
+        return Err(Error::invalid(
+            "solver.dt",
+            format!("{dt} given with a deterministic method"),
+            "only with solver.method = \"langevin\" or \"brownian\" (rk4 takes solver.steps)"
+                .into(),
+        ));
+    }
+    let set = [
+        ("temperature", th.temperature != 0.0),
+        ("damping_translational", th.damping_translational != 0.0),
+        ("damping_rotational", th.damping_rotational != 0.0),
+        ("damping_contact", th.damping_contact != 0.0),
+        ("seed", th.seed.is_some()),
+        ("run", th.run != 0),
+    ];
+    if let Some((key, _)) = set.iter().find(|(_, on)| *on) {
+        return Err(Error::invalid(
+            &format!("thermal.{key}"),
+            "needs solver.method = \"langevin\" or \"brownian\"".into(),
+            "temperature and damping are integrated by the Langevin and Brownian methods only: set solver.method = \"langevin\" and solver.dt".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The Brownian method's mobilities and contact damping (`wall`: the
+/// rigid model's free body above a wall).
+fn check_brownian(sc: &Scenario, wall: bool) -> Result<(), Error> {
+    let th = &sc.thermal;
+    for (key, v) in [
+        ("damping_translational", th.damping_translational),
+        ("damping_rotational", th.damping_rotational),
+    ] {
+        if v <= 0.0 {
             return Err(Error::invalid(
-                "thermal.seed",
-                "missing".into(),
-                SEED_RANGE.into(),
+                &format!("thermal.{key}"),
+                format!("{v} with method = \"brownian\""),
+                "> 0 [1/s] with method = \"brownian\" (the mobility is its inverse)".into(),
             ));
         }
-        for (key, v) in [
-            ("damping_translational", th.damping_translational),
-            ("damping_rotational", th.damping_rotational),
-        ] {
-            if v <= 0.0 {
-                return Err(Error::invalid(
-                    &format!("thermal.{key}"),
-                    format!("{v} at temperature {} K", th.temperature),
-                    "> 0 at temperature > 0 [1/s]: every degree of freedom needs its heat bath"
-                        .into(),
-                ));
-            }
+    }
+    if wall && th.damping_contact != 0.0 {
+        // Above a wall the body touches the plane at instants only (a
+        // reflected diffusion): a viscous slip law has no contact time
+        // to act over, and ignoring the key silently would mislead.
+        return Err(Error::invalid(
+            "thermal.damping_contact",
+            format!(
+                "{:e} with model = \"rigid\", method = \"brownian\" and contact = \"unilateral\"",
+                th.damping_contact
+            ),
+            "0 for the free body above a wall (it touches the plane at instants only, docs/physics.md#brownian-wall); contact = \"bilateral\" keeps the top on the plane with its contact damping".into(),
+        ));
+    }
+    let ratio = contact_ratio(sc);
+    if ratio > MAX_BROWNIAN_CONTACT_RATIO {
+        let limit = MAX_BROWNIAN_CONTACT_RATIO * bath_contact_scale(sc);
+        return Err(Error::invalid(
+            "thermal.damping_contact",
+            format!(
+                "{:e} with method = \"brownian\" is {ratio:.3e} times the bath's own damping",
+                th.damping_contact
+            ),
+            format!(
+                "at most {limit:.3e} [N s/m] with method = \"brownian\" here: {MAX_BROWNIAN_CONTACT_RATIO:e} times the smallest of mass damping_translational, damping_rotational inertia_transverse / (radius + offset)^2 and damping_rotational inertia_axial / radius^2 (beyond, the friction matrix is too ill-conditioned for its mobility)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// At a temperature > 0: a seed and a heat bath for every degree of freedom.
+fn check_hot(th: &crate::Thermal) -> Result<(), Error> {
+    if th.seed.is_none() {
+        return Err(Error::invalid(
+            "thermal.seed",
+            "missing".into(),
+            SEED_RANGE.into(),
+        ));
+    }
+    for (key, v) in [
+        ("damping_translational", th.damping_translational),
+        ("damping_rotational", th.damping_rotational),
+    ] {
+        if v <= 0.0 {
+            return Err(Error::invalid(
+                &format!("thermal.{key}"),
+                format!("{v} at temperature {} K", th.temperature),
+                "> 0 at temperature > 0 [1/s]: every degree of freedom needs its heat bath".into(),
+            ));
         }
     }
+    Ok(())
+}
+
+/// The step `dt` \[s\] against the fastest rate, the step limit and the
+/// sample count.
+fn check_step(sc: &Scenario, dt: f64, brownian: bool, wall: bool) -> Result<(), Error> {
+    let so = &sc.solver;
+    let method = if brownian { "brownian" } else { "langevin" };
     let rates = if wall {
         let mut r = brownian_rates(sc);
         r.extend(wall_rates(sc));

@@ -303,7 +303,7 @@ const RATE_GRAVITY: usize = 4;
 const RATE_FORCE: usize = 5;
 const RATE_THERMAL: usize = 7;
 
-fn bad(key: &str, what: String, range: String) -> Result<(), Error> {
+fn bad<T>(key: &str, what: String, range: String) -> Result<T, Error> {
     Err(Error::invalid(key, what, range))
 }
 
@@ -312,7 +312,15 @@ fn bad(key: &str, what: String, range: String) -> Result<(), Error> {
 /// `t_end / T_ref <= MAX_SCALED_T_END`, a finite initial energy, the sample
 /// count and memory, and the RK4 step count. Errors name the key to change.
 pub fn check_run(sc: &Scenario) -> Result<(), Error> {
-    let so = &sc.solver;
+    check_memory(&sc.solver)?;
+    let (tu, rate_key) = check_time_unit(sc)?;
+    check_units(sc, tu, &rate_key)?;
+    check_initial(sc, tu)?;
+    check_adhesive_friction(sc)
+}
+
+/// The sample count and the run's memory ([`check_run`]'s first step).
+fn check_memory(so: &crate::state::SolverSettings) -> Result<(), Error> {
     if so.samples > MAX_SAMPLES {
         return bad(
             "solver.samples",
@@ -330,6 +338,13 @@ pub fn check_run(sc: &Scenario) -> Result<(), Error> {
             format!("at most {MAX_RUN_BYTES} bytes per run"),
         );
     }
+    Ok(())
+}
+
+/// Every rate finite and `t_end / T_ref <= MAX_SCALED_T_END`: the time unit
+/// `T_ref` \[s\] and the key that sets it ([`check_run`]'s second step).
+fn check_time_unit(sc: &Scenario) -> Result<(f64, String), Error> {
+    let so = &sc.solver;
     // Every rate finite: each one is a candidate for 1/T_ref.
     let rates = rates(sc);
     for (index, (r, key, what)) in rates.iter().enumerate() {
@@ -368,8 +383,12 @@ pub fn check_run(sc: &Scenario) -> Result<(), Error> {
         );
     }
 
-    // The units of the scaled model and the scaled parameters: finite and
-    // non-zero.
+    Ok((tu, rate_key))
+}
+
+/// The units of the scaled model and the scaled parameters: finite and
+/// non-zero, for the time unit `tu` \[s\] set by `rate_key`.
+fn check_units(sc: &Scenario, tu: f64, rate_key: &str) -> Result<(), Error> {
     let top = &sc.top;
     let length = top.radius;
     let mass = top.mass;
@@ -404,7 +423,7 @@ pub fn check_run(sc: &Scenario) -> Result<(), Error> {
                 &[
                     ("top.mass", a * log10(mass)),
                     ("top.radius", b * log10(length)),
-                    (rate_key.as_str(), c * log10(tu)),
+                    (rate_key, c * log10(tu)),
                 ],
                 v,
             );
@@ -457,6 +476,15 @@ pub fn check_run(sc: &Scenario) -> Result<(), Error> {
             }
         }
     }
+    Ok(())
+}
+
+/// The initial velocities in velocity units and the initial energy finite,
+/// for the time unit `tu` \[s\].
+fn check_initial(sc: &Scenario, tu: f64) -> Result<(), Error> {
+    let top = &sc.top;
+    let mass = top.mass;
+    let velocity = top.radius / tu;
     let i = &sc.initial;
     for (key, v) in [("initial.ux", i.ux), ("initial.uy", i.uy)] {
         if !(v / velocity).is_finite() {
@@ -512,7 +540,7 @@ pub fn check_run(sc: &Scenario) -> Result<(), Error> {
             format!("values that keep the energy finite, |E| <= {MAX_ENERGY:e} J"),
         );
     }
-    check_adhesive_friction(sc)
+    Ok(())
 }
 
 /// The relaxation rate of the slip under the regularised or viscous law
