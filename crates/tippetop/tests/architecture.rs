@@ -390,18 +390,10 @@ const LONG: usize = 150;
 
 /// The long functions allowed, by file and name: numerical kernels, each
 /// with its reason in a comment above it.
-const KERNELS: &[(&str, &str)] = &[("crates/tippetop/src/numeric/eigen.rs", "hqr")];
-
-/// Long functions in code other work of issue 28 moves this session; they
-/// leave this list with that move. Moved by the input/ and body work of
-/// issue 28 (scenario keys, validation, the models, the integrators).
-const MOVED_BY_ISSUE_28: &[(&str, &str)] = &[
+const KERNELS: &[(&str, &str)] = &[
+    ("crates/tippetop/src/numeric/eigen.rs", "hqr"),
     ("crates/tippetop/src/integrate/rosenbrock.rs", "step"),
 ];
-
-/// Orchestration functions not split yet (issue 28, 4): this list only
-/// shrinks.
-const NOT_SPLIT_YET: &[(&str, &str)] = &[];
 
 /// Every function and method (test code excluded) of `crates/*/src` longer
 /// than [`LONG`] lines: (file, name, lines).
@@ -490,11 +482,7 @@ fn at_most_five_long_functions_all_kernels() {
     let unlisted: Vec<&String> = long
         .iter()
         .zip(&report)
-        .filter(|((f, n, _), _)| {
-            !listed(KERNELS, f, n)
-                && !listed(MOVED_BY_ISSUE_28, f, n)
-                && !listed(NOT_SPLIT_YET, f, n)
-        })
+        .filter(|((f, n, _), _)| !listed(KERNELS, f, n))
         .map(|(_, r)| r)
         .collect();
     assert!(
@@ -510,7 +498,7 @@ fn at_most_five_long_functions_all_kernels() {
     assert!(kernels.len() <= 5, "more than 5 long kernels: {kernels:#?}");
     // Each list names only functions that are long today: a function split
     // or shortened leaves its list.
-    for (f, n) in KERNELS.iter().chain(MOVED_BY_ISSUE_28).chain(NOT_SPLIT_YET) {
+    for (f, n) in KERNELS {
         assert!(
             long.iter().any(|(lf, ln, _)| lf == f && ln == n),
             "{f}: {n} is no longer over {LONG} lines: take it off the list"

@@ -395,6 +395,13 @@ impl<const N: usize> Engine<N> for Rodas4p<N> {
         Ok(())
     }
 
+    /// One accepted step from `(t1, y1)`, retrying with a smaller `h` after
+    /// a rejection. A numerical kernel kept whole on purpose (over 150
+    /// lines): the Jacobian, the LU factors of `I/(γh) − J`, the six stages,
+    /// the embedded error estimate, the step-size control and the dense
+    /// output's coefficients share the stage vectors and the factors; split,
+    /// a dozen `[f64; N]` arrays would pass between the pieces, and the
+    /// stage-by-stage match with Hairer–Wanner's RODAS would be lost.
     fn step<S: OdeSystem<N>>(
         &mut self,
         sys: &mut S,
