@@ -1,7 +1,7 @@
 //! `tippetop bit`: a memory bit's write and erase protocols, run once at
 //! T = 0 or as an ensemble of Langevin runs at T > 0, with success
 //! probabilities, switching times and energies. The library part is
-//! [`tippetop::scenario::bit`] (the tables) and [`tippetop::analysis::bit`]
+//! [`tippetop::input::scenario::bit`] (the tables) and [`tippetop::analysis::bit`]
 //! (the evaluation and statistics); the runs go through the sweep's
 //! ordered parallel runner ([`sweep::run_ordered`]).
 
@@ -12,8 +12,8 @@ use std::process::ExitCode;
 use anyhow::Result;
 use tippetop::analysis::bit::{self, Block, Mode, Report, RunResult};
 use tippetop::analysis::sweep::{self, Shard, ShardInfo, Sweep};
-use tippetop::scenario::bit::BitScenario;
-use tippetop::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
+use tippetop::input::scenario::bit::BitScenario;
+use tippetop::input::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
 
 use crate::output::{OutDir, write_bytes_atomic};
 use crate::partial::{check_checksum, checksum};
@@ -557,25 +557,26 @@ fn one_line(b: &Block) -> String {
 }
 
 fn bit_json(bs: &BitScenario, report: &Report) -> serde_json::Value {
-    let windows = |list: &[tippetop::scenario::bit::Actuator]| -> serde_json::Value {
+    let windows = |list: &[tippetop::input::scenario::bit::Actuator]| -> serde_json::Value {
         list.iter()
             .map(|a| match a.kind {
-                tippetop::scenario::bit::ActuatorKind::Body(tippetop::BodyActuator::Tip {
-                    point,
-                    force,
-                }) => serde_json::json!({
+                tippetop::input::scenario::bit::ActuatorKind::Body(
+                    tippetop::BodyActuator::Tip { point, force },
+                ) => serde_json::json!({
                     "kind": a.kind.name(), "point": point, "force": force,
                     "start": a.start, "stop": a.stop,
                 }),
-                tippetop::scenario::bit::ActuatorKind::Body(tippetop::BodyActuator::Magnetic {
-                    moment,
-                    field,
-                    gradient,
-                }) => serde_json::json!({
+                tippetop::input::scenario::bit::ActuatorKind::Body(
+                    tippetop::BodyActuator::Magnetic {
+                        moment,
+                        field,
+                        gradient,
+                    },
+                ) => serde_json::json!({
                     "kind": a.kind.name(), "moment": moment, "field": field,
                     "gradient": gradient, "start": a.start, "stop": a.stop,
                 }),
-                tippetop::scenario::bit::ActuatorKind::Contact => serde_json::json!({
+                tippetop::input::scenario::bit::ActuatorKind::Contact => serde_json::json!({
                     "kind": a.kind.name(), "hx": a.hx, "hy": a.hy, "hz": a.hz,
                     "start": a.start, "stop": a.stop,
                 }),

@@ -27,7 +27,7 @@ pub struct KeysArgs {
 /// Run `tippetop keys`: the listing (or Markdown) on stdout; an unknown
 /// table is one line on stderr and exit code 2.
 pub fn run(args: &KeysArgs) -> ExitCode {
-    let all = tippetop::scenario::key_tables();
+    let all = tippetop::input::scenario::key_tables();
     let tables = match &args.table {
         None => all,
         Some(name) => match all.iter().find(|t| t.name == name.as_str()) {

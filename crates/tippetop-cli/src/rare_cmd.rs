@@ -804,7 +804,7 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
             }
         }
         RareMethod::Direct => {
-            if replicas == 0 || replicas as u64 > tippetop::thermal::MAX_RUNS {
+            if replicas == 0 || replicas as u64 > tippetop::input::thermal::MAX_RUNS {
                 return Ok(input_error(format!(
                     "--replicas: {replicas} is not allowed (N >= 1, the run indices below 4294967296)"
                 )));

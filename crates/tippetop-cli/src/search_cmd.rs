@@ -12,7 +12,7 @@ use std::process::ExitCode;
 use anyhow::Result;
 use tippetop::analysis::bit::{Z95, wilson};
 use tippetop::analysis::search::{Evaluation, ProtocolSearch, SearchResult};
-use tippetop::scenario::search::{SearchActuator, SearchSpec};
+use tippetop::input::scenario::search::{SearchActuator, SearchSpec};
 
 use crate::bit_args::BitArgs;
 use crate::output::{OutDir, fmt_f64, write_bytes_atomic};

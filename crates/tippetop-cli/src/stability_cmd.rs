@@ -122,7 +122,7 @@ pub fn run(args: &StabilityArgs, quiet: bool) -> anyhow::Result<ExitCode> {
 /// steady motion the linearisation calls unstable, why they disagree
 /// (issue 29: "upright: unstable", then "Late-time state: upright").
 fn laws(r: &StabilityReport, sc: &Scenario) -> Option<String> {
-    use tippetop::contact::FrictionLaw;
+    use tippetop::input::surface::FrictionLaw;
     let late = r.late.as_ref()?;
     let run_law = sc.surface.law;
     let mut s = format!(

@@ -416,7 +416,7 @@ fn write_plots(dir: &Path, table: &Table) -> Result<()> {
 /// An axis label for a swept key: the key with its unit (`top.offset [m]`),
 /// `[1]` for a dimensionless scenario key.
 fn axis_label(key: &str) -> String {
-    match tippetop::scenario::key_unit(key) {
+    match tippetop::input::scenario::key_unit(key) {
         Some(u) => format!("{key} [{u}]"),
         None => format!("{key} [1]"),
     }

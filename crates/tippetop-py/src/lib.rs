@@ -746,7 +746,7 @@ fn ensemble<'py>(
     use tippetop::analysis::ensemble as ens;
     let range = format!(
         "1 <= runs <= {}, with the run indices below 4294967296",
-        tippetop::thermal::MAX_ENSEMBLE_RUNS
+        tippetop::input::thermal::MAX_ENSEMBLE_RUNS
     );
     let n = int_arg(&runs, "--runs", &range)?;
     let runs = usize::try_from(n)

@@ -13,9 +13,7 @@
 #![warn(missing_docs)]
 
 pub mod analysis;
-pub mod contact;
 pub mod error;
-pub mod forcing;
 pub mod human;
 pub mod input;
 pub mod integrate;
@@ -29,27 +27,23 @@ pub use numeric::detmath;
 pub use numeric::random;
 pub mod observe;
 pub mod physics;
-pub mod scenario;
 pub(crate) mod sim;
 pub mod simulate;
-pub mod state;
 #[doc(hidden)]
 pub mod testing;
-pub mod thermal;
-pub mod top;
 pub mod trajectory;
-pub mod well;
 
-pub use contact::{Adhesion, ContactMode, FrictionLaw, Surface};
 pub use error::{Error, Failure};
-pub use forcing::{ActuatorWindow, BodyActuator, ForceWindow, Forcing};
-pub use scenario::{Scenario, limits};
+pub use input::forcing::{ActuatorWindow, BodyActuator, ForceWindow, Forcing};
+pub use input::initial::Initial;
+pub use input::scenario::{Scenario, limits};
+pub use input::solver::{Method, ModelKind, SolverSettings};
+pub use input::surface::{Adhesion, ContactMode, FrictionLaw, Surface};
+pub use input::thermal::Thermal;
+pub use input::top::{Stem, Top};
+pub use input::well::Well;
 pub use simulate::{
     Simulation, Snapshot, simulate, simulate_watching, simulate_watching_with_progress,
     simulate_with_progress,
 };
-pub use state::{Initial, Method, ModelKind, SolverSettings};
-pub use thermal::Thermal;
-pub use top::{Stem, Top};
 pub use trajectory::{EventRecord, NormalIntervals, Sample, StemSummary, Summary, Trajectory};
-pub use well::Well;

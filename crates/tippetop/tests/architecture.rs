@@ -4,7 +4,11 @@
 //! The graph is read from the source: every `crate::X` path and every item
 //! of a `use crate::{...}` group, where a name the crate root re-exports
 //! (`Scenario`, `Error`, ...) counts as the module that defines it. A
-//! parent's `mod`/`pub use` of its children does not count.
+//! parent's `mod`/`pub use` of its children does not count. `input/`
+//! groups the scenario's tables (issue #28, 3), which were top-level
+//! modules of their own before: its children count as units here
+//! (`input/scenario`, `input/top`, ...), so this check is as strict as it
+//! was; the file-level check below covers every file.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
@@ -25,16 +29,38 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The top-level module a file belongs to (`model/rigid.rs` -> `model`).
+/// The unit a module path names: its first segment (`model::rigid` ->
+/// `model`), or within `input` the child (`input::scenario::limits` ->
+/// `input/scenario`; `input::Key` -> `input`).
+fn unit(path: &str) -> String {
+    let mut segs = path.split("::").map(str::trim);
+    let first = segs.next().unwrap_or("").to_string();
+    if first == "input" {
+        if let Some(child) = segs.next() {
+            if child.starts_with(|c: char| c.is_ascii_lowercase()) {
+                return format!("input/{child}");
+            }
+        }
+    }
+    first
+}
+
+/// The unit a file belongs to (`model/rigid.rs` -> `model`,
+/// `input/scenario/limits.rs` -> `input/scenario`, `input/mod.rs` ->
+/// `input`).
 fn top_module(file: &Path) -> String {
     let rel = file.strip_prefix(src()).unwrap();
-    let first = rel
+    let segs: Vec<String> = rel
         .components()
-        .next()
-        .unwrap()
-        .as_os_str()
-        .to_string_lossy();
-    first.trim_end_matches(".rs").to_string()
+        .map(|c| {
+            c.as_os_str()
+                .to_string_lossy()
+                .trim_end_matches(".rs")
+                .to_string()
+        })
+        .collect();
+    let path = segs.join("::");
+    unit(path.strip_suffix("::mod").unwrap_or(&path))
 }
 
 /// Names the crate root re-exports, and the module each comes from
@@ -46,7 +72,8 @@ fn root_reexports(lib: &str) -> BTreeMap<String, String> {
         let Some(rest) = stmt.strip_prefix("pub use ") else {
             continue;
         };
-        let (module, items) = rest.split_once("::").unwrap();
+        let (module, items) = rest.rsplit_once("::").unwrap();
+        let module = unit(module);
         let items = items.trim_start_matches('{').trim_end_matches('}');
         for item in items.split(',') {
             let item = item.trim();
@@ -92,7 +119,7 @@ fn group_heads(group: &str) -> Vec<String> {
     heads.push(item);
     heads
         .iter()
-        .map(|i| i.trim().split("::").next().unwrap().trim().to_string())
+        .map(|i| unit(i.trim()))
         .filter(|h| !h.is_empty())
         .collect()
 }
@@ -124,9 +151,9 @@ fn references(code: &str) -> BTreeSet<String> {
         } else {
             let name: String = after
                 .chars()
-                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':')
                 .collect();
-            refs.insert(name);
+            refs.insert(unit(&name));
         }
         rest = after;
     }

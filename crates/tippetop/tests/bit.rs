@@ -3,7 +3,7 @@
 //! the new keys, and a run judged on its continuous solution.
 
 use tippetop::analysis::bit::{self, Mode};
-use tippetop::scenario::bit::BitScenario;
+use tippetop::input::scenario::bit::BitScenario;
 
 const FILE: &str = r#"preset = "nano"
 [solver]

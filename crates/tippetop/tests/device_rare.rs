@@ -8,7 +8,7 @@ use tippetop::analysis::device_rare::{self as dr, EV, ONE, Sizes, TEN_YEARS};
 use tippetop::analysis::ensemble::Exit;
 use tippetop::analysis::rare::ams::Replica;
 use tippetop::analysis::rare::exact;
-use tippetop::thermal::BOLTZMANN;
+use tippetop::input::thermal::BOLTZMANN;
 use tippetop::{ContactMode, Method};
 
 /// ln of the TST residence by Laplace's method: the window's population

@@ -13,7 +13,7 @@ use tippetop::{
     Scenario, Top,
     analysis::bit,
     analysis::stability::{self, Physics, SmoothLaw, inversion},
-    scenario::bit::BitScenario,
+    input::scenario::bit::BitScenario,
 };
 
 const G: f64 = 9.8;

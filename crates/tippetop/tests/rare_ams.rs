@@ -25,7 +25,7 @@ use tippetop::analysis::ensemble::Exit;
 use tippetop::analysis::rare::ams::{
     Ams, Coordinate, Estimate, Hooks, Problem, Quantity, Replica, Settings, Variant,
 };
-use tippetop::thermal::BOLTZMANN;
+use tippetop::input::thermal::BOLTZMANN;
 use tippetop::{Error, Forcing, Method, ModelKind, Scenario, Well};
 
 const T: f64 = 300.0;

@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 
 use tippetop::analysis::ensemble::Exit;
 use tippetop::analysis::rare::exact::{self, Diffusion, Quantity, ThetaDiffusion};
-use tippetop::thermal::BOLTZMANN;
+use tippetop::input::thermal::BOLTZMANN;
 use tippetop::{ContactMode, Forcing, Method, ModelKind, Scenario, Well};
 
 fn rel(got: f64, want: f64) -> f64 {

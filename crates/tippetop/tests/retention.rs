@@ -3,7 +3,7 @@
 //! bad input.
 
 use tippetop::analysis::retention::{RatePoint, fit_arrhenius};
-use tippetop::thermal::BOLTZMANN;
+use tippetop::input::thermal::BOLTZMANN;
 
 fn exact(nu: f64, e: f64, temps: &[f64], se: f64) -> Vec<RatePoint> {
     temps

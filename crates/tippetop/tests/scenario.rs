@@ -1120,7 +1120,7 @@ fn dt_rules_name_the_load_that_binds_them() {
 /// Sweep axes name their unit from the key's stated range.
 #[test]
 fn key_units_come_from_the_ranges() {
-    use tippetop::scenario::key_unit;
+    use tippetop::input::scenario::key_unit;
     assert_eq!(key_unit("top.offset"), Some("m"));
     assert_eq!(key_unit("top.inertia_axial"), Some("kg m^2"));
     assert_eq!(key_unit("force.0.hx"), Some("N"));

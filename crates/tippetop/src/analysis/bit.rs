@@ -1,7 +1,7 @@
 //! The memory bit (issue #16): whether each phase of a bit run succeeded,
 //! its switching time and energy, and the statistics over runs (success
 //! probabilities with Wilson 95 % intervals). The scenario side (`[bit]`,
-//! `[[write]]`, `[[erase]]`) is [`crate::scenario::bit`]. No I/O.
+//! `[[write]]`, `[[erase]]`) is [`crate::input::scenario::bit`]. No I/O.
 //!
 //! # Success of a phase
 //!
@@ -30,7 +30,7 @@
 use serde::Serialize;
 
 use crate::analysis::sweep::{fmt_f64, status_field};
-use crate::scenario::bit::{Actuator, BitScenario};
+use crate::input::scenario::bit::{Actuator, BitScenario};
 use crate::sim::watch::{ThetaWatch, WindowStay};
 use crate::{Failure, Trajectory};
 
@@ -441,7 +441,7 @@ pub fn max_applied_force(windows: &[Actuator]) -> f64 {
                 y += v.hy;
                 z += v.hz;
                 match v.kind {
-                    crate::scenario::bit::ActuatorKind::Body(crate::BodyActuator::Tip {
+                    crate::input::scenario::bit::ActuatorKind::Body(crate::BodyActuator::Tip {
                         force,
                         ..
                     }) => {
@@ -449,15 +449,15 @@ pub fn max_applied_force(windows: &[Actuator]) -> f64 {
                             *t += f;
                         }
                     }
-                    crate::scenario::bit::ActuatorKind::Body(crate::BodyActuator::Magnetic {
-                        moment,
-                        gradient,
-                        ..
-                    }) => {
+                    crate::input::scenario::bit::ActuatorKind::Body(
+                        crate::BodyActuator::Magnetic {
+                            moment, gradient, ..
+                        },
+                    ) => {
                         let g2: f64 = gradient.iter().flatten().map(|g| g * g).sum();
                         magnet += moment.abs() * g2.sqrt();
                     }
-                    crate::scenario::bit::ActuatorKind::Contact => {}
+                    crate::input::scenario::bit::ActuatorKind::Contact => {}
                 }
             }
             let tip = (tip[0] * tip[0] + tip[1] * tip[1] + tip[2] * tip[2]).sqrt();
@@ -826,7 +826,7 @@ mod tests {
         assert_eq!(quantile(&[3.0, 1.0, 2.0, 4.0], 0.25), Some(1.75));
         assert_eq!(quantile(&[], 0.5), None);
         let w = |hx: f64, start: f64, stop: f64| Actuator {
-            kind: crate::scenario::bit::ActuatorKind::Contact,
+            kind: crate::input::scenario::bit::ActuatorKind::Contact,
             hx,
             hy: 0.0,
             hz: 0.0,

@@ -34,8 +34,8 @@ use crate::analysis::bit::{self, Block, Mode, Protocol, Report, RunResult};
 use crate::analysis::sweep::{
     self, Case, Prefix, Shard, ShardInfo, Sweep, fmt_f64, run_ordered, status_field,
 };
-use crate::scenario::bit::BitScenario;
-use crate::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
+use crate::input::scenario::bit::BitScenario;
+use crate::input::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
 
 /// The figures of each block, after its name and `_` (units: times \[s\],
 /// energy \[J\], force \[N\]; the rest are counts or fractions).

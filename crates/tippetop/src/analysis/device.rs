@@ -39,9 +39,9 @@ use super::ensemble::{EscapeRate, Exit, escape_rate};
 use super::retention::{ArrheniusFit, Extrapolation, RatePoint, fit_arrhenius};
 use super::search::{ProtocolSearch, SearchResult};
 use super::sweep;
+use crate::input::scenario::bit::BitScenario;
+use crate::input::thermal::BOLTZMANN;
 use crate::physics::forces::wells;
-use crate::scenario::bit::BitScenario;
-use crate::thermal::BOLTZMANN;
 use crate::{Error, Scenario};
 
 /// Runs of a tip search per run of a contact search (tip runs are cheap).
@@ -49,8 +49,8 @@ pub const TIP_BUDGET_FACTOR: usize = 15;
 
 pub use super::device_rare::TEN_YEARS;
 /// The standing and lying windows \[rad\] (the bit's defaults).
-const ZERO: [f64; 2] = crate::scenario::bit::ZERO_DEFAULT;
-const ONE: [f64; 2] = crate::scenario::bit::ONE_DEFAULT;
+const ZERO: [f64; 2] = crate::input::scenario::bit::ZERO_DEFAULT;
+const ONE: [f64; 2] = crate::input::scenario::bit::ONE_DEFAULT;
 
 /// How much to compute.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -642,7 +642,7 @@ fn physical(t: f64, theta: f64, spin: f64, t_end: f64, samples: usize) -> Result
     sc.solver.t_end = t_end;
     sc.solver.samples = samples;
     // The step rule dt · max rate <= 0.02 with 10 % to spare, at most 4 fs.
-    let rate = crate::scenario::langevin::step_rates(&sc)
+    let rate = crate::input::scenario::langevin::step_rates(&sc)
         .iter()
         .map(|r| r.0)
         .fold(0.0, f64::max);

@@ -40,7 +40,7 @@ use serde::Serialize;
 use super::ensemble::Exit;
 use super::rare::ams::{Ams, Coordinate, Estimate, Hooks, Problem, Replica, Settings};
 use super::rare::exact::ThetaDiffusion;
-use crate::thermal::BOLTZMANN;
+use crate::input::thermal::BOLTZMANN;
 use crate::{Error, Scenario};
 
 /// Largest barrier \[kT\] the report sends to the sampler.
@@ -57,7 +57,7 @@ pub const TEN_YEARS: f64 = 10.0 * 365.25 * 86400.0;
 /// One electronvolt \[J\].
 pub const EV: f64 = 1.602176634e-19;
 /// The lying window \[rad\] (the bit's default `one`).
-pub const ONE: [f64; 2] = crate::scenario::bit::ONE_DEFAULT;
+pub const ONE: [f64; 2] = crate::input::scenario::bit::ONE_DEFAULT;
 /// θ_s \[rad\].
 pub const SETTLE: f64 = ONE[0] + SETTLE_INSET;
 
@@ -169,7 +169,7 @@ fn prepare(mut sc: Scenario, t: f64, depth: f64) -> Result<Scenario, Error> {
     sc.wells[0].depth = depth;
     sc.solver.t_end = 1e-9;
     sc.solver.samples = 1001;
-    let rate = crate::scenario::langevin::step_rates(&sc)
+    let rate = crate::input::scenario::langevin::step_rates(&sc)
         .iter()
         .map(|r| r.0)
         .fold(0.0, f64::max);

@@ -56,7 +56,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::sweep::{self, Shard, fmt_f64, fnv1a, status_field};
-use crate::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
+use crate::input::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
 use crate::trajectory::COLUMNS;
 use crate::{Error, Method, Scenario};
 

@@ -20,7 +20,7 @@ use serde::Serialize;
 
 use crate::Error;
 use crate::error::num;
-use crate::thermal::BOLTZMANN;
+use crate::input::thermal::BOLTZMANN;
 
 /// One measured escape rate.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

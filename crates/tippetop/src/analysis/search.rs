@@ -32,11 +32,11 @@ use argmin::solver::neldermead::NelderMead;
 use toml::{Table, Value};
 
 use super::bit::{self, Mode};
-use crate::numeric::random::Stream;
-use crate::scenario::bit::BitScenario;
-use crate::scenario::search::{
+use crate::input::scenario::bit::BitScenario;
+use crate::input::scenario::search::{
     SearchActuator, SearchPhase, SearchSpec, apply_sets, document, split,
 };
+use crate::numeric::random::Stream;
 use crate::sim::watch::ThetaWatch;
 use crate::{Error, simulate_watching};
 

@@ -12,14 +12,14 @@ use super::{Mode, ModelError};
 use crate::physics::forces::{ContactPointForce, Forces};
 use crate::physics::units::Scales;
 use crate::sim::record::unit;
-use crate::{ContactMode, FrictionLaw, Scenario, contact::SlidingLaw};
+use crate::{ContactMode, FrictionLaw, Scenario, input::surface::SlidingLaw};
 
 /// Slip reversals between accepted steps after which the sliding-only law is
 /// declared to chatter (a genuine motion reverses its slip only at isolated
 /// instants).
 pub const CHATTER_REVERSALS: u32 = 1000;
 
-pub use crate::contact::CONTENSOU_STICK_SPEED;
+pub use crate::input::surface::CONTENSOU_STICK_SPEED;
 
 /// `|v| + r_c |n_Z|` (scaled) below which the Coulomb–Contensou law takes
 /// its slip-off hint after a stick ([`ContactState::drilling`]): far above
@@ -86,7 +86,7 @@ pub struct ContactState {
     /// the contact radius (scaled), the pressure and the Padé flag. `None`
     /// for every other law, and for `r_c = 0`, which runs as the exact
     /// point law.
-    contensou: Option<(f64, crate::contact::Pressure, bool)>,
+    contensou: Option<(f64, crate::input::surface::Pressure, bool)>,
     /// Coulomb–Contensou slip-off: the force and torque coefficients
     /// `(f, τ)` that [`ContactState::drilling`] gives at exactly `v = 0`,
     /// `n_z = 0` after the stick ends (the point of the limit curve where
@@ -175,7 +175,7 @@ impl ContactState {
         v: [f64; 2],
         nz: f64,
         rc: f64,
-        p: crate::contact::Pressure,
+        p: crate::input::surface::Pressure,
         pade: bool,
     ) -> ([f64; 2], f64) {
         let mu = self.mu;
@@ -216,7 +216,7 @@ impl ContactState {
 
     /// Coulomb–Contensou friction's contact radius (scaled), pressure and
     /// Padé flag; `None` for the other laws and `r_c = 0`.
-    pub(crate) fn contensou_params(&self) -> Option<(f64, crate::contact::Pressure, bool)> {
+    pub(crate) fn contensou_params(&self) -> Option<(f64, crate::input::surface::Pressure, bool)> {
         self.contensou
     }
 

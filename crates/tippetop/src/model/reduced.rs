@@ -80,7 +80,7 @@ pub use super::contact::CHATTER_REVERSALS;
 
 /// |sin θ| below which the reduced equations are declared singular
 /// (defined with the initial state, which is checked against it).
-pub use crate::state::SIN_GUARD;
+pub use crate::input::initial::SIN_GUARD;
 
 /// θ (with `s = sin θ`) is at a pole of the Euler angles or past one:
 /// `sin θ < SIN_GUARD` or θ outside `(0, π)`. A step can jump over the

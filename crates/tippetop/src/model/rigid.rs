@@ -1015,7 +1015,7 @@ impl Rigid {
         y: &[f64; DIM],
         kin: &Kin,
         target: V3,
-        (rc, p, pade): (f64, crate::contact::Pressure, bool),
+        (rc, p, pade): (f64, crate::input::surface::Pressure, bool),
     ) -> Result<([f64; DIM], f64, bool), RigidError> {
         let (k, r, vp, n) = (kin.k, kin.r, kin.vp, kin.n);
         let mu = self.contact.mu();

@@ -78,7 +78,7 @@ impl Surface for Plane {
 
 /// What the contact's friction law gives the body (implemented by
 /// [`crate::model::ContactState`]): the law `f(v)` (written once, in
-/// [`crate::contact::SlidingLaw`]), the Coulomb–Contensou drilling, and the
+/// [`crate::input::surface::SlidingLaw`]), the Coulomb–Contensou drilling, and the
 /// normal-force closure's branch choice.
 pub trait Friction {
     /// Friction coefficient μ.

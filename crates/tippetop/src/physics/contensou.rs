@@ -24,7 +24,7 @@
 
 use std::f64::consts::PI;
 
-pub use crate::contact::Pressure;
+pub use crate::input::surface::Pressure;
 
 /// `(K(m), E(m), B(m))` for the parameter `0 <= m < 1` by the
 /// arithmetic–geometric mean, with `B = (E − (1 − m) K)/m` (`π/4` at

@@ -2,7 +2,7 @@
 //! the C60 top and the toy (docs/physics.md#scaling).
 
 /// Units of the scaled variables (a scenario's: `Scales::of`, in
-/// scenario/limits.rs): lengths by R, masses by m, times by
+/// input/scenario/limits.rs): lengths by R, masses by m, times by
 /// `1/rate` with `rate` the largest of |ω0|, |Ω0|, |θ̇0|, sqrt(g/R),
 /// sqrt(|H|max/(m R)) and 1/t_end, so that the scale exists for g = 0 and
 /// ω0 = 0 and one tolerance means the same for the C60 top and the toy.

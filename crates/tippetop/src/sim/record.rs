@@ -358,7 +358,7 @@ pub struct RunSetup {
 
 /// Number of steps of a Langevin run of `sc` (`solver.dt` set).
 fn langevin_steps(sc: &Scenario) -> u64 {
-    crate::thermal::langevin_steps(sc.solver.t_end, sc.solver.dt.unwrap_or(sc.solver.t_end))
+    crate::input::thermal::langevin_steps(sc.solver.t_end, sc.solver.dt.unwrap_or(sc.solver.t_end))
 }
 
 impl RunSetup {

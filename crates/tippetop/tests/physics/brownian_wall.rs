@@ -20,7 +20,7 @@
 //! form in the unit test `model::rigid::brownian::tests` (10 to 49 SE off).
 
 use super::thermal::{density_mean, mean_se};
-use tippetop::thermal::{BOLTZMANN, MAX_BROWNIAN_STEP_RATE};
+use tippetop::input::thermal::{BOLTZMANN, MAX_BROWNIAN_STEP_RATE};
 use tippetop::{
     Adhesion, ContactMode, ForceWindow, Forcing, Method, ModelKind, Sample, Scenario, Trajectory,
     simulate,

@@ -29,7 +29,7 @@
 
 use tippetop::analysis::ensemble::{Ensemble, Exit};
 use tippetop::analysis::rare::exact::{self, Diffusion, ThetaDiffusion};
-use tippetop::thermal::BOLTZMANN;
+use tippetop::input::thermal::BOLTZMANN;
 use tippetop::{Forcing, Method, Scenario, Well};
 
 const T: f64 = 300.0;

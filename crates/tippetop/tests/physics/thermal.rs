@@ -12,7 +12,7 @@
 //! itself bounded (so the test has the power to fail a wrong model).
 
 use std::sync::OnceLock;
-use tippetop::thermal::BOLTZMANN;
+use tippetop::input::thermal::BOLTZMANN;
 use tippetop::{ForceWindow, Forcing, Method, Scenario, Simulation, Trajectory, simulate};
 
 /// An eccentric light top (`m a²/A = 2`: the mass matrix's tilt mode
@@ -470,7 +470,7 @@ fn nano_physical_lies_down_into_its_well() {
 fn brownian_top(gamma: f64, steps: usize, every: usize) -> Scenario {
     let probe = hot_top(T, gamma, 1.0, 1.0, 2);
     let d_r = BOLTZMANN * T / (gamma * probe.top.inertia_transverse);
-    let dt = tippetop::thermal::MAX_BROWNIAN_STEP_RATE / d_r;
+    let dt = tippetop::input::thermal::MAX_BROWNIAN_STEP_RATE / d_r;
     let mut sc = hot_top(T, gamma, dt, dt * steps as f64, steps / every + 1);
     sc.solver.method = Method::Brownian;
     sc
@@ -714,7 +714,7 @@ fn boltzmann_density_with_a_well() {
     lv.wells = vec![well];
     let d_r = kt / (rate * ia);
     let well_relax = well.depth / (well.width * well.width * rate * ia);
-    let dtb = tippetop::thermal::MAX_BROWNIAN_STEP_RATE / d_r.max(well_relax);
+    let dtb = tippetop::input::thermal::MAX_BROWNIAN_STEP_RATE / d_r.max(well_relax);
     let mut br = hot_top(T, rate, dtb, dtb * steps as f64, steps / 10 + 1);
     br.solver.method = Method::Brownian;
     br.wells = vec![well];
@@ -1000,7 +1000,7 @@ fn brownian_contact_run() -> &'static (Scenario, Trajectory) {
         let ia = probe.top.inertia_transverse;
         let d_r = BOLTZMANN * T / (rate * ia);
         let well_relax = well.depth / (well.width * well.width * rate * ia);
-        let dt = tippetop::thermal::MAX_BROWNIAN_STEP_RATE / d_r.max(well_relax);
+        let dt = tippetop::input::thermal::MAX_BROWNIAN_STEP_RATE / d_r.max(well_relax);
         let steps = 6_000_000usize;
         let mut sc = hot_top(T, rate, dt, dt * steps as f64, steps / 15 + 1);
         sc.solver.method = Method::Brownian;

@@ -108,9 +108,9 @@ pub use self::results::{DirectPhase, Estimate, Flux, Level, Quantity, Replica};
 pub use self::stats::t975;
 use crate::analysis::ensemble::{Exit, check_scenario};
 use crate::analysis::sweep::run_ordered;
+use crate::input::thermal::MAX_RUNS;
 use crate::random::Stream;
 use crate::simulate::{Snapshot, noise_counter};
-use crate::thermal::MAX_RUNS;
 use crate::{Error, Failure, Scenario, Simulation};
 
 /// Largest step count of a path's run (the simulation's own limit,

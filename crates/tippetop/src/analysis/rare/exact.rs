@@ -628,7 +628,7 @@ impl ThetaDiffusion {
                 "no tip or magnetic [[force]] windows",
             ));
         }
-        if let Some(key) = crate::scenario::plugins::first_key(sc) {
+        if let Some(key) = crate::input::scenario::plugins::first_key(sc) {
             return Err(not_exact(
                 &key,
                 "a force plug-in's table is not in the 1D model".into(),

@@ -18,8 +18,8 @@ use crate::analysis::ensemble::{self, Exit};
 use crate::analysis::rare::ams::{self, Ams, Coordinate, Estimate, Flux, Replica, Settings};
 use crate::analysis::rare::direct::{self, Tally};
 use crate::analysis::rare::exact::{self, Exact, Quantity};
+use crate::input::thermal::MAX_RUNS;
 use crate::limits::MAX_STEPS;
-use crate::thermal::MAX_RUNS;
 use crate::{Error, Scenario, Simulation};
 
 /// Default number of replicas of `direct`.

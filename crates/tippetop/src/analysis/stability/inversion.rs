@@ -42,9 +42,9 @@
 //! of π). The energy alone gives a weaker necessary condition: `E₀ ≥ V_J(π)`
 //! ([`energy_bound_spin`]).
 
+use crate::input::top::Top;
+use crate::input::well::Well;
 use crate::physics::forces::wells;
-use crate::top::Top;
-use crate::well::Well;
 
 /// `D(θ) = A R² sin²θ + C (R cos θ − a)²` \[kg m⁴\]: `J²/(2D)` is the least
 /// kinetic energy at Jellett's J (always > 0 since a < R).

@@ -349,7 +349,7 @@ pub fn supports(sc: &Scenario) -> Result<(), Error> {
             "\"contact\"; use `tippetop run` for a tip or a magnet".into(),
         ));
     }
-    if let Some(key) = crate::scenario::plugins::first_key(sc) {
+    if let Some(key) = crate::input::scenario::plugins::first_key(sc) {
         return Err(Error::invalid(
             &key,
             "the stability analysis does not model the force plug-ins' tables".into(),

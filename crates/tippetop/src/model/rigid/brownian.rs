@@ -353,7 +353,7 @@ mod tests {
     //! two wrong schemes, on the same normals: how many standard errors a
     //! wrong wall is off.
     use super::*;
-    use crate::thermal::BOLTZMANN;
+    use crate::input::thermal::BOLTZMANN;
     use crate::{ContactMode, Forcing, Method, ModelKind, Scenario};
 
     /// The eccentric nano top (`a = 0.6 R`, `A = C = m a²/2`) at 300 K with
@@ -406,7 +406,7 @@ mod tests {
         let (gam, ia) = (sc.thermal.damping_rotational, sc.top.inertia_transverse);
         let load_rate =
             sc.top.mass * sc.surface.gravity * (sc.top.radius + sc.top.offset) / (gam * ia);
-        let h = crate::thermal::MAX_BROWNIAN_STEP_RATE / load_rate / tu;
+        let h = crate::input::thermal::MAX_BROWNIAN_STEP_RATE / load_rate / tu;
         m.latch_force(0.0);
         m.start_wall();
         let mut y = m.scale_state(&sc.initial);
@@ -521,7 +521,7 @@ mod tests {
         let (gam, ia) = (sc.thermal.damping_rotational, sc.top.inertia_transverse);
         let load_rate =
             sc.top.mass * sc.surface.gravity * (sc.top.radius + sc.top.offset) / (gam * ia);
-        let big = 16.0 * crate::thermal::MAX_BROWNIAN_STEP_RATE / load_rate / tu;
+        let big = 16.0 * crate::input::thermal::MAX_BROWNIAN_STEP_RATE / load_rate / tu;
         let (levels, coarse_steps) = (4usize, 32usize);
         let paths: u64 = 200_000;
         let fine = coarse_steps << (levels - 1);

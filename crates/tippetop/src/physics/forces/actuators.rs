@@ -35,7 +35,7 @@
 //!   and gravitational energy (and the wells' and adhesion's potentials).
 
 use super::{Applied, Energy, ForceTerm, Kind, Properties};
-use crate::forcing::{ActuatorWindow, BodyActuator};
+use crate::input::forcing::{ActuatorWindow, BodyActuator};
 
 /// A 3-vector.
 pub type V3 = [f64; 3];

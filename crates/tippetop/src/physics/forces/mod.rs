@@ -7,7 +7,7 @@
 //! its scenario table, validation, doc and a type implementing
 //! [`ForceTerm`]) plus one line in [`PLUGINS`] (docs/extending.md; the
 //! example is [`wind`]). The older terms keep their keys in the scenario's
-//! own tables and are built in `Forces::of` (scenario/plugins.rs). Each term states, in code ([`ForceTerm::properties`])
+//! own tables and are built in `Forces::of` (input/scenario/plugins.rs). Each term states, in code ([`ForceTerm::properties`])
 //! and in its doc, how it enters the normal-force closure `N D(σ) = Q`
 //! (docs/physics.md#normal-force), whether it conserves Jellett's J (§invariants) and whether
 //! it has a potential or its work is integrated (like `W_a`).
@@ -304,7 +304,7 @@ pub struct Forces {
 impl Forces {
     /// The force of `terms` (nothing latched: zero force), switching at
     /// `switch_times` \[s\] (sorted), for a top of radius `radius` \[m\]
-    /// (the length unit). A scenario's: `Forces::of` (scenario/plugins.rs).
+    /// (the length unit). A scenario's: `Forces::of` (input/scenario/plugins.rs).
     pub fn new(terms: Vec<Arc<dyn ForceTerm>>, switch_times: Vec<f64>, radius: f64) -> Self {
         Forces {
             terms,

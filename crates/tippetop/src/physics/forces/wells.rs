@@ -42,7 +42,9 @@
 
 use super::{Applied, Energy, ForceTerm, Kind, Properties};
 
-pub use crate::well::{DEPTH_RANGE, OVERLAP_WIDTHS, THETA_RANGE, WIDTH_RANGE, Well, validate};
+pub use crate::input::well::{
+    DEPTH_RANGE, OVERLAP_WIDTHS, THETA_RANGE, WIDTH_RANGE, Well, validate,
+};
 
 /// `U(θ) = −Σ d_i exp(−(θ − θ_i)²/(2 w_i²))` (units of the depths).
 #[inline]

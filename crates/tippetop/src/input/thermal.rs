@@ -31,13 +31,13 @@ pub const BOLTZMANN: f64 = 1.380649e-23;
 pub const MAX_STEP_RATE: f64 = 0.02;
 
 /// Largest product of the step and the fastest rate of a Brownian run
-/// ([`crate::scenario::langevin::brownian_rates`]): `dt · rate <= 0.002`,
+/// ([`crate::input::scenario::langevin::brownian_rates`]): `dt · rate <= 0.002`,
 /// so the rms angle of one step, `sqrt(2 D_r dt)`, is at most 0.063 rad
 /// (Euler–Maruyama is weak order 1: its bias is proportional to this
 /// product; measured in tests/physics/thermal.rs).
 pub const MAX_BROWNIAN_STEP_RATE: f64 = 0.002;
 
-/// The largest [`crate::scenario::langevin::contact_ratio`] of a Brownian
+/// The largest [`crate::input::scenario::langevin::contact_ratio`] of a Brownian
 /// run (the contact damping's rates over the bath's own): the mobility
 /// `Γ⁻¹` comes from a Cholesky factor of `Γ`, whose relative error grows as
 /// its condition number (up to about this ratio) times the rounding unit
@@ -124,7 +124,7 @@ impl Thermal {
     }
 
     /// Check each key's own range (the cross-key rules are
-    /// [`crate::scenario::langevin::check`]'s).
+    /// [`crate::input::scenario::langevin::check`]'s).
     pub fn validate(&self) -> Result<(), Error> {
         for (key, v, range) in [
             ("temperature", self.temperature, TEMPERATURE_RANGE),

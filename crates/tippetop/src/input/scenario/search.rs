@@ -1,5 +1,5 @@
 //! A protocol search in the scenario (issue #16 item 5): the `[search]`
-//! table of a bit scenario file (see [`crate::scenario::bit`]).
+//! table of a bit scenario file (see [`crate::input::scenario::bit`]).
 //!
 //! ```toml
 //! [search]

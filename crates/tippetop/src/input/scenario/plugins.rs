@@ -8,11 +8,11 @@ use std::sync::Arc;
 use toml::{Table, Value};
 
 use super::Section;
+use crate::input::solver::ModelKind;
 use crate::input::{Key, PluginTables};
 use crate::physics::forces::{
     ForceTerm, Forces, Kind, PLUGINS, actuators, adhesion, retarding, vertical_load, wells,
 };
-use crate::state::ModelKind;
 use crate::{Error, Scenario};
 
 /// A key's default as a number (a plug-in's keys are numbers; `""` is 0).

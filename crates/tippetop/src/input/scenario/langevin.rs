@@ -1,8 +1,8 @@
 //! The cross-key rules of `solver.method = "langevin"` and `[thermal]`,
 //! and the step-size rule (docs/physics.md#langevin; the keys themselves:
-//! [`crate::thermal`]).
+//! [`crate::input::thermal`]).
 
-use crate::thermal::{
+use crate::input::thermal::{
     MAX_BROWNIAN_CONTACT_RATIO, MAX_BROWNIAN_STEP_RATE, MAX_STEP_RATE, SEED_RANGE, langevin_steps,
 };
 use crate::{Error, Scenario};

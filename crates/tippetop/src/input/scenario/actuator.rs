@@ -23,12 +23,12 @@
 use toml::Value;
 
 use super::Section;
-use crate::forcing::{
+use crate::input::Key;
+use crate::input::forcing::{
     BodyActuator, MAGNETIC_FIELD_RANGE, MAGNETIC_GRADIENT_RANGE, MAGNETIC_MOMENT_RANGE,
     TIP_FORCE_RANGE, TIP_POINT_RANGE,
 };
-use crate::input::Key;
-use crate::state::ModelKind;
+use crate::input::solver::ModelKind;
 use crate::{ActuatorWindow, Error};
 
 /// The valid values of `kind`.

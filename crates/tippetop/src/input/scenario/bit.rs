@@ -201,7 +201,7 @@ impl BitScenario {
             None => Table::new(),
         };
         // A protocol search's table (`tippetop bit --search`,
-        // `crate::scenario::search`) is not part of the bit itself.
+        // `crate::input::scenario::search`) is not part of the bit itself.
         file.remove("search");
         let mut bit_table = match file.remove("bit") {
             None => Table::new(),

@@ -1,171 +1,7 @@
-//! Initial state and solver settings.
+//! The solver settings (`[solver]`): the method, the model, tolerances,
+//! samples and the step limit, with their bounds.
 
 use crate::{Error, Sample};
-
-/// Initial state of the reduced model (SI units, radians).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Initial {
-    /// Nutation angle θ \[rad\], the tilt of the symmetry axis from the vertical.
-    pub theta: f64,
-    /// θ̇ \[rad/s\].
-    pub theta_dot: f64,
-    /// Precession rate Ω = φ̇ \[rad/s\].
-    pub precession: f64,
-    /// Spin ω = n·k, the angular-velocity component along the symmetry axis \[rad/s\].
-    pub spin: f64,
-    /// Centre-of-mass velocity along the precessing x axis \[m/s\].
-    pub ux: f64,
-    /// Centre-of-mass velocity along the precessing y axis \[m/s\].
-    pub uy: f64,
-    /// Heading φ₀ \[rad\]: the angle from the lab X axis to the horizontal
-    /// direction the symmetry axis tilts towards at t = 0 (the precessing
-    /// frame's x). The dynamics do not depend on it (the plane is isotropic);
-    /// the position and attitude columns are turned by it. Default 0.
-    pub heading: f64,
-}
-
-impl Initial {
-    /// The paper's initial state: θ = 0.1, θ̇ = 0, Ω = 0, ω = 100 rad/s, u = 0.
-    pub fn paper() -> Self {
-        Initial {
-            theta: 0.1,
-            theta_dot: 0.0,
-            precession: 0.0,
-            spin: 100.0,
-            ux: 0.0,
-            uy: 0.0,
-            heading: 0.0,
-        }
-    }
-
-    /// The initial state from lab-frame vectors (Z up): the symmetry axis
-    /// `axis` (any nonzero length; it is normalised), the angular velocity
-    /// `angular_velocity` \[rad/s\] and the horizontal centre-of-mass
-    /// velocity `velocity` \[m/s\] (the vertical one follows from the
-    /// contact). With `k` the unit axis, `s = |k_h|`, `c = k_Z`:
-    /// θ = atan2(s, c), the heading φ₀ = atan2(k_Y, k_X), ω = n·k,
-    /// θ̇ = n·ŷ, Ω = (n_Z − ω c)/s² (x̂ = k_h/s, ŷ = Z × x̂; the inverse of
-    /// `n = (ω − Ω c) s x̂ + θ̇ ŷ + (Ω s² + ω c) Z`), u = (v·x̂, v·ŷ).
-    /// With the axis vertical (s = 0) the heading is chosen so that the
-    /// horizontal angular velocity lies along ŷ (θ̇ = |n_h|, Ω = 0, ω = n·k).
-    /// `Err` names the offending vector.
-    pub fn from_lab(
-        axis: [f64; 3],
-        angular_velocity: [f64; 3],
-        velocity: [f64; 2],
-    ) -> Result<Self, Error> {
-        let finite = |name: &str, v: &[f64]| -> Result<(), Error> {
-            if v.iter().all(|x| x.is_finite()) {
-                Ok(())
-            } else {
-                Err(Error::invalid(
-                    name,
-                    format!("{v:?} is not allowed"),
-                    "finite components".into(),
-                ))
-            }
-        };
-        finite("initial.axis", &axis)?;
-        finite("initial.angular_velocity", &angular_velocity)?;
-        finite("initial.velocity", &velocity)?;
-        let len = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
-        if !(len > 0.0 && len.is_finite()) {
-            return Err(Error::invalid(
-                "initial.axis",
-                format!("{axis:?} has no direction"),
-                "a nonzero vector [x, y, z] (it is normalised)".into(),
-            ));
-        }
-        let k = [axis[0] / len, axis[1] / len, axis[2] / len];
-        let n = angular_velocity;
-        let s = k[0].hypot(k[1]);
-        let c = k[2];
-        let spin = n[0] * k[0] + n[1] * k[1] + n[2] * k[2];
-        let (heading, theta_dot, precession) = if s > 0.0 {
-            let yh = [-k[1] / s, k[0] / s];
-            (
-                k[1].atan2(k[0]),
-                n[0] * yh[0] + n[1] * yh[1],
-                (n[2] - spin * c) / (s * s),
-            )
-        } else {
-            let nh = n[0].hypot(n[1]);
-            // ŷ along n_h: x̂ = ŷ × Z = (ŷ_Y, −ŷ_X).
-            let heading = if nh > 0.0 { (-n[0]).atan2(n[1]) } else { 0.0 };
-            (heading, nh, 0.0)
-        };
-        let (sh, ch) = heading.sin_cos();
-        let (xh, yh) = ([ch, sh], [-sh, ch]);
-        Ok(Initial {
-            theta: s.atan2(c),
-            theta_dot,
-            precession,
-            spin,
-            ux: velocity[0] * xh[0] + velocity[1] * xh[1],
-            uy: velocity[0] * yh[0] + velocity[1] * yh[1],
-            heading,
-        })
-    }
-
-    /// The lab-frame vectors of this state: the unit symmetry axis, the
-    /// angular velocity \[rad/s\] and the horizontal centre-of-mass velocity
-    /// \[m/s\] (the inverse of [`Initial::from_lab`]).
-    pub fn to_lab(&self) -> ([f64; 3], [f64; 3], [f64; 2]) {
-        let (s, c) = self.theta.sin_cos();
-        let (sh, ch) = self.heading.sin_cos();
-        let (xh, yh) = ([ch, sh, 0.0], [-sh, ch, 0.0]);
-        let (w, om, thd) = (self.spin, self.precession, self.theta_dot);
-        let nx = (w - om * c) * s;
-        let nz = om * s * s + w * c;
-        let k = [s * xh[0], s * xh[1], c];
-        let n = [nx * xh[0] + thd * yh[0], nx * xh[1] + thd * yh[1], nz];
-        let v = [
-            self.ux * xh[0] + self.uy * yh[0],
-            self.ux * xh[1] + self.uy * yh[1],
-        ];
-        (k, n, v)
-    }
-
-    /// Check finiteness (and θ in (0, π) if `reduced`).
-    pub fn validate(&self, reduced: bool) -> Result<(), Error> {
-        for (k, v) in [
-            ("initial.theta", self.theta),
-            ("initial.theta_dot", self.theta_dot),
-            ("initial.precession", self.precession),
-            ("initial.spin", self.spin),
-            ("initial.ux", self.ux),
-            ("initial.uy", self.uy),
-            ("initial.heading", self.heading),
-        ] {
-            if !v.is_finite() {
-                return Err(Error::invalid(
-                    k,
-                    format!("{v} is not allowed"),
-                    "a finite number".into(),
-                ));
-            }
-        }
-        if reduced
-            && !(self.theta > 0.0
-                && self.theta < std::f64::consts::PI
-                && self.theta.sin() >= SIN_GUARD)
-        {
-            return Err(Error::invalid(
-                "initial.theta",
-                format!("{} is outside the reduced model's range", self.theta),
-                "0 < theta < pi [rad] with sin(theta) >= 1e-8 (the reduced model's pole guard); use model = \"vector\" (the default) or \"rigid\" for theta = 0 or pi".into(),
-            ));
-        }
-        if !reduced && !(0.0..=std::f64::consts::PI).contains(&self.theta) {
-            return Err(Error::invalid(
-                "initial.theta",
-                format!("{} is out of range", self.theta),
-                "0 <= theta <= pi [rad]".into(),
-            ));
-        }
-        Ok(())
-    }
-}
 
 /// Integration method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -239,7 +75,7 @@ pub struct SolverSettings {
     /// A run that reaches it stops with a run-time error.
     pub max_steps: Option<u64>,
     /// The fixed step \[s\] of `method = "langevin"` or `"brownian"` (`solver.dt`; the run
-    /// takes [`crate::thermal::langevin_steps`] equal steps); `None` otherwise.
+    /// takes [`crate::input::thermal::langevin_steps`] equal steps); `None` otherwise.
     pub dt: Option<f64>,
 }
 
@@ -344,11 +180,6 @@ impl SolverSettings {
 
 // ---------------------------------------------------------------------------
 // Bounds of the solver settings (see `limits` for the checks of a whole run).
-
-/// |sin θ| below which the reduced (Euler-angle) equations are declared
-/// singular: the pole guard of `model::reduced`, also the bound an initial
-/// θ of that model is checked against.
-pub const SIN_GUARD: f64 = 1e-8;
 
 /// Largest number of accepted steps of one run, over all its integration
 /// segments and every method; a run that reaches it stops with a run-time

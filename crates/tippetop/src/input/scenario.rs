@@ -81,12 +81,12 @@ pub mod search;
 use serde::Deserialize as _;
 use toml::{Table, Value};
 
+use crate::input::well::{self as wells, Well};
 use crate::input::{Key, PluginTables, TableSpec};
-use crate::well::{self as wells, Well};
 use crate::{
     ActuatorWindow, Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial,
     SolverSettings, Surface, Thermal, Top,
-    state::{Method, ModelKind},
+    input::solver::{Method, ModelKind},
 };
 
 /// One complete run description.
@@ -258,7 +258,7 @@ impl Scenario {
                 return Err(Error::invalid(
                     "surface.contact_radius",
                     format!("{r} is not allowed"),
-                    crate::contact::CONTACT_RADIUS_RANGE.into(),
+                    crate::input::surface::CONTACT_RADIUS_RANGE.into(),
                 ));
             }
         }
@@ -666,13 +666,13 @@ const TOP_KEYS: Keys = &[
     ),
     Key::doc(
         "stem_radius",
-        crate::top::STEM_RADIUS_RANGE,
+        crate::input::top::STEM_RADIUS_RANGE,
         "no stem",
         "r2, the stem's end sphere (rigid model; docs/physics.md#stem)",
     ),
     Key::doc(
         "stem_distance",
-        crate::top::STEM_DISTANCE_RANGE,
+        crate::input::top::STEM_DISTANCE_RANGE,
         "no stem",
         "d2, centre of mass to the stem sphere's centre, along the axis",
     ),
@@ -694,7 +694,7 @@ const SURFACE_KEYS: Keys = &[
     ),
     Key::doc(
         "contact_radius",
-        crate::contact::CONTACT_RADIUS_RANGE,
+        crate::input::surface::CONTACT_RADIUS_RANGE,
         "required with contensou*",
         "r_c, the contact patch's radius",
     ),
@@ -727,13 +727,13 @@ const SURFACE_KEYS: Keys = &[
 const ADHESION_KEYS: Keys = &[
     Key::doc(
         "force",
-        crate::contact::ADHESION_FORCE_RANGE,
+        crate::input::surface::ADHESION_FORCE_RANGE,
         "0",
         "F_a, the pull-off force (docs/physics.md#adhesion)",
     ),
     Key::doc(
         "energy",
-        crate::contact::ADHESION_ENERGY_RANGE,
+        crate::input::surface::ADHESION_ENERGY_RANGE,
         "0",
         "E_b, the binding energy",
     ),
@@ -917,7 +917,7 @@ const SOLVER_KEYS: Keys = &[
     ),
     Key::doc(
         "max_steps",
-        crate::state::MAX_STEPS_RANGE,
+        crate::input::solver::MAX_STEPS_RANGE,
         "20000000 (2000000 with stiff)",
         "step limit of the run",
     ),
@@ -932,37 +932,37 @@ const SOLVER_KEYS: Keys = &[
 const THERMAL_KEYS: Keys = &[
     Key::doc(
         "temperature",
-        crate::thermal::TEMPERATURE_RANGE,
+        crate::input::thermal::TEMPERATURE_RANGE,
         "0",
         "T (docs/physics.md#langevin)",
     ),
     Key::doc(
         "damping_translational",
-        crate::thermal::DAMPING_T_RANGE,
+        crate::input::thermal::DAMPING_T_RANGE,
         "0",
         "gamma_t: force -m gamma_t v on the centre of mass",
     ),
     Key::doc(
         "damping_rotational",
-        crate::thermal::DAMPING_R_RANGE,
+        crate::input::thermal::DAMPING_R_RANGE,
         "0",
         "gamma_r: torque -gamma_r I w",
     ),
     Key::doc(
         "damping_contact",
-        crate::thermal::DAMPING_C_RANGE,
+        crate::input::thermal::DAMPING_C_RANGE,
         "0",
         "c: force -c v_P at the contact point",
     ),
     Key::doc(
         "seed",
-        crate::thermal::SEED_RANGE,
+        crate::input::thermal::SEED_RANGE,
         "required at T > 0",
         "key of the random stream",
     ),
     Key::doc(
         "run",
-        crate::thermal::RUN_RANGE,
+        crate::input::thermal::RUN_RANGE,
         "0",
         "index of this run in the stream",
     ),
@@ -1043,9 +1043,9 @@ const LAWS: &[(&str, LawName)] = &[
     ("contensou_pade", LawName::ContensouPade),
 ];
 
-const PRESSURES: &[(&str, crate::contact::Pressure)] = &[
-    ("hertz", crate::contact::Pressure::Hertz),
-    ("uniform", crate::contact::Pressure::Uniform),
+const PRESSURES: &[(&str, crate::input::surface::Pressure)] = &[
+    ("hertz", crate::input::surface::Pressure::Hertz),
+    ("uniform", crate::input::surface::Pressure::Uniform),
 ];
 
 const CONTACTS: &[(&str, ContactMode)] = &[
@@ -1699,7 +1699,7 @@ fn top_of(merged: &Table, has_preset: bool) -> Result<Top, Error> {
     let top = match (s.get("stem_radius"), s.get("stem_distance")) {
         (None, None) => top,
         (Some(_), Some(_)) => Top {
-            stem: Some(crate::top::Stem {
+            stem: Some(crate::input::top::Stem {
                 radius: s.f64("stem_radius", None)?,
                 distance: s.f64("stem_distance", None)?,
             }),
@@ -1709,14 +1709,14 @@ fn top_of(merged: &Table, has_preset: bool) -> Result<Top, Error> {
             return Err(Error::invalid(
                 "top.stem_distance",
                 "missing (top.stem_radius is given)".into(),
-                crate::top::STEM_DISTANCE_RANGE.into(),
+                crate::input::top::STEM_DISTANCE_RANGE.into(),
             ));
         }
         (None, Some(_)) => {
             return Err(Error::invalid(
                 "top.stem_radius",
                 "missing (top.stem_distance is given)".into(),
-                crate::top::STEM_RADIUS_RANGE.into(),
+                crate::input::top::STEM_RADIUS_RANGE.into(),
             ));
         }
     };
@@ -1762,7 +1762,7 @@ fn surface_of(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Su
                     "missing".into(),
                     format!(
                         "required with friction_law = \"{law_str}\": {}",
-                        crate::contact::CONTACT_RADIUS_RANGE
+                        crate::input::surface::CONTACT_RADIUS_RANGE
                     ),
                 ));
             }
@@ -1773,7 +1773,7 @@ fn surface_of(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Su
             s.name(
                 "contact_pressure",
                 PRESSURES,
-                crate::contact::Pressure::Hertz,
+                crate::input::surface::Pressure::Hertz,
             )?,
         )
     } else {
@@ -1786,7 +1786,7 @@ fn surface_of(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Su
                 ));
             }
         }
-        (0.0, crate::contact::Pressure::Hertz)
+        (0.0, crate::input::surface::Pressure::Hertz)
     };
     let law = match law_name {
         LawName::Contensou | LawName::ContensouPade => FrictionLaw::Contensou {

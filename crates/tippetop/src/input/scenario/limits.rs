@@ -53,7 +53,7 @@ pub fn read_file(path: &Path) -> Result<String, Error> {
 }
 
 /// The bounds of the solver settings live with them (`state`).
-pub use crate::state::{BYTES_PER_SAMPLE, MAX_SAMPLES, MAX_STEPS, max_steps_for};
+pub use crate::input::solver::{BYTES_PER_SAMPLE, MAX_SAMPLES, MAX_STEPS, max_steps_for};
 
 /// Largest `t_end / T_ref`, the run's length in its own time unit `T_ref`
 /// (the inverse of the fastest initial rate: spin, precession, nutation
@@ -75,7 +75,7 @@ pub const MAX_SCALED_T_END: f64 = 1e9;
 pub const MAX_EVENTS: usize = 100_000;
 
 /// Largest memory one run may need for the rows and events it keeps
-/// \[bytes\]: 1.5 GiB (the largest run, [`crate::state::MAX_SAMPLES`] rows of
+/// \[bytes\]: 1.5 GiB (the largest run, [`crate::input::solver::MAX_SAMPLES`] rows of
 /// [`BYTES_PER_SAMPLE`] = 224 bytes, needs 1.12 GB). [`run_memory_bytes`]
 /// of a valid scenario stays below it.
 pub const MAX_RUN_BYTES: u64 = 3 << 29;
@@ -320,7 +320,7 @@ pub fn check_run(sc: &Scenario) -> Result<(), Error> {
 }
 
 /// The sample count and the run's memory ([`check_run`]'s first step).
-fn check_memory(so: &crate::state::SolverSettings) -> Result<(), Error> {
+fn check_memory(so: &crate::input::solver::SolverSettings) -> Result<(), Error> {
     if so.samples > MAX_SAMPLES {
         return bad(
             "solver.samples",
