@@ -45,7 +45,7 @@ pub use error::{Error, Failure};
 pub use forcing::{ActuatorWindow, BodyActuator, ForceWindow, Forcing};
 pub use scenario::{Scenario, limits};
 pub use simulate::{
-    Simulation, Snapshot, simulate, simulate_watching, simulate_watching_with_progress,
+    Progress, Simulation, Snapshot, simulate, simulate_watching, simulate_watching_with_progress,
     simulate_with_progress,
 };
 pub use state::{Initial, Method, ModelKind, SolverSettings};
