@@ -490,6 +490,27 @@ fn cos_theta_of<M: Model<D>, const D: usize>(m: &M, y: &[f64; D]) -> f64 {
     }
 }
 
+/// Call `progress` for the state `y` of `m` at scaled time `t`, with the
+/// time unit `tu` \[s\], the run's scaled end `t_end` and the accepted
+/// steps so far: out of line and cold, so the per-step loop stays as
+/// small as it was without it.
+#[cold]
+#[inline(never)]
+fn report_progress<M: Model<D>, const D: usize>(
+    progress: &mut dyn FnMut(&Progress),
+    m: &M,
+    t: f64,
+    y: &[f64; D],
+    (tu, t_end, steps): (f64, f64, u64),
+) {
+    progress(&Progress {
+        fraction: (t / t_end).clamp(0.0, 1.0),
+        t: t * tu,
+        steps,
+        spin: m.row(t, y).spin,
+    });
+}
+
 /// Record a state in `track`.
 fn visit<M: Model<D>, const D: usize>(track: &mut Track, m: &M, y: &[f64; D]) {
     let (theta, spin, j, e, w) = m.track_point(y);
@@ -978,12 +999,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             // After the step is recorded (the row reads the model as the
             // samples do).
             if *steps_seen % PROGRESS_EVERY == 0 {
-                progress(&Progress {
-                    fraction: (t / t_end).clamp(0.0, 1.0),
-                    t: t * tu,
-                    steps: *steps_seen,
-                    spin: s.row(t, y).spin,
-                });
+                report_progress(progress, s, t, y, (tu, t_end, *steps_seen));
             }
         };
         // The events as they fire (also those before a failure). θ maxima
