@@ -109,8 +109,8 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     } else {
         let sc = bs.run_scenario(0);
         let mut progress = crate::progress::RunProgress::new(quiet, sc.solver.t_end);
-        let traj = tippetop::simulate_watching_with_progress(&sc, &bit::watches(&bs), &mut |f| {
-            progress.update(f)
+        let traj = tippetop::simulate_watching_with_progress(&sc, &bit::watches(&bs), &mut |p| {
+            progress.update(p)
         });
         progress.finish();
         match traj {

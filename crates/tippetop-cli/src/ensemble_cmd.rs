@@ -333,7 +333,6 @@ fn kept_rows(
 ) -> Result<std::result::Result<(crate::partial::Kept, Option<Checkpoint>), ExitCode>> {
     let dir = args.out.clone();
     let csv_partial = dir.join(PARTIAL_CSV);
-    let info_partial = dir.join(PARTIAL_INFO);
     let hist_partial = dir.join(PARTIAL_HIST);
     let sum = crate::partial::sum_name(PARTIAL_CSV);
     let range = info.first_index..info.end_index;
@@ -345,96 +344,68 @@ fn kept_rows(
             return Ok(Err(input_error(e)));
         }
     }
-    let mut kept = crate::partial::Kept::default();
+    if !args.resume {
+        return Ok(Ok((crate::partial::Kept::default(), None)));
+    }
+    let resume = crate::common::grid::Resume {
+        dir: &dir,
+        partial_csv: PARTIAL_CSV,
+        partial_info: PARTIAL_INFO,
+        what: "ensemble",
+        unit: "run",
+        keys: "--set, --runs and --shard",
+        quiet,
+        range_len: range.len(),
+    };
+    let described = |o: &EnsembleShard| {
+        format!(
+            "fingerprint {}, runs {}..{} of {}",
+            o.fingerprint, o.first_index, o.end_index, o.total_runs
+        )
+    };
+    let kept = match crate::common::grid::resume_kept(
+        &resume,
+        info_json,
+        info,
+        &|o: &mut EnsembleShard| o.checksums.clear(),
+        &described,
+        &|text| ens.complete_prefix(info.first_index, text),
+    )? {
+        Ok(k) => k,
+        Err(code) => return Ok(Err(code)),
+    };
+    // The histogram checkpoint, trusted only if a verified
+    // checkpoint of the CSV records its hash (it then holds the
+    // counts of that checkpoint's rows).
     let mut checkpoint: Option<Checkpoint> = None;
-    if args.resume {
-        if !info_partial.exists() {
-            if !quiet {
-                eprintln!(
-                    "note: no partial ensemble to resume in {}: starting from the first run",
-                    dir.display()
-                );
-            }
-        } else {
-            let old = String::from_utf8_lossy(&read_plain(&info_partial)?).into_owned();
-            // The same ensemble: the same description (checksums aside,
-            // which only a finished run records).
-            let same = old == info_json
-                || serde_json::from_str::<EnsembleShard>(&old).is_ok_and(|mut o| {
-                    o.checksums.clear();
-                    o == *info
-                });
-            if !same {
-                return Ok(Err(input_error(format!(
-                    "--resume: the partial ensemble in {} is another one, not this one \
-                     (fingerprint {}, runs {}..{} of {}) (the same scenario, --set, --runs \
-                     and --shard as the interrupted run; without --resume a new ensemble \
-                     starts over)",
-                    dir.display(),
-                    info.fingerprint,
-                    info.first_index,
-                    info.end_index,
-                    info.total_runs
-                ))));
-            }
-            let names = crate::partial::Names {
-                dir: &dir,
-                partial: PARTIAL_CSV,
-                what: "ensemble",
-                unit: "run",
-            };
-            kept = match crate::partial::verify(
-                &names,
-                &|text| ens.complete_prefix(info.first_index, text),
-                quiet,
-            )? {
-                Ok(k) => k,
-                Err(msg) => {
-                    return Ok(Err(input_error(msg)));
-                }
-            };
-            if kept.rows > range.len() {
-                return Ok(Err(input_error(format!(
-                    "--resume: {}: {} rows, more than the {} runs of this ensemble (a partial \
-                     file as tippetop wrote it; without --resume the ensemble starts over)",
-                    csv_partial.display(),
-                    kept.rows,
-                    range.len()
-                ))));
-            }
-            // The histogram checkpoint, trusted only if a verified
-            // checkpoint of the CSV records its hash (it then holds the
-            // counts of that checkpoint's rows).
-            if kept.rows > 0 && hist_partial.exists() {
-                let bytes = read_plain(&hist_partial)?;
-                let h = fnv1a(FNV_OFFSET, &bytes);
-                checkpoint = kept
-                    .checkpoints
-                    .iter()
-                    .rev()
-                    .find(|c| c.extra == Some(h))
-                    .and_then(|at| {
-                        serde_json::from_slice::<Checkpoint>(&bytes)
-                            .ok()
-                            .filter(|c| c.rows == at.rows)
-                    })
-                    .filter(|c| {
-                        c.fingerprint == info.fingerprint
-                            && c.first_index == info.first_index
-                            && c.rows <= kept.rows
-                            && c.hist.bins == BINS
-                            && c.hist.ranges == ens.ranges()
-                            && c.hist.times.len() == ens.scenario.solver.samples
-                    });
-                if checkpoint.is_none() && !quiet {
-                    eprintln!(
-                        "note: {} does not match a checkpoint of {}: the kept runs run again \
-                         for their histogram counts",
-                        hist_partial.display(),
-                        csv_partial.display()
-                    );
-                }
-            }
+    if kept.rows > 0 && hist_partial.exists() {
+        let bytes = read_plain(&hist_partial)?;
+        let h = fnv1a(FNV_OFFSET, &bytes);
+        checkpoint = kept
+            .checkpoints
+            .iter()
+            .rev()
+            .find(|c| c.extra == Some(h))
+            .and_then(|at| {
+                serde_json::from_slice::<Checkpoint>(&bytes)
+                    .ok()
+                    .filter(|c| c.rows == at.rows)
+            })
+            .filter(|c| {
+                c.fingerprint == info.fingerprint
+                    && c.first_index == info.first_index
+                    && c.rows <= kept.rows
+                    && c.hist.bins == BINS
+                    && c.hist.ranges == ens.ranges()
+                    && c.hist.times.len() == ens.scenario.solver.samples
+            });
+        if checkpoint.is_none() && !quiet {
+            eprintln!(
+                "note: {} does not match a checkpoint of {}: the kept runs run again \
+                 for their histogram counts",
+                hist_partial.display(),
+                csv_partial.display()
+            );
         }
     }
     Ok(Ok((kept, checkpoint)))

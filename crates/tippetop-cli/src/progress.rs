@@ -60,10 +60,14 @@ type LogSink = Box<dyn FnMut(&str)>;
 /// [`LOG_EVERY_SECONDS`] seconds on stderr, `simulating: 1.2 % (t = 12.3 ms
 /// of 1.00 s; 2.27 ms of run time per second, 7 min 15 s left at that
 /// rate)`, so a long run shows it is alive and when it will end; nothing
-/// with `--quiet`. When the run's time advances ten times (then a hundred,
-/// ...) slower than over its first interval, it says so once per decade:
-/// the step size is falling by decades, which is how a state running away
-/// (a spin or a stiffness growing without bound) looks before it fails.
+/// with `--quiet`.
+///
+/// It also says, once per decade, when the run is running away, from the
+/// state at every report (so the same run warns at the same place whatever
+/// the machine): the spin has grown by decades since the first report, or
+/// the mean step size has fallen by decades ([`runaway_warning`]); and,
+/// from the wall clock, when the run advances ten times (a hundred, ...)
+/// slower than over its first interval ([`slowdown_warning`]).
 pub struct RunProgress {
     bar: ProgressBar,
     log: Option<LogSink>,
@@ -76,6 +80,19 @@ pub struct RunProgress {
     first_rate: Option<f64>,
     /// Decades of slow-down already reported.
     warned_decades: i32,
+    /// The state's watch: the first report and the decades already said.
+    runaway: Runaway,
+}
+
+/// The first report (time \[s\], spin \[rad/s\], mean step \[s\]), the last
+/// one (time, steps) and the decades of spin growth and step fall already
+/// reported.
+#[derive(Default)]
+struct Runaway {
+    first: Option<(f64, f64, f64)>,
+    last: (f64, u64),
+    spin_decades: i32,
+    step_decades: i32,
 }
 
 impl RunProgress {
@@ -110,12 +127,17 @@ impl RunProgress {
             last: (now, 0.0),
             first_rate: None,
             warned_decades: 0,
+            runaway: Runaway::default(),
         }
     }
 
-    /// The run has done `fraction` (in `[0, 1]`) of its time span.
-    pub fn update(&mut self, fraction: f64) {
+    /// The run has reached `p` (its fraction done, time, steps and spin).
+    pub fn update(&mut self, p: &tippetop::Progress) {
+        let fraction = p.fraction;
         self.bar.set_position((fraction * 1000.0) as u64);
+        if let Some(w) = self.runaway.check(p) {
+            self.say(&w);
+        }
         let now = std::time::Instant::now();
         let wall = now.duration_since(self.last.0).as_secs_f64();
         if wall < self.every.as_secs_f64().max(1e-9) && !self.every.is_zero() {
@@ -137,11 +159,17 @@ impl RunProgress {
                 self.last_line = now;
                 log(&log_line(fraction, self.t_end, rate));
             }
-            if let Some(w) = &warning {
-                log(w);
-            }
-        } else if let Some(w) = warning {
-            self.bar.println(w);
+        }
+        if let Some(w) = warning {
+            self.say(&w);
+        }
+    }
+
+    /// A warning line: in the log, or above the bar.
+    fn say(&mut self, line: &str) {
+        match &mut self.log {
+            Some(log) => log(line),
+            None => self.bar.println(line),
         }
     }
 
@@ -149,6 +177,83 @@ impl RunProgress {
     pub fn finish(self) {
         self.bar.finish_and_clear();
     }
+}
+
+impl Runaway {
+    /// The warning of [`runaway_warning`] for report `p`, if a new decade
+    /// was crossed.
+    fn check(&mut self, p: &tippetop::Progress) -> Option<String> {
+        let (t_last, steps_last) = self.last;
+        self.last = (p.t, p.steps);
+        if p.steps <= steps_last {
+            return None;
+        }
+        let step = (p.t - t_last) / (p.steps - steps_last) as f64;
+        let Some(first) = self.first else {
+            self.first = Some((p.t, p.spin.abs(), step));
+            return None;
+        };
+        runaway_warning(
+            first,
+            (p.t, p.spin.abs(), step),
+            &mut self.spin_decades,
+            &mut self.step_decades,
+        )
+    }
+}
+
+/// Whole decades by which `now` exceeds `then` (0 when it does not, or
+/// when either is not a positive finite number).
+fn decades(now: f64, then: f64) -> i32 {
+    let r = now / then;
+    if r.is_finite() && r > 0.0 && then > 0.0 {
+        r.log10().floor().max(0.0) as i32
+    } else {
+        0
+    }
+}
+
+/// The warning, once per new decade, that the state is running away:
+/// between the first report `first` and this one `now`, each (time \[s\],
+/// |spin| \[rad/s\], mean step size over the reports' interval \[s\]), the
+/// spin has grown by `10^n` or the step size has fallen by `10^n` for an
+/// `n` above the decades already reported (`spin_warned`,
+/// `step_warned`, updated).
+fn runaway_warning(
+    first: (f64, f64, f64),
+    now: (f64, f64, f64),
+    spin_warned: &mut i32,
+    step_warned: &mut i32,
+) -> Option<String> {
+    let spin_d = decades(now.1, first.1);
+    let step_d = decades(first.2, now.2);
+    if spin_d <= *spin_warned && step_d <= *step_warned {
+        return None;
+    }
+    *spin_warned = (*spin_warned).max(spin_d);
+    *step_warned = (*step_warned).max(step_d);
+    let times = |d: i32| format!("{:.0}", 10f64.powi(d));
+    let spin = if spin_d >= 1 {
+        format!("grown {}x", times(spin_d))
+    } else {
+        "not grown by a decade".into()
+    };
+    let step = if step_d >= 1 {
+        format!("fallen {}x", times(step_d))
+    } else {
+        "not fallen by a decade".into()
+    };
+    Some(format!(
+        "warning: the state is running away: at t = {} the spin |omega| = {} has {spin} since t = {} ({}), \
+         and the mean step size {} has {step} ({}); such a run ends in a failure (a Painleve paradox, \
+         solver.max_steps) unless it recovers: see docs/guide.md#errors",
+        human::si(now.0, "s", 3),
+        human::si(now.1, "rad/s", 3),
+        human::si(first.0, "s", 3),
+        human::si(first.1, "rad/s", 3),
+        human::si(now.2, "s", 3),
+        human::si(first.2, "s", 3),
+    ))
 }
 
 /// The warning, once per decade, when the run's time advances 10^n times
@@ -211,6 +316,12 @@ mod tests {
     /// is left; when the rate falls by a decade it warns, once per decade.
     #[test]
     fn run_progress_logs_lines_and_warns_of_a_slowdown() {
+        let at = |fraction: f64| tippetop::Progress {
+            fraction,
+            t: 2.0 * fraction,
+            steps: (fraction * 4.0) as u64 * 1000,
+            spin: 100.0,
+        };
         let lines = Rc::new(RefCell::new(Vec::<String>::new()));
         let sink = lines.clone();
         let mut p = super::RunProgress::with_log(
@@ -221,8 +332,8 @@ mod tests {
             })),
             Duration::ZERO,
         );
-        p.update(0.25);
-        p.update(0.5);
+        p.update(&at(0.25));
+        p.update(&at(0.5));
         p.finish();
         let l = lines.borrow();
         assert_eq!(l.len(), 2, "{l:?}");
@@ -248,7 +359,7 @@ mod tests {
             })),
             Duration::from_secs(3600),
         );
-        p.update(0.5);
+        p.update(&at(0.5));
         assert!(lines.borrow().is_empty());
     }
 
@@ -265,6 +376,77 @@ mod tests {
         let w = super::slowdown_warning(1.0, 0.001, &mut warned, 3.0).unwrap();
         assert!(w.contains("1000x slower"), "{w}");
         assert!(super::slowdown_warning(1.0, 0.0, &mut warned, 3.0).is_some());
+    }
+
+    /// The state's warning: once per new decade of spin growth or step
+    /// fall since the first report, saying which; a state that stays
+    /// (spin and step within a decade) says nothing.
+    #[test]
+    fn runaway_warns_once_per_decade_of_spin_or_step() {
+        let (mut sw, mut hw) = (0, 0);
+        let first = (1e-3, 1e7, 1e-9);
+        // 9.9x the spin, 1/9.9 the step: nothing.
+        assert!(super::runaway_warning(first, (2e-3, 9.9e7, 1.01e-10), &mut sw, &mut hw).is_none());
+        let w = super::runaway_warning(first, (3e-3, 1.5e8, 5e-10), &mut sw, &mut hw).unwrap();
+        assert!(
+            w.starts_with("warning: the state is running away: at t = 3.00 ms"),
+            "{w}"
+        );
+        assert!(
+            w.contains("150 Mrad/s has grown 10x since t = 1.00 ms (10.0 Mrad/s)"),
+            "{w}"
+        );
+        assert!(
+            w.contains("500 ps has not fallen by a decade (1.00 ns)"),
+            "{w}"
+        );
+        // The same decade again: nothing; the step's first decade: once.
+        assert!(super::runaway_warning(first, (4e-3, 9e8, 2e-10), &mut sw, &mut hw).is_none());
+        let w = super::runaway_warning(first, (5e-3, 9e8, 9e-11), &mut sw, &mut hw).unwrap();
+        assert!(w.contains("has fallen 10x (1.00 ns)"), "{w}");
+        let w = super::runaway_warning(first, (6e-3, 2e9, 9e-11), &mut sw, &mut hw).unwrap();
+        assert!(w.contains("has grown 100x"), "{w}");
+        // A spin that falls (or is zero at first) never warns.
+        let (mut sw, mut hw) = (0, 0);
+        assert!(super::runaway_warning(first, (1.0, 1e3, 1e-9), &mut sw, &mut hw).is_none());
+        assert!(
+            super::runaway_warning((0.0, 0.0, 1e-9), (1.0, 1e3, 1e-9), &mut sw, &mut hw).is_none()
+        );
+    }
+
+    /// [`super::RunProgress`] warns from the state at the report where the
+    /// spin has grown tenfold since the first report, whatever the wall
+    /// clock (no log line is due: the interval is an hour).
+    #[test]
+    fn run_progress_warns_of_a_runaway_from_the_state() {
+        let lines = Rc::new(RefCell::new(Vec::<String>::new()));
+        let sink = lines.clone();
+        let mut p = super::RunProgress::with_log(
+            true,
+            1.0,
+            Some(Box::new(move |l: &str| {
+                sink.borrow_mut().push(l.to_string())
+            })),
+            Duration::from_secs(3600),
+        );
+        let report = |k: u64, spin: f64| tippetop::Progress {
+            fraction: k as f64 * 1e-3,
+            t: k as f64 * 1e-3,
+            steps: k * 1000,
+            spin,
+        };
+        p.update(&report(1, 1e7));
+        p.update(&report(2, 5e7));
+        assert!(lines.borrow().is_empty());
+        p.update(&report(3, -1.1e8));
+        assert_eq!(lines.borrow().len(), 1);
+        assert!(
+            lines.borrow()[0].contains("has grown 10x"),
+            "{:?}",
+            lines.borrow()
+        );
+        p.update(&report(4, 2e8));
+        assert_eq!(lines.borrow().len(), 1);
     }
 
     #[test]

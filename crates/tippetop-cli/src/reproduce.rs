@@ -13,7 +13,7 @@ use clap::Args;
 use tippetop_paper::{self as paper, Figure, Options, Reproduction};
 
 use crate::output::{OutDir, write_bytes_atomic, write_json_pretty, write_series_csv};
-use crate::plot::{PlotOpts, RefLine, Series, VLine, line_plot};
+use crate::plot::{Panel, PlotOpts, RefLine, Series, VLine, line_plot, multi_panel};
 use crate::progress;
 
 /// `tippetop reproduce`.
@@ -189,6 +189,9 @@ fn write_figure(dir: &Path, f: &Figure) -> Result<()> {
         vlines: vlines(f),
         ..Default::default()
     };
+    if f.id == "09" {
+        return write_fig09(dir, f, series, opts, span);
+    }
     line_plot(
         &dir.join(format!("fig{}", f.id)),
         &f.title,
@@ -279,6 +282,89 @@ fn write_fig02(dir: &Path, f: &Figure) -> Result<()> {
         &f.y_label,
         &zoom,
         &opts,
+    )
+}
+
+/// Fig. 9, readable: Ω nutates with an amplitude some hundred times the
+/// (C3) laws' values, so under the bands the laws sit near 0. Two panels
+/// on the same time axis: the top one as the other nutating figures (each
+/// numerical curve's running mean and min–max band over 1/100 of the
+/// window, the laws as they are), the bottom one zoomed on the laws: its
+/// Ω range is the laws' over the second half of the window (where they
+/// are compared, the report's error figures), the numerics' running means
+/// there over 1/5 of the window (tens of nutation periods) without bands,
+/// and 0, so each law can be seen against its curve's mean. Each curve has the same colour in both panels.
+fn write_fig09(
+    dir: &Path,
+    f: &Figure,
+    series: Vec<Series>,
+    opts: PlotOpts,
+    span: f64,
+) -> Result<()> {
+    let colour = |i: usize| crate::plot::PALETTE[i % crate::plot::PALETTE.len()];
+    let series: Vec<Series> = series
+        .into_iter()
+        .enumerate()
+        .map(|(i, s)| s.color(colour(i)))
+        .collect();
+    // The numerics as running means over a fifth of the window (many
+    // nutation periods: what is left of the nutation in them is ~ its
+    // amplitude times period/window, the scale the laws are judged on).
+    let zoom: Vec<Series> = f
+        .curves
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let xs: Vec<f64> = c.t.iter().map(|t| t * f.x_scale).collect();
+            let s = if c.dashed {
+                Series::new(c.name.clone(), xs, c.y.clone()).dashed()
+            } else {
+                let mut m = Series::envelope(c.name.clone(), &xs, &c.y, 200, span / 5.0);
+                m.band = None;
+                m
+            };
+            s.color(colour(i))
+        })
+        .collect();
+    // The zoom's Ω range: the laws and the means over the second half,
+    // and 0.
+    let (mut lo, mut hi) = (0.0f64, 0.0f64);
+    for s in &zoom {
+        for (x, y) in s.xs.iter().zip(&s.ys) {
+            if *x >= span / 2.0 && y.is_finite() {
+                lo = lo.min(*y);
+                hi = hi.max(*y);
+            }
+        }
+    }
+    let pad = 0.1 * (hi - lo);
+    let top = Panel {
+        y_label: f.y_label.clone(),
+        series,
+        opts: opts.clone(),
+    };
+    let bottom = Panel {
+        y_label: format!(
+            "{}, zoomed: means over {} µs",
+            f.y_label,
+            tippetop::human::sig(span / 5.0, 3)
+        ),
+        series: zoom,
+        opts: PlotOpts {
+            y_range: (pad > 0.0).then_some((lo - pad, hi + pad)),
+            legend: crate::plot::Legend::None,
+            ..opts.clone()
+        },
+    };
+    multi_panel(
+        &dir.join(format!("fig{}", f.id)),
+        &format!("{}; below: zoomed on the laws", f.title),
+        &f.x_label,
+        &[top, bottom],
+        &PlotOpts {
+            size: (1000, 900),
+            ..Default::default()
+        },
     )
 }
 

@@ -159,7 +159,7 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     // 3. The run.
     let mut prog = progress::RunProgress::new(quiet, scenario.solver.t_end);
     let start = Instant::now();
-    let result = tippetop::simulate_with_progress(&scenario, &mut |f| prog.update(f));
+    let result = tippetop::simulate_with_progress(&scenario, &mut |p| prog.update(p));
     let wall_seconds = start.elapsed().as_secs_f64();
     prog.finish();
     let traj = match result {

@@ -150,6 +150,43 @@ fn step_limit_is_exit_3_with_results() {
     assert!(summary.contains("step limit 200"), "{summary}");
 }
 
+/// Issue 29 (item 3): the nano preset's long run (`solver.t_end = 1`)
+/// runs away (its spin grows linearly to ~2.4e9 rad/s, its step size falls)
+/// and fails: a Painleve paradox after ~6.2 M steps. Scaled down (a step
+/// limit of 1 500 000, the same run until then; the warning comes at
+/// t = 4.3 ms, ~1.3 M steps in), the warning that the state
+/// is running away appears on stderr before the failure: the spin has grown
+/// tenfold since the first progress report (16 384 steps in), decided by
+/// the state, not the wall clock. The step-limit message shows no 17-digit
+/// number.
+#[test]
+fn a_runaway_is_announced_before_the_failure() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let a = tippetop()
+        .args(["run", "--preset", "nano", "--set", "solver.t_end=1"])
+        .args(["--set", "solver.max_steps=1500000", "--no-plot", "--out"])
+        .arg(&out)
+        .assert()
+        .code(3);
+    let stderr = String::from_utf8_lossy(&a.get_output().stderr).to_string();
+    let lines: Vec<&str> = stderr.lines().collect();
+    let warn = lines
+        .iter()
+        .position(|l| l.starts_with("warning: the state is running away: at t = "))
+        .unwrap_or_else(|| panic!("no runaway warning: {stderr}"));
+    let fail = lines
+        .iter()
+        .position(|l| l.starts_with("error: run failed at t = "))
+        .unwrap_or_else(|| panic!("no failure: {stderr}"));
+    assert!(warn < fail, "{stderr}");
+    assert!(lines[warn].contains("has grown 10x since t = "), "{stderr}");
+    assert!(
+        lines[fail].contains("step limit 1500000 reached") && lines[fail].contains("= 666.7 ns;"),
+        "{stderr}"
+    );
+}
+
 /// Defect 10: rk4 alone runs on both presets.
 #[test]
 fn rk4_runs_on_both_presets() {

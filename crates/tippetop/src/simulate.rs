@@ -86,7 +86,7 @@ pub fn simulate_watching(
 pub fn simulate_watching_with_progress(
     scenario: &Scenario,
     watches: &[ThetaWatch],
-    progress: &mut dyn FnMut(f64),
+    progress: &mut dyn FnMut(&Progress),
 ) -> Result<(Trajectory, Vec<WindowStay>), Error> {
     scenario.validate()?;
     for w in watches {
@@ -103,7 +103,7 @@ pub fn simulate_watching_with_progress(
         sc: &Scenario,
         m: M,
         watches: &[ThetaWatch],
-        progress: &mut dyn FnMut(f64),
+        progress: &mut dyn FnMut(&Progress),
     ) -> (Trajectory, Vec<WindowStay>) {
         let mut sim = Sim::new_watching(sc, m, watches);
         let t_end = sim.t_end;
@@ -128,21 +128,24 @@ pub fn simulate_watching_with_progress(
 }
 
 /// Accepted steps between two calls of the progress callback of
-/// [`simulate_with_progress`].
-pub use crate::sim::record::PROGRESS_EVERY;
+/// [`simulate_with_progress`], and what it is told.
+pub use crate::sim::record::{PROGRESS_EVERY, Progress};
 
 /// Accepted steps between two questions to the `keep_going` callback of
 /// [`Simulation::integrate_to_while`]: 1024 (a step takes 0.1 to 10 µs, so
 /// a few hundred times a second or more).
 pub const CHECK_EVERY: u64 = 1024;
 
-/// As [`simulate`], calling `progress(fraction)` with the fraction `t / t_end`
-/// of the run done (in `[0, 1]`) every [`PROGRESS_EVERY`] accepted steps (a
-/// few hundred times per second at most: cheap enough to print or to
-/// update a bar from). Not called for a run that is rejected as bad input.
+/// As [`simulate`], calling `progress` with the fraction `t / t_end` of the
+/// run done (in `[0, 1]`), the time, the step count and the spin
+/// ([`Progress`]) every [`PROGRESS_EVERY`] accepted steps (a few hundred
+/// times per second at most: cheap enough to print or to update a bar
+/// from; the state lets a caller see a run running away before it fails).
+/// Not called for a run that is rejected as bad input. The calls never
+/// change a step.
 pub fn simulate_with_progress(
     scenario: &Scenario,
-    progress: &mut dyn FnMut(f64),
+    progress: &mut dyn FnMut(&Progress),
 ) -> Result<Trajectory, Error> {
     scenario.validate()?;
     match scenario.solver.model {
@@ -487,6 +490,27 @@ fn cos_theta_of<M: Model<D>, const D: usize>(m: &M, y: &[f64; D]) -> f64 {
     }
 }
 
+/// Call `progress` for the state `y` of `m` at scaled time `t`, with the
+/// time unit `tu` \[s\], the run's scaled end `t_end` and the accepted
+/// steps so far: out of line and cold, so the per-step loop stays as
+/// small as it was without it.
+#[cold]
+#[inline(never)]
+fn report_progress<M: Model<D>, const D: usize>(
+    progress: &mut dyn FnMut(&Progress),
+    m: &M,
+    t: f64,
+    y: &[f64; D],
+    (tu, t_end, steps): (f64, f64, u64),
+) {
+    progress(&Progress {
+        fraction: (t / t_end).clamp(0.0, 1.0),
+        t: t * tu,
+        steps,
+        spin: m.row(t, y).spin,
+    });
+}
+
 /// Record a state in `track`.
 fn visit<M: Model<D>, const D: usize>(track: &mut Track, m: &M, y: &[f64; D]) {
     let (theta, spin, j, e, w) = m.track_point(y);
@@ -500,7 +524,7 @@ fn run<M: Model<D> + Clone, const D: usize>(
     sc: &Scenario,
     m: M,
     observe: &mut dyn FnMut(&M, f64, &[f64; D]),
-    progress: &mut dyn FnMut(f64),
+    progress: &mut dyn FnMut(&Progress),
 ) -> Trajectory {
     let mut sim = Sim::new(sc, m);
     let t_end = sim.t_end;
@@ -758,7 +782,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         &mut self,
         target: f64,
         observe: &mut dyn FnMut(&M, f64, &[f64; D]),
-        progress: &mut dyn FnMut(f64),
+        progress: &mut dyn FnMut(&Progress),
     ) {
         self.advance_while(target, observe, progress, &mut || true);
     }
@@ -771,7 +795,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         &mut self,
         target: f64,
         observe: &mut dyn FnMut(&M, f64, &[f64; D]),
-        progress: &mut dyn FnMut(f64),
+        progress: &mut dyn FnMut(&Progress),
         keep_going: &mut dyn FnMut() -> bool,
     ) -> bool {
         let mut checked = self.steps_seen;
@@ -914,7 +938,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
     fn step_once(
         &mut self,
         observe: &mut dyn FnMut(&M, f64, &[f64; D]),
-        progress: &mut dyn FnMut(f64),
+        progress: &mut dyn FnMut(&Progress),
     ) {
         let a = self.active.as_mut().expect("an active segment");
         let Active {
@@ -949,9 +973,6 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let mut on_step = |s: &M, t: f64, y: &[f64; D]| {
             *last_accepted = (t, *y);
             *steps_seen += 1;
-            if *steps_seen % PROGRESS_EVERY == 0 {
-                progress((t / t_end).clamp(0.0, 1.0));
-            }
             s.accepted(y);
             if light {
                 // θ (an atan2) only where it could raise θ's maximum.
@@ -974,6 +995,11 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 let n = s.normal_force(y).unwrap_or(f64::NAN);
                 b[i] += n * (t - *last_step_t);
                 *last_step_t = t;
+            }
+            // After the step is recorded (the row reads the model as the
+            // samples do).
+            if *steps_seen % PROGRESS_EVERY == 0 {
+                report_progress(progress, s, t, y, (tu, t_end, *steps_seen));
             }
         };
         // The events as they fire (also those before a failure). θ maxima

@@ -289,14 +289,34 @@ fn max_steps_range() {
 }
 
 /// Defect 3: the progress callback reports the fraction of t_end done,
-/// non-decreasing, in [0, 1], every PROGRESS_EVERY steps.
+/// non-decreasing, in [0, 1], every PROGRESS_EVERY steps, with the time,
+/// the step count and the spin there (issue 29: what a runaway warning
+/// reads).
 #[test]
 fn progress_is_reported() {
     for model in MODELS {
         let m = format!("solver.model={model}");
         let sc = load("classical", &[&m, "solver.samples=40001"]).unwrap();
         let mut seen = Vec::new();
-        let tr = simulate_with_progress(&sc, &mut |f| seen.push(f)).unwrap();
+        let mut reports = Vec::new();
+        let tr = simulate_with_progress(&sc, &mut |p| reports.push(*p)).unwrap();
+        let t_end = sc.solver.t_end;
+        let mut sim = tippetop::Simulation::new(&sc).unwrap();
+        for (k, p) in reports.iter().enumerate() {
+            // Every PROGRESS_EVERY-th accepted step, its time t = fraction
+            // t_end, and the spin there between the run's extremes.
+            assert_eq!(p.steps, (k as u64 + 1) * tippetop::simulate::PROGRESS_EVERY);
+            assert!((p.t - p.fraction * t_end).abs() <= 1e-12 * t_end, "{p:?}");
+            // The spin there: the same run paused at t reads it from the
+            // dense output of the step that ends at t.
+            sim.integrate_to(p.t).unwrap();
+            let spin = sim.state().spin;
+            assert!(
+                (p.spin - spin).abs() <= 1e-9 * spin.abs(),
+                "{p:?} vs {spin}"
+            );
+            seen.push(p.fraction);
+        }
         assert!(tr.error.is_none());
         let expected = tr.summary.steps / tippetop::simulate::PROGRESS_EVERY;
         assert!(expected >= 2, "{model}: {}", tr.summary.steps);

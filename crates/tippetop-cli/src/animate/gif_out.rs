@@ -358,37 +358,9 @@ fn draw_floor(buf: &mut [u8], (w, h): (u32, u32), cam: &Camera, pose: &Pose, rr:
 fn draw_sphere(buf: &mut [u8], (w, h): (u32, u32), cam: &Camera, pose: &Pose, rr: f64, sweep: f64) {
     let light = cam.light();
     let (scx, scy, _) = cam.project(pose.centre);
-    let rpx = rr * cam.scale;
-    let x0 = (scx - rpx - 2.0).floor().max(0.0) as u32;
-    let x1 = ((scx + rpx + 2.0).ceil().max(0.0) as u32).min(w);
-    let y0 = (scy - rpx - 2.0).floor().max(0.0) as u32;
-    let y1 = ((scy + rpx + 2.0).ceil().max(0.0) as u32).min(h);
-    for py in y0..y1 {
-        for px in x0..x1 {
-            let ex = (px as f64 + 0.5 - scx) / rpx;
-            let ey = -(py as f64 + 0.5 - scy) / rpx;
-            let r2 = ex * ex + ey * ey;
-            let alpha = (rpx * (1.0 - r2.sqrt()) + 0.5).clamp(0.0, 1.0);
-            if alpha <= 0.0 {
-                continue;
-            }
-            let (ex, ey) = if r2 > 1.0 {
-                let r = r2.sqrt();
-                (ex / r, ey / r)
-            } else {
-                (ex, ey)
-            };
-            let ez = (1.0 - ex * ex - ey * ey).max(0.0).sqrt();
-            let n: V3 = std::array::from_fn(|k| ex * cam.r[k] + ey * cam.u[k] + ez * cam.d[k]);
-            let b = pose.to_body(n);
-            let c = surface_colour(n, b, light, cam.d, sweep);
-            let o = 3 * (py * w + px) as usize;
-            for k in 0..3 {
-                let old = buf[o + k] as f64 / 255.0;
-                buf[o + k] = ((old + alpha * (c[k] - old)).clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
-            }
-        }
-    }
+    shade_disc(buf, (w, h), (scx, scy), rr * cam.scale, cam, &mut |n| {
+        Some(surface_colour(n, pose.to_body(n), light, cam.d, sweep))
+    });
 }
 
 /// The stem's ball (§stem) of radius `r2` at O + `d2` k, pixel by pixel
@@ -406,33 +378,51 @@ fn draw_stem_ball(
     let light = cam.light();
     let sc = axpy(pose.com, d2, pose.k);
     let (bx, by, _) = cam.project(sc);
-    let bpx = r2 * cam.scale;
-    let xa = (bx - bpx - 2.0).floor().max(0.0) as u32;
-    let xb = ((bx + bpx + 2.0).ceil().max(0.0) as u32).min(w);
-    let ya = (by - bpx - 2.0).floor().max(0.0) as u32;
-    let yb = ((by + bpx + 2.0).ceil().max(0.0) as u32).min(h);
-    for py in ya..yb {
-        for px in xa..xb {
-            let ex = (px as f64 + 0.5 - bx) / bpx;
-            let ey = -(py as f64 + 0.5 - by) / bpx;
-            let e2 = ex * ex + ey * ey;
-            let alpha = (bpx * (1.0 - e2.sqrt()) + 0.5).clamp(0.0, 1.0);
+    shade_disc(buf, (w, h), (bx, by), r2 * cam.scale, cam, &mut |n| {
+        if cam.hidden_by_sphere(axpy(sc, r2, n), pose.centre, rr) {
+            return None;
+        }
+        let lam = dot(n, light).max(0.0);
+        Some(std::array::from_fn(|k| STEM[k] * (0.3 + 0.7 * lam)))
+    });
+}
+
+/// A ball's disc of radius `rpx` \[px\] centred at `(cx, cy)` \[px\],
+/// pixel by pixel with an anti-aliased edge: `colour(n)` of the outward
+/// normal `n` (lab frame) at each pixel (at the silhouette for the edge
+/// pixels), blended by the pixel's coverage; `None` leaves the pixel.
+fn shade_disc(
+    buf: &mut [u8],
+    (w, h): (u32, u32),
+    (cx, cy): (f64, f64),
+    rpx: f64,
+    cam: &Camera,
+    colour: &mut dyn FnMut(V3) -> Option<V3>,
+) {
+    let x0 = (cx - rpx - 2.0).floor().max(0.0) as u32;
+    let x1 = ((cx + rpx + 2.0).ceil().max(0.0) as u32).min(w);
+    let y0 = (cy - rpx - 2.0).floor().max(0.0) as u32;
+    let y1 = ((cy + rpx + 2.0).ceil().max(0.0) as u32).min(h);
+    for py in y0..y1 {
+        for px in x0..x1 {
+            let ex = (px as f64 + 0.5 - cx) / rpx;
+            let ey = -(py as f64 + 0.5 - cy) / rpx;
+            let r2 = ex * ex + ey * ey;
+            let alpha = (rpx * (1.0 - r2.sqrt()) + 0.5).clamp(0.0, 1.0);
             if alpha <= 0.0 {
                 continue;
             }
-            let (ex, ey) = if e2 > 1.0 {
-                let r = e2.sqrt();
+            let (ex, ey) = if r2 > 1.0 {
+                let r = r2.sqrt();
                 (ex / r, ey / r)
             } else {
                 (ex, ey)
             };
             let ez = (1.0 - ex * ex - ey * ey).max(0.0).sqrt();
             let n: V3 = std::array::from_fn(|k| ex * cam.r[k] + ey * cam.u[k] + ez * cam.d[k]);
-            if cam.hidden_by_sphere(axpy(sc, r2, n), pose.centre, rr) {
+            let Some(c) = colour(n) else {
                 continue;
-            }
-            let lam = dot(n, light).max(0.0);
-            let c: V3 = std::array::from_fn(|k| STEM[k] * (0.3 + 0.7 * lam));
+            };
             let o = 3 * (py * w + px) as usize;
             for k in 0..3 {
                 let old = buf[o + k] as f64 / 255.0;

@@ -125,64 +125,37 @@ pub fn stream_rows(
     }
 
     // What an interrupted run of this grid left, with --resume.
-    let mut kept = crate::partial::Kept::default();
-    if spec.resume {
-        if !info_partial.exists() {
-            if !quiet {
-                eprintln!(
-                    "note: no partial {what} to resume in {}: starting from the first {unit}",
-                    dir.display()
-                );
-            }
-        } else {
-            let old = String::from_utf8_lossy(&read_plain(&info_partial)?).into_owned();
-            // The same run: the same description (checksums aside, which
-            // only a finished run records).
-            let same = old == info_json
-                || serde_json::from_str::<ShardInfo>(&old).is_ok_and(|mut o| {
-                    o.checksums.clear();
-                    o == *info
-                });
-            if !same {
-                let other = match serde_json::from_str::<ShardInfo>(&old) {
-                    Ok(o) => format!(
-                        "fingerprint {}, {unit}s {}..{} of {}",
-                        o.fingerprint, o.first_index, o.end_index, o.total_cases
-                    ),
-                    Err(_) => "unreadable".to_string(),
-                };
-                return Ok(Err(input_error(format!(
-                    "--resume: the partial {what} in {} is another {what} ({other}), not this one \
-                     (fingerprint {}, {unit}s {}..{} of {}) (the same scenario, --set, --vary and \
-                     --shard as the interrupted run; without --resume a new {what} starts over)",
-                    dir.display(),
-                    info.fingerprint,
-                    info.first_index,
-                    info.end_index,
-                    info.total_cases
-                ))));
-            }
-            let names = crate::partial::Names {
-                dir: &dir,
-                partial: spec.partial_csv,
-                what,
-                unit,
-            };
-            kept = match crate::partial::verify(&names, prefix, quiet)? {
-                Ok(k) => k,
-                Err(msg) => return Ok(Err(input_error(msg))),
-            };
-            if kept.rows > range.len() {
-                return Ok(Err(input_error(format!(
-                    "--resume: {}: {} rows, more than the {} {unit}s of this {what} (a partial \
-                     file as tippetop wrote it; without --resume the {what} starts over)",
-                    csv_partial.display(),
-                    kept.rows,
-                    range.len()
-                ))));
-            }
+    let resume = Resume {
+        dir: &dir,
+        partial_csv: spec.partial_csv,
+        partial_info: spec.partial_info,
+        what,
+        unit,
+        keys: "--set, --vary and --shard",
+        quiet,
+        range_len: range.len(),
+    };
+    let kept = if spec.resume {
+        let described = |o: &ShardInfo| {
+            format!(
+                "fingerprint {}, {unit}s {}..{} of {}",
+                o.fingerprint, o.first_index, o.end_index, o.total_cases
+            )
+        };
+        match resume_kept(
+            &resume,
+            info_json,
+            info,
+            &|o: &mut ShardInfo| o.checksums.clear(),
+            &described,
+            prefix,
+        )? {
+            Ok(k) => k,
+            Err(code) => return Ok(Err(code)),
         }
-    }
+    } else {
+        crate::partial::Kept::default()
+    };
 
     // Stream the rows into the partial CSV in grid order (claimed in the
     // manifest first, so that a later command into this directory removes
@@ -274,4 +247,96 @@ pub fn write_info(dir: &Path, info: &ShardInfo, checksums: &[(&str, String)]) ->
     let mut json = serde_json::to_string_pretty(&info)?;
     json.push('\n');
     write_bytes_atomic(&dir.join("shard.json"), json.as_bytes())
+}
+
+/// The partial files of an interrupted grid run (`sweep`, `bit --vary`,
+/// `ensemble`) in `--out`, and how they are named in messages.
+pub struct Resume<'a> {
+    /// The output directory.
+    pub dir: &'a Path,
+    /// The partial CSV's name.
+    pub partial_csv: &'a str,
+    /// The partial description's name (the run's shard.json).
+    pub partial_info: &'a str,
+    /// The command's noun (`sweep`, `ensemble`).
+    pub what: &'a str,
+    /// One row's noun (`case`, `run`).
+    pub unit: &'a str,
+    /// The options besides the scenario that make the run this one.
+    pub keys: &'a str,
+    /// No notes on stderr.
+    pub quiet: bool,
+    /// Rows this run (or shard) writes.
+    pub range_len: usize,
+}
+
+/// `--resume`: the rows an interrupted run left that this run keeps (none
+/// if it left nothing), verified against their checkpoints
+/// (`crate::partial::verify`, `prefix` reading the kept CSV). The partial
+/// description must be this run's, `info` (its JSON `info_json`), up to
+/// what `unfinished` clears (the checksums that only a finished run
+/// records); `described` names another run's in the message. Bad input (another
+/// run's files, damaged ones, more rows than the run has): one line on
+/// stderr, `Ok(Err(exit code 2))`.
+pub fn resume_kept<I: serde::de::DeserializeOwned + PartialEq>(
+    r: &Resume,
+    info_json: &str,
+    info: &I,
+    unfinished: &dyn Fn(&mut I),
+    described: &dyn Fn(&I) -> String,
+    prefix: &dyn Fn(&str) -> sweep::Prefix,
+) -> Result<std::result::Result<crate::partial::Kept, ExitCode>> {
+    let (what, unit) = (r.what, r.unit);
+    let info_partial = r.dir.join(r.partial_info);
+    if !info_partial.exists() {
+        if !r.quiet {
+            eprintln!(
+                "note: no partial {what} to resume in {}: starting from the first {unit}",
+                r.dir.display()
+            );
+        }
+        return Ok(Ok(crate::partial::Kept::default()));
+    }
+    let old = String::from_utf8_lossy(&read_plain(&info_partial)?).into_owned();
+    // The same run: the same description (checksums aside, which only a
+    // finished run records).
+    let same = old == info_json
+        || serde_json::from_str::<I>(&old).is_ok_and(|mut o| {
+            unfinished(&mut o);
+            o == *info
+        });
+    if !same {
+        let other = match &serde_json::from_str::<I>(&old) {
+            Ok(o) => described(o),
+            Err(_) => "unreadable".to_string(),
+        };
+        return Ok(Err(input_error(format!(
+            "--resume: the partial {what} in {} is another {what} ({other}), not this one \
+             ({}) (the same scenario, {} as the interrupted run; without --resume a new {what} \
+             starts over)",
+            r.dir.display(),
+            described(info),
+            r.keys,
+        ))));
+    }
+    let names = crate::partial::Names {
+        dir: r.dir,
+        partial: r.partial_csv,
+        what,
+        unit,
+    };
+    let kept = match crate::partial::verify(&names, prefix, r.quiet)? {
+        Ok(k) => k,
+        Err(msg) => return Ok(Err(input_error(msg))),
+    };
+    if kept.rows > r.range_len {
+        return Ok(Err(input_error(format!(
+            "--resume: {}: {} rows, more than the {} {unit}s of this {what} (a partial file as \
+             tippetop wrote it; without --resume the {what} starts over)",
+            r.dir.join(r.partial_csv).display(),
+            kept.rows,
+            r.range_len
+        ))));
+    }
+    Ok(Ok(kept))
 }

@@ -18,7 +18,9 @@ pub(crate) fn step_limit_why(sc: &Scenario, cap: u64) -> String {
     };
     let periods = sc.solver.t_end / crate::limits::time_unit(sc);
     format!(
-        "step limit {cap} reached (the run cannot make progress: the motion needs steps far shorter than t_end / {cap} = {mean:e} s; {hint}; t_end is {periods:.3e} time units T_ref of the fastest initial rate; solver.max_steps sets the limit, at most {})",
+        "step limit {cap} reached (the run cannot make progress: the motion needs steps far shorter than t_end / {cap} = {}; {hint}; t_end is {} time units T_ref of the fastest initial rate; solver.max_steps sets the limit, at most {})",
+        crate::human::si(mean, "s", 4),
+        crate::human::sig(periods, 4),
         crate::limits::MAX_STEPS
     )
 }

@@ -10,6 +10,22 @@ use crate::{
 /// [`crate::simulate::simulate_with_progress`].
 pub const PROGRESS_EVERY: u64 = 1 << 14;
 
+/// What the progress callback of
+/// [`crate::simulate::simulate_with_progress`] is told: how far the run
+/// is, and enough of its state to see it running away (a spin growing by
+/// decades, the step size falling by decades) before it fails.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Progress {
+    /// The fraction `t / t_end` of the run done, in `[0, 1]`.
+    pub fraction: f64,
+    /// The time reached \[s\] (the end of the last accepted step).
+    pub t: f64,
+    /// Accepted steps so far.
+    pub steps: u64,
+    /// The spin ω = n·k there \[rad/s\] (the output row's `omega`).
+    pub spin: f64,
+}
+
 /// Largest number of stick/slip switches of one run before it is stopped.
 pub const MAX_SWITCHES: usize = 200_000;
 
