@@ -163,6 +163,12 @@ pub struct Vector {
     /// accepted step (N event, energy, samples) are computed once. The key
     /// is compared bit for bit: the result is what a fresh evaluation gives.
     last: RefCell<Option<([u64; DIM + 11], Eval)>>,
+    /// The evaluation at the last accepted step's end
+    /// ([`OdeSystem::rhs_accepted`]) and its key, kept apart from `last`:
+    /// the samples and event searches inside the step overwrite `last`, and
+    /// the observers at the step's end then still find this one (the same
+    /// key, so the same result as a fresh evaluation).
+    accepted: RefCell<Option<([u64; DIM + 11], Eval)>>,
     /// The Langevin thermostat (scaled), `None` unless `method = "langevin"`.
     thermal: Option<super::thermostat::Bath>,
     /// The Ornstein–Uhlenbeck step's coefficients from the last call
@@ -237,6 +243,7 @@ impl Vector {
                 sc.initial.spin * scales.time
             },
             last: RefCell::new(None),
+            accepted: RefCell::new(None),
             thermal: super::thermostat::Bath::of(sc, &scales),
             ou: super::thermostat::OuCache::default(),
             wells_torque: body::WellsTorque::default(),
@@ -474,9 +481,11 @@ impl Vector {
     /// the `last` field).
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
         let key = self.cache_key(y);
-        if let Some((k, e)) = &*self.last.borrow() {
-            if *k == key {
-                return Ok(*e);
+        for slot in [&self.accepted, &self.last] {
+            if let Some((k, e)) = &*slot.borrow() {
+                if *k == key {
+                    return Ok(*e);
+                }
             }
         }
         let e = self.eval_now(y)?;
@@ -857,7 +866,7 @@ impl OdeSystem<DIM> for Vector {
         self.plane.start_evaluation()?;
         let e = self.eval_now(y)?;
         *dy = e.dy;
-        *self.last.get_mut() = Some((self.cache_key(y), e));
+        *self.accepted.get_mut() = Some((self.cache_key(y), e));
         Ok(())
     }
 }
