@@ -836,6 +836,9 @@ impl OdeSystem<DIM> for Vector {
     // A list of ranges (here one), not the range's elements.
     #[allow(clippy::single_range_in_vec_init)]
     const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..TWIST];
+    /// The events (`model::on_plane`: θ, θ̇'s sign, the spin, N, the slip,
+    /// the stick margin) read `k, w, v` only.
+    const EVENT_READ: usize = CONTROLLED;
 
     /// `∂ṗ/∂p = ½ L(w_⊥)` (left multiplication by `(0, w − (w·k) k)`); `χ`
     /// and the position read no quadrature.
