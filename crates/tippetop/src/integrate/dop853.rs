@@ -64,7 +64,11 @@ pub(crate) struct Dop853<const N: usize> {
 }
 
 /// `sum_j coef[j] * k[j]` over the listed stages `j` (in increasing order)
-/// with a non-zero coefficient, accumulated from zero one stage at a time.
+/// with a non-zero coefficient, one stage at a time from the first term
+/// (not from `0 + ` it: one addition less per component and row; the same
+/// bits, but for the sign of a sum that is all zeros, `−0` where `0 + …`
+/// gave `+0`, which the `y + h·sum` it feeds cannot tell apart unless
+/// `y` is `−0` too).
 ///
 /// `coef` is a row of the constant tables and the `j` are literals, so each
 /// coefficient and its zero test are known at compile time: the loop over
@@ -74,14 +78,23 @@ pub(crate) struct Dop853<const N: usize> {
 macro_rules! combine {
     ($coef:expr, $k:expr; $($j:literal)*) => {{
         let mut acc = [0.0; N];
+        let mut first = true;
         $(
             let a: f64 = $coef[$j];
             if a != 0.0 {
-                for n in 0..N {
-                    acc[n] += a * $k[$j][n];
+                if first {
+                    first = false;
+                    for n in 0..N {
+                        acc[n] = a * $k[$j][n];
+                    }
+                } else {
+                    for n in 0..N {
+                        acc[n] += a * $k[$j][n];
+                    }
                 }
             }
         )*
+        let _ = first;
         acc
     }};
 }
@@ -164,14 +177,23 @@ impl<const N: usize> Dop853<N> {
 macro_rules! combine_in {
     ($coef:expr, $k:expr, $range:expr; $($j:literal)*) => {{
         let mut acc = [0.0; N];
+        let mut first = true;
         $(
             let a: f64 = $coef[$j];
             if a != 0.0 {
-                for n in $range {
-                    acc[n] += a * $k[$j][n];
+                if first {
+                    first = false;
+                    for n in $range {
+                        acc[n] = a * $k[$j][n];
+                    }
+                } else {
+                    for n in $range {
+                        acc[n] += a * $k[$j][n];
+                    }
                 }
             }
         )*
+        let _ = first;
         acc
     }};
 }
@@ -232,6 +254,27 @@ fn method_stages<S: OdeSystem<N>, const N: usize>(
 }
 
 impl<const N: usize> Dop853<N> {
+    /// The dense output at `t` for the components `..m` (`m <= N`).
+    #[inline(always)]
+    fn dense_in(&self, t: f64, out: &mut [f64; N], m: usize) {
+        debug_assert!(self.dense_ready);
+        if t == self.t1 {
+            out[..m].copy_from_slice(&self.y1[..m]);
+            return;
+        }
+        if t == self.t0 {
+            out[..m].copy_from_slice(&self.y0[..m]);
+            return;
+        }
+        let s = (t - self.t0) / self.h_step;
+        let s1 = 1.0 - s;
+        let c = &self.cont;
+        for n in 0..m {
+            let conpar = c[3][n] + s * (c[4][n] + s1 * (c[5][n] + s * c[6][n]));
+            out[n] = self.y0[n] + s * (c[0][n] + s1 * (c[1][n] + s * (c[2][n] + s1 * conpar)));
+        }
+    }
+
     /// `STIFF_HLAMB / ρ`, `ρ = |f(y₁) − f(ŷ)| / |y₁ − ŷ|` from the accepted
     /// step's end `y₁` and the 12th stage's state `ŷ` (both at `t + h`;
     /// `dop853.f`'s stiffness estimate, a lower bound of the Lipschitz
@@ -478,22 +521,11 @@ impl<const N: usize> Engine<N> for Dop853<N> {
     }
 
     fn dense(&self, t: f64, out: &mut [f64; N]) {
-        debug_assert!(self.dense_ready);
-        if t == self.t1 {
-            *out = self.y1;
-            return;
-        }
-        if t == self.t0 {
-            *out = self.y0;
-            return;
-        }
-        let s = (t - self.t0) / self.h_step;
-        let s1 = 1.0 - s;
-        let c = &self.cont;
-        for n in 0..N {
-            let conpar = c[3][n] + s * (c[4][n] + s1 * (c[5][n] + s * c[6][n]));
-            out[n] = self.y0[n] + s * (c[0][n] + s1 * (c[1][n] + s * (c[2][n] + s1 * conpar)));
-        }
+        self.dense_in(t, out, N);
+    }
+
+    fn dense_prefix(&self, t: f64, out: &mut [f64; N], n: usize) {
+        self.dense_in(t, out, n.min(N));
     }
 }
 

@@ -332,6 +332,9 @@ impl<const N: usize> Engine<N> for AnyEngine<N> {
     fn dense(&self, t: f64, out: &mut [f64; N]) {
         each_engine!(self, e => e.dense(t, out))
     }
+    fn dense_prefix(&self, t: f64, out: &mut [f64; N], n: usize) {
+        each_engine!(self, e => e.dense_prefix(t, out, n))
+    }
     fn state_at<S: OdeSystem<N>>(
         &mut self,
         sys: &mut S,
@@ -476,7 +479,7 @@ impl<E: Engine<N>, const N: usize> Stepping<E, N> {
                 let eng_ref = &*eng;
                 let tr = illinois(
                     |tc| {
-                        eng_ref.dense(tc, &mut ybuf);
+                        eng_ref.dense_prefix(tc, &mut ybuf, S::EVENT_READ);
                         (ev.g)(sys_ref, tc, &ybuf)
                     },
                     tp,

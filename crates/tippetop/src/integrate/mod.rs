@@ -133,6 +133,13 @@ pub trait OdeSystem<const N: usize> {
     #[allow(clippy::single_range_in_vec_init)]
     const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..N];
 
+    /// The event functions read `y[..EVENT_READ]` only: the driver's root
+    /// search interpolates just these components of the dense output (the
+    /// others of the state it passes hold stale values). The events' fired
+    /// states, the samples and the restarts are interpolated whole.
+    /// Default: every component.
+    const EVENT_READ: usize = N;
+
     /// The Jacobian's block among the quadratures, `∂f_i/∂y_j` for `i, j >=
     /// CONTROLLED`, written into `jac[i][j]` (the caller has zeroed it), at
     /// `(t, y)` with `f = f(t, y)`. Used by Rodas4P, which takes the other
@@ -584,6 +591,13 @@ pub(crate) trait Engine<const N: usize> {
     /// Interpolated state at `t` in `[t_prev, t]` (exact at both ends);
     /// `prepare_dense` must have been called for this step.
     fn dense(&self, t: f64, out: &mut [f64; N]);
+    /// [`Engine::dense`] for the components `..n` only (the others of `out`
+    /// are left as they are), the same bits for those; by default the
+    /// whole state.
+    fn dense_prefix(&self, t: f64, out: &mut [f64; N], n: usize) {
+        let _ = n;
+        self.dense(t, out);
+    }
     /// The state at `t` in `[t_prev, t]` for a restart at a terminal event:
     /// by default the dense output; DOP853 takes a step of its method from
     /// `t_prev` to `t` instead (order 8 rather than the interpolant's 7).

@@ -137,6 +137,40 @@ pub struct Eval {
     pub torque: f64,
 }
 
+/// One entry of [`Vector::eval`]'s cache: the key (the state's bits, the
+/// mode and every input but the slip reference), the slip reference the
+/// evaluation saw, and the evaluation.
+#[derive(Debug, Clone, Copy)]
+struct CacheEntry {
+    key: [u64; DIM + 9],
+    slip_ref: [f64; 2],
+    eval: Eval,
+}
+
+impl CacheEntry {
+    /// True if a fresh evaluation with `key` and the slip reference `d`
+    /// gives this entry's bits. The slip reference enters the evaluation
+    /// only through the exact law's continuation test `v·d < 0` at the
+    /// slip `v` (`ContactState::coefficient`, read while sliding at
+    /// `v ≠ 0`; `eval.slip` is that `v`): the one the driver moves at every
+    /// accepted step (`ContactState::accepted`) still finds the evaluation
+    /// made before it where the test comes out the same. (While rolling,
+    /// with the other laws or at zero slip, `d` is not read: the same test
+    /// on the entry's `slip` then errs only towards a miss.)
+    #[inline(always)]
+    fn holds(&self, key: &[u64; DIM + 9], d: [f64; 2]) -> bool {
+        if self.key != *key {
+            return false;
+        }
+        let r = self.slip_ref;
+        if r[0].to_bits() == d[0].to_bits() && r[1].to_bits() == d[1].to_bits() {
+            return true;
+        }
+        let v = self.eval.slip;
+        (v[0] * r[0] + v[1] * r[1] < 0.0) == (v[0] * d[0] + v[1] * d[1] < 0.0)
+    }
+}
+
 /// The vector-form model as an ODE system in scaled units.
 #[derive(Debug, Clone)]
 pub struct Vector {
@@ -161,8 +195,15 @@ pub struct Vector {
     /// The last evaluation made by [`Vector::eval`] and its key (state bits,
     /// mode and every input), so the driver's repeated evaluations at an
     /// accepted step (N event, energy, samples) are computed once. The key
-    /// is compared bit for bit: the result is what a fresh evaluation gives.
-    last: RefCell<Option<([u64; DIM + 11], Eval)>>,
+    /// is compared bit for bit: the result is what a fresh evaluation gives
+    /// (the slip reference too, through [`CacheEntry::holds`]).
+    last: RefCell<Option<CacheEntry>>,
+    /// The evaluation at the last accepted step's end
+    /// ([`OdeSystem::rhs_accepted`]) and its key, kept apart from `last`:
+    /// the samples and event searches inside the step overwrite `last`, and
+    /// the observers at the step's end then still find this one (the same
+    /// key, so the same result as a fresh evaluation).
+    accepted: RefCell<Option<CacheEntry>>,
     /// The Langevin thermostat (scaled), `None` unless `method = "langevin"`.
     thermal: Option<super::thermostat::Bath>,
     /// The Ornstein–Uhlenbeck step's coefficients from the last call
@@ -237,6 +278,7 @@ impl Vector {
                 sc.initial.spin * scales.time
             },
             last: RefCell::new(None),
+            accepted: RefCell::new(None),
             thermal: super::thermostat::Bath::of(sc, &scales),
             ou: super::thermostat::OuCache::default(),
             wells_torque: body::WellsTorque::default(),
@@ -474,34 +516,40 @@ impl Vector {
     /// the `last` field).
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
         let key = self.cache_key(y);
-        if let Some((k, e)) = &*self.last.borrow() {
-            if *k == key {
-                return Ok(*e);
+        let d = self.plane.slip_ref.get();
+        for slot in [&self.accepted, &self.last] {
+            if let Some(c) = &*slot.borrow() {
+                if c.holds(&key, d) {
+                    return Ok(c.eval);
+                }
             }
         }
         let e = self.eval_now(y)?;
-        *self.last.borrow_mut() = Some((key, e));
+        *self.last.borrow_mut() = Some(CacheEntry {
+            key,
+            slip_ref: d,
+            eval: e,
+        });
         Ok(e)
     }
 
     /// The key of [`Vector::eval`]'s cache: the state's bits, the mode and
-    /// every input the evaluation reads.
+    /// every input the evaluation reads but the slip reference
+    /// ([`CacheEntry::holds`]).
     #[inline(always)]
-    fn cache_key(&self, y: &[f64; DIM]) -> [u64; DIM + 11] {
-        let mut key = [0u64; DIM + 11];
+    fn cache_key(&self, y: &[f64; DIM]) -> [u64; DIM + 9] {
+        let mut key = [0u64; DIM + 9];
         for (k, v) in key.iter_mut().zip(y) {
             *k = v.to_bits();
         }
         let p = &self.plane;
-        let (r, h) = (p.slip_ref.get(), p.applied());
+        let h = p.applied();
         let inputs = [
             p.mode as u64,
             h[0].to_bits(),
             h[1].to_bits(),
             p.slip_hint[0].to_bits(),
             p.slip_hint[1].to_bits(),
-            r[0].to_bits(),
-            r[1].to_bits(),
             match p.normal_branch {
                 None => 0,
                 Some(false) => 1,
@@ -788,6 +836,9 @@ impl OdeSystem<DIM> for Vector {
     // A list of ranges (here one), not the range's elements.
     #[allow(clippy::single_range_in_vec_init)]
     const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..TWIST];
+    /// The events (`model::on_plane`: θ, θ̇'s sign, the spin, N, the slip,
+    /// the stick margin) read `k, w, v` only.
+    const EVENT_READ: usize = CONTROLLED;
 
     /// `∂ṗ/∂p = ½ L(w_⊥)` (left multiplication by `(0, w − (w·k) k)`); `χ`
     /// and the position read no quadrature.
@@ -857,7 +908,11 @@ impl OdeSystem<DIM> for Vector {
         self.plane.start_evaluation()?;
         let e = self.eval_now(y)?;
         *dy = e.dy;
-        *self.last.get_mut() = Some((self.cache_key(y), e));
+        *self.accepted.get_mut() = Some(CacheEntry {
+            key: self.cache_key(y),
+            slip_ref: self.plane.slip_ref.get(),
+            eval: e,
+        });
         Ok(())
     }
 }
