@@ -151,3 +151,253 @@ fn sliding_ball_small_amplitude() {
     assert!(err.abs() < 1e-6, "sliding period off by {err:e}");
     assert!(gap < 1e-8, "the wall's constraint drifted by {gap:e} R");
 }
+
+/// The classical preset's eccentric top, spinning, with the exact Coulomb
+/// law in a tube of radius `b`, its contact turned by 0.2 rad.
+fn top_in_tube(b: f64) -> Scenario {
+    let mut sc = Scenario::classical();
+    sc.surface.shape = Shape::Tube {
+        radius: b,
+        angle: 0.2,
+    };
+    sc.solver.model = ModelKind::Rigid;
+    sc
+}
+
+/// Energy balance `E(t) − E(0) = W_f` for a spinning eccentric top with
+/// friction in the tube (the normal force does no work on a fixed wall;
+/// gravity is in E), to 1e-7 of the initial energy at every sample (the
+/// integrator's tolerance is 1e-10 per step), and no penetration: the gap
+/// stays within 1e-9 R of 0 at every accepted step (never below −1e-9 R).
+/// The run slides and rolls (both are checked to occur).
+#[test]
+fn energy_balance_and_no_penetration() {
+    let mut sc = top_in_tube(0.05);
+    sc.solver.t_end = 2.0;
+    sc.solver.samples = 2001;
+    let (mut worst_gap, mut min_gap) = (0.0f64, f64::INFINITY);
+    let (mut slid, mut rolled) = (false, false);
+    let tr = tippetop::simulate::simulate_rigid_observed(&sc, &mut |m, _, y: &[f64; DIM]| {
+        let g = m.gap(y);
+        worst_gap = worst_gap.max(g.abs());
+        min_gap = min_gap.min(g);
+        match m.contact.mode {
+            tippetop::model::rigid::Mode::Rolling => rolled = true,
+            tippetop::model::rigid::Mode::Sliding => slid = true,
+        }
+    });
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let e0 = tr.samples[0].energy;
+    let mut worst: f64 = 0.0;
+    for s in &tr.samples {
+        worst = worst.max((s.energy - e0 - s.work_friction).abs() / e0.abs());
+    }
+    let wf = tr.samples.last().unwrap().work_friction;
+    println!(
+        "top in the tube: |E - E0 - W_f|/E0 <= {worst:.2e} (W_f = {:.3e} of E0); gap in [{min_gap:.1e}, {worst_gap:.1e}] R; slid {slid}, rolled {rolled}; theta {:.3} -> {:.3} rad",
+        wf / e0,
+        tr.samples[0].theta,
+        tr.samples.last().unwrap().theta
+    );
+    assert!(wf < -1e-3 * e0.abs(), "friction did no work: {wf:e}");
+    assert!(worst < 1e-7, "energy balance off by {worst:e} E0");
+    assert!(min_gap > -1e-9, "penetration {min_gap:e} R");
+    assert!(
+        worst_gap < 1e-9,
+        "the wall's constraint drifted by {worst_gap:e} R"
+    );
+}
+
+/// Frictionless sliding in the tube keeps what the forces cannot change
+/// (docs/physics.md#tube-dynamics): the normal force `N n` lies across the
+/// axis (`n·X = 0`) and gravity too, so `m v_x` is constant; the torque
+/// about the centre of mass, `a N k × n`, is normal to `k`, so the spin
+/// `w·k` is constant; and `E` is constant. Each to 1e-9 (relative to its
+/// initial scale) at every sample. `L·n`, conserved in no general way, is
+/// printed beside them.
+#[test]
+fn frictionless_top_keeps_axial_momentum_spin_and_energy() {
+    let mut sc = top_in_tube(0.05);
+    sc.surface.friction = 0.0;
+    sc.surface.law = FrictionLaw::CoulombSliding;
+    sc.initial.ux = 0.3;
+    sc.initial.uy = 0.1;
+    sc.solver.t_end = 1.0;
+    sc.solver.samples = 1001;
+    let mut first: Option<(f64, f64, f64)> = None;
+    let (mut dvx, mut dspin, mut de, mut dln) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let tr = tippetop::simulate::simulate_rigid_observed(&sc, &mut |m, _, y: &[f64; DIM]| {
+        let kin = m.kin(y);
+        let vx = y[tippetop::model::rigid::VEL];
+        let spin = m.spin_scaled(y);
+        let l = m.angular_momentum(y);
+        let nrm = kin.tube.expect("in the tube").n;
+        let ln = l[0] * nrm[0] + l[1] * nrm[1] + l[2] * nrm[2];
+        let e = m.energy_scaled(y);
+        match first {
+            None => first = Some((vx, spin, e)),
+            Some((vx0, s0, e0)) => {
+                dvx = dvx.max((vx - vx0).abs() / vx0.abs());
+                dspin = dspin.max((spin - s0).abs() / s0.abs());
+                de = de.max((e - e0).abs() / e0.abs());
+                dln = dln.max(ln.abs());
+            }
+        }
+    });
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    println!(
+        "frictionless top: rel. change of v_x {dvx:.1e}, of w.k {dspin:.1e}, of E {de:.1e}; max |L.n| {dln:.3e} (scaled)"
+    );
+    assert!(dvx < 1e-9 && dspin < 1e-9 && de < 1e-9);
+}
+
+/// The plane recovered as `b → ∞`: the classical preset's rigid run on
+/// the plane and in a tube of radius 1e6 m (the wall's tilt over the ~3 cm
+/// the top travels is 3e-8 rad) give the same θ(t) and spin to 1e-6 over
+/// 2 s (rolling, sliding and the tilt's growth included).
+#[test]
+fn wide_tube_is_the_plane() {
+    let mut plane = Scenario::classical();
+    plane.solver.model = ModelKind::Rigid;
+    plane.solver.t_end = 2.0;
+    plane.solver.samples = 201;
+    let mut tube = plane.clone();
+    tube.surface.shape = Shape::Tube {
+        radius: 1e6,
+        angle: 0.0,
+    };
+    let a = tippetop::simulate(&plane).unwrap();
+    let b = tippetop::simulate(&tube).unwrap();
+    assert!(a.error.is_none() && b.error.is_none());
+    let (mut dth, mut dsp) = (0.0f64, 0.0f64);
+    for (p, q) in a.samples.iter().zip(&b.samples) {
+        dth = dth.max((p.theta - q.theta).abs());
+        dsp = dsp.max((p.spin - q.spin).abs() / p.spin.abs().max(1.0));
+    }
+    println!(
+        "b = 1e6 m against the plane over 2 s: max |d theta| {dth:.2e} rad, max rel. d spin {dsp:.2e}; theta {:.4} -> {:.4} rad",
+        a.samples[0].theta,
+        a.samples.last().unwrap().theta
+    );
+    assert!(dth < 1e-6 && dsp < 1e-6);
+}
+
+/// The keys: the tube read from `--set`s, and each refusal one error naming
+/// its key (the CLI's exit 2 is tippetop-cli's tests/hardening_cli.rs).
+#[test]
+fn tube_keys_and_refusals() {
+    let load = |preset: &str, sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        Scenario::load(Some(preset), None, &sets)
+    };
+    let rigid = "solver.model=\"rigid\"";
+    let tube = "surface.shape=\"tube\"";
+    let sc = load(
+        "classical",
+        &[
+            rigid,
+            tube,
+            "surface.tube_radius=0.05",
+            "surface.tube_angle=0.1",
+        ],
+    )
+    .unwrap();
+    assert_eq!(
+        sc.surface.shape,
+        Shape::Tube {
+            radius: 0.05,
+            angle: 0.1
+        }
+    );
+    // The scenario written back reads back the same.
+    assert_eq!(Scenario::from_toml_str(&sc.to_toml_string()).unwrap(), sc);
+    for (preset, sets, key) in [
+        ("classical", vec![rigid, tube], "surface.tube_radius"),
+        (
+            "classical",
+            vec![rigid, tube, "surface.tube_radius=0.015"],
+            "surface.tube_radius",
+        ),
+        (
+            "classical",
+            vec![rigid, tube, "surface.tube_radius=nan"],
+            "surface.tube_radius",
+        ),
+        (
+            "classical",
+            vec![
+                rigid,
+                tube,
+                "surface.tube_radius=0.05",
+                "surface.tube_angle=1.6",
+            ],
+            "surface.tube_angle",
+        ),
+        (
+            "classical",
+            vec!["surface.tube_radius=0.05"],
+            "surface.tube_radius",
+        ),
+        (
+            "classical",
+            vec![tube, "solver.model=\"reduced\"", "surface.tube_radius=0.05"],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![tube, "solver.model=\"vector\"", "surface.tube_radius=0.05"],
+            "surface.shape",
+        ),
+        (
+            "nano",
+            vec![rigid, tube, "surface.tube_radius=1e-9"],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![
+                rigid,
+                tube,
+                "surface.tube_radius=0.05",
+                "adhesion.force=1e-9",
+                "adhesion.energy=1e-19",
+            ],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![
+                rigid,
+                tube,
+                "surface.tube_radius=0.05",
+                "top.stem_radius=0.0025",
+                "top.stem_distance=0.0185",
+                "surface.contact=\"unilateral\"",
+            ],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![
+                rigid,
+                tube,
+                "surface.tube_radius=0.05",
+                "surface.friction_law=\"contensou\"",
+                "surface.contact_radius=1e-4",
+            ],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![rigid, "surface.shape=\"cone\""],
+            "surface.shape",
+        ),
+    ] {
+        let err = load(preset, &sets).expect_err(&format!("{sets:?} accepted"));
+        let msg = err.to_string();
+        assert!(
+            msg.starts_with(&format!("{key}: ")) && !msg.contains('\n'),
+            "{sets:?}: {msg}"
+        );
+    }
+}
