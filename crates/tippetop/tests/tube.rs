@@ -227,11 +227,10 @@ fn frictionless_top_keeps_axial_momentum_spin_and_energy() {
     let mut first: Option<(f64, f64, f64)> = None;
     let (mut dvx, mut dspin, mut de, mut dln) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     let tr = tippetop::simulate::simulate_rigid_observed(&sc, &mut |m, _, y: &[f64; DIM]| {
-        let kin = m.kin(y);
         let vx = y[tippetop::model::rigid::VEL];
         let spin = m.spin_scaled(y);
         let l = m.angular_momentum(y);
-        let nrm = kin.tube.expect("in the tube").n;
+        let nrm = m.tube_at(y).expect("in the tube").n;
         let ln = l[0] * nrm[0] + l[1] * nrm[1] + l[2] * nrm[2];
         let e = m.energy_scaled(y);
         match first {

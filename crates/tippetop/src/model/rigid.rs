@@ -365,8 +365,6 @@ pub struct Kin {
     pub yh: V3,
     /// |k_h| = sin θ.
     pub kh: f64,
-    /// The tube at the contact (`None` on the plane).
-    pub tube: Option<body::TubeAt>,
 }
 
 /// Everything the right-hand side computes at one state (scaled units).
@@ -567,17 +565,16 @@ impl Rigid {
         self.inertia.apply(k, v)
     }
 
-    /// Kinematics at a state.
+    /// Kinematics at a state (inlined, as it was before the tube's branch
+    /// made it larger: out of line it costs 8 % of a rigid run).
+    #[inline(always)]
     pub fn kin(&self, y: &[f64; DIM]) -> Kin {
         let q = normalized(quat_of(y));
         let k = v3(y, AXIS);
         let n = v3(y, OMEGA);
-        let tube = self
-            .tube
-            .map(|tube| tube.at(add(v3(y, POS), scale(self.a, k))));
-        let r = match tube {
+        let r = match self.tube {
             None => [self.a * k[0], self.a * k[1], self.a * k[2] - self.rho],
-            Some(t) => sub(scale(self.a, k), scale(self.rho, t.n)),
+            Some(_) => self.tube_offset(y),
         };
         let vp = add(v3(y, VEL), cross(n, r));
         let kh = k[0].hypot(k[1]);
@@ -596,7 +593,29 @@ impl Rigid {
             xh,
             yh,
             kh,
-            tube,
+        }
+    }
+
+    /// The tube at the contact of the state's sphere (`None` on the plane).
+    pub fn tube_at(&self, y: &[f64; DIM]) -> Option<body::TubeAt> {
+        self.tube
+            .map(|tube| tube.at(add(v3(y, POS), scale(self.a, v3(y, AXIS)))))
+    }
+
+    /// `r = a k − ρ n` in the tube (kept out of line: the plane's
+    /// [`Rigid::kin`] stays what it was).
+    #[inline(never)]
+    fn tube_offset(&self, y: &[f64; DIM]) -> V3 {
+        let n = self.tube_at(y).map_or(Z, |t| t.n);
+        sub(scale(self.a, v3(y, AXIS)), scale(self.rho, n))
+    }
+
+    /// The slip `v_P` in the contact state's 2D components: the horizontal
+    /// `(x, y)` on the plane, the tangent `(e₁, e₂)` in the tube.
+    fn slip_2d(&self, y: &[f64; DIM], kin: &Kin) -> [f64; 2] {
+        match self.tube_at(y) {
+            None => [kin.vp[0], kin.vp[1]],
+            Some(t) => t.components(kin.vp),
         }
     }
 
@@ -673,12 +692,13 @@ impl Rigid {
     /// body's tube path ([`body::Body::slide_tube`], [`body::Body::roll_tube`])
     /// with gravity and the point friction laws; the friction in `Eval` is
     /// in the contact's tangent components (`e₁ = X`, `e₂ = n × X`).
+    #[inline(never)]
     fn eval_tube(&self, y: &[f64; DIM]) -> Result<Eval, RigidError> {
         if self.phase == Phase::Flight {
             return Err(RigidError::TubeFlight);
         }
         let kin = self.kin(y);
-        let Some(tube) = kin.tube else {
+        let Some(tube) = self.tube_at(y) else {
             unreachable!("eval_tube on the plane")
         };
         let body = self.body();
@@ -807,7 +827,7 @@ impl Rigid {
     /// In the tube, the tangent components (along `e₁ = X`, `e₂ = n × X`).
     pub fn slip_of(&self, y: &[f64; DIM]) -> V3 {
         let kin = self.kin(y);
-        let s = slip_2d(&kin);
+        let s = self.slip_2d(y, &kin);
         [s[0], s[1], 0.0]
     }
 
@@ -819,7 +839,7 @@ impl Rigid {
         let kin = self.kin(y);
         let v = v3(y, VEL);
         let size = dot(v, v).sqrt() + dot(kin.n, kin.n).sqrt() * dot(kin.r, kin.r).sqrt();
-        let s = slip_2d(&kin);
+        let s = self.slip_2d(y, &kin);
         s[0].hypot(s[1]) <= 16.0 * f64::EPSILON * size
     }
 
@@ -864,7 +884,7 @@ impl Rigid {
     /// Rate of change of the gap, `v_Cz` (scaled).
     pub fn gap_rate(&self, y: &[f64; DIM]) -> f64 {
         let kin = self.kin(y);
-        if let Some(t) = kin.tube {
+        if let Some(t) = self.tube_at(y) {
             return dot(t.n, add(v3(y, VEL), scale(self.a, cross(kin.n, kin.k))));
         }
         y[VEL + 2] + self.a * cross(kin.n, kin.k)[2]
@@ -1425,15 +1445,6 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
     ev
 }
 
-/// The slip `v_P` in the contact state's 2D components: the horizontal
-/// `(x, y)` on the plane, the tangent `(e₁, e₂)` in the tube.
-fn slip_2d(kin: &Kin) -> [f64; 2] {
-    match kin.tube {
-        None => [kin.vp[0], kin.vp[1]],
-        Some(t) => t.components(kin.vp),
-    }
-}
-
 /// The horizontal components `(x, y)` of a world vector, for the contact
 /// state's 2D slip and friction.
 fn horizontal(v: V3) -> [f64; 2] {
@@ -1550,7 +1561,7 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
         slip: if rolling {
             0.0
         } else {
-            let s = slip_2d(&kin);
+            let s = m.slip_2d(y, &kin);
             s[0].hypot(s[1]) * vu
         },
         jellett: m.jellett_scaled(y) * sc.mass * sc.length.powi(3) / tu,
