@@ -24,6 +24,9 @@
 //! # contact_pressure = "hertz" # or "uniform", only with "contensou*"
 //! contact = "bilateral"       # or "paper", "unilateral"
 //! restitution = 0.0           # [0, 1], rigid model touchdown only
+//! # shape = "tube"            # default "plane"; "tube": rigid model only (docs/physics.md#tube-dynamics)
+//! # tube_radius = 0.05        # b [m] > top.radius, required with "tube"
+//! # tube_angle = 0.0          # [rad], |angle| < pi/2, the start turned about the tube's axis
 //! [adhesion]                  # van der Waals adhesion, off by default (docs/physics.md#adhesion)
 //! force = 0.0                 # F_a [N], pull-off force (> 0 requires energy > 0)
 //! energy = 0.0                # E_b [J], binding energy (> 0 requires force > 0)
