@@ -774,3 +774,129 @@ fn stem_input_errors_and_on_plane_stop() {
     let s = std::fs::read_to_string(plain.join("summary.json")).unwrap();
     assert!(!s.contains("stem"), "{s}");
 }
+
+/// The tube (docs/physics.md#tube-dynamics): each refusal is one line
+/// naming its key, exit 2, nothing written: the radius missing, not larger
+/// than the sphere, not a number; the angle out of range; the tube's keys
+/// on the plane; the reduced and vector models; the plane-only inputs
+/// (the nano preset's [[force]], adhesion, Contensou). A lift-off from the
+/// wall (unilateral contact) stops with exit 3 and says so, rows written.
+#[test]
+fn tube_input_errors_and_lift_off() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let o = out.to_str().unwrap();
+    let (rigid, tube, b) = (
+        "solver.model=\"rigid\"",
+        "surface.shape=\"tube\"",
+        "surface.tube_radius=0.05",
+    );
+    for (preset, sets, key) in [
+        ("classical", vec![rigid, tube], "surface.tube_radius"),
+        (
+            "classical",
+            vec![rigid, tube, "surface.tube_radius=0.015"],
+            "surface.tube_radius",
+        ),
+        (
+            "classical",
+            vec![rigid, tube, "surface.tube_radius=-1"],
+            "surface.tube_radius",
+        ),
+        (
+            "classical",
+            vec![rigid, tube, b, "surface.tube_angle=2"],
+            "surface.tube_angle",
+        ),
+        ("classical", vec![b], "surface.tube_radius"),
+        (
+            "classical",
+            vec!["surface.tube_angle=0.1"],
+            "surface.tube_angle",
+        ),
+        ("classical", vec![tube, b], "surface.shape"),
+        (
+            "classical",
+            vec![tube, b, "solver.model=\"vector\""],
+            "surface.shape",
+        ),
+        (
+            "nano",
+            vec![rigid, tube, "surface.tube_radius=1e-9"],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![
+                rigid,
+                tube,
+                b,
+                "adhesion.force=1e-9",
+                "adhesion.energy=1e-19",
+            ],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![
+                rigid,
+                tube,
+                b,
+                "surface.friction_law=\"contensou\"",
+                "surface.contact_radius=1e-4",
+            ],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![rigid, "surface.shape=\"cone\""],
+            "surface.shape",
+        ),
+    ] {
+        let mut args = vec!["run", "--preset", preset];
+        for s in &sets {
+            args.push("--set");
+            args.push(s);
+        }
+        args.extend(["--no-plot", "--out", o]);
+        expect_input_error(&args, Some(&out), key);
+    }
+    // A frictionless top thrown along the wall at 1.2 m/s in a 5 cm tube
+    // (v² > 3 g (b − R)): N falls through 0 above the axis's height.
+    let a = tippetop()
+        .args([
+            "run",
+            "--preset",
+            "classical",
+            "--set",
+            rigid,
+            "--set",
+            tube,
+            "--set",
+            b,
+            "--set",
+            "surface.contact=\"unilateral\"",
+            "--set",
+            "surface.friction=0",
+            "--set",
+            "surface.friction_law=\"coulomb_sliding\"",
+            "--set",
+            "initial.spin=0",
+            "--set",
+            "initial.theta=0",
+            "--set",
+            "initial.uy=1.2",
+            "--set",
+            "solver.t_end=0.5",
+            "--no-plot",
+            "--out",
+            o,
+        ])
+        .assert();
+    let res = a.get_output();
+    let stderr = String::from_utf8_lossy(&res.stderr);
+    assert_eq!(res.status.code(), Some(3), "{stderr}");
+    assert!(stderr.contains("lifts off the tube's wall"), "{stderr}");
+    assert!(out.join("summary.json").exists());
+    assert!(out.join("trajectory.csv").exists());
+}

@@ -24,6 +24,9 @@
 //! # contact_pressure = "hertz" # or "uniform", only with "contensou*"
 //! contact = "bilateral"       # or "paper", "unilateral"
 //! restitution = 0.0           # [0, 1], rigid model touchdown only
+//! # shape = "tube"            # default "plane"; "tube": rigid model only (docs/physics.md#tube-dynamics)
+//! # tube_radius = 0.05        # b [m] > top.radius, required with "tube"
+//! # tube_angle = 0.0          # [rad], |angle| < pi/2, the start turned about the tube's axis
 //! [adhesion]                  # van der Waals adhesion, off by default (docs/physics.md#adhesion)
 //! force = 0.0                 # F_a [N], pull-off force (> 0 requires energy > 0)
 //! energy = 0.0                # E_b [J], binding energy (> 0 requires force > 0)
@@ -87,6 +90,7 @@ use crate::{
     ActuatorWindow, Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial,
     SolverSettings, Surface, Thermal, Top,
     input::solver::{Method, ModelKind},
+    input::surface::Shape,
 };
 
 /// One complete run description.
@@ -130,6 +134,7 @@ impl Scenario {
                 law: FrictionLaw::Coulomb,
                 contact: ContactMode::Bilateral,
                 restitution: 0.0,
+                shape: Shape::Plane,
             },
             adhesion: Adhesion::NONE,
             wells: Vec::new(),
@@ -153,6 +158,7 @@ impl Scenario {
                 law: FrictionLaw::Coulomb,
                 contact: ContactMode::Bilateral,
                 restitution: 0.0,
+                shape: Shape::Plane,
             },
             adhesion: Adhesion::NONE,
             wells: Vec::new(),
@@ -251,6 +257,7 @@ impl Scenario {
     pub fn validate(&self) -> Result<(), Error> {
         self.top.validate()?;
         self.surface.validate()?;
+        self.validate_tube()?;
         self.validate_stem()?;
         if let Some((r, _, _)) = self.surface.law.contensou() {
             // Much smaller than the sphere: the patch is a flat disc on it.
@@ -277,6 +284,64 @@ impl Scenario {
         self.thermal.validate()?;
         langevin::check(self)?;
         crate::limits::check_run(self)?;
+        Ok(())
+    }
+
+    /// What the tube (`surface.shape = "tube"`, docs/physics.md#tube-dynamics)
+    /// needs: the rigid model, a radius larger than the contact sphere's,
+    /// and none of what is written for the plane only: a stem, `[[force]]`
+    /// windows (their frame and vertical load are the plane's), `[adhesion]`
+    /// (the sheet's law), `[[well]]`s (θ from the vertical), force
+    /// plug-ins, the Coulomb–Contensou laws (drilling about Z), and the
+    /// stochastic methods with `[thermal]` (the plane's Ornstein–Uhlenbeck
+    /// step).
+    fn validate_tube(&self) -> Result<(), Error> {
+        let Some((b, _)) = self.surface.shape.tube() else {
+            return Ok(());
+        };
+        let key = "surface.shape";
+        if self.solver.model != ModelKind::Rigid {
+            return Err(Error::invalid(
+                key,
+                format!(
+                    "\"tube\" with solver.model = \"{}\"",
+                    name_of(MODELS, self.solver.model)
+                ),
+                "the tube needs solver.model = \"rigid\"".into(),
+            ));
+        }
+        if b <= self.top.radius {
+            return Err(Error::invalid(
+                "surface.tube_radius",
+                format!("{b} is not allowed (top.radius = {})", self.top.radius),
+                crate::input::surface::TUBE_RADIUS_RANGE.into(),
+            ));
+        }
+        let plane_only: [(&str, bool); 7] = [
+            ("top.stem_radius", self.top.stem.is_some()),
+            (
+                "force",
+                !self.forcing.windows.is_empty() || !self.actuators.is_empty(),
+            ),
+            ("adhesion.force", self.adhesion.is_on()),
+            ("well", !self.wells.is_empty()),
+            ("a force plug-in's table", !self.plugins.is_empty()),
+            (
+                "surface.friction_law",
+                self.surface.law.contensou().is_some(),
+            ),
+            (
+                "solver.method",
+                self.solver.method.is_stochastic() || self.thermal != Thermal::NONE,
+            ),
+        ];
+        if let Some((what, _)) = plane_only.iter().find(|(_, on)| *on) {
+            return Err(Error::invalid(
+                key,
+                format!("\"tube\" with {what}, which is modelled on the plane only"),
+                "shape = \"tube\" with gravity and the point friction laws only: no stem, [[force]], [adhesion], [[well]], force plug-in, contensou* law, langevin/brownian method or [thermal] (docs/physics.md#tube-dynamics)".into(),
+            ));
+        }
         Ok(())
     }
 
@@ -541,6 +606,12 @@ impl Scenario {
         }
         surface.insert("contact".into(), Value::String(s.contact.name().into()));
         surface.insert("restitution".into(), Value::Float(s.restitution));
+        // Written only for the tube, so the plane's scenarios keep their text.
+        if let Some((radius, angle)) = s.shape.tube() {
+            surface.insert("shape".into(), Value::String(s.shape.name().into()));
+            surface.insert("tube_radius".into(), Value::Float(radius));
+            surface.insert("tube_angle".into(), Value::Float(angle));
+        }
         surface
     }
 
@@ -721,6 +792,24 @@ const SURFACE_KEYS: Keys = &[
         "0 <= restitution <= 1",
         "0",
         "coefficient of restitution at touchdown (rigid model)",
+    ),
+    Key::doc(
+        "shape",
+        "\"plane\" or \"tube\" (the inside of a horizontal cylinder, axis along x; solver.model = \"rigid\" only)",
+        "\"plane\"",
+        "the surface (docs/physics.md#tube-dynamics)",
+    ),
+    Key::doc(
+        "tube_radius",
+        crate::input::surface::TUBE_RADIUS_RANGE,
+        "required with shape = \"tube\"",
+        "b, the tube's inner radius (its lowest line is z = 0)",
+    ),
+    Key::doc(
+        "tube_angle",
+        crate::input::surface::TUBE_ANGLE_RANGE,
+        "0",
+        "the initial contact point's angle about the tube's axis from the lowest line (> 0 towards +y); the initial state is given in the frame of the local tangent plane",
     ),
 ];
 
@@ -1805,9 +1894,41 @@ fn surface_of(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Su
         law,
         contact: s.name("contact", CONTACTS, ContactMode::Bilateral)?,
         restitution: s.f64("restitution", Some(0.0))?,
+        shape: shape_of(&s)?,
     };
     Ok(surface)
 }
+
+/// `surface.shape` with the tube's radius and initial angle.
+fn shape_of(s: &Section) -> Result<Shape, Error> {
+    let tube = s.name("shape", SHAPES, false)?;
+    if !tube {
+        for key in ["tube_radius", "tube_angle"] {
+            if s.get(key).is_some() {
+                return Err(Error::invalid(
+                    &format!("surface.{key}"),
+                    "given with shape = \"plane\", which does not use it".into(),
+                    "only with shape = \"tube\"".into(),
+                ));
+            }
+        }
+        return Ok(Shape::Plane);
+    }
+    if s.get("tube_radius").is_none() {
+        return Err(Error::invalid(
+            "surface.tube_radius",
+            "missing".into(),
+            crate::input::surface::TUBE_RADIUS_RANGE.into(),
+        ));
+    }
+    Ok(Shape::Tube {
+        radius: s.f64("tube_radius", None)?,
+        angle: s.f64("tube_angle", Some(0.0))?,
+    })
+}
+
+/// `surface.shape`'s names (true: the tube).
+const SHAPES: &[(&str, bool)] = &[("plane", false), ("tube", true)];
 
 /// The `[[force]]` windows: contact-point windows and body actuators.
 fn forces_of(merged: &Table) -> Result<(Forcing, Vec<ActuatorWindow>), Error> {

@@ -223,6 +223,48 @@ impl ContactMode {
     }
 }
 
+/// The surface's shape (`surface.shape`; docs/physics.md#tube-dynamics).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Shape {
+    /// The horizontal plane `z = 0` (the default).
+    #[default]
+    Plane,
+    /// The inside of a horizontal cylinder (rigid model only): axis along
+    /// lab X through `(y, z) = (0, radius)`, so that its lowest line is
+    /// `z = 0`; the top starts with its contact point turned by `angle`
+    /// about the axis from the lowest line (towards +y for `angle > 0`).
+    Tube {
+        /// The tube's radius `b` \[m\] (`surface.tube_radius`), `> top.radius`.
+        radius: f64,
+        /// The initial angle of the contact point about the tube's axis,
+        /// from the lowest line \[rad\] (`surface.tube_angle`), `|angle| < π/2`.
+        angle: f64,
+    },
+}
+
+impl Shape {
+    /// Scenario name (`surface.shape`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Shape::Plane => "plane",
+            Shape::Tube { .. } => "tube",
+        }
+    }
+
+    /// The tube's `(radius [m], initial angle [rad])`, `None` on the plane.
+    pub fn tube(&self) -> Option<(f64, f64)> {
+        match *self {
+            Shape::Tube { radius, angle } => Some((radius, angle)),
+            Shape::Plane => None,
+        }
+    }
+}
+
+/// Valid range of `surface.tube_radius`, as the error messages state it.
+pub const TUBE_RADIUS_RANGE: &str = "a finite radius > top.radius [m] (the inside of the tube must hold the contact sphere), required with shape = \"tube\"";
+/// Valid range of `surface.tube_angle`, as the error messages state it.
+pub const TUBE_ANGLE_RANGE: &str = "a finite angle with |tube_angle| < pi/2 [rad] (below the tube's axis), only with shape = \"tube\"";
+
 /// The plane the top spins on.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Surface {
@@ -236,6 +278,8 @@ pub struct Surface {
     pub contact: ContactMode,
     /// Normal coefficient of restitution at touchdown (rigid model, unilateral contact), in \[0, 1\].
     pub restitution: f64,
+    /// The plane (default) or the inside of a tube.
+    pub shape: Shape,
 }
 
 impl Surface {
@@ -288,6 +332,22 @@ impl Surface {
                     ),
                     "use \"coulomb_sliding\", \"regularized\" or \"viscous\" with contact = \"paper\""
                         .into(),
+                ));
+            }
+        }
+        if let Some((b, angle)) = self.shape.tube() {
+            if !b.is_finite() || b <= 0.0 {
+                return Err(Error::invalid(
+                    "surface.tube_radius",
+                    format!("{b} is not allowed"),
+                    TUBE_RADIUS_RANGE.into(),
+                ));
+            }
+            if !angle.is_finite() || angle.abs() >= 0.5 * PI {
+                return Err(Error::invalid(
+                    "surface.tube_angle",
+                    format!("{angle} is not allowed"),
+                    TUBE_ANGLE_RANGE.into(),
                 ));
             }
         }

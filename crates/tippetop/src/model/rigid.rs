@@ -313,6 +313,9 @@ pub enum RigidError {
         /// Slip reversals counted.
         reversals: u32,
     },
+    /// The top left the tube's wall (`N < 0` under unilateral contact):
+    /// flight in the tube is not modelled (docs/physics.md#tube-dynamics).
+    TubeFlight,
 }
 
 impl std::fmt::Display for RigidError {
@@ -335,9 +338,13 @@ impl std::fmt::Display for RigidError {
                     reversals: *reversals
                 }
             ),
+            RigidError::TubeFlight => write!(f, "{TUBE_FLIGHT}"),
         }
     }
 }
+
+/// Why a run in the tube stops at lift-off.
+const TUBE_FLIGHT: &str = "the top lifts off the tube's wall (N falls through 0, contact = \"unilateral\"): flight inside the tube is not modelled (docs/physics.md#tube-dynamics); contact = \"bilateral\" holds it on the wall";
 
 /// Kinematic quantities at one state (scaled units, world frame).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -438,6 +445,11 @@ pub struct Rigid {
     brownian: bool,
     /// The wall's record of such a run (`rigid/brownian.rs`).
     wall: brownian::Wall,
+    /// The inside of a tube (scaled radius; `surface.shape = "tube"`,
+    /// docs/physics.md#tube-dynamics), `None` on the plane.
+    tube: Option<body::Tube>,
+    /// The initial contact point's angle about the tube's axis \[rad\].
+    tube_angle: f64,
 }
 
 impl Rigid {
@@ -477,6 +489,10 @@ impl Rigid {
             ou: super::thermostat::OuCache::default(),
             brownian: sc.solver.method == crate::Method::Brownian,
             wall: brownian::Wall::default(),
+            tube: sc.surface.shape.tube().map(|(b, _)| body::Tube {
+                radius: b / scales.length,
+            }),
+            tube_angle: sc.surface.shape.tube().map_or(0.0, |(_, angle)| angle),
         }
     }
 
@@ -519,6 +535,21 @@ impl Rigid {
             let q = rz.turn_quaternion(quat_of(&y));
             y[QUAT..QUAT + 4].copy_from_slice(&q);
         }
+        if let Some(tube) = self.tube {
+            // The tube: the state on the tangent plane at the lowest line,
+            // turned by the initial angle about the tube's axis (x along X
+            // through (0, 0, b)).
+            let rv = [self.tube_angle, 0.0, 0.0];
+            let axis = [0.0, 0.0, tube.radius];
+            let p = add(super::vec3::rotate(rv, sub(v3(&y, POS), axis)), axis);
+            set3(&mut y, POS, p);
+            for at in [VEL, OMEGA, AXIS] {
+                let v = super::vec3::rotate(rv, v3(&y, at));
+                set3(&mut y, at, v);
+            }
+            let q = super::vec3::turn_quaternion_by(rv, quat_of(&y));
+            y[QUAT..QUAT + 4].copy_from_slice(&q);
+        }
         y
     }
 
@@ -534,12 +565,17 @@ impl Rigid {
         self.inertia.apply(k, v)
     }
 
-    /// Kinematics at a state.
+    /// Kinematics at a state (inlined, as it was before the tube's branch
+    /// made it larger: out of line it costs 8 % of a rigid run).
+    #[inline(always)]
     pub fn kin(&self, y: &[f64; DIM]) -> Kin {
         let q = normalized(quat_of(y));
         let k = v3(y, AXIS);
         let n = v3(y, OMEGA);
-        let r = [self.a * k[0], self.a * k[1], self.a * k[2] - self.rho];
+        let r = match self.tube {
+            None => [self.a * k[0], self.a * k[1], self.a * k[2] - self.rho],
+            Some(_) => self.tube_offset(y),
+        };
         let vp = add(v3(y, VEL), cross(n, r));
         let kh = k[0].hypot(k[1]);
         let xh = if kh > 0.0 {
@@ -560,12 +596,38 @@ impl Rigid {
         }
     }
 
+    /// The tube at the contact of the state's sphere (`None` on the plane).
+    pub fn tube_at(&self, y: &[f64; DIM]) -> Option<body::TubeAt> {
+        self.tube
+            .map(|tube| tube.at(add(v3(y, POS), scale(self.a, v3(y, AXIS)))))
+    }
+
+    /// `r = a k − ρ n` in the tube (kept out of line: the plane's
+    /// [`Rigid::kin`] stays what it was).
+    #[inline(never)]
+    fn tube_offset(&self, y: &[f64; DIM]) -> V3 {
+        let n = self.tube_at(y).map_or(Z, |t| t.n);
+        sub(scale(self.a, v3(y, AXIS)), scale(self.rho, n))
+    }
+
+    /// The slip `v_P` in the contact state's 2D components: the horizontal
+    /// `(x, y)` on the plane, the tangent `(e₁, e₂)` in the tube.
+    fn slip_2d(&self, y: &[f64; DIM], kin: &Kin) -> [f64; 2] {
+        match self.tube_at(y) {
+            None => [kin.vp[0], kin.vp[1]],
+            Some(t) => t.components(kin.vp),
+        }
+    }
+
     /// Evaluate the model at a state in the current phase: the body's
     /// contact dynamics ([`crate::physics::body`]) in one-sphere contact
     /// and in flight, the two-contact phase of the stem (§stem) otherwise.
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, RigidError> {
         if self.both {
             return self.eval_two(y);
+        }
+        if self.tube.is_some() {
+            return self.eval_tube(y);
         }
         let kin = self.kin(y);
         let body = self.body();
@@ -623,6 +685,56 @@ impl Rigid {
             kin,
             q_free,
             torque: c.torque,
+        })
+    }
+
+    /// [`Rigid::eval`] in the tube (docs/physics.md#tube-dynamics): the
+    /// body's tube path ([`body::Body::slide_tube`], [`body::Body::roll_tube`])
+    /// with gravity and the point friction laws; the friction in `Eval` is
+    /// in the contact's tangent components (`e₁ = X`, `e₂ = n × X`).
+    #[inline(never)]
+    fn eval_tube(&self, y: &[f64; DIM]) -> Result<Eval, RigidError> {
+        if self.phase == Phase::Flight {
+            return Err(RigidError::TubeFlight);
+        }
+        let kin = self.kin(y);
+        let Some(tube) = self.tube_at(y) else {
+            unreachable!("eval_tube on the plane")
+        };
+        let body = self.body();
+        let at = body::At::new(&tube, self.a, self.rho, kin.k, kin.n);
+        let free = body.free(&at, None, None);
+        let cd = add(v3(y, VEL), scale(self.a, at.kd));
+        let c = match self.contact.mode {
+            Mode::Rolling => body.roll_tube(&at, &free, &tube, self.rho),
+            Mode::Sliding => body
+                .slide_tube(
+                    &self.contact,
+                    &at,
+                    &free,
+                    &tube,
+                    cd,
+                    tube.components(kin.vp),
+                )
+                .map_err(|solutions| RigidError::Painleve {
+                    theta: kin.kh.atan2(kin.k[2]),
+                    solutions,
+                })?,
+        };
+        let mut dy = [0.0; DIM];
+        set3(&mut dy, POS, v3(y, VEL));
+        set3(&mut dy, VEL, sub(c.force, free.gv));
+        set3(&mut dy, OMEGA, c.wd);
+        dy[QUAT..QUAT + 4].copy_from_slice(&attitude_rate(quat_of(y), kin.n));
+        set3(&mut dy, AXIS, at.kd);
+        dy[WF] = c.wf;
+        Ok(Eval {
+            dy,
+            normal: c.normal,
+            friction: [c.friction[0], c.friction[1], 0.0],
+            kin,
+            q_free: 0.0,
+            torque: 0.0,
         })
     }
 
@@ -712,9 +824,11 @@ impl Rigid {
     }
 
     /// Horizontal slip velocity `v_P` (world, scaled) from the state's `v`.
+    /// In the tube, the tangent components (along `e₁ = X`, `e₂ = n × X`).
     pub fn slip_of(&self, y: &[f64; DIM]) -> V3 {
-        let vp = self.kin(y).vp;
-        [vp[0], vp[1], 0.0]
+        let kin = self.kin(y);
+        let s = self.slip_2d(y, &kin);
+        [s[0], s[1], 0.0]
     }
 
     /// True if the horizontal slip is zero to rounding:
@@ -725,7 +839,8 @@ impl Rigid {
         let kin = self.kin(y);
         let v = v3(y, VEL);
         let size = dot(v, v).sqrt() + dot(kin.n, kin.n).sqrt() * dot(kin.r, kin.r).sqrt();
-        kin.vp[0].hypot(kin.vp[1]) <= 16.0 * f64::EPSILON * size
+        let s = self.slip_2d(y, &kin);
+        s[0].hypot(s[1]) <= 16.0 * f64::EPSILON * size
     }
 
     /// Centre-of-mass velocity of rolling contact at this attitude and
@@ -749,6 +864,8 @@ impl Rigid {
     fn output_velocity(&self, y: &[f64; DIM], kin: &Kin) -> V3 {
         if self.phase == Phase::Contact && self.contact.mode == Mode::Rolling {
             self.rolling_velocity(kin)
+        } else if self.tube.is_some() {
+            v3(y, VEL)
         } else {
             let (_, vz) = self.vertical(y, kin);
             [y[VEL], y[VEL + 1], vz]
@@ -756,13 +873,20 @@ impl Rigid {
     }
 
     /// Gap between the sphere and the plane, `z_C − R` (scaled).
+    /// In the tube, `b − |c⊥| − ρ`.
     pub fn gap(&self, y: &[f64; DIM]) -> f64 {
+        if let Some(tube) = self.tube {
+            return tube.gap(add(v3(y, POS), scale(self.a, v3(y, AXIS))), self.rho);
+        }
         y[POS + 2] + self.a * y[AXIS + 2] - self.rho
     }
 
     /// Rate of change of the gap, `v_Cz` (scaled).
     pub fn gap_rate(&self, y: &[f64; DIM]) -> f64 {
         let kin = self.kin(y);
+        if let Some(t) = self.tube_at(y) {
+            return dot(t.n, add(v3(y, VEL), scale(self.a, cross(kin.n, kin.k))));
+        }
         y[VEL + 2] + self.a * cross(kin.n, kin.k)[2]
     }
 
@@ -854,6 +978,16 @@ impl Rigid {
         let k = scale(1.0 / dot(kq, kq).sqrt(), kq);
         set3(y, AXIS, k);
         let n = v3(y, OMEGA);
+        if let Some(tube) = self.tube {
+            // The centre onto |c⊥| = b − ρ, its normal velocity removed.
+            let c = tube.onto(add(v3(y, POS), scale(self.a, k)), self.rho);
+            set3(y, POS, sub(c, scale(self.a, k)));
+            let nt = tube.at(c).n;
+            let v = v3(y, VEL);
+            let vn = dot(nt, add(v, scale(self.a, cross(n, k))));
+            set3(y, VEL, sub(v, scale(vn, nt)));
+            return;
+        }
         y[POS + 2] = self.rho - self.a * k[2];
         y[VEL + 2] = -self.a * cross(n, k)[2];
     }
@@ -874,6 +1008,8 @@ impl Rigid {
     /// the constraint values in contact, the state in flight.
     fn vertical(&self, y: &[f64; DIM], kin: &Kin) -> (f64, f64) {
         match self.phase {
+            // The tube: the state's (projected at every restart).
+            Phase::Contact if self.tube.is_some() => (y[POS + 2], y[VEL + 2]),
             Phase::Contact => (
                 self.rho - self.a * kin.k[2],
                 -self.a * cross(kin.n, kin.k)[2],
@@ -1406,6 +1542,7 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
     let nk = dot(k, k).sqrt();
     let ku = [k[0] / nk, k[1] / nk, k[2] / nk];
     let z = match m.phase {
+        Phase::Contact if m.tube.is_some() => y[POS + 2],
         Phase::Contact => m.rho - m.a * ku[2],
         Phase::Flight => y[POS + 2],
     };
@@ -1424,7 +1561,8 @@ pub fn sample_of(m: &Rigid, t: f64, y: &[f64; DIM]) -> Sample {
         slip: if rolling {
             0.0
         } else {
-            kin.vp[0].hypot(kin.vp[1]) * vu
+            let s = m.slip_2d(y, &kin);
+            s[0].hypot(s[1]) * vu
         },
         jellett: m.jellett_scaled(y) * sc.mass * sc.length.powi(3) / tu,
         energy: m.energy_scaled(y) * sc.energy(),
@@ -1689,6 +1827,11 @@ impl Model<DIM> for Rigid {
                     ));
                 }
                 match self.phase {
+                    Phase::Contact if self.tube.is_some() => Flow::Stop(Error::runtime(
+                        t * tu,
+                        Failure::NotModelled,
+                        format!("{TUBE_FLIGHT}; {}", describe_state(self, y)),
+                    )),
                     Phase::Contact => {
                         // Lift-off: N fell through 0 (from sliding or
                         // rolling: the flight starts from the rolling
@@ -1757,6 +1900,7 @@ impl Model<DIM> for Rigid {
             ),
             RigidError::ImpactJam { .. } => (Failure::Painleve, err.to_string()),
             RigidError::Chattering { .. } => (Failure::Chattering, err.to_string()),
+            RigidError::TubeFlight => (Failure::NotModelled, err.to_string()),
         }
     }
 

@@ -499,3 +499,183 @@ pub fn stick_solve(inertia: &Inertia, k: V3, r: V3, b: V3, beta: f64) -> (V3, f6
     let m = (beta + dot(c, x1)) / (iz[2] - dot(c, x2));
     (add(x1, scale(m, x2)), m)
 }
+
+/// The inside of a horizontal cylinder (docs/physics.md#tube-dynamics):
+/// axis along lab X through `(y, z) = (0, radius)`, so its lowest line is
+/// `z = 0` and `radius → ∞` is the plane in the same coordinates (scaled
+/// lengths). Its contact at one state is a [`TubeAt`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tube {
+    /// The radius `b` (scaled).
+    pub radius: f64,
+}
+
+/// The tube at the contact of a sphere centred at `c`: the normal, the
+/// circumferential tangent and the centre's distance from the axis
+/// (a [`Surface`] for [`At::new`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TubeAt {
+    /// The unit normal at the contact, pointing into the body (towards the
+    /// axis): `n = −c⊥/|c⊥|`, `c⊥` the centre from the axis, across it.
+    pub n: V3,
+    /// The circumferential unit tangent `e₂ = n × X` (`Y` at the lowest
+    /// line); with `e₁ = X` the contact's tangent basis (right-handed with
+    /// `n`, as `X, Y, Z` on the plane).
+    pub e2: V3,
+    /// `|c⊥|`, the sphere centre's distance from the axis (`b − ρ` in contact).
+    pub dist: f64,
+    /// The tube's radius `b`.
+    pub radius: f64,
+}
+
+impl Tube {
+    /// The tube at the contact of a sphere centred at `c`.
+    #[inline]
+    pub fn at(&self, c: V3) -> TubeAt {
+        let (py, pz) = (c[1], c[2] - self.radius);
+        let dist = py.hypot(pz);
+        let n = [0.0, -py / dist, -pz / dist];
+        TubeAt {
+            n,
+            e2: [0.0, n[2], -n[1]],
+            dist,
+            radius: self.radius,
+        }
+    }
+
+    /// The gap `b − |c⊥| − ρ` of a sphere of radius `rho` centred at `c`
+    /// (0 in contact, > 0 inside the tube, apart from the wall).
+    #[inline]
+    pub fn gap(&self, c: V3, rho: f64) -> f64 {
+        self.radius - c[1].hypot(c[2] - self.radius) - rho
+    }
+
+    /// The centre `c` moved across the axis onto the contact (`|c⊥| = b − ρ`).
+    #[inline]
+    pub fn onto(&self, c: V3, rho: f64) -> V3 {
+        let at = self.at(c);
+        let d = self.radius - rho;
+        [c[0], -d * at.n[1], self.radius - d * at.n[2]]
+    }
+}
+
+impl TubeAt {
+    /// The lab vector of tangent components `t` (along `e₁ = X`, `e₂`).
+    #[inline]
+    pub fn tangent(&self, t: [f64; 2]) -> V3 {
+        [t[0], t[1] * self.e2[1], t[1] * self.e2[2]]
+    }
+
+    /// The tangent components `(x·e₁, x·e₂)` of a lab vector.
+    #[inline]
+    pub fn components(&self, x: V3) -> [f64; 2] {
+        [x[0], dot(x, self.e2)]
+    }
+
+    /// The normal's rate `ṅ = −(ċ·e₂) e₂/|c⊥|` for the centre's velocity
+    /// `cd` (the normal turns only with the centre's motion around the axis).
+    #[inline]
+    pub fn normal_rate(&self, cd: V3) -> V3 {
+        scale(-dot(cd, self.e2) / self.dist, self.e2)
+    }
+}
+
+impl Surface for TubeAt {
+    #[inline]
+    fn offset(&self, k: V3, a: f64, rho: f64) -> V3 {
+        sub(scale(a, k), scale(rho, self.n))
+    }
+
+    #[inline]
+    fn normal(&self) -> V3 {
+        self.n
+    }
+
+    #[inline]
+    fn gap(&self, centre: V3, rho: f64) -> f64 {
+        Tube {
+            radius: self.radius,
+        }
+        .gap(centre, rho)
+    }
+}
+
+impl Body {
+    /// Sliding in the tube (docs/physics.md#tube-dynamics) at the tangent
+    /// slip `vp` (components along `e₁`, `e₂`), the centre's velocity `cd`:
+    /// the closure `N D(σ) = Q` with the normal `n` for `Z` and the
+    /// curvature term, `D(σ) = 1 + a (u·n − σ f·u)`, `u = (e × r)/A`,
+    /// `e = k × n`, `Q = g_v·n − a (ẇ₀·e + n·(w × k̇)) + (ċ·e₂)²/|c⊥|`;
+    /// the force `N n − N_f f`. The friction in [`Contact::friction`] is in
+    /// tangent components. Point laws only (no drilling, no applied force).
+    #[inline]
+    pub fn slide_tube<F: Friction>(
+        &self,
+        law: &F,
+        at: &At,
+        free: &Free,
+        tube: &TubeAt,
+        cd: V3,
+        vp: [f64; 2],
+    ) -> Result<Contact, usize> {
+        let (a, k, r, n) = (self.a, at.k, at.r, tube.n);
+        let fl = law.coefficient(vp);
+        let f = tube.tangent(fl);
+        let e = cross(k, n);
+        let u = scale(self.inertia.inv_ia, cross(e, r));
+        let kappa = dot(cd, tube.e2).powi(2) / tube.dist;
+        let q = dot(free.gv, n) - a * (dot(free.w0, e) + dot(n, cross(at.w, at.kd))) + kappa;
+        let (un, fu) = (dot(u, n), dot(f, u));
+        let normal = law.closure(q, 1.0 + a * (un - fu), 1.0 + a * (un + fu))?;
+        let nf = law.friction_normal(normal);
+        let ff = [-nf * fl[0], -nf * fl[1]];
+        let force = add(scale(normal, n), tube.tangent(ff));
+        Ok(Contact {
+            normal,
+            friction: ff,
+            force,
+            wd: self.angular(at, free, force),
+            wf: ff[0] * vp[0] + ff[1] * vp[1],
+            wa: 0.0,
+            torque: 0.0,
+        })
+    }
+
+    /// Rolling in the tube: `v + w × r = 0` held, whose rate is
+    /// `v̇ + ẇ × r + w × ṙ = 0` with the contact offset's rate
+    /// `ṙ = a k̇ − ρ ṅ` (the normal turns: [`TubeAt::normal_rate`] at
+    /// `ċ = ρ w × n`): `K F = b + ρ w × ṅ` with the plane's `K` and `b`
+    /// (`g_v − ẇ₀ × r − a w × k̇`). `N = F·n`, the friction in tangent
+    /// components.
+    #[inline]
+    pub fn roll_tube(&self, at: &At, free: &Free, tube: &TubeAt, rho: f64) -> Contact {
+        let (k, r, w) = (at.k, at.r, at.w);
+        let ndot = tube.normal_rate(scale(rho, cross(w, tube.n)));
+        let b = add(
+            sub(
+                sub(free.gv, cross(free.w0, r)),
+                scale(self.a, cross(w, at.kd)),
+            ),
+            scale(rho, cross(w, ndot)),
+        );
+        let (inv_ia, dinv) = (self.inertia.inv_ia, self.inertia.dinv);
+        let c = cross(k, r);
+        let alpha = 1.0 + inv_ia * dot(r, r);
+        let col = |x: V3| {
+            add(
+                sub(scale(alpha, x), scale(inv_ia * dot(r, x), r)),
+                scale(dinv * dot(c, x), c),
+            )
+        };
+        let force = solve3([col([1.0, 0.0, 0.0]), col([0.0, 1.0, 0.0]), col(Z)], b);
+        Contact {
+            normal: dot(force, tube.n),
+            friction: tube.components(force),
+            force,
+            wd: self.angular(at, free, force),
+            wf: 0.0,
+            wa: 0.0,
+            torque: 0.0,
+        }
+    }
+}

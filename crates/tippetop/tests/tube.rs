@@ -1,0 +1,402 @@
+//! The rigid model inside a horizontal tube (issue #30 item 2,
+//! docs/physics.md#tube-dynamics), against closed forms that do not come
+//! from the code:
+//!
+//! - a uniform ball rolling without slipping at the bottom of the tube is a
+//!   pendulum of length `7 (b − R)/5` (kinetic energy `7/10 m (b − R)² φ̇²`,
+//!   potential `m g (b − R)(1 − cos φ)`): `ω² = 5 g/(7 (b − R))` at small
+//!   amplitude, and the exact period `2π/(ω AGM(1, cos(φ₀/2)))` at any;
+//! - a frictionless ball slides without turning: a pendulum of length
+//!   `b − R`, `ω² = g/(b − R)`;
+//! - a spinning eccentric top with friction keeps `E(t) − E(0) = W_f` and
+//!   stays on the wall (the gap held at 0, never below);
+//! - as `b → ∞` the tube is the plane (the classical preset's run).
+//!
+//! The periods are fitted from the zero crossings of the centre's `y` (the
+//! centre's angle about the axis is `asin(y/(b − R))`), linearly
+//! interpolated between samples (the crossing of a sine is a point of
+//! inflection: the interpolation's error is third order in the sample step).
+
+use tippetop::input::solver::ModelKind;
+use tippetop::model::rigid::DIM;
+use tippetop::{FrictionLaw, Scenario, Top, input::surface::Shape};
+
+/// A uniform ball of radius `r` (classical preset's mass) at rest in a tube
+/// of radius `b`, its contact turned by `phi0` from the lowest line.
+fn ball_in_tube(r: f64, b: f64, phi0: f64, mu: f64, law: FrictionLaw) -> Scenario {
+    let mut sc = Scenario::classical();
+    let m = sc.top.mass;
+    sc.top = Top {
+        radius: r,
+        offset: 0.0,
+        mass: m,
+        inertia_transverse: 0.4 * m * r * r,
+        inertia_axial: 0.4 * m * r * r,
+        stem: None,
+    };
+    sc.surface.friction = mu;
+    sc.surface.law = law;
+    sc.surface.shape = Shape::Tube {
+        radius: b,
+        angle: phi0,
+    };
+    sc.solver.model = ModelKind::Rigid;
+    sc.initial.theta = 0.0;
+    sc.initial.theta_dot = 0.0;
+    sc.initial.precession = 0.0;
+    sc.initial.spin = 0.0;
+    sc.initial.ux = 0.0;
+    sc.initial.uy = 0.0;
+    sc
+}
+
+/// The mean period from the first to the last zero crossing of `y(t)`
+/// (linear interpolation between samples) and the number of half periods.
+fn period_from_crossings(t: &[f64], y: &[f64]) -> (f64, usize) {
+    let mut cross = Vec::new();
+    for i in 1..y.len() {
+        if (y[i - 1] < 0.0) != (y[i] < 0.0) {
+            let s = y[i - 1] / (y[i - 1] - y[i]);
+            cross.push(t[i - 1] + s * (t[i] - t[i - 1]));
+        }
+    }
+    assert!(cross.len() >= 3, "only {} crossings", cross.len());
+    let n = cross.len() - 1;
+    (2.0 * (cross[n] - cross[0]) / n as f64, n)
+}
+
+/// Arithmetic–geometric mean.
+fn agm(mut a: f64, mut b: f64) -> f64 {
+    while (a - b).abs() > 1e-16 * a {
+        (a, b) = (0.5 * (a + b), (a * b).sqrt());
+    }
+    a
+}
+
+/// The run's period and the worst |gap| (scaled by R) at the accepted steps.
+fn measure(sc: &Scenario) -> (f64, usize, f64, bool) {
+    let r = sc.top.radius;
+    let mut worst_gap: f64 = 0.0;
+    let mut rolled = true;
+    let tr = tippetop::simulate::simulate_rigid_observed(sc, &mut |m, _, y: &[f64; DIM]| {
+        worst_gap = worst_gap.max(m.gap(y).abs());
+        rolled &= m.contact.mode == tippetop::model::rigid::Mode::Rolling;
+    });
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let t: Vec<f64> = tr.samples.iter().map(|s| s.t).collect();
+    let y: Vec<f64> = tr.samples.iter().map(|s| s.y).collect();
+    let (p, n) = period_from_crossings(&t, &y);
+    let _ = r;
+    (p, n, worst_gap, rolled)
+}
+
+const G: f64 = 9.8;
+
+/// A uniform ball rolling at the bottom of the tube, amplitude 1e-3 rad
+/// (the pendulum's shift φ₀²/16 = 6e-8): `ω² = 5 g/(7 (b − R))` to 1e-6.
+#[test]
+fn rolling_ball_small_amplitude() {
+    let (r, b) = (0.01, 0.05);
+    let w0 = (5.0 * G / (7.0 * (b - r))).sqrt();
+    let t0 = 2.0 * std::f64::consts::PI / w0;
+    let mut sc = ball_in_tube(r, b, 1e-3, 1.0, FrictionLaw::Coulomb);
+    sc.solver.t_end = 6.25 * t0;
+    sc.solver.samples = 20001;
+    let (p, n, gap, rolled) = measure(&sc);
+    let err = p / t0 - 1.0;
+    println!(
+        "rolling ball: period {p:.9e} s over {n} half periods, closed form {t0:.9e} s, rel. error {err:.2e}; worst |gap| {gap:.1e} R; rolled throughout: {rolled}"
+    );
+    assert!(rolled, "the ball did not roll throughout");
+    assert!(err.abs() < 1e-6, "rolling period off by {err:e}");
+    assert!(gap < 1e-8, "the wall's constraint drifted by {gap:e} R");
+}
+
+/// The same ball at 0.3 rad: the exact pendulum period
+/// `2π/(ω AGM(1, cos(φ₀/2)))` (a 0.56 % shift from the small-amplitude one)
+/// to 1e-6.
+#[test]
+fn rolling_ball_large_amplitude_is_a_pendulum() {
+    let (r, b, phi0): (f64, f64, f64) = (0.01, 0.05, 0.3);
+    let w0 = (5.0 * G / (7.0 * (b - r))).sqrt();
+    let t_exact = 2.0 * std::f64::consts::PI / (w0 * agm(1.0, (0.5 * phi0).cos()));
+    let mut sc = ball_in_tube(r, b, phi0, 1.0, FrictionLaw::Coulomb);
+    sc.solver.t_end = 6.25 * t_exact;
+    sc.solver.samples = 20001;
+    let (p, n, gap, rolled) = measure(&sc);
+    let err = p / t_exact - 1.0;
+    println!(
+        "rolling ball at 0.3 rad: period {p:.9e} s over {n} half periods, exact {t_exact:.9e} s, rel. error {err:.2e}; worst |gap| {gap:.1e} R"
+    );
+    assert!(rolled, "the ball did not roll throughout");
+    assert!(err.abs() < 1e-6, "rolling period off by {err:e}");
+    assert!(gap < 1e-8, "the wall's constraint drifted by {gap:e} R");
+}
+
+/// A frictionless ball slides without turning: `ω² = g/(b − R)` to 1e-6
+/// (amplitude 1e-3 rad).
+#[test]
+fn sliding_ball_small_amplitude() {
+    let (r, b) = (0.01, 0.05);
+    let w0 = (G / (b - r)).sqrt();
+    let t0 = 2.0 * std::f64::consts::PI / w0;
+    let mut sc = ball_in_tube(r, b, 1e-3, 0.0, FrictionLaw::CoulombSliding);
+    sc.solver.t_end = 6.25 * t0;
+    sc.solver.samples = 20001;
+    let (p, n, gap, _) = measure(&sc);
+    let err = p / t0 - 1.0;
+    println!(
+        "sliding ball: period {p:.9e} s over {n} half periods, closed form {t0:.9e} s, rel. error {err:.2e}; worst |gap| {gap:.1e} R"
+    );
+    assert!(err.abs() < 1e-6, "sliding period off by {err:e}");
+    assert!(gap < 1e-8, "the wall's constraint drifted by {gap:e} R");
+}
+
+/// The classical preset's eccentric top, spinning, with the exact Coulomb
+/// law in a tube of radius `b`, its contact turned by 0.2 rad.
+fn top_in_tube(b: f64) -> Scenario {
+    let mut sc = Scenario::classical();
+    sc.surface.shape = Shape::Tube {
+        radius: b,
+        angle: 0.2,
+    };
+    sc.solver.model = ModelKind::Rigid;
+    sc
+}
+
+/// Energy balance `E(t) − E(0) = W_f` for a spinning eccentric top with
+/// friction in the tube (the normal force does no work on a fixed wall;
+/// gravity is in E), to 1e-7 of the initial energy at every sample (the
+/// integrator's tolerance is 1e-10 per step), and no penetration: the gap
+/// stays within 1e-9 R of 0 at every accepted step (never below −1e-9 R).
+/// The run slides and rolls (both are checked to occur).
+#[test]
+fn energy_balance_and_no_penetration() {
+    let mut sc = top_in_tube(0.05);
+    sc.solver.t_end = 2.0;
+    sc.solver.samples = 2001;
+    let (mut worst_gap, mut min_gap) = (0.0f64, f64::INFINITY);
+    let (mut slid, mut rolled) = (false, false);
+    let tr = tippetop::simulate::simulate_rigid_observed(&sc, &mut |m, _, y: &[f64; DIM]| {
+        let g = m.gap(y);
+        worst_gap = worst_gap.max(g.abs());
+        min_gap = min_gap.min(g);
+        match m.contact.mode {
+            tippetop::model::rigid::Mode::Rolling => rolled = true,
+            tippetop::model::rigid::Mode::Sliding => slid = true,
+        }
+    });
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let e0 = tr.samples[0].energy;
+    let mut worst: f64 = 0.0;
+    for s in &tr.samples {
+        worst = worst.max((s.energy - e0 - s.work_friction).abs() / e0.abs());
+    }
+    let wf = tr.samples.last().unwrap().work_friction;
+    println!(
+        "top in the tube: |E - E0 - W_f|/E0 <= {worst:.2e} (W_f = {:.3e} of E0); gap in [{min_gap:.1e}, {worst_gap:.1e}] R; slid {slid}, rolled {rolled}; theta {:.3} -> {:.3} rad",
+        wf / e0,
+        tr.samples[0].theta,
+        tr.samples.last().unwrap().theta
+    );
+    assert!(wf < -1e-3 * e0.abs(), "friction did no work: {wf:e}");
+    assert!(worst < 1e-7, "energy balance off by {worst:e} E0");
+    assert!(min_gap > -1e-9, "penetration {min_gap:e} R");
+    assert!(
+        worst_gap < 1e-9,
+        "the wall's constraint drifted by {worst_gap:e} R"
+    );
+}
+
+/// Frictionless sliding in the tube keeps what the forces cannot change
+/// (docs/physics.md#tube-dynamics): the normal force `N n` lies across the
+/// axis (`n·X = 0`) and gravity too, so `m v_x` is constant; the torque
+/// about the centre of mass, `a N k × n`, is normal to `k`, so the spin
+/// `w·k` is constant; and `E` is constant. Each to 1e-9 (relative to its
+/// initial scale) at every sample. `L·n`, conserved in no general way, is
+/// printed beside them.
+#[test]
+fn frictionless_top_keeps_axial_momentum_spin_and_energy() {
+    let mut sc = top_in_tube(0.05);
+    sc.surface.friction = 0.0;
+    sc.surface.law = FrictionLaw::CoulombSliding;
+    sc.initial.ux = 0.3;
+    sc.initial.uy = 0.1;
+    sc.solver.t_end = 1.0;
+    sc.solver.samples = 1001;
+    let mut first: Option<(f64, f64, f64)> = None;
+    let (mut dvx, mut dspin, mut de, mut dln) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let tr = tippetop::simulate::simulate_rigid_observed(&sc, &mut |m, _, y: &[f64; DIM]| {
+        let vx = y[tippetop::model::rigid::VEL];
+        let spin = m.spin_scaled(y);
+        let l = m.angular_momentum(y);
+        let nrm = m.tube_at(y).expect("in the tube").n;
+        let ln = l[0] * nrm[0] + l[1] * nrm[1] + l[2] * nrm[2];
+        let e = m.energy_scaled(y);
+        match first {
+            None => first = Some((vx, spin, e)),
+            Some((vx0, s0, e0)) => {
+                dvx = dvx.max((vx - vx0).abs() / vx0.abs());
+                dspin = dspin.max((spin - s0).abs() / s0.abs());
+                de = de.max((e - e0).abs() / e0.abs());
+                dln = dln.max(ln.abs());
+            }
+        }
+    });
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    println!(
+        "frictionless top: rel. change of v_x {dvx:.1e}, of w.k {dspin:.1e}, of E {de:.1e}; max |L.n| {dln:.3e} (scaled)"
+    );
+    assert!(dvx < 1e-9 && dspin < 1e-9 && de < 1e-9);
+}
+
+/// The plane recovered as `b → ∞`: the classical preset's rigid run on
+/// the plane and in a tube of radius 1e6 m (the wall's tilt over the ~3 cm
+/// the top travels is 3e-8 rad) give the same θ(t) and spin to 1e-6 over
+/// 2 s (rolling, sliding and the tilt's growth included).
+#[test]
+fn wide_tube_is_the_plane() {
+    let mut plane = Scenario::classical();
+    plane.solver.model = ModelKind::Rigid;
+    plane.solver.t_end = 2.0;
+    plane.solver.samples = 201;
+    let mut tube = plane.clone();
+    tube.surface.shape = Shape::Tube {
+        radius: 1e6,
+        angle: 0.0,
+    };
+    let a = tippetop::simulate(&plane).unwrap();
+    let b = tippetop::simulate(&tube).unwrap();
+    assert!(a.error.is_none() && b.error.is_none());
+    let (mut dth, mut dsp) = (0.0f64, 0.0f64);
+    for (p, q) in a.samples.iter().zip(&b.samples) {
+        dth = dth.max((p.theta - q.theta).abs());
+        dsp = dsp.max((p.spin - q.spin).abs() / p.spin.abs().max(1.0));
+    }
+    println!(
+        "b = 1e6 m against the plane over 2 s: max |d theta| {dth:.2e} rad, max rel. d spin {dsp:.2e}; theta {:.4} -> {:.4} rad",
+        a.samples[0].theta,
+        a.samples.last().unwrap().theta
+    );
+    assert!(dth < 1e-6 && dsp < 1e-6);
+}
+
+/// The keys: the tube read from `--set`s, and each refusal one error naming
+/// its key (the CLI's exit 2 is tippetop-cli's tests/hardening_cli.rs).
+#[test]
+fn tube_keys_and_refusals() {
+    let load = |preset: &str, sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        Scenario::load(Some(preset), None, &sets)
+    };
+    let rigid = "solver.model=\"rigid\"";
+    let tube = "surface.shape=\"tube\"";
+    let sc = load(
+        "classical",
+        &[
+            rigid,
+            tube,
+            "surface.tube_radius=0.05",
+            "surface.tube_angle=0.1",
+        ],
+    )
+    .unwrap();
+    assert_eq!(
+        sc.surface.shape,
+        Shape::Tube {
+            radius: 0.05,
+            angle: 0.1
+        }
+    );
+    // The scenario written back reads back the same.
+    assert_eq!(Scenario::from_toml_str(&sc.to_toml_string()).unwrap(), sc);
+    for (preset, sets, key) in [
+        ("classical", vec![rigid, tube], "surface.tube_radius"),
+        (
+            "classical",
+            vec![rigid, tube, "surface.tube_radius=0.015"],
+            "surface.tube_radius",
+        ),
+        (
+            "classical",
+            vec![rigid, tube, "surface.tube_radius=nan"],
+            "surface.tube_radius",
+        ),
+        (
+            "classical",
+            vec![
+                rigid,
+                tube,
+                "surface.tube_radius=0.05",
+                "surface.tube_angle=1.6",
+            ],
+            "surface.tube_angle",
+        ),
+        (
+            "classical",
+            vec!["surface.tube_radius=0.05"],
+            "surface.tube_radius",
+        ),
+        (
+            "classical",
+            vec![tube, "solver.model=\"reduced\"", "surface.tube_radius=0.05"],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![tube, "solver.model=\"vector\"", "surface.tube_radius=0.05"],
+            "surface.shape",
+        ),
+        (
+            "nano",
+            vec![rigid, tube, "surface.tube_radius=1e-9"],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![
+                rigid,
+                tube,
+                "surface.tube_radius=0.05",
+                "adhesion.force=1e-9",
+                "adhesion.energy=1e-19",
+            ],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![
+                rigid,
+                tube,
+                "surface.tube_radius=0.05",
+                "top.stem_radius=0.0025",
+                "top.stem_distance=0.0185",
+                "surface.contact=\"unilateral\"",
+            ],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![
+                rigid,
+                tube,
+                "surface.tube_radius=0.05",
+                "surface.friction_law=\"contensou\"",
+                "surface.contact_radius=1e-4",
+            ],
+            "surface.shape",
+        ),
+        (
+            "classical",
+            vec![rigid, "surface.shape=\"cone\""],
+            "surface.shape",
+        ),
+    ] {
+        let err = load(preset, &sets).expect_err(&format!("{sets:?} accepted"));
+        let msg = err.to_string();
+        assert!(
+            msg.starts_with(&format!("{key}: ")) && !msg.contains('\n'),
+            "{sets:?}: {msg}"
+        );
+    }
+}
