@@ -409,6 +409,26 @@ const FLUSH_BYTES: usize = 1 << 20;
 /// Time after which a checkpoint is due (see [`PartialWriter::due`]).
 const FLUSH_EVERY: Duration = Duration::from_secs(1);
 
+/// The environment variable that replaces [`FLUSH_EVERY`] \[s\]: the speed
+/// gate (`.ci/perf-gate`) sets it to a day, so that how many checkpoints a
+/// run writes (and so its instruction count) does not depend on how fast
+/// the machine is (under callgrind a run is ~50x slower and a 1 s
+/// checkpoint fell 0-4 times into the same ensemble: 94.4-98.5 M
+/// instructions). The files written are the same either way.
+pub const FLUSH_EVERY_ENV: &str = "TIPPETOP_CHECKPOINT_SECONDS";
+
+/// [`FLUSH_EVERY`], or the whole seconds [`FLUSH_EVERY_ENV`] gives (read
+/// once; an unreadable value is ignored).
+fn flush_every() -> Duration {
+    static EVERY: std::sync::OnceLock<Duration> = std::sync::OnceLock::new();
+    *EVERY.get_or_init(|| {
+        std::env::var(FLUSH_EVERY_ENV)
+            .ok()
+            .and_then(|v| v.trim().parse::<u64>().ok())
+            .map_or(FLUSH_EVERY, Duration::from_secs)
+    })
+}
+
 /// A partial CSV being written, with its checkpoints (see the module doc).
 #[derive(Debug)]
 pub struct PartialWriter {
@@ -484,7 +504,7 @@ impl PartialWriter {
     /// a second since the last.
     pub fn due(&self) -> bool {
         !self.buf.is_empty()
-            && (self.buf.len() >= FLUSH_BYTES || self.last.elapsed() >= FLUSH_EVERY)
+            && (self.buf.len() >= FLUSH_BYTES || self.last.elapsed() >= flush_every())
     }
 
     /// Rows written or waiting (the kept ones included).
