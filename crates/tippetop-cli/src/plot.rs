@@ -788,14 +788,6 @@ where
                 mark.stroke_width(1),
             ))
             .map_err(err)?;
-        if !v.label.is_empty() {
-            chart
-                .draw_series(std::iter::once(
-                    EmptyElement::at((vx, yb))
-                        + Text::new(v.label.clone(), (4, 18), font(13.0).color(&mark)),
-                ))
-                .map_err(err)?;
-        }
     }
 
     // Reference lines.
@@ -822,6 +814,24 @@ where
                 ))
                 .map_err(err)?;
         }
+    }
+
+    // The marks' labels last, on a white box: a reference line near the
+    // top (π) ran through them (fig12, fig14).
+    for v in &o.vlines {
+        let vx = v.x * kx;
+        if v.label.is_empty() || !vx.is_finite() || vx < xa || vx > xb {
+            continue;
+        }
+        // About 7 px a character at 13 px.
+        let w = 8 + 7 * v.label.chars().count() as i32;
+        chart
+            .draw_series(std::iter::once(
+                EmptyElement::at((vx, yb))
+                    + Rectangle::new([(2, 16), (w, 33)], WHITE.mix(0.85).filled())
+                    + Text::new(v.label.clone(), (4, 18), font(13.0).color(&mark)),
+            ))
+            .map_err(err)?;
     }
 
     Ok(())
