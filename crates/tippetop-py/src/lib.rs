@@ -878,14 +878,13 @@ fn rare<'py>(
     use tippetop::analysis::rare::problem::{self, DEFAULT_REPLICAS, Problem, RareMethod};
     let started = Instant::now();
     let method = RareMethod::parse(method).map_err(to_py_err)?;
-    let count = count_of;
-    let replicas = count(replicas, "--replicas", "N >= 1")?;
-    let max_steps = count(
+    let replicas = count_of(replicas, "--replicas", "N >= 1")?;
+    let max_steps = count_of(
         max_steps,
         "--max-steps",
         "1 to 20000000 steps per trajectory",
     )?;
-    let threads = count(threads, "--threads", "1 to 1024")?.map(|t| t as usize);
+    let threads = count_of(threads, "--threads", "1 to 1024")?.map(|t| t as usize);
     let threads = analysis::sweep::threads(threads).map_err(to_py_err)?;
     let sc = scenario.sc.clone();
     let (target, reset) = (target.to_string(), reset.map(str::to_string));
@@ -999,23 +998,22 @@ fn rare_ams(
         coordinate,
     } = o;
     let d = Settings::default();
-    let big = count_of;
     let settings = Settings {
         replicas: replicas.map_or(d.replicas, |v| v as usize),
-        particles: big(particles, "--particles", "2 <= n <= 100000")?
+        particles: count_of(particles, "--particles", "2 <= n <= 100000")?
             .map_or(d.particles, |v| v as usize),
-        kill: big(kill, "--kill", "1 <= k < n (--particles)")?.map_or(d.kill, |v| v as usize),
-        max_trajectories: big(
+        kill: count_of(kill, "--kill", "1 <= k < n (--particles)")?.map_or(d.kill, |v| v as usize),
+        max_trajectories: count_of(
             max_trajectories,
             "--max-trajectories",
             "n (--particles) <= N <= 16777200 per replica",
         )?
         .unwrap_or(d.max_trajectories),
-        crossings: big(crossings, "--crossings", "1 <= crossings <= 100000")?
+        crossings: count_of(crossings, "--crossings", "1 <= crossings <= 100000")?
             .map_or(d.crossings, |v| v as usize),
-        direct_steps: big(direct_steps, "--direct-steps", "1 <= steps <= 10000000")?
+        direct_steps: count_of(direct_steps, "--direct-steps", "1 <= steps <= 10000000")?
             .unwrap_or(d.direct_steps),
-        pilot_steps: big(pilot_steps, "--pilot-steps", "1000 <= steps <= 10000000")?
+        pilot_steps: count_of(pilot_steps, "--pilot-steps", "1000 <= steps <= 10000000")?
             .unwrap_or(d.pilot_steps),
         basin,
         interface,

@@ -253,6 +253,21 @@ fn quat_of(y: &[f64; DIM]) -> [f64; 4] {
     [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]]
 }
 
+/// The state's rate in one-sphere contact (plane or tube) from the
+/// contact solution `c`: `ẋ = v`, `v̇ = F − (g Z − F_b)` (`gv`), `ẇ`, the
+/// attitude's rate at `n`, `k̇` and `Ẇ_f`; `Ẇ_a` and the rest are zero.
+#[inline(always)]
+fn contact_rates(y: &[f64; DIM], c: &body::Contact, gv: V3, n: V3, kd: V3) -> [f64; DIM] {
+    let mut dy = [0.0; DIM];
+    set3(&mut dy, POS, v3(y, VEL));
+    set3(&mut dy, VEL, sub(c.force, gv));
+    set3(&mut dy, OMEGA, c.wd);
+    dy[QUAT..QUAT + 4].copy_from_slice(&attitude_rate(quat_of(y), n));
+    set3(&mut dy, AXIS, kd);
+    dy[WF] = c.wf;
+    dy
+}
+
 /// `q̇ = ½ (0, n) ⊗ q − κ (|q|² − 1) q`.
 #[inline(always)]
 fn attitude_rate(qs: [f64; 4], n: V3) -> [f64; 4] {
@@ -664,14 +679,7 @@ impl Rigid {
                     solutions,
                 })?,
         };
-        let mut dy = [0.0; DIM];
-        // Translation: v̇ = F − (g Z − F_b).
-        set3(&mut dy, POS, v3(y, VEL));
-        set3(&mut dy, VEL, sub(c.force, free.gv));
-        set3(&mut dy, OMEGA, c.wd);
-        dy[QUAT..QUAT + 4].copy_from_slice(&attitude_rate(quat_of(y), kin.n));
-        set3(&mut dy, AXIS, at.kd);
-        dy[WF] = c.wf;
+        let mut dy = contact_rates(y, &c, free.gv, kin.n, at.kd);
         dy[WA] = c.wa;
         if let Some(wr) = free.wrench {
             // The actuators' power F·v_O + τ·n (§actuators), rolling or not, with
@@ -721,13 +729,7 @@ impl Rigid {
                     solutions,
                 })?,
         };
-        let mut dy = [0.0; DIM];
-        set3(&mut dy, POS, v3(y, VEL));
-        set3(&mut dy, VEL, sub(c.force, free.gv));
-        set3(&mut dy, OMEGA, c.wd);
-        dy[QUAT..QUAT + 4].copy_from_slice(&attitude_rate(quat_of(y), kin.n));
-        set3(&mut dy, AXIS, at.kd);
-        dy[WF] = c.wf;
+        let dy = contact_rates(y, &c, free.gv, kin.n, at.kd);
         Ok(Eval {
             dy,
             normal: c.normal,

@@ -127,6 +127,23 @@ impl Inertia {
         }
     }
 
+    /// The columns of the contact matrix `K x = x − r × I⁻¹ (r × x)
+    /// = (1 + |r|²/A) x − (r·x) r/A + (1/C − 1/A) (c·x) c`, `c = k × r`
+    /// (`|k| = 1`): the rolling solve's `K F = b` (plane and tube).
+    #[inline(always)]
+    pub fn contact_matrix(&self, k: V3, r: V3) -> [V3; 3] {
+        let (inv_ia, dinv) = (self.inv_ia, self.dinv);
+        let c = cross(k, r);
+        let alpha = 1.0 + inv_ia * dot(r, r);
+        let col = |x: V3| {
+            add(
+                sub(scale(alpha, x), scale(inv_ia * dot(r, x), r)),
+                scale(dinv * dot(c, x), c),
+            )
+        };
+        [col([1.0, 0.0, 0.0]), col([0.0, 1.0, 0.0]), col(Z)]
+    }
+
     /// `I x` for the symmetry axis `k`.
     #[inline(always)]
     pub fn apply(&self, k: V3, x: V3) -> V3 {
@@ -369,19 +386,7 @@ impl Body {
             );
             (force, wd, m)
         } else {
-            // K x = x − r × I⁻¹ (r × x) = (1 + |r|²/A) x − (r·x) r/A
-            //       + (1/C − 1/A) (c·x) c,  c = k × r  (|k| = 1).
-            let (inv_ia, dinv) = (self.inertia.inv_ia, self.inertia.dinv);
-            let c = cross(k, r);
-            let alpha = 1.0 + inv_ia * dot(r, r);
-            let col = |x: V3| {
-                add(
-                    sub(scale(alpha, x), scale(inv_ia * dot(r, x), r)),
-                    scale(dinv * dot(c, x), c),
-                )
-            };
-            let kmat = [col([1.0, 0.0, 0.0]), col([0.0, 1.0, 0.0]), col(Z)];
-            let force = solve3(kmat, b);
+            let force = solve3(self.inertia.contact_matrix(k, r), b);
             (force, self.angular(at, free, force), 0.0)
         };
         Contact {
@@ -658,16 +663,7 @@ impl Body {
             ),
             scale(rho, cross(w, ndot)),
         );
-        let (inv_ia, dinv) = (self.inertia.inv_ia, self.inertia.dinv);
-        let c = cross(k, r);
-        let alpha = 1.0 + inv_ia * dot(r, r);
-        let col = |x: V3| {
-            add(
-                sub(scale(alpha, x), scale(inv_ia * dot(r, x), r)),
-                scale(dinv * dot(c, x), c),
-            )
-        };
-        let force = solve3([col([1.0, 0.0, 0.0]), col([0.0, 1.0, 0.0]), col(Z)], b);
+        let force = solve3(self.inertia.contact_matrix(k, r), b);
         Contact {
             normal: dot(force, tube.n),
             friction: tube.components(force),
