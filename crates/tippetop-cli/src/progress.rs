@@ -65,7 +65,7 @@ type LogSink = Box<dyn FnMut(&str)>;
 /// It also says, once per decade, when the run is running away, from the
 /// state at every report (so the same run warns at the same place whatever
 /// the machine): the spin has grown by decades since the first report, or
-/// the mean step size has fallen by decades ([`runaway_warning`]); and,
+/// the mean step size has fallen by decades ([`tippetop::RunawayWatch`]); and,
 /// from the wall clock, when the run advances ten times (a hundred, ...)
 /// slower than over its first interval ([`slowdown_warning`]).
 pub struct RunProgress {
@@ -81,18 +81,7 @@ pub struct RunProgress {
     /// Decades of slow-down already reported.
     warned_decades: i32,
     /// The state's watch: the first report and the decades already said.
-    runaway: Runaway,
-}
-
-/// The first report (time \[s\], spin \[rad/s\], mean step \[s\]), the last
-/// one (time, steps) and the decades of spin growth and step fall already
-/// reported.
-#[derive(Default)]
-struct Runaway {
-    first: Option<(f64, f64, f64)>,
-    last: (f64, u64),
-    spin_decades: i32,
-    step_decades: i32,
+    runaway: tippetop::RunawayWatch,
 }
 
 impl RunProgress {
@@ -127,7 +116,7 @@ impl RunProgress {
             last: (now, 0.0),
             first_rate: None,
             warned_decades: 0,
-            runaway: Runaway::default(),
+            runaway: tippetop::RunawayWatch::default(),
         }
     }
 
@@ -177,83 +166,6 @@ impl RunProgress {
     pub fn finish(self) {
         self.bar.finish_and_clear();
     }
-}
-
-impl Runaway {
-    /// The warning of [`runaway_warning`] for report `p`, if a new decade
-    /// was crossed.
-    fn check(&mut self, p: &tippetop::Progress) -> Option<String> {
-        let (t_last, steps_last) = self.last;
-        self.last = (p.t, p.steps);
-        if p.steps <= steps_last {
-            return None;
-        }
-        let step = (p.t - t_last) / (p.steps - steps_last) as f64;
-        let Some(first) = self.first else {
-            self.first = Some((p.t, p.spin.abs(), step));
-            return None;
-        };
-        runaway_warning(
-            first,
-            (p.t, p.spin.abs(), step),
-            &mut self.spin_decades,
-            &mut self.step_decades,
-        )
-    }
-}
-
-/// Whole decades by which `now` exceeds `then` (0 when it does not, or
-/// when either is not a positive finite number).
-fn decades(now: f64, then: f64) -> i32 {
-    let r = now / then;
-    if r.is_finite() && r > 0.0 && then > 0.0 {
-        r.log10().floor().max(0.0) as i32
-    } else {
-        0
-    }
-}
-
-/// The warning, once per new decade, that the state is running away:
-/// between the first report `first` and this one `now`, each (time \[s\],
-/// |spin| \[rad/s\], mean step size over the reports' interval \[s\]), the
-/// spin has grown by `10^n` or the step size has fallen by `10^n` for an
-/// `n` above the decades already reported (`spin_warned`,
-/// `step_warned`, updated).
-fn runaway_warning(
-    first: (f64, f64, f64),
-    now: (f64, f64, f64),
-    spin_warned: &mut i32,
-    step_warned: &mut i32,
-) -> Option<String> {
-    let spin_d = decades(now.1, first.1);
-    let step_d = decades(first.2, now.2);
-    if spin_d <= *spin_warned && step_d <= *step_warned {
-        return None;
-    }
-    *spin_warned = (*spin_warned).max(spin_d);
-    *step_warned = (*step_warned).max(step_d);
-    let times = |d: i32| format!("{:.0}", 10f64.powi(d));
-    let spin = if spin_d >= 1 {
-        format!("grown {}x", times(spin_d))
-    } else {
-        "not grown by a decade".into()
-    };
-    let step = if step_d >= 1 {
-        format!("fallen {}x", times(step_d))
-    } else {
-        "not fallen by a decade".into()
-    };
-    Some(format!(
-        "warning: the state is running away: at t = {} the spin |omega| = {} has {spin} since t = {} ({}), \
-         and the mean step size {} has {step} ({}); such a run ends in a failure (a Painleve paradox, \
-         solver.max_steps) unless it recovers: see docs/guide.md#errors",
-        human::si(now.0, "s", 3),
-        human::si(now.1, "rad/s", 3),
-        human::si(first.0, "s", 3),
-        human::si(first.1, "rad/s", 3),
-        human::si(now.2, "s", 3),
-        human::si(first.2, "s", 3),
-    ))
 }
 
 /// The warning, once per decade, when the run's time advances 10^n times
@@ -376,42 +288,6 @@ mod tests {
         let w = super::slowdown_warning(1.0, 0.001, &mut warned, 3.0).unwrap();
         assert!(w.contains("1000x slower"), "{w}");
         assert!(super::slowdown_warning(1.0, 0.0, &mut warned, 3.0).is_some());
-    }
-
-    /// The state's warning: once per new decade of spin growth or step
-    /// fall since the first report, saying which; a state that stays
-    /// (spin and step within a decade) says nothing.
-    #[test]
-    fn runaway_warns_once_per_decade_of_spin_or_step() {
-        let (mut sw, mut hw) = (0, 0);
-        let first = (1e-3, 1e7, 1e-9);
-        // 9.9x the spin, 1/9.9 the step: nothing.
-        assert!(super::runaway_warning(first, (2e-3, 9.9e7, 1.01e-10), &mut sw, &mut hw).is_none());
-        let w = super::runaway_warning(first, (3e-3, 1.5e8, 5e-10), &mut sw, &mut hw).unwrap();
-        assert!(
-            w.starts_with("warning: the state is running away: at t = 3.00 ms"),
-            "{w}"
-        );
-        assert!(
-            w.contains("150 Mrad/s has grown 10x since t = 1.00 ms (10.0 Mrad/s)"),
-            "{w}"
-        );
-        assert!(
-            w.contains("500 ps has not fallen by a decade (1.00 ns)"),
-            "{w}"
-        );
-        // The same decade again: nothing; the step's first decade: once.
-        assert!(super::runaway_warning(first, (4e-3, 9e8, 2e-10), &mut sw, &mut hw).is_none());
-        let w = super::runaway_warning(first, (5e-3, 9e8, 9e-11), &mut sw, &mut hw).unwrap();
-        assert!(w.contains("has fallen 10x (1.00 ns)"), "{w}");
-        let w = super::runaway_warning(first, (6e-3, 2e9, 9e-11), &mut sw, &mut hw).unwrap();
-        assert!(w.contains("has grown 100x"), "{w}");
-        // A spin that falls (or is zero at first) never warns.
-        let (mut sw, mut hw) = (0, 0);
-        assert!(super::runaway_warning(first, (1.0, 1e3, 1e-9), &mut sw, &mut hw).is_none());
-        assert!(
-            super::runaway_warning((0.0, 0.0, 1e-9), (1.0, 1e3, 1e-9), &mut sw, &mut hw).is_none()
-        );
     }
 
     /// [`super::RunProgress`] warns from the state at the report where the

@@ -175,6 +175,18 @@ fn signals_checker<'a>(interrupted: &'a mut Option<PyErr>) -> impl FnMut() -> bo
     }
 }
 
+/// Issue `message` as a Python `RuntimeWarning` at the caller's line (an
+/// `Err` when the warnings filter turns it into an error).
+fn warn_runtime(py: Python<'_>, message: &str) -> PyResult<()> {
+    let text = std::ffi::CString::new(message.replace('\0', " ")).expect("no NUL left");
+    PyErr::warn(
+        py,
+        &py.get_type::<pyo3::exceptions::PyRuntimeWarning>(),
+        &text,
+        1,
+    )
+}
+
 /// A TOML value as a Python object.
 fn toml_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
     Ok(match v {
@@ -539,15 +551,36 @@ impl Trajectory {
 fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
     let sc = &scenario.sc;
     // The resumable driver to t_end (the same run as `simulate`, bit for
-    // bit), asking about Ctrl-C every few thousand steps.
+    // bit), asking about Ctrl-C every few thousand steps, and pausing every
+    // PROGRESS_EVERY steps (a pause never changes a step) to watch the
+    // state as the CLI does: a run that runs away says so, as a
+    // RuntimeWarning, before it fails.
     let mut interrupted: Option<PyErr> = None;
     let (traj, wall) = py.detach(|| {
         guarded(|| {
             let start = Instant::now();
             let r = tippetop::Simulation::new(sc).and_then(|mut sim| {
-                let done = sim
-                    .integrate_to_while(sc.solver.t_end, &mut signals_checker(&mut interrupted))?;
-                Ok(done.then(|| sim.into_trajectory()))
+                let mut watch = tippetop::RunawayWatch::default();
+                loop {
+                    let mut asked = 0u64;
+                    let mut signals = signals_checker(&mut interrupted);
+                    let done = sim.integrate_to_while(sc.solver.t_end, &mut || {
+                        asked += 1;
+                        asked * tippetop::simulate::CHECK_EVERY < tippetop::simulate::PROGRESS_EVERY
+                            && signals()
+                    })?;
+                    drop(signals);
+                    if done || interrupted.is_some() {
+                        return Ok(done.then(|| sim.into_trajectory()));
+                    }
+                    if let Some(w) = watch.check(&sim.progress()) {
+                        if let Err(e) = Python::attach(|py| warn_runtime(py, &w)) {
+                            // The warnings filter made it an error.
+                            interrupted = Some(e);
+                            return Ok(None);
+                        }
+                    }
+                }
             });
             (r, start.elapsed().as_secs_f64())
         })

@@ -215,6 +215,38 @@ def test_partial_run_has_error_and_samples_up_to_it(nano):
     assert sim.is_finished and sim.error == err
 
 
+def test_a_runaway_is_announced_before_the_failure(nano):
+    """The nano preset's long run runs away (its spin grows ~linearly to
+    ~2e9 rad/s, its step falls) and fails; cut at 1.5 M steps (the same run
+    until then), tt.run warns (RuntimeWarning, once per decade, decided by
+    the state as the CLI's hardening_cli::a_runaway_is_announced_before_the_failure)
+    before it returns the failure."""
+    sc = nano.set("solver.t_end", 1.0).set("solver.max_steps", 1_500_000)
+    with pytest.warns(RuntimeWarning, match="the state is running away") as rec:
+        tr = tt.run(sc)
+    assert tr.error is not None and tr.error["kind"] == "step_limit"
+    msgs = [str(w.message) for w in rec if "running away" in str(w.message)]
+    assert msgs[0].startswith("warning: the state is running away: at t = ")
+    assert "has grown 10x since t = " in msgs[0]
+    # Each warning's time precedes the failure's.
+    assert len(msgs) <= 4
+
+
+def test_the_watch_never_changes_a_step(nano, recwarn):
+    """tt.run pauses every 16 384 steps to watch the state; a 1 ms nano run
+    (~88 000 steps, five pauses) is bit for bit Simulation.integrate_to's
+    run, which never pauses, and a run that stays gives no warning."""
+    sc = nano.set("solver.t_end", 1e-3)
+    tr = tt.run(sc)
+    sim = tt.Simulation(sc)
+    sim.integrate_to(1e-3)
+    other = sim.into_trajectory()
+    assert tr.summary["steps"] > 5 * 16384
+    assert_same_arrays(tr, other)
+    assert summary_without_wall(tr) == summary_without_wall(other)
+    assert not [w for w in recwarn if "running away" in str(w.message)]
+
+
 def test_run_releases_the_gil(nano):
     """A Python thread counts while tt.run is in Rust. With a switch interval
     far longer than the test, the main thread gives the GIL up only where it

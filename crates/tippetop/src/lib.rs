@@ -43,7 +43,7 @@ pub use input::thermal::Thermal;
 pub use input::top::{Stem, Top};
 pub use input::well::Well;
 pub use simulate::{
-    Progress, Simulation, Snapshot, simulate, simulate_watching, simulate_watching_with_progress,
-    simulate_with_progress,
+    Progress, RunawayWatch, Simulation, Snapshot, simulate, simulate_watching,
+    simulate_watching_with_progress, simulate_with_progress,
 };
 pub use trajectory::{EventRecord, NormalIntervals, Sample, StemSummary, Summary, Trajectory};

@@ -130,6 +130,7 @@ pub fn simulate_watching_with_progress(
 /// Accepted steps between two calls of the progress callback of
 /// [`simulate_with_progress`], and what it is told.
 pub use crate::sim::record::{PROGRESS_EVERY, Progress};
+pub use crate::sim::runaway::RunawayWatch;
 
 /// Accepted steps between two questions to the `keep_going` callback of
 /// [`Simulation::integrate_to_while`]: 1024 (a step takes 0.1 to 10 µs, so
@@ -328,6 +329,22 @@ impl Simulation {
     /// random stream's counter without the branch).
     pub(crate) fn steps_taken(&self) -> u64 {
         with_sim!(&self.inner, s => s.steps_seen)
+    }
+
+    /// Where the run stands, as the progress callback of
+    /// [`simulate_with_progress`] is told it: the fraction of `solver.t_end`
+    /// done, the time \[s\] ([`Simulation::time`]), the accepted steps so
+    /// far and the spin there \[rad/s\]. For a caller that integrates in
+    /// pieces ([`Simulation::integrate_to_while`]) and watches for a run
+    /// that runs away ([`RunawayWatch`]).
+    pub fn progress(&self) -> Progress {
+        let (tu, t_end) = with_sim!(&self.inner, s => (s.tu, s.t_end));
+        Progress {
+            fraction: (self.at / t_end).clamp(0.0, 1.0),
+            t: self.at * tu,
+            steps: self.steps_taken(),
+            spin: self.state().spin,
+        }
     }
 
     /// From the next step on, draw the noise of branch `branch`: step `k`

@@ -9,4 +9,5 @@
 pub mod events;
 pub(crate) mod messages;
 pub mod record;
+pub mod runaway;
 pub mod watch;
