@@ -900,3 +900,32 @@ fn tube_input_errors_and_lift_off() {
     assert!(out.join("summary.json").exists());
     assert!(out.join("trajectory.csv").exists());
 }
+
+/// A bad nano-scale value is quoted as given, in powers of ten
+/// (`-1.196e-24`, `3e-10`), not as `-0.000000000000000000000001196`, and
+/// the one line still names the key and the range (exit 2, nothing
+/// written).
+#[test]
+fn bad_nano_values_are_quoted_readably() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    for (set, want) in [
+        (
+            "top.mass=-1.196e-24",
+            "error: top.mass: -1.196e-24 is not allowed (a finite number > 0)",
+        ),
+        (
+            "solver.rtol=1e-30",
+            "error: solver.rtol: 1e-30 is not allowed (1e-14 <= rtol <= 1e-2)",
+        ),
+    ] {
+        let a = tippetop()
+            .args(["run", "--preset", "nano", "--set", set, "--out"])
+            .arg(&out)
+            .assert()
+            .code(2);
+        let stderr = String::from_utf8_lossy(&a.get_output().stderr).to_string();
+        assert_eq!(stderr.trim_end(), want);
+        assert!(!out.exists());
+    }
+}

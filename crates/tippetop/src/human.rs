@@ -32,6 +32,19 @@ pub fn sig(x: f64, digits: usize) -> String {
     }
 }
 
+/// `x` exactly as it was given (the shortest digits that parse back to
+/// it), for a message that quotes an input value: plain decimals for zero
+/// and `1e-3 <= |x| < 1e7` (`-1`, `0.25`, `1500000`), powers of ten
+/// outside (`3e-10`, `3.55e-10`, `1.196e-24`, not
+/// `0.000000000355`), and `inf`, `-inf`, `NaN` for what is not finite.
+pub fn exact(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-3..1e7).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// [`sig`] with 4 significant figures.
 pub fn s4(x: f64) -> String {
     sig(x, 4)
@@ -102,6 +115,32 @@ pub fn duration(seconds: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An input value is quoted with the digits that parse back to it, in
+    /// powers of ten outside [1e-3, 1e7).
+    #[test]
+    fn exact_values_read_and_round_trip() {
+        for (x, want) in [
+            (-1.0, "-1"),
+            (0.0, "0"),
+            (0.25, "0.25"),
+            (1e-3, "0.001"),
+            (1.5e6, "1500000"),
+            (1e7, "1e7"),
+            (3e-10, "3e-10"),
+            (3.55e-10, "3.55e-10"),
+            (-1.196e-24, "-1.196e-24"),
+            (0.1 + 0.2, "0.30000000000000004"),
+            (f64::INFINITY, "inf"),
+            (f64::NEG_INFINITY, "-inf"),
+            (f64::NAN, "NaN"),
+        ] {
+            assert_eq!(exact(x), want);
+            if x.is_finite() {
+                assert_eq!(want.parse::<f64>().unwrap().to_bits(), x.to_bits());
+            }
+        }
+    }
 
     #[test]
     fn significant_figures_without_noise() {

@@ -75,7 +75,7 @@ pub fn regime(sc: &Scenario, temperature: Option<f64>) -> Result<Regime, Error> 
         if !(0.0..=MAX_TEMPERATURE).contains(&t) {
             return Err(Error::invalid(
                 "temperature",
-                format!("{t} is not allowed"),
+                format!("{} is not allowed", crate::human::exact(t)),
                 format!("0 <= temperature <= {MAX_TEMPERATURE:e} [K]"),
             ));
         }

@@ -129,7 +129,7 @@ impl Forcing {
                 if !v.is_finite() {
                     return Err(Error::invalid(
                         &format!("force.{k}.{name}"),
-                        format!("{v} is not allowed"),
+                        format!("{} is not allowed", crate::human::exact(v)),
                         "a finite force [N]".into(),
                     ));
                 }
@@ -137,7 +137,7 @@ impl Forcing {
             if !w.start.is_finite() || w.start < 0.0 {
                 return Err(Error::invalid(
                     &format!("force.{k}.start"),
-                    format!("{} is not allowed", w.start),
+                    format!("{} is not allowed", crate::human::exact(w.start)),
                     "a finite time >= 0 [s]".into(),
                 ));
             }
@@ -254,7 +254,7 @@ impl BodyActuator {
             match vs.iter().find(|v| !v.is_finite()) {
                 Some(v) => Err(Error::invalid(
                     &format!("{prefix}.{key}"),
-                    format!("{v} is not allowed"),
+                    format!("{} is not allowed", crate::human::exact(*v)),
                     what.into(),
                 )),
                 None => Ok(()),
@@ -315,7 +315,7 @@ impl ActuatorWindow {
         if !self.start.is_finite() || self.start < 0.0 {
             return Err(Error::invalid(
                 &format!("{prefix}.start"),
-                format!("{} is not allowed", self.start),
+                format!("{} is not allowed", crate::human::exact(self.start)),
                 "a finite time >= 0 [s]".into(),
             ));
         }

@@ -140,7 +140,7 @@ impl Initial {
             if !v.is_finite() {
                 return Err(Error::invalid(
                     k,
-                    format!("{v} is not allowed"),
+                    format!("{} is not allowed", crate::human::exact(v)),
                     "a finite number".into(),
                 ));
             }

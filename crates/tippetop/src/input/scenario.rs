@@ -264,7 +264,7 @@ impl Scenario {
             if r > 0.1 * self.top.radius {
                 return Err(Error::invalid(
                     "surface.contact_radius",
-                    format!("{r} is not allowed"),
+                    format!("{} is not allowed", crate::human::exact(r)),
                     crate::input::surface::CONTACT_RADIUS_RANGE.into(),
                 ));
             }
@@ -313,7 +313,11 @@ impl Scenario {
         if b <= self.top.radius {
             return Err(Error::invalid(
                 "surface.tube_radius",
-                format!("{b} is not allowed (top.radius = {})", self.top.radius),
+                format!(
+                    "{} is not allowed (top.radius = {})",
+                    crate::human::exact(b),
+                    crate::human::exact(self.top.radius)
+                ),
                 crate::input::surface::TUBE_RADIUS_RANGE.into(),
             ));
         }
@@ -1632,7 +1636,7 @@ impl Section<'_> {
         if !x.is_finite() {
             return Err(Error::invalid(
                 &self.full(key),
-                format!("{x} is not allowed"),
+                format!("{} is not allowed", crate::human::exact(x)),
                 range_of(self.keys, key).into(),
             ));
         }
@@ -1666,7 +1670,7 @@ impl Section<'_> {
             if !o.is_finite() {
                 return Err(Error::invalid(
                     &self.full(key),
-                    format!("{o} is not allowed"),
+                    format!("{} is not allowed", crate::human::exact(*o)),
                     range_of(self.keys, key).into(),
                 ));
             }

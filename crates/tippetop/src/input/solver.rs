@@ -108,7 +108,7 @@ impl SolverSettings {
         if !self.t_end.is_finite() || self.t_end <= 0.0 {
             return Err(Error::invalid(
                 "solver.t_end",
-                format!("{} is not allowed", self.t_end),
+                format!("{} is not allowed", crate::human::exact(self.t_end)),
                 "a finite time > 0 [s]".into(),
             ));
         }
@@ -129,7 +129,7 @@ impl SolverSettings {
         if !self.rtol.is_finite() || self.rtol < 1e-14 || self.rtol > 1e-2 {
             return Err(Error::invalid(
                 "solver.rtol",
-                format!("{} is not allowed", self.rtol),
+                format!("{} is not allowed", crate::human::exact(self.rtol)),
                 "1e-14 <= rtol <= 1e-2".into(),
             ));
         }

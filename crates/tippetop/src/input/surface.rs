@@ -288,14 +288,14 @@ impl Surface {
         if !self.gravity.is_finite() || self.gravity < 0.0 {
             return Err(Error::invalid(
                 "surface.gravity",
-                format!("{} is not allowed", self.gravity),
+                format!("{} is not allowed", crate::human::exact(self.gravity)),
                 "a finite number >= 0".into(),
             ));
         }
         if !self.friction.is_finite() || self.friction < 0.0 {
             return Err(Error::invalid(
                 "surface.friction",
-                format!("{} is not allowed", self.friction),
+                format!("{} is not allowed", crate::human::exact(self.friction)),
                 "a finite number >= 0".into(),
             ));
         }
@@ -303,7 +303,7 @@ impl Surface {
             if !eps.is_finite() || eps <= 0.0 {
                 return Err(Error::invalid(
                     "surface.friction_eps",
-                    format!("{eps} is not allowed"),
+                    format!("{} is not allowed", crate::human::exact(eps)),
                     "a finite speed > 0 [m/s]".into(),
                 ));
             }
@@ -311,7 +311,7 @@ impl Surface {
         if !(0.0..=1.0).contains(&self.restitution) {
             return Err(Error::invalid(
                 "surface.restitution",
-                format!("{} is not allowed", self.restitution),
+                format!("{} is not allowed", crate::human::exact(self.restitution)),
                 "0 <= restitution <= 1".into(),
             ));
         }
@@ -319,7 +319,7 @@ impl Surface {
             if !r.is_finite() || r < 0.0 {
                 return Err(Error::invalid(
                     "surface.contact_radius",
-                    format!("{r} is not allowed"),
+                    format!("{} is not allowed", crate::human::exact(r)),
                     CONTACT_RADIUS_RANGE.into(),
                 ));
             }
@@ -339,14 +339,14 @@ impl Surface {
             if !b.is_finite() || b <= 0.0 {
                 return Err(Error::invalid(
                     "surface.tube_radius",
-                    format!("{b} is not allowed"),
+                    format!("{} is not allowed", crate::human::exact(b)),
                     TUBE_RADIUS_RANGE.into(),
                 ));
             }
             if !angle.is_finite() || angle.abs() >= 0.5 * PI {
                 return Err(Error::invalid(
                     "surface.tube_angle",
-                    format!("{angle} is not allowed"),
+                    format!("{} is not allowed", crate::human::exact(angle)),
                     TUBE_ANGLE_RANGE.into(),
                 ));
             }

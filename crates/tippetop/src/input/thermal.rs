@@ -143,7 +143,7 @@ impl Thermal {
             if !v.is_finite() || v < 0.0 {
                 return Err(Error::invalid(
                     &format!("thermal.{key}"),
-                    format!("{v} is not allowed"),
+                    format!("{} is not allowed", crate::human::exact(v)),
                     range.into(),
                 ));
             }

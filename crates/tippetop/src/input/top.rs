@@ -153,7 +153,7 @@ pub(crate) fn finite_positive(key: &str, v: f64) -> Result<(), Error> {
     if !v.is_finite() || v <= 0.0 {
         return Err(Error::invalid(
             key,
-            format!("{v} is not allowed"),
+            format!("{} is not allowed", crate::human::exact(v)),
             "a finite number > 0".to_string(),
         ));
     }

@@ -528,7 +528,7 @@ fn parse_bit(t: &Table) -> Result<Bit, Error> {
     if hold <= 0.0 {
         return Err(Error::invalid(
             "bit.hold",
-            format!("{hold} is not allowed"),
+            format!("{} is not allowed", crate::human::exact(hold)),
             range_of(BIT_KEYS, "hold").into(),
         ));
     }
@@ -570,7 +570,7 @@ fn parse_windows(name: &str, list: &[Value], phase: f64) -> Result<Vec<Actuator>
         if a.start < 0.0 {
             return Err(Error::invalid(
                 &s.full("start"),
-                format!("{} is not allowed", a.start),
+                format!("{} is not allowed", crate::human::exact(a.start)),
                 range_of(WINDOW_KEYS, "start").into(),
             ));
         }

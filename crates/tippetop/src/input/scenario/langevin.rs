@@ -268,7 +268,7 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
     if !dt.is_finite() || dt <= 0.0 {
         return Err(Error::invalid(
             "solver.dt",
-            format!("{dt} is not allowed"),
+            format!("{} is not allowed", crate::human::exact(dt)),
             "a finite time > 0 [s]".into(),
         ));
     }
