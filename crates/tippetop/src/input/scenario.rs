@@ -100,8 +100,6 @@ pub struct Scenario {
     pub top: Top,
     /// The plane.
     pub surface: Surface,
-    /// Van der Waals adhesion (off: [`Adhesion::NONE`]).
-    pub adhesion: Adhesion,
     /// Applied force schedule.
     pub forcing: Forcing,
     /// The body actuators (`[[force]]` windows of `kind = "tip"` or
@@ -116,8 +114,9 @@ pub struct Scenario {
     pub solver: SolverSettings,
     /// Temperature and damping ([`Thermal::NONE`]: none; docs/physics.md#langevin).
     pub thermal: Thermal,
-    /// The force plug-ins' tables given (`[wind]`, ...;
-    /// [`crate::physics::forces::PLUGINS`]); none by default.
+    /// The force plug-ins' tables given (`[adhesion]`, `[wind]`, ...;
+    /// [`crate::physics::forces::PLUGINS`]); none by default. The van der
+    /// Waals adhesion is read with [`Scenario::adhesion`].
     pub plugins: PluginTables,
 }
 
@@ -136,7 +135,6 @@ impl Scenario {
                 restitution: 0.0,
                 shape: Shape::Plane,
             },
-            adhesion: Adhesion::NONE,
             wells: Vec::new(),
             forcing: Forcing::constant(1e-22, 1e-22),
             actuators: Vec::new(),
@@ -160,7 +158,6 @@ impl Scenario {
                 restitution: 0.0,
                 shape: Shape::Plane,
             },
-            adhesion: Adhesion::NONE,
             wells: Vec::new(),
             forcing: Forcing::none(),
             actuators: Vec::new(),
@@ -185,15 +182,16 @@ impl Scenario {
     /// same digits as the command (tests/scenario.rs checks they agree).
     pub fn nano_adhesive() -> Self {
         let (force, energy) = (5.915889357711552e-10, 1.169645723902958e-19);
-        Scenario {
+        let mut sc = Scenario {
             surface: Surface {
                 friction: 1e-3,
                 ..Self::nano().surface
             },
-            adhesion: Adhesion { force, energy },
             wells: Vec::new(),
             ..Self::nano()
-        }
+        };
+        sc.set_adhesion(Adhesion { force, energy });
+        sc
     }
 
     /// C60 on graphene at 300 K (issue #15, docs/physics.md#langevin): the
@@ -269,7 +267,9 @@ impl Scenario {
                 ));
             }
         }
-        self.adhesion.validate()?;
+        // The plug-ins' tables where [adhesion] was checked before it
+        // became one: after [surface], before [[force]].
+        plugins::validate(self)?;
         self.forcing.validate()?;
         for (j, w) in self.actuators.iter().enumerate() {
             let prefix = format!("force.{}", self.forcing.windows.len() + j);
@@ -277,7 +277,6 @@ impl Scenario {
             actuator::check_model(w, &prefix, self.solver.model)?;
         }
         wells::validate(&self.wells)?;
-        plugins::validate(self)?;
         self.initial
             .validate(self.solver.model == ModelKind::Reduced)?;
         self.solver.validate()?;
@@ -323,9 +322,9 @@ impl Scenario {
                 "force",
                 !self.forcing.windows.is_empty() || !self.actuators.is_empty(),
             ),
-            ("adhesion.force", self.adhesion.is_on()),
+            ("adhesion.force", self.adhesion().is_on()),
             ("well", !self.wells.is_empty()),
-            ("a force plug-in's table", !self.plugins.is_empty()),
+            ("a force plug-in's table", plugins::has_other(self)),
             (
                 "surface.friction_law",
                 self.surface.law.contensou().is_some(),
@@ -354,9 +353,9 @@ impl Scenario {
         }
         if !self.forcing.windows.is_empty()
             || !self.actuators.is_empty()
-            || self.adhesion.is_on()
+            || self.adhesion().is_on()
             || !self.wells.is_empty()
-            || !self.plugins.is_empty()
+            || plugins::has_other(self)
         {
             return Err(Error::invalid(
                 "top.stem_radius",
@@ -510,13 +509,6 @@ impl Scenario {
     fn to_table(&self) -> Table {
         let top = self.top_table();
         let surface = self.surface_table();
-        // Written only when on, so scenarios without adhesion keep their
-        // text (scenario.toml, summary.json) unchanged.
-        let adhesion = self.adhesion.is_on() || self.adhesion.energy != 0.0;
-        let mut adh = Table::new();
-        adh.insert("force".into(), Value::Float(self.adhesion.force));
-        adh.insert("energy".into(), Value::Float(self.adhesion.energy));
-
         let force = self.force_list();
 
         let initial = self.initial_table();
@@ -525,9 +517,6 @@ impl Scenario {
         let mut t = Table::new();
         t.insert("top".into(), Value::Table(top));
         t.insert("surface".into(), Value::Table(surface));
-        if adhesion {
-            t.insert("adhesion".into(), Value::Table(adh));
-        }
         t.insert("force".into(), Value::Array(force));
         // Written only when there are wells (scenario texts without them
         // unchanged).
@@ -813,21 +802,6 @@ const SURFACE_KEYS: Keys = &[
     ),
 ];
 
-const ADHESION_KEYS: Keys = &[
-    Key::doc(
-        "force",
-        crate::input::surface::ADHESION_FORCE_RANGE,
-        "0",
-        "F_a, the pull-off force (docs/physics.md#adhesion)",
-    ),
-    Key::doc(
-        "energy",
-        crate::input::surface::ADHESION_ENERGY_RANGE,
-        "0",
-        "E_b, the binding energy",
-    ),
-];
-
 const FORCE_KEYS: Keys = &[
     Key::doc(
         "kind",
@@ -1062,10 +1036,6 @@ const TABLE_DOCS: &[(&str, &str)] = &[
     ("top", "the body: a sphere with an offset centre of mass"),
     ("surface", "the plane: gravity, friction, contact"),
     (
-        "adhesion",
-        "van der Waals adhesion (off by default; docs/physics.md#adhesion)",
-    ),
-    (
         "force",
         "force windows: at the contact point (precessing frame), a tip or a magnet (none by default)",
     ),
@@ -1088,7 +1058,6 @@ const TABLE_DOCS: &[(&str, &str)] = &[
 const TABLES: &[(&str, Keys)] = &[
     ("top", TOP_KEYS),
     ("surface", SURFACE_KEYS),
-    ("adhesion", ADHESION_KEYS),
     ("force", FORCE_KEYS),
     ("well", WELL_KEYS),
     ("initial", INITIAL_KEYS),
@@ -1096,27 +1065,45 @@ const TABLES: &[(&str, Keys)] = &[
     ("thermal", THERMAL_KEYS),
 ];
 
-/// The scenario's own tables, then the force plug-ins' (in the registry's
-/// order), in document order: (name, keys).
-fn all_tables() -> Vec<(&'static str, Keys)> {
-    let mut v: Vec<(&'static str, Keys)> = TABLES.to_vec();
-    v.extend(
-        crate::physics::forces::PLUGINS
-            .iter()
-            .map(|p| (p.table().name, p.table().keys)),
-    );
+/// The scenario's own tables with, after each, the force plug-ins' that
+/// follow it ([`crate::physics::forces::Plugin::follows`], in the
+/// registry's order): every table in document order.
+fn table_specs() -> Vec<TableSpec> {
+    let mut v = Vec::new();
+    for &(name, keys) in TABLES {
+        v.push(TableSpec {
+            name,
+            array: matches!(name, "force" | "well"),
+            doc: TABLE_DOCS
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map_or("", |(_, d)| *d),
+            keys,
+        });
+        v.extend(
+            crate::physics::forces::PLUGINS
+                .iter()
+                .filter(|p| p.follows() == name)
+                .map(|p| p.table()),
+        );
+    }
     v
+}
+
+/// Every table in document order: (name, keys).
+fn all_tables() -> Vec<(&'static str, Keys)> {
+    table_specs().iter().map(|t| (t.name, t.keys)).collect()
 }
 
 /// The valid top-level entries, for the unknown-table error.
 fn top_level_range() -> String {
-    let names: Vec<String> = all_tables()
+    let names: Vec<String> = table_specs()
         .iter()
-        .map(|(n, _)| {
-            if matches!(*n, "force" | "well") {
-                format!("[[{n}]]")
+        .map(|t| {
+            if t.array {
+                format!("[[{}]]", t.name)
             } else {
-                format!("[{n}]")
+                format!("[{}]", t.name)
             }
         })
         .collect();
@@ -1180,20 +1167,7 @@ pub fn key_unit(full_key: &str) -> Option<&'static str> {
 /// Every scenario table with its keys, the force plug-ins' included: what
 /// `tippetop keys` lists and docs/keys.md shows.
 pub fn key_tables() -> Vec<TableSpec> {
-    let mut v: Vec<TableSpec> = TABLES
-        .iter()
-        .map(|&(name, keys)| TableSpec {
-            name,
-            array: matches!(name, "force" | "well"),
-            doc: TABLE_DOCS
-                .iter()
-                .find(|(n, _)| *n == name)
-                .map_or("", |(_, d)| *d),
-            keys,
-        })
-        .collect();
-    v.extend(crate::physics::forces::PLUGINS.iter().map(|p| p.table()));
-    v
+    table_specs()
 }
 
 fn keys_of(table: &str) -> Option<Keys> {
@@ -1729,11 +1703,8 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     // Each table in document order (the first error is the first table's).
     let top = top_of(merged, has_preset)?;
     let surface = surface_of(merged, has_preset, eps_explicit)?;
-    let s = section(merged, "adhesion");
-    let adhesion = Adhesion {
-        force: s.f64("force", Some(0.0))?,
-        energy: s.f64("energy", Some(0.0))?,
-    };
+    // The plug-ins' tables where [adhesion] was read before it became one.
+    let plugins = plugins::parse(merged)?;
 
     let (forcing, actuators) = forces_of(merged)?;
     let wells = wells_of(merged)?;
@@ -1755,14 +1726,13 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     Ok(Scenario {
         top,
         surface,
-        adhesion,
         forcing,
         actuators,
         wells,
         initial,
         solver,
         thermal,
-        plugins: plugins::parse(merged)?,
+        plugins,
     })
 }
 

@@ -80,7 +80,7 @@ fn at_rule(mut sc: Scenario, steps: usize, every: usize) -> Scenario {
         .iter()
         .map(|w| w.hz.abs())
         .fold(0.0, f64::max);
-    let (fa, eb) = (sc.adhesion.force, sc.adhesion.energy);
+    let (fa, eb) = (sc.adhesion().force, sc.adhesion().energy);
     let load = m * g + fa + hz;
     let mut rates = vec![
         kt() / (gr * ia),
@@ -260,10 +260,10 @@ fn gibbs_density_above_the_wall() {
 fn adhesion_above_the_wall() {
     let mut sc = wall_top(1.5);
     let r = sc.top.radius;
-    sc.adhesion = Adhesion {
+    sc.set_adhesion(Adhesion {
         force: 3.0 * kt() / r,
         energy: 2.0 * kt(),
-    };
+    });
     let sc = at_rule(sc, 16_000_000, 50);
     let tr = simulate(&sc).expect("valid");
     assert!(tr.error.is_none(), "{:?}", tr.error);

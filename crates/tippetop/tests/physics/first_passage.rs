@@ -184,10 +184,10 @@ fn brownian_exit_with_contact_damping_force_gravity_and_adhesion() {
     sc.surface.gravity = kt / (m * a);
     sc.thermal.damping_contact = m * GAMMA;
     sc.forcing = Forcing::constant(1.25e-11 * 4.0, 0.0);
-    sc.adhesion = tippetop::Adhesion {
+    sc.set_adhesion(tippetop::Adhesion {
         force: 5.915889357711552e-10,
         energy: 1.169645723902958e-19,
-    };
+    });
     sc.solver.dt = Some(1.2e-15);
     sc.thermal.seed = Some(7);
     let centre = std::f64::consts::FRAC_PI_2;

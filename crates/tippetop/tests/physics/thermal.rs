@@ -654,7 +654,7 @@ fn interval_averaged_normal_force_balances_the_load() {
     let sc = Scenario::nano_physical();
     let tr = simulate(&sc).unwrap();
     let ni = tr.summary.normal_intervals.expect("stochastic run");
-    let want = sc.top.mass * sc.surface.gravity + sc.adhesion.force;
+    let want = sc.top.mass * sc.surface.gravity + sc.adhesion().force;
     let rows = &tr.samples;
     let (m, se) = mean_se(&rows.iter().map(|s| s.normal).collect::<Vec<f64>>());
     eprintln!(

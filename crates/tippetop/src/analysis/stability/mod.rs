@@ -331,7 +331,7 @@ fn eig_list(e: &[Eig]) -> String {
 /// actuator (§actuators), so a
 /// scenario with one is bad input naming the key.
 pub fn supports(sc: &Scenario) -> Result<(), Error> {
-    if sc.adhesion.is_on() {
+    if sc.adhesion().is_on() {
         return Err(Error::invalid(
             "adhesion.force",
             "the stability analysis does not model adhesion".into(),

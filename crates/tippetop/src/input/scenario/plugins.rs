@@ -1,7 +1,8 @@
-//! The force plug-ins' tables in a scenario (`[wind]`, ...): parsed,
-//! rendered and validated from the registry
+//! The force plug-ins' tables in a scenario (`[adhesion]`, `[wind]`, ...):
+//! parsed, rendered and validated from the registry
 //! ([`crate::physics::forces::PLUGINS`]), so that a new plug-in needs no
-//! edit here; and a scenario's force terms ([`Forces::of`]).
+//! edit here; a scenario's force terms ([`Forces::of`]); and the typed
+//! accessors of the older plug-ins' values ([`Scenario::adhesion`]).
 
 use std::sync::Arc;
 
@@ -11,9 +12,9 @@ use super::Section;
 use crate::input::solver::ModelKind;
 use crate::input::{Key, PluginTables};
 use crate::physics::forces::{
-    ForceTerm, Forces, Kind, PLUGINS, actuators, adhesion, retarding, vertical_load, wells,
+    ForceTerm, Forces, Kind, PLUGINS, actuators, retarding, vertical_load, wells,
 };
-use crate::{Error, Scenario};
+use crate::{Adhesion, Error, Scenario};
 
 /// A key's default as a number (a plug-in's keys are numbers; `""` is 0).
 fn default_of(k: &Key) -> f64 {
@@ -21,7 +22,7 @@ fn default_of(k: &Key) -> f64 {
 }
 
 /// The plug-in tables the merged document gives (types and defaults; no
-/// range checks).
+/// range checks), those a plug-in [`keeps`](crate::physics::forces::Plugin::keeps).
 pub(super) fn parse(merged: &Table) -> Result<PluginTables, Error> {
     let mut out = PluginTables::NONE;
     for p in PLUGINS {
@@ -39,7 +40,9 @@ pub(super) fn parse(merged: &Table) -> Result<PluginTables, Error> {
             .iter()
             .map(|k| s.f64(k.name, Some(default_of(k))))
             .collect::<Result<Vec<_>, _>>()?;
-        out.set(spec.name, values);
+        if p.keeps(&values) {
+            out.set(spec.name, values);
+        }
     }
     Ok(out)
 }
@@ -95,12 +98,39 @@ pub(super) fn validate(sc: &Scenario) -> Result<(), Error> {
     Ok(())
 }
 
-/// The first plug-in table a scenario gives, as `table.key` of its first
-/// key (for the analyses that do not model the plug-ins), or `None`.
+/// The first plug-in table a scenario gives that the analyses do not
+/// handle by name ([`crate::physics::forces::Plugin::handled_by_name`]), as
+/// `table.key` of its first key (for the analyses that do not model the
+/// plug-ins), or `None`.
 pub fn first_key(sc: &Scenario) -> Option<String> {
-    let (name, _) = sc.plugins.iter().next()?;
-    let p = crate::physics::forces::plugin(name)?;
-    Some(format!("{name}.{}", p.table().keys.first()?.name))
+    sc.plugins.iter().find_map(|(name, _)| {
+        let p = crate::physics::forces::plugin(name)?;
+        if p.handled_by_name() {
+            return None;
+        }
+        Some(format!("{name}.{}", p.table().keys.first()?.name))
+    })
+}
+
+/// True if the scenario gives a plug-in table besides those handled by
+/// name (`[adhesion]`): what the stem and the tube refuse as "a force
+/// plug-in's table".
+pub(super) fn has_other(sc: &Scenario) -> bool {
+    first_key(sc).is_some()
+}
+
+impl Scenario {
+    /// The van der Waals adhesion ([`Adhesion::NONE`] without an
+    /// `[adhesion]` table): the `[adhesion]` plug-in's values
+    /// (physics/forces/adhesion.rs says why they are reached this way).
+    pub fn adhesion(&self) -> Adhesion {
+        Adhesion::of(&self.plugins)
+    }
+
+    /// Set the van der Waals adhesion (`Adhesion::NONE` removes the table).
+    pub fn set_adhesion(&mut self, adhesion: Adhesion) {
+        adhesion.store(&mut self.plugins);
+    }
 }
 
 impl Forces {
@@ -111,9 +141,6 @@ impl Forces {
             vec![Arc::new(retarding::Retarding::of(&sc.forcing))];
         if sc.forcing.has_load() {
             terms.push(Arc::new(vertical_load::VerticalLoad::of(&sc.forcing)));
-        }
-        if sc.adhesion.is_on() {
-            terms.push(Arc::new(adhesion::Adhesion::of(&sc.adhesion)));
         }
         if !sc.wells.is_empty() {
             terms.push(Arc::new(wells::Wells::of(&sc.wells)));
