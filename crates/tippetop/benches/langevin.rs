@@ -61,7 +61,7 @@ fn contact(mut sc: Scenario) -> Scenario {
 fn simple() -> Scenario {
     let mut sc = nano_physical();
     sc.set_adhesion(Adhesion::NONE);
-    sc.wells.clear();
+    sc.set_wells(&[]);
     sc
 }
 

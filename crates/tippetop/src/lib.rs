@@ -41,8 +41,8 @@ pub use input::solver::{Method, ModelKind, SolverSettings};
 pub use input::surface::{ContactMode, FrictionLaw, Surface};
 pub use input::thermal::Thermal;
 pub use input::top::{Stem, Top};
-pub use input::well::Well;
 pub use physics::forces::adhesion::Adhesion;
+pub use physics::forces::wells::Well;
 pub use simulate::{
     Progress, Simulation, Snapshot, simulate, simulate_watching, simulate_watching_with_progress,
     simulate_with_progress,

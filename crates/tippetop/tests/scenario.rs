@@ -772,8 +772,8 @@ fn nano_physical_preset() {
         (a.top, a.adhesion(), a.initial)
     );
     assert_eq!(p.thermal.temperature, 300.0);
-    assert_eq!(p.wells.len(), 1);
-    let depth_ev = p.wells[0].depth / 1.602176634e-19;
+    assert_eq!(p.wells().len(), 1);
+    let depth_ev = p.wells()[0].depth / 1.602176634e-19;
     assert!((depth_ev - 1.1).abs() < 1e-12, "{depth_ev}");
     p.validate().unwrap();
     assert_eq!(Scenario::from_toml_str(&p.to_toml_string()).unwrap(), p);

@@ -14,7 +14,6 @@ pub mod solver;
 pub mod surface;
 pub mod thermal;
 pub mod top;
-pub mod well;
 
 /// One scenario key.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -125,7 +124,8 @@ impl PluginTables {
             .map(|(_, v)| v.as_slice())
     }
 
-    /// Set the values of table `name` (in the order of its keys). The
+    /// Set the values of table `name` (in the order of its keys; for an
+    /// array of tables, each entry's in turn). The
     /// tables are kept sorted by name, so that equal scenarios compare
     /// equal whatever order their tables were set in.
     pub fn set(&mut self, name: &'static str, values: Vec<f64>) {

@@ -84,11 +84,10 @@ pub mod search;
 use serde::Deserialize as _;
 use toml::{Table, Value};
 
-use crate::input::well::{self as wells, Well};
 use crate::input::{Key, PluginTables, TableSpec};
 use crate::{
     ActuatorWindow, Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial,
-    SolverSettings, Surface, Thermal, Top,
+    SolverSettings, Surface, Thermal, Top, Well,
     input::solver::{Method, ModelKind},
     input::surface::Shape,
 };
@@ -106,8 +105,6 @@ pub struct Scenario {
     /// `"magnetic"`, docs/physics.md#actuators; none by default), in the order
     /// given; written after the contact windows.
     pub actuators: Vec<ActuatorWindow>,
-    /// Orientation wells (docs/physics.md#wells; none by default).
-    pub wells: Vec<Well>,
     /// Initial state.
     pub initial: Initial,
     /// Solver settings.
@@ -135,7 +132,6 @@ impl Scenario {
                 restitution: 0.0,
                 shape: Shape::Plane,
             },
-            wells: Vec::new(),
             forcing: Forcing::constant(1e-22, 1e-22),
             actuators: Vec::new(),
             initial: Initial::paper(),
@@ -158,7 +154,6 @@ impl Scenario {
                 restitution: 0.0,
                 shape: Shape::Plane,
             },
-            wells: Vec::new(),
             forcing: Forcing::none(),
             actuators: Vec::new(),
             initial: Initial::paper(),
@@ -187,7 +182,6 @@ impl Scenario {
                 friction: 1e-3,
                 ..Self::nano().surface
             },
-            wells: Vec::new(),
             ..Self::nano()
         };
         sc.set_adhesion(Adhesion { force, energy });
@@ -213,11 +207,11 @@ impl Scenario {
         let ev = 1.602176634e-19;
         let mut sc = Self::nano_adhesive();
         sc.surface.friction = 0.0;
-        sc.wells = vec![Well {
+        sc.set_wells(&[Well {
             theta: std::f64::consts::FRAC_PI_2,
             depth: 1.1 * ev,
             width: 0.3,
-        }];
+        }]);
         sc.thermal = Thermal {
             temperature: 300.0,
             damping_translational: 2.2e12,
@@ -267,16 +261,17 @@ impl Scenario {
                 ));
             }
         }
-        // The plug-ins' tables where [adhesion] was checked before it
-        // became one: after [surface], before [[force]].
-        plugins::validate(self)?;
+        // The plug-ins' tables where their tables were checked before
+        // they became plug-ins: [adhesion] after [surface], [[well]]
+        // after [[force]].
+        plugins::validate(self, |t| t == "surface")?;
         self.forcing.validate()?;
         for (j, w) in self.actuators.iter().enumerate() {
             let prefix = format!("force.{}", self.forcing.windows.len() + j);
             w.validate(&prefix)?;
             actuator::check_model(w, &prefix, self.solver.model)?;
         }
-        wells::validate(&self.wells)?;
+        plugins::validate(self, |t| t != "surface")?;
         self.initial
             .validate(self.solver.model == ModelKind::Reduced)?;
         self.solver.validate()?;
@@ -323,7 +318,7 @@ impl Scenario {
                 !self.forcing.windows.is_empty() || !self.actuators.is_empty(),
             ),
             ("adhesion.force", self.adhesion().is_on()),
-            ("well", !self.wells.is_empty()),
+            ("well", !self.wells().is_empty()),
             ("a force plug-in's table", plugins::has_other(self)),
             (
                 "surface.friction_law",
@@ -354,7 +349,7 @@ impl Scenario {
         if !self.forcing.windows.is_empty()
             || !self.actuators.is_empty()
             || self.adhesion().is_on()
-            || !self.wells.is_empty()
+            || !self.wells().is_empty()
             || plugins::has_other(self)
         {
             return Err(Error::invalid(
@@ -518,22 +513,6 @@ impl Scenario {
         t.insert("top".into(), Value::Table(top));
         t.insert("surface".into(), Value::Table(surface));
         t.insert("force".into(), Value::Array(force));
-        // Written only when there are wells (scenario texts without them
-        // unchanged).
-        if !self.wells.is_empty() {
-            let wells = self
-                .wells
-                .iter()
-                .map(|w| {
-                    let mut t = Table::new();
-                    t.insert("theta".into(), Value::Float(w.theta));
-                    t.insert("depth".into(), Value::Float(w.depth));
-                    t.insert("width".into(), Value::Float(w.width));
-                    Value::Table(t)
-                })
-                .collect();
-            t.insert("well".into(), Value::Array(wells));
-        }
         plugins::to_table(&self.plugins, &mut t);
         t.insert("initial".into(), Value::Table(initial));
         t.insert("solver".into(), Value::Table(solver));
@@ -841,17 +820,6 @@ const FORCE_KEYS: Keys = &[
     actuator::KEYS[4],
 ];
 
-const WELL_KEYS: Keys = &[
-    Key::doc(
-        "theta",
-        wells::THETA_RANGE,
-        "required",
-        "the well's centre (docs/physics.md#wells)",
-    ),
-    Key::doc("depth", wells::DEPTH_RANGE, "required", "the well's depth"),
-    Key::doc("width", wells::WIDTH_RANGE, "required", "the well's width"),
-];
-
 const INITIAL_KEYS: Keys = &[
     Key::doc(
         "theta",
@@ -1040,10 +1008,6 @@ const TABLE_DOCS: &[(&str, &str)] = &[
         "force windows: at the contact point (precessing frame), a tip or a magnet (none by default)",
     ),
     (
-        "well",
-        "orientation wells U = -depth exp(-(theta - centre)^2/(2 width^2)) (none by default)",
-    ),
-    (
         "initial",
         "the initial state: Euler angles and rates, or lab-frame vectors",
     ),
@@ -1054,12 +1018,12 @@ const TABLE_DOCS: &[(&str, &str)] = &[
     ),
 ];
 
-/// Tables in document order; `force` and `well` are arrays of tables.
+/// The scenario's own tables in document order (the force plug-ins' are
+/// placed by [`table_specs`]); `force` is an array of tables.
 const TABLES: &[(&str, Keys)] = &[
     ("top", TOP_KEYS),
     ("surface", SURFACE_KEYS),
     ("force", FORCE_KEYS),
-    ("well", WELL_KEYS),
     ("initial", INITIAL_KEYS),
     ("solver", SOLVER_KEYS),
     ("thermal", THERMAL_KEYS),
@@ -1073,7 +1037,7 @@ fn table_specs() -> Vec<TableSpec> {
     for &(name, keys) in TABLES {
         v.push(TableSpec {
             name,
-            array: matches!(name, "force" | "well"),
+            array: name == "force",
             doc: TABLE_DOCS
                 .iter()
                 .find(|(n, _)| *n == name)
@@ -1108,6 +1072,20 @@ fn top_level_range() -> String {
         })
         .collect();
     format!("valid top-level entries: preset, {}", names.join(", "))
+}
+
+/// True if `table` is an array of tables (`force`, `well`).
+fn is_array(table: &str) -> bool {
+    table_specs().iter().any(|t| t.array && t.name == table)
+}
+
+/// What one entry of the array of tables `table` is called, singular and
+/// plural: a force `window`, a plug-in's ([`crate::physics::forces::Plugin::entry`]).
+fn entry_of(table: &str) -> (&'static str, &'static str) {
+    match crate::physics::forces::plugin(table) {
+        Some(p) => p.entry(),
+        None => ("window", "windows"),
+    }
 }
 
 const LAWS: &[(&str, LawName)] = &[
@@ -1304,10 +1282,11 @@ fn merge_file(merged: &mut Table, file: &Table) -> Result<bool, Error> {
         }
     }
     let mut eps_explicit = false;
-    for (name, keys) in all_tables() {
+    for spec in table_specs() {
+        let (name, keys) = (spec.name, spec.keys);
         let Some(v) = file.get(name) else { continue };
-        if name == "force" || name == "well" {
-            let one = if name == "force" { "window" } else { "well" };
+        if spec.array {
+            let (one, _) = entry_of(name);
             let Value::Array(windows) = v else {
                 return Err(Error::invalid(
                     name,
@@ -1471,12 +1450,9 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
             "cannot be given with --set".into(),
             "use --preset NAME, or preset = \"NAME\" in the file".into(),
         )),
-        [list @ ("force" | "well"), idx, k] => {
-            let (keys, one) = if *list == "force" {
-                (FORCE_KEYS, "window")
-            } else {
-                (WELL_KEYS, "well")
-            };
+        [list, idx, k] if is_array(list) => {
+            let keys = keys_of(list).unwrap_or(&[]);
+            let (one, _) = entry_of(list);
             if !idx.bytes().all(|b| b.is_ascii_digit()) || idx.is_empty() {
                 return Err(Error::invalid(
                     key,
@@ -1491,11 +1467,7 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
             let n = windows.len();
             let kk = idx.parse::<usize>().unwrap_or(usize::MAX);
             if kk > n {
-                let what = if *list == "force" {
-                    "force window"
-                } else {
-                    "well"
-                };
+                let what = if *list == "force" { "force window" } else { one };
                 return Err(Error::invalid(
                     key,
                     format!("there is no {what} {idx} ({n} defined)"),
@@ -1515,10 +1487,18 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
             "force windows are set one key at a time".into(),
             "force.K.KEY with K = 0, 1, ... and KEY one of kind, hx, hy, hz, start, stop, point, force, moment, field, gradient".into(),
         )),
-        ["well", ..] => Err(Error::invalid(
+        [list, ..] if is_array(list) => Err(Error::invalid(
             key,
-            "wells are set one key at a time".into(),
-            "well.K.KEY with K = 0, 1, ... and KEY one of theta, depth, width".into(),
+            format!("{} are set one key at a time", entry_of(list).1),
+            format!(
+                "{list}.K.KEY with K = 0, 1, ... and KEY one of {}",
+                keys_of(list)
+                    .unwrap_or(&[])
+                    .iter()
+                    .map(|k| k.name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         )),
         [table, k] if keys_of(table).is_some() => {
             let keys = keys_of(table).unwrap_or(&[]);
@@ -1703,11 +1683,14 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     // Each table in document order (the first error is the first table's).
     let top = top_of(merged, has_preset)?;
     let surface = surface_of(merged, has_preset, eps_explicit)?;
-    // The plug-ins' tables where [adhesion] was read before it became one.
-    let plugins = plugins::parse(merged)?;
+    // The plug-ins' tables where their tables were read before they
+    // became plug-ins ([adhesion] after [surface], [[well]] after
+    // [[force]]), the others' last.
+    let mut plugins = PluginTables::NONE;
+    plugins::parse(merged, |t| t == "surface", &mut plugins)?;
 
     let (forcing, actuators) = forces_of(merged)?;
-    let wells = wells_of(merged)?;
+    plugins::parse(merged, |t| t == "force", &mut plugins)?;
     let initial = initial_of(merged, has_preset)?;
     let solver = solver_of(merged, has_preset)?;
     let s = section(merged, "thermal");
@@ -1723,12 +1706,13 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         run: s.usize("run", 0)? as u64,
     };
 
+    plugins::parse(merged, |t| !matches!(t, "surface" | "force"), &mut plugins)?;
+
     Ok(Scenario {
         top,
         surface,
         forcing,
         actuators,
-        wells,
         initial,
         solver,
         thermal,
@@ -1938,40 +1922,6 @@ fn forces_of(merged: &Table) -> Result<(Forcing, Vec<ActuatorWindow>), Error> {
     }
     let forcing = Forcing { windows };
     Ok((forcing, actuators))
-}
-
-/// The `[[well]]` list (every key of a well required).
-fn wells_of(merged: &Table) -> Result<Vec<Well>, Error> {
-    let mut wells = Vec::new();
-    if let Some(Value::Array(list)) = merged.get("well") {
-        for (k, w) in list.iter().enumerate() {
-            let s = Section {
-                prefix: format!("well.{k}"),
-                keys: WELL_KEYS,
-                table: w.as_table(),
-            };
-            // Every key of a well is required (no default well).
-            if let Some(key) = ["theta", "depth", "width"]
-                .into_iter()
-                .find(|k| s.get(k).is_none())
-            {
-                return Err(Error::invalid(
-                    &s.full(key),
-                    "missing".into(),
-                    format!(
-                        "every well needs theta, depth and width; {}",
-                        range_of(WELL_KEYS, key)
-                    ),
-                ));
-            }
-            wells.push(Well {
-                theta: s.f64("theta", None)?,
-                depth: s.f64("depth", None)?,
-                width: s.f64("width", None)?,
-            });
-        }
-    }
-    Ok(wells)
 }
 
 /// The `[initial]` table: Euler angles and rates, or lab-frame vectors.

@@ -53,11 +53,11 @@ fn escaping_top() -> Scenario {
     sc.surface.friction = 0.0;
     sc.surface.gravity = 0.0;
     sc.forcing = Forcing { windows: vec![] };
-    sc.wells = vec![Well {
+    sc.set_wells(&[Well {
         theta: std::f64::consts::FRAC_PI_2,
         depth: 2.0 * BOLTZMANN * T,
         width: 0.3,
-    }];
+    }]);
     sc.initial.theta = std::f64::consts::FRAC_PI_2;
     sc.initial.spin = 0.0;
     sc.solver.method = Method::Brownian;

@@ -440,7 +440,7 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
         jellett: j0,
         applied_max,
         sleeping_threshold: wc,
-        inversion: inversion(&top, g, &sc.wells, i.theta, i.precession, i.spin),
+        inversion: inversion(&top, g, &sc.wells(), i.theta, i.precession, i.spin),
         steady,
         late,
         frozen,

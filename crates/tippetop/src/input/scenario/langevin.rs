@@ -93,7 +93,7 @@ pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
             "sqrt((mass gravity + adhesion force + |hz|) (radius + offset) / inertia_transverse)",
         ),
     ];
-    for w in &sc.wells {
+    for w in &sc.wells() {
         out.push((
             (w.depth / (w.width * w.width * a_in)).sqrt(),
             "well",
@@ -142,7 +142,7 @@ pub fn brownian_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
             "(mass gravity + adhesion force + |hz|) (radius + offset) / (damping_rotational inertia_transverse)",
         ),
     ];
-    for w in &sc.wells {
+    for w in &sc.wells() {
         out.push((
             w.depth / (w.width * w.width * gr * a_in),
             "well",
