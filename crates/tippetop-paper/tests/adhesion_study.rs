@@ -45,8 +45,8 @@ fn adhesion_study_verdicts_follow_from_the_numbers() {
     // The adhesion is the helper's, the nano-adhesive preset's values, and
     // the superlubric μ is the preset's.
     let p = Scenario::nano_adhesive();
-    assert!((st.force / p.adhesion.force - 1.0).abs() < 1e-12);
-    assert!((st.energy / p.adhesion.energy - 1.0).abs() < 1e-12);
+    assert!((st.force / p.adhesion().force - 1.0).abs() < 1e-12);
+    assert!((st.energy / p.adhesion().energy - 1.0).abs() < 1e-12);
     assert_eq!(settings()[1].mu, p.surface.friction);
     assert_eq!(PAPER_MU, 0.13);
     assert_eq!(st.rows.len(), 16);
@@ -194,8 +194,7 @@ fn applied_force_at_rolling_contact_does_no_work() {
 
         // Without adhesion the same force does work of the order of the scale.
         let mut bare = sc.clone();
-        bare.adhesion.force = 0.0;
-        bare.adhesion.energy = 0.0;
+        bare.set_adhesion(tippetop::Adhesion::NONE);
         let tb = simulate(&bare).unwrap();
         let wb = tb.samples.last().unwrap().work_applied.abs();
         let scale_b = max_applied_force(&bare) * contact_track_length(&tb);

@@ -60,8 +60,8 @@ fn contact(mut sc: Scenario) -> Scenario {
 /// Without adhesion and wells.
 fn simple() -> Scenario {
     let mut sc = nano_physical();
-    sc.adhesion = Adhesion::NONE;
-    sc.wells.clear();
+    sc.set_adhesion(Adhesion::NONE);
+    sc.set_wells(&[]);
     sc
 }
 

@@ -38,10 +38,11 @@ pub use input::forcing::{ActuatorWindow, BodyActuator, ForceWindow, Forcing};
 pub use input::initial::Initial;
 pub use input::scenario::{Scenario, limits};
 pub use input::solver::{Method, ModelKind, SolverSettings};
-pub use input::surface::{Adhesion, ContactMode, FrictionLaw, Surface};
+pub use input::surface::{ContactMode, FrictionLaw, Surface};
 pub use input::thermal::Thermal;
 pub use input::top::{Stem, Top};
-pub use input::well::Well;
+pub use physics::forces::adhesion::Adhesion;
+pub use physics::forces::wells::Well;
 pub use simulate::{
     Progress, RunawayWatch, Simulation, Snapshot, simulate, simulate_watching,
     simulate_watching_with_progress, simulate_with_progress,

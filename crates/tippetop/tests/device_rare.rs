@@ -23,7 +23,7 @@ fn ln_tst_laplace(t: f64, depth: f64) -> f64 {
         sc.top.inertia_transverse,
         sc.surface.gravity,
     );
-    let w = sc.wells[0].width;
+    let w = sc.wells()[0].width;
     let u = |th: f64| -m * g * a * th.cos() - depth * (-0.5 * ((th - FRAC_PI_2) / w).powi(2)).exp();
     let inertia = |th: f64| big_a + m * a * a * th.sin().powi(2);
     let ln_pi = |th: f64| th.sin().ln() + 0.5 * (inertia(th) / big_a).ln() - u(th) / kt;

@@ -46,11 +46,11 @@ fn well_top(depth_kt: f64, width: f64, f: f64) -> Scenario {
     sc.surface.friction = 0.0;
     sc.surface.gravity = 0.0;
     sc.forcing = Forcing { windows: vec![] };
-    sc.wells = vec![Well {
+    sc.set_wells(&[Well {
         theta: FRAC_PI_2,
         depth: depth_kt * kt(),
         width,
-    }];
+    }]);
     sc.initial.theta = FRAC_PI_2;
     sc.initial.spin = 0.0;
     sc.solver.method = Method::Brownian;
@@ -84,7 +84,7 @@ impl Diffusion {
             m: sc.top.mass,
             a: sc.top.offset,
             big_a: sc.top.inertia_transverse,
-            wells: sc.wells.clone(),
+            wells: sc.wells(),
         }
     }
     fn d(&self, th: f64) -> f64 {
@@ -422,7 +422,11 @@ fn splitting_is_unbiased_and_the_tie_blind_weight_is_not() {
 /// below, target 0.3 rad above the bottom (a rise of 3.3 kT).
 fn langevin_problem(model: ModelKind, seed: u64) -> Problem {
     let mut sc = Scenario::nano_physical();
-    sc.wells[0].depth = 8.0 * kt();
+    {
+        let mut wells = sc.wells();
+        wells[0].depth = 8.0 * kt();
+        sc.set_wells(&wells);
+    }
     sc.solver.model = model;
     sc.thermal.seed = Some(seed);
     let x0 = FRAC_PI_2 + 0.1;
@@ -486,7 +490,11 @@ fn langevin_rigid_model_agrees_with_direct_runs() {
 #[ignore]
 fn langevin_mean_exit_time_agrees_with_direct_runs() {
     let mut sc = Scenario::nano_physical();
-    sc.wells[0].depth = 8.0 * kt();
+    {
+        let mut wells = sc.wells();
+        wells[0].depth = 8.0 * kt();
+        sc.set_wells(&wells);
+    }
     sc.initial.theta = FRAC_PI_2;
     sc.thermal.seed = Some(44);
     let problem = Problem::new(
@@ -805,7 +813,7 @@ fn coordinate_grammar() {
         })
     };
     let (m, a, big_a) = (sc.top.mass, sc.top.offset, sc.top.inertia_transverse);
-    let bottom = -sc.wells[0].depth - m * sc.surface.gravity * a * FRAC_PI_2.cos();
+    let bottom = -sc.wells()[0].depth - m * sc.surface.gravity * a * FRAC_PI_2.cos();
     assert!((at(FRAC_PI_2, 0.0) - bottom).abs() < 1e-12 * bottom.abs());
     let kinetic = 0.5 * (big_a + m * a * a) * 1e12 * 1e12;
     assert!((at(FRAC_PI_2, 1e12) - bottom - kinetic).abs() < 1e-9 * kinetic);

@@ -292,11 +292,11 @@ fn brownian_top() -> Scenario {
     sc.top.offset = 0.5 * sc.top.radius;
     sc.surface.friction = 0.0;
     sc.forcing = Forcing::none();
-    sc.wells = vec![Well {
+    sc.set_wells(&[Well {
         theta: std::f64::consts::FRAC_PI_2,
         depth: 2.0 * BOLTZMANN * t,
         width: 0.3,
-    }];
+    }]);
     sc.initial.theta = std::f64::consts::FRAC_PI_2;
     sc.initial.spin = 0.0;
     sc.solver.method = Method::Brownian;

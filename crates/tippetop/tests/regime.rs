@@ -118,10 +118,10 @@ fn max_applied_force_follows_the_schedule() {
 #[test]
 fn nano_preset_with_adhesion_by_hand() {
     let mut sc = Scenario::nano();
-    sc.adhesion = tippetop::Adhesion {
+    sc.set_adhesion(tippetop::Adhesion {
         force: 5.9159e-10,
         energy: 0.73 * 1.602176634e-19,
-    };
+    });
     let r = regime(&sc, None).unwrap();
     assert!(close(r.adhesion_over_weight.unwrap(), 5.04735e13));
     assert!(close(

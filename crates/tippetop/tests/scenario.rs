@@ -731,17 +731,17 @@ fn nano_adhesive_preset() {
     let b = Adhesion::c60_on_graphene().binding().unwrap();
     // The preset writes the helper's values out: equal to a few roundings
     // of the helper's root finding (1e-12 relative).
-    assert!((p.adhesion.force - b.pull_off_force).abs() <= 1e-12 * b.pull_off_force);
-    assert!((p.adhesion.energy - b.energy).abs() <= 1e-12 * b.energy);
+    assert!((p.adhesion().force - b.pull_off_force).abs() <= 1e-12 * b.pull_off_force);
+    assert!((p.adhesion().energy - b.energy).abs() <= 1e-12 * b.energy);
     assert!(
-        (0.7..=0.96).contains(&(p.adhesion.energy / EV)),
+        (0.7..=0.96).contains(&(p.adhesion().energy / EV)),
         "{:?}",
-        p.adhesion
+        p.adhesion()
     );
     assert!(
-        (0.5e-9..=0.7e-9).contains(&p.adhesion.force),
+        (0.5e-9..=0.7e-9).contains(&p.adhesion().force),
         "{:?}",
-        p.adhesion
+        p.adhesion()
     );
     assert_eq!(p.surface.friction, 1e-3);
     assert_eq!(p.surface.law, nano.surface.law);
@@ -768,12 +768,12 @@ fn nano_physical_preset() {
     assert_eq!(p.solver.method, Method::Langevin);
     assert_eq!(p.surface.friction, 0.0);
     assert_eq!(
-        (p.top, p.adhesion, p.initial),
-        (a.top, a.adhesion, a.initial)
+        (p.top, p.adhesion(), p.initial),
+        (a.top, a.adhesion(), a.initial)
     );
     assert_eq!(p.thermal.temperature, 300.0);
-    assert_eq!(p.wells.len(), 1);
-    let depth_ev = p.wells[0].depth / 1.602176634e-19;
+    assert_eq!(p.wells().len(), 1);
+    let depth_ev = p.wells()[0].depth / 1.602176634e-19;
     assert!((depth_ev - 1.1).abs() < 1e-12, "{depth_ev}");
     p.validate().unwrap();
     assert_eq!(Scenario::from_toml_str(&p.to_toml_string()).unwrap(), p);

@@ -512,7 +512,7 @@ fn rare(
     det: &[Deterministic],
     stage: &mut dyn FnMut(&str),
 ) -> Result<Rare, Error> {
-    let depth = Scenario::nano_physical().wells[0].depth;
+    let depth = Scenario::nano_physical().wells()[0].depth;
     let mut lying = Vec::new();
     for &t in &opts.temperatures {
         stage(&format!("{t} K: the lying state's retention by splitting"));
@@ -667,7 +667,7 @@ fn retention(opts: &DeviceOptions, stage: &mut dyn FnMut(&str)) -> Result<Retent
     let half = 0.5 * (ONE[1] - ONE[0]);
     let mid = 0.5 * (ONE[0] + ONE[1]);
     let barrier_potential =
-        wells::potential(&base.wells, mid + half) - wells::potential(&base.wells, mid);
+        wells::potential(&base.wells(), mid + half) - wells::potential(&base.wells(), mid);
     let exit = Exit::parse(&format!("theta<{},theta>{}", ONE[0], ONE[1]))?;
     let mut points = Vec::new();
     for x in [4.0, 5.0, 6.0] {

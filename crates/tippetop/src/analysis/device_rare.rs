@@ -166,7 +166,11 @@ pub fn lying_scenario(t: f64, depth: f64) -> Result<Scenario, Error> {
 /// `sc` at `t` K with well depth `depth` J and the device's step rule.
 fn prepare(mut sc: Scenario, t: f64, depth: f64) -> Result<Scenario, Error> {
     sc.thermal.temperature = t;
-    sc.wells[0].depth = depth;
+    {
+        let mut wells = sc.wells();
+        wells[0].depth = depth;
+        sc.set_wells(&wells);
+    }
     sc.solver.t_end = 1e-9;
     sc.solver.samples = 1001;
     let rate = crate::input::scenario::langevin::step_rates(&sc)
@@ -194,7 +198,7 @@ fn twin(sc: &Scenario) -> ThetaDiffusion {
         damping_rotational: th.damping_rotational,
         damping_contact: th.damping_contact,
         hx: 0.0,
-        wells: sc.wells.clone(),
+        wells: sc.wells(),
     }
 }
 

@@ -91,14 +91,14 @@ fn at(sc: &Scenario, temperature: Option<f64>) -> Regime {
     let positive = |x: f64| (x > 0.0 && x.is_finite()).then_some(x);
     let ratio = |num: f64, den: f64| positive(den).map(|d| num / d);
     // The scenario's pull-off force F_a (0 without adhesion).
-    let adhesion = sc.adhesion.force;
+    let adhesion = sc.adhesion().force;
     let kt = temperature.map(|t| K_B * t).and_then(positive);
     let spin = sc.initial.spin;
     let c = top.inertia_axial;
     Regime {
         temperature,
         adhesion_over_weight: sc
-            .adhesion
+            .adhesion()
             .is_on()
             .then(|| ratio(adhesion, weight))
             .flatten(),
@@ -155,7 +155,7 @@ pub fn lines(sc: &Scenario, r: &Regime) -> Vec<Line> {
                                        force, and a pull must exceed F_a + m g to lift the top off"
                     .into(),
                 Some(_) => "adhesion is on but the weight dominates it".into(),
-                None if sc.adhesion.is_on() => {
+                None if sc.adhesion().is_on() => {
                     "adhesion is on; no weight (g = 0): the load is the pull-off force".into()
                 }
                 None if molecular => {

@@ -14,7 +14,6 @@ pub mod solver;
 pub mod surface;
 pub mod thermal;
 pub mod top;
-pub mod well;
 
 /// One scenario key.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -125,11 +124,14 @@ impl PluginTables {
             .map(|(_, v)| v.as_slice())
     }
 
-    /// Set the values of table `name` (in the registry's order).
+    /// Set the values of table `name` (in the order of its keys; for an
+    /// array of tables, each entry's in turn). The
+    /// tables are kept sorted by name, so that equal scenarios compare
+    /// equal whatever order their tables were set in.
     pub fn set(&mut self, name: &'static str, values: Vec<f64>) {
-        match self.tables.iter_mut().find(|(n, _)| *n == name) {
-            Some(t) => t.1 = values,
-            None => self.tables.push((name, values)),
+        match self.tables.binary_search_by(|(n, _)| (*n).cmp(name)) {
+            Ok(i) => self.tables[i].1 = values,
+            Err(i) => self.tables.insert(i, (name, values)),
         }
     }
 
@@ -143,7 +145,7 @@ impl PluginTables {
         self.tables.is_empty()
     }
 
-    /// The tables given: (name, values).
+    /// The tables given, sorted by name: (name, values).
     pub fn iter(&self) -> impl Iterator<Item = (&'static str, &[f64])> {
         self.tables.iter().map(|(n, v)| (*n, v.as_slice()))
     }

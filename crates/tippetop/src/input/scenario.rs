@@ -84,11 +84,10 @@ pub mod search;
 use serde::Deserialize as _;
 use toml::{Table, Value};
 
-use crate::input::well::{self as wells, Well};
 use crate::input::{Key, PluginTables, TableSpec};
 use crate::{
     ActuatorWindow, Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial,
-    SolverSettings, Surface, Thermal, Top,
+    SolverSettings, Surface, Thermal, Top, Well,
     input::solver::{Method, ModelKind},
     input::surface::Shape,
 };
@@ -100,24 +99,21 @@ pub struct Scenario {
     pub top: Top,
     /// The plane.
     pub surface: Surface,
-    /// Van der Waals adhesion (off: [`Adhesion::NONE`]).
-    pub adhesion: Adhesion,
     /// Applied force schedule.
     pub forcing: Forcing,
     /// The body actuators (`[[force]]` windows of `kind = "tip"` or
     /// `"magnetic"`, docs/physics.md#actuators; none by default), in the order
     /// given; written after the contact windows.
     pub actuators: Vec<ActuatorWindow>,
-    /// Orientation wells (docs/physics.md#wells; none by default).
-    pub wells: Vec<Well>,
     /// Initial state.
     pub initial: Initial,
     /// Solver settings.
     pub solver: SolverSettings,
     /// Temperature and damping ([`Thermal::NONE`]: none; docs/physics.md#langevin).
     pub thermal: Thermal,
-    /// The force plug-ins' tables given (`[wind]`, ...;
-    /// [`crate::physics::forces::PLUGINS`]); none by default.
+    /// The force plug-ins' tables given (`[adhesion]`, `[wind]`, ...;
+    /// [`crate::physics::forces::PLUGINS`]); none by default. The van der
+    /// Waals adhesion is read with [`Scenario::adhesion`].
     pub plugins: PluginTables,
 }
 
@@ -136,8 +132,6 @@ impl Scenario {
                 restitution: 0.0,
                 shape: Shape::Plane,
             },
-            adhesion: Adhesion::NONE,
-            wells: Vec::new(),
             forcing: Forcing::constant(1e-22, 1e-22),
             actuators: Vec::new(),
             initial: Initial::paper(),
@@ -160,8 +154,6 @@ impl Scenario {
                 restitution: 0.0,
                 shape: Shape::Plane,
             },
-            adhesion: Adhesion::NONE,
-            wells: Vec::new(),
             forcing: Forcing::none(),
             actuators: Vec::new(),
             initial: Initial::paper(),
@@ -185,15 +177,15 @@ impl Scenario {
     /// same digits as the command (tests/scenario.rs checks they agree).
     pub fn nano_adhesive() -> Self {
         let (force, energy) = (5.915889357711552e-10, 1.169645723902958e-19);
-        Scenario {
+        let mut sc = Scenario {
             surface: Surface {
                 friction: 1e-3,
                 ..Self::nano().surface
             },
-            adhesion: Adhesion { force, energy },
-            wells: Vec::new(),
             ..Self::nano()
-        }
+        };
+        sc.set_adhesion(Adhesion { force, energy });
+        sc
     }
 
     /// C60 on graphene at 300 K (issue #15, docs/physics.md#langevin): the
@@ -215,11 +207,11 @@ impl Scenario {
         let ev = 1.602176634e-19;
         let mut sc = Self::nano_adhesive();
         sc.surface.friction = 0.0;
-        sc.wells = vec![Well {
+        sc.set_wells(&[Well {
             theta: std::f64::consts::FRAC_PI_2,
             depth: 1.1 * ev,
             width: 0.3,
-        }];
+        }]);
         sc.thermal = Thermal {
             temperature: 300.0,
             damping_translational: 2.2e12,
@@ -269,15 +261,17 @@ impl Scenario {
                 ));
             }
         }
-        self.adhesion.validate()?;
+        // The plug-ins' tables where their tables were checked before
+        // they became plug-ins: [adhesion] after [surface], [[well]]
+        // after [[force]].
+        plugins::validate(self, |t| t == "surface")?;
         self.forcing.validate()?;
         for (j, w) in self.actuators.iter().enumerate() {
             let prefix = format!("force.{}", self.forcing.windows.len() + j);
             w.validate(&prefix)?;
             actuator::check_model(w, &prefix, self.solver.model)?;
         }
-        wells::validate(&self.wells)?;
-        plugins::validate(self)?;
+        plugins::validate(self, |t| t != "surface")?;
         self.initial
             .validate(self.solver.model == ModelKind::Reduced)?;
         self.solver.validate()?;
@@ -327,9 +321,9 @@ impl Scenario {
                 "force",
                 !self.forcing.windows.is_empty() || !self.actuators.is_empty(),
             ),
-            ("adhesion.force", self.adhesion.is_on()),
-            ("well", !self.wells.is_empty()),
-            ("a force plug-in's table", !self.plugins.is_empty()),
+            ("adhesion.force", self.adhesion().is_on()),
+            ("well", !self.wells().is_empty()),
+            ("a force plug-in's table", plugins::has_other(self)),
             (
                 "surface.friction_law",
                 self.surface.law.contensou().is_some(),
@@ -358,9 +352,9 @@ impl Scenario {
         }
         if !self.forcing.windows.is_empty()
             || !self.actuators.is_empty()
-            || self.adhesion.is_on()
-            || !self.wells.is_empty()
-            || !self.plugins.is_empty()
+            || self.adhesion().is_on()
+            || !self.wells().is_empty()
+            || plugins::has_other(self)
         {
             return Err(Error::invalid(
                 "top.stem_radius",
@@ -514,13 +508,6 @@ impl Scenario {
     fn to_table(&self) -> Table {
         let top = self.top_table();
         let surface = self.surface_table();
-        // Written only when on, so scenarios without adhesion keep their
-        // text (scenario.toml, summary.json) unchanged.
-        let adhesion = self.adhesion.is_on() || self.adhesion.energy != 0.0;
-        let mut adh = Table::new();
-        adh.insert("force".into(), Value::Float(self.adhesion.force));
-        adh.insert("energy".into(), Value::Float(self.adhesion.energy));
-
         let force = self.force_list();
 
         let initial = self.initial_table();
@@ -529,26 +516,7 @@ impl Scenario {
         let mut t = Table::new();
         t.insert("top".into(), Value::Table(top));
         t.insert("surface".into(), Value::Table(surface));
-        if adhesion {
-            t.insert("adhesion".into(), Value::Table(adh));
-        }
         t.insert("force".into(), Value::Array(force));
-        // Written only when there are wells (scenario texts without them
-        // unchanged).
-        if !self.wells.is_empty() {
-            let wells = self
-                .wells
-                .iter()
-                .map(|w| {
-                    let mut t = Table::new();
-                    t.insert("theta".into(), Value::Float(w.theta));
-                    t.insert("depth".into(), Value::Float(w.depth));
-                    t.insert("width".into(), Value::Float(w.width));
-                    Value::Table(t)
-                })
-                .collect();
-            t.insert("well".into(), Value::Array(wells));
-        }
         plugins::to_table(&self.plugins, &mut t);
         t.insert("initial".into(), Value::Table(initial));
         t.insert("solver".into(), Value::Table(solver));
@@ -817,21 +785,6 @@ const SURFACE_KEYS: Keys = &[
     ),
 ];
 
-const ADHESION_KEYS: Keys = &[
-    Key::doc(
-        "force",
-        crate::input::surface::ADHESION_FORCE_RANGE,
-        "0",
-        "F_a, the pull-off force (docs/physics.md#adhesion)",
-    ),
-    Key::doc(
-        "energy",
-        crate::input::surface::ADHESION_ENERGY_RANGE,
-        "0",
-        "E_b, the binding energy",
-    ),
-];
-
 const FORCE_KEYS: Keys = &[
     Key::doc(
         "kind",
@@ -869,17 +822,6 @@ const FORCE_KEYS: Keys = &[
     actuator::KEYS[2],
     actuator::KEYS[3],
     actuator::KEYS[4],
-];
-
-const WELL_KEYS: Keys = &[
-    Key::doc(
-        "theta",
-        wells::THETA_RANGE,
-        "required",
-        "the well's centre (docs/physics.md#wells)",
-    ),
-    Key::doc("depth", wells::DEPTH_RANGE, "required", "the well's depth"),
-    Key::doc("width", wells::WIDTH_RANGE, "required", "the well's width"),
 ];
 
 const INITIAL_KEYS: Keys = &[
@@ -1066,16 +1008,8 @@ const TABLE_DOCS: &[(&str, &str)] = &[
     ("top", "the body: a sphere with an offset centre of mass"),
     ("surface", "the plane: gravity, friction, contact"),
     (
-        "adhesion",
-        "van der Waals adhesion (off by default; docs/physics.md#adhesion)",
-    ),
-    (
         "force",
         "force windows: at the contact point (precessing frame), a tip or a magnet (none by default)",
-    ),
-    (
-        "well",
-        "orientation wells U = -depth exp(-(theta - centre)^2/(2 width^2)) (none by default)",
     ),
     (
         "initial",
@@ -1088,43 +1022,74 @@ const TABLE_DOCS: &[(&str, &str)] = &[
     ),
 ];
 
-/// Tables in document order; `force` and `well` are arrays of tables.
+/// The scenario's own tables in document order (the force plug-ins' are
+/// placed by [`table_specs`]); `force` is an array of tables.
 const TABLES: &[(&str, Keys)] = &[
     ("top", TOP_KEYS),
     ("surface", SURFACE_KEYS),
-    ("adhesion", ADHESION_KEYS),
     ("force", FORCE_KEYS),
-    ("well", WELL_KEYS),
     ("initial", INITIAL_KEYS),
     ("solver", SOLVER_KEYS),
     ("thermal", THERMAL_KEYS),
 ];
 
-/// The scenario's own tables, then the force plug-ins' (in the registry's
-/// order), in document order: (name, keys).
-fn all_tables() -> Vec<(&'static str, Keys)> {
-    let mut v: Vec<(&'static str, Keys)> = TABLES.to_vec();
-    v.extend(
-        crate::physics::forces::PLUGINS
-            .iter()
-            .map(|p| (p.table().name, p.table().keys)),
-    );
+/// The scenario's own tables with, after each, the force plug-ins' that
+/// follow it ([`crate::physics::forces::Plugin::follows`], in the
+/// registry's order): every table in document order.
+fn table_specs() -> Vec<TableSpec> {
+    let mut v = Vec::new();
+    for &(name, keys) in TABLES {
+        v.push(TableSpec {
+            name,
+            array: name == "force",
+            doc: TABLE_DOCS
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map_or("", |(_, d)| *d),
+            keys,
+        });
+        v.extend(
+            crate::physics::forces::PLUGINS
+                .iter()
+                .filter(|p| p.follows() == name)
+                .map(|p| p.table()),
+        );
+    }
     v
+}
+
+/// Every table in document order: (name, keys).
+fn all_tables() -> Vec<(&'static str, Keys)> {
+    table_specs().iter().map(|t| (t.name, t.keys)).collect()
 }
 
 /// The valid top-level entries, for the unknown-table error.
 fn top_level_range() -> String {
-    let names: Vec<String> = all_tables()
+    let names: Vec<String> = table_specs()
         .iter()
-        .map(|(n, _)| {
-            if matches!(*n, "force" | "well") {
-                format!("[[{n}]]")
+        .map(|t| {
+            if t.array {
+                format!("[[{}]]", t.name)
             } else {
-                format!("[{n}]")
+                format!("[{}]", t.name)
             }
         })
         .collect();
     format!("valid top-level entries: preset, {}", names.join(", "))
+}
+
+/// True if `table` is an array of tables (`force`, `well`).
+fn is_array(table: &str) -> bool {
+    table_specs().iter().any(|t| t.array && t.name == table)
+}
+
+/// What one entry of the array of tables `table` is called, singular and
+/// plural: a force `window`, a plug-in's ([`crate::physics::forces::Plugin::entry`]).
+fn entry_of(table: &str) -> (&'static str, &'static str) {
+    match crate::physics::forces::plugin(table) {
+        Some(p) => p.entry(),
+        None => ("window", "windows"),
+    }
 }
 
 const LAWS: &[(&str, LawName)] = &[
@@ -1184,20 +1149,7 @@ pub fn key_unit(full_key: &str) -> Option<&'static str> {
 /// Every scenario table with its keys, the force plug-ins' included: what
 /// `tippetop keys` lists and docs/keys.md shows.
 pub fn key_tables() -> Vec<TableSpec> {
-    let mut v: Vec<TableSpec> = TABLES
-        .iter()
-        .map(|&(name, keys)| TableSpec {
-            name,
-            array: matches!(name, "force" | "well"),
-            doc: TABLE_DOCS
-                .iter()
-                .find(|(n, _)| *n == name)
-                .map_or("", |(_, d)| *d),
-            keys,
-        })
-        .collect();
-    v.extend(crate::physics::forces::PLUGINS.iter().map(|p| p.table()));
-    v
+    table_specs()
 }
 
 fn keys_of(table: &str) -> Option<Keys> {
@@ -1334,10 +1286,11 @@ fn merge_file(merged: &mut Table, file: &Table) -> Result<bool, Error> {
         }
     }
     let mut eps_explicit = false;
-    for (name, keys) in all_tables() {
+    for spec in table_specs() {
+        let (name, keys) = (spec.name, spec.keys);
         let Some(v) = file.get(name) else { continue };
-        if name == "force" || name == "well" {
-            let one = if name == "force" { "window" } else { "well" };
+        if spec.array {
+            let (one, _) = entry_of(name);
             let Value::Array(windows) = v else {
                 return Err(Error::invalid(
                     name,
@@ -1501,12 +1454,9 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
             "cannot be given with --set".into(),
             "use --preset NAME, or preset = \"NAME\" in the file".into(),
         )),
-        [list @ ("force" | "well"), idx, k] => {
-            let (keys, one) = if *list == "force" {
-                (FORCE_KEYS, "window")
-            } else {
-                (WELL_KEYS, "well")
-            };
+        [list, idx, k] if is_array(list) => {
+            let keys = keys_of(list).unwrap_or(&[]);
+            let (one, _) = entry_of(list);
             if !idx.bytes().all(|b| b.is_ascii_digit()) || idx.is_empty() {
                 return Err(Error::invalid(
                     key,
@@ -1521,11 +1471,7 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
             let n = windows.len();
             let kk = idx.parse::<usize>().unwrap_or(usize::MAX);
             if kk > n {
-                let what = if *list == "force" {
-                    "force window"
-                } else {
-                    "well"
-                };
+                let what = if *list == "force" { "force window" } else { one };
                 return Err(Error::invalid(
                     key,
                     format!("there is no {what} {idx} ({n} defined)"),
@@ -1545,10 +1491,18 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
             "force windows are set one key at a time".into(),
             "force.K.KEY with K = 0, 1, ... and KEY one of kind, hx, hy, hz, start, stop, point, force, moment, field, gradient".into(),
         )),
-        ["well", ..] => Err(Error::invalid(
+        [list, ..] if is_array(list) => Err(Error::invalid(
             key,
-            "wells are set one key at a time".into(),
-            "well.K.KEY with K = 0, 1, ... and KEY one of theta, depth, width".into(),
+            format!("{} are set one key at a time", entry_of(list).1),
+            format!(
+                "{list}.K.KEY with K = 0, 1, ... and KEY one of {}",
+                keys_of(list)
+                    .unwrap_or(&[])
+                    .iter()
+                    .map(|k| k.name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         )),
         [table, k] if keys_of(table).is_some() => {
             let keys = keys_of(table).unwrap_or(&[]);
@@ -1733,14 +1687,14 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     // Each table in document order (the first error is the first table's).
     let top = top_of(merged, has_preset)?;
     let surface = surface_of(merged, has_preset, eps_explicit)?;
-    let s = section(merged, "adhesion");
-    let adhesion = Adhesion {
-        force: s.f64("force", Some(0.0))?,
-        energy: s.f64("energy", Some(0.0))?,
-    };
+    // The plug-ins' tables where their tables were read before they
+    // became plug-ins ([adhesion] after [surface], [[well]] after
+    // [[force]]), the others' last.
+    let mut plugins = PluginTables::NONE;
+    plugins::parse(merged, |t| t == "surface", &mut plugins)?;
 
     let (forcing, actuators) = forces_of(merged)?;
-    let wells = wells_of(merged)?;
+    plugins::parse(merged, |t| t == "force", &mut plugins)?;
     let initial = initial_of(merged, has_preset)?;
     let solver = solver_of(merged, has_preset)?;
     let s = section(merged, "thermal");
@@ -1756,17 +1710,17 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
         run: s.usize("run", 0)? as u64,
     };
 
+    plugins::parse(merged, |t| !matches!(t, "surface" | "force"), &mut plugins)?;
+
     Ok(Scenario {
         top,
         surface,
-        adhesion,
         forcing,
         actuators,
-        wells,
         initial,
         solver,
         thermal,
-        plugins: plugins::parse(merged)?,
+        plugins,
     })
 }
 
@@ -1972,40 +1926,6 @@ fn forces_of(merged: &Table) -> Result<(Forcing, Vec<ActuatorWindow>), Error> {
     }
     let forcing = Forcing { windows };
     Ok((forcing, actuators))
-}
-
-/// The `[[well]]` list (every key of a well required).
-fn wells_of(merged: &Table) -> Result<Vec<Well>, Error> {
-    let mut wells = Vec::new();
-    if let Some(Value::Array(list)) = merged.get("well") {
-        for (k, w) in list.iter().enumerate() {
-            let s = Section {
-                prefix: format!("well.{k}"),
-                keys: WELL_KEYS,
-                table: w.as_table(),
-            };
-            // Every key of a well is required (no default well).
-            if let Some(key) = ["theta", "depth", "width"]
-                .into_iter()
-                .find(|k| s.get(k).is_none())
-            {
-                return Err(Error::invalid(
-                    &s.full(key),
-                    "missing".into(),
-                    format!(
-                        "every well needs theta, depth and width; {}",
-                        range_of(WELL_KEYS, key)
-                    ),
-                ));
-            }
-            wells.push(Well {
-                theta: s.f64("theta", None)?,
-                depth: s.f64("depth", None)?,
-                width: s.f64("width", None)?,
-            });
-        }
-    }
-    Ok(wells)
 }
 
 /// The `[initial]` table: Euler angles and rates, or lab-frame vectors.

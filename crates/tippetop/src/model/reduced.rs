@@ -206,7 +206,7 @@ impl Reduced {
             plane: ContactState::new(sc, &scales),
             top: sc.top,
             gravity_si: sc.surface.gravity,
-            wells_si: sc.wells.clone(),
+            wells_si: sc.wells(),
             last: RefCell::new(None),
         }
     }

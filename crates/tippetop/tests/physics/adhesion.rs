@@ -46,9 +46,9 @@ fn sliding_sphere_rolls_at_the_adhesive_coulomb_time() {
     each_model(&[], |model| {
         for factor in [3.0, 1e3] {
             let mut sc = uniform_sphere(theta, spin, mu);
-            sc.adhesion = adhesion(&sc, factor, 0.1);
+            sc.set_adhesion(adhesion(&sc, factor, 0.1));
             let (m, g) = (sc.top.mass, sc.surface.gravity);
-            let fa = sc.adhesion.force;
+            let fa = sc.adhesion().force;
             let tr = run_as(&sc, model);
             let v0 = theta.sin() * sc.top.radius * spin;
             let geff = g + fa / m;
@@ -117,7 +117,7 @@ fn jellett_and_energy_balance_hold_with_adhesion() {
         let mut sc = Scenario::classical();
         sc.solver.t_end = 2.0;
         sc.solver.samples = 201;
-        sc.adhesion = adhesion(&sc, 5.0, 0.1);
+        sc.set_adhesion(adhesion(&sc, 5.0, 0.1));
         let tr = run_as(&sc, model);
         let s = &tr.summary;
         let rolling = tr.samples.iter().filter(|s| s.rolling == 1).count();
@@ -136,7 +136,7 @@ fn jellett_and_energy_balance_hold_with_adhesion() {
         assert!(rolling > 0 && rolling < tr.samples.len(), "{model:?}");
 
         let mut sc = Scenario::nano();
-        sc.adhesion = adhesion(&sc, 100.0, 0.5);
+        sc.set_adhesion(adhesion(&sc, 100.0, 0.5));
         let tr = run_as(&sc, model);
         let s = &tr.summary;
         println!(
@@ -169,8 +169,8 @@ fn a_pull_lifts_off_exactly_beyond_pull_off_plus_weight() {
         for (k, lifts) in [(0.99, false), (1.01, true)] {
             let mut sc = uniform_sphere(0.5, 50.0, 0.2);
             sc.surface.contact = ContactMode::Unilateral;
-            sc.adhesion = adhesion(&sc, 2.0, 0.1);
-            let hold = sc.top.mass * sc.surface.gravity + sc.adhesion.force;
+            sc.set_adhesion(adhesion(&sc, 2.0, 0.1));
+            let hold = sc.top.mass * sc.surface.gravity + sc.adhesion().force;
             sc.forcing = load(-k * hold, t1, 0.2);
             let tr = spec::simulate_as(&sc, model);
             let lift = spec::times(&tr, "lift_off");
@@ -223,9 +223,9 @@ fn rigid_separation_costs_the_binding_energy() {
     let mut sc = uniform_sphere(0.5, 50.0, 0.2);
     sc.solver.model = ModelKind::Rigid;
     sc.surface.contact = ContactMode::Unilateral;
-    sc.adhesion = adhesion(&sc, 2.0, 0.1);
+    sc.set_adhesion(adhesion(&sc, 2.0, 0.1));
     let (m, g) = (sc.top.mass, sc.surface.gravity);
-    let (fa, eb) = (sc.adhesion.force, sc.adhesion.energy);
+    let (fa, eb) = (sc.adhesion().force, sc.adhesion().energy);
     let p = 1.5 * (fa + m * g);
     let (t1, tau) = (0.1, 0.05);
     sc.forcing = load(-p, t1, t1 + tau);
@@ -279,14 +279,14 @@ fn nano_adhesive_preset_holds_its_contact() {
             "{model:?} nano-adhesive: J drift {:.1e}, energy balance {:.1e}, F_a − min N_c = {:.2} m g, rolling {}",
             s.jellett_max_rel_drift,
             s.energy_balance_max_rel_error,
-            (sc.adhesion.force - margin) / w,
+            (sc.adhesion().force - margin) / w,
             s.rolling_fraction
         );
         assert!(s.jellett_max_rel_drift <= 1e-10, "{model:?}");
         assert!(s.energy_balance_max_rel_error <= 1e-8, "{model:?}");
         for r in &tr.samples {
             assert!(
-                (r.normal - sc.adhesion.force).abs() <= 100.0 * w,
+                (r.normal - sc.adhesion().force).abs() <= 100.0 * w,
                 "{model:?} t {}: N {}",
                 r.t,
                 r.normal

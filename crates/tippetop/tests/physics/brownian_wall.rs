@@ -80,7 +80,7 @@ fn at_rule(mut sc: Scenario, steps: usize, every: usize) -> Scenario {
         .iter()
         .map(|w| w.hz.abs())
         .fold(0.0, f64::max);
-    let (fa, eb) = (sc.adhesion.force, sc.adhesion.energy);
+    let (fa, eb) = (sc.adhesion().force, sc.adhesion().energy);
     let load = m * g + fa + hz;
     let mut rates = vec![
         kt() / (gr * ia),
@@ -91,7 +91,7 @@ fn at_rule(mut sc: Scenario, steps: usize, every: usize) -> Scenario {
     if fa > 0.0 {
         rates.push(fa * fa / (eb * m * gt));
     }
-    for w in &sc.wells {
+    for w in &sc.wells() {
         rates.push(w.depth / (w.width * w.width * gr * ia));
     }
     let rate = rates.into_iter().fold(0.0, f64::max);
@@ -260,10 +260,10 @@ fn gibbs_density_above_the_wall() {
 fn adhesion_above_the_wall() {
     let mut sc = wall_top(1.5);
     let r = sc.top.radius;
-    sc.adhesion = Adhesion {
+    sc.set_adhesion(Adhesion {
         force: 3.0 * kt() / r,
         energy: 2.0 * kt(),
-    };
+    });
     let sc = at_rule(sc, 16_000_000, 50);
     let tr = simulate(&sc).expect("valid");
     assert!(tr.error.is_none(), "{:?}", tr.error);
@@ -323,11 +323,11 @@ fn adhesion_above_the_wall() {
 #[test]
 fn well_above_the_wall() {
     let mut sc = wall_top(1.5);
-    sc.wells = vec![tippetop::Well {
+    sc.set_wells(&[tippetop::Well {
         theta: 2.0,
         depth: 2.0 * kt(),
         width: 0.5,
-    }];
+    }]);
     let sc = at_rule(sc, 16_000_000, 50);
     let tr = simulate(&sc).expect("valid");
     assert!(tr.error.is_none(), "{:?}", tr.error);

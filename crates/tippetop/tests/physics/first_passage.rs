@@ -53,11 +53,11 @@ fn escaping_top() -> Scenario {
     sc.surface.friction = 0.0;
     sc.surface.gravity = 0.0;
     sc.forcing = Forcing { windows: vec![] };
-    sc.wells = vec![Well {
+    sc.set_wells(&[Well {
         theta: std::f64::consts::FRAC_PI_2,
         depth: 2.0 * BOLTZMANN * T,
         width: 0.3,
-    }];
+    }]);
     sc.initial.theta = std::f64::consts::FRAC_PI_2;
     sc.initial.spin = 0.0;
     sc.solver.method = Method::Brownian;
@@ -184,10 +184,10 @@ fn brownian_exit_with_contact_damping_force_gravity_and_adhesion() {
     sc.surface.gravity = kt / (m * a);
     sc.thermal.damping_contact = m * GAMMA;
     sc.forcing = Forcing::constant(1.25e-11 * 4.0, 0.0);
-    sc.adhesion = tippetop::Adhesion {
+    sc.set_adhesion(tippetop::Adhesion {
         force: 5.915889357711552e-10,
         energy: 1.169645723902958e-19,
-    };
+    });
     sc.solver.dt = Some(1.2e-15);
     sc.thermal.seed = Some(7);
     let centre = std::f64::consts::FRAC_PI_2;

@@ -654,7 +654,7 @@ fn interval_averaged_normal_force_balances_the_load() {
     let sc = Scenario::nano_physical();
     let tr = simulate(&sc).unwrap();
     let ni = tr.summary.normal_intervals.expect("stochastic run");
-    let want = sc.top.mass * sc.surface.gravity + sc.adhesion.force;
+    let want = sc.top.mass * sc.surface.gravity + sc.adhesion().force;
     let rows = &tr.samples;
     let (m, se) = mean_se(&rows.iter().map(|s| s.normal).collect::<Vec<f64>>());
     eprintln!(
@@ -711,13 +711,13 @@ fn boltzmann_density_with_a_well() {
     let well_rate = (well.depth / (well.width * well.width * ia)).sqrt();
     let dt = 0.02 / rate.max(well_rate);
     let mut lv = hot_top(T, rate, dt, dt * steps as f64, steps / 10 + 1);
-    lv.wells = vec![well];
+    lv.set_wells(&[well]);
     let d_r = kt / (rate * ia);
     let well_relax = well.depth / (well.width * well.width * rate * ia);
     let dtb = tippetop::input::thermal::MAX_BROWNIAN_STEP_RATE / d_r.max(well_relax);
     let mut br = hot_top(T, rate, dtb, dtb * steps as f64, steps / 10 + 1);
     br.solver.method = Method::Brownian;
-    br.wells = vec![well];
+    br.set_wells(&[well]);
     // The Brownian run's step is 1/500 of a decorrelation time (its rule),
     // so the same number of steps covers fewer independent samples: its SE
     // bound is wider (the well's shift of <cos θ> from 0 is still >10 SE).
@@ -1004,7 +1004,7 @@ fn brownian_contact_run() -> &'static (Scenario, Trajectory) {
         let steps = 6_000_000usize;
         let mut sc = hot_top(T, rate, dt, dt * steps as f64, steps / 15 + 1);
         sc.solver.method = Method::Brownian;
-        sc.wells = vec![well];
+        sc.set_wells(&[well]);
         sc.thermal.damping_contact = sc.top.mass * rate;
         let tr = simulate(&sc).expect("valid");
         assert!(tr.error.is_none(), "{:?}", tr.error);

@@ -25,7 +25,7 @@ fn resting(mut sc: Scenario, well: Well, theta0: f64, theta_dot0: f64) -> Scenar
     sc.initial.theta_dot = theta_dot0;
     sc.initial.spin = 0.0;
     sc.initial.precession = 0.0;
-    sc.wells = vec![well];
+    sc.set_wells(&[well]);
     sc
 }
 
@@ -50,7 +50,7 @@ fn crossings(tr: &tippetop::Trajectory, level: f64) -> Vec<f64> {
 /// velocity term `m a² s c θ̇²` is `O(ε²)` too and enters at the same order
 /// only through `a`: it is below 2e-8 relative here, see the tolerance).
 fn period_check(sc: Scenario, label: &str) {
-    let w = sc.wells[0];
+    let w = sc.wells()[0];
     let eps = 1e-3;
     let (m, a, ia) = (sc.top.mass, sc.top.offset, sc.top.inertia_transverse);
     let s = w.theta.sin();
@@ -88,11 +88,11 @@ fn period_check(sc: Scenario, label: &str) {
 #[test]
 fn sphere_oscillates_about_the_well_with_the_closed_form_period() {
     let mut sc = uniform_sphere(1.0, 0.0, 0.0);
-    sc.wells = vec![Well {
+    sc.set_wells(&[Well {
         theta: 1.0,
         depth: 1e-4,
         width: 0.1,
-    }];
+    }]);
     period_check(sc, "sphere");
 }
 
@@ -102,11 +102,11 @@ fn sphere_oscillates_about_the_well_with_the_closed_form_period() {
 #[test]
 fn eccentric_top_oscillates_with_the_effective_inertia() {
     let mut sc = Scenario::classical();
-    sc.wells = vec![Well {
+    sc.set_wells(&[Well {
         theta: 1.4,
         depth: 1e-4,
         width: 0.1,
-    }];
+    }]);
     period_check(sc, "classical top");
 }
 
@@ -127,7 +127,7 @@ fn energy_includes_the_well_and_jellett_is_conserved() {
                 depth: 2.0 * mga,
                 width: 0.3,
             };
-            sc.wells = vec![well];
+            sc.set_wells(&[well]);
             sc.surface.friction = mu;
             sc.initial.theta = 0.8;
             sc.initial.spin = 30.0;

@@ -664,7 +664,7 @@ impl ThetaDiffusion {
             damping_rotational: th.damping_rotational,
             damping_contact: th.damping_contact,
             hx,
-            wells: sc.wells.clone(),
+            wells: sc.wells(),
         })
     }
 

@@ -42,8 +42,8 @@
 //! of π). The energy alone gives a weaker necessary condition: `E₀ ≥ V_J(π)`
 //! ([`energy_bound_spin`]).
 
+use crate::Well;
 use crate::input::top::Top;
-use crate::input::well::Well;
 use crate::physics::forces::wells;
 
 /// `D(θ) = A R² sin²θ + C (R cos θ − a)²` \[kg m⁴\]: `J²/(2D)` is the least

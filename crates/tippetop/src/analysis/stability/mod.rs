@@ -331,7 +331,7 @@ fn eig_list(e: &[Eig]) -> String {
 /// actuator (§actuators), so a
 /// scenario with one is bad input naming the key.
 pub fn supports(sc: &Scenario) -> Result<(), Error> {
-    if sc.adhesion.is_on() {
+    if sc.adhesion().is_on() {
         return Err(Error::invalid(
             "adhesion.force",
             "the stability analysis does not model adhesion".into(),
@@ -440,7 +440,7 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
         jellett: j0,
         applied_max,
         sleeping_threshold: wc,
-        inversion: inversion(&top, g, &sc.wells, i.theta, i.precession, i.spin),
+        inversion: inversion(&top, g, &sc.wells(), i.theta, i.precession, i.spin),
         steady,
         late,
         frozen,

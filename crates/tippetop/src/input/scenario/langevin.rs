@@ -21,14 +21,14 @@ fn vertical_load(sc: &Scenario) -> (f64, &'static str) {
         .fold(0.0, f64::max);
     let terms = [
         (weight, "surface.gravity"),
-        (sc.adhesion.force, "adhesion.force"),
+        (sc.adhesion().force, "adhesion.force"),
         (hz, "force.hz"),
     ];
     let key = terms
         .iter()
         .fold(terms[0], |best, &t| if t.0 > best.0 { t } else { best })
         .1;
-    (weight + sc.adhesion.force + hz, key)
+    (weight + sc.adhesion().force + hz, key)
 }
 
 /// The rates \[1/s\] the step of a Langevin run must resolve, each with the
@@ -93,7 +93,7 @@ pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
             "sqrt((mass gravity + adhesion force + |hz|) (radius + offset) / inertia_transverse)",
         ),
     ];
-    for w in &sc.wells {
+    for w in &sc.wells() {
         out.push((
             (w.depth / (w.width * w.width * a_in)).sqrt(),
             "well",
@@ -142,7 +142,7 @@ pub fn brownian_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
             "(mass gravity + adhesion force + |hz|) (radius + offset) / (damping_rotational inertia_transverse)",
         ),
     ];
-    for w in &sc.wells {
+    for w in &sc.wells() {
         out.push((
             w.depth / (w.width * w.width * gr * a_in),
             "well",
@@ -204,10 +204,10 @@ pub fn wall_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
             "(mass gravity + adhesion force + |hz|)^2 (1/(mass damping_translational) + offset^2/(damping_rotational inertia_transverse)) / kT (the gap's diffusion over the wall's thermal length, unilateral contact)",
         ));
     }
-    if sc.adhesion.force > 0.0 && sc.adhesion.energy > 0.0 {
+    if sc.adhesion().force > 0.0 && sc.adhesion().energy > 0.0 {
         out.push((
-            sc.adhesion.force * sc.adhesion.force
-                / (sc.adhesion.energy * top.mass * th.damping_translational),
+            sc.adhesion().force * sc.adhesion().force
+                / (sc.adhesion().energy * top.mass * th.damping_translational),
             "adhesion.force",
             "adhesion force^2 / (adhesion energy mass damping_translational) (the adhesion well's curvature, unilateral contact)",
         ));

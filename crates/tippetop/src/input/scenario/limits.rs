@@ -459,10 +459,10 @@ fn check_units(sc: &Scenario, tu: f64, rate_key: &str) -> Result<(), Error> {
             );
         }
     }
-    if sc.adhesion.is_on() {
+    if sc.adhesion().is_on() {
         for (key, v, unit, what) in [
-            ("adhesion.force", sc.adhesion.force, force, "force"),
-            ("adhesion.energy", sc.adhesion.energy, energy, "energy"),
+            ("adhesion.force", sc.adhesion().force, force, "force"),
+            ("adhesion.energy", sc.adhesion().energy, energy, "energy"),
         ] {
             let x = v / unit;
             if !(x.is_finite() && x >= f64::MIN_POSITIVE) {
@@ -551,7 +551,7 @@ fn check_initial(sc: &Scenario, tu: f64) -> Result<(), Error> {
 pub fn friction_relaxation_rate(sc: &Scenario) -> Option<f64> {
     let eps = sc.surface.law.eps()?;
     let top = &sc.top;
-    let load = sc.surface.gravity + sc.adhesion.force / top.mass;
+    let load = sc.surface.gravity + sc.adhesion().force / top.mass;
     let inv_mass = 1.0 + top.mass * top.radius * top.radius / top.inertia_transverse;
     Some(sc.surface.friction * load * inv_mass / eps)
 }
@@ -567,7 +567,7 @@ pub fn friction_relaxation_rate(sc: &Scenario) -> Option<f64> {
 /// the nano preset with the graphene values it completes in the vector
 /// model and reaches its limit in the others, docs/physics.md#adhesion).
 fn check_adhesive_friction(sc: &Scenario) -> Result<(), Error> {
-    let Some(lambda) = friction_relaxation_rate(sc).filter(|_| sc.adhesion.is_on()) else {
+    let Some(lambda) = friction_relaxation_rate(sc).filter(|_| sc.adhesion().is_on()) else {
         return Ok(());
     };
     let so = &sc.solver;

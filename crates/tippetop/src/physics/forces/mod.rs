@@ -6,17 +6,19 @@
 //! so a new term of an implemented kind is one file here (a [`Plugin`]:
 //! its scenario table, validation, doc and a type implementing
 //! [`ForceTerm`]) plus one line in [`PLUGINS`] (docs/extending.md; the
-//! example is [`wind`]). The older terms keep their keys in the scenario's
-//! own tables and are built in `Forces::of` (input/scenario/plugins.rs). Each term states, in code ([`ForceTerm::properties`])
+//! example is [`wind`]; [`adhesion`] and [`wells`] are too). The older terms (the
+//! `[[force]]` schedule's retarding force and vertical load and body
+//! actuators) keep their keys in the scenario's own tables and
+//! are built in `Forces::of` (input/scenario/plugins.rs). Each term states, in code ([`ForceTerm::properties`])
 //! and in its doc, how it enters the normal-force closure `N D(σ) = Q`
 //! (docs/physics.md#normal-force), whether it conserves Jellett's J (§invariants) and whether
 //! it has a potential or its work is integrated (like `W_a`).
 //!
 //! Wired today: [`Kind::ContactPoint`], with the terms [`retarding::Retarding`]
 //! (the paper's `H`) and [`vertical_load::VerticalLoad`] (`force.K.hz`,
-//! §vertical-load), and [`Kind::CentreVertical`], with the term [`adhesion::Adhesion`]
+//! §vertical-load), and [`Kind::CentreVertical`], with the plug-in [`adhesion::AdhesionPlugin`]
 //! (van der Waals adhesion, §adhesion), [`Kind::Torque`], with the term
-//! [`wells::Wells`] (orientation wells, §wells), and [`Kind::BodyPoint`], with
+//! the plug-in [`wells::WellsPlugin`] (orientation wells, §wells), and [`Kind::BodyPoint`], with
 //! the terms [`actuators::Actuators`] (tips and magnetic dipoles, §actuators;
 //! vector and rigid models). The other kinds are declared so that their place is fixed; no
 //! model applies them yet, and [`Applied`] has no slot for them (a term of
@@ -40,7 +42,9 @@ use crate::input::TableSpec;
 /// doc; its physics), listed once in [`PLUGINS`]. The scenario parser,
 /// `--set`, `to_toml`, the validation messages and `tippetop keys` learn
 /// its table from there (docs/extending.md). Its values are numbers, one
-/// per key, in the order of its keys (a key left out has its default).
+/// per key, in the order of its keys (a key left out has its default); for
+/// an array of tables (`[[well]]`), each entry's numbers in turn
+/// (`values.chunks(keys.len())`).
 pub trait Plugin: Sync {
     /// Its scenario table (name, one-line doc, keys).
     fn table(&self) -> TableSpec;
@@ -49,6 +53,35 @@ pub trait Plugin: Sync {
     /// terms; a scenario with a plug-in of another kind and
     /// `model = "reduced"` is refused, naming the table.
     fn kind(&self) -> Kind;
+    /// The scenario table its table follows in a scenario's text, the
+    /// listing of `tippetop keys` and docs/keys.md (one of the scenario's
+    /// own tables: `top`, `surface`, `force`, `well`, `initial`, `solver`,
+    /// `thermal`). Default: `thermal`, the end. The older terms keep the
+    /// place their tables had (`[adhesion]` after `[surface]`), so that
+    /// scenario texts did not change when they became plug-ins.
+    fn follows(&self) -> &'static str {
+        "thermal"
+    }
+    /// Whether a table with these values stays in the scenario (is written
+    /// by `to_toml`, refused where plug-ins are). Default: always. The
+    /// `[adhesion]` table with both numbers zero is dropped, as it always was.
+    fn keeps(&self, _values: &[f64]) -> bool {
+        true
+    }
+    /// True for the older terms that the code handles by name: the
+    /// stability and exact rare-event analyses model or refuse
+    /// `[adhesion]` themselves, and the stem's and the tube's refusals name
+    /// it. False (the default) for a new term, which they refuse as "a
+    /// force plug-in's table" (`input::scenario::plugins::first_key`).
+    fn handled_by_name(&self) -> bool {
+        false
+    }
+    /// For an array of tables ([`TableSpec::array`], `[[well]]`): what one
+    /// entry is called in messages, singular and plural (`"well"`,
+    /// `"wells"`). Default: `"entry"`, `"entries"`.
+    fn entry(&self) -> (&'static str, &'static str) {
+        ("entry", "entries")
+    }
     /// Checks beyond each key's bounds ([`crate::input::Key::bounds`],
     /// checked before); `values` in the order of the keys.
     fn validate(&self, _values: &[f64]) -> Result<(), Error> {
@@ -74,7 +107,7 @@ pub trait Plugin: Sync {
 }
 
 /// The force plug-ins: a new one is its file plus one line here.
-pub static PLUGINS: &[&dyn Plugin] = &[&wind::Wind];
+pub static PLUGINS: &[&dyn Plugin] = &[&adhesion::AdhesionPlugin, &wells::WellsPlugin, &wind::Wind];
 
 /// The plug-in whose table is `name`.
 pub fn plugin(name: &str) -> Option<&'static dyn Plugin> {
@@ -117,7 +150,7 @@ pub enum Kind {
     BodyPoint,
     /// A pure torque (a couple). Wired for torques about the horizontal
     /// axis `ŷ ⊥ k` that derive from a potential in θ
-    /// ([`wells::Wells`], docs/physics.md#wells): it adds `τ/A` to the
+    /// ([`wells::WellsPlugin`], docs/physics.md#wells): it adds `τ/A` to the
     /// torque-free angular acceleration, so it enters `Q` through `ṅ`
     /// (`Q += a s τ_y/A`); J conserved (`τ ⊥ k`, `τ ⊥ Z`); potential `U(θ)`
     /// in the energy. A magnetic field's torque `μ k × B` is applied as

@@ -176,7 +176,7 @@ impl TiltEnergy {
             inertia: t.inertia_transverse,
             ma2: t.mass * t.offset * t.offset,
             mga: t.mass * sc.surface.gravity * t.offset,
-            wells: sc.wells.clone(),
+            wells: sc.wells(),
         }
     }
 
