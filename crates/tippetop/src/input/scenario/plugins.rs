@@ -147,7 +147,7 @@ pub(super) fn validate(sc: &Scenario, follows: impl Fn(&str) -> bool) -> Result<
                     };
                     return Err(Error::invalid(
                         &key,
-                        format!("{x} is not allowed"),
+                        format!("{} is not allowed", crate::human::exact(x)),
                         k.range.into(),
                     ));
                 }

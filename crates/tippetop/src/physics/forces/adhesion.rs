@@ -138,7 +138,7 @@ impl Adhesion {
             if !v.is_finite() || v < 0.0 {
                 return Err(Error::invalid(
                     key,
-                    format!("{v} is not allowed"),
+                    format!("{} is not allowed", crate::human::exact(v)),
                     range.into(),
                 ));
             }

@@ -159,7 +159,7 @@ pub fn validate(wells: &[Well]) -> Result<(), Error> {
             if !ok || !v.is_finite() {
                 return Err(Error::invalid(
                     &format!("well.{k}.{key}"),
-                    format!("{v} is not allowed"),
+                    format!("{} is not allowed", crate::human::exact(v)),
                     range.into(),
                 ));
             }
