@@ -712,8 +712,13 @@ impl Vector {
         let en = 0.5 * dot(v, v)
             + 0.5 * dot(kn.w, self.inertia(kn.k, kn.w))
             + self.g * (1.0 - self.a * kn.k[2]);
-        // The wells' potential U(θ) (§wells; nothing without wells).
-        crate::physics::forces::wells::with_potential(self.plane.wells(), en, Self::theta(y))
+        // The wells' potential U(θ) (§wells; nothing without wells, and θ,
+        // an `atan2` the compiler cannot drop, only computed with them).
+        let wells = self.plane.wells();
+        if wells.is_empty() {
+            return en;
+        }
+        crate::physics::forces::wells::with_potential(wells, en, Self::theta(y))
     }
 
     /// The Euler-angle quantities `(θ, θ̇, Ω, ω)` (scaled rates) and the
