@@ -281,6 +281,149 @@ fn wide_tube_is_the_plane() {
     assert!(dth < 1e-6 && dsp < 1e-6);
 }
 
+/// The paper's force in the tube (docs/physics.md#tube-dynamics): `H` at
+/// the contact point in the contact's frame. A rolling contact's motion
+/// does not contain `H` (the constraint force solves `K F = b`, which `H`
+/// does not enter; the friction takes it up), so a uniform ball rolling at
+/// the bottom of the tube under a constant `H` (its axis tilted 0.3 rad
+/// towards the tube's axis, so the frame's `x̂` is continuous) keeps the
+/// pendulum's closed form `ω² = 5 g/(7 (b − R))` to 1e-6, rolls
+/// throughout, and the force does no work (`|W_a| ≤ 1e-9 m g R`).
+#[test]
+fn rolling_ball_with_the_force_on_keeps_its_period() {
+    let (r, b) = (0.01, 0.05);
+    let w0 = (5.0 * G / (7.0 * (b - r))).sqrt();
+    let t0 = 2.0 * std::f64::consts::PI / w0;
+    let mut sc = ball_in_tube(r, b, 1e-3, 1.0, FrictionLaw::Coulomb);
+    sc.initial.theta = 0.3;
+    let mg = sc.top.mass * G;
+    sc.forcing = tippetop::Forcing::constant(0.05 * mg, 0.03 * mg);
+    sc.solver.t_end = 6.25 * t0;
+    sc.solver.samples = 20001;
+    let (p, n, gap, rolled) = measure(&sc);
+    let err = p / t0 - 1.0;
+    let tr = tippetop::simulate(&sc).unwrap();
+    let wa = tr
+        .samples
+        .iter()
+        .map(|s| s.work_applied.abs())
+        .fold(0.0, f64::max);
+    let hx = tr.samples[0].hx;
+    println!(
+        "rolling ball with H: period {p:.9e} s over {n} half periods, closed form {t0:.9e} s, rel. error {err:.2e}; max |W_a| {wa:.1e} J; H_x {hx:.3e} N"
+    );
+    assert!(
+        (hx - 0.05 * mg).abs() < 1e-12 * mg,
+        "the force is not on: {hx:e}"
+    );
+    assert!(rolled, "the ball did not roll throughout");
+    assert!(err.abs() < 1e-6, "rolling period off by {err:e}");
+    assert!(gap < 1e-8, "the wall's constraint drifted by {gap:e} R");
+    assert!(
+        wa <= 1e-9 * mg * r,
+        "the force did work at a rolling contact: {wa:e} J"
+    );
+}
+
+/// Energy balance with the force on: `E(t) − E(0) = W_f + W_a` for the
+/// spinning eccentric top in the tube under a force window of 0.2 m g in
+/// each component for the first second (switched off inside the run), to
+/// 1e-7 E₀ at every sample, with the gap held; the force's work is not
+/// negligible (`|W_a| > 1e-4 E₀`) and the top both slides and rolls.
+#[test]
+fn energy_balance_with_the_force_in_the_tube() {
+    let mut sc = top_in_tube(0.05);
+    let mg = sc.top.mass * G;
+    sc.forcing = tippetop::Forcing {
+        windows: vec![tippetop::ForceWindow {
+            hx: 0.2 * mg,
+            hy: 0.2 * mg,
+            hz: 0.0,
+            start: 0.0,
+            stop: 1.0,
+        }],
+    };
+    sc.solver.t_end = 2.0;
+    sc.solver.samples = 2001;
+    let (mut worst_gap, mut slid, mut rolled) = (0.0f64, false, false);
+    let tr = tippetop::simulate::simulate_rigid_observed(&sc, &mut |m, _, y: &[f64; DIM]| {
+        worst_gap = worst_gap.max(m.gap(y).abs());
+        match m.contact.mode {
+            tippetop::model::rigid::Mode::Rolling => rolled = true,
+            tippetop::model::rigid::Mode::Sliding => slid = true,
+        }
+    });
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let e0 = tr.samples[0].energy;
+    let mut worst: f64 = 0.0;
+    for s in &tr.samples {
+        worst = worst.max((s.energy - e0 - s.work_friction - s.work_applied).abs() / e0.abs());
+    }
+    let last = tr.samples.last().unwrap();
+    println!(
+        "top in the tube with H: |E - E0 - W_f - W_a|/E0 <= {worst:.2e}; W_f {:.3e}, W_a {:.3e} of E0; worst |gap| {worst_gap:.1e} R; slid {slid}, rolled {rolled}",
+        last.work_friction / e0,
+        last.work_applied / e0
+    );
+    assert!(
+        last.work_applied.abs() > 1e-4 * e0.abs(),
+        "the force did no work"
+    );
+    assert!(worst < 1e-7, "energy balance off by {worst:e} E0");
+    assert!(
+        worst_gap < 1e-9,
+        "the wall's constraint drifted by {worst_gap:e} R"
+    );
+    assert!(slid && rolled);
+}
+
+/// The plane recovered as `b → ∞` with the paper's force on: the nano
+/// preset (rigid model, bilateral, H = (0.1, 0.1) zN) on the plane and in a
+/// tube of radius 1 m (the wall's tilt over the ~1e-9 m the contact
+/// travels is ~1e-9 rad) give the same θ(t), spin and W_a over 10 µs, in
+/// which the top lies down (θ passes π/2): θ within 1e-6 rad.
+#[test]
+fn wide_tube_is_the_plane_with_the_paper_force() {
+    let mut plane = Scenario::nano();
+    plane.solver.model = ModelKind::Rigid;
+    plane.solver.t_end = 1e-5;
+    plane.solver.samples = 201;
+    let mut tube = plane.clone();
+    tube.surface.shape = Shape::Tube {
+        radius: 1.0,
+        angle: 0.0,
+    };
+    let a = tippetop::simulate(&plane).unwrap();
+    let b = tippetop::simulate(&tube).unwrap();
+    assert!(
+        a.error.is_none() && b.error.is_none(),
+        "{:?} {:?}",
+        a.error,
+        b.error
+    );
+    let (mut dth, mut dsp, mut dwa) = (0.0f64, 0.0f64, 0.0f64);
+    let wa_scale = a
+        .samples
+        .iter()
+        .map(|s| s.work_applied.abs())
+        .fold(0.0, f64::max);
+    for (p, q) in a.samples.iter().zip(&b.samples) {
+        dth = dth.max((p.theta - q.theta).abs());
+        dsp = dsp.max((p.spin - q.spin).abs() / p.spin.abs().max(1.0));
+        dwa = dwa.max((p.work_applied - q.work_applied).abs() / wa_scale);
+    }
+    let th_max = a.samples.iter().map(|s| s.theta).fold(0.0, f64::max);
+    println!(
+        "nano, b = 1 m against the plane over 10 us: max |d theta| {dth:.2e} rad, max rel. d spin {dsp:.2e}, d W_a {dwa:.2e} of max |W_a| = {wa_scale:.3e} J; theta_max {th_max:.3} rad"
+    );
+    assert!(
+        th_max > std::f64::consts::FRAC_PI_2,
+        "the top did not lie down"
+    );
+    assert!(wa_scale > 0.0);
+    assert!(dth < 1e-6 && dsp < 1e-6 && dwa < 1e-6);
+}
+
 /// The keys: the tube read from `--set`s, and each refusal one error naming
 /// its key (the CLI's exit 2 is tippetop-cli's tests/hardening_cli.rs).
 #[test]
@@ -349,7 +492,14 @@ fn tube_keys_and_refusals() {
         ),
         (
             "nano",
-            vec![rigid, tube, "surface.tube_radius=1e-9"],
+            vec![
+                rigid,
+                tube,
+                "surface.tube_radius=1e-9",
+                "force.1.kind=\"tip\"",
+                "force.1.point=[0.0, 0.0, 0.0]",
+                "force.1.force=[0.0, 0.0, 1e-25]",
+            ],
             "surface.shape",
         ),
         (
