@@ -424,6 +424,91 @@ fn wide_tube_is_the_plane_with_the_paper_force() {
     assert!(dth < 1e-6 && dsp < 1e-6 && dwa < 1e-6);
 }
 
+/// Adhesion in the tube (`[adhesion]` with shape = "tube",
+/// docs/physics.md#tube-dynamics): the load `F_a` along `−n` at the contact
+/// in contact. A frictionless uniform ball released at rest at `φ₀` in the
+/// tube is a pendulum whatever the load (it acts along the contact's normal
+/// through the centre): its speed is `v² = 2 g (b − R)(cos φ − cos φ₀)`, so
+/// the wall's reaction is `N = F_a + m g (3 cos φ − 2 cos φ₀)`, `φ` the
+/// centre's angle about the axis (`sin φ = y/(b − R)`). Checked at every
+/// sample to 1e-9 of `F_a` (`F_a = 10 m g`), with `E` constant (the load does
+/// no work on a fixed wall) and the sliding period `2π/√(g/(b − R))` as
+/// without adhesion (to 1e-6 at φ₀ = 1e-3).
+#[test]
+fn sliding_ball_with_adhesion_has_the_closed_form_reaction() {
+    let (r, b, phi0) = (0.01, 0.05, 1e-3);
+    let mut sc = ball_in_tube(r, b, phi0, 0.0, FrictionLaw::CoulombSliding);
+    let mg = sc.top.mass * G;
+    sc.adhesion = tippetop::Adhesion {
+        force: 10.0 * mg,
+        energy: 1e-3,
+    };
+    let t0 = 2.0 * std::f64::consts::PI / (G / (b - r)).sqrt();
+    sc.solver.t_end = 6.25 * t0;
+    sc.solver.samples = 20001;
+    let (p, _, gap, _) = measure(&sc);
+    let tr = tippetop::simulate(&sc).unwrap();
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let (mut worst_n, mut worst_e) = (0.0f64, 0.0f64);
+    let e0 = tr.samples[0].energy;
+    for s in &tr.samples {
+        let phi = (s.y / (b - r)).asin();
+        let n = 10.0 * mg + mg * (3.0 * phi.cos() - 2.0 * phi0.cos());
+        worst_n = worst_n.max((s.normal - n).abs() / (10.0 * mg));
+        worst_e = worst_e.max((s.energy - e0).abs() / e0.abs().max(mg * r * phi0 * phi0));
+    }
+    let err = p / t0 - 1.0;
+    println!(
+        "sliding ball with F_a = 10 m g: |N - closed form| <= {worst_n:.2e} F_a, |E - E0| <= {worst_e:.2e}, period rel. error {err:.2e}, worst |gap| {gap:.1e} R"
+    );
+    assert!(worst_n < 1e-9, "reaction off by {worst_n:e} F_a");
+    assert!(worst_e < 1e-9, "energy moved by {worst_e:e}");
+    assert!(err.abs() < 1e-6, "sliding period off by {err:e}");
+}
+
+/// Energy balance with adhesion and the force in the tube: the spinning
+/// eccentric top of [`energy_balance_with_the_force_in_the_tube`] with a
+/// load `F_a = 2 m g` keeps `E − E0 = W_f + W_a` to 1e-7 E₀ (in contact the
+/// adhesion's potential is constant: no term in E), its reaction above
+/// `F_a` less what gravity and the motion take (`N ≥ F_a − 3 m g`), and its
+/// friction's work differs from the run without adhesion (friction sees
+/// `N`).
+#[test]
+fn energy_balance_with_adhesion_in_the_tube() {
+    let mut sc = top_in_tube(0.05);
+    let mg = sc.top.mass * G;
+    sc.forcing = tippetop::Forcing::constant(0.2 * mg, 0.2 * mg);
+    sc.solver.t_end = 1.0;
+    sc.solver.samples = 1001;
+    let without = tippetop::simulate(&sc).unwrap();
+    sc.adhesion = tippetop::Adhesion {
+        force: 2.0 * mg,
+        energy: 1.0,
+    };
+    let tr = tippetop::simulate(&sc).unwrap();
+    assert!(tr.error.is_none() && without.error.is_none());
+    let e0 = tr.samples[0].energy;
+    let (mut worst, mut n_min) = (0.0f64, f64::INFINITY);
+    for s in &tr.samples {
+        worst = worst.max((s.energy - e0 - s.work_friction - s.work_applied).abs() / e0.abs());
+        n_min = n_min.min(s.normal);
+    }
+    let (wf, wf0) = (
+        tr.samples.last().unwrap().work_friction,
+        without.samples.last().unwrap().work_friction,
+    );
+    println!(
+        "top in the tube with H and F_a = 2 m g: |E - E0 - W_f - W_a|/E0 <= {worst:.2e}; N_min {:.3} m g; W_f {wf:.4e} J (without adhesion {wf0:.4e} J)",
+        n_min / mg
+    );
+    assert!(worst < 1e-7, "energy balance off by {worst:e} E0");
+    assert!(n_min > 2.0 * mg - 3.0 * mg, "N_min {n_min:e}");
+    assert!(
+        (wf - wf0).abs() > 1e-3 * wf0.abs(),
+        "adhesion changed nothing"
+    );
+}
+
 /// The keys: the tube read from `--set`s, and each refusal one error naming
 /// its key (the CLI's exit 2 is tippetop-cli's tests/hardening_cli.rs).
 #[test]
@@ -508,8 +593,9 @@ fn tube_keys_and_refusals() {
                 rigid,
                 tube,
                 "surface.tube_radius=0.05",
-                "adhesion.force=1e-9",
-                "adhesion.energy=1e-19",
+                "well.0.theta=1.0",
+                "well.0.depth=1e-3",
+                "well.0.width=0.5",
             ],
             "surface.shape",
         ),

@@ -290,8 +290,8 @@ impl Scenario {
     /// What the tube (`surface.shape = "tube"`, docs/physics.md#tube-dynamics)
     /// needs: the rigid model, a radius larger than the contact sphere's,
     /// and none of what is written for the plane only: a stem, actuators
-    /// (`[[force]]` windows are taken, in the contact's frame), `[adhesion]`
-    /// (the sheet's law), `[[well]]`s (θ from the vertical), force
+    /// (`[[force]]` windows are taken, in the contact's frame; `[adhesion]`
+    /// is the tube's load in contact), `[[well]]`s (θ from the vertical), force
     /// plug-ins, the Coulomb–Contensou laws (drilling about Z), and the
     /// stochastic methods with `[thermal]` (the plane's Ornstein–Uhlenbeck
     /// step).
@@ -317,10 +317,9 @@ impl Scenario {
                 crate::input::surface::TUBE_RADIUS_RANGE.into(),
             ));
         }
-        let plane_only: [(&str, bool); 7] = [
+        let plane_only: [(&str, bool); 6] = [
             ("top.stem_radius", self.top.stem.is_some()),
             ("an actuator (force.K.kind)", !self.actuators.is_empty()),
-            ("adhesion.force", self.adhesion.is_on()),
             ("well", !self.wells.is_empty()),
             ("a force plug-in's table", !self.plugins.is_empty()),
             (
@@ -336,7 +335,7 @@ impl Scenario {
             return Err(Error::invalid(
                 key,
                 format!("\"tube\" with {what}, which is modelled on the plane only"),
-                "shape = \"tube\" with gravity, [[force]] windows and the point friction laws only: no stem, actuator, [adhesion], [[well]], force plug-in, contensou* law, langevin/brownian method or [thermal] (docs/physics.md#tube-dynamics)".into(),
+                "shape = \"tube\" with gravity, [[force]] windows, [adhesion] (the tube's, in contact) and the point friction laws only: no stem, actuator, [[well]], force plug-in, contensou* law, langevin/brownian method or [thermal] (docs/physics.md#tube-dynamics)".into(),
             ));
         }
         Ok(())

@@ -698,9 +698,10 @@ impl Rigid {
 
     /// [`Rigid::eval`] in the tube (docs/physics.md#tube-dynamics): the
     /// body's tube path ([`body::Body::slide_tube`], [`body::Body::roll_tube`])
-    /// with gravity, the point friction laws and the `[[force]]` schedule
+    /// with gravity, the point friction laws, the `[[force]]` schedule
     /// (`H` in the contact's frame, [`body::TubeAt::applied`], the load
-    /// `h_z` along `−n`); the friction in `Eval` is in the contact's
+    /// `h_z` along `−n`) and adhesion's load `F_a` along `−n` in contact;
+    /// the friction in `Eval` is in the contact's
     /// tangent components (`e₁ = X`, `e₂ = n × X`).
     #[inline(never)]
     fn eval_tube(&self, y: &[f64; DIM]) -> Result<Eval, RigidError> {
@@ -715,7 +716,14 @@ impl Rigid {
         let at = body::At::new(&tube, self.a, self.rho, kin.k, kin.n);
         let free = body.free(&at, None, None);
         let hw = tube.applied(self.contact.applied(), kin.k);
-        let cp = self.contact.forces().contact_point();
+        // Adhesion in the tube (`[adhesion]` with shape = "tube"): the load
+        // F_a along −n at P in contact (the tube's pull-off force,
+        // docs/physics.md#tube-dynamics); flight is not modelled.
+        let cp = self
+            .contact
+            .forces()
+            .contact_point()
+            .with_load(self.contact.forces().centre_vertical().in_contact());
         let cd = add(v3(y, VEL), scale(self.a, at.kd));
         let c = match self.contact.mode {
             Mode::Rolling => body.roll_tube(&at, &free, &tube, self.rho, hw, &cp),
