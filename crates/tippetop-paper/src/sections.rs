@@ -205,7 +205,7 @@ pub fn extended(
     out.sections.push(study.section());
     out.figures.extend(study.figures(runs));
     progress("inside a nanotube");
-    let tube = crate::tube::study()?;
+    let tube = crate::tube::study(q)?;
     out.sections.push(tube.section());
     out.figures.push(tube.figure());
     Ok(out)

@@ -11,10 +11,12 @@
 //! the numbers with the criterion beside each, never written in.
 
 use tippetop::human::s4;
+use tippetop::input::solver::ModelKind;
+use tippetop::input::surface::Shape;
 use tippetop::input::thermal::BOLTZMANN;
 use tippetop::physics::adhesion::{ANGSTROM, Binding, EV};
 use tippetop::physics::nanotube::{Nanotube, TubeBinding, chirality_radius, off_axis_radius};
-use tippetop::{Error, Scenario};
+use tippetop::{Adhesion, Error, FrictionLaw, Scenario, Trajectory, simulate};
 
 use crate::{Curve, Figure};
 
@@ -72,8 +74,88 @@ impl TubeRow {
     }
 }
 
+/// The paper's nano scenario run on the wall of one tube (rigid model).
+#[derive(Debug, Clone)]
+pub struct TubeRun {
+    /// `n` of the `(n, n)` tube.
+    pub n: u32,
+    /// The scenario run: the nano preset (the paper's constant H, exact
+    /// Coulomb friction μ = 0.13, bilateral contact) with `model =
+    /// "rigid"`, `shape = "tube"`, the contact cylinder's radius
+    /// `p₀ + R` (the cage's centre on its circle of equilibria when it
+    /// touches) and `[adhesion]` the tube's pull-off force and binding.
+    pub scenario: Scenario,
+    /// The result.
+    pub trajectory: Trajectory,
+    /// The same without the force (every window's H set to 0).
+    pub no_force: Trajectory,
+}
+
+impl TubeRun {
+    /// Largest `|W_a|` over the samples \[J\].
+    pub fn work_applied_max(&self) -> f64 {
+        self.trajectory
+            .samples
+            .iter()
+            .map(|s| s.work_applied.abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// Largest `|θ − θ without H|` over the samples \[rad\].
+    pub fn force_effect(&self) -> f64 {
+        self.trajectory
+            .samples
+            .iter()
+            .zip(&self.no_force.samples)
+            .map(|(a, b)| (a.theta - b.theta).abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// Smallest reaction over the samples \[N\].
+    pub fn normal_min(&self) -> f64 {
+        self.trajectory
+            .samples
+            .iter()
+            .map(|s| s.normal)
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// The nano scenario on the wall of `row`'s tube, its window scaled by
+/// `time_factor`, and the same with no force.
+pub fn wall_run(row: &TubeRow, time_factor: f64) -> Result<TubeRun, Error> {
+    let b = &row.binding;
+    let mut sc = Scenario::nano();
+    sc.solver.model = ModelKind::Rigid;
+    sc.solver.t_end *= time_factor;
+    sc.surface.law = FrictionLaw::Coulomb;
+    sc.surface.friction = crate::adhesion::PAPER_MU;
+    sc.surface.shape = Shape::Tube {
+        radius: b.offset + sc.top.radius,
+        angle: 0.0,
+    };
+    sc.adhesion = Adhesion {
+        force: row.holding_force,
+        energy: b.energy,
+    };
+    sc.validate()?;
+    let trajectory = simulate(&sc)?;
+    let mut free = sc.clone();
+    for w in &mut free.forcing.windows {
+        w.hx = 0.0;
+        w.hy = 0.0;
+    }
+    let no_force = simulate(&free)?;
+    Ok(TubeRun {
+        n: row.n,
+        scenario: sc,
+        trajectory,
+        no_force,
+    })
+}
+
 /// The study: the tubes, the sheet, the paper's force and weight.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct TubeStudy {
     /// The tubes, in the order of [`TUBES`].
     pub rows: Vec<TubeRow>,
@@ -92,6 +174,9 @@ pub struct TubeStudy {
     /// The figure's curves: per tube, offsets \[m\] and `U` \[J\] from the
     /// axis to the last grid point with `U ≤ 0`.
     pub curves: Vec<(Vec<f64>, Vec<f64>)>,
+    /// The paper's nano scenario on the wall of each tube where the cage
+    /// rests on it ([`wall_run`]).
+    pub runs: Vec<TubeRun>,
 }
 
 /// The largest of `f` over `n + 1` evenly spaced points of `[lo, hi]`.
@@ -121,8 +206,10 @@ pub fn energy_curve(tube: &Nanotube) -> (Vec<f64>, Vec<f64>) {
     (ps, us)
 }
 
-/// Run the study (statics only; a few seconds in release).
-pub fn study() -> Result<TubeStudy, Error> {
+/// Run the study: the statics, and the nano scenario on the wall of each
+/// tube where the cage rests (windows scaled by `time_factor`; a few
+/// seconds in release).
+pub fn study(time_factor: f64) -> Result<TubeStudy, Error> {
     let nano = Scenario::nano();
     let (hx, hy) = nano.forcing.at(0.0);
     let kt = BOLTZMANN * TEMPERATURE;
@@ -157,6 +244,11 @@ pub fn study() -> Result<TubeStudy, Error> {
         });
         curves.push(energy_curve(&tube));
     }
+    let runs = rows
+        .iter()
+        .filter(|r| !r.binding.on_axis)
+        .map(|r| wall_run(r, time_factor))
+        .collect::<Result<Vec<_>, Error>>()?;
     Ok(TubeStudy {
         rows,
         sheet,
@@ -166,6 +258,7 @@ pub fn study() -> Result<TubeStudy, Error> {
         mass: nano.top.mass,
         kt,
         curves,
+        runs,
     })
 }
 
@@ -273,6 +366,9 @@ impl TubeStudy {
         if !wall.is_empty() {
             s.push_str(&self.resting(&wall));
         }
+        if !self.runs.is_empty() {
+            s.push_str(&self.dynamics());
+        }
         let ratio = self.force_ratio_max();
         s.push_str(&format!(
             "- **What remains of the tippe-top story.** {} In every tube the paper's force is at most {} of the force that \
@@ -291,6 +387,52 @@ impl TubeStudy {
             s4(ratio),
             (-ratio.log10()).floor(),
         ));
+        s
+    }
+
+    /// The verdict's item for the dynamic runs on the wall.
+    fn dynamics(&self) -> String {
+        let mut s = format!(
+            "- **The paper's scenario on the wall (rigid model).** The nano preset (H = ({}, {}) N from t = 0, exact Coulomb \
+             friction μ = {}, bilateral contact, {} µs) in a tube whose contact cylinder has the radius p₀ + R (the cage touches \
+             it on its circle of equilibria), with `[adhesion]` the tube's pull-off force as the load in contact \
+             (docs/physics.md#tube-dynamics), and the same with H = 0:",
+            s4(self.force / 2f64.sqrt()),
+            s4(self.force / 2f64.sqrt()),
+            crate::adhesion::PAPER_MU,
+            s4(self.runs[0].scenario.solver.t_end * 1e6),
+        );
+        for r in &self.runs {
+            let su = &r.trajectory.summary;
+            let fa = r.scenario.adhesion.force;
+            s.push_str(&format!(
+                " ({n},{n}) {status}: rolling {roll} % of the window, θ from {th0} to at most {thm} rad (end {thf}), \
+                 max |W_a| = {wa} J, max |θ − θ(H = 0)| = {dth} rad, N ≥ {nmin} F_a;",
+                n = r.n,
+                status = if r.trajectory.error.is_none() {
+                    "ran".to_string()
+                } else {
+                    format!("failed ({})", su.status)
+                },
+                roll = s4(100.0 * su.rolling_fraction),
+                th0 = s4(r.trajectory.samples[0].theta),
+                thm = s4(su.theta_max),
+                thf = s4(su.theta_final),
+                wa = s4(r.work_applied_max()),
+                dth = s4(r.force_effect()),
+                nmin = s4(r.normal_min() / fa),
+            ));
+        }
+        let lies = self
+            .runs
+            .iter()
+            .any(|r| r.trajectory.summary.theta_max > std::f64::consts::FRAC_PI_2);
+        s.push_str(if lies {
+            " in at least one tube the top lies down (θ > π/2).\n"
+        } else {
+            " the top never lies down (θ stays below π/2): it rolls on the wall, and the force, acting at a rolling contact \
+             point, does not enter its motion.\n"
+        });
         s
     }
 

@@ -15,7 +15,7 @@ const K_B: f64 = 1.380649e-23;
 
 fn shared() -> &'static TubeStudy {
     static S: OnceLock<TubeStudy> = OnceLock::new();
-    S.get_or_init(|| study().expect("the study runs"))
+    S.get_or_init(|| study(1.0).expect("the study runs"))
 }
 
 fn row(n: u32) -> &'static TubeRow {
@@ -260,4 +260,47 @@ fn the_section_is_titled_and_links_its_figure() {
     if std::env::var_os("TUBE_SECTION_PRINT").is_some() {
         eprintln!("{body}");
     }
+}
+
+/// The paper's nano scenario on the wall of each tube where the cage rests
+/// (rigid model): the scenario's load is the tube's pull-off force (the
+/// largest −dU/dp of the energy, checked by central differences in
+/// `on_the_wall_the_circle_has_no_bottom_and_h_is_negligible`), the contact
+/// cylinder `p₀ + R`; under Coulomb friction with that load the top rolls
+/// (≥ 99.9 % of the window), the force at the rolling contact does no work
+/// (`|W_a| ≤ 1e-12 |H| R`, R the cage's radius: the work H would do over a
+/// millionth of R) and does not change θ (`|θ − θ(H = 0)| ≤ 1e-9` rad);
+/// the reaction stays at the load (`N ≥ 0.999 F_a`).
+#[test]
+fn on_the_wall_the_paper_force_does_nothing() {
+    let s = shared();
+    assert_eq!(s.runs.len(), 3);
+    for run in &s.runs {
+        let r = row(run.n);
+        let sc = &run.scenario;
+        assert_eq!(sc.adhesion.force, r.holding_force);
+        match sc.surface.shape {
+            tippetop::input::surface::Shape::Tube { radius, .. } => {
+                assert!((radius - r.binding.offset - 3.55e-10).abs() < 1e-12 * radius)
+            }
+            _ => panic!("not in the tube"),
+        }
+        let tr = &run.trajectory;
+        assert!(tr.error.is_none(), "({0},{0}): {1:?}", run.n, tr.error);
+        assert!(tr.summary.rolling_fraction >= 0.999, "({0},{0})", run.n);
+        let wa = run.work_applied_max();
+        assert!(
+            wa <= 1e-12 * s.force * 3.55e-10,
+            "({0},{0}): W_a {wa:e}",
+            run.n
+        );
+        assert!(run.force_effect() <= 1e-9, "({0},{0})", run.n);
+        assert!(
+            run.normal_min() >= 0.999 * sc.adhesion.force,
+            "({0},{0})",
+            run.n
+        );
+        assert!(tr.summary.theta_max < std::f64::consts::FRAC_PI_2);
+    }
+    assert!(s.verdict().contains("the top never lies down"));
 }
