@@ -3,12 +3,14 @@
 //! whether it touches anything, what the paper's force can do there, and
 //! what remains of the tippe-top story.
 //!
-//! Everything is the statics of `physics::nanotube` (continuum
-//! Lennard-Jones, the constants of the graphene case,
-//! docs/physics.md#nanotube) for C60 in the armchair tubes (10,10),
-//! (12,12), (15,15) and (20,20), with the graphene sheet
-//! (`physics::adhesion`) as the reference. The verdicts are computed from
-//! the numbers with the criterion beside each, never written in.
+//! The statics are `physics::nanotube`'s (continuum Lennard-Jones, the
+//! constants of the graphene case, docs/physics.md#nanotube) for C60 in
+//! the armchair tubes (10,10), (12,12), (15,15) and (20,20), with the
+//! graphene sheet (`physics::adhesion`) as the reference; the dynamics are
+//! the paper's nano scenario on the wall of each tube where the cage rests
+//! (rigid model, `[adhesion]` the tube's pull-off force as the load,
+//! docs/physics.md#tube-dynamics). The verdicts are computed from the
+//! numbers with the criterion beside each, never written in.
 
 use tippetop::human::s4;
 use tippetop::input::solver::ModelKind;
@@ -535,7 +537,7 @@ impl TubeStudy {
                 .iter()
                 .zip(&self.curves)
                 .map(|(r, (ps, us))| Curve {
-                    name: format!("({0},{0}) b = {1:.3} Å", r.n, r.tube.radius / ANGSTROM),
+                    name: format!("(n = m = {}) b = {} Å", r.n, s4(r.tube.radius / ANGSTROM)),
                     t: ps.clone(),
                     y: us.iter().map(|u| u / EV).collect(),
                     dashed: false,
