@@ -89,7 +89,7 @@ fn thermal_rms_is_the_boltzmann_spread_of_the_potential() {
     let u0 = t.energy(p0);
     let w = |p: f64| p * (-(t.energy(p) - u0) / kt).exp();
     let (lo, hi) = (p0 - 8.0 * r15.rms, p0 + 8.0 * r15.rms);
-    let z = simpson(&w, lo, hi, 64);
+    let z = simpson(w, lo, hi, 64);
     let mean = simpson(|p| p * w(p), lo, hi, 64) / z;
     let var = simpson(|p| (p - mean).powi(2) * w(p), lo, hi, 64) / z;
     let rel = var.sqrt() / r15.rms - 1.0;
