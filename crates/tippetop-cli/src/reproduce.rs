@@ -29,8 +29,9 @@ pub struct ReproduceArgs {
 
     /// Also run the extended studies beyond the paper (slower): the ε study
     /// of the friction law over 10 s and 150 s, the classical inversion
-    /// maps, and the adhesion study (the nano scenarios with C60/graphene
-    /// van der Waals adhesion).
+    /// maps, the adhesion study (the nano scenarios with C60/graphene
+    /// van der Waals adhesion) and the C60 inside carbon nanotubes (the
+    /// section "Inside a nanotube", figtube_energy).
     #[arg(long)]
     pub extended: bool,
 
@@ -41,7 +42,8 @@ pub struct ReproduceArgs {
 }
 
 /// Reproduce the paper's results into `args.out` (`args.extended` adds the
-/// ε study of the friction law, the inversion maps and the adhesion study).
+/// ε study of the friction law, the inversion maps, the adhesion study and
+/// the nanotube section).
 /// `quiet` silences everything but errors.
 pub fn run(args: &ReproduceArgs, quiet: bool) -> Result<()> {
     if args.out.exists() && !args.out.is_dir() {
@@ -149,7 +151,11 @@ fn write_figure(dir: &Path, f: &Figure) -> Result<()> {
         }
         cols.push(col);
     }
-    let mut headers = vec!["t".to_string()];
+    let mut headers = vec![if f.x_name.is_empty() {
+        "t".to_string()
+    } else {
+        f.x_name.clone()
+    }];
     headers.extend(f.curves.iter().map(|c| c.name.clone()));
     let h: Vec<&str> = headers.iter().map(|s| s.as_str()).collect();
     let c: Vec<&[f64]> = cols.iter().map(|v| v.as_slice()).collect();

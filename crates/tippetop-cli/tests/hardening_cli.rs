@@ -779,7 +779,7 @@ fn stem_input_errors_and_on_plane_stop() {
 /// naming its key, exit 2, nothing written: the radius missing, not larger
 /// than the sphere, not a number; the angle out of range; the tube's keys
 /// on the plane; the reduced and vector models; the plane-only inputs
-/// (the nano preset's [[force]], adhesion, Contensou). A lift-off from the
+/// (an actuator, a [[well]], Contensou). A lift-off from the
 /// wall (unilateral contact) stops with exit 3 and says so, rows written.
 #[test]
 fn tube_input_errors_and_lift_off() {
@@ -822,7 +822,14 @@ fn tube_input_errors_and_lift_off() {
         ),
         (
             "nano",
-            vec![rigid, tube, "surface.tube_radius=1e-9"],
+            vec![
+                rigid,
+                tube,
+                "surface.tube_radius=1e-9",
+                "force.1.kind=\"tip\"",
+                "force.1.point=[0.0, 0.0, 0.0]",
+                "force.1.force=[0.0, 0.0, 1e-25]",
+            ],
             "surface.shape",
         ),
         (
@@ -831,8 +838,9 @@ fn tube_input_errors_and_lift_off() {
                 rigid,
                 tube,
                 b,
-                "adhesion.force=1e-9",
-                "adhesion.energy=1e-19",
+                "well.0.theta=1.0",
+                "well.0.depth=1e-3",
+                "well.0.width=0.5",
             ],
             "surface.shape",
         ),

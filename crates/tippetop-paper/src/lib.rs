@@ -18,6 +18,8 @@
 //!   the adhesion study);
 //! - [`adhesion`]: the paper's nano scenarios rerun with van der Waals
 //!   adhesion (extended mode);
+//! - [`tube`]: the C60 inside carbon nanotubes, the paper's second
+//!   setting (extended mode);
 //! - [`report`]: the Markdown report.
 //!
 //! Three ways of computing each nano result are compared:
@@ -35,6 +37,7 @@ pub mod figures;
 pub mod report;
 pub mod runs;
 pub mod sections;
+pub mod tube;
 
 use serde::Serialize;
 use tippetop::{Error, Scenario, Trajectory};
@@ -69,8 +72,12 @@ pub struct Figure {
     pub title: String,
     /// x-axis label (with unit, after `x_scale`).
     pub x_label: String,
-    /// Factor from seconds to the x-axis unit (1e6 for µs).
+    /// Factor from seconds to the x-axis unit (1e6 for µs); for a figure
+    /// whose x is not a time, from its SI unit to the axis unit.
     pub x_scale: f64,
+    /// Header of the CSV's first column (the curves' `t`, in SI units);
+    /// empty: "t" (seconds).
+    pub x_name: String,
     /// y-axis label with unit.
     pub y_label: String,
     /// The curves.

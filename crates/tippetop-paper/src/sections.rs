@@ -1,7 +1,8 @@
 //! The report's sections beyond the claims table: exact Coulomb friction
 //! (stick/slip), App. C against the numerics, and in extended mode the
-//! classical inversion maps, the ε study of the friction law and the
-//! adhesion study ([`crate::adhesion`]).
+//! classical inversion maps, the ε study of the friction law, the
+//! adhesion study ([`crate::adhesion`]) and the C60 inside nanotubes
+//! ([`crate::tube`]).
 
 use tippetop::analysis::asymptotics::ErrorStat;
 use tippetop::analysis::friction::{self, EpsRow};
@@ -203,6 +204,10 @@ pub fn extended(
     let study = crate::adhesion::study(runs, opts, progress)?;
     out.sections.push(study.section());
     out.figures.extend(study.figures(runs));
+    progress("inside a nanotube");
+    let tube = crate::tube::study(q)?;
+    out.sections.push(tube.section());
+    out.figures.push(tube.figure());
     Ok(out)
 }
 

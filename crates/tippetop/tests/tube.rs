@@ -281,6 +281,234 @@ fn wide_tube_is_the_plane() {
     assert!(dth < 1e-6 && dsp < 1e-6);
 }
 
+/// The paper's force in the tube (docs/physics.md#tube-dynamics): `H` at
+/// the contact point in the contact's frame. A rolling contact's motion
+/// does not contain `H` (the constraint force solves `K F = b`, which `H`
+/// does not enter; the friction takes it up), so a uniform ball rolling at
+/// the bottom of the tube under a constant `H` (its axis tilted 0.3 rad
+/// towards the tube's axis, so the frame's `x̂` is continuous) keeps the
+/// pendulum's closed form `ω² = 5 g/(7 (b − R))` to 1e-6, rolls
+/// throughout, and the force does no work (`|W_a| ≤ 1e-9 m g R`).
+#[test]
+fn rolling_ball_with_the_force_on_keeps_its_period() {
+    let (r, b) = (0.01, 0.05);
+    let w0 = (5.0 * G / (7.0 * (b - r))).sqrt();
+    let t0 = 2.0 * std::f64::consts::PI / w0;
+    let mut sc = ball_in_tube(r, b, 1e-3, 1.0, FrictionLaw::Coulomb);
+    sc.initial.theta = 0.3;
+    let mg = sc.top.mass * G;
+    sc.forcing = tippetop::Forcing::constant(0.05 * mg, 0.03 * mg);
+    sc.solver.t_end = 6.25 * t0;
+    sc.solver.samples = 20001;
+    let (p, n, gap, rolled) = measure(&sc);
+    let err = p / t0 - 1.0;
+    let tr = tippetop::simulate(&sc).unwrap();
+    let wa = tr
+        .samples
+        .iter()
+        .map(|s| s.work_applied.abs())
+        .fold(0.0, f64::max);
+    let hx = tr.samples[0].hx;
+    println!(
+        "rolling ball with H: period {p:.9e} s over {n} half periods, closed form {t0:.9e} s, rel. error {err:.2e}; max |W_a| {wa:.1e} J; H_x {hx:.3e} N"
+    );
+    assert!(
+        (hx - 0.05 * mg).abs() < 1e-12 * mg,
+        "the force is not on: {hx:e}"
+    );
+    assert!(rolled, "the ball did not roll throughout");
+    assert!(err.abs() < 1e-6, "rolling period off by {err:e}");
+    assert!(gap < 1e-8, "the wall's constraint drifted by {gap:e} R");
+    assert!(
+        wa <= 1e-9 * mg * r,
+        "the force did work at a rolling contact: {wa:e} J"
+    );
+}
+
+/// Energy balance with the force on: `E(t) − E(0) = W_f + W_a` for the
+/// spinning eccentric top in the tube under a force window of 0.2 m g in
+/// each component for the first second (switched off inside the run), to
+/// 1e-7 E₀ at every sample, with the gap held; the force's work is not
+/// negligible (`|W_a| > 1e-4 E₀`) and the top both slides and rolls.
+#[test]
+fn energy_balance_with_the_force_in_the_tube() {
+    let mut sc = top_in_tube(0.05);
+    let mg = sc.top.mass * G;
+    sc.forcing = tippetop::Forcing {
+        windows: vec![tippetop::ForceWindow {
+            hx: 0.2 * mg,
+            hy: 0.2 * mg,
+            hz: 0.0,
+            start: 0.0,
+            stop: 1.0,
+        }],
+    };
+    sc.solver.t_end = 2.0;
+    sc.solver.samples = 2001;
+    let (mut worst_gap, mut slid, mut rolled) = (0.0f64, false, false);
+    let tr = tippetop::simulate::simulate_rigid_observed(&sc, &mut |m, _, y: &[f64; DIM]| {
+        worst_gap = worst_gap.max(m.gap(y).abs());
+        match m.contact.mode {
+            tippetop::model::rigid::Mode::Rolling => rolled = true,
+            tippetop::model::rigid::Mode::Sliding => slid = true,
+        }
+    });
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let e0 = tr.samples[0].energy;
+    let mut worst: f64 = 0.0;
+    for s in &tr.samples {
+        worst = worst.max((s.energy - e0 - s.work_friction - s.work_applied).abs() / e0.abs());
+    }
+    let last = tr.samples.last().unwrap();
+    println!(
+        "top in the tube with H: |E - E0 - W_f - W_a|/E0 <= {worst:.2e}; W_f {:.3e}, W_a {:.3e} of E0; worst |gap| {worst_gap:.1e} R; slid {slid}, rolled {rolled}",
+        last.work_friction / e0,
+        last.work_applied / e0
+    );
+    assert!(
+        last.work_applied.abs() > 1e-4 * e0.abs(),
+        "the force did no work"
+    );
+    assert!(worst < 1e-7, "energy balance off by {worst:e} E0");
+    assert!(
+        worst_gap < 1e-9,
+        "the wall's constraint drifted by {worst_gap:e} R"
+    );
+    assert!(slid && rolled);
+}
+
+/// The plane recovered as `b → ∞` with the paper's force on: the nano
+/// preset (rigid model, bilateral, H = (0.1, 0.1) zN) on the plane and in a
+/// tube of radius 1 m (the wall's tilt over the ~1e-9 m the contact
+/// travels is ~1e-9 rad) give the same θ(t), spin and W_a over 10 µs, in
+/// which the top lies down (θ passes π/2): θ within 1e-6 rad.
+#[test]
+fn wide_tube_is_the_plane_with_the_paper_force() {
+    let mut plane = Scenario::nano();
+    plane.solver.model = ModelKind::Rigid;
+    plane.solver.t_end = 1e-5;
+    plane.solver.samples = 201;
+    let mut tube = plane.clone();
+    tube.surface.shape = Shape::Tube {
+        radius: 1.0,
+        angle: 0.0,
+    };
+    let a = tippetop::simulate(&plane).unwrap();
+    let b = tippetop::simulate(&tube).unwrap();
+    assert!(
+        a.error.is_none() && b.error.is_none(),
+        "{:?} {:?}",
+        a.error,
+        b.error
+    );
+    let (mut dth, mut dsp, mut dwa) = (0.0f64, 0.0f64, 0.0f64);
+    let wa_scale = a
+        .samples
+        .iter()
+        .map(|s| s.work_applied.abs())
+        .fold(0.0, f64::max);
+    for (p, q) in a.samples.iter().zip(&b.samples) {
+        dth = dth.max((p.theta - q.theta).abs());
+        dsp = dsp.max((p.spin - q.spin).abs() / p.spin.abs().max(1.0));
+        dwa = dwa.max((p.work_applied - q.work_applied).abs() / wa_scale);
+    }
+    let th_max = a.samples.iter().map(|s| s.theta).fold(0.0, f64::max);
+    println!(
+        "nano, b = 1 m against the plane over 10 us: max |d theta| {dth:.2e} rad, max rel. d spin {dsp:.2e}, d W_a {dwa:.2e} of max |W_a| = {wa_scale:.3e} J; theta_max {th_max:.3} rad"
+    );
+    assert!(
+        th_max > std::f64::consts::FRAC_PI_2,
+        "the top did not lie down"
+    );
+    assert!(wa_scale > 0.0);
+    assert!(dth < 1e-6 && dsp < 1e-6 && dwa < 1e-6);
+}
+
+/// Adhesion in the tube (`[adhesion]` with shape = "tube",
+/// docs/physics.md#tube-dynamics): the load `F_a` along `−n` at the contact
+/// in contact. A frictionless uniform ball released at rest at `φ₀` in the
+/// tube is a pendulum whatever the load (it acts along the contact's normal
+/// through the centre): its speed is `v² = 2 g (b − R)(cos φ − cos φ₀)`, so
+/// the wall's reaction is `N = F_a + m g (3 cos φ − 2 cos φ₀)`, `φ` the
+/// centre's angle about the axis (`sin φ = y/(b − R)`). Checked at every
+/// sample to 1e-9 of `F_a` (`F_a = 10 m g`), with `E` constant (the load does
+/// no work on a fixed wall) and the sliding period `2π/√(g/(b − R))` as
+/// without adhesion (to 1e-6 at φ₀ = 1e-3).
+#[test]
+fn sliding_ball_with_adhesion_has_the_closed_form_reaction() {
+    let (r, b, phi0) = (0.01, 0.05, 1e-3);
+    let mut sc = ball_in_tube(r, b, phi0, 0.0, FrictionLaw::CoulombSliding);
+    let mg = sc.top.mass * G;
+    sc.set_adhesion(tippetop::Adhesion {
+        force: 10.0 * mg,
+        energy: 1e-3,
+    });
+    let t0 = 2.0 * std::f64::consts::PI / (G / (b - r)).sqrt();
+    sc.solver.t_end = 6.25 * t0;
+    sc.solver.samples = 20001;
+    let (p, _, gap, _) = measure(&sc);
+    let tr = tippetop::simulate(&sc).unwrap();
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let (mut worst_n, mut worst_e) = (0.0f64, 0.0f64);
+    let e0 = tr.samples[0].energy;
+    for s in &tr.samples {
+        let phi = (s.y / (b - r)).asin();
+        let n = 10.0 * mg + mg * (3.0 * phi.cos() - 2.0 * phi0.cos());
+        worst_n = worst_n.max((s.normal - n).abs() / (10.0 * mg));
+        worst_e = worst_e.max((s.energy - e0).abs() / e0.abs().max(mg * r * phi0 * phi0));
+    }
+    let err = p / t0 - 1.0;
+    println!(
+        "sliding ball with F_a = 10 m g: |N - closed form| <= {worst_n:.2e} F_a, |E - E0| <= {worst_e:.2e}, period rel. error {err:.2e}, worst |gap| {gap:.1e} R"
+    );
+    assert!(worst_n < 1e-9, "reaction off by {worst_n:e} F_a");
+    assert!(worst_e < 1e-9, "energy moved by {worst_e:e}");
+    assert!(err.abs() < 1e-6, "sliding period off by {err:e}");
+}
+
+/// Energy balance with adhesion and the force in the tube: the spinning
+/// eccentric top of [`energy_balance_with_the_force_in_the_tube`] with a
+/// load `F_a = 2 m g` keeps `E − E0 = W_f + W_a` to 1e-7 E₀ (in contact the
+/// adhesion's potential is constant: no term in E), its reaction above
+/// `F_a` less what gravity and the motion take (`N ≥ F_a − 3 m g`), and its
+/// friction's work differs from the run without adhesion (friction sees
+/// `N`).
+#[test]
+fn energy_balance_with_adhesion_in_the_tube() {
+    let mut sc = top_in_tube(0.05);
+    let mg = sc.top.mass * G;
+    sc.forcing = tippetop::Forcing::constant(0.2 * mg, 0.2 * mg);
+    sc.solver.t_end = 1.0;
+    sc.solver.samples = 1001;
+    let without = tippetop::simulate(&sc).unwrap();
+    sc.set_adhesion(tippetop::Adhesion {
+        force: 2.0 * mg,
+        energy: 1.0,
+    });
+    let tr = tippetop::simulate(&sc).unwrap();
+    assert!(tr.error.is_none() && without.error.is_none());
+    let e0 = tr.samples[0].energy;
+    let (mut worst, mut n_min) = (0.0f64, f64::INFINITY);
+    for s in &tr.samples {
+        worst = worst.max((s.energy - e0 - s.work_friction - s.work_applied).abs() / e0.abs());
+        n_min = n_min.min(s.normal);
+    }
+    let (wf, wf0) = (
+        tr.samples.last().unwrap().work_friction,
+        without.samples.last().unwrap().work_friction,
+    );
+    println!(
+        "top in the tube with H and F_a = 2 m g: |E - E0 - W_f - W_a|/E0 <= {worst:.2e}; N_min {:.3} m g; W_f {wf:.4e} J (without adhesion {wf0:.4e} J)",
+        n_min / mg
+    );
+    assert!(worst < 1e-7, "energy balance off by {worst:e} E0");
+    assert!(n_min > 2.0 * mg - 3.0 * mg, "N_min {n_min:e}");
+    assert!(
+        (wf - wf0).abs() > 1e-3 * wf0.abs(),
+        "adhesion changed nothing"
+    );
+}
+
 /// The keys: the tube read from `--set`s, and each refusal one error naming
 /// its key (the CLI's exit 2 is tippetop-cli's tests/hardening_cli.rs).
 #[test]
@@ -349,7 +577,14 @@ fn tube_keys_and_refusals() {
         ),
         (
             "nano",
-            vec![rigid, tube, "surface.tube_radius=1e-9"],
+            vec![
+                rigid,
+                tube,
+                "surface.tube_radius=1e-9",
+                "force.1.kind=\"tip\"",
+                "force.1.point=[0.0, 0.0, 0.0]",
+                "force.1.force=[0.0, 0.0, 1e-25]",
+            ],
             "surface.shape",
         ),
         (
@@ -358,8 +593,9 @@ fn tube_keys_and_refusals() {
                 rigid,
                 tube,
                 "surface.tube_radius=0.05",
-                "adhesion.force=1e-9",
-                "adhesion.energy=1e-19",
+                "well.0.theta=1.0",
+                "well.0.depth=1e-3",
+                "well.0.width=0.5",
             ],
             "surface.shape",
         ),

@@ -283,9 +283,9 @@ impl Scenario {
 
     /// What the tube (`surface.shape = "tube"`, docs/physics.md#tube-dynamics)
     /// needs: the rigid model, a radius larger than the contact sphere's,
-    /// and none of what is written for the plane only: a stem, `[[force]]`
-    /// windows (their frame and vertical load are the plane's), `[adhesion]`
-    /// (the sheet's law), `[[well]]`s (θ from the vertical), force
+    /// and none of what is written for the plane only: a stem, actuators
+    /// (`[[force]]` windows are taken, in the contact's frame; `[adhesion]`
+    /// is the tube's load in contact), `[[well]]`s (θ from the vertical), force
     /// plug-ins, the Coulomb–Contensou laws (drilling about Z), and the
     /// stochastic methods with `[thermal]` (the plane's Ornstein–Uhlenbeck
     /// step).
@@ -315,13 +315,9 @@ impl Scenario {
                 crate::input::surface::TUBE_RADIUS_RANGE.into(),
             ));
         }
-        let plane_only: [(&str, bool); 7] = [
+        let plane_only: [(&str, bool); 6] = [
             ("top.stem_radius", self.top.stem.is_some()),
-            (
-                "force",
-                !self.forcing.windows.is_empty() || !self.actuators.is_empty(),
-            ),
-            ("adhesion.force", self.adhesion().is_on()),
+            ("an actuator (force.K.kind)", !self.actuators.is_empty()),
             ("well", !self.wells().is_empty()),
             ("a force plug-in's table", plugins::has_other(self)),
             (
@@ -337,7 +333,7 @@ impl Scenario {
             return Err(Error::invalid(
                 key,
                 format!("\"tube\" with {what}, which is modelled on the plane only"),
-                "shape = \"tube\" with gravity and the point friction laws only: no stem, [[force]], [adhesion], [[well]], force plug-in, contensou* law, langevin/brownian method or [thermal] (docs/physics.md#tube-dynamics)".into(),
+                "shape = \"tube\" with gravity, [[force]] windows, [adhesion] (the tube's, in contact) and the point friction laws only: no stem, actuator, [[well]], force plug-in, contensou* law, langevin/brownian method or [thermal] (docs/physics.md#tube-dynamics)".into(),
             ));
         }
         Ok(())

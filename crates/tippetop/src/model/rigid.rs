@@ -698,8 +698,11 @@ impl Rigid {
 
     /// [`Rigid::eval`] in the tube (docs/physics.md#tube-dynamics): the
     /// body's tube path ([`body::Body::slide_tube`], [`body::Body::roll_tube`])
-    /// with gravity and the point friction laws; the friction in `Eval` is
-    /// in the contact's tangent components (`e₁ = X`, `e₂ = n × X`).
+    /// with gravity, the point friction laws, the `[[force]]` schedule
+    /// (`H` in the contact's frame, [`body::TubeAt::applied`], the load
+    /// `h_z` along `−n`) and adhesion's load `F_a` along `−n` in contact;
+    /// the friction in `Eval` is in the contact's
+    /// tangent components (`e₁ = X`, `e₂ = n × X`).
     #[inline(never)]
     fn eval_tube(&self, y: &[f64; DIM]) -> Result<Eval, RigidError> {
         if self.phase == Phase::Flight {
@@ -712,15 +715,26 @@ impl Rigid {
         let body = self.body();
         let at = body::At::new(&tube, self.a, self.rho, kin.k, kin.n);
         let free = body.free(&at, None, None);
+        let hw = tube.applied(self.contact.applied(), kin.k);
+        // Adhesion in the tube (`[adhesion]` with shape = "tube"): the load
+        // F_a along −n at P in contact (the tube's pull-off force,
+        // docs/physics.md#tube-dynamics); flight is not modelled.
+        let cp = self
+            .contact
+            .forces()
+            .contact_point()
+            .with_load(self.contact.forces().centre_vertical().in_contact());
         let cd = add(v3(y, VEL), scale(self.a, at.kd));
         let c = match self.contact.mode {
-            Mode::Rolling => body.roll_tube(&at, &free, &tube, self.rho),
+            Mode::Rolling => body.roll_tube(&at, &free, &tube, self.rho, hw, &cp),
             Mode::Sliding => body
                 .slide_tube(
                     &self.contact,
                     &at,
                     &free,
                     &tube,
+                    hw,
+                    &cp,
                     cd,
                     tube.components(kin.vp),
                 )
@@ -729,7 +743,10 @@ impl Rigid {
                     solutions,
                 })?,
         };
-        let dy = contact_rates(y, &c, free.gv, kin.n, at.kd);
+        let mut dy = contact_rates(y, &c, free.gv, kin.n, at.kd);
+        if hw != [0.0; 3] {
+            dy[WA] = c.wa;
+        }
         Ok(Eval {
             dy,
             normal: c.normal,

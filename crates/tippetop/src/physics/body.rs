@@ -585,6 +585,32 @@ impl TubeAt {
     }
 }
 
+impl TubeAt {
+    /// The applied force `H = h_x x̂ + h_y ŷ` (lab) at the contact from its
+    /// latched components `h` in the tube's local frame: the contact normal
+    /// `n` replaces `Z`, `x̂` is the projection of `k` onto the tangent plane
+    /// at the contact (normalised), `ŷ = n × x̂`; `x̂ = e₁ = X`, `ŷ = e₂` if
+    /// `k` is along `n`. At the lowest line (`n = Z`) these are the plane's
+    /// precessing frame ([`precessing_frame`]). The force on the top is `−H`
+    /// (docs/physics.md#tube-dynamics).
+    #[inline]
+    pub fn applied(&self, h: [f64; 2], k: V3) -> V3 {
+        let [hx, hy] = h;
+        if hx == 0.0 && hy == 0.0 {
+            return [0.0; 3];
+        }
+        let n = self.n;
+        let kt = sub(k, scale(dot(k, n), n));
+        let l2 = dot(kt, kt);
+        let xh = if l2 > 0.0 {
+            scale(1.0 / l2.sqrt(), kt)
+        } else {
+            [1.0, 0.0, 0.0]
+        };
+        add(scale(hx, xh), scale(hy, cross(n, xh)))
+    }
+}
+
 impl Surface for TubeAt {
     #[inline]
     fn offset(&self, k: V3, a: f64, rho: f64) -> V3 {
@@ -610,16 +636,21 @@ impl Body {
     /// slip `vp` (components along `e₁`, `e₂`), the centre's velocity `cd`:
     /// the closure `N D(σ) = Q` with the normal `n` for `Z` and the
     /// curvature term, `D(σ) = 1 + a (u·n − σ f·u)`, `u = (e × r)/A`,
-    /// `e = k × n`, `Q = g_v·n − a (ẇ₀·e + n·(w × k̇)) + (ċ·e₂)²/|c⊥|`;
-    /// the force `N n − N_f f`. The friction in [`Contact::friction`] is in
-    /// tangent components. Point laws only (no drilling, no applied force).
+    /// `e = k × n`, `Q = g_v·n − a (ẇ₀·e + n·(w × k̇)) + (ċ·e₂)²/|c⊥| + a H·u`
+    /// and the normal load `h_z` of `cp` as on the plane (`Q + h_z D₀`,
+    /// `D₀ = 1 + a u·n`); the force `(N − h_z) n − N_f f − H` (`hw` is `H`,
+    /// tangent, [`TubeAt::applied`]). The friction in [`Contact::friction`]
+    /// is in tangent components. Point laws only (no drilling).
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     pub fn slide_tube<F: Friction>(
         &self,
         law: &F,
         at: &At,
         free: &Free,
         tube: &TubeAt,
+        hw: V3,
+        cp: &ContactPointForce,
         cd: V3,
         vp: [f64; 2],
     ) -> Result<Contact, usize> {
@@ -629,19 +660,25 @@ impl Body {
         let e = cross(k, n);
         let u = scale(self.inertia.inv_ia, cross(e, r));
         let kappa = dot(cd, tube.e2).powi(2) / tube.dist;
-        let q = dot(free.gv, n) - a * (dot(free.w0, e) + dot(n, cross(at.w, at.kd))) + kappa;
+        let q = dot(free.gv, n) - a * (dot(free.w0, e) + dot(n, cross(at.w, at.kd)))
+            + kappa
+            + a * dot(hw, u);
         let (un, fu) = (dot(u, n), dot(f, u));
+        let q = cp.closure_q(q, 1.0 + a * un);
         let normal = law.closure(q, 1.0 + a * (un - fu), 1.0 + a * (un + fu))?;
         let nf = law.friction_normal(normal);
         let ff = [-nf * fl[0], -nf * fl[1]];
-        let force = add(scale(normal, n), tube.tangent(ff));
+        let force = sub(
+            add(scale(cp.vertical_total(normal), n), tube.tangent(ff)),
+            hw,
+        );
         Ok(Contact {
             normal,
             friction: ff,
             force,
             wd: self.angular(at, free, force),
             wf: ff[0] * vp[0] + ff[1] * vp[1],
-            wa: 0.0,
+            wa: -dot(hw, tube.tangent(vp)),
             torque: 0.0,
         })
     }
@@ -650,10 +687,19 @@ impl Body {
     /// `v̇ + ẇ × r + w × ṙ = 0` with the contact offset's rate
     /// `ṙ = a k̇ − ρ ṅ` (the normal turns: [`TubeAt::normal_rate`] at
     /// `ċ = ρ w × n`): `K F = b + ρ w × ṅ` with the plane's `K` and `b`
-    /// (`g_v − ẇ₀ × r − a w × k̇`). `N = F·n`, the friction in tangent
-    /// components.
+    /// (`g_v − ẇ₀ × r − a w × k̇`), `F` the whole force at `P`, which
+    /// neither `H` nor the load enters. The wall's reaction
+    /// `N = F·n + h_z`, the friction `F − F·n n + H` in tangent components.
     #[inline]
-    pub fn roll_tube(&self, at: &At, free: &Free, tube: &TubeAt, rho: f64) -> Contact {
+    pub fn roll_tube(
+        &self,
+        at: &At,
+        free: &Free,
+        tube: &TubeAt,
+        rho: f64,
+        hw: V3,
+        cp: &ContactPointForce,
+    ) -> Contact {
         let (k, r, w) = (at.k, at.r, at.w);
         let ndot = tube.normal_rate(scale(rho, cross(w, tube.n)));
         let b = add(
@@ -665,8 +711,8 @@ impl Body {
         );
         let force = solve3(self.inertia.contact_matrix(k, r), b);
         Contact {
-            normal: dot(force, tube.n),
-            friction: tube.components(force),
+            normal: cp.reaction(dot(force, tube.n)),
+            friction: tube.components(add(force, hw)),
             force,
             wd: self.angular(at, free, force),
             wf: 0.0,
