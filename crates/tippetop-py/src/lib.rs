@@ -160,17 +160,21 @@ fn threads_arg(threads: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
 /// calls that run with the GIL released.
 fn signals_checker<'a>(interrupted: &'a mut Option<PyErr>) -> impl FnMut() -> bool + 'a {
     let mut last = Instant::now();
-    move || {
-        if last.elapsed().as_secs_f64() < 0.1 {
-            return true;
-        }
-        last = Instant::now();
-        match Python::attach(|py| py.check_signals()) {
-            Ok(()) => true,
-            Err(e) => {
-                *interrupted = Some(e);
-                false
-            }
+    move || signals_ok(&mut last, interrupted)
+}
+
+/// False (with the error in `interrupted`) when Python has a signal
+/// pending (Ctrl-C), asked at most every 0.1 s since `last`.
+fn signals_ok(last: &mut Instant, interrupted: &mut Option<PyErr>) -> bool {
+    if last.elapsed().as_secs_f64() < 0.1 {
+        return true;
+    }
+    *last = Instant::now();
+    match Python::attach(|py| py.check_signals()) {
+        Ok(()) => true,
+        Err(e) => {
+            *interrupted = Some(e);
+            false
         }
     }
 }
@@ -561,15 +565,16 @@ fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
             let start = Instant::now();
             let r = tippetop::Simulation::new(sc).and_then(|mut sim| {
                 let mut watch = tippetop::RunawayWatch::default();
+                // One clock for the signal checks across the pauses (a
+                // stretch between two pauses may be shorter than 0.1 s).
+                let mut last = Instant::now();
                 loop {
                     let mut asked = 0u64;
-                    let mut signals = signals_checker(&mut interrupted);
                     let done = sim.integrate_to_while(sc.solver.t_end, &mut || {
                         asked += 1;
                         asked * tippetop::simulate::CHECK_EVERY < tippetop::simulate::PROGRESS_EVERY
-                            && signals()
+                            && signals_ok(&mut last, &mut interrupted)
                     })?;
-                    drop(signals);
                     if done || interrupted.is_some() {
                         return Ok(done.then(|| sim.into_trajectory()));
                     }
