@@ -154,6 +154,35 @@ fn sliding_ball_small_amplitude() {
 
 /// The classical preset's eccentric top, spinning, with the exact Coulomb
 /// law in a tube of radius `b`, its contact turned by 0.2 rad.
+/// A rigid run of `sc` with its contact watched at every accepted step:
+/// the trajectory (no error), the largest |gap| and the smallest gap \[m\],
+/// and whether it slid and rolled.
+fn watched(sc: &Scenario) -> (tippetop::Trajectory, f64, f64, bool, bool) {
+    let (mut worst_gap, mut min_gap) = (0.0f64, f64::INFINITY);
+    let (mut slid, mut rolled) = (false, false);
+    let tr = tippetop::simulate::simulate_rigid_observed(sc, &mut |m, _, y: &[f64; DIM]| {
+        let g = m.gap(y);
+        worst_gap = worst_gap.max(g.abs());
+        min_gap = min_gap.min(g);
+        match m.contact.mode {
+            tippetop::model::rigid::Mode::Rolling => rolled = true,
+            tippetop::model::rigid::Mode::Sliding => slid = true,
+        }
+    });
+    assert!(tr.error.is_none(), "{:?}", tr.error);
+    (tr, worst_gap, min_gap, slid, rolled)
+}
+
+/// The energy balance's largest miss over the samples,
+/// `max |E − E0 − W_f − W_a| / |E0|` (`W_a` is 0 without applied forces).
+fn worst_balance(tr: &tippetop::Trajectory) -> f64 {
+    let e0 = tr.samples[0].energy;
+    tr.samples
+        .iter()
+        .map(|s| (s.energy - e0 - s.work_friction - s.work_applied).abs() / e0.abs())
+        .fold(0.0, f64::max)
+}
+
 fn top_in_tube(b: f64) -> Scenario {
     let mut sc = Scenario::classical();
     sc.surface.shape = Shape::Tube {
@@ -175,23 +204,9 @@ fn energy_balance_and_no_penetration() {
     let mut sc = top_in_tube(0.05);
     sc.solver.t_end = 2.0;
     sc.solver.samples = 2001;
-    let (mut worst_gap, mut min_gap) = (0.0f64, f64::INFINITY);
-    let (mut slid, mut rolled) = (false, false);
-    let tr = tippetop::simulate::simulate_rigid_observed(&sc, &mut |m, _, y: &[f64; DIM]| {
-        let g = m.gap(y);
-        worst_gap = worst_gap.max(g.abs());
-        min_gap = min_gap.min(g);
-        match m.contact.mode {
-            tippetop::model::rigid::Mode::Rolling => rolled = true,
-            tippetop::model::rigid::Mode::Sliding => slid = true,
-        }
-    });
-    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let (tr, worst_gap, min_gap, slid, rolled) = watched(&sc);
     let e0 = tr.samples[0].energy;
-    let mut worst: f64 = 0.0;
-    for s in &tr.samples {
-        worst = worst.max((s.energy - e0 - s.work_friction).abs() / e0.abs());
-    }
+    let worst = worst_balance(&tr);
     let wf = tr.samples.last().unwrap().work_friction;
     println!(
         "top in the tube: |E - E0 - W_f|/E0 <= {worst:.2e} (W_f = {:.3e} of E0); gap in [{min_gap:.1e}, {worst_gap:.1e}] R; slid {slid}, rolled {rolled}; theta {:.3} -> {:.3} rad",
@@ -345,20 +360,9 @@ fn energy_balance_with_the_force_in_the_tube() {
     };
     sc.solver.t_end = 2.0;
     sc.solver.samples = 2001;
-    let (mut worst_gap, mut slid, mut rolled) = (0.0f64, false, false);
-    let tr = tippetop::simulate::simulate_rigid_observed(&sc, &mut |m, _, y: &[f64; DIM]| {
-        worst_gap = worst_gap.max(m.gap(y).abs());
-        match m.contact.mode {
-            tippetop::model::rigid::Mode::Rolling => rolled = true,
-            tippetop::model::rigid::Mode::Sliding => slid = true,
-        }
-    });
-    assert!(tr.error.is_none(), "{:?}", tr.error);
+    let (tr, worst_gap, _, slid, rolled) = watched(&sc);
     let e0 = tr.samples[0].energy;
-    let mut worst: f64 = 0.0;
-    for s in &tr.samples {
-        worst = worst.max((s.energy - e0 - s.work_friction - s.work_applied).abs() / e0.abs());
-    }
+    let worst = worst_balance(&tr);
     let last = tr.samples.last().unwrap();
     println!(
         "top in the tube with H: |E - E0 - W_f - W_a|/E0 <= {worst:.2e}; W_f {:.3e}, W_a {:.3e} of E0; worst |gap| {worst_gap:.1e} R; slid {slid}, rolled {rolled}",
@@ -487,12 +491,12 @@ fn energy_balance_with_adhesion_in_the_tube() {
     });
     let tr = tippetop::simulate(&sc).unwrap();
     assert!(tr.error.is_none() && without.error.is_none());
-    let e0 = tr.samples[0].energy;
-    let (mut worst, mut n_min) = (0.0f64, f64::INFINITY);
-    for s in &tr.samples {
-        worst = worst.max((s.energy - e0 - s.work_friction - s.work_applied).abs() / e0.abs());
-        n_min = n_min.min(s.normal);
-    }
+    let worst = worst_balance(&tr);
+    let n_min = tr
+        .samples
+        .iter()
+        .map(|s| s.normal)
+        .fold(f64::INFINITY, f64::min);
     let (wf, wf0) = (
         tr.samples.last().unwrap().work_friction,
         without.samples.last().unwrap().work_friction,
