@@ -779,7 +779,8 @@ fn stem_input_errors_and_on_plane_stop() {
 /// naming its key, exit 2, nothing written: the radius missing, not larger
 /// than the sphere, not a number; the angle out of range; the tube's keys
 /// on the plane; the reduced and vector models; the plane-only inputs
-/// (an actuator, a [[well]], Contensou). A lift-off from the
+/// (an actuator, a [[well]], Contensou); the Brownian method (its drift
+/// correction is the plane's; Langevin is taken). A lift-off from the
 /// wall (unilateral contact) stops with exit 3 and says so, rows written.
 #[test]
 fn tube_input_errors_and_lift_off() {
@@ -859,6 +860,22 @@ fn tube_input_errors_and_lift_off() {
             "classical",
             vec![rigid, "surface.shape=\"cone\""],
             "surface.shape",
+        ),
+        (
+            "classical",
+            vec![
+                rigid,
+                tube,
+                b,
+                "solver.method=\"brownian\"",
+                "solver.dt=1e-5",
+                "surface.friction=0",
+                "thermal.temperature=1e17",
+                "thermal.damping_translational=20",
+                "thermal.damping_rotational=20",
+                "thermal.seed=1",
+            ],
+            "solver.method",
         ),
     ] {
         let mut args = vec!["run", "--preset", preset];

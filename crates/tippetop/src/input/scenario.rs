@@ -287,8 +287,8 @@ impl Scenario {
     /// (`[[force]]` windows are taken, in the contact's frame; `[adhesion]`
     /// is the tube's load in contact), `[[well]]`s (θ from the vertical), force
     /// plug-ins, the Coulomb–Contensou laws (drilling about Z), and the
-    /// stochastic methods with `[thermal]` (the plane's Ornstein–Uhlenbeck
-    /// step).
+    /// overdamped method (its drift correction is the plane's). Langevin
+    /// with `[thermal]` is taken (docs/physics.md#tube-langevin).
     fn validate_tube(&self) -> Result<(), Error> {
         let Some((b, _)) = self.surface.shape.tube() else {
             return Ok(());
@@ -315,7 +315,14 @@ impl Scenario {
                 crate::input::surface::TUBE_RADIUS_RANGE.into(),
             ));
         }
-        let plane_only: [(&str, bool); 6] = [
+        if self.solver.method == crate::Method::Brownian {
+            return Err(Error::invalid(
+                "solver.method",
+                "\"brownian\" with surface.shape = \"tube\": its drift correction is derived for the plane only".into(),
+                "solver.method = \"adaptive\", \"rk4\", \"stiff\" or \"langevin\" in the tube (docs/physics.md#tube-langevin)".into(),
+            ));
+        }
+        let plane_only: [(&str, bool); 5] = [
             ("top.stem_radius", self.top.stem.is_some()),
             ("an actuator (force.K.kind)", !self.actuators.is_empty()),
             ("well", !self.wells().is_empty()),
@@ -324,16 +331,12 @@ impl Scenario {
                 "surface.friction_law",
                 self.surface.law.contensou().is_some(),
             ),
-            (
-                "solver.method",
-                self.solver.method.is_stochastic() || self.thermal != Thermal::NONE,
-            ),
         ];
         if let Some((what, _)) = plane_only.iter().find(|(_, on)| *on) {
             return Err(Error::invalid(
                 key,
                 format!("\"tube\" with {what}, which is modelled on the plane only"),
-                "shape = \"tube\" with gravity, [[force]] windows, [adhesion] (the tube's, in contact) and the point friction laws only: no stem, actuator, [[well]], force plug-in, contensou* law, langevin/brownian method or [thermal] (docs/physics.md#tube-dynamics)".into(),
+                "shape = \"tube\" with gravity, [[force]] windows, [adhesion] (the tube's, in contact) and the point friction laws only (and method = \"langevin\" with [thermal]): no stem, actuator, [[well]], force plug-in or contensou* law (docs/physics.md#tube-dynamics)".into(),
             ));
         }
         Ok(())

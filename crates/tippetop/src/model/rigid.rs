@@ -980,15 +980,6 @@ impl Rigid {
         Ok(())
     }
 
-    /// Kinetic energy (scaled) in contact: `½ (|v_h|² + v_Z²) + ½ n·I n`
-    /// with the constraint's `v_Z = −a (n × k)_Z`.
-    fn kinetic_on_plane(&self, y: &[f64; DIM]) -> f64 {
-        let (k, n) = (v3(y, AXIS), v3(y, OMEGA));
-        let vz = -self.a * cross(n, k)[2];
-        0.5 * (y[VEL] * y[VEL] + y[VEL + 1] * y[VEL + 1] + vz * vz)
-            + 0.5 * dot(n, self.inertia(k, n))
-    }
-
     /// Project onto the contact constraint: normalise q and k, `z_C = R`, `v_Cz = 0`.
     pub fn project_contact(&self, y: &mut [f64; DIM]) {
         let q = normalized(quat_of(y));
@@ -1276,16 +1267,36 @@ impl OdeSystem<DIM> for Rigid {
             y[WF] += free(y) - e0;
             return;
         }
-        let e0 = self.kinetic_on_plane(y);
-        let k = v3(y, AXIS);
-        let mut vh = [y[VEL], y[VEL + 1]];
-        let mut w = v3(y, OMEGA);
-        super::thermostat::ou_on_plane_cached(&b, &body, &mut self.ou, k, &mut vh, &mut w, h, xi);
-        y[VEL] = vh[0];
-        y[VEL + 1] = vh[1];
-        set3(y, OMEGA, w);
-        y[VEL + 2] = -self.a * cross(w, k)[2];
-        y[WF] += self.kinetic_on_plane(y) - e0;
+        // In contact: the shared step in the contact's frame (the normal
+        // along Z; the lab frame on the plane, the tube's (e₁, e₂, n) in the
+        // tube: docs/physics.md#tube-langevin), the normal velocity the
+        // constraint's.
+        if let Some(tube) = self.tube {
+            // The centre back onto the wall (RK4's drift off it, ~1e-15 R
+            // per step, would otherwise add up over a long run).
+            let ka = scale(self.a, v3(y, AXIS));
+            let c = tube.onto(add(v3(y, POS), ka), self.rho);
+            set3(y, POS, sub(c, ka));
+        }
+        let frame = self.tube_at(y);
+        let into = |x: V3| frame.map_or(x, |f| f.into_frame(x));
+        let (k, v, mut w) = (into(v3(y, AXIS)), into(v3(y, VEL)), into(v3(y, OMEGA)));
+        let mut vt = [v[0], v[1]];
+        let (vn, work) = super::thermostat::ou_in_contact(
+            &b,
+            &body,
+            &self.inertia,
+            &mut self.ou,
+            k,
+            &mut vt,
+            &mut w,
+            h,
+            xi,
+        );
+        let back = |x: V3| frame.map_or(x, |f| f.from_frame(x));
+        set3(y, VEL, back([vt[0], vt[1], vn]));
+        set3(y, OMEGA, back(w));
+        y[WF] += work;
     }
 
     fn overdamped_step(

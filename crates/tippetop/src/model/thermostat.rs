@@ -11,6 +11,7 @@
 
 use super::vec3::{V3, add, cross, dot, scale};
 use crate::Scenario;
+use crate::physics::body::Inertia;
 use crate::physics::units::Scales;
 
 /// The heat bath in scaled units (m = R = 1, the model's time unit): kT,
@@ -304,11 +305,11 @@ pub(crate) struct OuCache {
     axis: Option<AxisModes>,
     /// The coupled step's data at one axis.
     coupled: Option<Box<Coupled>>,
-    /// The kinetic energy at the end of the last step and the bits of what
-    /// it reads (`k`, `w`, `v_x`, `v_y`): the next call's starting energy
-    /// when nothing moved in between (the first half step after the second;
-    /// kept by the vector model).
-    pub kinetic: Option<([u64; 8], f64)>,
+    /// The kinetic energy at the end of the last [`ou_in_contact`] and the
+    /// bits of what it reads (`k`, `w`, `v_t` in the contact's frame): the
+    /// next call's starting energy when nothing moved in between (the first
+    /// half step after the second).
+    kinetic: Option<([u64; 8], f64)>,
 }
 
 /// A mode's `(e^{−λh}, sqrt(kT (1 − e^{−2λh})/M))` over a step `h`: its
@@ -433,6 +434,65 @@ pub(crate) fn ou_on_plane_cached(
         wn = add(wn, scale(dx, dir));
     }
     *w = wn;
+}
+
+/// The kinetic energy (scaled, m = 1) of a top in one-sphere contact from
+/// its generalised velocities in the contact's frame (the normal along `Z`):
+/// `½ (|v_t|² + v_n²) + ½ w·I w`, `v_t` the centre of mass's tangent
+/// velocity, `v_n = −a (w × k)_Z` the constraint's normal velocity
+/// ([`normal_velocity`]).
+pub(crate) fn kinetic_in_contact(a: f64, inertia: &Inertia, k: V3, vt: [f64; 2], w: V3) -> f64 {
+    let vn = normal_velocity(a, k, w);
+    0.5 * (vt[0] * vt[0] + vt[1] * vt[1] + vn * vn) + 0.5 * dot(w, inertia.apply(k, w))
+}
+
+/// The centre of mass's velocity along the contact normal (`Z` in the
+/// contact's frame) that keeps the sphere's centre on the surface:
+/// `v_n = −a (w × k)_Z` (scaled).
+#[inline]
+pub(crate) fn normal_velocity(a: f64, k: V3, w: V3) -> f64 {
+    -a * cross(w, k)[2]
+}
+
+/// The bits of what [`kinetic_in_contact`] reads: `k`, `w`, `v_t`.
+fn kinetic_key(k: V3, w: V3, vt: [f64; 2]) -> [u64; 8] {
+    [k[0], k[1], k[2], w[0], w[1], w[2], vt[0], vt[1]].map(f64::to_bits)
+}
+
+/// The heat bath's step of a top in one-sphere contact, written once for
+/// the vector model, the rigid model on the plane and the rigid model in the
+/// tube (docs/physics.md#langevin, #tube-langevin): in the contact's frame
+/// (the contact normal along `Z`; the lab frame on the plane) the constrained
+/// top's kinetic energy and friction matrix are the plane's, so its exact
+/// Ornstein–Uhlenbeck step at fixed configuration is
+/// [`ou_on_plane_cached`]'s. `k`, the centre of mass's tangent velocity `vt`
+/// and `w` are in that frame; `vt` and `w` are updated. Returns the normal
+/// velocity after the step ([`normal_velocity`]) and the bath's work, the
+/// change of [`kinetic_in_contact`] (for `W_f`). The energy at the end is
+/// kept in `cache` and reused as the next call's starting energy when its
+/// inputs have the same bits (the second half step of a step and the first
+/// of the next).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn ou_in_contact(
+    b: &Bath,
+    body: &Body,
+    inertia: &Inertia,
+    cache: &mut OuCache,
+    k: V3,
+    vt: &mut [f64; 2],
+    w: &mut V3,
+    h: f64,
+    xi: &[f64],
+) -> (f64, f64) {
+    let key = kinetic_key(k, *w, *vt);
+    let e0 = match cache.kinetic {
+        Some((kk, e)) if kk == key => e,
+        _ => kinetic_in_contact(body.a, inertia, k, *vt, *w),
+    };
+    ou_on_plane_cached(b, body, cache, k, vt, w, h, xi);
+    let e1 = kinetic_in_contact(body.a, inertia, k, *vt, *w);
+    cache.kinetic = Some((kinetic_key(k, *w, *vt), e1));
+    (normal_velocity(body.a, k, *w), e1 - e0)
 }
 
 /// The contact-damped step of [`ou_on_plane_cached`].

@@ -285,37 +285,18 @@ impl Vector {
         }
     }
 
-    /// [`Self::kinetic`] from the cache of the last `ou_step` if `y`'s
-    /// velocities and axis are the same bits.
-    fn kinetic_cached(&self, y: &[f64; DIM]) -> f64 {
-        match self.ou.kinetic {
-            Some((key, e)) if key == Self::kinetic_key(y) => e,
-            _ => self.kinetic(y),
-        }
-    }
-
-    /// The bits of what [`Self::kinetic`] reads (`k`, `w`, `v_x`, `v_y`:
-    /// `y[0..8]`).
-    fn kinetic_key(y: &[f64; DIM]) -> [u64; 8] {
-        const _: () = assert!(K == 0 && OMEGA == 3 && VEL == 6);
-        std::array::from_fn(|i| y[K + i].to_bits())
-    }
-
-    /// The kinetic energy of `y`, kept for [`Self::kinetic_cached`].
-    fn kinetic_keep(&mut self, y: &[f64; DIM]) -> f64 {
-        let e = self.kinetic(y);
-        self.ou.kinetic = Some((Self::kinetic_key(y), e));
-        e
-    }
-
     /// Kinetic energy (scaled) of the generalised velocities of a state:
     /// `½ (|v_h|² + v_Z²) + ½ w·I w` with `v_Z = −a (w × k)_Z`.
     fn kinetic(&self, y: &[f64; DIM]) -> f64 {
         let k = [y[K], y[K + 1], y[K + 2]];
         let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
-        let vz = -self.a * cross(w, k)[2];
-        0.5 * (y[VEL] * y[VEL] + y[VEL + 1] * y[VEL + 1] + vz * vz)
-            + 0.5 * dot(w, self.inertia(k, w))
+        super::thermostat::kinetic_in_contact(
+            self.a,
+            &self.body.inertia,
+            k,
+            [y[VEL], y[VEL + 1]],
+            w,
+        )
     }
 
     /// The exact Ornstein–Uhlenbeck step over `h` (scaled) of the
@@ -329,7 +310,6 @@ impl Vector {
     /// kinetic energy is added to the friction work `W_f` (the bath's work).
     fn ou_step(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {
         let Some(b) = self.thermal else { return };
-        let e0 = self.kinetic_cached(y);
         let body = super::thermostat::Body {
             a: self.a,
             ia: self.ia,
@@ -338,11 +318,22 @@ impl Vector {
         let k = [y[K], y[K + 1], y[K + 2]];
         let mut vh = [y[VEL], y[VEL + 1]];
         let mut w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
-        super::thermostat::ou_on_plane_cached(&b, &body, &mut self.ou, k, &mut vh, &mut w, h, xi);
+        let inertia = &self.body.inertia;
+        let (_, work) = super::thermostat::ou_in_contact(
+            &b,
+            &body,
+            inertia,
+            &mut self.ou,
+            k,
+            &mut vh,
+            &mut w,
+            h,
+            xi,
+        );
         y[VEL] = vh[0];
         y[VEL + 1] = vh[1];
         y[OMEGA..OMEGA + 3].copy_from_slice(&w);
-        y[WF] += self.kinetic_keep(y) - e0;
+        y[WF] += work;
     }
 
     /// One Euler–Maruyama step over `h` (scaled) of the overdamped

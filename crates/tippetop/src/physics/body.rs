@@ -577,6 +577,25 @@ impl TubeAt {
         [x[0], dot(x, self.e2)]
     }
 
+    /// A lab vector's components in the contact's frame `(e₁, e₂, n)`, a
+    /// right-handed orthonormal basis (`e₁ × e₂ = n`) in which the normal is
+    /// `Z`: the rotation taking the tube's contact to the plane's
+    /// (docs/physics.md#tube-langevin). [`TubeAt::from_frame`] is its inverse.
+    #[inline]
+    pub fn into_frame(&self, x: V3) -> V3 {
+        [x[0], dot(x, self.e2), dot(x, self.n)]
+    }
+
+    /// The lab vector of components `x` in the contact's frame `(e₁, e₂, n)`.
+    #[inline]
+    pub fn from_frame(&self, x: V3) -> V3 {
+        [
+            x[0],
+            x[1] * self.e2[1] + x[2] * self.n[1],
+            x[1] * self.e2[2] + x[2] * self.n[2],
+        ]
+    }
+
     /// The normal's rate `ṅ = −(ċ·e₂) e₂/|c⊥|` for the centre's velocity
     /// `cd` (the normal turns only with the centre's motion around the axis).
     #[inline]

@@ -38,7 +38,7 @@ fn vertical_load(sc: &Scenario) -> (f64, &'static str) {
 /// oscillation under the vertical forces `sqrt((m g + F_a + |h_z|) (R + a)
 /// / A)` and each well's curvature `sqrt(depth / width² / A)`. (The
 /// horizontal translation has no length scale on the plane: its only rate
-/// is γ_t.)
+/// is γ_t.) In the tube also `sqrt(g/(b − R))` and `sqrt(kT/m)/(b − R)`.
 pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
     let th = &sc.thermal;
     let top = &sc.top;
@@ -98,6 +98,22 @@ pub fn step_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
             (w.depth / (w.width * w.width * a_in)).sqrt(),
             "well",
             "sqrt(depth / width^2 / inertia_transverse) of a well",
+        ));
+    }
+    // The tube (docs/physics.md#tube-langevin): the contact's pendulum
+    // around the axis, and the rate at which a thermal velocity turns the
+    // contact's frame.
+    if let Some((b, _)) = sc.surface.shape.tube() {
+        let arm = b - top.radius;
+        out.push((
+            (sc.surface.gravity / arm).sqrt(),
+            "surface.tube_radius",
+            "sqrt(gravity / (tube_radius - radius)) (the contact's pendulum around the axis)",
+        ));
+        out.push((
+            (th.kt() / m).sqrt() / arm,
+            "surface.tube_radius",
+            "sqrt(kT / mass) / (tube_radius - radius) (a thermal velocity around the axis)",
         ));
     }
     // The body actuators (docs/physics.md#actuators): each window's rate.
