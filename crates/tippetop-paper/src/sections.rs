@@ -208,6 +208,7 @@ pub fn extended(
     let tube = crate::tube::study(q)?;
     out.sections.push(tube.section());
     out.figures.push(tube.figure());
+    out.figures.extend(tube.hot.figures());
     Ok(out)
 }
 

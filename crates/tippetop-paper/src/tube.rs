@@ -22,6 +22,9 @@ use tippetop::{Adhesion, Error, FrictionLaw, Scenario, Trajectory, simulate};
 
 use crate::{Curve, Figure};
 
+pub mod langevin;
+pub use langevin::{HOT_TUBE, HotStudy, hot_study};
+
 /// The tubes of the study, `(n, n)`.
 pub const TUBES: [u32; 4] = [10, 12, 15, 20];
 
@@ -179,6 +182,9 @@ pub struct TubeStudy {
     /// The paper's nano scenario on the wall of each tube where the cage
     /// rests on it ([`wall_run`]).
     pub runs: Vec<TubeRun>,
+    /// The 300 K Langevin ensemble on the wall of the ([`HOT_TUBE`],
+    /// [`HOT_TUBE`]) tube ([`hot_study`]).
+    pub hot: HotStudy,
 }
 
 /// The largest of `f` over `n + 1` evenly spaced points of `[lo, hi]`.
@@ -251,6 +257,11 @@ pub fn study(time_factor: f64) -> Result<TubeStudy, Error> {
         .filter(|r| !r.binding.on_axis)
         .map(|r| wall_run(r, time_factor))
         .collect::<Result<Vec<_>, Error>>()?;
+    let hot_row = rows
+        .iter()
+        .find(|r| r.n == HOT_TUBE)
+        .expect("the hot tube is in the study");
+    let hot = hot_study(hot_row, time_factor)?;
     Ok(TubeStudy {
         rows,
         sheet,
@@ -261,6 +272,7 @@ pub fn study(time_factor: f64) -> Result<TubeStudy, Error> {
         kt,
         curves,
         runs,
+        hot,
     })
 }
 
@@ -355,6 +367,11 @@ impl TubeStudy {
              (figtube_energy.png, data in figtube_energy.csv: the offset in m, U in eV per tube), with the sheet's binding as a line.\n\n",
         );
         s.push_str(&self.verdict());
+        s.push_str(
+            "\n![figtube_hot_phi](figtube_hot_phi.png)\n\n![figtube_hot_theta](figtube_hot_theta.png)\n\nAt 300 K on the wall of \
+             the tube (data in figtube_hot_phi.csv and figtube_hot_theta.csv): the contact's angle φ around the axis and the \
+             axis' tilt θ_n against the wall's normal, for the first four (φ) and two (θ_n) runs with the paper's force.\n",
+        );
         ("Inside a nanotube".into(), s)
     }
 
@@ -371,6 +388,7 @@ impl TubeStudy {
         if !self.runs.is_empty() {
             s.push_str(&self.dynamics());
         }
+        s.push_str(&self.hot.item());
         let ratio = self.force_ratio_max();
         s.push_str(&format!(
             "- **What remains of the tippe-top story.** {} In every tube the paper's force is at most {} of the force that \

@@ -305,3 +305,91 @@ fn on_the_wall_the_paper_force_does_nothing() {
     }
     assert!(s.verdict().contains("the top never lies down"));
 }
+
+/// `∫_{-1}^{1} u^{2j} sqrt(1 + q (1 − u²)) du` for j = 0, 1 in closed form
+/// (x = √q u, A² = 1 + q: `∫ sqrt(A² − x²) dx = x sqrt(A² − x²)/2 +
+/// A² asin(x/A)/2` and `∫ x² sqrt(A² − x²) dx = x (2x² − A²) sqrt(A² −
+/// x²)/8 + A⁴ asin(x/A)/8`).
+fn tilt_moments(q: f64) -> (f64, f64) {
+    let (s, a2) = (q.sqrt(), 1.0 + q);
+    let a = a2.sqrt();
+    let x = s;
+    let r = (a2 - x * x).sqrt();
+    let i0 = 2.0 * (x * r / 2.0 + a2 * (x / a).asin() / 2.0) / s;
+    let i2 =
+        2.0 * (x * (2.0 * x * x - a2) * r / 8.0 + a2 * a2 * (x / a).asin() / 8.0) / (s * s * s);
+    (i0, i2)
+}
+
+/// The 300 K ensemble on the (15,15) wall against laws that do not come
+/// from the code: equipartition, `⟨E_kin⟩ = 5/2 k_B T` (five velocities
+/// in one-point contact); the tilt's density `sin θ √(1 + m a² sin²θ/A)` of
+/// a top with no torque (gravity's and H's energies are ~1e-12 and ~1e-11
+/// k_B T), `⟨cos² θ_n⟩` in closed form; the contact's angle around the axis
+/// free (no drift, `⟨Δφ⟩ = 0`) and diffusive (the time-averaged `⟨Δφ²⟩`
+/// doubles from τ to 2τ, per run: a contact held at a bottom would not
+/// grow); each within 4 standard errors from the runs' spread (16
+/// independent seeds), and the section says so.
+#[test]
+fn at_300_k_the_cage_is_thermal_on_the_wall() {
+    let s = shared();
+    let h = &s.hot;
+    assert_eq!(h.n, 15);
+    assert!(h.all_ran);
+    assert_eq!(h.on.len(), h.off.len());
+    let check = |what: &str, (m, se): (f64, f64), want: f64, max_se: f64| {
+        eprintln!(
+            "{what}: {m:.5} ± {se:.5} (want {want:.5}, {:+.2} SE)",
+            (m - want) / se
+        );
+        assert!(se < max_se, "{what}: SE {se} too large");
+        assert!(
+            (m - want).abs() < 4.0 * se,
+            "{what}: {m} ± {se}, want {want}"
+        );
+    };
+    check("<E_kin>/kT", h.kinetic_over_kt(), 2.5, 0.1);
+    let q = h.ma2_over_a;
+    let top = tippetop::Top::nano();
+    assert!((q - top.mass * top.offset.powi(2) / top.inertia_transverse).abs() < 1e-12 * q);
+    let (i0, i2) = tilt_moments(q);
+    check("<cos^2 theta_n>", h.cos2_theta(), i2 / i0, 0.03);
+    // ⟨cos θ_n⟩ = 0 by the density's symmetry about π/2.
+    let c1: Vec<f64> = h
+        .all()
+        .map(|r| r.mean(&r.theta_n.iter().map(|x| x.cos()).collect::<Vec<_>>()))
+        .collect();
+    check(
+        "<cos theta_n>",
+        tippetop_paper::tube::langevin::mean_se(&c1),
+        0.0,
+        0.1,
+    );
+    let travel: Vec<f64> = h.all().map(|r| r.phi_travel()).collect();
+    let (m, se) = tippetop_paper::tube::langevin::mean_se(&travel);
+    check("<phi(T) - phi(0)>", (m, se), 0.0, f64::INFINITY);
+    // Diffusive: ⟨Δφ²⟩ doubles from τ to 2τ (τ = a tenth of the window,
+    // some 200 relaxation times 1/γ: the OU correction is 0.5 %), per run.
+    let lag = h.lag();
+    let ratios: Vec<f64> = h
+        .msd_runs(2 * lag)
+        .iter()
+        .zip(h.msd_runs(lag))
+        .map(|(m2, m1)| m2 / m1)
+        .collect();
+    let tau = lag as f64 * h.sample_step();
+    let want = h.ball_msd(2.0 * tau) / h.ball_msd(tau);
+    check(
+        "<dphi^2>(2 tau)/<dphi^2>(tau), per run",
+        tippetop_paper::tube::langevin::mean_se(&ratios),
+        want,
+        0.2,
+    );
+    let (_, body) = s.section();
+    assert!(body.contains("At 300 K (Langevin dynamics"), "{body}");
+    assert!(body.contains("every run ran to its end"));
+    assert!(body.contains("figtube_hot_phi.png") && body.contains("figtube_hot_theta.png"));
+    // The paper's H: 1e-11 k_B T over a cage radius; it cannot be seen.
+    assert!(!h.force_visible(), "{:?}", h.force_effect());
+    assert!(body.contains("far below it, no visible effect"));
+}

@@ -450,8 +450,7 @@ pub struct Rigid {
     /// g \[m/s²\].
     pub gravity_si: f64,
     /// The Langevin heat bath (scaled), `None` unless `method = "langevin"`
-    /// (in contact only: the validation keeps a Langevin rigid run on the
-    /// plane, bilateral contact).
+    /// (or `"brownian"`; on the plane or in the tube).
     thermal: Option<super::thermostat::Bath>,
     /// The Ornstein–Uhlenbeck step's coefficients from the last call.
     ou: super::thermostat::OuCache,
@@ -1242,9 +1241,11 @@ impl OdeSystem<DIM> for Rigid {
     const NOISE_EXTRA: usize = 1;
 
     /// The exact Ornstein–Uhlenbeck step: in contact
-    /// ([`super::thermostat::ou_on_plane_cached`], the vector model's step) the
-    /// horizontal velocity and `n` relax with their noise at fixed axis and
-    /// the vertical velocity is the constraint's; in flight
+    /// ([`super::thermostat::ou_in_contact`], the vector model's step, in
+    /// the contact's frame: the lab on the plane, `(e₁, e₂, n)` in the tube,
+    /// docs/physics.md#tube-langevin) the tangent velocity and `n` relax
+    /// with their noise at fixed configuration and the normal velocity is
+    /// the constraint's; in flight
     /// ([`super::thermostat::ou_free`]) all six velocities relax. `W_f`
     /// takes the kinetic energy's change (the bath's work).
     fn thermostat(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {

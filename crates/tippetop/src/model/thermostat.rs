@@ -1,8 +1,9 @@
 //! The heat bath of the Langevin method for a top on the plane: the exact
 //! Ornstein–Uhlenbeck step of its generalised velocities `(v_x, v_y, w)` at
 //! fixed axis `k` (docs/physics.md#langevin), written over plain vectors so the
-//! models that keep the sphere on the plane share it (the rigid model in
-//! contact and in flight, and the vector model), with a cache of its
+//! models that keep the sphere on a surface share it ([`ou_in_contact`]: the
+//! vector model, the rigid model in contact with the plane or, in the
+//! contact's frame, the tube's wall; [`ou_free`] in flight), with a cache of its
 //! coefficients ([`OuCache`]); and the overdamped (Brownian) step on the
 //! plane, without ([`overdamped_on_plane`]) and with the contact damping
 //! ([`overdamped_coupled`], §brownian). The coupled step is not cached: the
