@@ -126,15 +126,13 @@ impl TubeRun {
     }
 }
 
-/// The nano scenario on the wall of `row`'s tube, its window scaled by
-/// `time_factor`, and the same with no force.
-pub fn wall_run(row: &TubeRow, time_factor: f64) -> Result<TubeRun, Error> {
+/// The nano preset on the wall of `row`'s tube: rigid model, the contact
+/// cylinder's radius `p₀ + R` (the cage touches it on its circle of
+/// equilibria), `[adhesion]` the tube's pull-off force as the load.
+pub fn on_the_wall(row: &TubeRow) -> Scenario {
     let b = &row.binding;
     let mut sc = Scenario::nano();
     sc.solver.model = ModelKind::Rigid;
-    sc.solver.t_end *= time_factor;
-    sc.surface.law = FrictionLaw::Coulomb;
-    sc.surface.friction = crate::adhesion::PAPER_MU;
     sc.surface.shape = Shape::Tube {
         radius: b.offset + sc.top.radius,
         angle: 0.0,
@@ -143,13 +141,28 @@ pub fn wall_run(row: &TubeRow, time_factor: f64) -> Result<TubeRun, Error> {
         force: row.holding_force,
         energy: b.energy,
     });
-    sc.validate()?;
-    let trajectory = simulate(&sc)?;
-    let mut free = sc.clone();
-    for w in &mut free.forcing.windows {
+    sc
+}
+
+/// Every window's H set to 0.
+pub fn without_force(sc: &mut Scenario) {
+    for w in &mut sc.forcing.windows {
         w.hx = 0.0;
         w.hy = 0.0;
     }
+}
+
+/// The nano scenario on the wall of `row`'s tube, its window scaled by
+/// `time_factor`, and the same with no force.
+pub fn wall_run(row: &TubeRow, time_factor: f64) -> Result<TubeRun, Error> {
+    let mut sc = on_the_wall(row);
+    sc.solver.t_end *= time_factor;
+    sc.surface.law = FrictionLaw::Coulomb;
+    sc.surface.friction = crate::adhesion::PAPER_MU;
+    sc.validate()?;
+    let trajectory = simulate(&sc)?;
+    let mut free = sc.clone();
+    without_force(&mut free);
     let no_force = simulate(&free)?;
     Ok(TubeRun {
         n: row.n,

@@ -11,10 +11,10 @@
 //! around the circumference, θ_n's mean and spread, and the paper's force's
 //! effect on ⟨θ_n⟩ (paired by seed).
 
-use tippetop::input::solver::ModelKind;
+use tippetop::human::s4;
 use tippetop::input::surface::Shape;
 use tippetop::input::thermal::BOLTZMANN;
-use tippetop::{Adhesion, Error, Method, Scenario, Thermal, Trajectory, simulate};
+use tippetop::{Error, Method, Scenario, Thermal, Trajectory, simulate};
 
 use super::TubeRow;
 use crate::{Curve, Figure};
@@ -162,28 +162,15 @@ pub struct HotStudy {
 /// load, as in the deterministic runs), frictionless (the bath is the
 /// dissipation: `method = "langevin"` has no Coulomb friction), at 300 K.
 pub fn hot_scenario(row: &TubeRow, run: u64, force: bool, time_factor: f64) -> Scenario {
-    let b = &row.binding;
-    let mut sc = Scenario::nano();
-    sc.solver.model = ModelKind::Rigid;
+    let mut sc = super::on_the_wall(row);
     sc.surface.friction = 0.0;
-    sc.surface.shape = Shape::Tube {
-        radius: b.offset + sc.top.radius,
-        angle: 0.0,
-    };
-    sc.set_adhesion(Adhesion {
-        force: row.holding_force,
-        energy: b.energy,
-    });
     sc.thermal = bath(run);
     sc.solver.method = Method::Langevin;
     sc.solver.dt = Some(HOT_DT);
     sc.solver.t_end = HOT_T_END * time_factor;
     sc.solver.samples = HOT_SAMPLES;
     if !force {
-        for w in &mut sc.forcing.windows {
-            w.hx = 0.0;
-            w.hy = 0.0;
-        }
+        super::without_force(&mut sc);
     }
     sc
 }
@@ -408,8 +395,6 @@ pub fn boltzmann_cos2(q: f64) -> f64 {
 fn pm((m, se): (f64, f64)) -> String {
     format!("{} ± {}", s4(m), s4(se))
 }
-
-use tippetop::human::s4;
 
 impl HotStudy {
     /// Whether the paper's force moves `⟨θ_n⟩` beyond its error bar (one
