@@ -780,8 +780,9 @@ fn stem_input_errors_and_on_plane_stop() {
 /// than the sphere, not a number; the angle out of range; the tube's keys
 /// on the plane; the reduced and vector models; the plane-only inputs
 /// (an actuator, a [[well]], Contensou); the Brownian method (its drift
-/// correction is the plane's; Langevin is taken). A lift-off from the
-/// wall (unilateral contact) stops with exit 3 and says so, rows written.
+/// correction is the plane's; Langevin is taken). A lift-off from the wall
+/// (unilateral contact), deterministic or hot (Langevin), stops with exit 3
+/// and says so, rows written.
 #[test]
 fn tube_input_errors_and_lift_off() {
     let dir = tempfile::tempdir().unwrap();
@@ -923,6 +924,33 @@ fn tube_input_errors_and_lift_off() {
     assert_eq!(res.status.code(), Some(3), "{stderr}");
     assert!(stderr.contains("lifts off the tube's wall"), "{stderr}");
     assert!(out.join("summary.json").exists());
+    assert!(out.join("trajectory.csv").exists());
+    // A hot nano top (Langevin, 300 K, no adhesion) in a 1 nm tube under
+    // unilateral contact: the bath's kicks take N through 0 within ps, and
+    // the run stops there the same way (docs/physics.md#tube-langevin).
+    let mut args = vec!["run", "--preset", "nano"];
+    for s in [
+        rigid,
+        tube,
+        "surface.tube_radius=1e-9",
+        "surface.contact=\"unilateral\"",
+        "surface.friction=0",
+        "solver.method=\"langevin\"",
+        "solver.dt=5e-15",
+        "solver.t_end=1e-11",
+        "thermal.temperature=300",
+        "thermal.damping_translational=2.2e12",
+        "thermal.damping_rotational=2.2e12",
+        "thermal.seed=1",
+    ] {
+        args.extend(["--set", s]);
+    }
+    args.extend(["--no-plot", "--out", o]);
+    let a = tippetop().args(&args).assert();
+    let res = a.get_output();
+    let stderr = String::from_utf8_lossy(&res.stderr);
+    assert_eq!(res.status.code(), Some(3), "{stderr}");
+    assert!(stderr.contains("lifts off the tube's wall"), "{stderr}");
     assert!(out.join("trajectory.csv").exists());
 }
 
