@@ -600,6 +600,12 @@ fn reproduce_after_extended_leaves_only_figures_of_the_report() {
         assert!(out.join(format!("figadhesion_{f}.png")).is_file(), "{f}");
         assert!(ext.contains(&format!("(figadhesion_{f}.png)")), "{f}");
     }
+    // The nanotube study (#30 item 3): with --quick, the narrowest tube and
+    // the hot study's (tube::QUICK_TUBES), the table's two rows.
+    assert!(ext.contains("## Inside a nanotube"));
+    assert!(out.join("figtube_energy.png").is_file());
+    assert!(ext.contains("| (10,10)") && ext.contains("| (15,15)"));
+    assert!(!ext.contains("| (12,12)") && !ext.contains("| (20,20)"));
     tippetop()
         .args(["reproduce", "--quick", "--quiet", "--out", o])
         .assert()

@@ -175,7 +175,7 @@ pub fn wall_run(row: &TubeRow, time_factor: f64) -> Result<TubeRun, Error> {
 /// The study: the tubes, the sheet, the paper's force and weight.
 #[derive(Debug, Clone)]
 pub struct TubeStudy {
-    /// The tubes, in the order of [`TUBES`].
+    /// The tubes, in the order of [`TUBES`] ([`QUICK_TUBES`] with `--quick`).
     pub rows: Vec<TubeRow>,
     /// C60 on one graphene sheet (the same constants).
     pub sheet: Binding,
@@ -192,6 +192,8 @@ pub struct TubeStudy {
     /// The figure's curves: per tube, offsets \[m\] and `U` \[J\] from the
     /// axis to the last grid point with `U ≤ 0`.
     pub curves: Vec<(Vec<f64>, Vec<f64>)>,
+    /// The curves' grid step \[m\]: [`FIGURE_STEP`], 4x that with `--quick`.
+    pub figure_step: f64,
     /// The paper's nano scenario on the wall of each tube where the cage
     /// rests on it ([`wall_run`]).
     pub runs: Vec<TubeRun>,
@@ -210,10 +212,15 @@ fn scan_max(f: impl Fn(f64) -> f64, lo: f64, hi: f64, n: usize) -> f64 {
 /// `U(p)` on the grid `0, FIGURE_STEP, …` while `U ≤ 0` and the cage stays
 /// clear of the wall.
 pub fn energy_curve(tube: &Nanotube) -> (Vec<f64>, Vec<f64>) {
+    energy_curve_on(tube, FIGURE_STEP)
+}
+
+/// [`energy_curve`] on the grid `0, step, …` \[m\].
+fn energy_curve_on(tube: &Nanotube, step: f64) -> (Vec<f64>, Vec<f64>) {
     let (mut ps, mut us) = (Vec::new(), Vec::new());
     let limit = tube.radius - tube.shell.radius;
     for i in 0.. {
-        let p = i as f64 * FIGURE_STEP;
+        let p = i as f64 * step;
         if p >= limit {
             break;
         }
@@ -227,10 +234,23 @@ pub fn energy_curve(tube: &Nanotube) -> (Vec<f64>, Vec<f64>) {
     (ps, us)
 }
 
+/// The tubes of a `--quick` run ([`study`] with `time_factor < 1`): the
+/// narrowest and the hot study's, so that the smoke test of the pipeline
+/// stays cheap (the quadratures of the statics cost what they cost
+/// whatever the windows' length).
+pub const QUICK_TUBES: [u32; 2] = [TUBES[0], HOT_TUBE];
+
 /// Run the study: the statics, and the nano scenario on the wall of each
 /// tube where the cage rests (windows scaled by `time_factor`; a few
-/// seconds in release).
+/// seconds in release). With `time_factor < 1` (`reproduce --quick`) the
+/// statics cover [`QUICK_TUBES`] only, on a 4x coarser figure grid.
 pub fn study(time_factor: f64) -> Result<TubeStudy, Error> {
+    let quick = time_factor < 1.0;
+    let (tubes, figure_step): (&[u32], f64) = if quick {
+        (&QUICK_TUBES, 4.0 * FIGURE_STEP)
+    } else {
+        (&TUBES, FIGURE_STEP)
+    };
     let nano = Scenario::nano();
     let (hx, hy) = nano.forcing.at(0.0);
     let kt = BOLTZMANN * TEMPERATURE;
@@ -238,7 +258,7 @@ pub fn study(time_factor: f64) -> Result<TubeStudy, Error> {
     let sheet = first.sheet().binding()?;
     let mut rows = Vec::new();
     let mut curves = Vec::new();
-    for n in TUBES {
+    for &n in tubes {
         let tube = Nanotube::c60_in(chirality_radius(n, n));
         let binding = tube.binding()?;
         let touch_offset = tube.radius - tube.shell.radius - sheet.gap;
@@ -263,7 +283,7 @@ pub fn study(time_factor: f64) -> Result<TubeStudy, Error> {
             holding_force,
             barrier,
         });
-        curves.push(energy_curve(&tube));
+        curves.push(energy_curve_on(&tube, figure_step));
     }
     let runs = rows
         .iter()
@@ -284,6 +304,7 @@ pub fn study(time_factor: f64) -> Result<TubeStudy, Error> {
         mass: nano.top.mass,
         kt,
         curves,
+        figure_step,
         runs,
         hot,
     })
@@ -582,7 +603,7 @@ impl TubeStudy {
                 "Continuum Lennard-Jones (docs/physics.md#nanotube), C60 in (n,n) tubes; each curve from the axis to the last \
                  offset (step {} Å) where U ≤ 0. The minimum of each curve is the cage's equilibrium: on the axis for (10,10), off it \
                  for the wider tubes. Reference line: the binding on a flat graphene sheet.",
-                FIGURE_STEP / ANGSTROM
+                self.figure_step / ANGSTROM
             ),
             ..Default::default()
         }

@@ -26,6 +26,10 @@ pub const HOT_TUBE: u32 = 15;
 /// Runs per setting (force on, force off): seeds `run = 0 … HOT_RUNS − 1`.
 pub const HOT_RUNS: u64 = 16;
 
+/// Runs per setting with `reproduce --quick` (`time_factor < 1`): the
+/// smoke test's, four, the number the φ figure draws.
+pub const QUICK_HOT_RUNS: u64 = 4;
+
 /// The window of each run \[s\] (before reproduce's time factor).
 pub const HOT_T_END: f64 = 1e-9;
 
@@ -143,7 +147,8 @@ pub struct HotStudy {
     /// The scenario of run 0 with the paper's force (the others differ in
     /// `thermal.run`, and the force-off ones in H = 0).
     pub scenario: Scenario,
-    /// With the paper's force, runs `0 … HOT_RUNS − 1`.
+    /// With the paper's force, runs `0 … HOT_RUNS − 1` (`QUICK_HOT_RUNS`
+    /// with `--quick`).
     pub on: Vec<HotSeries>,
     /// The same seeds without it.
     pub off: Vec<HotSeries>,
@@ -179,9 +184,14 @@ pub fn hot_scenario(row: &TubeRow, run: u64, force: bool, time_factor: f64) -> S
 /// available cores; each run's result depends on its seed only).
 pub fn hot_study(row: &TubeRow, time_factor: f64) -> Result<HotStudy, Error> {
     let start = std::time::Instant::now();
+    let runs = if time_factor < 1.0 {
+        QUICK_HOT_RUNS
+    } else {
+        HOT_RUNS
+    };
     let specs: Vec<(u64, bool)> = [true, false]
         .into_iter()
-        .flat_map(|f| (0..HOT_RUNS).map(move |r| (r, f)))
+        .flat_map(|f| (0..runs).map(move |r| (r, f)))
         .collect();
     let scenarios = specs
         .iter()
