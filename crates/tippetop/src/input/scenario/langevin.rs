@@ -236,7 +236,7 @@ pub fn wall_rates(sc: &Scenario) -> Vec<(f64, &'static str, &'static str)> {
 ///
 /// - `[thermal]` keys other than the defaults, and `solver.dt`, only with
 ///   `method = "langevin"`; `"langevin"` needs `solver.dt` and the vector
-///   model (the rigid model's scheme does not exist yet);
+///   or the rigid model (the reduced model has no stochastic scheme);
 /// - no Coulomb friction (`surface.friction = 0`: dry friction has no
 ///   thermal partner; a viscous contact is `thermal.damping_contact`);
 /// - at `T > 0`: a seed, and `γ_t > 0`, `γ_r > 0` (every degree of
@@ -271,7 +271,7 @@ pub fn check(sc: &Scenario) -> Result<(), Error> {
         return Err(Error::invalid(
             "solver.model",
             format!("\"{name}\" has no {method} scheme yet"),
-            format!("model = \"vector\" with method = \"{method}\""),
+            format!("model = \"vector\" or \"rigid\" with method = \"{method}\""),
         ));
     }
     let Some(dt) = so.dt else {
