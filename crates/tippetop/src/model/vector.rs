@@ -515,22 +515,31 @@ impl Vector {
     /// Evaluate the model at a state in the current mode (cached: see
     /// the `last` field).
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
+        self.with_eval(y, |e| *e)
+    }
+
+    /// `read` of [`Vector::eval`]'s evaluation at `y`, read in place (a
+    /// cached evaluation is not copied out: the driver's observers read
+    /// one or two of its fields at every accepted step).
+    #[inline(always)]
+    fn with_eval<R>(&self, y: &[f64; DIM], read: impl FnOnce(&Eval) -> R) -> Result<R, ModelError> {
         let key = self.cache_key(y);
         let d = self.plane.slip_ref.get();
         for slot in [&self.accepted, &self.last] {
             if let Some(c) = &*slot.borrow() {
                 if c.holds(&key, d) {
-                    return Ok(c.eval);
+                    return Ok(read(&c.eval));
                 }
             }
         }
         let e = self.eval_now(y)?;
+        let r = read(&e);
         *self.last.borrow_mut() = Some(CacheEntry {
             key,
             slip_ref: d,
             eval: e,
         });
-        Ok(e)
+        Ok(r)
     }
 
     /// The key of [`Vector::eval`]'s cache: the state's bits, the mode and
@@ -952,10 +961,10 @@ impl super::ContactModel<DIM> for Vector {
         yr
     }
     fn contact_forces(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2]), ModelError> {
-        self.eval(y).map(|e| (e.normal, e.friction))
+        self.with_eval(y, |e| (e.normal, e.friction))
     }
     fn contact_wrench(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2], f64), ModelError> {
-        self.eval(y).map(|e| (e.normal, e.friction, e.torque))
+        self.with_eval(y, |e| (e.normal, e.friction, e.torque))
     }
     fn to_stick(&self, y: &[f64; DIM]) -> [f64; DIM] {
         self.stick_state(y)
@@ -983,9 +992,9 @@ impl super::ContactModel<DIM> for Vector {
         Vector::jellett_scaled(self, y)
     }
     fn energy_scaled(&self, y: &[f64; DIM]) -> Option<f64> {
-        self.eval(y)
+        self.with_eval(y, |e| e.v)
             .ok()
-            .map(|e| Vector::energy_scaled(self, y, &e))
+            .map(|v| self.energy_with(y, v))
     }
     fn work_scaled(&self, y: &[f64; DIM]) -> f64 {
         y[WF] + y[WA]
