@@ -61,6 +61,7 @@ use super::ContactState;
 use super::reduced::{Mode, ModelError, Scales};
 use super::vec3::{V3, add, cross, dot, scale};
 use crate::physics::body;
+use crate::physics::forces::ContactPointForce;
 use crate::{Initial, Sample, Scenario, Top, integrate::OdeSystem};
 
 /// Number of state components.
@@ -251,6 +252,45 @@ fn axis(theta: f64) -> (f64, f64) {
 
 /// Kinematic quantities shared by both modes.
 type Kin = body::At;
+
+/// The contact's law known to be the regularised one with `ε = eps`
+/// (scaled): [`ContactState`]'s own answers, with the law's test made once
+/// per evaluation instead of inside the solution ([`Vector::eval_now`]).
+struct Regularized<'a> {
+    plane: &'a ContactState,
+    eps: f64,
+}
+
+impl body::Friction for Regularized<'_> {
+    #[inline(always)]
+    fn mu(&self) -> f64 {
+        self.plane.mu()
+    }
+    #[inline(always)]
+    fn regularized_eps(&self) -> Option<f64> {
+        Some(self.eps)
+    }
+    #[inline(always)]
+    fn drilling(&self, _v: [f64; 2], _wz: f64) -> Option<([f64; 2], f64)> {
+        None
+    }
+    #[inline(always)]
+    fn coefficient(&self, v: [f64; 2]) -> [f64; 2] {
+        self.plane.coefficient(v)
+    }
+    #[inline(always)]
+    fn closure(&self, q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
+        self.plane.closure(q, dp, dm)
+    }
+    #[inline(always)]
+    fn friction_normal(&self, normal: f64) -> f64 {
+        self.plane.friction_normal(normal)
+    }
+    #[inline(always)]
+    fn is_contensou(&self) -> bool {
+        false
+    }
+}
 
 impl Vector {
     /// Build the scaled model of a scenario.
@@ -575,12 +615,47 @@ impl Vector {
     }
 
     /// Evaluate the model at a state in the current mode, uncached.
+    ///
+    /// Where the segment applies nothing ([`crate::physics::forces::Forces::nothing_applied`])
+    /// the sliding and rolling solutions are taken with the absent terms as
+    /// constants (`PLAIN`) and, with the regularised law, the law known at
+    /// compile time ([`Regularized`]): the same arithmetic on the same
+    /// values (the terms' zeros included), without the tests and loads
+    /// that find each term absent at every evaluation.
     #[inline(always)]
     fn eval_now(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
         let kn = self.kin(y);
-        match self.plane.mode {
-            Mode::Sliding => self.eval_sliding(y, &kn),
-            Mode::Rolling => Ok(self.eval_rolling(y, &kn)),
+        let plain = self.plane.forces().nothing_applied();
+        match (self.plane.mode, plain, self.plane.regularized_eps()) {
+            (Mode::Sliding, true, Some(eps)) => {
+                let law = Regularized {
+                    plane: &self.plane,
+                    eps,
+                };
+                self.eval_sliding::<_, true>(&law, y, &kn)
+            }
+            (Mode::Sliding, true, None) => self.eval_sliding::<_, true>(&self.plane, y, &kn),
+            (Mode::Sliding, false, _) => self.eval_sliding::<_, false>(&self.plane, y, &kn),
+            (Mode::Rolling, true, _) => Ok(self.eval_rolling::<true>(y, &kn)),
+            (Mode::Rolling, false, _) => Ok(self.eval_rolling::<false>(y, &kn)),
+        }
+    }
+
+    /// The free accelerations, the applied force `H` at `kn`
+    /// ([`body::Body::free`]) and the contact-point force; with `PLAIN`
+    /// (nothing applied) the gyroscopic term alone, `H = 0` and no load,
+    /// as constants (the same values the general path finds).
+    #[inline(always)]
+    fn terms<const PLAIN: bool>(&self, kn: &Kin) -> (body::Free, V3, ContactPointForce) {
+        if PLAIN {
+            (
+                self.body.free(kn, None, None),
+                [0.0; 3],
+                ContactPointForce::default(),
+            )
+        } else {
+            let (free, hw) = self.free(kn);
+            (free, hw, self.plane.contact_point())
         }
     }
 
@@ -607,17 +682,21 @@ impl Vector {
 
     /// Sliding: [`body::Body::slide`] at the state's slip.
     #[inline(always)]
-    fn eval_sliding(&self, y: &[f64; DIM], kn: &Kin) -> Result<Eval, ModelError> {
+    fn eval_sliding<F: body::Friction, const PLAIN: bool>(
+        &self,
+        law: &F,
+        y: &[f64; DIM],
+        kn: &Kin,
+    ) -> Result<Eval, ModelError> {
         let Kin {
             k, w, kd, wk, wr, ..
         } = *kn;
         let v = [y[VEL], y[VEL + 1]];
         let vp = [v[0] + wr[0], v[1] + wr[1]];
-        let (free, hw) = self.free(kn);
-        let cp = self.plane.contact_point();
+        let (free, hw, cp) = self.terms::<PLAIN>(kn);
         let c = self
             .body
-            .slide(&self.plane, kn, &free, hw, &cp, vp)
+            .slide(law, kn, &free, hw, &cp, vp)
             .map_err(|solutions| ModelError::Painleve {
                 theta: Self::theta(y),
                 solutions,
@@ -646,12 +725,11 @@ impl Vector {
 
     /// Rolling: [`body::Body::roll`], the slip held at zero.
     #[inline(always)]
-    fn eval_rolling(&self, y: &[f64; DIM], kn: &Kin) -> Eval {
+    fn eval_rolling<const PLAIN: bool>(&self, y: &[f64; DIM], kn: &Kin) -> Eval {
         let Kin {
             k, w, kd, wk, wr, ..
         } = *kn;
-        let (free, hw) = self.free(kn);
-        let cp = self.plane.contact_point();
+        let (free, hw, cp) = self.terms::<PLAIN>(kn);
         let c = self.body.roll(&self.plane, kn, &free, hw, &cp);
         let vo = [-wr[0], -wr[1], -self.a * kd[2]];
         let (qd, chi) = attitude_rate(w, k, wk, self.spin_ref, y);

@@ -332,6 +332,9 @@ pub struct Forces {
     /// Latches so far: what the models' evaluation caches key on (the
     /// latched values change only at a latch).
     generation: u64,
+    /// Nothing applied in the latched segment ([`Forces::nothing_applied`]),
+    /// kept at the latch and when the wells are set.
+    nothing: bool,
 }
 
 impl Forces {
@@ -349,7 +352,32 @@ impl Forces {
             body: actuators::BodyLoad::default(),
             body_zero: true,
             generation: 0,
+            nothing: true,
         }
+    }
+
+    /// True if the latched segment applies nothing: no wells, no body
+    /// actuators, and the contact-point force and the centre-vertical load
+    /// `+0` exactly (the values a scenario without force terms latches).
+    /// The models' right-hand sides then take a path with these terms
+    /// known to be absent: the same arithmetic on the same values, without
+    /// the tests and loads that find each absent (issue #28, "forces as
+    /// data should cost nothing when a term is absent").
+    #[inline(always)]
+    pub fn nothing_applied(&self) -> bool {
+        self.nothing
+    }
+
+    /// Recompute [`Forces::nothing_applied`].
+    fn update_nothing(&mut self) {
+        let zero = 0.0f64.to_bits();
+        let ContactPointForce { h, hz } = self.latched;
+        self.nothing = self.wells.is_empty()
+            && self.body_zero
+            && h[0].to_bits() == zero
+            && h[1].to_bits() == zero
+            && hz.to_bits() == zero
+            && self.centre.force.to_bits() == zero;
     }
 
     /// The terms.
@@ -398,6 +426,7 @@ impl Forces {
         self.body = applied.body.scaled(force_unit, self.radius);
         self.body_zero = self.body.is_zero();
         self.generation += 1;
+        self.update_nothing();
     }
 
     /// The latched body actuators' load (scaled; zero without actuators).
@@ -433,6 +462,7 @@ impl Forces {
                 ..*w
             })
             .collect();
+        self.update_nothing();
     }
 
     /// The latched orientation wells (depths scaled; empty without wells).
