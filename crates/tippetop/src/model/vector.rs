@@ -253,6 +253,16 @@ fn axis(theta: f64) -> (f64, f64) {
 /// Kinematic quantities shared by both modes.
 type Kin = body::At;
 
+/// The applied terms a segment has, as [`Vector::eval_now`] specialises on
+/// them: any ([`GENERAL`]), at most the horizontal force `H`
+/// ([`crate::physics::forces::Forces::only_horizontal`]), none
+/// ([`crate::physics::forces::Forces::nothing_applied`]).
+const GENERAL: u8 = 0;
+/// See [`GENERAL`].
+const ONLY_H: u8 = 1;
+/// See [`GENERAL`].
+const PLAIN: u8 = 2;
+
 /// The contact's law known to be the regularised one with `ε = eps`
 /// (scaled): [`ContactState`]'s own answers, with the law's test made once
 /// per evaluation instead of inside the solution ([`Vector::eval_now`]).
@@ -617,45 +627,66 @@ impl Vector {
     /// Evaluate the model at a state in the current mode, uncached.
     ///
     /// Where the segment applies nothing ([`crate::physics::forces::Forces::nothing_applied`])
+    /// or at most `H` ([`crate::physics::forces::Forces::only_horizontal`]),
     /// the sliding and rolling solutions are taken with the absent terms as
-    /// constants (`PLAIN`) and, with the regularised law, the law known at
-    /// compile time ([`Regularized`]): the same arithmetic on the same
-    /// values (the terms' zeros included), without the tests and loads
-    /// that find each term absent at every evaluation.
+    /// constants ([`PLAIN`], [`ONLY_H`]) and, with nothing applied and the
+    /// regularised law, the law known at compile time ([`Regularized`]):
+    /// the same arithmetic on the same values (the terms' zeros included),
+    /// without the tests and loads that find each term absent at every
+    /// evaluation.
     #[inline(always)]
     fn eval_now(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
         let kn = self.kin(y);
-        let plain = self.plane.forces().nothing_applied();
-        match (self.plane.mode, plain, self.plane.regularized_eps()) {
-            (Mode::Sliding, true, Some(eps)) => {
+        let f = self.plane.forces();
+        let terms = if f.nothing_applied() {
+            PLAIN
+        } else if f.only_horizontal() {
+            ONLY_H
+        } else {
+            GENERAL
+        };
+        match (self.plane.mode, terms, self.plane.regularized_eps()) {
+            (Mode::Sliding, PLAIN, Some(eps)) => {
                 let law = Regularized {
                     plane: &self.plane,
                     eps,
                 };
-                self.eval_sliding::<_, true>(&law, y, &kn)
+                self.eval_sliding::<_, PLAIN>(&law, y, &kn)
             }
-            (Mode::Sliding, true, None) => self.eval_sliding::<_, true>(&self.plane, y, &kn),
-            (Mode::Sliding, false, _) => self.eval_sliding::<_, false>(&self.plane, y, &kn),
-            (Mode::Rolling, true, _) => Ok(self.eval_rolling::<true>(y, &kn)),
-            (Mode::Rolling, false, _) => Ok(self.eval_rolling::<false>(y, &kn)),
+            (Mode::Sliding, PLAIN, None) => self.eval_sliding::<_, PLAIN>(&self.plane, y, &kn),
+            (Mode::Sliding, ONLY_H, _) => self.eval_sliding::<_, ONLY_H>(&self.plane, y, &kn),
+            (Mode::Sliding, _, _) => self.eval_sliding::<_, GENERAL>(&self.plane, y, &kn),
+            (Mode::Rolling, PLAIN, _) => Ok(self.eval_rolling::<PLAIN>(y, &kn)),
+            (Mode::Rolling, ONLY_H, _) => Ok(self.eval_rolling::<ONLY_H>(y, &kn)),
+            (Mode::Rolling, _, _) => Ok(self.eval_rolling::<GENERAL>(y, &kn)),
         }
     }
 
     /// The free accelerations, the applied force `H` at `kn`
-    /// ([`body::Body::free`]) and the contact-point force; with `PLAIN`
+    /// ([`body::Body::free`]) and the contact-point force. With `PLAIN`
     /// (nothing applied) the gyroscopic term alone, `H = 0` and no load,
-    /// as constants (the same values the general path finds).
+    /// as constants; with `ONLY_H` the gyroscopic term alone and no load
+    /// as constants, `H` as latched: the same values the general path finds.
     #[inline(always)]
-    fn terms<const PLAIN: bool>(&self, kn: &Kin) -> (body::Free, V3, ContactPointForce) {
-        if PLAIN {
-            (
+    fn terms<const T: u8>(&self, kn: &Kin) -> (body::Free, V3, ContactPointForce) {
+        match T {
+            PLAIN => (
                 self.body.free(kn, None, None),
                 [0.0; 3],
                 ContactPointForce::default(),
-            )
-        } else {
-            let (free, hw) = self.free(kn);
-            (free, hw, self.plane.contact_point())
+            ),
+            ONLY_H => {
+                let h = self.plane.applied();
+                (
+                    self.body.free(kn, None, None),
+                    body::applied_world(h, kn.k),
+                    ContactPointForce { h, hz: 0.0 },
+                )
+            }
+            _ => {
+                let (free, hw) = self.free(kn);
+                (free, hw, self.plane.contact_point())
+            }
         }
     }
 
@@ -682,7 +713,7 @@ impl Vector {
 
     /// Sliding: [`body::Body::slide`] at the state's slip.
     #[inline(always)]
-    fn eval_sliding<F: body::Friction, const PLAIN: bool>(
+    fn eval_sliding<F: body::Friction, const T: u8>(
         &self,
         law: &F,
         y: &[f64; DIM],
@@ -693,7 +724,7 @@ impl Vector {
         } = *kn;
         let v = [y[VEL], y[VEL + 1]];
         let vp = [v[0] + wr[0], v[1] + wr[1]];
-        let (free, hw, cp) = self.terms::<PLAIN>(kn);
+        let (free, hw, cp) = self.terms::<T>(kn);
         let c = self
             .body
             .slide(law, kn, &free, hw, &cp, vp)
@@ -725,11 +756,11 @@ impl Vector {
 
     /// Rolling: [`body::Body::roll`], the slip held at zero.
     #[inline(always)]
-    fn eval_rolling<const PLAIN: bool>(&self, y: &[f64; DIM], kn: &Kin) -> Eval {
+    fn eval_rolling<const T: u8>(&self, y: &[f64; DIM], kn: &Kin) -> Eval {
         let Kin {
             k, w, kd, wk, wr, ..
         } = *kn;
-        let (free, hw, cp) = self.terms::<PLAIN>(kn);
+        let (free, hw, cp) = self.terms::<T>(kn);
         let c = self.body.roll(&self.plane, kn, &free, hw, &cp);
         let vo = [-wr[0], -wr[1], -self.a * kd[2]];
         let (qd, chi) = attitude_rate(w, k, wk, self.spin_ref, y);

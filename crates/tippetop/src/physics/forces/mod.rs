@@ -335,6 +335,9 @@ pub struct Forces {
     /// Nothing applied in the latched segment ([`Forces::nothing_applied`]),
     /// kept at the latch and when the wells are set.
     nothing: bool,
+    /// At most the horizontal force `H` ([`Forces::only_horizontal`]),
+    /// kept with `nothing`.
+    only_h: bool,
 }
 
 impl Forces {
@@ -353,6 +356,7 @@ impl Forces {
             body_zero: true,
             generation: 0,
             nothing: true,
+            only_h: true,
         }
     }
 
@@ -368,16 +372,24 @@ impl Forces {
         self.nothing
     }
 
-    /// Recompute [`Forces::nothing_applied`].
+    /// True if the latched segment applies at most the horizontal force
+    /// `H` at the contact point: no wells, no body actuators, the vertical
+    /// load and the centre-vertical load `+0` exactly ([`Forces::nothing_applied`]
+    /// with `H` allowed).
+    #[inline(always)]
+    pub fn only_horizontal(&self) -> bool {
+        self.only_h
+    }
+
+    /// Recompute [`Forces::nothing_applied`] and [`Forces::only_horizontal`].
     fn update_nothing(&mut self) {
         let zero = 0.0f64.to_bits();
         let ContactPointForce { h, hz } = self.latched;
-        self.nothing = self.wells.is_empty()
+        self.only_h = self.wells.is_empty()
             && self.body_zero
-            && h[0].to_bits() == zero
-            && h[1].to_bits() == zero
             && hz.to_bits() == zero
             && self.centre.force.to_bits() == zero;
+        self.nothing = self.only_h && h[0].to_bits() == zero && h[1].to_bits() == zero;
     }
 
     /// The terms.
