@@ -999,7 +999,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                     || s.track_spin(y),
                 );
             } else {
-                visit(track, s, y);
+                s.record_step(track, y);
             }
             observe(s, t, y);
             if let Some(w) = watcher.borrow_mut().as_mut() {

@@ -83,6 +83,12 @@ impl Sample {
     /// The first column (in [`COLUMNS`] order) that is not a finite
     /// number, with its value.
     pub fn first_non_finite(&self) -> Option<(&'static str, f64)> {
+        let values = self.values();
+        // The common case in one pass without the names (the driver asks
+        // at every sample).
+        if values.iter().all(|v| v.is_finite()) {
+            return None;
+        }
         COLUMNS
             .iter()
             .zip(self.values())

@@ -13,7 +13,7 @@ pub use contact::ContactState;
 use crate::integrate::Event;
 use crate::physics::units::Scales;
 use crate::sim::events::Watch;
-use crate::sim::record::RunLog;
+use crate::sim::record::{RunLog, Track};
 use crate::{Error, Initial, Sample, Scenario, integrate::OdeSystem};
 
 /// Sliding or rolling (exact Coulomb law), sliding or stuck
@@ -127,6 +127,13 @@ pub(crate) trait Model<const D: usize>: OdeSystem<D> + Sized {
     /// and the work done by friction and the applied force (scaled): what
     /// the run's [`Track`] follows.
     fn track_point(&self, y: &[f64; D]) -> (f64, f64, f64, Option<f64>, f64);
+    /// Record an accepted step's state in the run's `track`: what
+    /// [`Model::track_point`] gives, the same maxima bit for bit (a model
+    /// may skip θ where [`Model::cos_theta`] shows it below the maximum).
+    fn record_step(&self, track: &mut Track, y: &[f64; D]) {
+        let (theta, spin, j, e, w) = self.track_point(y);
+        track.record(theta, spin, j, e, w);
+    }
     /// θ \[rad\] and the spin of [`Model::track_point`] alone, the same
     /// bits (what an ensemble's run records at every step).
     fn track_angles(&self, y: &[f64; D]) -> (f64, f64) {

@@ -9,7 +9,7 @@ use crate::integrate::{Direction, Event};
 use crate::model::{ContactModel, Flow, Mode, Model, ModelError};
 use crate::sim::events::{Happened, Watch};
 use crate::sim::messages::painleve_why;
-use crate::sim::record::{RunLog, unit};
+use crate::sim::record::{RunLog, Track, unit};
 use crate::{ContactMode, Error, Failure, Sample, Scenario};
 
 /// Decide stick or slip at zero slip (exact law). Returns the state to
@@ -257,6 +257,22 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
 
     fn track_angles(&self, y: &[f64; D]) -> (f64, f64) {
         (self.theta(y), self.spin(y))
+    }
+
+    /// `track_point`'s record with θ (an `atan2` in the vector model)
+    /// computed only where `cos θ` does not show it below the maximum so
+    /// far ([`Track::record_angles_guarded`]): the same maxima.
+    fn record_step(&self, track: &mut Track, y: &[f64; D]) {
+        track.record_angles_guarded(
+            Model::cos_theta(self, y),
+            || self.track_angles(y),
+            || self.spin(y),
+        );
+        track.record_rest(
+            self.jellett_scaled(y),
+            self.energy_scaled(y),
+            self.work_scaled(y),
+        );
     }
 
     fn cos_theta(&self, y: &[f64; D]) -> f64 {

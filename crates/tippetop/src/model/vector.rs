@@ -61,6 +61,7 @@ use super::ContactState;
 use super::reduced::{Mode, ModelError, Scales};
 use super::vec3::{V3, add, cross, dot, scale};
 use crate::physics::body;
+use crate::physics::forces::ContactPointForce;
 use crate::{Initial, Sample, Scenario, Top, integrate::OdeSystem};
 
 /// Number of state components.
@@ -251,6 +252,55 @@ fn axis(theta: f64) -> (f64, f64) {
 
 /// Kinematic quantities shared by both modes.
 type Kin = body::At;
+
+/// The applied terms a segment has, as [`Vector::eval_now`] specialises on
+/// them: any ([`GENERAL`]), at most the horizontal force `H`
+/// ([`crate::physics::forces::Forces::only_horizontal`]), none
+/// ([`crate::physics::forces::Forces::nothing_applied`]).
+const GENERAL: u8 = 0;
+/// See [`GENERAL`].
+const ONLY_H: u8 = 1;
+/// See [`GENERAL`].
+const PLAIN: u8 = 2;
+
+/// The contact's law known to be the regularised one with `ε = eps`
+/// (scaled): [`ContactState`]'s own answers, with the law's test made once
+/// per evaluation instead of inside the solution ([`Vector::eval_now`]).
+struct Regularized<'a> {
+    plane: &'a ContactState,
+    eps: f64,
+}
+
+impl body::Friction for Regularized<'_> {
+    #[inline(always)]
+    fn mu(&self) -> f64 {
+        self.plane.mu()
+    }
+    #[inline(always)]
+    fn regularized_eps(&self) -> Option<f64> {
+        Some(self.eps)
+    }
+    #[inline(always)]
+    fn drilling(&self, _v: [f64; 2], _wz: f64) -> Option<([f64; 2], f64)> {
+        None
+    }
+    #[inline(always)]
+    fn coefficient(&self, v: [f64; 2]) -> [f64; 2] {
+        self.plane.coefficient(v)
+    }
+    #[inline(always)]
+    fn closure(&self, q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
+        self.plane.closure(q, dp, dm)
+    }
+    #[inline(always)]
+    fn friction_normal(&self, normal: f64) -> f64 {
+        self.plane.friction_normal(normal)
+    }
+    #[inline(always)]
+    fn is_contensou(&self) -> bool {
+        false
+    }
+}
 
 impl Vector {
     /// Build the scaled model of a scenario.
@@ -506,22 +556,31 @@ impl Vector {
     /// Evaluate the model at a state in the current mode (cached: see
     /// the `last` field).
     pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
+        self.with_eval(y, |e| *e)
+    }
+
+    /// `read` of [`Vector::eval`]'s evaluation at `y`, read in place (a
+    /// cached evaluation is not copied out: the driver's observers read
+    /// one or two of its fields at every accepted step).
+    #[inline(always)]
+    fn with_eval<R>(&self, y: &[f64; DIM], read: impl FnOnce(&Eval) -> R) -> Result<R, ModelError> {
         let key = self.cache_key(y);
         let d = self.plane.slip_ref.get();
         for slot in [&self.accepted, &self.last] {
             if let Some(c) = &*slot.borrow() {
                 if c.holds(&key, d) {
-                    return Ok(c.eval);
+                    return Ok(read(&c.eval));
                 }
             }
         }
         let e = self.eval_now(y)?;
+        let r = read(&e);
         *self.last.borrow_mut() = Some(CacheEntry {
             key,
             slip_ref: d,
             eval: e,
         });
-        Ok(e)
+        Ok(r)
     }
 
     /// The key of [`Vector::eval`]'s cache: the state's bits, the mode and
@@ -557,12 +616,68 @@ impl Vector {
     }
 
     /// Evaluate the model at a state in the current mode, uncached.
+    ///
+    /// Where the segment applies nothing ([`crate::physics::forces::Forces::nothing_applied`])
+    /// or at most `H` ([`crate::physics::forces::Forces::only_horizontal`]),
+    /// the sliding and rolling solutions are taken with the absent terms as
+    /// constants ([`PLAIN`], [`ONLY_H`]) and, with nothing applied and the
+    /// regularised law, the law known at compile time ([`Regularized`]):
+    /// the same arithmetic on the same values (the terms' zeros included),
+    /// without the tests and loads that find each term absent at every
+    /// evaluation.
     #[inline(always)]
     fn eval_now(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
         let kn = self.kin(y);
-        match self.plane.mode {
-            Mode::Sliding => self.eval_sliding(y, &kn),
-            Mode::Rolling => Ok(self.eval_rolling(y, &kn)),
+        let f = self.plane.forces();
+        let terms = if f.nothing_applied() {
+            PLAIN
+        } else if f.only_horizontal() {
+            ONLY_H
+        } else {
+            GENERAL
+        };
+        match (self.plane.mode, terms, self.plane.regularized_eps()) {
+            (Mode::Sliding, PLAIN, Some(eps)) => {
+                let law = Regularized {
+                    plane: &self.plane,
+                    eps,
+                };
+                self.eval_sliding::<_, PLAIN>(&law, y, &kn)
+            }
+            (Mode::Sliding, PLAIN, None) => self.eval_sliding::<_, PLAIN>(&self.plane, y, &kn),
+            (Mode::Sliding, ONLY_H, _) => self.eval_sliding::<_, ONLY_H>(&self.plane, y, &kn),
+            (Mode::Sliding, _, _) => self.eval_sliding::<_, GENERAL>(&self.plane, y, &kn),
+            (Mode::Rolling, PLAIN, _) => Ok(self.eval_rolling::<PLAIN>(y, &kn)),
+            (Mode::Rolling, ONLY_H, _) => Ok(self.eval_rolling::<ONLY_H>(y, &kn)),
+            (Mode::Rolling, _, _) => Ok(self.eval_rolling::<GENERAL>(y, &kn)),
+        }
+    }
+
+    /// The free accelerations, the applied force `H` at `kn`
+    /// ([`body::Body::free`]) and the contact-point force. With `PLAIN`
+    /// (nothing applied) the gyroscopic term alone, `H = 0` and no load,
+    /// as constants; with `ONLY_H` the gyroscopic term alone and no load
+    /// as constants, `H` as latched: the same values the general path finds.
+    #[inline(always)]
+    fn terms<const T: u8>(&self, kn: &Kin) -> (body::Free, V3, ContactPointForce) {
+        match T {
+            PLAIN => (
+                self.body.free(kn, None, None),
+                [0.0; 3],
+                ContactPointForce::default(),
+            ),
+            ONLY_H => {
+                let h = self.plane.applied();
+                (
+                    self.body.free(kn, None, None),
+                    body::applied_world(h, kn.k),
+                    ContactPointForce { h, hz: 0.0 },
+                )
+            }
+            _ => {
+                let (free, hw) = self.free(kn);
+                (free, hw, self.plane.contact_point())
+            }
         }
     }
 
@@ -589,17 +704,21 @@ impl Vector {
 
     /// Sliding: [`body::Body::slide`] at the state's slip.
     #[inline(always)]
-    fn eval_sliding(&self, y: &[f64; DIM], kn: &Kin) -> Result<Eval, ModelError> {
+    fn eval_sliding<F: body::Friction, const T: u8>(
+        &self,
+        law: &F,
+        y: &[f64; DIM],
+        kn: &Kin,
+    ) -> Result<Eval, ModelError> {
         let Kin {
             k, w, kd, wk, wr, ..
         } = *kn;
         let v = [y[VEL], y[VEL + 1]];
         let vp = [v[0] + wr[0], v[1] + wr[1]];
-        let (free, hw) = self.free(kn);
-        let cp = self.plane.contact_point();
+        let (free, hw, cp) = self.terms::<T>(kn);
         let c = self
             .body
-            .slide(&self.plane, kn, &free, hw, &cp, vp)
+            .slide(law, kn, &free, hw, &cp, vp)
             .map_err(|solutions| ModelError::Painleve {
                 theta: Self::theta(y),
                 solutions,
@@ -628,12 +747,11 @@ impl Vector {
 
     /// Rolling: [`body::Body::roll`], the slip held at zero.
     #[inline(always)]
-    fn eval_rolling(&self, y: &[f64; DIM], kn: &Kin) -> Eval {
+    fn eval_rolling<const T: u8>(&self, y: &[f64; DIM], kn: &Kin) -> Eval {
         let Kin {
             k, w, kd, wk, wr, ..
         } = *kn;
-        let (free, hw) = self.free(kn);
-        let cp = self.plane.contact_point();
+        let (free, hw, cp) = self.terms::<T>(kn);
         let c = self.body.roll(&self.plane, kn, &free, hw, &cp);
         let vo = [-wr[0], -wr[1], -self.a * kd[2]];
         let (qd, chi) = attitude_rate(w, k, wk, self.spin_ref, y);
@@ -943,10 +1061,10 @@ impl super::ContactModel<DIM> for Vector {
         yr
     }
     fn contact_forces(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2]), ModelError> {
-        self.eval(y).map(|e| (e.normal, e.friction))
+        self.with_eval(y, |e| (e.normal, e.friction))
     }
     fn contact_wrench(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2], f64), ModelError> {
-        self.eval(y).map(|e| (e.normal, e.friction, e.torque))
+        self.with_eval(y, |e| (e.normal, e.friction, e.torque))
     }
     fn to_stick(&self, y: &[f64; DIM]) -> [f64; DIM] {
         self.stick_state(y)
@@ -974,9 +1092,9 @@ impl super::ContactModel<DIM> for Vector {
         Vector::jellett_scaled(self, y)
     }
     fn energy_scaled(&self, y: &[f64; DIM]) -> Option<f64> {
-        self.eval(y)
+        self.with_eval(y, |e| e.v)
             .ok()
-            .map(|e| Vector::energy_scaled(self, y, &e))
+            .map(|v| self.energy_with(y, v))
     }
     fn work_scaled(&self, y: &[f64; DIM]) -> f64 {
         y[WF] + y[WA]
@@ -1001,6 +1119,92 @@ impl super::ContactModel<DIM> for Vector {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The bits of everything an evaluation gives.
+    fn bits(e: &Eval) -> Vec<u64> {
+        let mut b: Vec<u64> = e.dy.iter().map(|x| x.to_bits()).collect();
+        b.extend([e.normal, e.friction[0], e.friction[1], e.slip[0], e.slip[1]].map(f64::to_bits));
+        b.extend(e.v.map(f64::to_bits));
+        b.push(e.torque.to_bits());
+        b
+    }
+
+    /// The solutions specialised on the terms present (`PLAIN`, `ONLY_H`,
+    /// the regularised law as a type: `Vector::eval_now`) are the general
+    /// path's, bit for bit (the specialisation may only drop the tests that
+    /// find absent terms): both laws, with and without `H`, sliding and
+    /// rolling, at 400 states spread over axes, spins, slips and attitudes
+    /// (a fixed sequence), the axis vertical included.
+    #[test]
+    fn specialised_terms_are_the_general_path_bit_for_bit() {
+        let law = |name| match name {
+            "regularized" => "friction_law = \"regularized\"\nfriction_eps = 1e-3",
+            _ => "friction_law = \"coulomb\"",
+        };
+        let force = "[[force]]\nhx = 2e-3\nhy = -7e-4\nstart = 0.0\nstop = 1.0\n";
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for name in ["regularized", "coulomb"] {
+            for with_h in [false, true] {
+                let text = format!(
+                    "preset = \"classical\"\n{}[surface]\n{}\n",
+                    if with_h { force } else { "" },
+                    law(name)
+                );
+                let sc = Scenario::from_toml_str(&text).unwrap();
+                let mut m = Vector::new(&sc);
+                m.latch_force(0.0);
+                let f = m.plane.forces();
+                assert_eq!(
+                    (f.nothing_applied(), f.only_horizontal()),
+                    (!with_h, true),
+                    "{text}"
+                );
+                for i in 0..400 {
+                    let mut y = [0.0; DIM];
+                    let (th, ph) = if i == 0 {
+                        (0.0, 0.0)
+                    } else {
+                        (1.6 * (next() + 1.0), 3.2 * next())
+                    };
+                    y[K..K + 3].copy_from_slice(&[
+                        th.sin() * ph.cos(),
+                        th.sin() * ph.sin(),
+                        th.cos(),
+                    ]);
+                    for x in &mut y[OMEGA..QUAT] {
+                        *x = 30.0 * next();
+                    }
+                    let q = [next(), next(), next(), next()];
+                    let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+                    for j in 0..4 {
+                        y[QUAT + j] = q[j] / n;
+                    }
+                    for mode in [Mode::Sliding, Mode::Rolling] {
+                        m.plane.mode = mode;
+                        let kn = m.kin(&y);
+                        let general = match mode {
+                            Mode::Sliding => m.eval_sliding::<_, GENERAL>(&m.plane, &y, &kn),
+                            Mode::Rolling => Ok(m.eval_rolling::<GENERAL>(&y, &kn)),
+                        };
+                        let special = m.eval_now(&y);
+                        match (general, special) {
+                            (Ok(g), Ok(s)) => {
+                                assert_eq!(bits(&g), bits(&s), "{name} H {with_h} {mode:?} {y:?}")
+                            }
+                            (Err(_), Err(_)) => {}
+                            (g, s) => panic!("{name} H {with_h} {mode:?}: {g:?} against {s:?}"),
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     /// The initial axis reads back as the given θ, bit for bit, and is a
     /// unit vector to rounding, at 100 001 values over [0, π]. (Stepping

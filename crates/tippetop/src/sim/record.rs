@@ -175,6 +175,13 @@ impl Track {
     ) {
         self.theta_max = self.theta_max.max(theta);
         self.omega_abs_max = self.omega_abs_max.max(omega.abs());
+        self.record_rest(j, energy, work);
+    }
+
+    /// Record J, the energy E (if it could be evaluated) and the work done
+    /// so far `W_f + W_a`: [`Track::record`] without θ and ω (with
+    /// [`Track::record_angles_guarded`], the same record as `record`).
+    pub(crate) fn record_rest(&mut self, j: f64, energy: Option<f64>, work: f64) {
         self.j_dev_max = self.j_dev_max.max((j - self.j0).abs());
         if let Some(en) = energy {
             self.e_abs_max = self.e_abs_max.max(en.abs());

@@ -332,6 +332,12 @@ pub struct Forces {
     /// Latches so far: what the models' evaluation caches key on (the
     /// latched values change only at a latch).
     generation: u64,
+    /// Nothing applied in the latched segment ([`Forces::nothing_applied`]),
+    /// kept at the latch and when the wells are set.
+    nothing: bool,
+    /// At most the horizontal force `H` ([`Forces::only_horizontal`]),
+    /// kept with `nothing`.
+    only_h: bool,
 }
 
 impl Forces {
@@ -349,7 +355,41 @@ impl Forces {
             body: actuators::BodyLoad::default(),
             body_zero: true,
             generation: 0,
+            nothing: true,
+            only_h: true,
         }
+    }
+
+    /// True if the latched segment applies nothing: no wells, no body
+    /// actuators, and the contact-point force and the centre-vertical load
+    /// `+0` exactly (the values a scenario without force terms latches).
+    /// The models' right-hand sides then take a path with these terms
+    /// known to be absent: the same arithmetic on the same values, without
+    /// the tests and loads that find each absent (issue #28, "forces as
+    /// data should cost nothing when a term is absent").
+    #[inline(always)]
+    pub fn nothing_applied(&self) -> bool {
+        self.nothing
+    }
+
+    /// True if the latched segment applies at most the horizontal force
+    /// `H` at the contact point: no wells, no body actuators, the vertical
+    /// load and the centre-vertical load `+0` exactly ([`Forces::nothing_applied`]
+    /// with `H` allowed).
+    #[inline(always)]
+    pub fn only_horizontal(&self) -> bool {
+        self.only_h
+    }
+
+    /// Recompute [`Forces::nothing_applied`] and [`Forces::only_horizontal`].
+    fn update_nothing(&mut self) {
+        let zero = 0.0f64.to_bits();
+        let ContactPointForce { h, hz } = self.latched;
+        self.only_h = self.wells.is_empty()
+            && self.body_zero
+            && hz.to_bits() == zero
+            && self.centre.force.to_bits() == zero;
+        self.nothing = self.only_h && h[0].to_bits() == zero && h[1].to_bits() == zero;
     }
 
     /// The terms.
@@ -398,6 +438,7 @@ impl Forces {
         self.body = applied.body.scaled(force_unit, self.radius);
         self.body_zero = self.body.is_zero();
         self.generation += 1;
+        self.update_nothing();
     }
 
     /// The latched body actuators' load (scaled; zero without actuators).
@@ -433,6 +474,7 @@ impl Forces {
                 ..*w
             })
             .collect();
+        self.update_nothing();
     }
 
     /// The latched orientation wells (depths scaled; empty without wells).
