@@ -102,8 +102,7 @@ impl<const N: usize> Langevin<N> {
     }
 
     /// [`Engine::step`] in the AVX2 build (the same operations, none
-    /// fused: the same bits; docs/performance.md, "Langevin lanes (session
-    /// 8)").
+    /// fused: the same bits; docs/performance.md, "The Langevin step").
     ///
     /// # Safety
     /// The CPU must support AVX2.
