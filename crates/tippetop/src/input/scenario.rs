@@ -791,19 +791,9 @@ const FORCE_KEYS: Keys = &[
         "\"contact\"",
         "the window's force: at the contact point, a tip or a magnet",
     ),
-    Key::doc(
-        "hx",
-        "a finite force [N]",
-        "0",
-        "H_x, the paper's force at the contact point, precessing frame",
-    ),
-    Key::doc("hy", "a finite force [N]", "0", "H_y, the same along y"),
-    Key::doc(
-        "hz",
-        "a finite force [N] (vertical load at the contact point, > 0 pushes onto the plane)",
-        "0",
-        "vertical load at the contact point (docs/physics.md#vertical-load)",
-    ),
+    crate::physics::forces::retarding::KEYS[0],
+    crate::physics::forces::retarding::KEYS[1],
+    crate::physics::forces::vertical_load::KEY,
     Key::doc(
         "start",
         "a finite time >= 0 [s]",

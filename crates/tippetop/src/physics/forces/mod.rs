@@ -8,8 +8,11 @@
 //! [`ForceTerm`]) plus one line in [`PLUGINS`] (docs/extending.md; the
 //! example is [`wind`]; [`adhesion`] and [`wells`] are too). The older terms (the
 //! `[[force]]` schedule's retarding force and vertical load and body
-//! actuators) keep their keys in the scenario's own tables and
-//! are built in `Forces::of` (input/scenario/plugins.rs). Each term states, in code ([`ForceTerm::properties`])
+//! actuators) are windows of that schedule: the retarding force's and the
+//! load's key definitions are in their files ([`retarding::KEYS`],
+//! [`vertical_load::KEY`]), the actuators' in input/scenario/actuator.rs;
+//! the windows are parsed and checked as a schedule (input/forcing.rs) and
+//! the terms built in `Forces::of` (input/scenario/plugins.rs). Each term states, in code ([`ForceTerm::properties`])
 //! and in its doc, how it enters the normal-force closure `N D(σ) = Q`
 //! (docs/physics.md#normal-force), whether it conserves Jellett's J (§invariants) and whether
 //! it has a potential or its work is integrated (like `W_a`).

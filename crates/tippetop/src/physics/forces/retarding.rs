@@ -11,6 +11,21 @@
 
 use super::{Applied, Energy, ForceTerm, Kind, Properties};
 use crate::Forcing;
+use crate::input::Key;
+
+/// Its keys in a `[[force]]` window, `force.K.hx` and `force.K.hy` (the
+/// window's own `kind`, `start` and `stop` are the schedule's, listed with
+/// these in `input/scenario.rs`'s `FORCE_KEYS`; their values are checked
+/// with the window, `input/forcing.rs`).
+pub const KEYS: [Key; 2] = [
+    Key::doc(
+        "hx",
+        "a finite force [N]",
+        "0",
+        "H_x, the paper's force at the contact point, precessing frame",
+    ),
+    Key::doc("hy", "a finite force [N]", "0", "H_y, the same along y"),
+];
 
 /// The paper's `H` from the force windows.
 #[derive(Debug, Clone)]

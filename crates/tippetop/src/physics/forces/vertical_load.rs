@@ -15,6 +15,17 @@
 
 use super::{Applied, Energy, ForceTerm, Kind, Properties};
 use crate::Forcing;
+use crate::input::Key;
+
+/// Its key in a `[[force]]` window, `force.K.hz` (listed with the window's
+/// other keys in `input/scenario.rs`'s `FORCE_KEYS`; its value is checked
+/// with the window, `input/forcing.rs`).
+pub const KEY: Key = Key::doc(
+    "hz",
+    "a finite force [N] (vertical load at the contact point, > 0 pushes onto the plane)",
+    "0",
+    "vertical load at the contact point (docs/physics.md#vertical-load)",
+);
 
 /// The vertical load from the force windows.
 #[derive(Debug, Clone)]
