@@ -23,7 +23,7 @@ use tippetop::{Adhesion, Error, FrictionLaw, Scenario, Trajectory, simulate};
 use crate::{Curve, Figure};
 
 pub mod langevin;
-pub use langevin::{HOT_TUBE, HotStudy, hot_study};
+pub use langevin::{HOT_TUBE, HotStudy, boltzmann_cos2, hot_study};
 
 /// The tubes of the study, `(n, n)`.
 pub const TUBES: [u32; 4] = [10, 12, 15, 20];

@@ -354,6 +354,16 @@ fn at_300_k_the_cage_is_thermal_on_the_wall() {
     assert!((q - top.mass * top.offset.powi(2) / top.inertia_transverse).abs() < 1e-12 * q);
     let (i0, i2) = tilt_moments(q);
     check("<cos^2 theta_n>", h.cos2_theta(), i2 / i0, 0.03);
+    // The section's reference value (Gauss–Legendre) is the closed form.
+    for qq in [q, 0.5, 2.0] {
+        let (j0, j2) = tilt_moments(qq);
+        let got = tippetop_paper::tube::boltzmann_cos2(qq);
+        assert!(
+            (got - j2 / j0).abs() < 1e-13,
+            "q = {qq}: {got} vs {}",
+            j2 / j0
+        );
+    }
     // ⟨cos θ_n⟩ = 0 by the density's symmetry about π/2.
     let c1: Vec<f64> = h
         .all()

@@ -265,6 +265,22 @@ fn frictionless_top_keeps_axial_momentum_spin_and_energy() {
     assert!(dvx < 1e-9 && dspin < 1e-9 && de < 1e-9);
 }
 
+/// `plane` run on the plane and in a tube of radius `radius` [m] (the
+/// contact at the lowest line), both to their end without error.
+fn plane_and_tube(plane: &Scenario, radius: f64) -> (tippetop::Trajectory, tippetop::Trajectory) {
+    let mut tube = plane.clone();
+    tube.surface.shape = Shape::Tube { radius, angle: 0.0 };
+    let a = tippetop::simulate(plane).unwrap();
+    let b = tippetop::simulate(&tube).unwrap();
+    assert!(
+        a.error.is_none() && b.error.is_none(),
+        "{:?} {:?}",
+        a.error,
+        b.error
+    );
+    (a, b)
+}
+
 /// The plane recovered as `b → ∞`: the classical preset's rigid run on
 /// the plane and in a tube of radius 1e6 m (the wall's tilt over the ~3 cm
 /// the top travels is 3e-8 rad) give the same θ(t) and spin to 1e-6 over
@@ -275,14 +291,7 @@ fn wide_tube_is_the_plane() {
     plane.solver.model = ModelKind::Rigid;
     plane.solver.t_end = 2.0;
     plane.solver.samples = 201;
-    let mut tube = plane.clone();
-    tube.surface.shape = Shape::Tube {
-        radius: 1e6,
-        angle: 0.0,
-    };
-    let a = tippetop::simulate(&plane).unwrap();
-    let b = tippetop::simulate(&tube).unwrap();
-    assert!(a.error.is_none() && b.error.is_none());
+    let (a, b) = plane_and_tube(&plane, 1e6);
     let (mut dth, mut dsp) = (0.0f64, 0.0f64);
     for (p, q) in a.samples.iter().zip(&b.samples) {
         dth = dth.max((p.theta - q.theta).abs());
@@ -392,19 +401,7 @@ fn wide_tube_is_the_plane_with_the_paper_force() {
     plane.solver.model = ModelKind::Rigid;
     plane.solver.t_end = 1e-5;
     plane.solver.samples = 201;
-    let mut tube = plane.clone();
-    tube.surface.shape = Shape::Tube {
-        radius: 1.0,
-        angle: 0.0,
-    };
-    let a = tippetop::simulate(&plane).unwrap();
-    let b = tippetop::simulate(&tube).unwrap();
-    assert!(
-        a.error.is_none() && b.error.is_none(),
-        "{:?} {:?}",
-        a.error,
-        b.error
-    );
+    let (a, b) = plane_and_tube(&plane, 1.0);
     let (mut dth, mut dsp, mut dwa) = (0.0f64, 0.0f64, 0.0f64);
     let wa_scale = a
         .samples
@@ -913,19 +910,7 @@ fn hot_wide_tube_is_the_plane() {
     hot(&mut plane, kt, 20.0, 5_000);
     plane.thermal.damping_contact = 0.0;
     plane.solver.samples = 101;
-    let mut tube = plane.clone();
-    tube.surface.shape = Shape::Tube {
-        radius: 1e6,
-        angle: 0.0,
-    };
-    let a = tippetop::simulate(&plane).unwrap();
-    let b = tippetop::simulate(&tube).unwrap();
-    assert!(
-        a.error.is_none() && b.error.is_none(),
-        "{:?} {:?}",
-        a.error,
-        b.error
-    );
+    let (a, b) = plane_and_tube(&plane, 1e6);
     let (mut dth, mut dsp, mut moved) = (0.0f64, 0.0f64, 0.0f64);
     for (p, q) in a.samples.iter().zip(&b.samples) {
         dth = dth.max((p.theta - q.theta).abs());

@@ -379,24 +379,16 @@ impl HotStudy {
 /// `⟨cos² θ⟩` under the orientation density of a top on a flat wall with no
 /// torque, `p(θ) ∝ sin θ sqrt(1 + q sin²θ)` (`q = m a²/A`: the centre's
 /// motion along the normal as the axis tilts; docs/physics.md#langevin),
-/// by composite Simpson over `[0, π]` with 20 000 intervals.
+/// by 64-point Gauss–Legendre over `[0, π]` (`physics::adhesion::gauss_legendre`;
+/// the integrand is smooth, so the rule is exact to rounding).
 pub fn boltzmann_cos2(q: f64) -> f64 {
-    let n = 20_000;
-    let h = std::f64::consts::PI / n as f64;
+    let half = 0.5 * std::f64::consts::PI;
     let (mut num, mut den) = (0.0, 0.0);
-    for i in 0..=n {
-        let th = i as f64 * h;
-        let w = if i == 0 || i == n {
-            1.0
-        } else if i % 2 == 1 {
-            4.0
-        } else {
-            2.0
-        };
-        let (sn, cs) = th.sin_cos();
-        let p = sn * (1.0 + q * sn * sn).sqrt();
-        num += w * p * cs * cs;
-        den += w * p;
+    for (x, w) in tippetop::physics::adhesion::gauss_legendre(64) {
+        let (sn, cs) = (half * (1.0 + x)).sin_cos();
+        let p = w * sn * (1.0 + q * sn * sn).sqrt();
+        num += p * cs * cs;
+        den += p;
     }
     num / den
 }
