@@ -450,7 +450,8 @@ pub struct Rigid {
     /// g \[m/s²\].
     pub gravity_si: f64,
     /// The Langevin heat bath (scaled), `None` unless `method = "langevin"`
-    /// (or `"brownian"`; on the plane or in the tube).
+    /// or `"brownian"` (Langevin on the plane and in the tube; Brownian on
+    /// the plane only, the validation refuses it in the tube).
     thermal: Option<super::thermostat::Bath>,
     /// The Ornstein–Uhlenbeck step's coefficients from the last call.
     ou: super::thermostat::OuCache,
