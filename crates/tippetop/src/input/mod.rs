@@ -9,6 +9,7 @@
 
 pub mod forcing;
 pub mod initial;
+pub(crate) mod reader;
 pub mod scenario;
 pub mod solver;
 pub mod surface;

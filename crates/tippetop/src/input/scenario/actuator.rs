@@ -22,12 +22,12 @@
 
 use toml::Value;
 
-use super::Section;
 use crate::input::Key;
 use crate::input::forcing::{
     BodyActuator, MAGNETIC_FIELD_RANGE, MAGNETIC_GRADIENT_RANGE, MAGNETIC_MOMENT_RANGE,
     TIP_FORCE_RANGE, TIP_POINT_RANGE,
 };
+use crate::input::reader::Section;
 use crate::input::solver::ModelKind;
 use crate::{ActuatorWindow, Error};
 

@@ -50,8 +50,11 @@
 
 use toml::{Table, Value};
 
-use super::{Keys, Section, check_keys, describe, parse_document, range_of, unknown_key};
 use crate::input::Key;
+use crate::input::reader::{
+    Keys, Section, check_keys, describe, parse_document, parse_set_value, range_of, render_keys,
+    unknown_key,
+};
 use crate::{ActuatorWindow, BodyActuator, Error, ForceWindow, Forcing, Scenario};
 
 /// Fewest output rows per `bit.hold` (the row spacing bounds the adaptive
@@ -348,7 +351,7 @@ impl BitScenario {
         t.insert("hold".into(), Value::Float(b.hold));
         t.insert("phase".into(), Value::Float(b.phase));
         out.push_str("\n[bit]\n");
-        super::render_keys(&mut out, &t, BIT_KEYS);
+        render_keys(&mut out, &t, BIT_KEYS);
         for (name, list) in [("write", &self.write), ("erase", &self.erase)] {
             for a in list {
                 let mut t = Table::new();
@@ -364,7 +367,7 @@ impl BitScenario {
                 t.insert("start".into(), Value::Float(a.start));
                 t.insert("stop".into(), Value::Float(a.stop));
                 out.push_str(&format!("\n[[{name}]]\n"));
-                super::render_keys(&mut out, &t, WINDOW_KEYS);
+                render_keys(&mut out, &t, WINDOW_KEYS);
             }
         }
         out
@@ -423,7 +426,7 @@ fn apply_bit_set(
     key: &str,
     set: &str,
 ) -> Result<(), Error> {
-    let value = super::parse_set_value(
+    let value = parse_set_value(
         key,
         set.split_once('=').map(|(_, v)| v.trim()).unwrap_or(""),
     )?;

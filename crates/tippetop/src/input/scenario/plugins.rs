@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use toml::{Table, Value};
 
-use super::{Section, range_of};
+use crate::input::reader::{Section, range_of};
 use crate::input::solver::ModelKind;
 use crate::input::{Key, PluginTables};
 use crate::physics::forces::Plugin;
