@@ -31,7 +31,7 @@
 //! force = 0.0                 # F_a [N], pull-off force (> 0 requires energy > 0)
 //! energy = 0.0                # E_b [J], binding energy (> 0 requires force > 0)
 //! [[force]]                   # applied force at the contact point, precessing frame [N]
-//! kind = "contact"            # default; "tip" or "magnetic": a body actuator (scenario::actuator)
+//! kind = "contact"            # default; "tip" or "magnetic": a body actuator (forces::actuators)
 //! hx = 0.0                    # default 0
 //! hy = 0.0                    # default 0
 //! hz = 0.0                    # vertical load, > 0 pushes onto the plane; default 0
@@ -74,7 +74,6 @@
 //! Whole numbers are accepted wherever a float is expected; every number is
 //! decimal (`0x10`, `0o20`, `0b10000` are refused, naming the key).
 
-pub mod actuator;
 pub mod bit;
 pub mod langevin;
 pub mod limits;
@@ -89,8 +88,8 @@ use crate::input::reader::{
 };
 use crate::input::{Key, PluginTables, TableSpec};
 use crate::{
-    ActuatorWindow, Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial,
-    SolverSettings, Surface, Thermal, Top, Well,
+    ActuatorWindow, Adhesion, ContactMode, Error, Forcing, FrictionLaw, Initial, SolverSettings,
+    Surface, Thermal, Top, Well,
     input::solver::{Method, ModelKind},
     input::surface::Shape,
 };
@@ -272,7 +271,11 @@ impl Scenario {
         for (j, w) in self.actuators.iter().enumerate() {
             let prefix = format!("force.{}", self.forcing.windows.len() + j);
             w.validate(&prefix)?;
-            actuator::check_model(w, &prefix, self.solver.model)?;
+            crate::physics::forces::actuators::check_model(
+                &w.actuator,
+                &prefix,
+                self.solver.model,
+            )?;
         }
         plugins::validate(self, |t| t != "surface")?;
         self.initial
@@ -591,34 +594,7 @@ impl Scenario {
 
     /// The `[[force]]` list: contact-point windows, then the body actuators.
     fn force_list(&self) -> Vec<Value> {
-        self.forcing
-            .windows
-            .iter()
-            .map(|w| {
-                let mut t = Table::new();
-                t.insert("hx".into(), Value::Float(w.hx));
-                t.insert("hy".into(), Value::Float(w.hy));
-                // Written only when set, so scenarios without a load keep
-                // their text (scenario.toml, summary.json) unchanged.
-                if w.hz != 0.0 {
-                    t.insert("hz".into(), Value::Float(w.hz));
-                }
-                t.insert("start".into(), Value::Float(w.start));
-                if w.stop != f64::INFINITY {
-                    t.insert("stop".into(), Value::Float(w.stop));
-                }
-                Value::Table(t)
-            })
-            .chain(self.actuators.iter().map(|w| {
-                let mut t = Table::new();
-                actuator::to_table(&w.actuator, &mut t);
-                t.insert("start".into(), Value::Float(w.start));
-                if w.stop != f64::INFINITY {
-                    t.insert("stop".into(), Value::Float(w.stop));
-                }
-                Value::Table(t)
-            }))
-            .collect()
+        crate::input::forcing::to_list(&self.forcing, &self.actuators)
     }
 
     /// The `[initial]` table (`heading` only when set).
@@ -785,34 +761,7 @@ const SURFACE_KEYS: Keys = &[
     ),
 ];
 
-const FORCE_KEYS: Keys = &[
-    Key::doc(
-        "kind",
-        actuator::KIND_RANGE,
-        "\"contact\"",
-        "the window's force: at the contact point, a tip or a magnet",
-    ),
-    crate::physics::forces::retarding::KEYS[0],
-    crate::physics::forces::retarding::KEYS[1],
-    crate::physics::forces::vertical_load::KEY,
-    Key::doc(
-        "start",
-        "a finite time >= 0 [s]",
-        "0",
-        "when the window starts",
-    ),
-    Key::doc(
-        "stop",
-        "a finite time > start [s], or omit stop for never",
-        "never",
-        "when the window stops",
-    ),
-    actuator::KEYS[0],
-    actuator::KEYS[1],
-    actuator::KEYS[2],
-    actuator::KEYS[3],
-    actuator::KEYS[4],
-];
+const FORCE_KEYS: Keys = &crate::input::forcing::KEYS;
 
 const INITIAL_KEYS: Keys = &[
     Key::doc(
@@ -1562,44 +1511,15 @@ fn shape_of(s: &Section) -> Result<Shape, Error> {
 /// `surface.shape`'s names (true: the tube).
 const SHAPES: &[(&str, bool)] = &[("plane", false), ("tube", true)];
 
-/// The `[[force]]` windows: contact-point windows and body actuators.
+/// The `[[force]]` windows: contact-point windows and body actuators
+/// (the schedule's parse, input/forcing.rs).
 fn forces_of(merged: &Table) -> Result<(Forcing, Vec<ActuatorWindow>), Error> {
-    let mut windows = Vec::new();
-    let mut actuators = Vec::new();
-    if let Some(Value::Array(list)) = merged.get("force") {
-        for (k, w) in list.iter().enumerate() {
-            let s = Section {
-                prefix: format!("force.{k}"),
-                keys: FORCE_KEYS,
-                table: w.as_table(),
-            };
-            if let Some(a) = actuator::parse(&s)? {
-                let w = ActuatorWindow {
-                    actuator: a,
-                    start: s.f64("start", Some(0.0))?,
-                    stop: s.f64("stop", Some(f64::INFINITY))?,
-                };
-                w.validate(&s.prefix)?;
-                let model = section(merged, "solver").name(
-                    "model",
-                    MODELS,
-                    SolverSettings::new(1.0).model,
-                )?;
-                actuator::check_model(&w, &s.prefix, model)?;
-                actuators.push(w);
-                continue;
-            }
-            windows.push(ForceWindow {
-                hx: s.f64("hx", Some(0.0))?,
-                hy: s.f64("hy", Some(0.0))?,
-                hz: s.f64("hz", Some(0.0))?,
-                start: s.f64("start", Some(0.0))?,
-                stop: s.f64("stop", Some(f64::INFINITY))?,
-            });
-        }
-    }
-    let forcing = Forcing { windows };
-    Ok((forcing, actuators))
+    let Some(Value::Array(list)) = merged.get("force") else {
+        return Ok((Forcing::none(), Vec::new()));
+    };
+    crate::input::forcing::parse(list, || {
+        section(merged, "solver").name("model", MODELS, SolverSettings::new(1.0).model)
+    })
 }
 
 /// The `[initial]` table: Euler angles and rates, or lab-frame vectors.

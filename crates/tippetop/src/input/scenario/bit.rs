@@ -36,7 +36,7 @@
 //! undefined at θ = 0: no physical actuator does that), at `[start, stop)`
 //! for the write and `[phase + start, phase + stop)` for the erase; a
 //! `"tip"` or `"magnetic"` window is a body actuator of the run
-//! ([`Scenario::actuators`], `scenario::actuator`), at the same times. The
+//! ([`Scenario::actuators`], physics/forces/actuators.rs), at the same times. The
 //! scenario's own `[[force]]` list must be empty (a preset's list is
 //! replaced by the protocol). `--set` reaches the new keys as `bit.KEY`,
 //! `write.K.KEY` and `erase.K.KEY` (`K` equal to the number of windows
@@ -55,6 +55,7 @@ use crate::input::reader::{
     Keys, Section, check_keys, describe, parse_document, parse_set_value, range_of, render_keys,
     unknown_key,
 };
+use crate::physics::forces::actuators;
 use crate::{ActuatorWindow, BodyActuator, Error, ForceWindow, Forcing, Scenario};
 
 /// Fewest output rows per `bit.hold` (the row spacing bounds the adaptive
@@ -81,7 +82,7 @@ const BIT_KEYS: Keys = &[
 ];
 
 const WINDOW_KEYS: Keys = &[
-    Key::new("kind", super::actuator::KIND_RANGE),
+    Key::new("kind", crate::input::forcing::KIND_RANGE),
     Key::new("hx", "a finite force [N]"),
     Key::new("hy", "a finite force [N]"),
     Key::new(
@@ -96,11 +97,11 @@ const WINDOW_KEYS: Keys = &[
         "stop",
         "a finite time, start < stop <= bit.phase [s] from the start of the phase; default bit.phase",
     ),
-    super::actuator::KEYS[0],
-    super::actuator::KEYS[1],
-    super::actuator::KEYS[2],
-    super::actuator::KEYS[3],
-    super::actuator::KEYS[4],
+    actuators::KEYS[0],
+    actuators::KEYS[1],
+    actuators::KEYS[2],
+    actuators::KEYS[3],
+    actuators::KEYS[4],
 ];
 
 /// The two states and the timing of a bit (the `[bit]` table).
@@ -289,8 +290,8 @@ impl BitScenario {
         for (name, list, offset) in [("write", &write, 0.0), ("erase", &erase, bit.phase)] {
             for (k, a) in list.iter().enumerate() {
                 if let Some(w) = a.body_window(offset) {
-                    super::actuator::check_model(
-                        &w,
+                    actuators::check_model(
+                        &w.actuator,
                         &format!("{name}.{k}"),
                         scenario.solver.model,
                     )?;
@@ -362,7 +363,7 @@ impl BitScenario {
                             t.insert(k.into(), Value::Float(v));
                         }
                     }
-                    ActuatorKind::Body(b) => super::actuator::to_table(&b, &mut t),
+                    ActuatorKind::Body(b) => actuators::to_table(&b, &mut t),
                 }
                 t.insert("start".into(), Value::Float(a.start));
                 t.insert("stop".into(), Value::Float(a.stop));
@@ -558,7 +559,7 @@ fn parse_windows(name: &str, list: &[Value], phase: f64) -> Result<Vec<Actuator>
             keys: WINDOW_KEYS,
             table: w.as_table(),
         };
-        let kind = match super::actuator::parse(&s)? {
+        let kind = match crate::input::forcing::parse_actuator(&s)? {
             None => ActuatorKind::Contact,
             Some(b) => ActuatorKind::Body(b),
         };
