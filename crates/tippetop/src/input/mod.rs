@@ -7,6 +7,7 @@
 //! plug-in's table comes from the registry (`physics::forces::PLUGINS`),
 //! whose values a scenario keeps in [`PluginTables`].
 
+pub mod field;
 pub mod forcing;
 pub mod initial;
 pub(crate) mod reader;

@@ -6,65 +6,21 @@
 //!
 //! ```toml
 //! preset = "classical"        # optional: start from a preset, then override
-//! [top]
-//! radius = 0.015              # R [m]
-//! offset = 0.0015             # a [m], geometric centre to centre of mass
-//! mass = 0.015                # m [kg]
-//! inertia_transverse = 1.35e-6  # A [kg m^2], about the centre of mass
-//! inertia_axial = 1.35e-6       # C [kg m^2]
-//! # stem_radius = 0.0025      # r2 [m], the stem's end sphere (rigid model; docs/physics.md#stem)
-//! # stem_distance = 0.0185    # d2 [m], centre of mass to the stem sphere's centre, along k
 //! [surface]
-//! gravity = 9.8               # [m/s^2]
-//! friction = 0.1              # mu
-//! friction_law = "coulomb"    # "coulomb", "coulomb_sliding", "regularized", "viscous",
-//!                             # "contensou", "contensou_pade" (docs/physics.md#contensou)
-//! # friction_eps = 1e-3       # [m/s], only (and required) with "regularized"/"viscous"
-//! # contact_radius = 3e-4     # r_c [m], 0 <= r_c <= 0.1 radius, only (and required) with "contensou*"
-//! # contact_pressure = "hertz" # or "uniform", only with "contensou*"
-//! contact = "bilateral"       # or "paper", "unilateral"
-//! restitution = 0.0           # [0, 1], rigid model touchdown only
-//! # shape = "tube"            # default "plane"; "tube": rigid model only (docs/physics.md#tube-dynamics)
-//! # tube_radius = 0.05        # b [m] > top.radius, required with "tube"
-//! # tube_angle = 0.0          # [rad], |angle| < pi/2, the start turned about the tube's axis
-//! [adhesion]                  # van der Waals adhesion, off by default (docs/physics.md#adhesion)
-//! force = 0.0                 # F_a [N], pull-off force (> 0 requires energy > 0)
-//! energy = 0.0                # E_b [J], binding energy (> 0 requires force > 0)
-//! [[force]]                   # applied force at the contact point, precessing frame [N]
-//! kind = "contact"            # default; "tip" or "magnetic": a body actuator (forces::actuators)
-//! hx = 0.0                    # default 0
-//! hy = 0.0                    # default 0
-//! hz = 0.0                    # vertical load, > 0 pushes onto the plane; default 0
-//! start = 0.0                 # [s], default 0
-//! stop = 1e-5                 # [s], default: never
-//! [[well]]                    # orientation well U = -depth exp(-(theta - centre)^2/(2 width^2)), none by default
-//! theta = 1.5                 # centre [rad], 0 <= theta <= pi
-//! depth = 1e-20               # [J], > 0
-//! width = 0.1                 # [rad], > 0; centres at least 3 (width_i + width_j) apart
-//! [initial]
-//! theta = 0.1                 # [rad]
-//! theta_dot = 0.0             # [rad/s]
-//! precession = 0.0            # Omega [rad/s]
-//! spin = 100.0                # omega [rad/s]
-//! ux = 0.0                    # [m/s]
-//! uy = 0.0                    # [m/s]
+//! friction = 0.2
+//! [[force]]                   # a window of the applied-force schedule
+//! hx = 1e-3                   # [N]
+//! stop = 0.5                  # [s]
 //! [solver]
-//! method = "adaptive"         # or "rk4", "stiff", "langevin", "brownian"
-//! t_end = 10.0                # [s]
-//! steps = 1000                # rk4 only; default samples - 1
-//! rtol = 1e-10
-//! samples = 1001              # output rows, evenly spaced from 0 to t_end
-//! model = "reduced"           # or "rigid", "vector"
-//! max_steps = 20000000        # step limit of the run (default; 2e6 with "stiff")
-//! # dt = 1e-14                # [s], the fixed step of method = "langevin" or "brownian" (only there)
-//! [thermal]                   # Langevin dynamics, off by default (docs/physics.md#langevin)
-//! temperature = 300.0         # T [K]
-//! damping_translational = 1e11  # gamma_t [1/s]: force -m gamma_t v on the centre of mass
-//! damping_rotational = 1e11   # gamma_r [1/s]: torque -gamma_r I w
-//! damping_contact = 0.0       # c [N s/m]: force -c v_P at the contact point
-//! seed = 1                    # key of the random stream (required at T > 0)
-//! run = 0                     # index of this run in the stream
+//! t_end = 5.0                 # [s]
 //! ```
+//!
+//! Every table and key, with its unit, default, range and meaning, is in
+//! docs/keys.md, generated from the keys' own definitions (`tippetop keys`):
+//! each table's in its file (`input/surface.rs`, ...; the `[[force]]`
+//! window's in `input/forcing.rs` and its terms' files), the force
+//! plug-ins' in `physics/forces/`. The tables in document order: `TABLES`
+//! and the plug-ins placed by `table_specs`.
 //!
 //! Without a preset the required keys are the five `[top]` keys,
 //! `surface.friction`, `initial.theta`, `initial.spin` and `solver.t_end`;
@@ -88,10 +44,9 @@ use crate::input::reader::{
 };
 use crate::input::{Key, PluginTables, TableSpec};
 use crate::{
-    ActuatorWindow, Adhesion, ContactMode, Error, Forcing, FrictionLaw, Initial, SolverSettings,
-    Surface, Thermal, Top, Well,
+    ActuatorWindow, Adhesion, ContactMode, Error, Forcing, Initial, SolverSettings, Surface,
+    Thermal, Top, Well,
     input::solver::{Method, ModelKind},
-    input::surface::Shape,
 };
 
 /// One complete run description.
@@ -127,12 +82,8 @@ impl Scenario {
         Scenario {
             top: Top::nano(),
             surface: Surface {
-                gravity: 9.8,
                 friction: 0.13,
-                law: FrictionLaw::Coulomb,
-                contact: ContactMode::Bilateral,
-                restitution: 0.0,
-                shape: Shape::Plane,
+                ..Surface::defaults()
             },
             forcing: Forcing::constant(1e-22, 1e-22),
             actuators: Vec::new(),
@@ -149,12 +100,8 @@ impl Scenario {
         Scenario {
             top: Top::classical(),
             surface: Surface {
-                gravity: 9.8,
                 friction: 0.1,
-                law: FrictionLaw::Coulomb,
-                contact: ContactMode::Bilateral,
-                restitution: 0.0,
-                shape: Shape::Plane,
+                ..Surface::defaults()
             },
             forcing: Forcing::none(),
             actuators: Vec::new(),
@@ -512,7 +459,7 @@ impl Scenario {
     /// The scenario as a complete TOML table (the layout of the file format).
     fn to_table(&self) -> Table {
         let top = self.top_table();
-        let surface = self.surface_table();
+        let surface = crate::input::surface::to_table(&self.surface);
         let force = self.force_list();
 
         let initial = self.initial_table();
@@ -562,34 +509,6 @@ impl Scenario {
             top.insert("stem_distance".into(), Value::Float(st.distance));
         }
         top
-    }
-
-    /// The `[surface]` table (the friction law's parameters only when used).
-    fn surface_table(&self) -> Table {
-        let s = &self.surface;
-        let mut surface = Table::new();
-        surface.insert("gravity".into(), Value::Float(s.gravity));
-        surface.insert("friction".into(), Value::Float(s.friction));
-        surface.insert("friction_law".into(), Value::String(s.law.name().into()));
-        if let Some(eps) = s.law.eps() {
-            surface.insert("friction_eps".into(), Value::Float(eps));
-        }
-        if let Some((radius, pressure, _)) = s.law.contensou() {
-            surface.insert("contact_radius".into(), Value::Float(radius));
-            surface.insert(
-                "contact_pressure".into(),
-                Value::String(pressure.name().into()),
-            );
-        }
-        surface.insert("contact".into(), Value::String(s.contact.name().into()));
-        surface.insert("restitution".into(), Value::Float(s.restitution));
-        // Written only for the tube, so the plane's scenarios keep their text.
-        if let Some((radius, angle)) = s.shape.tube() {
-            surface.insert("shape".into(), Value::String(s.shape.name().into()));
-            surface.insert("tube_radius".into(), Value::Float(radius));
-            surface.insert("tube_angle".into(), Value::Float(angle));
-        }
-        surface
     }
 
     /// The `[[force]]` list: contact-point windows, then the body actuators.
@@ -694,70 +613,6 @@ const TOP_KEYS: Keys = &[
         crate::input::top::STEM_DISTANCE_RANGE,
         "no stem",
         "d2, centre of mass to the stem sphere's centre, along the axis",
-    ),
-];
-
-const SURFACE_KEYS: Keys = &[
-    Key::doc("gravity", "a finite number >= 0 [m/s^2]", "9.8", "g"),
-    Key::doc(
-        "friction",
-        "a finite number >= 0",
-        "required",
-        "mu, the friction coefficient",
-    ),
-    Key::doc(
-        "friction_law",
-        "\"coulomb\", \"coulomb_sliding\", \"regularized\", \"viscous\", \"contensou\" or \"contensou_pade\"",
-        "\"coulomb\"",
-        "the friction law (docs/physics.md#contensou)",
-    ),
-    Key::doc(
-        "contact_radius",
-        crate::input::surface::CONTACT_RADIUS_RANGE,
-        "required with contensou*",
-        "r_c, the contact patch's radius",
-    ),
-    Key::doc(
-        "contact_pressure",
-        "\"hertz\" (default) or \"uniform\", only with friction_law = \"contensou\" or \"contensou_pade\"",
-        "\"hertz\"",
-        "the pressure over the contact patch",
-    ),
-    Key::doc(
-        "friction_eps",
-        "a finite speed > 0 [m/s], only with friction_law = \"regularized\" or \"viscous\"",
-        "required with regularized/viscous",
-        "the regularisation speed",
-    ),
-    Key::doc(
-        "contact",
-        "\"bilateral\", \"paper\" or \"unilateral\"",
-        "\"bilateral\"",
-        "the contact model (held on the plane, the paper's law, or free to lift off)",
-    ),
-    Key::doc(
-        "restitution",
-        "0 <= restitution <= 1",
-        "0",
-        "coefficient of restitution at touchdown (rigid model)",
-    ),
-    Key::doc(
-        "shape",
-        "\"plane\" or \"tube\" (the inside of a horizontal cylinder, axis along x; solver.model = \"rigid\" only)",
-        "\"plane\"",
-        "the surface (docs/physics.md#tube-dynamics)",
-    ),
-    Key::doc(
-        "tube_radius",
-        crate::input::surface::TUBE_RADIUS_RANGE,
-        "required with shape = \"tube\"",
-        "b, the tube's inner radius (its lowest line is z = 0)",
-    ),
-    Key::doc(
-        "tube_angle",
-        crate::input::surface::TUBE_ANGLE_RANGE,
-        "0",
-        "the initial contact point's angle about the tube's axis from the lowest line (> 0 towards +y); the initial state is given in the frame of the local tangent plane",
     ),
 ];
 
@@ -965,7 +820,7 @@ const TABLE_DOCS: &[(&str, &str)] = &[
 /// placed by [`table_specs`]); `force` is an array of tables.
 const TABLES: &[(&str, Keys)] = &[
     ("top", TOP_KEYS),
-    ("surface", SURFACE_KEYS),
+    ("surface", crate::input::surface::KEYS),
     ("force", FORCE_KEYS),
     ("initial", INITIAL_KEYS),
     ("solver", SOLVER_KEYS),
@@ -1031,26 +886,6 @@ fn entry_of(table: &str) -> (&'static str, &'static str) {
     }
 }
 
-const LAWS: &[(&str, LawName)] = &[
-    ("coulomb", LawName::Coulomb),
-    ("coulomb_sliding", LawName::CoulombSliding),
-    ("regularized", LawName::Regularized),
-    ("viscous", LawName::Viscous),
-    ("contensou", LawName::Contensou),
-    ("contensou_pade", LawName::ContensouPade),
-];
-
-const PRESSURES: &[(&str, crate::input::surface::Pressure)] = &[
-    ("hertz", crate::input::surface::Pressure::Hertz),
-    ("uniform", crate::input::surface::Pressure::Uniform),
-];
-
-const CONTACTS: &[(&str, ContactMode)] = &[
-    ("bilateral", ContactMode::Bilateral),
-    ("paper", ContactMode::Paper),
-    ("unilateral", ContactMode::Unilateral),
-];
-
 const METHODS: &[(&str, Method)] = &[
     ("adaptive", Method::Adaptive),
     ("rk4", Method::Rk4),
@@ -1064,17 +899,6 @@ const MODELS: &[(&str, ModelKind)] = &[
     ("rigid", ModelKind::Rigid),
     ("vector", ModelKind::Vector),
 ];
-
-/// Friction law without its parameter.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum LawName {
-    Coulomb,
-    CoulombSliding,
-    Regularized,
-    Viscous,
-    Contensou,
-    ContensouPade,
-}
 
 /// The unit of a scenario key as its valid range states it (`"m"` for
 /// `top.offset`, `"N"` for `force.0.hx`; the last `[...]` of the range), or
@@ -1309,7 +1133,8 @@ fn section<'a>(merged: &'a Table, name: &str) -> Section<'a> {
 fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Scenario, Error> {
     // Each table in document order (the first error is the first table's).
     let top = top_of(merged, has_preset)?;
-    let surface = surface_of(merged, has_preset, eps_explicit)?;
+    let surface =
+        crate::input::surface::parse(&section(merged, "surface"), has_preset, eps_explicit)?;
     // The plug-ins' tables where their tables were read before they
     // became plug-ins ([adhesion] after [surface], [[well]] after
     // [[force]]), the others' last.
@@ -1392,124 +1217,6 @@ fn top_of(merged: &Table, has_preset: bool) -> Result<Top, Error> {
     };
     Ok(top)
 }
-
-/// The `[surface]` table with its friction law's parameters.
-fn surface_of(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Surface, Error> {
-    let req = |d: f64| required(has_preset, d);
-    let s = section(merged, "surface");
-    let gravity = s.f64("gravity", Some(9.8))?;
-    let friction = s.f64("friction", req(0.0))?;
-    let law_name = s.name("friction_law", LAWS, LawName::Coulomb)?;
-    let uses_eps = matches!(law_name, LawName::Regularized | LawName::Viscous);
-    let law_str = name_of(LAWS, law_name);
-    let eps = if uses_eps {
-        match s.get("friction_eps") {
-            None => {
-                return Err(Error::invalid(
-                    "surface.friction_eps",
-                    "missing".into(),
-                    format!("required with friction_law = \"{law_str}\": a speed > 0 [m/s]"),
-                ));
-            }
-            Some(_) => s.f64("friction_eps", None)?,
-        }
-    } else {
-        if eps_explicit && s.get("friction_eps").is_some() {
-            return Err(Error::invalid(
-                "surface.friction_eps",
-                format!("given with friction_law = \"{law_str}\", which does not use it"),
-                "only with friction_law = \"regularized\" or \"viscous\"".into(),
-            ));
-        }
-        0.0
-    };
-    let contensou = matches!(law_name, LawName::Contensou | LawName::ContensouPade);
-    let (radius, pressure) = if contensou {
-        let radius = match s.get("contact_radius") {
-            None => {
-                return Err(Error::invalid(
-                    "surface.contact_radius",
-                    "missing".into(),
-                    format!(
-                        "required with friction_law = \"{law_str}\": {}",
-                        crate::input::surface::CONTACT_RADIUS_RANGE
-                    ),
-                ));
-            }
-            Some(_) => s.f64("contact_radius", None)?,
-        };
-        (
-            radius,
-            s.name(
-                "contact_pressure",
-                PRESSURES,
-                crate::input::surface::Pressure::Hertz,
-            )?,
-        )
-    } else {
-        for key in ["contact_radius", "contact_pressure"] {
-            if s.get(key).is_some() {
-                return Err(Error::invalid(
-                    &format!("surface.{key}"),
-                    format!("given with friction_law = \"{law_str}\", which does not use it"),
-                    "only with friction_law = \"contensou\" or \"contensou_pade\"".into(),
-                ));
-            }
-        }
-        (0.0, crate::input::surface::Pressure::Hertz)
-    };
-    let law = match law_name {
-        LawName::Contensou | LawName::ContensouPade => FrictionLaw::Contensou {
-            radius,
-            pressure,
-            pade: law_name == LawName::ContensouPade,
-        },
-        LawName::Coulomb => FrictionLaw::Coulomb,
-        LawName::CoulombSliding => FrictionLaw::CoulombSliding,
-        LawName::Regularized => FrictionLaw::Regularized { eps },
-        LawName::Viscous => FrictionLaw::Viscous { eps },
-    };
-    let surface = Surface {
-        gravity,
-        friction,
-        law,
-        contact: s.name("contact", CONTACTS, ContactMode::Bilateral)?,
-        restitution: s.f64("restitution", Some(0.0))?,
-        shape: shape_of(&s)?,
-    };
-    Ok(surface)
-}
-
-/// `surface.shape` with the tube's radius and initial angle.
-fn shape_of(s: &Section) -> Result<Shape, Error> {
-    let tube = s.name("shape", SHAPES, false)?;
-    if !tube {
-        for key in ["tube_radius", "tube_angle"] {
-            if s.get(key).is_some() {
-                return Err(Error::invalid(
-                    &format!("surface.{key}"),
-                    "given with shape = \"plane\", which does not use it".into(),
-                    "only with shape = \"tube\"".into(),
-                ));
-            }
-        }
-        return Ok(Shape::Plane);
-    }
-    if s.get("tube_radius").is_none() {
-        return Err(Error::invalid(
-            "surface.tube_radius",
-            "missing".into(),
-            crate::input::surface::TUBE_RADIUS_RANGE.into(),
-        ));
-    }
-    Ok(Shape::Tube {
-        radius: s.f64("tube_radius", None)?,
-        angle: s.f64("tube_angle", Some(0.0))?,
-    })
-}
-
-/// `surface.shape`'s names (true: the tube).
-const SHAPES: &[(&str, bool)] = &[("plane", false), ("tube", true)];
 
 /// The `[[force]]` windows: contact-point windows and body actuators
 /// (the schedule's parse, input/forcing.rs).
