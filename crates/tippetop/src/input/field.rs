@@ -47,6 +47,11 @@ pub struct Num<S: 'static> {
     pub default: Option<f64>,
     /// What the range admits ([`Num::check`]).
     pub bounds: Bounds,
+    /// The range a failed [`Num::check`] states, when not the key's own
+    /// `range`: the older messages some callers pin (`top.radius: -1 is
+    /// not allowed (a finite number > 0)`, tippetop-py's tests); `None`:
+    /// the key's range.
+    pub check_range: Option<&'static str>,
     /// The value in `S`.
     pub get: fn(&S) -> f64,
     /// Set the value in `S`.
@@ -78,7 +83,7 @@ impl<S> Num<S> {
         Err(Error::invalid(
             &format!("{table}.{}", self.key.name),
             format!("{} is not allowed", crate::human::exact(x)),
-            self.key.range.into(),
+            self.check_range.unwrap_or(self.key.range).into(),
         ))
     }
 }

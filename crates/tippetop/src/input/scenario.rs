@@ -458,7 +458,7 @@ impl Scenario {
 
     /// The scenario as a complete TOML table (the layout of the file format).
     fn to_table(&self) -> Table {
-        let top = self.top_table();
+        let top = crate::input::top::to_table(&self.top);
         let surface = crate::input::surface::to_table(&self.surface);
         let force = self.force_list();
 
@@ -491,24 +491,6 @@ impl Scenario {
             t.insert("thermal".into(), Value::Table(thermal));
         }
         t
-    }
-
-    /// The `[top]` table.
-    fn top_table(&self) -> Table {
-        let mut top = Table::new();
-        top.insert("radius".into(), Value::Float(self.top.radius));
-        top.insert("offset".into(), Value::Float(self.top.offset));
-        top.insert("mass".into(), Value::Float(self.top.mass));
-        top.insert(
-            "inertia_transverse".into(),
-            Value::Float(self.top.inertia_transverse),
-        );
-        top.insert("inertia_axial".into(), Value::Float(self.top.inertia_axial));
-        if let Some(st) = self.top.stem {
-            top.insert("stem_radius".into(), Value::Float(st.radius));
-            top.insert("stem_distance".into(), Value::Float(st.distance));
-        }
-        top
     }
 
     /// The `[[force]]` list: contact-point windows, then the body actuators.
@@ -570,51 +552,6 @@ impl Scenario {
 // Key specification: every table, its keys and each key's valid range.
 
 const PRESET_RANGE: &str = "\"nano\", \"nano-physical\", \"nano-adhesive\" or \"classical\"";
-
-const TOP_KEYS: Keys = &[
-    Key::doc(
-        "radius",
-        "a finite length > 0 [m]",
-        "required",
-        "R, the sphere's radius",
-    ),
-    Key::doc(
-        "offset",
-        "0 <= offset < radius [m]",
-        "required",
-        "a, from the sphere's centre to the centre of mass",
-    ),
-    Key::doc(
-        "mass",
-        "a finite mass > 0 [kg]",
-        "required",
-        "m, the top's mass",
-    ),
-    Key::doc(
-        "inertia_transverse",
-        "a finite moment > 0 [kg m^2]",
-        "required",
-        "A, moment of inertia about a transverse axis through the centre of mass",
-    ),
-    Key::doc(
-        "inertia_axial",
-        "0 < inertia_axial <= 2 * inertia_transverse [kg m^2]",
-        "required",
-        "C, moment of inertia about the symmetry axis",
-    ),
-    Key::doc(
-        "stem_radius",
-        crate::input::top::STEM_RADIUS_RANGE,
-        "no stem",
-        "r2, the stem's end sphere (rigid model; docs/physics.md#stem)",
-    ),
-    Key::doc(
-        "stem_distance",
-        crate::input::top::STEM_DISTANCE_RANGE,
-        "no stem",
-        "d2, centre of mass to the stem sphere's centre, along the axis",
-    ),
-];
 
 const FORCE_KEYS: Keys = &crate::input::forcing::KEYS;
 
@@ -819,7 +756,7 @@ const TABLE_DOCS: &[(&str, &str)] = &[
 /// The scenario's own tables in document order (the force plug-ins' are
 /// placed by [`table_specs`]); `force` is an array of tables.
 const TABLES: &[(&str, Keys)] = &[
-    ("top", TOP_KEYS),
+    ("top", crate::input::top::KEYS),
     ("surface", crate::input::surface::KEYS),
     ("force", FORCE_KEYS),
     ("initial", INITIAL_KEYS),
@@ -1132,7 +1069,7 @@ fn section<'a>(merged: &'a Table, name: &str) -> Section<'a> {
 /// given by the file or a `--set` (not only inherited from the preset).
 fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Scenario, Error> {
     // Each table in document order (the first error is the first table's).
-    let top = top_of(merged, has_preset)?;
+    let top = crate::input::top::parse(&section(merged, "top"), has_preset)?;
     let surface =
         crate::input::surface::parse(&section(merged, "surface"), has_preset, eps_explicit)?;
     // The plug-ins' tables where their tables were read before they
@@ -1176,46 +1113,6 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
 /// with a preset every key is present in the merged table anyway.
 fn required(has_preset: bool, d: f64) -> Option<f64> {
     if has_preset { Some(d) } else { None }
-}
-
-/// The `[top]` table (the stem: both keys or neither).
-fn top_of(merged: &Table, has_preset: bool) -> Result<Top, Error> {
-    let req = |d: f64| required(has_preset, d);
-    let s = section(merged, "top");
-    let top = Top {
-        radius: s.f64("radius", req(0.0))?,
-        offset: s.f64("offset", req(0.0))?,
-        mass: s.f64("mass", req(0.0))?,
-        inertia_transverse: s.f64("inertia_transverse", req(0.0))?,
-        inertia_axial: s.f64("inertia_axial", req(0.0))?,
-        stem: None,
-    };
-    // The stem (§stem): both keys or neither.
-    let top = match (s.get("stem_radius"), s.get("stem_distance")) {
-        (None, None) => top,
-        (Some(_), Some(_)) => Top {
-            stem: Some(crate::input::top::Stem {
-                radius: s.f64("stem_radius", None)?,
-                distance: s.f64("stem_distance", None)?,
-            }),
-            ..top
-        },
-        (Some(_), None) => {
-            return Err(Error::invalid(
-                "top.stem_distance",
-                "missing (top.stem_radius is given)".into(),
-                crate::input::top::STEM_DISTANCE_RANGE.into(),
-            ));
-        }
-        (None, Some(_)) => {
-            return Err(Error::invalid(
-                "top.stem_radius",
-                "missing (top.stem_distance is given)".into(),
-                crate::input::top::STEM_RADIUS_RANGE.into(),
-            ));
-        }
-    };
-    Ok(top)
 }
 
 /// The `[[force]]` windows: contact-point windows and body actuators

@@ -380,6 +380,7 @@ pub const GRAVITY: Num<Surface> = Num {
     key: Key::doc("gravity", "a finite number >= 0 [m/s^2]", "9.8", "g"),
     default: Some(9.8),
     bounds: Bounds::AtLeast(0.0),
+    check_range: Some("a finite number >= 0"),
     get: |s| s.gravity,
     set: |s, v| s.gravity = v,
 };
@@ -394,6 +395,7 @@ pub const FRICTION: Num<Surface> = Num {
     ),
     default: None,
     bounds: Bounds::AtLeast(0.0),
+    check_range: None,
     get: |s| s.friction,
     set: |s, v| s.friction = v,
 };
@@ -408,6 +410,7 @@ pub const RESTITUTION: Num<Surface> = Num {
     ),
     default: Some(0.0),
     bounds: Bounds::Within(0.0, 1.0),
+    check_range: None,
     get: |s| s.restitution,
     set: |s, v| s.restitution = v,
 };
