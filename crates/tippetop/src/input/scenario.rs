@@ -473,21 +473,8 @@ impl Scenario {
         t.insert("initial".into(), Value::Table(initial));
         t.insert("solver".into(), Value::Table(solver));
         // Written only when set (scenario texts without it unchanged).
-        let th = &self.thermal;
-        if th.is_set() {
-            let mut thermal = Table::new();
-            for (k, v) in [
-                ("temperature", th.temperature),
-                ("damping_translational", th.damping_translational),
-                ("damping_rotational", th.damping_rotational),
-                ("damping_contact", th.damping_contact),
-            ] {
-                thermal.insert(k.into(), Value::Float(v));
-            }
-            if let Some(seed) = th.seed {
-                thermal.insert("seed".into(), Value::Integer(seed as i64));
-            }
-            thermal.insert("run".into(), Value::Integer(th.run as i64));
+        if self.thermal.is_set() {
+            let thermal = crate::input::thermal::to_table(&self.thermal);
             t.insert("thermal".into(), Value::Table(thermal));
         }
         t
@@ -695,45 +682,6 @@ const SOLVER_KEYS: Keys = &[
     ),
 ];
 
-const THERMAL_KEYS: Keys = &[
-    Key::doc(
-        "temperature",
-        crate::input::thermal::TEMPERATURE_RANGE,
-        "0",
-        "T (docs/physics.md#langevin)",
-    ),
-    Key::doc(
-        "damping_translational",
-        crate::input::thermal::DAMPING_T_RANGE,
-        "0",
-        "gamma_t: force -m gamma_t v on the centre of mass",
-    ),
-    Key::doc(
-        "damping_rotational",
-        crate::input::thermal::DAMPING_R_RANGE,
-        "0",
-        "gamma_r: torque -gamma_r I w",
-    ),
-    Key::doc(
-        "damping_contact",
-        crate::input::thermal::DAMPING_C_RANGE,
-        "0",
-        "c: force -c v_P at the contact point",
-    ),
-    Key::doc(
-        "seed",
-        crate::input::thermal::SEED_RANGE,
-        "required at T > 0",
-        "key of the random stream",
-    ),
-    Key::doc(
-        "run",
-        crate::input::thermal::RUN_RANGE,
-        "0",
-        "index of this run in the stream",
-    ),
-];
-
 /// One line per table of [`TABLES`], for `tippetop keys` and docs/keys.md.
 const TABLE_DOCS: &[(&str, &str)] = &[
     ("top", "the body: a sphere with an offset centre of mass"),
@@ -761,7 +709,7 @@ const TABLES: &[(&str, Keys)] = &[
     ("force", FORCE_KEYS),
     ("initial", INITIAL_KEYS),
     ("solver", SOLVER_KEYS),
-    ("thermal", THERMAL_KEYS),
+    ("thermal", crate::input::thermal::KEYS),
 ];
 
 /// The scenario's own tables with, after each, the force plug-ins' that
@@ -1082,18 +1030,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     plugins::parse(merged, |t| t == "force", &mut plugins)?;
     let initial = initial_of(merged, has_preset)?;
     let solver = solver_of(merged, has_preset)?;
-    let s = section(merged, "thermal");
-    let thermal = Thermal {
-        temperature: s.f64("temperature", Some(0.0))?,
-        damping_translational: s.f64("damping_translational", Some(0.0))?,
-        damping_rotational: s.f64("damping_rotational", Some(0.0))?,
-        damping_contact: s.f64("damping_contact", Some(0.0))?,
-        seed: match s.get("seed") {
-            None => None,
-            Some(_) => Some(s.usize("seed", 0)? as u64),
-        },
-        run: s.usize("run", 0)? as u64,
-    };
+    let thermal = crate::input::thermal::parse(&section(merged, "thermal"))?;
 
     plugins::parse(merged, |t| !matches!(t, "surface" | "force"), &mut plugins)?;
 
