@@ -462,7 +462,7 @@ impl Scenario {
         let surface = crate::input::surface::to_table(&self.surface);
         let force = self.force_list();
 
-        let initial = self.initial_table();
+        let initial = crate::input::initial::to_table(&self.initial);
         let solver = self.solver_table();
 
         let mut t = Table::new();
@@ -483,26 +483,6 @@ impl Scenario {
     /// The `[[force]]` list: contact-point windows, then the body actuators.
     fn force_list(&self) -> Vec<Value> {
         crate::input::forcing::to_list(&self.forcing, &self.actuators)
-    }
-
-    /// The `[initial]` table (`heading` only when set).
-    fn initial_table(&self) -> Table {
-        let i = &self.initial;
-        let mut initial = Table::new();
-        for (k, v) in [
-            ("theta", i.theta),
-            ("theta_dot", i.theta_dot),
-            ("precession", i.precession),
-            ("spin", i.spin),
-            ("ux", i.ux),
-            ("uy", i.uy),
-        ] {
-            initial.insert(k.into(), Value::Float(v));
-        }
-        if i.heading != 0.0 {
-            initial.insert("heading".into(), Value::Float(i.heading));
-        }
-        initial
     }
 
     /// The `[solver]` table (`steps`, `max_steps`, `dt` only when set).
@@ -542,74 +522,8 @@ const PRESET_RANGE: &str = "\"nano\", \"nano-physical\", \"nano-adhesive\" or \"
 
 const FORCE_KEYS: Keys = &crate::input::forcing::KEYS;
 
-const INITIAL_KEYS: Keys = &[
-    Key::doc(
-        "theta",
-        "0 < theta < pi [rad]; 0 <= theta <= pi with model = \"vector\" (the default) or \"rigid\"",
-        "required",
-        "the axis's tilt from the vertical",
-    ),
-    Key::doc("theta_dot", "a finite number [rad/s]", "0", "d theta/dt"),
-    Key::doc(
-        "precession",
-        "a finite number [rad/s]",
-        "0",
-        "Omega, the precession rate",
-    ),
-    Key::doc(
-        "spin",
-        "a finite number [rad/s]",
-        "required",
-        "omega, the spin rate",
-    ),
-    Key::doc(
-        "ux",
-        "a finite number [m/s]",
-        "0",
-        "centre-of-mass velocity, precessing frame x",
-    ),
-    Key::doc(
-        "uy",
-        "a finite number [m/s]",
-        "0",
-        "centre-of-mass velocity, precessing frame y",
-    ),
-    Key::doc(
-        "heading",
-        "a finite angle [rad] from the lab X axis (default 0)",
-        "0",
-        "the precessing frame's initial heading",
-    ),
-    Key::doc(
-        "axis",
-        "[x, y, z], the symmetry axis in the lab frame (Z up; nonzero, normalised); with angular_velocity and velocity, instead of theta ... heading",
-        "",
-        "lab-frame initial state: the symmetry axis",
-    ),
-    Key::doc(
-        "angular_velocity",
-        "[x, y, z] [rad/s], lab frame (default [0, 0, 0]; with axis)",
-        "[0, 0, 0]",
-        "lab-frame initial state: the angular velocity",
-    ),
-    Key::doc(
-        "velocity",
-        "[x, y] [m/s], horizontal centre-of-mass velocity, lab frame (default [0, 0]; with axis)",
-        "[0, 0]",
-        "lab-frame initial state: the centre of mass's velocity",
-    ),
-];
-
-/// The `[initial]` keys of the Euler-angle form and of the lab-frame form.
-const INITIAL_EULER: [&str; 7] = [
-    "theta",
-    "theta_dot",
-    "precession",
-    "spin",
-    "ux",
-    "uy",
-    "heading",
-];
+/// The `[initial]` keys of the lab-frame form (the Euler-angle form's:
+/// `initial::NUMS`).
 const INITIAL_LAB: [&str; 3] = ["axis", "angular_velocity", "velocity"];
 
 /// Insert `[initial]` key `k`: a lab-frame key replaces the Euler-angle
@@ -617,8 +531,8 @@ const INITIAL_LAB: [&str; 3] = ["axis", "angular_velocity", "velocity"];
 /// a lab-frame key is an error (the two forms do not mix).
 fn insert_initial(dst: &mut Table, k: &str, v: Value) -> Result<(), Error> {
     if INITIAL_LAB.contains(&k) {
-        for e in INITIAL_EULER {
-            dst.remove(e);
+        for e in crate::input::initial::NUMS {
+            dst.remove(e.key.name);
         }
     } else if let Some(lab) = INITIAL_LAB.iter().find(|l| dst.contains_key(**l)) {
         return Err(Error::invalid(
@@ -707,7 +621,7 @@ const TABLES: &[(&str, Keys)] = &[
     ("top", crate::input::top::KEYS),
     ("surface", crate::input::surface::KEYS),
     ("force", FORCE_KEYS),
-    ("initial", INITIAL_KEYS),
+    ("initial", crate::input::initial::KEYS),
     ("solver", SOLVER_KEYS),
     ("thermal", crate::input::thermal::KEYS),
 ];
@@ -869,7 +783,10 @@ fn merge_file(merged: &mut Table, file: &Table) -> Result<bool, Error> {
                 eps_explicit = true;
             }
             if name == "initial" {
-                let euler = INITIAL_EULER.iter().find(|e| t.contains_key(**e));
+                let euler = crate::input::initial::NUMS
+                    .iter()
+                    .map(|e| e.key.name)
+                    .find(|e| t.contains_key(*e));
                 let lab = INITIAL_LAB.iter().find(|l| t.contains_key(**l));
                 if let (Some(e), Some(l)) = (euler, lab) {
                     return Err(Error::invalid(
@@ -1028,7 +945,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
 
     let (forcing, actuators) = forces_of(merged)?;
     plugins::parse(merged, |t| t == "force", &mut plugins)?;
-    let initial = initial_of(merged, has_preset)?;
+    let initial = crate::input::initial::parse(&section(merged, "initial"), has_preset)?;
     let solver = solver_of(merged, has_preset)?;
     let thermal = crate::input::thermal::parse(&section(merged, "thermal"))?;
 
@@ -1061,39 +978,6 @@ fn forces_of(merged: &Table) -> Result<(Forcing, Vec<ActuatorWindow>), Error> {
     crate::input::forcing::parse(list, || {
         section(merged, "solver").name("model", MODELS, SolverSettings::new(1.0).model)
     })
-}
-
-/// The `[initial]` table: Euler angles and rates, or lab-frame vectors.
-fn initial_of(merged: &Table, has_preset: bool) -> Result<Initial, Error> {
-    let req = |d: f64| required(has_preset, d);
-    let s = section(merged, "initial");
-    let initial = if s.get("axis").is_some() {
-        Initial::from_lab(
-            s.f64s("axis", None)?,
-            s.f64s("angular_velocity", Some([0.0; 3]))?,
-            s.f64s("velocity", Some([0.0; 2]))?,
-        )?
-    } else if let Some(l) = ["angular_velocity", "velocity"]
-        .into_iter()
-        .find(|l| s.get(l).is_some())
-    {
-        return Err(Error::invalid(
-            &format!("initial.{l}"),
-            "given without initial.axis".into(),
-            "the lab-frame initial state is axis (required), angular_velocity, velocity".into(),
-        ));
-    } else {
-        Initial {
-            theta: s.f64("theta", req(0.0))?,
-            theta_dot: s.f64("theta_dot", Some(0.0))?,
-            precession: s.f64("precession", Some(0.0))?,
-            spin: s.f64("spin", req(0.0))?,
-            ux: s.f64("ux", Some(0.0))?,
-            uy: s.f64("uy", Some(0.0))?,
-            heading: s.f64("heading", Some(0.0))?,
-        }
-    };
-    Ok(initial)
 }
 
 /// The `[solver]` table.
