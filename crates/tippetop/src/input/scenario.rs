@@ -40,9 +40,9 @@ use toml::{Table, Value};
 
 use crate::input::reader::{
     Keys, Section, check_keys, describe, name_of, parse_document, parse_set_value, render_keys,
-    table_mut, to_i64, unknown_key, windows_mut,
+    table_mut, unknown_key, windows_mut,
 };
-use crate::input::{Key, PluginTables, TableSpec};
+use crate::input::{PluginTables, TableSpec};
 use crate::{
     ActuatorWindow, Adhesion, ContactMode, Error, Forcing, Initial, SolverSettings, Surface,
     Thermal, Top, Well,
@@ -252,7 +252,7 @@ impl Scenario {
                 key,
                 format!(
                     "\"tube\" with solver.model = \"{}\"",
-                    name_of(MODELS, self.solver.model)
+                    name_of(crate::input::solver::MODELS, self.solver.model)
                 ),
                 "the tube needs solver.model = \"rigid\"".into(),
             ));
@@ -463,7 +463,7 @@ impl Scenario {
         let force = self.force_list();
 
         let initial = crate::input::initial::to_table(&self.initial);
-        let solver = self.solver_table();
+        let solver = crate::input::solver::to_table(&self.solver);
 
         let mut t = Table::new();
         t.insert("top".into(), Value::Table(top));
@@ -483,35 +483,6 @@ impl Scenario {
     /// The `[[force]]` list: contact-point windows, then the body actuators.
     fn force_list(&self) -> Vec<Value> {
         crate::input::forcing::to_list(&self.forcing, &self.actuators)
-    }
-
-    /// The `[solver]` table (`steps`, `max_steps`, `dt` only when set).
-    fn solver_table(&self) -> Table {
-        let so = &self.solver;
-        let mut solver = Table::new();
-        solver.insert(
-            "method".into(),
-            Value::String(name_of(METHODS, so.method).into()),
-        );
-        solver.insert("t_end".into(), Value::Float(so.t_end));
-        // `steps` defaults to `samples - 1`: written only when it differs,
-        // so that changing `samples` (or `method`) alone keeps RK4 valid.
-        if so.steps != so.samples.wrapping_sub(1) {
-            solver.insert("steps".into(), Value::Integer(to_i64(so.steps)));
-        }
-        solver.insert("rtol".into(), Value::Float(so.rtol));
-        solver.insert("samples".into(), Value::Integer(to_i64(so.samples)));
-        solver.insert(
-            "model".into(),
-            Value::String(name_of(MODELS, so.model).into()),
-        );
-        if let Some(n) = so.max_steps {
-            solver.insert("max_steps".into(), Value::Integer(to_i64(n as usize)));
-        }
-        if let Some(dt) = so.dt {
-            solver.insert("dt".into(), Value::Float(dt));
-        }
-        solver
     }
 }
 
@@ -545,57 +516,6 @@ fn insert_initial(dst: &mut Table, k: &str, v: Value) -> Result<(), Error> {
     Ok(())
 }
 
-const SOLVER_KEYS: Keys = &[
-    Key::doc(
-        "method",
-        "\"adaptive\", \"rk4\", \"stiff\", \"langevin\" or \"brownian\"",
-        "\"adaptive\"",
-        "the integrator",
-    ),
-    Key::doc(
-        "t_end",
-        "a finite time > 0 [s]",
-        "required",
-        "the run's duration",
-    ),
-    Key::doc(
-        "steps",
-        "an integer >= 1, a multiple of samples - 1 (method = \"rk4\"); default samples - 1",
-        "samples - 1",
-        "RK4's step count",
-    ),
-    Key::doc(
-        "rtol",
-        "1e-14 <= rtol <= 1e-2",
-        "1e-10",
-        "relative tolerance (adaptive, stiff)",
-    ),
-    Key::doc(
-        "samples",
-        "an integer, 2 <= samples <= 5000000",
-        "1001",
-        "output rows, evenly spaced from 0 to t_end",
-    ),
-    Key::doc(
-        "model",
-        "\"reduced\", \"vector\" or \"rigid\"",
-        "\"vector\"",
-        "the equations of motion (docs/physics.md)",
-    ),
-    Key::doc(
-        "max_steps",
-        crate::input::solver::MAX_STEPS_RANGE,
-        "20000000 (2000000 with stiff)",
-        "step limit of the run",
-    ),
-    Key::doc(
-        "dt",
-        "a finite time > 0 [s], the fixed step of method = \"langevin\" or \"brownian\" (only there)",
-        "",
-        "the Langevin or Brownian step",
-    ),
-];
-
 /// One line per table of [`TABLES`], for `tippetop keys` and docs/keys.md.
 const TABLE_DOCS: &[(&str, &str)] = &[
     ("top", "the body: a sphere with an offset centre of mass"),
@@ -622,7 +542,7 @@ const TABLES: &[(&str, Keys)] = &[
     ("surface", crate::input::surface::KEYS),
     ("force", FORCE_KEYS),
     ("initial", crate::input::initial::KEYS),
-    ("solver", SOLVER_KEYS),
+    ("solver", crate::input::solver::KEYS),
     ("thermal", crate::input::thermal::KEYS),
 ];
 
@@ -684,20 +604,6 @@ fn entry_of(table: &str) -> (&'static str, &'static str) {
         None => ("window", "windows"),
     }
 }
-
-const METHODS: &[(&str, Method)] = &[
-    ("adaptive", Method::Adaptive),
-    ("rk4", Method::Rk4),
-    ("stiff", Method::Stiff),
-    ("langevin", Method::Langevin),
-    ("brownian", Method::Brownian),
-];
-
-const MODELS: &[(&str, ModelKind)] = &[
-    ("reduced", ModelKind::Reduced),
-    ("rigid", ModelKind::Rigid),
-    ("vector", ModelKind::Vector),
-];
 
 /// The unit of a scenario key as its valid range states it (`"m"` for
 /// `top.offset`, `"N"` for `force.0.hx`; the last `[...]` of the range), or
@@ -946,7 +852,7 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     let (forcing, actuators) = forces_of(merged)?;
     plugins::parse(merged, |t| t == "force", &mut plugins)?;
     let initial = crate::input::initial::parse(&section(merged, "initial"), has_preset)?;
-    let solver = solver_of(merged, has_preset)?;
+    let solver = crate::input::solver::parse(&section(merged, "solver"), has_preset)?;
     let thermal = crate::input::thermal::parse(&section(merged, "thermal"))?;
 
     plugins::parse(merged, |t| !matches!(t, "surface" | "force"), &mut plugins)?;
@@ -963,12 +869,6 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     })
 }
 
-/// Required keys have no default without a preset (`has_preset` false);
-/// with a preset every key is present in the merged table anyway.
-fn required(has_preset: bool, d: f64) -> Option<f64> {
-    if has_preset { Some(d) } else { None }
-}
-
 /// The `[[force]]` windows: contact-point windows and body actuators
 /// (the schedule's parse, input/forcing.rs).
 fn forces_of(merged: &Table) -> Result<(Forcing, Vec<ActuatorWindow>), Error> {
@@ -976,33 +876,10 @@ fn forces_of(merged: &Table) -> Result<(Forcing, Vec<ActuatorWindow>), Error> {
         return Ok((Forcing::none(), Vec::new()));
     };
     crate::input::forcing::parse(list, || {
-        section(merged, "solver").name("model", MODELS, SolverSettings::new(1.0).model)
+        section(merged, "solver").name(
+            "model",
+            crate::input::solver::MODELS,
+            SolverSettings::new(1.0).model,
+        )
     })
-}
-
-/// The `[solver]` table.
-fn solver_of(merged: &Table, has_preset: bool) -> Result<SolverSettings, Error> {
-    let req = |d: f64| required(has_preset, d);
-    let s = section(merged, "solver");
-    let method = s.name("method", METHODS, Method::Adaptive)?;
-    let t_end = s.f64("t_end", req(0.0))?;
-    let d = SolverSettings::new(t_end);
-    let samples = s.usize("samples", d.samples)?;
-    let solver = SolverSettings {
-        method,
-        t_end,
-        steps: s.usize("steps", samples.saturating_sub(1))?,
-        rtol: s.f64("rtol", Some(d.rtol))?,
-        samples,
-        model: s.name("model", MODELS, d.model)?,
-        max_steps: match s.get("max_steps") {
-            None => None,
-            Some(_) => Some(s.usize("max_steps", 0)? as u64),
-        },
-        dt: match s.get("dt") {
-            None => None,
-            Some(_) => Some(s.f64("dt", None)?),
-        },
-    };
-    Ok(solver)
 }
