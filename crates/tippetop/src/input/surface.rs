@@ -310,10 +310,13 @@ impl Surface {
         s
     }
 
-    /// Check physical ranges; the error names the scenario key.
+    /// Check physical ranges (the number keys first, [`NUMS`], then the
+    /// law's parameters and the rules between keys); the error names the
+    /// scenario key.
     pub fn validate(&self) -> Result<(), Error> {
-        GRAVITY.check(TABLE, self)?;
-        FRICTION.check(TABLE, self)?;
+        for k in NUMS {
+            k.check(TABLE, self)?;
+        }
         if let Some(eps) = self.law.eps() {
             if !eps.is_finite() || eps <= 0.0 {
                 return Err(Error::invalid(
@@ -323,7 +326,6 @@ impl Surface {
                 ));
             }
         }
-        RESTITUTION.check(TABLE, self)?;
         if let Some((r, _, _)) = self.law.contensou() {
             if !r.is_finite() || r < 0.0 {
                 return Err(Error::invalid(
@@ -505,11 +507,13 @@ enum LawName {
 
 /// The `[surface]` table with its friction law's parameters (types,
 /// required keys and defaults, the keys each law or shape takes; no range
-/// checks: [`Surface::validate`]), in document order.
+/// checks: [`Surface::validate`]): the number keys ([`NUMS`]) first, then
+/// the law with its parameters, the contact and the shape.
 pub(crate) fn parse(s: &Section, has_preset: bool, eps_explicit: bool) -> Result<Surface, Error> {
     let mut surface = Surface::defaults();
-    GRAVITY.read(s, has_preset, &mut surface)?;
-    FRICTION.read(s, has_preset, &mut surface)?;
+    for k in NUMS {
+        k.read(s, has_preset, &mut surface)?;
+    }
     let law_name = s.name("friction_law", LAWS, LawName::Coulomb)?;
     let uses_eps = matches!(law_name, LawName::Regularized | LawName::Viscous);
     let law_str = name_of(LAWS, law_name);
@@ -578,7 +582,6 @@ pub(crate) fn parse(s: &Section, has_preset: bool, eps_explicit: bool) -> Result
     };
     surface.law = law;
     surface.contact = s.name("contact", CONTACTS, ContactMode::Bilateral)?;
-    RESTITUTION.read(s, has_preset, &mut surface)?;
     surface.shape = shape_of(s)?;
     Ok(surface)
 }
