@@ -55,7 +55,7 @@ use crate::input::reader::{
     Keys, Section, check_keys, describe, parse_document, parse_set_value, range_of, render_keys,
     unknown_key,
 };
-use crate::physics::forces::actuators;
+use crate::physics::forces::{actuators, retarding, vertical_load};
 use crate::{ActuatorWindow, BodyActuator, Error, ForceWindow, Forcing, Scenario};
 
 /// Fewest output rows per `bit.hold` (the row spacing bounds the adaptive
@@ -81,14 +81,14 @@ const BIT_KEYS: Keys = &[
     Key::new("phase", "a finite time > bit.hold [s]"),
 ];
 
+/// A `[[write]]` or `[[erase]]` window's keys: the `[[force]]` window's
+/// (input/forcing.rs, the terms' in physics/forces/), with start and stop
+/// from the start of the phase.
 const WINDOW_KEYS: Keys = &[
-    Key::new("kind", crate::input::forcing::KIND_RANGE),
-    Key::new("hx", "a finite force [N]"),
-    Key::new("hy", "a finite force [N]"),
-    Key::new(
-        "hz",
-        "a finite force [N] (vertical load at the contact point, > 0 pushes onto the plane)",
-    ),
+    crate::input::forcing::KIND,
+    retarding::KEYS[0],
+    retarding::KEYS[1],
+    vertical_load::KEY,
     Key::new(
         "start",
         "a finite time >= 0 [s] from the start of the phase",
@@ -359,9 +359,9 @@ impl BitScenario {
                 t.insert("kind".into(), Value::String(a.kind.name().into()));
                 match a.kind {
                     ActuatorKind::Contact => {
-                        for (k, v) in [("hx", a.hx), ("hy", a.hy), ("hz", a.hz)] {
-                            t.insert(k.into(), Value::Float(v));
-                        }
+                        retarding::to_table([a.hx, a.hy], &mut t);
+                        // Written even when 0 (a bit's windows show every key).
+                        t.insert(vertical_load::KEY.name.into(), Value::Float(a.hz));
                     }
                     ActuatorKind::Body(b) => actuators::to_table(&b, &mut t),
                 }
@@ -563,11 +563,12 @@ fn parse_windows(name: &str, list: &[Value], phase: f64) -> Result<Vec<Actuator>
             None => ActuatorKind::Contact,
             Some(b) => ActuatorKind::Body(b),
         };
+        let [hx, hy] = retarding::parse(&s)?;
         let a = Actuator {
             kind,
-            hx: s.f64("hx", Some(0.0))?,
-            hy: s.f64("hy", Some(0.0))?,
-            hz: s.f64("hz", Some(0.0))?,
+            hx,
+            hy,
+            hz: vertical_load::parse(&s)?,
             start: s.f64("start", Some(0.0))?,
             stop: s.f64("stop", Some(phase))?,
         };
