@@ -491,8 +491,6 @@ impl Scenario {
 
 const PRESET_RANGE: &str = "\"nano\", \"nano-physical\", \"nano-adhesive\" or \"classical\"";
 
-const FORCE_KEYS: Keys = &crate::input::forcing::KEYS;
-
 /// The `[initial]` keys of the lab-frame form (the Euler-angle form's:
 /// `initial::NUMS`).
 const INITIAL_LAB: [&str; 3] = ["axis", "angular_velocity", "velocity"];
@@ -540,7 +538,7 @@ const TABLE_DOCS: &[(&str, &str)] = &[
 const TABLES: &[(&str, Keys)] = &[
     ("top", crate::input::top::KEYS),
     ("surface", crate::input::surface::KEYS),
-    ("force", FORCE_KEYS),
+    ("force", &crate::input::forcing::KEYS),
     ("initial", crate::input::initial::KEYS),
     ("solver", crate::input::solver::KEYS),
     ("thermal", crate::input::thermal::KEYS),
