@@ -1168,7 +1168,7 @@ fn check_nums<S>(table: &str, nums: &[tippetop::input::field::Num<S>], preset: &
         assert!(!k.bounds.admits(bad), "{table}.{name}: {bad}");
         let key = format!("{table}.{name}");
         let set = format!("{key}={bad:?}");
-        match Scenario::load(Some(preset), None, &[set.clone()]) {
+        match Scenario::load(Some(preset), None, std::slice::from_ref(&set)) {
             Err(Error::Invalid { key: k2, range, .. }) => {
                 assert_eq!(k2, key, "{set}");
                 // `top.offset` is checked by its rule with `radius`, whose
