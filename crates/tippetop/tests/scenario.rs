@@ -1128,3 +1128,79 @@ fn key_units_come_from_the_ranges() {
     assert_eq!(key_unit("surface.friction"), None);
     assert_eq!(key_unit("nosuch.key"), None);
 }
+
+/// A value outside `b` (one its range refuses).
+fn refused(b: tippetop::input::field::Bounds) -> f64 {
+    use tippetop::input::field::Bounds;
+    match b {
+        Bounds::Finite => f64::INFINITY,
+        Bounds::AtLeast(lo) => lo - 1.0,
+        Bounds::Above(lo) => lo,
+        Bounds::Within(_, hi) => 2.0 * hi + 1.0,
+    }
+}
+
+/// Every number key of a scenario table (`NUMS`, issue 28 item 3): it is
+/// listed by `tippetop keys` with its own definition, written by `to_toml`
+/// (`name = ` under its table), read back from a `--set`, and a value its
+/// bounds refuse is one error naming `table.key` with the range its
+/// definition states. The bounds are the definition's own, so a key whose
+/// check, parse or rendering were not driven from it fails here.
+fn check_nums<S>(table: &str, nums: &[tippetop::input::field::Num<S>], preset: &str) {
+    let spec = tippetop::input::scenario::key_tables()
+        .into_iter()
+        .find(|t| t.name == table)
+        .unwrap();
+    // `initial.heading` is written only when set.
+    let text = Scenario::load(Some(preset), None, &sets(&["initial.heading=0.5"]))
+        .unwrap()
+        .to_toml_string();
+    let body = text.split(&format!("[{table}]\n")).nth(1).unwrap();
+    let body = body.split("\n[").next().unwrap();
+    for k in nums {
+        let name = k.key.name;
+        assert!(spec.keys.contains(&k.key), "{table}.{name} not listed");
+        assert!(
+            body.lines().any(|l| l.starts_with(&format!("{name} = "))),
+            "{table}.{name} not written:\n{body}"
+        );
+        let bad = refused(k.bounds);
+        assert!(!k.bounds.admits(bad), "{table}.{name}: {bad}");
+        let key = format!("{table}.{name}");
+        let set = format!("{key}={bad:?}");
+        match Scenario::load(Some(preset), None, std::slice::from_ref(&set)) {
+            Err(Error::Invalid { key: k2, range, .. }) => {
+                assert_eq!(k2, key, "{set}");
+                // `top.offset` is checked by its rule with `radius`, whose
+                // message states the radius's value.
+                if key != "top.offset" {
+                    let want = k.check_range.unwrap_or(k.key.range);
+                    assert!(
+                        range == want || range == k.key.range,
+                        "{set}: range {range:?}, want {want:?}"
+                    );
+                }
+            }
+            other => panic!("{set}: {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn every_number_key_is_listed_written_read_and_checked_from_its_definition() {
+    use tippetop::input::{initial, solver, surface, thermal, top};
+    check_nums("top", &top::NUMS, "nano-physical");
+    check_nums("surface", &surface::NUMS, "nano-physical");
+    check_nums("initial", &initial::NUMS, "nano-physical");
+    check_nums("solver", &[solver::T_END, solver::RTOL], "nano-physical");
+    check_nums("thermal", &thermal::NUMS, "nano-physical");
+    // A value read through --set lands in the field its definition names.
+    let sc = Scenario::load(Some("nano"), None, &sets(&["surface.restitution=0.25"])).unwrap();
+    assert_eq!((surface::RESTITUTION.get)(&sc.surface), 0.25);
+    assert_eq!(sc.surface.restitution, 0.25);
+    // Bounds: the ends of a closed range are admitted, an open end is not.
+    use tippetop::input::field::Bounds;
+    assert!(Bounds::Within(0.0, 1.0).admits(1.0) && !Bounds::Within(0.0, 1.0).admits(f64::NAN));
+    assert!(Bounds::AtLeast(0.0).admits(0.0) && !Bounds::Above(0.0).admits(0.0));
+    assert!(!Bounds::Finite.admits(f64::NEG_INFINITY));
+}

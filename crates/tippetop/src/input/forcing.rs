@@ -1,6 +1,13 @@
-//! The applied forces at the contact point, as a schedule of windows in
-//! time (the `[[force]]` tables): the data that the force terms of
-//! [`crate::physics::forces`] read.
+//! The `[[force]]` schedule: windows in time, each of one kind (`kind =
+//! "contact"`, the default: the paper's force `H` and a vertical load at
+//! the contact point; `"tip"`, `"magnetic"`: a body actuator). What is the
+//! schedule's is here: the windows ([`ForceWindow`], [`ActuatorWindow`]),
+//! their times (`start`, `stop`, [`check_times`]), the `kind` that picks the
+//! window's keys, the list of a window's keys ([`KEYS`]) and the order of
+//! the windows. What a window applies is its term's, in its file with its
+//! keys, their parse, checks and rendering: `hx`, `hy` in
+//! physics/forces/retarding.rs, `hz` in vertical_load.rs, the actuators'
+//! keys in actuators.rs.
 //!
 //! Following the paper's eq. (1.3), the total retarding force is
 //! `F = −μ N v_P/|v_P| − (H_x, H_y)`: the window values `(hx, hy)` are the
@@ -10,7 +17,18 @@
 //! pushing the top onto the plane (the force on the top is `−hz Z`,
 //! docs/physics.md#vertical-load).
 
+use toml::{Table, Value};
+
 use crate::Error;
+use crate::input::Key;
+use crate::input::reader::Section;
+use crate::input::solver::ModelKind;
+use crate::physics::forces::{actuators, retarding, vertical_load};
+
+pub use crate::physics::forces::actuators::{
+    BOHR_MAGNETON, BodyActuator, MAGNETIC_FIELD_RANGE, MAGNETIC_GRADIENT_RANGE,
+    MAGNETIC_MOMENT_RANGE, TIP_FORCE_RANGE, TIP_POINT_RANGE,
+};
 
 /// One window: `(hx, hy, hz)` acts on `[start, stop)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -119,178 +137,21 @@ impl Forcing {
         self.max_magnitude().hypot(sz)
     }
 
-    /// Check each window; errors name `force.K.key` (0-based K). Forces
-    /// must be finite here; the run limits
+    /// Check each window; errors name `force.K.key` (0-based K): its
+    /// values (finite: [`retarding::check`], [`vertical_load::check`]),
+    /// then its times ([`check_times`]). The run limits
     /// (`scenario::limits::check_run`) also need the time unit they set,
     /// `sqrt(|(H_x, H_y, h_z)| / (m R))`, finite.
     pub fn validate(&self) -> Result<(), Error> {
         for (k, w) in self.windows.iter().enumerate() {
-            for (name, v) in [("hx", w.hx), ("hy", w.hy), ("hz", w.hz)] {
-                if !v.is_finite() {
-                    return Err(Error::invalid(
-                        &format!("force.{k}.{name}"),
-                        format!("{} is not allowed", crate::human::exact(v)),
-                        "a finite force [N]".into(),
-                    ));
-                }
-            }
-            if !w.start.is_finite() || w.start < 0.0 {
-                return Err(Error::invalid(
-                    &format!("force.{k}.start"),
-                    format!("{} is not allowed", crate::human::exact(w.start)),
-                    "a finite time >= 0 [s]".into(),
-                ));
-            }
-            if w.stop.is_nan() || w.stop <= w.start {
-                return Err(Error::invalid(
-                    &format!("force.{k}.stop"),
-                    format!("{} is not after start = {}", w.stop, w.start),
-                    "stop > start [s], or omit stop for never".into(),
-                ));
-            }
+            let prefix = format!("force.{k}");
+            retarding::check(&prefix, [w.hx, w.hy])?;
+            vertical_load::check(&prefix, w.hz)?;
+            check_times(&prefix, w.start, w.stop)?;
         }
         Ok(())
     }
 }
-
-/// One Bohr magneton \[A m²\] (J/T), CODATA 2018: a moment of `n` μ_B is
-/// `moment = n × BOHR_MAGNETON` (docs/physics.md#actuators).
-pub const BOHR_MAGNETON: f64 = 9.2740100783e-24;
-
-/// A body actuator (docs/physics.md#actuators): what a `[[force]]`,
-/// `[[write]]` or `[[erase]]` window of `kind = "tip"` or `"magnetic"`
-/// applies. Lab frame: `X, Y` horizontal, `Z` up. Body frame: origin at the
-/// centre of mass, `z` along the symmetry axis `k`, `x, y` the body's
-/// material axes (the attitude quaternion's, docs/physics.md#position).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum BodyActuator {
-    /// A tip: the force `force` \[N\] (lab frame, the force on the top)
-    /// at the body point `point` \[m\] (body frame). It adds `force` to the
-    /// centre of mass and the torque `ρ × force` about it, `ρ` the point in
-    /// the lab frame; its power is `force·v_point`.
-    Tip {
-        /// The point of application \[m\], body frame.
-        point: [f64; 3],
-        /// The force on the top \[N\], lab frame.
-        force: [f64; 3],
-    },
-    /// A magnetic dipole `μ k` (moment along the symmetry axis) in the lab
-    /// field `B(x) = field + gradient · x`: the torque `μ k × field` and the
-    /// force `F_j = μ k_i G_ij` at the centre of mass (`G_ij = ∂B_i/∂x_j`,
-    /// the gradient's torque `μ k × G x` is neglected, docs/physics.md#actuators).
-    /// Its work is integrated (`W_a`).
-    Magnetic {
-        /// `μ` \[A m²\] along `k` ([`BOHR_MAGNETON`] per μ_B).
-        moment: f64,
-        /// Uniform field `B` \[T\], lab frame.
-        field: [f64; 3],
-        /// `G_ij = ∂B_i/∂x_j` \[T/m\], lab frame, row `i`.
-        gradient: [[f64; 3]; 3],
-    },
-}
-
-impl BodyActuator {
-    /// The kind's name in the scenario file (`"tip"`, `"magnetic"`).
-    pub fn name(&self) -> &'static str {
-        match self {
-            BodyActuator::Tip { .. } => "tip",
-            BodyActuator::Magnetic { .. } => "magnetic",
-        }
-    }
-
-    /// True if it never applies anything (a zero force, or a zero moment or
-    /// field and gradient).
-    pub fn is_zero(&self) -> bool {
-        match self {
-            BodyActuator::Tip { force, .. } => force.iter().all(|&f| f == 0.0),
-            BodyActuator::Magnetic {
-                moment,
-                field,
-                gradient,
-            } => {
-                *moment == 0.0
-                    || (field.iter().all(|&b| b == 0.0)
-                        && gradient.iter().flatten().all(|&g| g == 0.0))
-            }
-        }
-    }
-
-    /// True for a tip whose point is off the symmetry axis (`point.x` or
-    /// `point.y` nonzero): its lever arm turns with the spin, so the
-    /// dynamics need the full attitude.
-    pub fn off_axis(&self) -> bool {
-        matches!(self, BodyActuator::Tip { point, .. } if point[0] != 0.0 || point[1] != 0.0)
-    }
-
-    /// The rates \[1/s\] it sets for a top of mass `m` \[kg\], radius `r`
-    /// \[m\], transverse inertia `a` \[kg m²\]: a tip `sqrt(|F| / (m R))` (as
-    /// the contact force's) and `sqrt(|F| |point| / A)`; a magnet
-    /// `sqrt(|μ| |B| / A)` and `sqrt(|μ| |G| / (m R))` (`|G|` the
-    /// Frobenius norm). The largest is the actuator's time-unit rate.
-    pub fn rate(&self, m: f64, r: f64, a: f64) -> f64 {
-        let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        match self {
-            BodyActuator::Tip { point, force } => {
-                let f = norm(force);
-                (f / (m * r)).sqrt().max((f * norm(point) / a).sqrt())
-            }
-            BodyActuator::Magnetic {
-                moment,
-                field,
-                gradient,
-            } => {
-                let g = gradient.iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
-                (moment.abs() * norm(field) / a)
-                    .sqrt()
-                    .max((moment.abs() * g / (m * r)).sqrt())
-            }
-        }
-    }
-
-    /// Check the values; errors name `{prefix}.KEY` (the keys of the
-    /// scenario file).
-    pub fn validate(&self, prefix: &str) -> Result<(), Error> {
-        let finite = |key: &str, vs: &[f64], what: &str| -> Result<(), Error> {
-            match vs.iter().find(|v| !v.is_finite()) {
-                Some(v) => Err(Error::invalid(
-                    &format!("{prefix}.{key}"),
-                    format!("{} is not allowed", crate::human::exact(*v)),
-                    what.into(),
-                )),
-                None => Ok(()),
-            }
-        };
-        match self {
-            BodyActuator::Tip { point, force } => {
-                finite("point", point, TIP_POINT_RANGE)?;
-                finite("force", force, TIP_FORCE_RANGE)
-            }
-            BodyActuator::Magnetic {
-                moment,
-                field,
-                gradient,
-            } => {
-                finite("moment", &[*moment], MAGNETIC_MOMENT_RANGE)?;
-                finite("field", field, MAGNETIC_FIELD_RANGE)?;
-                let flat: Vec<f64> = gradient.iter().flatten().copied().collect();
-                finite("gradient", &flat, MAGNETIC_GRADIENT_RANGE)
-            }
-        }
-    }
-}
-
-/// The valid range of a tip's `point`.
-pub const TIP_POINT_RANGE: &str = "[x, y, z] [m], finite, body frame (origin at the centre of mass, z along the symmetry axis); kind = \"tip\"";
-/// The valid range of a tip's `force`.
-pub const TIP_FORCE_RANGE: &str =
-    "[x, y, z] [N], finite, lab frame (Z up), the force on the top; kind = \"tip\"";
-/// The valid range of a magnet's `moment`.
-pub const MAGNETIC_MOMENT_RANGE: &str = "a finite moment [A m^2] along the symmetry axis (1 Bohr magneton = 9.2740100783e-24 A m^2); kind = \"magnetic\"";
-/// The valid range of a magnet's `field`.
-pub const MAGNETIC_FIELD_RANGE: &str =
-    "[x, y, z] [T], finite, uniform, lab frame; kind = \"magnetic\" (default [0, 0, 0])";
-/// The valid range of a magnet's `gradient`.
-pub const MAGNETIC_GRADIENT_RANGE: &str = "[[dBx/dx, dBx/dy, dBx/dz], [dBy/dx, ...], [dBz/dx, ...]] [T/m], a finite 3x3 array, lab frame; kind = \"magnetic\" (default zero)";
 
 /// A body actuator acting on `[start, stop)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -309,23 +170,199 @@ impl ActuatorWindow {
         self.start <= t && t < self.stop
     }
 
-    /// Check the values and the times; errors name `{prefix}.KEY`.
+    /// Check the values ([`BodyActuator::validate`]) and the times
+    /// ([`check_times`]); errors name `{prefix}.KEY`.
     pub fn validate(&self, prefix: &str) -> Result<(), Error> {
         self.actuator.validate(prefix)?;
-        if !self.start.is_finite() || self.start < 0.0 {
-            return Err(Error::invalid(
-                &format!("{prefix}.start"),
-                format!("{} is not allowed", crate::human::exact(self.start)),
-                "a finite time >= 0 [s]".into(),
-            ));
-        }
-        if self.stop.is_nan() || self.stop <= self.start {
-            return Err(Error::invalid(
-                &format!("{prefix}.stop"),
-                format!("{} is not after start = {}", self.stop, self.start),
-                "stop > start [s], or omit stop for never".into(),
-            ));
-        }
-        Ok(())
+        check_times(prefix, self.start, self.stop)
     }
+}
+
+/// Check a window's times: `start` finite and `>= 0`, `stop > start`
+/// (`f64::INFINITY`: never); errors name `{prefix}.start`, `{prefix}.stop`.
+pub fn check_times(prefix: &str, start: f64, stop: f64) -> Result<(), Error> {
+    if !start.is_finite() || start < 0.0 {
+        return Err(Error::invalid(
+            &format!("{prefix}.start"),
+            format!("{} is not allowed", crate::human::exact(start)),
+            START.range.into(),
+        ));
+    }
+    if stop.is_nan() || stop <= start {
+        return Err(Error::invalid(
+            &format!("{prefix}.stop"),
+            format!("{stop} is not after start = {start}"),
+            "stop > start [s], or omit stop for never".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The valid values of `kind`.
+pub const KIND_RANGE: &str = "\"contact\" (hx, hy, hz: the paper's force at the contact point), \"tip\" (point, force) or \"magnetic\" (moment, field, gradient)";
+
+/// A window's `kind`.
+pub const KIND: Key = Key::doc(
+    "kind",
+    KIND_RANGE,
+    "\"contact\"",
+    "the window's force: at the contact point, a tip or a magnet",
+);
+
+/// A window's `start`.
+pub const START: Key = Key::doc(
+    "start",
+    "a finite time >= 0 [s]",
+    "0",
+    "when the window starts",
+);
+
+/// A window's `stop`.
+pub const STOP: Key = Key::doc(
+    "stop",
+    "a finite time > start [s], or omit stop for never",
+    "never",
+    "when the window stops",
+);
+
+/// Every key of a `[[force]]` window, in document order: the schedule's
+/// `kind`, `start`, `stop` and each kind's own (retarding `hx`, `hy`,
+/// vertical load `hz`, the actuators').
+pub const KEYS: [Key; 11] = [
+    KIND,
+    retarding::KEYS[0],
+    retarding::KEYS[1],
+    vertical_load::KEY,
+    START,
+    STOP,
+    actuators::KEYS[0],
+    actuators::KEYS[1],
+    actuators::KEYS[2],
+    actuators::KEYS[3],
+    actuators::KEYS[4],
+];
+
+/// The keys of a contact window (`kind = "contact"`).
+const CONTACT_KEYS: [&str; 3] = [
+    retarding::KEYS[0].name,
+    retarding::KEYS[1].name,
+    vertical_load::KEY.name,
+];
+
+/// A window's `kind` (`"contact"` when absent); a key of another kind is
+/// an error naming it.
+fn kind_of(s: &Section) -> Result<&'static str, Error> {
+    let kind = match s.get("kind") {
+        None => "contact",
+        Some(Value::String(v)) => match v.as_str() {
+            "contact" => "contact",
+            "tip" => "tip",
+            "magnetic" => "magnetic",
+            _ => {
+                return Err(Error::invalid(
+                    &s.full("kind"),
+                    format!("unknown value {v:?}"),
+                    KIND_RANGE.into(),
+                ));
+            }
+        },
+        Some(v) => return Err(s.wrong_type("kind", "a string", v)),
+    };
+    let own: &[&str] = match kind {
+        "contact" => &CONTACT_KEYS,
+        _ => actuators::own_keys(kind),
+    };
+    let others = CONTACT_KEYS
+        .iter()
+        .chain(actuators::KEYS.iter().map(|k| &k.name));
+    if let Some(k) = others
+        .filter(|k| !own.contains(k))
+        .find(|k| s.get(k).is_some())
+    {
+        return Err(Error::invalid(
+            &s.full(k),
+            format!("not a key of kind = \"{kind}\""),
+            format!("{kind} windows take {}", own.join(", ")),
+        ));
+    }
+    Ok(kind)
+}
+
+/// A window's kind and its actuator: `None` for `"contact"` (or no
+/// `kind`), else the body actuator its keys give (types only). Keys of
+/// another kind are errors naming them. The `[[write]]` and `[[erase]]`
+/// windows of a bit read theirs with it too.
+pub(crate) fn parse_actuator(s: &Section) -> Result<Option<BodyActuator>, Error> {
+    match kind_of(s)? {
+        "contact" => Ok(None),
+        kind => actuators::parse(kind, s).map(Some),
+    }
+}
+
+/// The `[[force]]` windows of `list` (a document's): contact windows and
+/// body actuators, each in the order given. Types and defaults; an
+/// actuator window is checked at once ([`ActuatorWindow::validate`], and
+/// [`actuators::check_model`] against `model()`, the document's
+/// `solver.model`, read only then).
+pub(crate) fn parse(
+    list: &[Value],
+    model: impl Fn() -> Result<ModelKind, Error>,
+) -> Result<(Forcing, Vec<ActuatorWindow>), Error> {
+    let mut windows = Vec::new();
+    let mut actuators = Vec::new();
+    for (k, w) in list.iter().enumerate() {
+        let s = Section {
+            prefix: format!("force.{k}"),
+            keys: &KEYS,
+            table: w.as_table(),
+        };
+        if let Some(a) = parse_actuator(&s)? {
+            let w = ActuatorWindow {
+                actuator: a,
+                start: s.f64("start", Some(0.0))?,
+                stop: s.f64("stop", Some(f64::INFINITY))?,
+            };
+            w.validate(&s.prefix)?;
+            actuators::check_model(&w.actuator, &s.prefix, model()?)?;
+            actuators.push(w);
+            continue;
+        }
+        let [hx, hy] = retarding::parse(&s)?;
+        windows.push(ForceWindow {
+            hx,
+            hy,
+            hz: vertical_load::parse(&s)?,
+            start: s.f64("start", Some(0.0))?,
+            stop: s.f64("stop", Some(f64::INFINITY))?,
+        });
+    }
+    Ok((Forcing { windows }, actuators))
+}
+
+/// The `[[force]]` list of a schedule as TOML tables: the contact windows,
+/// then the body actuators (a window that never stops has no `stop`).
+pub(crate) fn to_list(forcing: &Forcing, actuators: &[ActuatorWindow]) -> Vec<Value> {
+    let times = |t: &mut Table, start: f64, stop: f64| {
+        t.insert(START.name.into(), Value::Float(start));
+        if stop != f64::INFINITY {
+            t.insert(STOP.name.into(), Value::Float(stop));
+        }
+    };
+    forcing
+        .windows
+        .iter()
+        .map(|w| {
+            let mut t = Table::new();
+            retarding::to_table([w.hx, w.hy], &mut t);
+            vertical_load::to_table(w.hz, &mut t);
+            times(&mut t, w.start, w.stop);
+            Value::Table(t)
+        })
+        .chain(actuators.iter().map(|w| {
+            let mut t = Table::new();
+            actuators::to_table(&w.actuator, &mut t);
+            times(&mut t, w.start, w.stop);
+            Value::Table(t)
+        }))
+        .collect()
 }

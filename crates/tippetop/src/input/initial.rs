@@ -1,6 +1,14 @@
 //! The initial state (`[initial]`): Euler angles and rates, or lab-frame vectors.
 
+use toml::Table;
+
 use crate::Error;
+use crate::input::Key;
+use crate::input::field::{Bounds, Num};
+use crate::input::reader::{Keys, Section};
+
+/// The table's name.
+const TABLE: &str = "initial";
 
 /// Initial state of the reduced model (SI units, radians).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -128,22 +136,8 @@ impl Initial {
 
     /// Check finiteness (and θ in (0, π) if `reduced`).
     pub fn validate(&self, reduced: bool) -> Result<(), Error> {
-        for (k, v) in [
-            ("initial.theta", self.theta),
-            ("initial.theta_dot", self.theta_dot),
-            ("initial.precession", self.precession),
-            ("initial.spin", self.spin),
-            ("initial.ux", self.ux),
-            ("initial.uy", self.uy),
-            ("initial.heading", self.heading),
-        ] {
-            if !v.is_finite() {
-                return Err(Error::invalid(
-                    k,
-                    format!("{} is not allowed", crate::human::exact(v)),
-                    "a finite number".into(),
-                ));
-            }
+        for k in NUMS {
+            k.check(TABLE, self)?;
         }
         if reduced
             && !(self.theta > 0.0
@@ -171,3 +165,185 @@ impl Initial {
 /// singular: the pole guard of `model::reduced`, also the bound an initial
 /// θ of that model is checked against.
 pub const SIN_GUARD: f64 = 1e-8;
+
+// ---------------------------------------------------------------------------
+// The `[initial]` keys: defined once, read, written.
+
+/// The range a failed finiteness check states.
+const FINITE: &str = "a finite number";
+
+/// `initial.theta`.
+pub const THETA: Num<Initial> = Num {
+    key: Key::doc(
+        "theta",
+        "0 < theta < pi [rad]; 0 <= theta <= pi with model = \"vector\" (the default) or \"rigid\"",
+        "required",
+        "the axis's tilt from the vertical",
+    ),
+    default: None,
+    bounds: Bounds::Finite,
+    check_range: Some(FINITE),
+    get: |i| i.theta,
+    set: |i, v| i.theta = v,
+};
+
+/// `initial.theta_dot`.
+pub const THETA_DOT: Num<Initial> = Num {
+    key: Key::doc("theta_dot", "a finite number [rad/s]", "0", "d theta/dt"),
+    default: Some(0.0),
+    bounds: Bounds::Finite,
+    check_range: Some(FINITE),
+    get: |i| i.theta_dot,
+    set: |i, v| i.theta_dot = v,
+};
+
+/// `initial.precession`.
+pub const PRECESSION: Num<Initial> = Num {
+    key: Key::doc(
+        "precession",
+        "a finite number [rad/s]",
+        "0",
+        "Omega, the precession rate",
+    ),
+    default: Some(0.0),
+    bounds: Bounds::Finite,
+    check_range: Some(FINITE),
+    get: |i| i.precession,
+    set: |i, v| i.precession = v,
+};
+
+/// `initial.spin`.
+pub const SPIN: Num<Initial> = Num {
+    key: Key::doc(
+        "spin",
+        "a finite number [rad/s]",
+        "required",
+        "omega, the spin rate",
+    ),
+    default: None,
+    bounds: Bounds::Finite,
+    check_range: Some(FINITE),
+    get: |i| i.spin,
+    set: |i, v| i.spin = v,
+};
+
+/// `initial.ux`.
+pub const UX: Num<Initial> = Num {
+    key: Key::doc(
+        "ux",
+        "a finite number [m/s]",
+        "0",
+        "centre-of-mass velocity, precessing frame x",
+    ),
+    default: Some(0.0),
+    bounds: Bounds::Finite,
+    check_range: Some(FINITE),
+    get: |i| i.ux,
+    set: |i, v| i.ux = v,
+};
+
+/// `initial.uy`.
+pub const UY: Num<Initial> = Num {
+    key: Key::doc(
+        "uy",
+        "a finite number [m/s]",
+        "0",
+        "centre-of-mass velocity, precessing frame y",
+    ),
+    default: Some(0.0),
+    bounds: Bounds::Finite,
+    check_range: Some(FINITE),
+    get: |i| i.uy,
+    set: |i, v| i.uy = v,
+};
+
+/// `initial.heading`.
+pub const HEADING: Num<Initial> = Num {
+    key: Key::doc(
+        "heading",
+        "a finite angle [rad] from the lab X axis (default 0)",
+        "0",
+        "the precessing frame's initial heading",
+    ),
+    default: Some(0.0),
+    bounds: Bounds::Finite,
+    check_range: Some(FINITE),
+    get: |i| i.heading,
+    set: |i, v| i.heading = v,
+};
+
+/// The number keys of `[initial]`, the Euler-angle form, in document
+/// order: read, written, checked (finite; `theta`'s range depends on the
+/// model, [`Initial::validate`]) and listed from their definitions.
+pub const NUMS: [Num<Initial>; 7] = [THETA, THETA_DOT, PRECESSION, SPIN, UX, UY, HEADING];
+
+/// Every `[initial]` key, in document order (`tippetop keys initial`): the
+/// Euler-angle form, then the lab-frame form.
+pub const KEYS: Keys = &[
+    THETA.key,
+    THETA_DOT.key,
+    PRECESSION.key,
+    SPIN.key,
+    UX.key,
+    UY.key,
+    HEADING.key,
+    Key::doc(
+        "axis",
+        "[x, y, z], the symmetry axis in the lab frame (Z up; nonzero, normalised); with angular_velocity and velocity, instead of theta ... heading",
+        "",
+        "lab-frame initial state: the symmetry axis",
+    ),
+    Key::doc(
+        "angular_velocity",
+        "[x, y, z] [rad/s], lab frame (default [0, 0, 0]; with axis)",
+        "[0, 0, 0]",
+        "lab-frame initial state: the angular velocity",
+    ),
+    Key::doc(
+        "velocity",
+        "[x, y] [m/s], horizontal centre-of-mass velocity, lab frame (default [0, 0]; with axis)",
+        "[0, 0]",
+        "lab-frame initial state: the centre of mass's velocity",
+    ),
+];
+
+/// The `[initial]` table: Euler angles and rates, or lab-frame vectors
+/// (types, required keys and defaults; no range checks:
+/// [`Initial::validate`]).
+pub(crate) fn parse(s: &Section, has_preset: bool) -> Result<Initial, Error> {
+    let initial = if s.get("axis").is_some() {
+        Initial::from_lab(
+            s.f64s("axis", None)?,
+            s.f64s("angular_velocity", Some([0.0; 3]))?,
+            s.f64s("velocity", Some([0.0; 2]))?,
+        )?
+    } else if let Some(l) = ["angular_velocity", "velocity"]
+        .into_iter()
+        .find(|l| s.get(l).is_some())
+    {
+        return Err(Error::invalid(
+            &format!("initial.{l}"),
+            "given without initial.axis".into(),
+            "the lab-frame initial state is axis (required), angular_velocity, velocity".into(),
+        ));
+    } else {
+        let mut i = Initial::paper();
+        for k in NUMS {
+            k.read(s, has_preset, &mut i)?;
+        }
+        i
+    };
+    Ok(initial)
+}
+
+/// The `[initial]` table of `i`, the Euler-angle form (`heading` only
+/// when set).
+pub(crate) fn to_table(i: &Initial) -> Table {
+    let mut initial = Table::new();
+    for k in NUMS {
+        if k.key.name != HEADING.key.name || i.heading != 0.0 {
+            k.write(i, &mut initial);
+        }
+    }
+    initial
+}

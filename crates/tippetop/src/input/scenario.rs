@@ -6,65 +6,21 @@
 //!
 //! ```toml
 //! preset = "classical"        # optional: start from a preset, then override
-//! [top]
-//! radius = 0.015              # R [m]
-//! offset = 0.0015             # a [m], geometric centre to centre of mass
-//! mass = 0.015                # m [kg]
-//! inertia_transverse = 1.35e-6  # A [kg m^2], about the centre of mass
-//! inertia_axial = 1.35e-6       # C [kg m^2]
-//! # stem_radius = 0.0025      # r2 [m], the stem's end sphere (rigid model; docs/physics.md#stem)
-//! # stem_distance = 0.0185    # d2 [m], centre of mass to the stem sphere's centre, along k
 //! [surface]
-//! gravity = 9.8               # [m/s^2]
-//! friction = 0.1              # mu
-//! friction_law = "coulomb"    # "coulomb", "coulomb_sliding", "regularized", "viscous",
-//!                             # "contensou", "contensou_pade" (docs/physics.md#contensou)
-//! # friction_eps = 1e-3       # [m/s], only (and required) with "regularized"/"viscous"
-//! # contact_radius = 3e-4     # r_c [m], 0 <= r_c <= 0.1 radius, only (and required) with "contensou*"
-//! # contact_pressure = "hertz" # or "uniform", only with "contensou*"
-//! contact = "bilateral"       # or "paper", "unilateral"
-//! restitution = 0.0           # [0, 1], rigid model touchdown only
-//! # shape = "tube"            # default "plane"; "tube": rigid model only (docs/physics.md#tube-dynamics)
-//! # tube_radius = 0.05        # b [m] > top.radius, required with "tube"
-//! # tube_angle = 0.0          # [rad], |angle| < pi/2, the start turned about the tube's axis
-//! [adhesion]                  # van der Waals adhesion, off by default (docs/physics.md#adhesion)
-//! force = 0.0                 # F_a [N], pull-off force (> 0 requires energy > 0)
-//! energy = 0.0                # E_b [J], binding energy (> 0 requires force > 0)
-//! [[force]]                   # applied force at the contact point, precessing frame [N]
-//! kind = "contact"            # default; "tip" or "magnetic": a body actuator (scenario::actuator)
-//! hx = 0.0                    # default 0
-//! hy = 0.0                    # default 0
-//! hz = 0.0                    # vertical load, > 0 pushes onto the plane; default 0
-//! start = 0.0                 # [s], default 0
-//! stop = 1e-5                 # [s], default: never
-//! [[well]]                    # orientation well U = -depth exp(-(theta - centre)^2/(2 width^2)), none by default
-//! theta = 1.5                 # centre [rad], 0 <= theta <= pi
-//! depth = 1e-20               # [J], > 0
-//! width = 0.1                 # [rad], > 0; centres at least 3 (width_i + width_j) apart
-//! [initial]
-//! theta = 0.1                 # [rad]
-//! theta_dot = 0.0             # [rad/s]
-//! precession = 0.0            # Omega [rad/s]
-//! spin = 100.0                # omega [rad/s]
-//! ux = 0.0                    # [m/s]
-//! uy = 0.0                    # [m/s]
+//! friction = 0.2
+//! [[force]]                   # a window of the applied-force schedule
+//! hx = 1e-3                   # [N]
+//! stop = 0.5                  # [s]
 //! [solver]
-//! method = "adaptive"         # or "rk4", "stiff", "langevin", "brownian"
-//! t_end = 10.0                # [s]
-//! steps = 1000                # rk4 only; default samples - 1
-//! rtol = 1e-10
-//! samples = 1001              # output rows, evenly spaced from 0 to t_end
-//! model = "reduced"           # or "rigid", "vector"
-//! max_steps = 20000000        # step limit of the run (default; 2e6 with "stiff")
-//! # dt = 1e-14                # [s], the fixed step of method = "langevin" or "brownian" (only there)
-//! [thermal]                   # Langevin dynamics, off by default (docs/physics.md#langevin)
-//! temperature = 300.0         # T [K]
-//! damping_translational = 1e11  # gamma_t [1/s]: force -m gamma_t v on the centre of mass
-//! damping_rotational = 1e11   # gamma_r [1/s]: torque -gamma_r I w
-//! damping_contact = 0.0       # c [N s/m]: force -c v_P at the contact point
-//! seed = 1                    # key of the random stream (required at T > 0)
-//! run = 0                     # index of this run in the stream
+//! t_end = 5.0                 # [s]
 //! ```
+//!
+//! Every table and key, with its unit, default, range and meaning, is in
+//! docs/keys.md, generated from the keys' own definitions (`tippetop keys`):
+//! each table's in its file (`input/surface.rs`, ...; the `[[force]]`
+//! window's in `input/forcing.rs` and its terms' files), the force
+//! plug-ins' in `physics/forces/`. The tables in document order: `TABLES`
+//! and the plug-ins placed by `table_specs`.
 //!
 //! Without a preset the required keys are the five `[top]` keys,
 //! `surface.friction`, `initial.theta`, `initial.spin` and `solver.t_end`;
@@ -74,22 +30,23 @@
 //! Whole numbers are accepted wherever a float is expected; every number is
 //! decimal (`0x10`, `0o20`, `0b10000` are refused, naming the key).
 
-pub mod actuator;
 pub mod bit;
 pub mod langevin;
 pub mod limits;
 pub mod plugins;
 pub mod search;
 
-use serde::Deserialize as _;
 use toml::{Table, Value};
 
-use crate::input::{Key, PluginTables, TableSpec};
+use crate::input::reader::{
+    Keys, Section, check_keys, describe, name_of, parse_document, parse_set_value, render_keys,
+    table_mut, unknown_key, windows_mut,
+};
+use crate::input::{PluginTables, TableSpec};
 use crate::{
-    ActuatorWindow, Adhesion, ContactMode, Error, ForceWindow, Forcing, FrictionLaw, Initial,
-    SolverSettings, Surface, Thermal, Top, Well,
+    ActuatorWindow, Adhesion, ContactMode, Error, Forcing, Initial, SolverSettings, Surface,
+    Thermal, Top, Well,
     input::solver::{Method, ModelKind},
-    input::surface::Shape,
 };
 
 /// One complete run description.
@@ -125,12 +82,8 @@ impl Scenario {
         Scenario {
             top: Top::nano(),
             surface: Surface {
-                gravity: 9.8,
                 friction: 0.13,
-                law: FrictionLaw::Coulomb,
-                contact: ContactMode::Bilateral,
-                restitution: 0.0,
-                shape: Shape::Plane,
+                ..Surface::defaults()
             },
             forcing: Forcing::constant(1e-22, 1e-22),
             actuators: Vec::new(),
@@ -147,12 +100,8 @@ impl Scenario {
         Scenario {
             top: Top::classical(),
             surface: Surface {
-                gravity: 9.8,
                 friction: 0.1,
-                law: FrictionLaw::Coulomb,
-                contact: ContactMode::Bilateral,
-                restitution: 0.0,
-                shape: Shape::Plane,
+                ..Surface::defaults()
             },
             forcing: Forcing::none(),
             actuators: Vec::new(),
@@ -269,7 +218,11 @@ impl Scenario {
         for (j, w) in self.actuators.iter().enumerate() {
             let prefix = format!("force.{}", self.forcing.windows.len() + j);
             w.validate(&prefix)?;
-            actuator::check_model(w, &prefix, self.solver.model)?;
+            crate::physics::forces::actuators::check_model(
+                &w.actuator,
+                &prefix,
+                self.solver.model,
+            )?;
         }
         plugins::validate(self, |t| t != "surface")?;
         self.initial
@@ -299,7 +252,7 @@ impl Scenario {
                 key,
                 format!(
                     "\"tube\" with solver.model = \"{}\"",
-                    name_of(MODELS, self.solver.model)
+                    name_of(crate::input::solver::MODELS, self.solver.model)
                 ),
                 "the tube needs solver.model = \"rigid\"".into(),
             ));
@@ -505,12 +458,12 @@ impl Scenario {
 
     /// The scenario as a complete TOML table (the layout of the file format).
     fn to_table(&self) -> Table {
-        let top = self.top_table();
-        let surface = self.surface_table();
+        let top = crate::input::top::to_table(&self.top);
+        let surface = crate::input::surface::to_table(&self.surface);
         let force = self.force_list();
 
-        let initial = self.initial_table();
-        let solver = self.solver_table();
+        let initial = crate::input::initial::to_table(&self.initial);
+        let solver = crate::input::solver::to_table(&self.solver);
 
         let mut t = Table::new();
         t.insert("top".into(), Value::Table(top));
@@ -520,367 +473,26 @@ impl Scenario {
         t.insert("initial".into(), Value::Table(initial));
         t.insert("solver".into(), Value::Table(solver));
         // Written only when set (scenario texts without it unchanged).
-        let th = &self.thermal;
-        if th.is_set() {
-            let mut thermal = Table::new();
-            for (k, v) in [
-                ("temperature", th.temperature),
-                ("damping_translational", th.damping_translational),
-                ("damping_rotational", th.damping_rotational),
-                ("damping_contact", th.damping_contact),
-            ] {
-                thermal.insert(k.into(), Value::Float(v));
-            }
-            if let Some(seed) = th.seed {
-                thermal.insert("seed".into(), Value::Integer(seed as i64));
-            }
-            thermal.insert("run".into(), Value::Integer(th.run as i64));
+        if self.thermal.is_set() {
+            let thermal = crate::input::thermal::to_table(&self.thermal);
             t.insert("thermal".into(), Value::Table(thermal));
         }
         t
     }
 
-    /// The `[top]` table.
-    fn top_table(&self) -> Table {
-        let mut top = Table::new();
-        top.insert("radius".into(), Value::Float(self.top.radius));
-        top.insert("offset".into(), Value::Float(self.top.offset));
-        top.insert("mass".into(), Value::Float(self.top.mass));
-        top.insert(
-            "inertia_transverse".into(),
-            Value::Float(self.top.inertia_transverse),
-        );
-        top.insert("inertia_axial".into(), Value::Float(self.top.inertia_axial));
-        if let Some(st) = self.top.stem {
-            top.insert("stem_radius".into(), Value::Float(st.radius));
-            top.insert("stem_distance".into(), Value::Float(st.distance));
-        }
-        top
-    }
-
-    /// The `[surface]` table (the friction law's parameters only when used).
-    fn surface_table(&self) -> Table {
-        let s = &self.surface;
-        let mut surface = Table::new();
-        surface.insert("gravity".into(), Value::Float(s.gravity));
-        surface.insert("friction".into(), Value::Float(s.friction));
-        surface.insert("friction_law".into(), Value::String(s.law.name().into()));
-        if let Some(eps) = s.law.eps() {
-            surface.insert("friction_eps".into(), Value::Float(eps));
-        }
-        if let Some((radius, pressure, _)) = s.law.contensou() {
-            surface.insert("contact_radius".into(), Value::Float(radius));
-            surface.insert(
-                "contact_pressure".into(),
-                Value::String(pressure.name().into()),
-            );
-        }
-        surface.insert("contact".into(), Value::String(s.contact.name().into()));
-        surface.insert("restitution".into(), Value::Float(s.restitution));
-        // Written only for the tube, so the plane's scenarios keep their text.
-        if let Some((radius, angle)) = s.shape.tube() {
-            surface.insert("shape".into(), Value::String(s.shape.name().into()));
-            surface.insert("tube_radius".into(), Value::Float(radius));
-            surface.insert("tube_angle".into(), Value::Float(angle));
-        }
-        surface
-    }
-
     /// The `[[force]]` list: contact-point windows, then the body actuators.
     fn force_list(&self) -> Vec<Value> {
-        self.forcing
-            .windows
-            .iter()
-            .map(|w| {
-                let mut t = Table::new();
-                t.insert("hx".into(), Value::Float(w.hx));
-                t.insert("hy".into(), Value::Float(w.hy));
-                // Written only when set, so scenarios without a load keep
-                // their text (scenario.toml, summary.json) unchanged.
-                if w.hz != 0.0 {
-                    t.insert("hz".into(), Value::Float(w.hz));
-                }
-                t.insert("start".into(), Value::Float(w.start));
-                if w.stop != f64::INFINITY {
-                    t.insert("stop".into(), Value::Float(w.stop));
-                }
-                Value::Table(t)
-            })
-            .chain(self.actuators.iter().map(|w| {
-                let mut t = Table::new();
-                actuator::to_table(&w.actuator, &mut t);
-                t.insert("start".into(), Value::Float(w.start));
-                if w.stop != f64::INFINITY {
-                    t.insert("stop".into(), Value::Float(w.stop));
-                }
-                Value::Table(t)
-            }))
-            .collect()
-    }
-
-    /// The `[initial]` table (`heading` only when set).
-    fn initial_table(&self) -> Table {
-        let i = &self.initial;
-        let mut initial = Table::new();
-        for (k, v) in [
-            ("theta", i.theta),
-            ("theta_dot", i.theta_dot),
-            ("precession", i.precession),
-            ("spin", i.spin),
-            ("ux", i.ux),
-            ("uy", i.uy),
-        ] {
-            initial.insert(k.into(), Value::Float(v));
-        }
-        if i.heading != 0.0 {
-            initial.insert("heading".into(), Value::Float(i.heading));
-        }
-        initial
-    }
-
-    /// The `[solver]` table (`steps`, `max_steps`, `dt` only when set).
-    fn solver_table(&self) -> Table {
-        let so = &self.solver;
-        let mut solver = Table::new();
-        solver.insert(
-            "method".into(),
-            Value::String(name_of(METHODS, so.method).into()),
-        );
-        solver.insert("t_end".into(), Value::Float(so.t_end));
-        // `steps` defaults to `samples - 1`: written only when it differs,
-        // so that changing `samples` (or `method`) alone keeps RK4 valid.
-        if so.steps != so.samples.wrapping_sub(1) {
-            solver.insert("steps".into(), Value::Integer(to_i64(so.steps)));
-        }
-        solver.insert("rtol".into(), Value::Float(so.rtol));
-        solver.insert("samples".into(), Value::Integer(to_i64(so.samples)));
-        solver.insert(
-            "model".into(),
-            Value::String(name_of(MODELS, so.model).into()),
-        );
-        if let Some(n) = so.max_steps {
-            solver.insert("max_steps".into(), Value::Integer(to_i64(n as usize)));
-        }
-        if let Some(dt) = so.dt {
-            solver.insert("dt".into(), Value::Float(dt));
-        }
-        solver
+        crate::input::forcing::to_list(&self.forcing, &self.actuators)
     }
 }
 
 // ---------------------------------------------------------------------------
 // Key specification: every table, its keys and each key's valid range.
 
-type Keys = &'static [Key];
-
 const PRESET_RANGE: &str = "\"nano\", \"nano-physical\", \"nano-adhesive\" or \"classical\"";
 
-const TOP_KEYS: Keys = &[
-    Key::doc(
-        "radius",
-        "a finite length > 0 [m]",
-        "required",
-        "R, the sphere's radius",
-    ),
-    Key::doc(
-        "offset",
-        "0 <= offset < radius [m]",
-        "required",
-        "a, from the sphere's centre to the centre of mass",
-    ),
-    Key::doc(
-        "mass",
-        "a finite mass > 0 [kg]",
-        "required",
-        "m, the top's mass",
-    ),
-    Key::doc(
-        "inertia_transverse",
-        "a finite moment > 0 [kg m^2]",
-        "required",
-        "A, moment of inertia about a transverse axis through the centre of mass",
-    ),
-    Key::doc(
-        "inertia_axial",
-        "0 < inertia_axial <= 2 * inertia_transverse [kg m^2]",
-        "required",
-        "C, moment of inertia about the symmetry axis",
-    ),
-    Key::doc(
-        "stem_radius",
-        crate::input::top::STEM_RADIUS_RANGE,
-        "no stem",
-        "r2, the stem's end sphere (rigid model; docs/physics.md#stem)",
-    ),
-    Key::doc(
-        "stem_distance",
-        crate::input::top::STEM_DISTANCE_RANGE,
-        "no stem",
-        "d2, centre of mass to the stem sphere's centre, along the axis",
-    ),
-];
-
-const SURFACE_KEYS: Keys = &[
-    Key::doc("gravity", "a finite number >= 0 [m/s^2]", "9.8", "g"),
-    Key::doc(
-        "friction",
-        "a finite number >= 0",
-        "required",
-        "mu, the friction coefficient",
-    ),
-    Key::doc(
-        "friction_law",
-        "\"coulomb\", \"coulomb_sliding\", \"regularized\", \"viscous\", \"contensou\" or \"contensou_pade\"",
-        "\"coulomb\"",
-        "the friction law (docs/physics.md#contensou)",
-    ),
-    Key::doc(
-        "contact_radius",
-        crate::input::surface::CONTACT_RADIUS_RANGE,
-        "required with contensou*",
-        "r_c, the contact patch's radius",
-    ),
-    Key::doc(
-        "contact_pressure",
-        "\"hertz\" (default) or \"uniform\", only with friction_law = \"contensou\" or \"contensou_pade\"",
-        "\"hertz\"",
-        "the pressure over the contact patch",
-    ),
-    Key::doc(
-        "friction_eps",
-        "a finite speed > 0 [m/s], only with friction_law = \"regularized\" or \"viscous\"",
-        "required with regularized/viscous",
-        "the regularisation speed",
-    ),
-    Key::doc(
-        "contact",
-        "\"bilateral\", \"paper\" or \"unilateral\"",
-        "\"bilateral\"",
-        "the contact model (held on the plane, the paper's law, or free to lift off)",
-    ),
-    Key::doc(
-        "restitution",
-        "0 <= restitution <= 1",
-        "0",
-        "coefficient of restitution at touchdown (rigid model)",
-    ),
-    Key::doc(
-        "shape",
-        "\"plane\" or \"tube\" (the inside of a horizontal cylinder, axis along x; solver.model = \"rigid\" only)",
-        "\"plane\"",
-        "the surface (docs/physics.md#tube-dynamics)",
-    ),
-    Key::doc(
-        "tube_radius",
-        crate::input::surface::TUBE_RADIUS_RANGE,
-        "required with shape = \"tube\"",
-        "b, the tube's inner radius (its lowest line is z = 0)",
-    ),
-    Key::doc(
-        "tube_angle",
-        crate::input::surface::TUBE_ANGLE_RANGE,
-        "0",
-        "the initial contact point's angle about the tube's axis from the lowest line (> 0 towards +y); the initial state is given in the frame of the local tangent plane",
-    ),
-];
-
-const FORCE_KEYS: Keys = &[
-    Key::doc(
-        "kind",
-        actuator::KIND_RANGE,
-        "\"contact\"",
-        "the window's force: at the contact point, a tip or a magnet",
-    ),
-    crate::physics::forces::retarding::KEYS[0],
-    crate::physics::forces::retarding::KEYS[1],
-    crate::physics::forces::vertical_load::KEY,
-    Key::doc(
-        "start",
-        "a finite time >= 0 [s]",
-        "0",
-        "when the window starts",
-    ),
-    Key::doc(
-        "stop",
-        "a finite time > start [s], or omit stop for never",
-        "never",
-        "when the window stops",
-    ),
-    actuator::KEYS[0],
-    actuator::KEYS[1],
-    actuator::KEYS[2],
-    actuator::KEYS[3],
-    actuator::KEYS[4],
-];
-
-const INITIAL_KEYS: Keys = &[
-    Key::doc(
-        "theta",
-        "0 < theta < pi [rad]; 0 <= theta <= pi with model = \"vector\" (the default) or \"rigid\"",
-        "required",
-        "the axis's tilt from the vertical",
-    ),
-    Key::doc("theta_dot", "a finite number [rad/s]", "0", "d theta/dt"),
-    Key::doc(
-        "precession",
-        "a finite number [rad/s]",
-        "0",
-        "Omega, the precession rate",
-    ),
-    Key::doc(
-        "spin",
-        "a finite number [rad/s]",
-        "required",
-        "omega, the spin rate",
-    ),
-    Key::doc(
-        "ux",
-        "a finite number [m/s]",
-        "0",
-        "centre-of-mass velocity, precessing frame x",
-    ),
-    Key::doc(
-        "uy",
-        "a finite number [m/s]",
-        "0",
-        "centre-of-mass velocity, precessing frame y",
-    ),
-    Key::doc(
-        "heading",
-        "a finite angle [rad] from the lab X axis (default 0)",
-        "0",
-        "the precessing frame's initial heading",
-    ),
-    Key::doc(
-        "axis",
-        "[x, y, z], the symmetry axis in the lab frame (Z up; nonzero, normalised); with angular_velocity and velocity, instead of theta ... heading",
-        "",
-        "lab-frame initial state: the symmetry axis",
-    ),
-    Key::doc(
-        "angular_velocity",
-        "[x, y, z] [rad/s], lab frame (default [0, 0, 0]; with axis)",
-        "[0, 0, 0]",
-        "lab-frame initial state: the angular velocity",
-    ),
-    Key::doc(
-        "velocity",
-        "[x, y] [m/s], horizontal centre-of-mass velocity, lab frame (default [0, 0]; with axis)",
-        "[0, 0]",
-        "lab-frame initial state: the centre of mass's velocity",
-    ),
-];
-
-/// The `[initial]` keys of the Euler-angle form and of the lab-frame form.
-const INITIAL_EULER: [&str; 7] = [
-    "theta",
-    "theta_dot",
-    "precession",
-    "spin",
-    "ux",
-    "uy",
-    "heading",
-];
+/// The `[initial]` keys of the lab-frame form (the Euler-angle form's:
+/// `initial::NUMS`).
 const INITIAL_LAB: [&str; 3] = ["axis", "angular_velocity", "velocity"];
 
 /// Insert `[initial]` key `k`: a lab-frame key replaces the Euler-angle
@@ -888,8 +500,8 @@ const INITIAL_LAB: [&str; 3] = ["axis", "angular_velocity", "velocity"];
 /// a lab-frame key is an error (the two forms do not mix).
 fn insert_initial(dst: &mut Table, k: &str, v: Value) -> Result<(), Error> {
     if INITIAL_LAB.contains(&k) {
-        for e in INITIAL_EULER {
-            dst.remove(e);
+        for e in crate::input::initial::NUMS {
+            dst.remove(e.key.name);
         }
     } else if let Some(lab) = INITIAL_LAB.iter().find(|l| dst.contains_key(**l)) {
         return Err(Error::invalid(
@@ -901,96 +513,6 @@ fn insert_initial(dst: &mut Table, k: &str, v: Value) -> Result<(), Error> {
     dst.insert(k.to_string(), v);
     Ok(())
 }
-
-const SOLVER_KEYS: Keys = &[
-    Key::doc(
-        "method",
-        "\"adaptive\", \"rk4\", \"stiff\", \"langevin\" or \"brownian\"",
-        "\"adaptive\"",
-        "the integrator",
-    ),
-    Key::doc(
-        "t_end",
-        "a finite time > 0 [s]",
-        "required",
-        "the run's duration",
-    ),
-    Key::doc(
-        "steps",
-        "an integer >= 1, a multiple of samples - 1 (method = \"rk4\"); default samples - 1",
-        "samples - 1",
-        "RK4's step count",
-    ),
-    Key::doc(
-        "rtol",
-        "1e-14 <= rtol <= 1e-2",
-        "1e-10",
-        "relative tolerance (adaptive, stiff)",
-    ),
-    Key::doc(
-        "samples",
-        "an integer, 2 <= samples <= 5000000",
-        "1001",
-        "output rows, evenly spaced from 0 to t_end",
-    ),
-    Key::doc(
-        "model",
-        "\"reduced\", \"vector\" or \"rigid\"",
-        "\"vector\"",
-        "the equations of motion (docs/physics.md)",
-    ),
-    Key::doc(
-        "max_steps",
-        crate::input::solver::MAX_STEPS_RANGE,
-        "20000000 (2000000 with stiff)",
-        "step limit of the run",
-    ),
-    Key::doc(
-        "dt",
-        "a finite time > 0 [s], the fixed step of method = \"langevin\" or \"brownian\" (only there)",
-        "",
-        "the Langevin or Brownian step",
-    ),
-];
-
-const THERMAL_KEYS: Keys = &[
-    Key::doc(
-        "temperature",
-        crate::input::thermal::TEMPERATURE_RANGE,
-        "0",
-        "T (docs/physics.md#langevin)",
-    ),
-    Key::doc(
-        "damping_translational",
-        crate::input::thermal::DAMPING_T_RANGE,
-        "0",
-        "gamma_t: force -m gamma_t v on the centre of mass",
-    ),
-    Key::doc(
-        "damping_rotational",
-        crate::input::thermal::DAMPING_R_RANGE,
-        "0",
-        "gamma_r: torque -gamma_r I w",
-    ),
-    Key::doc(
-        "damping_contact",
-        crate::input::thermal::DAMPING_C_RANGE,
-        "0",
-        "c: force -c v_P at the contact point",
-    ),
-    Key::doc(
-        "seed",
-        crate::input::thermal::SEED_RANGE,
-        "required at T > 0",
-        "key of the random stream",
-    ),
-    Key::doc(
-        "run",
-        crate::input::thermal::RUN_RANGE,
-        "0",
-        "index of this run in the stream",
-    ),
-];
 
 /// One line per table of [`TABLES`], for `tippetop keys` and docs/keys.md.
 const TABLE_DOCS: &[(&str, &str)] = &[
@@ -1014,12 +536,12 @@ const TABLE_DOCS: &[(&str, &str)] = &[
 /// The scenario's own tables in document order (the force plug-ins' are
 /// placed by [`table_specs`]); `force` is an array of tables.
 const TABLES: &[(&str, Keys)] = &[
-    ("top", TOP_KEYS),
-    ("surface", SURFACE_KEYS),
-    ("force", FORCE_KEYS),
-    ("initial", INITIAL_KEYS),
-    ("solver", SOLVER_KEYS),
-    ("thermal", THERMAL_KEYS),
+    ("top", crate::input::top::KEYS),
+    ("surface", crate::input::surface::KEYS),
+    ("force", &crate::input::forcing::KEYS),
+    ("initial", crate::input::initial::KEYS),
+    ("solver", crate::input::solver::KEYS),
+    ("thermal", crate::input::thermal::KEYS),
 ];
 
 /// The scenario's own tables with, after each, the force plug-ins' that
@@ -1081,51 +603,6 @@ fn entry_of(table: &str) -> (&'static str, &'static str) {
     }
 }
 
-const LAWS: &[(&str, LawName)] = &[
-    ("coulomb", LawName::Coulomb),
-    ("coulomb_sliding", LawName::CoulombSliding),
-    ("regularized", LawName::Regularized),
-    ("viscous", LawName::Viscous),
-    ("contensou", LawName::Contensou),
-    ("contensou_pade", LawName::ContensouPade),
-];
-
-const PRESSURES: &[(&str, crate::input::surface::Pressure)] = &[
-    ("hertz", crate::input::surface::Pressure::Hertz),
-    ("uniform", crate::input::surface::Pressure::Uniform),
-];
-
-const CONTACTS: &[(&str, ContactMode)] = &[
-    ("bilateral", ContactMode::Bilateral),
-    ("paper", ContactMode::Paper),
-    ("unilateral", ContactMode::Unilateral),
-];
-
-const METHODS: &[(&str, Method)] = &[
-    ("adaptive", Method::Adaptive),
-    ("rk4", Method::Rk4),
-    ("stiff", Method::Stiff),
-    ("langevin", Method::Langevin),
-    ("brownian", Method::Brownian),
-];
-
-const MODELS: &[(&str, ModelKind)] = &[
-    ("reduced", ModelKind::Reduced),
-    ("rigid", ModelKind::Rigid),
-    ("vector", ModelKind::Vector),
-];
-
-/// Friction law without its parameter.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum LawName {
-    Coulomb,
-    CoulombSliding,
-    Regularized,
-    Viscous,
-    Contensou,
-    ContensouPade,
-}
-
 /// The unit of a scenario key as its valid range states it (`"m"` for
 /// `top.offset`, `"N"` for `force.0.hx`; the last `[...]` of the range), or
 /// None (a dimensionless key, or one not in the scenario's tables).
@@ -1149,109 +626,8 @@ fn keys_of(table: &str) -> Option<Keys> {
         .or_else(|| crate::physics::forces::plugin(table).map(|p| p.table().keys))
 }
 
-fn range_of(keys: Keys, key: &str) -> &'static str {
-    keys.iter()
-        .find(|k| k.name == key)
-        .map(|k| k.range)
-        .unwrap_or("")
-}
-
-fn unknown_key(full_key: &str, keys: Keys) -> Error {
-    let list: Vec<&str> = keys.iter().map(|k| k.name).collect();
-    Error::invalid(
-        full_key,
-        "unknown key".into(),
-        format!("valid keys: {}", list.join(", ")),
-    )
-}
-
-fn name_of<T: PartialEq + Copy>(names: &[(&'static str, T)], v: T) -> &'static str {
-    names
-        .iter()
-        .find(|(_, x)| *x == v)
-        .map(|(n, _)| *n)
-        .unwrap_or("?")
-}
-
-fn to_i64(n: usize) -> i64 {
-    i64::try_from(n).unwrap_or(i64::MAX)
-}
-
-/// A one-line description of a TOML value for error messages.
-fn describe(v: &Value) -> String {
-    match v {
-        Value::String(s) => format!("string {s:?}"),
-        Value::Integer(i) => format!("integer {i}"),
-        Value::Float(f) => format!("float {f}"),
-        Value::Boolean(b) => format!("boolean {b}"),
-        Value::Datetime(d) => format!("datetime {d}"),
-        Value::Array(_) => "an array".into(),
-        Value::Table(_) => "a table".into(),
-    }
-}
-
 // ---------------------------------------------------------------------------
 // Parsing and merging.
-
-/// Parse a TOML document; a syntax error becomes a one-line `scenario` error.
-fn parse_document(text: &str) -> Result<Table, Error> {
-    let table = text.parse::<Table>().map_err(|e| {
-        let shown = e.to_string();
-        let head = shown.lines().next().unwrap_or("TOML parse error").trim();
-        let msg: Vec<&str> = e
-            .message()
-            .lines()
-            .map(str::trim)
-            .filter(|l| !l.is_empty())
-            .collect();
-        let what = if msg.is_empty() {
-            head.to_string()
-        } else {
-            format!("{head}: {}", msg.join("; "))
-        };
-        Error::invalid("scenario", what, "valid TOML".into())
-    })?;
-    check_decimal(text)?;
-    Ok(table)
-}
-
-/// Check every key of `t` against `keys`; `prefix` is the full table key.
-fn check_keys(t: &Table, prefix: &str, keys: Keys) -> Result<(), Error> {
-    for k in t.keys() {
-        if !keys.iter().any(|key| key.name == k) {
-            return Err(unknown_key(&format!("{prefix}.{k}"), keys));
-        }
-    }
-    Ok(())
-}
-
-/// The table `merged[name]`, created empty if absent.
-fn table_mut<'a>(merged: &'a mut Table, name: &str) -> &'a mut Table {
-    let entry = merged
-        .entry(name.to_string())
-        .or_insert_with(|| Value::Table(Table::new()));
-    if !entry.is_table() {
-        *entry = Value::Table(Table::new());
-    }
-    match entry {
-        Value::Table(t) => t,
-        _ => unreachable!("just made a table"),
-    }
-}
-
-/// The list `merged[name]` (`force` windows, `well`s), created empty if absent.
-fn windows_mut<'a>(merged: &'a mut Table, name: &str) -> &'a mut Vec<Value> {
-    let entry = merged
-        .entry(name.to_string())
-        .or_insert_with(|| Value::Array(Vec::new()));
-    if !entry.is_array() {
-        *entry = Value::Array(Vec::new());
-    }
-    match entry {
-        Value::Array(a) => a,
-        _ => unreachable!("just made an array"),
-    }
-}
 
 /// Merge the file's tables into `merged` key by key (the force list is
 /// replaced as a whole). Returns whether the file gives `surface.friction_eps`.
@@ -1311,7 +687,10 @@ fn merge_file(merged: &mut Table, file: &Table) -> Result<bool, Error> {
                 eps_explicit = true;
             }
             if name == "initial" {
-                let euler = INITIAL_EULER.iter().find(|e| t.contains_key(**e));
+                let euler = crate::input::initial::NUMS
+                    .iter()
+                    .map(|e| e.key.name)
+                    .find(|e| t.contains_key(*e));
                 let lab = INITIAL_LAB.iter().find(|l| t.contains_key(**l));
                 if let (Some(e), Some(l)) = (euler, lab) {
                     return Err(Error::invalid(
@@ -1332,96 +711,6 @@ fn merge_file(merged: &mut Table, file: &Table) -> Result<bool, Error> {
         }
     }
     Ok(eps_explicit)
-}
-
-/// A `--set` value of `key`: a TOML value if it parses as one, else the
-/// raw string. Error: a number that is not decimal ([`check_decimal`]).
-fn parse_set_value(key: &str, s: &str) -> Result<Value, Error> {
-    if has_radix_prefix(s) {
-        if let Ok(v) = s.parse::<toml_edit::Value>() {
-            non_decimal_value(&v, key).map_or(Ok(()), Err)?;
-        }
-    }
-    Ok(Value::deserialize(toml::de::ValueDeserializer::new(s))
-        .unwrap_or_else(|_| Value::String(s.to_string())))
-}
-
-/// The valid form of a number in a scenario.
-const DECIMAL_RANGE: &str =
-    "a decimal number, e.g. 16 or 1.6e1; hexadecimal, octal and binary are not accepted";
-
-/// Whether `text` could hold a TOML integer in hexadecimal, octal or binary
-/// (a cheap test before parsing it again with its literal text).
-fn has_radix_prefix(text: &str) -> bool {
-    ["0x", "0o", "0b"].iter().any(|p| text.contains(p))
-}
-
-/// The first number of a TOML value written in hexadecimal, octal or binary
-/// (TOML's `0x10`, `0o20`, `0b10000`), as an error naming `key`: in a
-/// scenario every number is decimal (`0x10` is not 16 m).
-fn non_decimal_value(v: &toml_edit::Value, key: &str) -> Option<Error> {
-    match v {
-        toml_edit::Value::Integer(i) => {
-            let raw = i.as_repr().and_then(|r| r.as_raw().as_str())?;
-            let digits = raw.trim_start_matches(['+', '-']);
-            ["0x", "0o", "0b"]
-                .iter()
-                .any(|p| digits.starts_with(p))
-                .then(|| {
-                    Error::invalid(
-                        key,
-                        format!("{raw} is not a decimal number"),
-                        DECIMAL_RANGE.into(),
-                    )
-                })
-        }
-        toml_edit::Value::Array(a) => a.iter().enumerate().find_map(|(i, x)| match x {
-            toml_edit::Value::InlineTable(_) => non_decimal_value(x, &format!("{key}.{i}")),
-            _ => non_decimal_value(x, key),
-        }),
-        toml_edit::Value::InlineTable(t) => t
-            .iter()
-            .find_map(|(k, x)| non_decimal_value(x, &join_key(key, k))),
-        _ => None,
-    }
-}
-
-fn join_key(prefix: &str, key: &str) -> String {
-    if prefix.is_empty() {
-        key.to_string()
-    } else {
-        format!("{prefix}.{key}")
-    }
-}
-
-/// The first non-decimal number of a TOML item, as for
-/// [`non_decimal_value`]; arrays of tables are named `table.K.key`.
-fn non_decimal_item(item: &toml_edit::Item, key: &str) -> Option<Error> {
-    match item {
-        toml_edit::Item::Value(v) => non_decimal_value(v, key),
-        toml_edit::Item::Table(t) => t
-            .iter()
-            .find_map(|(k, x)| non_decimal_item(x, &join_key(key, k))),
-        toml_edit::Item::ArrayOfTables(a) => a.iter().enumerate().find_map(|(i, t)| {
-            t.iter()
-                .find_map(|(k, x)| non_decimal_item(x, &format!("{key}.{i}.{k}")))
-        }),
-        toml_edit::Item::None => None,
-    }
-}
-
-/// Check that every number of a TOML document is decimal (error: the first
-/// that is not, naming its key). Parsed again only if the text has a radix
-/// prefix at all.
-fn check_decimal(text: &str) -> Result<(), Error> {
-    if !has_radix_prefix(text) {
-        return Ok(());
-    }
-    match text.parse::<toml_edit::DocumentMut>() {
-        Ok(doc) => non_decimal_item(doc.as_item(), "").map_or(Ok(()), Err),
-        // Not TOML: the parse that follows reports it.
-        Err(_) => Ok(()),
-    }
 }
 
 /// Apply one `--set TABLE.KEY=VALUE`. Returns whether it sets
@@ -1536,131 +825,6 @@ fn apply_set(merged: &mut Table, set: &str) -> Result<bool, Error> {
 // ---------------------------------------------------------------------------
 // Typed extraction from the merged table.
 
-/// One table of the merged document, with its full key prefix.
-struct Section<'a> {
-    prefix: String,
-    keys: Keys,
-    table: Option<&'a Table>,
-}
-
-impl Section<'_> {
-    fn full(&self, key: &str) -> String {
-        format!("{}.{key}", self.prefix)
-    }
-
-    fn get(&self, key: &str) -> Option<&Value> {
-        self.table.and_then(|t| t.get(key))
-    }
-
-    fn missing(&self, key: &str) -> Error {
-        Error::invalid(
-            &self.full(key),
-            "missing".into(),
-            "required without a preset".into(),
-        )
-    }
-
-    fn wrong_type(&self, key: &str, expected: &str, v: &Value) -> Error {
-        Error::invalid(
-            &self.full(key),
-            format!("expected {expected}, found {}", describe(v)),
-            range_of(self.keys, key).into(),
-        )
-    }
-
-    /// A finite float (whole numbers accepted); `default` `None` = required.
-    fn f64(&self, key: &str, default: Option<f64>) -> Result<f64, Error> {
-        let x = match self.get(key) {
-            None => return default.ok_or_else(|| self.missing(key)),
-            Some(Value::Float(f)) => *f,
-            Some(Value::Integer(i)) => *i as f64,
-            Some(v) => return Err(self.wrong_type(key, "a number", v)),
-        };
-        if !x.is_finite() {
-            return Err(Error::invalid(
-                &self.full(key),
-                format!("{} is not allowed", crate::human::exact(x)),
-                range_of(self.keys, key).into(),
-            ));
-        }
-        Ok(x)
-    }
-
-    /// An array of `N` finite numbers; `default` `None` = required.
-    fn f64s<const N: usize>(
-        &self,
-        key: &str,
-        default: Option<[f64; N]>,
-    ) -> Result<[f64; N], Error> {
-        let v = match self.get(key) {
-            None => return default.ok_or_else(|| self.missing(key)),
-            Some(v) => v,
-        };
-        let expected = format!("an array of {N} numbers");
-        let Value::Array(a) = v else {
-            return Err(self.wrong_type(key, &expected, v));
-        };
-        if a.len() != N {
-            return Err(self.wrong_type(key, &expected, v));
-        }
-        let mut out = [0.0; N];
-        for (o, x) in out.iter_mut().zip(a) {
-            *o = match x {
-                Value::Float(f) => *f,
-                Value::Integer(i) => *i as f64,
-                _ => return Err(self.wrong_type(key, &expected, v)),
-            };
-            if !o.is_finite() {
-                return Err(Error::invalid(
-                    &self.full(key),
-                    format!("{} is not allowed", crate::human::exact(*o)),
-                    range_of(self.keys, key).into(),
-                ));
-            }
-        }
-        Ok(out)
-    }
-
-    /// A non-negative whole number (a whole float is accepted).
-    fn usize(&self, key: &str, default: usize) -> Result<usize, Error> {
-        const MAX_EXACT: f64 = 9_007_199_254_740_992.0; // 2^53
-        let expected = "a non-negative whole number";
-        match self.get(key) {
-            None => Ok(default),
-            Some(v @ Value::Integer(i)) => {
-                usize::try_from(*i).map_err(|_| self.wrong_type(key, expected, v))
-            }
-            Some(v @ Value::Float(f)) => {
-                if f.is_finite() && *f >= 0.0 && f.fract() == 0.0 && *f <= MAX_EXACT {
-                    Ok(*f as usize)
-                } else {
-                    Err(self.wrong_type(key, expected, v))
-                }
-            }
-            Some(v) => Err(self.wrong_type(key, expected, v)),
-        }
-    }
-
-    /// One of `names`; `default` is used when the key is absent.
-    fn name<T: Copy>(&self, key: &str, names: &[(&str, T)], default: T) -> Result<T, Error> {
-        match self.get(key) {
-            None => Ok(default),
-            Some(Value::String(s)) => names
-                .iter()
-                .find(|(n, _)| n == s)
-                .map(|(_, v)| *v)
-                .ok_or_else(|| {
-                    Error::invalid(
-                        &self.full(key),
-                        format!("unknown value {s:?}"),
-                        format!("valid: {}", range_of(self.keys, key)),
-                    )
-                }),
-            Some(v) => Err(self.wrong_type(key, "a string", v)),
-        }
-    }
-}
-
 fn section<'a>(merged: &'a Table, name: &str) -> Section<'a> {
     Section {
         prefix: name.to_string(),
@@ -1674,8 +838,9 @@ fn section<'a>(merged: &'a Table, name: &str) -> Section<'a> {
 /// given by the file or a `--set` (not only inherited from the preset).
 fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Scenario, Error> {
     // Each table in document order (the first error is the first table's).
-    let top = top_of(merged, has_preset)?;
-    let surface = surface_of(merged, has_preset, eps_explicit)?;
+    let top = crate::input::top::parse(&section(merged, "top"), has_preset)?;
+    let surface =
+        crate::input::surface::parse(&section(merged, "surface"), has_preset, eps_explicit)?;
     // The plug-ins' tables where their tables were read before they
     // became plug-ins ([adhesion] after [surface], [[well]] after
     // [[force]]), the others' last.
@@ -1684,20 +849,9 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
 
     let (forcing, actuators) = forces_of(merged)?;
     plugins::parse(merged, |t| t == "force", &mut plugins)?;
-    let initial = initial_of(merged, has_preset)?;
-    let solver = solver_of(merged, has_preset)?;
-    let s = section(merged, "thermal");
-    let thermal = Thermal {
-        temperature: s.f64("temperature", Some(0.0))?,
-        damping_translational: s.f64("damping_translational", Some(0.0))?,
-        damping_rotational: s.f64("damping_rotational", Some(0.0))?,
-        damping_contact: s.f64("damping_contact", Some(0.0))?,
-        seed: match s.get("seed") {
-            None => None,
-            Some(_) => Some(s.usize("seed", 0)? as u64),
-        },
-        run: s.usize("run", 0)? as u64,
-    };
+    let initial = crate::input::initial::parse(&section(merged, "initial"), has_preset)?;
+    let solver = crate::input::solver::parse(&section(merged, "solver"), has_preset)?;
+    let thermal = crate::input::thermal::parse(&section(merged, "thermal"))?;
 
     plugins::parse(merged, |t| !matches!(t, "surface" | "force"), &mut plugins)?;
 
@@ -1713,294 +867,17 @@ fn from_table(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Sc
     })
 }
 
-/// Required keys have no default without a preset (`has_preset` false);
-/// with a preset every key is present in the merged table anyway.
-fn required(has_preset: bool, d: f64) -> Option<f64> {
-    if has_preset { Some(d) } else { None }
-}
-
-/// The `[top]` table (the stem: both keys or neither).
-fn top_of(merged: &Table, has_preset: bool) -> Result<Top, Error> {
-    let req = |d: f64| required(has_preset, d);
-    let s = section(merged, "top");
-    let top = Top {
-        radius: s.f64("radius", req(0.0))?,
-        offset: s.f64("offset", req(0.0))?,
-        mass: s.f64("mass", req(0.0))?,
-        inertia_transverse: s.f64("inertia_transverse", req(0.0))?,
-        inertia_axial: s.f64("inertia_axial", req(0.0))?,
-        stem: None,
-    };
-    // The stem (§stem): both keys or neither.
-    let top = match (s.get("stem_radius"), s.get("stem_distance")) {
-        (None, None) => top,
-        (Some(_), Some(_)) => Top {
-            stem: Some(crate::input::top::Stem {
-                radius: s.f64("stem_radius", None)?,
-                distance: s.f64("stem_distance", None)?,
-            }),
-            ..top
-        },
-        (Some(_), None) => {
-            return Err(Error::invalid(
-                "top.stem_distance",
-                "missing (top.stem_radius is given)".into(),
-                crate::input::top::STEM_DISTANCE_RANGE.into(),
-            ));
-        }
-        (None, Some(_)) => {
-            return Err(Error::invalid(
-                "top.stem_radius",
-                "missing (top.stem_distance is given)".into(),
-                crate::input::top::STEM_RADIUS_RANGE.into(),
-            ));
-        }
-    };
-    Ok(top)
-}
-
-/// The `[surface]` table with its friction law's parameters.
-fn surface_of(merged: &Table, has_preset: bool, eps_explicit: bool) -> Result<Surface, Error> {
-    let req = |d: f64| required(has_preset, d);
-    let s = section(merged, "surface");
-    let gravity = s.f64("gravity", Some(9.8))?;
-    let friction = s.f64("friction", req(0.0))?;
-    let law_name = s.name("friction_law", LAWS, LawName::Coulomb)?;
-    let uses_eps = matches!(law_name, LawName::Regularized | LawName::Viscous);
-    let law_str = name_of(LAWS, law_name);
-    let eps = if uses_eps {
-        match s.get("friction_eps") {
-            None => {
-                return Err(Error::invalid(
-                    "surface.friction_eps",
-                    "missing".into(),
-                    format!("required with friction_law = \"{law_str}\": a speed > 0 [m/s]"),
-                ));
-            }
-            Some(_) => s.f64("friction_eps", None)?,
-        }
-    } else {
-        if eps_explicit && s.get("friction_eps").is_some() {
-            return Err(Error::invalid(
-                "surface.friction_eps",
-                format!("given with friction_law = \"{law_str}\", which does not use it"),
-                "only with friction_law = \"regularized\" or \"viscous\"".into(),
-            ));
-        }
-        0.0
-    };
-    let contensou = matches!(law_name, LawName::Contensou | LawName::ContensouPade);
-    let (radius, pressure) = if contensou {
-        let radius = match s.get("contact_radius") {
-            None => {
-                return Err(Error::invalid(
-                    "surface.contact_radius",
-                    "missing".into(),
-                    format!(
-                        "required with friction_law = \"{law_str}\": {}",
-                        crate::input::surface::CONTACT_RADIUS_RANGE
-                    ),
-                ));
-            }
-            Some(_) => s.f64("contact_radius", None)?,
-        };
-        (
-            radius,
-            s.name(
-                "contact_pressure",
-                PRESSURES,
-                crate::input::surface::Pressure::Hertz,
-            )?,
-        )
-    } else {
-        for key in ["contact_radius", "contact_pressure"] {
-            if s.get(key).is_some() {
-                return Err(Error::invalid(
-                    &format!("surface.{key}"),
-                    format!("given with friction_law = \"{law_str}\", which does not use it"),
-                    "only with friction_law = \"contensou\" or \"contensou_pade\"".into(),
-                ));
-            }
-        }
-        (0.0, crate::input::surface::Pressure::Hertz)
-    };
-    let law = match law_name {
-        LawName::Contensou | LawName::ContensouPade => FrictionLaw::Contensou {
-            radius,
-            pressure,
-            pade: law_name == LawName::ContensouPade,
-        },
-        LawName::Coulomb => FrictionLaw::Coulomb,
-        LawName::CoulombSliding => FrictionLaw::CoulombSliding,
-        LawName::Regularized => FrictionLaw::Regularized { eps },
-        LawName::Viscous => FrictionLaw::Viscous { eps },
-    };
-    let surface = Surface {
-        gravity,
-        friction,
-        law,
-        contact: s.name("contact", CONTACTS, ContactMode::Bilateral)?,
-        restitution: s.f64("restitution", Some(0.0))?,
-        shape: shape_of(&s)?,
-    };
-    Ok(surface)
-}
-
-/// `surface.shape` with the tube's radius and initial angle.
-fn shape_of(s: &Section) -> Result<Shape, Error> {
-    let tube = s.name("shape", SHAPES, false)?;
-    if !tube {
-        for key in ["tube_radius", "tube_angle"] {
-            if s.get(key).is_some() {
-                return Err(Error::invalid(
-                    &format!("surface.{key}"),
-                    "given with shape = \"plane\", which does not use it".into(),
-                    "only with shape = \"tube\"".into(),
-                ));
-            }
-        }
-        return Ok(Shape::Plane);
-    }
-    if s.get("tube_radius").is_none() {
-        return Err(Error::invalid(
-            "surface.tube_radius",
-            "missing".into(),
-            crate::input::surface::TUBE_RADIUS_RANGE.into(),
-        ));
-    }
-    Ok(Shape::Tube {
-        radius: s.f64("tube_radius", None)?,
-        angle: s.f64("tube_angle", Some(0.0))?,
-    })
-}
-
-/// `surface.shape`'s names (true: the tube).
-const SHAPES: &[(&str, bool)] = &[("plane", false), ("tube", true)];
-
-/// The `[[force]]` windows: contact-point windows and body actuators.
+/// The `[[force]]` windows: contact-point windows and body actuators
+/// (the schedule's parse, input/forcing.rs).
 fn forces_of(merged: &Table) -> Result<(Forcing, Vec<ActuatorWindow>), Error> {
-    let mut windows = Vec::new();
-    let mut actuators = Vec::new();
-    if let Some(Value::Array(list)) = merged.get("force") {
-        for (k, w) in list.iter().enumerate() {
-            let s = Section {
-                prefix: format!("force.{k}"),
-                keys: FORCE_KEYS,
-                table: w.as_table(),
-            };
-            if let Some(a) = actuator::parse(&s)? {
-                let w = ActuatorWindow {
-                    actuator: a,
-                    start: s.f64("start", Some(0.0))?,
-                    stop: s.f64("stop", Some(f64::INFINITY))?,
-                };
-                w.validate(&s.prefix)?;
-                let model = section(merged, "solver").name(
-                    "model",
-                    MODELS,
-                    SolverSettings::new(1.0).model,
-                )?;
-                actuator::check_model(&w, &s.prefix, model)?;
-                actuators.push(w);
-                continue;
-            }
-            windows.push(ForceWindow {
-                hx: s.f64("hx", Some(0.0))?,
-                hy: s.f64("hy", Some(0.0))?,
-                hz: s.f64("hz", Some(0.0))?,
-                start: s.f64("start", Some(0.0))?,
-                stop: s.f64("stop", Some(f64::INFINITY))?,
-            });
-        }
-    }
-    let forcing = Forcing { windows };
-    Ok((forcing, actuators))
-}
-
-/// The `[initial]` table: Euler angles and rates, or lab-frame vectors.
-fn initial_of(merged: &Table, has_preset: bool) -> Result<Initial, Error> {
-    let req = |d: f64| required(has_preset, d);
-    let s = section(merged, "initial");
-    let initial = if s.get("axis").is_some() {
-        Initial::from_lab(
-            s.f64s("axis", None)?,
-            s.f64s("angular_velocity", Some([0.0; 3]))?,
-            s.f64s("velocity", Some([0.0; 2]))?,
-        )?
-    } else if let Some(l) = ["angular_velocity", "velocity"]
-        .into_iter()
-        .find(|l| s.get(l).is_some())
-    {
-        return Err(Error::invalid(
-            &format!("initial.{l}"),
-            "given without initial.axis".into(),
-            "the lab-frame initial state is axis (required), angular_velocity, velocity".into(),
-        ));
-    } else {
-        Initial {
-            theta: s.f64("theta", req(0.0))?,
-            theta_dot: s.f64("theta_dot", Some(0.0))?,
-            precession: s.f64("precession", Some(0.0))?,
-            spin: s.f64("spin", req(0.0))?,
-            ux: s.f64("ux", Some(0.0))?,
-            uy: s.f64("uy", Some(0.0))?,
-            heading: s.f64("heading", Some(0.0))?,
-        }
+    let Some(Value::Array(list)) = merged.get("force") else {
+        return Ok((Forcing::none(), Vec::new()));
     };
-    Ok(initial)
-}
-
-/// The `[solver]` table.
-fn solver_of(merged: &Table, has_preset: bool) -> Result<SolverSettings, Error> {
-    let req = |d: f64| required(has_preset, d);
-    let s = section(merged, "solver");
-    let method = s.name("method", METHODS, Method::Adaptive)?;
-    let t_end = s.f64("t_end", req(0.0))?;
-    let d = SolverSettings::new(t_end);
-    let samples = s.usize("samples", d.samples)?;
-    let solver = SolverSettings {
-        method,
-        t_end,
-        steps: s.usize("steps", samples.saturating_sub(1))?,
-        rtol: s.f64("rtol", Some(d.rtol))?,
-        samples,
-        model: s.name("model", MODELS, d.model)?,
-        max_steps: match s.get("max_steps") {
-            None => None,
-            Some(_) => Some(s.usize("max_steps", 0)? as u64),
-        },
-        dt: match s.get("dt") {
-            None => None,
-            Some(_) => Some(s.f64("dt", None)?),
-        },
-    };
-    Ok(solver)
-}
-
-// ---------------------------------------------------------------------------
-// Rendering.
-
-/// Append `key = value` lines for the keys of `t`, in `keys` order.
-fn render_keys(out: &mut String, t: &Table, keys: Keys) {
-    for k in keys.iter().map(|k| k.name) {
-        if let Some(v) = t.get(k) {
-            out.push_str(&format!("{k} = {}\n", render_value(v)));
-        }
-    }
-}
-
-/// A scalar as TOML; floats in Rust's shortest round-trip form.
-fn render_value(v: &Value) -> String {
-    match v {
-        Value::Float(f) if f.is_nan() => "nan".into(),
-        Value::Float(f) if f.is_infinite() => {
-            if *f > 0.0 {
-                "inf".into()
-            } else {
-                "-inf".into()
-            }
-        }
-        Value::Float(f) => format!("{f:?}"),
-        other => other.to_string(),
-    }
+    crate::input::forcing::parse(list, || {
+        section(merged, "solver").name(
+            "model",
+            crate::input::solver::MODELS,
+            SolverSettings::new(1.0).model,
+        )
+    })
 }

@@ -1,7 +1,15 @@
 //! The solver settings (`[solver]`): the method, the model, tolerances,
 //! samples and the step limit, with their bounds.
 
+use toml::{Table, Value};
+
+use crate::input::Key;
+use crate::input::field::{Bounds, Num};
+use crate::input::reader::{Keys, Section, name_of, to_i64};
 use crate::{Error, Sample};
+
+/// The table's name.
+const TABLE: &str = "solver";
 
 /// Integration method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -105,13 +113,7 @@ impl SolverSettings {
 
     /// Check ranges.
     pub fn validate(&self) -> Result<(), Error> {
-        if !self.t_end.is_finite() || self.t_end <= 0.0 {
-            return Err(Error::invalid(
-                "solver.t_end",
-                format!("{} is not allowed", crate::human::exact(self.t_end)),
-                "a finite time > 0 [s]".into(),
-            ));
-        }
+        T_END.check(TABLE, self)?;
         if self.samples < 2 || self.samples > MAX_SAMPLES {
             return Err(Error::invalid(
                 "solver.samples",
@@ -126,13 +128,7 @@ impl SolverSettings {
                 ),
             ));
         }
-        if !self.rtol.is_finite() || self.rtol < 1e-14 || self.rtol > 1e-2 {
-            return Err(Error::invalid(
-                "solver.rtol",
-                format!("{} is not allowed", crate::human::exact(self.rtol)),
-                "1e-14 <= rtol <= 1e-2".into(),
-            ));
-        }
+        RTOL.check(TABLE, self)?;
         if let Some(n) = self.max_steps {
             if !(1..=MAX_STEPS).contains(&n) {
                 return Err(Error::invalid(
@@ -217,4 +213,150 @@ pub fn max_steps_for(method: Method) -> u64 {
         Method::Stiff => MAX_STEPS / 10,
         Method::Adaptive | Method::Rk4 | Method::Langevin | Method::Brownian => MAX_STEPS,
     }
+}
+
+// ---------------------------------------------------------------------------
+// The `[solver]` keys: defined once, read, written.
+
+/// `solver.t_end`.
+pub const T_END: Num<SolverSettings> = Num {
+    key: Key::doc(
+        "t_end",
+        "a finite time > 0 [s]",
+        "required",
+        "the run's duration",
+    ),
+    default: None,
+    bounds: Bounds::Above(0.0),
+    check_range: None,
+    get: |s| s.t_end,
+    set: |s, v| s.t_end = v,
+};
+
+/// `solver.rtol`.
+pub const RTOL: Num<SolverSettings> = Num {
+    key: Key::doc(
+        "rtol",
+        "1e-14 <= rtol <= 1e-2",
+        "1e-10",
+        "relative tolerance (adaptive, stiff)",
+    ),
+    default: Some(1e-10),
+    bounds: Bounds::Within(1e-14, 1e-2),
+    check_range: None,
+    get: |s| s.rtol,
+    set: |s, v| s.rtol = v,
+};
+
+/// Every `[solver]` key, in document order (`tippetop keys solver`).
+pub const KEYS: Keys = &[
+    Key::doc(
+        "method",
+        "\"adaptive\", \"rk4\", \"stiff\", \"langevin\" or \"brownian\"",
+        "\"adaptive\"",
+        "the integrator",
+    ),
+    T_END.key,
+    Key::doc(
+        "steps",
+        "an integer >= 1, a multiple of samples - 1 (method = \"rk4\"); default samples - 1",
+        "samples - 1",
+        "RK4's step count",
+    ),
+    RTOL.key,
+    Key::doc(
+        "samples",
+        "an integer, 2 <= samples <= 5000000",
+        "1001",
+        "output rows, evenly spaced from 0 to t_end",
+    ),
+    Key::doc(
+        "model",
+        "\"reduced\", \"vector\" or \"rigid\"",
+        "\"vector\"",
+        "the equations of motion (docs/physics.md)",
+    ),
+    Key::doc(
+        "max_steps",
+        MAX_STEPS_RANGE,
+        "20000000 (2000000 with stiff)",
+        "step limit of the run",
+    ),
+    Key::doc(
+        "dt",
+        "a finite time > 0 [s], the fixed step of method = \"langevin\" or \"brownian\" (only there)",
+        "",
+        "the Langevin or Brownian step",
+    ),
+];
+
+/// `solver.method`'s names.
+pub(crate) const METHODS: &[(&str, Method)] = &[
+    ("adaptive", Method::Adaptive),
+    ("rk4", Method::Rk4),
+    ("stiff", Method::Stiff),
+    ("langevin", Method::Langevin),
+    ("brownian", Method::Brownian),
+];
+
+/// `solver.model`'s names.
+pub(crate) const MODELS: &[(&str, ModelKind)] = &[
+    ("reduced", ModelKind::Reduced),
+    ("rigid", ModelKind::Rigid),
+    ("vector", ModelKind::Vector),
+];
+
+/// The `[solver]` table (types, required keys and defaults, in document
+/// order; no range checks: [`SolverSettings::validate`]).
+pub(crate) fn parse(s: &Section, has_preset: bool) -> Result<SolverSettings, Error> {
+    let method = s.name("method", METHODS, Method::Adaptive)?;
+    let mut d = SolverSettings::new(0.0);
+    T_END.read(s, has_preset, &mut d)?;
+    let samples = s.usize("samples", d.samples)?;
+    let steps = s.usize("steps", samples.saturating_sub(1))?;
+    RTOL.read(s, has_preset, &mut d)?;
+    let solver = SolverSettings {
+        method,
+        steps,
+        samples,
+        model: s.name("model", MODELS, d.model)?,
+        max_steps: match s.get("max_steps") {
+            None => None,
+            Some(_) => Some(s.usize("max_steps", 0)? as u64),
+        },
+        dt: match s.get("dt") {
+            None => None,
+            Some(_) => Some(s.f64("dt", None)?),
+        },
+        ..d
+    };
+    Ok(solver)
+}
+
+/// The `[solver]` table of `so` (`steps`, `max_steps`, `dt` only when set).
+pub(crate) fn to_table(so: &SolverSettings) -> Table {
+    let mut solver = Table::new();
+    solver.insert(
+        "method".into(),
+        Value::String(name_of(METHODS, so.method).into()),
+    );
+    T_END.write(so, &mut solver);
+    // `steps` defaults to `samples - 1`: written only when it differs,
+    // so that changing `samples` (or `method`) alone keeps RK4 valid.
+    if so.steps != so.samples.wrapping_sub(1) {
+        solver.insert("steps".into(), Value::Integer(to_i64(so.steps)));
+    }
+    RTOL.write(so, &mut solver);
+    solver.insert("samples".into(), Value::Integer(to_i64(so.samples)));
+    solver.insert(
+        "model".into(),
+        Value::String(name_of(MODELS, so.model).into()),
+    );
+    if let Some(n) = so.max_steps {
+        solver.insert("max_steps".into(), Value::Integer(to_i64(n as usize)));
+    }
+    if let Some(dt) = so.dt {
+        solver.insert("dt".into(), Value::Float(dt));
+    }
+    solver
 }

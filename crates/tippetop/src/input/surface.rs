@@ -12,8 +12,17 @@
 //! | [`FrictionLaw::Coulomb`] | exact set-valued Coulomb: sliding as above, rolling when the needed friction is within the cone |
 //! | [`FrictionLaw::Contensou`] | Coulomb's law integrated over a contact disc of radius `r_c` (docs/physics.md#contensou): `μ f(d) v/|v|` with a drilling torque about the normal, `d = |v|/(r_c |n_Z|)`; at `r_c = 0` the exact point law |
 
-use crate::Error;
 use std::f64::consts::PI;
+
+use toml::{Table, Value};
+
+use crate::Error;
+use crate::input::Key;
+use crate::input::field::{Bounds, Num};
+use crate::input::reader::{Keys, Section, name_of};
+
+/// The table's name.
+const TABLE: &str = "surface";
 
 /// Pressure distribution over the contact disc of Coulomb–Contensou
 /// friction (docs/physics.md#contensou; the law is `physics::contensou`).
@@ -283,21 +292,30 @@ pub struct Surface {
 }
 
 impl Surface {
-    /// Check physical ranges; the error names the scenario key.
-    pub fn validate(&self) -> Result<(), Error> {
-        if !self.gravity.is_finite() || self.gravity < 0.0 {
-            return Err(Error::invalid(
-                "surface.gravity",
-                format!("{} is not allowed", crate::human::exact(self.gravity)),
-                "a finite number >= 0".into(),
-            ));
+    /// The keys' defaults: gravity 9.8 m/s², exact Coulomb friction with
+    /// `friction` 0 (required in a scenario), bilateral contact, no
+    /// restitution, the plane.
+    pub fn defaults() -> Surface {
+        let mut s = Surface {
+            gravity: 0.0,
+            friction: 0.0,
+            law: FrictionLaw::Coulomb,
+            contact: ContactMode::Bilateral,
+            restitution: 0.0,
+            shape: Shape::Plane,
+        };
+        for k in NUMS {
+            (k.set)(&mut s, k.default.unwrap_or(0.0));
         }
-        if !self.friction.is_finite() || self.friction < 0.0 {
-            return Err(Error::invalid(
-                "surface.friction",
-                format!("{} is not allowed", crate::human::exact(self.friction)),
-                "a finite number >= 0".into(),
-            ));
+        s
+    }
+
+    /// Check physical ranges (the number keys first, [`NUMS`], then the
+    /// law's parameters and the rules between keys); the error names the
+    /// scenario key.
+    pub fn validate(&self) -> Result<(), Error> {
+        for k in NUMS {
+            k.check(TABLE, self)?;
         }
         if let Some(eps) = self.law.eps() {
             if !eps.is_finite() || eps <= 0.0 {
@@ -307,13 +325,6 @@ impl Surface {
                     "a finite speed > 0 [m/s]".into(),
                 ));
             }
-        }
-        if !(0.0..=1.0).contains(&self.restitution) {
-            return Err(Error::invalid(
-                "surface.restitution",
-                format!("{} is not allowed", crate::human::exact(self.restitution)),
-                "0 <= restitution <= 1".into(),
-            ));
         }
         if let Some((r, _, _)) = self.law.contensou() {
             if !r.is_finite() || r < 0.0 {
@@ -361,4 +372,275 @@ impl Surface {
         }
         Ok(())
     }
+}
+
+// ---------------------------------------------------------------------------
+// The `[surface]` keys: defined once, read, written.
+
+/// `surface.gravity`.
+pub const GRAVITY: Num<Surface> = Num {
+    key: Key::doc("gravity", "a finite number >= 0 [m/s^2]", "9.8", "g"),
+    default: Some(9.8),
+    bounds: Bounds::AtLeast(0.0),
+    check_range: Some("a finite number >= 0"),
+    get: |s| s.gravity,
+    set: |s, v| s.gravity = v,
+};
+
+/// `surface.friction`.
+pub const FRICTION: Num<Surface> = Num {
+    key: Key::doc(
+        "friction",
+        "a finite number >= 0",
+        "required",
+        "mu, the friction coefficient",
+    ),
+    default: None,
+    bounds: Bounds::AtLeast(0.0),
+    check_range: None,
+    get: |s| s.friction,
+    set: |s, v| s.friction = v,
+};
+
+/// `surface.restitution`.
+pub const RESTITUTION: Num<Surface> = Num {
+    key: Key::doc(
+        "restitution",
+        "0 <= restitution <= 1",
+        "0",
+        "coefficient of restitution at touchdown (rigid model)",
+    ),
+    default: Some(0.0),
+    bounds: Bounds::Within(0.0, 1.0),
+    check_range: None,
+    get: |s| s.restitution,
+    set: |s, v| s.restitution = v,
+};
+
+/// The number keys of `[surface]` with a field of their own: read,
+/// written and checked from their definitions.
+pub const NUMS: [Num<Surface>; 3] = [GRAVITY, FRICTION, RESTITUTION];
+
+/// Every `[surface]` key, in document order (`tippetop keys surface`).
+pub const KEYS: Keys = &[
+    GRAVITY.key,
+    FRICTION.key,
+    Key::doc(
+        "friction_law",
+        "\"coulomb\", \"coulomb_sliding\", \"regularized\", \"viscous\", \"contensou\" or \"contensou_pade\"",
+        "\"coulomb\"",
+        "the friction law (docs/physics.md#contensou)",
+    ),
+    Key::doc(
+        "contact_radius",
+        CONTACT_RADIUS_RANGE,
+        "required with contensou*",
+        "r_c, the contact patch's radius",
+    ),
+    Key::doc(
+        "contact_pressure",
+        "\"hertz\" (default) or \"uniform\", only with friction_law = \"contensou\" or \"contensou_pade\"",
+        "\"hertz\"",
+        "the pressure over the contact patch",
+    ),
+    Key::doc(
+        "friction_eps",
+        "a finite speed > 0 [m/s], only with friction_law = \"regularized\" or \"viscous\"",
+        "required with regularized/viscous",
+        "the regularisation speed",
+    ),
+    Key::doc(
+        "contact",
+        "\"bilateral\", \"paper\" or \"unilateral\"",
+        "\"bilateral\"",
+        "the contact model (held on the plane, the paper's law, or free to lift off)",
+    ),
+    RESTITUTION.key,
+    Key::doc(
+        "shape",
+        "\"plane\" or \"tube\" (the inside of a horizontal cylinder, axis along x; solver.model = \"rigid\" only)",
+        "\"plane\"",
+        "the surface (docs/physics.md#tube-dynamics)",
+    ),
+    Key::doc(
+        "tube_radius",
+        TUBE_RADIUS_RANGE,
+        "required with shape = \"tube\"",
+        "b, the tube's inner radius (its lowest line is z = 0)",
+    ),
+    Key::doc(
+        "tube_angle",
+        TUBE_ANGLE_RANGE,
+        "0",
+        "the initial contact point's angle about the tube's axis from the lowest line (> 0 towards +y); the initial state is given in the frame of the local tangent plane",
+    ),
+];
+
+const LAWS: &[(&str, LawName)] = &[
+    ("coulomb", LawName::Coulomb),
+    ("coulomb_sliding", LawName::CoulombSliding),
+    ("regularized", LawName::Regularized),
+    ("viscous", LawName::Viscous),
+    ("contensou", LawName::Contensou),
+    ("contensou_pade", LawName::ContensouPade),
+];
+
+const PRESSURES: &[(&str, Pressure)] =
+    &[("hertz", Pressure::Hertz), ("uniform", Pressure::Uniform)];
+
+const CONTACTS: &[(&str, ContactMode)] = &[
+    ("bilateral", ContactMode::Bilateral),
+    ("paper", ContactMode::Paper),
+    ("unilateral", ContactMode::Unilateral),
+];
+
+/// Friction law without its parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum LawName {
+    Coulomb,
+    CoulombSliding,
+    Regularized,
+    Viscous,
+    Contensou,
+    ContensouPade,
+}
+
+/// The `[surface]` table with its friction law's parameters (types,
+/// required keys and defaults, the keys each law or shape takes; no range
+/// checks: [`Surface::validate`]): the number keys ([`NUMS`]) first, then
+/// the law with its parameters, the contact and the shape.
+pub(crate) fn parse(s: &Section, has_preset: bool, eps_explicit: bool) -> Result<Surface, Error> {
+    let mut surface = Surface::defaults();
+    for k in NUMS {
+        k.read(s, has_preset, &mut surface)?;
+    }
+    let law_name = s.name("friction_law", LAWS, LawName::Coulomb)?;
+    let uses_eps = matches!(law_name, LawName::Regularized | LawName::Viscous);
+    let law_str = name_of(LAWS, law_name);
+    let eps = if uses_eps {
+        match s.get("friction_eps") {
+            None => {
+                return Err(Error::invalid(
+                    "surface.friction_eps",
+                    "missing".into(),
+                    format!("required with friction_law = \"{law_str}\": a speed > 0 [m/s]"),
+                ));
+            }
+            Some(_) => s.f64("friction_eps", None)?,
+        }
+    } else {
+        if eps_explicit && s.get("friction_eps").is_some() {
+            return Err(Error::invalid(
+                "surface.friction_eps",
+                format!("given with friction_law = \"{law_str}\", which does not use it"),
+                "only with friction_law = \"regularized\" or \"viscous\"".into(),
+            ));
+        }
+        0.0
+    };
+    let contensou = matches!(law_name, LawName::Contensou | LawName::ContensouPade);
+    let (radius, pressure) = if contensou {
+        let radius = match s.get("contact_radius") {
+            None => {
+                return Err(Error::invalid(
+                    "surface.contact_radius",
+                    "missing".into(),
+                    format!(
+                        "required with friction_law = \"{law_str}\": {}",
+                        CONTACT_RADIUS_RANGE
+                    ),
+                ));
+            }
+            Some(_) => s.f64("contact_radius", None)?,
+        };
+        (
+            radius,
+            s.name("contact_pressure", PRESSURES, Pressure::Hertz)?,
+        )
+    } else {
+        for key in ["contact_radius", "contact_pressure"] {
+            if s.get(key).is_some() {
+                return Err(Error::invalid(
+                    &format!("surface.{key}"),
+                    format!("given with friction_law = \"{law_str}\", which does not use it"),
+                    "only with friction_law = \"contensou\" or \"contensou_pade\"".into(),
+                ));
+            }
+        }
+        (0.0, Pressure::Hertz)
+    };
+    let law = match law_name {
+        LawName::Contensou | LawName::ContensouPade => FrictionLaw::Contensou {
+            radius,
+            pressure,
+            pade: law_name == LawName::ContensouPade,
+        },
+        LawName::Coulomb => FrictionLaw::Coulomb,
+        LawName::CoulombSliding => FrictionLaw::CoulombSliding,
+        LawName::Regularized => FrictionLaw::Regularized { eps },
+        LawName::Viscous => FrictionLaw::Viscous { eps },
+    };
+    surface.law = law;
+    surface.contact = s.name("contact", CONTACTS, ContactMode::Bilateral)?;
+    surface.shape = shape_of(s)?;
+    Ok(surface)
+}
+
+/// `surface.shape` with the tube's radius and initial angle.
+fn shape_of(s: &Section) -> Result<Shape, Error> {
+    let tube = s.name("shape", SHAPES, false)?;
+    if !tube {
+        for key in ["tube_radius", "tube_angle"] {
+            if s.get(key).is_some() {
+                return Err(Error::invalid(
+                    &format!("surface.{key}"),
+                    "given with shape = \"plane\", which does not use it".into(),
+                    "only with shape = \"tube\"".into(),
+                ));
+            }
+        }
+        return Ok(Shape::Plane);
+    }
+    if s.get("tube_radius").is_none() {
+        return Err(Error::invalid(
+            "surface.tube_radius",
+            "missing".into(),
+            TUBE_RADIUS_RANGE.into(),
+        ));
+    }
+    Ok(Shape::Tube {
+        radius: s.f64("tube_radius", None)?,
+        angle: s.f64("tube_angle", Some(0.0))?,
+    })
+}
+
+/// `surface.shape`'s names (true: the tube).
+const SHAPES: &[(&str, bool)] = &[("plane", false), ("tube", true)];
+
+/// The `[surface]` table of `s` (the friction law's parameters only when
+/// used, the tube's keys only for the tube).
+pub(crate) fn to_table(s: &Surface) -> Table {
+    let mut surface = Table::new();
+    for k in NUMS {
+        k.write(s, &mut surface);
+    }
+    surface.insert("friction_law".into(), Value::String(s.law.name().into()));
+    if let Some(eps) = s.law.eps() {
+        surface.insert("friction_eps".into(), Value::Float(eps));
+    }
+    if let Some((radius, pressure, _)) = s.law.contensou() {
+        surface.insert("contact_radius".into(), Value::Float(radius));
+        surface.insert(
+            "contact_pressure".into(),
+            Value::String(pressure.name().into()),
+        );
+    }
+    surface.insert("contact".into(), Value::String(s.contact.name().into()));
+    // Written only for the tube, so the plane's scenarios keep their text.
+    if let Some((radius, angle)) = s.shape.tube() {
+        surface.insert("shape".into(), Value::String(s.shape.name().into()));
+        surface.insert("tube_radius".into(), Value::Float(radius));
+        surface.insert("tube_angle".into(), Value::Float(angle));
+    }
+    surface
 }

@@ -18,7 +18,15 @@
 //! plane (its exact Ornstein–Uhlenbeck step, docs/physics.md#langevin), so the
 //! velocities have the Maxwell distribution of the constrained top.
 
+use toml::{Table, Value};
+
 use crate::Error;
+use crate::input::Key;
+use crate::input::field::{Bounds, Num};
+use crate::input::reader::{Keys, Section};
+
+/// The table's name.
+const TABLE: &str = "thermal";
 
 /// Boltzmann's constant \[J/K\] (exact since the 2019 SI).
 pub const BOLTZMANN: f64 = 1.380649e-23;
@@ -126,27 +134,8 @@ impl Thermal {
     /// Check each key's own range (the cross-key rules are
     /// [`crate::input::scenario::langevin::check`]'s).
     pub fn validate(&self) -> Result<(), Error> {
-        for (key, v, range) in [
-            ("temperature", self.temperature, TEMPERATURE_RANGE),
-            (
-                "damping_translational",
-                self.damping_translational,
-                DAMPING_T_RANGE,
-            ),
-            (
-                "damping_rotational",
-                self.damping_rotational,
-                DAMPING_R_RANGE,
-            ),
-            ("damping_contact", self.damping_contact, DAMPING_C_RANGE),
-        ] {
-            if !v.is_finite() || v < 0.0 {
-                return Err(Error::invalid(
-                    &format!("thermal.{key}"),
-                    format!("{} is not allowed", crate::human::exact(v)),
-                    range.into(),
-                ));
-            }
+        for k in NUMS {
+            k.check(TABLE, self)?;
         }
         if self.run >= MAX_RUNS {
             return Err(Error::invalid(
@@ -175,4 +164,120 @@ pub fn langevin_steps(t_end: f64, dt: f64) -> u64 {
     } else {
         1
     }
+}
+
+// ---------------------------------------------------------------------------
+// The `[thermal]` keys: defined once, read, written.
+
+/// `thermal.temperature`.
+pub const TEMPERATURE: Num<Thermal> = Num {
+    key: Key::doc(
+        "temperature",
+        TEMPERATURE_RANGE,
+        "0",
+        "T (docs/physics.md#langevin)",
+    ),
+    default: Some(0.0),
+    bounds: Bounds::AtLeast(0.0),
+    check_range: None,
+    get: |t| t.temperature,
+    set: |t, v| t.temperature = v,
+};
+
+/// `thermal.damping_translational`.
+pub const DAMPING_TRANSLATIONAL: Num<Thermal> = Num {
+    key: Key::doc(
+        "damping_translational",
+        DAMPING_T_RANGE,
+        "0",
+        "gamma_t: force -m gamma_t v on the centre of mass",
+    ),
+    default: Some(0.0),
+    bounds: Bounds::AtLeast(0.0),
+    check_range: None,
+    get: |t| t.damping_translational,
+    set: |t, v| t.damping_translational = v,
+};
+
+/// `thermal.damping_rotational`.
+pub const DAMPING_ROTATIONAL: Num<Thermal> = Num {
+    key: Key::doc(
+        "damping_rotational",
+        DAMPING_R_RANGE,
+        "0",
+        "gamma_r: torque -gamma_r I w",
+    ),
+    default: Some(0.0),
+    bounds: Bounds::AtLeast(0.0),
+    check_range: None,
+    get: |t| t.damping_rotational,
+    set: |t, v| t.damping_rotational = v,
+};
+
+/// `thermal.damping_contact`.
+pub const DAMPING_CONTACT: Num<Thermal> = Num {
+    key: Key::doc(
+        "damping_contact",
+        DAMPING_C_RANGE,
+        "0",
+        "c: force -c v_P at the contact point",
+    ),
+    default: Some(0.0),
+    bounds: Bounds::AtLeast(0.0),
+    check_range: None,
+    get: |t| t.damping_contact,
+    set: |t, v| t.damping_contact = v,
+};
+
+/// The number keys of `[thermal]`, in document order: read, written,
+/// checked and listed from their definitions (`seed` and `run`, whole
+/// numbers, are read and written in [`parse`] and [`to_table`]).
+pub const NUMS: [Num<Thermal>; 4] = [
+    TEMPERATURE,
+    DAMPING_TRANSLATIONAL,
+    DAMPING_ROTATIONAL,
+    DAMPING_CONTACT,
+];
+
+/// Every `[thermal]` key, in document order (`tippetop keys thermal`).
+pub const KEYS: Keys = &[
+    TEMPERATURE.key,
+    DAMPING_TRANSLATIONAL.key,
+    DAMPING_ROTATIONAL.key,
+    DAMPING_CONTACT.key,
+    Key::doc(
+        "seed",
+        SEED_RANGE,
+        "required at T > 0",
+        "key of the random stream",
+    ),
+    Key::doc("run", RUN_RANGE, "0", "index of this run in the stream"),
+];
+
+/// The `[thermal]` table (types and defaults, in document order; no
+/// range checks: [`Thermal::validate`]).
+pub(crate) fn parse(s: &Section) -> Result<Thermal, Error> {
+    let mut th = Thermal::NONE;
+    for k in NUMS {
+        k.read(s, false, &mut th)?;
+    }
+    th.seed = match s.get("seed") {
+        None => None,
+        Some(_) => Some(s.usize("seed", 0)? as u64),
+    };
+    th.run = s.usize("run", 0)? as u64;
+    Ok(th)
+}
+
+/// The `[thermal]` table of `th` (`seed` only when given).
+pub(crate) fn to_table(th: &Thermal) -> Table {
+    let mut t = Table::new();
+    for k in NUMS {
+        k.write(th, &mut t);
+    }
+    if let Some(seed) = th.seed {
+        t.insert("seed".into(), Value::Integer(seed as i64));
+    }
+    t.insert("run".into(), Value::Integer(th.run as i64));
+    t
 }

@@ -6,8 +6,13 @@
 //! the height of the centre of mass above the plane is `h(θ) = R − a cos θ`.
 //! `θ = 0` is "standing up" (centre of mass lowest), `θ = π` is inverted.
 
+use toml::{Table, Value};
+
 use crate::Error;
 use crate::error::num;
+use crate::input::Key;
+use crate::input::field::{Bounds, Num};
+use crate::input::reader::{Keys, Section};
 
 /// Geometry and mass properties of the top. SI units throughout.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -93,10 +98,9 @@ impl Top {
     /// Check the physical ranges; the error names the scenario key.
     pub fn validate(&self) -> Result<(), Error> {
         let t = self;
-        finite_positive("top.radius", t.radius)?;
-        finite_positive("top.mass", t.mass)?;
-        finite_positive("top.inertia_transverse", t.inertia_transverse)?;
-        finite_positive("top.inertia_axial", t.inertia_axial)?;
+        for k in [RADIUS, MASS, INERTIA_TRANSVERSE, INERTIA_AXIAL] {
+            k.check("top", t)?;
+        }
         if !t.offset.is_finite() || t.offset < 0.0 || t.offset >= t.radius {
             return Err(Error::invalid(
                 "top.offset",
@@ -149,13 +153,165 @@ impl Top {
     }
 }
 
-pub(crate) fn finite_positive(key: &str, v: f64) -> Result<(), Error> {
-    if !v.is_finite() || v <= 0.0 {
-        return Err(Error::invalid(
-            key,
-            format!("{} is not allowed", crate::human::exact(v)),
-            "a finite number > 0".to_string(),
-        ));
+// ---------------------------------------------------------------------------
+// The `[top]` keys: defined once, read, written.
+
+/// The range the checks of `radius`, `mass` and the inertias state.
+const POSITIVE: &str = "a finite number > 0";
+
+/// `top.radius`.
+pub const RADIUS: Num<Top> = Num {
+    key: Key::doc(
+        "radius",
+        "a finite length > 0 [m]",
+        "required",
+        "R, the sphere's radius",
+    ),
+    default: None,
+    bounds: Bounds::Above(0.0),
+    check_range: Some(POSITIVE),
+    get: |t| t.radius,
+    set: |t, v| t.radius = v,
+};
+
+/// `top.offset`.
+pub const OFFSET: Num<Top> = Num {
+    key: Key::doc(
+        "offset",
+        "0 <= offset < radius [m]",
+        "required",
+        "a, from the sphere's centre to the centre of mass",
+    ),
+    default: None,
+    bounds: Bounds::AtLeast(0.0),
+    check_range: None,
+    get: |t| t.offset,
+    set: |t, v| t.offset = v,
+};
+
+/// `top.mass`.
+pub const MASS: Num<Top> = Num {
+    key: Key::doc(
+        "mass",
+        "a finite mass > 0 [kg]",
+        "required",
+        "m, the top's mass",
+    ),
+    default: None,
+    bounds: Bounds::Above(0.0),
+    check_range: Some(POSITIVE),
+    get: |t| t.mass,
+    set: |t, v| t.mass = v,
+};
+
+/// `top.inertia_transverse`.
+pub const INERTIA_TRANSVERSE: Num<Top> = Num {
+    key: Key::doc(
+        "inertia_transverse",
+        "a finite moment > 0 [kg m^2]",
+        "required",
+        "A, moment of inertia about a transverse axis through the centre of mass",
+    ),
+    default: None,
+    bounds: Bounds::Above(0.0),
+    check_range: Some(POSITIVE),
+    get: |t| t.inertia_transverse,
+    set: |t, v| t.inertia_transverse = v,
+};
+
+/// `top.inertia_axial`.
+pub const INERTIA_AXIAL: Num<Top> = Num {
+    key: Key::doc(
+        "inertia_axial",
+        "0 < inertia_axial <= 2 * inertia_transverse [kg m^2]",
+        "required",
+        "C, moment of inertia about the symmetry axis",
+    ),
+    default: None,
+    bounds: Bounds::Above(0.0),
+    check_range: Some(POSITIVE),
+    get: |t| t.inertia_axial,
+    set: |t, v| t.inertia_axial = v,
+};
+
+/// The number keys of `[top]`, in document order: read, written and
+/// listed from their definitions. Their ranges are checked in
+/// [`Top::validate`] (`offset` against `radius`, `inertia_axial` against
+/// `2 inertia_transverse`: rules between two keys).
+pub const NUMS: [Num<Top>; 5] = [RADIUS, OFFSET, MASS, INERTIA_TRANSVERSE, INERTIA_AXIAL];
+
+/// Every `[top]` key, in document order (`tippetop keys top`).
+pub const KEYS: Keys = &[
+    RADIUS.key,
+    OFFSET.key,
+    MASS.key,
+    INERTIA_TRANSVERSE.key,
+    INERTIA_AXIAL.key,
+    Key::doc(
+        "stem_radius",
+        STEM_RADIUS_RANGE,
+        "no stem",
+        "r2, the stem's end sphere (rigid model; docs/physics.md#stem)",
+    ),
+    Key::doc(
+        "stem_distance",
+        STEM_DISTANCE_RANGE,
+        "no stem",
+        "d2, centre of mass to the stem sphere's centre, along the axis",
+    ),
+];
+
+/// The `[top]` table (types and required keys, in document order; the
+/// stem: both keys or neither; no range checks: [`Top::validate`]).
+pub(crate) fn parse(s: &Section, has_preset: bool) -> Result<Top, Error> {
+    let mut top = Top {
+        radius: 0.0,
+        offset: 0.0,
+        mass: 0.0,
+        inertia_transverse: 0.0,
+        inertia_axial: 0.0,
+        stem: None,
+    };
+    for k in NUMS {
+        k.read(s, has_preset, &mut top)?;
     }
-    Ok(())
+    // The stem (§stem): both keys or neither.
+    let top = match (s.get("stem_radius"), s.get("stem_distance")) {
+        (None, None) => top,
+        (Some(_), Some(_)) => Top {
+            stem: Some(Stem {
+                radius: s.f64("stem_radius", None)?,
+                distance: s.f64("stem_distance", None)?,
+            }),
+            ..top
+        },
+        (Some(_), None) => {
+            return Err(Error::invalid(
+                "top.stem_distance",
+                "missing (top.stem_radius is given)".into(),
+                STEM_DISTANCE_RANGE.into(),
+            ));
+        }
+        (None, Some(_)) => {
+            return Err(Error::invalid(
+                "top.stem_radius",
+                "missing (top.stem_distance is given)".into(),
+                STEM_RADIUS_RANGE.into(),
+            ));
+        }
+    };
+    Ok(top)
+}
+
+/// The `[top]` table of `t` (the stem's keys only with a stem).
+pub(crate) fn to_table(t: &Top) -> Table {
+    let mut top = Table::new();
+    for k in NUMS {
+        k.write(t, &mut top);
+    }
+    if let Some(st) = t.stem {
+        top.insert("stem_radius".into(), Value::Float(st.radius));
+        top.insert("stem_distance".into(), Value::Float(st.distance));
+    }
+    top
 }

@@ -36,7 +36,7 @@
 //! undefined at θ = 0: no physical actuator does that), at `[start, stop)`
 //! for the write and `[phase + start, phase + stop)` for the erase; a
 //! `"tip"` or `"magnetic"` window is a body actuator of the run
-//! ([`Scenario::actuators`], `scenario::actuator`), at the same times. The
+//! ([`Scenario::actuators`], physics/forces/actuators.rs), at the same times. The
 //! scenario's own `[[force]]` list must be empty (a preset's list is
 //! replaced by the protocol). `--set` reaches the new keys as `bit.KEY`,
 //! `write.K.KEY` and `erase.K.KEY` (`K` equal to the number of windows
@@ -50,8 +50,12 @@
 
 use toml::{Table, Value};
 
-use super::{Keys, Section, check_keys, describe, parse_document, range_of, unknown_key};
 use crate::input::Key;
+use crate::input::reader::{
+    Keys, Section, check_keys, describe, parse_document, parse_set_value, range_of, render_keys,
+    unknown_key,
+};
+use crate::physics::forces::{actuators, retarding, vertical_load};
 use crate::{ActuatorWindow, BodyActuator, Error, ForceWindow, Forcing, Scenario};
 
 /// Fewest output rows per `bit.hold` (the row spacing bounds the adaptive
@@ -77,14 +81,14 @@ const BIT_KEYS: Keys = &[
     Key::new("phase", "a finite time > bit.hold [s]"),
 ];
 
+/// A `[[write]]` or `[[erase]]` window's keys: the `[[force]]` window's
+/// (input/forcing.rs, the terms' in physics/forces/), with start and stop
+/// from the start of the phase.
 const WINDOW_KEYS: Keys = &[
-    Key::new("kind", super::actuator::KIND_RANGE),
-    Key::new("hx", "a finite force [N]"),
-    Key::new("hy", "a finite force [N]"),
-    Key::new(
-        "hz",
-        "a finite force [N] (vertical load at the contact point, > 0 pushes onto the plane)",
-    ),
+    crate::input::forcing::KIND,
+    retarding::KEYS[0],
+    retarding::KEYS[1],
+    vertical_load::KEY,
     Key::new(
         "start",
         "a finite time >= 0 [s] from the start of the phase",
@@ -93,11 +97,11 @@ const WINDOW_KEYS: Keys = &[
         "stop",
         "a finite time, start < stop <= bit.phase [s] from the start of the phase; default bit.phase",
     ),
-    super::actuator::KEYS[0],
-    super::actuator::KEYS[1],
-    super::actuator::KEYS[2],
-    super::actuator::KEYS[3],
-    super::actuator::KEYS[4],
+    actuators::KEYS[0],
+    actuators::KEYS[1],
+    actuators::KEYS[2],
+    actuators::KEYS[3],
+    actuators::KEYS[4],
 ];
 
 /// The two states and the timing of a bit (the `[bit]` table).
@@ -286,8 +290,8 @@ impl BitScenario {
         for (name, list, offset) in [("write", &write, 0.0), ("erase", &erase, bit.phase)] {
             for (k, a) in list.iter().enumerate() {
                 if let Some(w) = a.body_window(offset) {
-                    super::actuator::check_model(
-                        &w,
+                    actuators::check_model(
+                        &w.actuator,
                         &format!("{name}.{k}"),
                         scenario.solver.model,
                     )?;
@@ -348,23 +352,23 @@ impl BitScenario {
         t.insert("hold".into(), Value::Float(b.hold));
         t.insert("phase".into(), Value::Float(b.phase));
         out.push_str("\n[bit]\n");
-        super::render_keys(&mut out, &t, BIT_KEYS);
+        render_keys(&mut out, &t, BIT_KEYS);
         for (name, list) in [("write", &self.write), ("erase", &self.erase)] {
             for a in list {
                 let mut t = Table::new();
                 t.insert("kind".into(), Value::String(a.kind.name().into()));
                 match a.kind {
                     ActuatorKind::Contact => {
-                        for (k, v) in [("hx", a.hx), ("hy", a.hy), ("hz", a.hz)] {
-                            t.insert(k.into(), Value::Float(v));
-                        }
+                        retarding::to_table([a.hx, a.hy], &mut t);
+                        // Written even when 0 (a bit's windows show every key).
+                        t.insert(vertical_load::KEY.name.into(), Value::Float(a.hz));
                     }
-                    ActuatorKind::Body(b) => super::actuator::to_table(&b, &mut t),
+                    ActuatorKind::Body(b) => actuators::to_table(&b, &mut t),
                 }
                 t.insert("start".into(), Value::Float(a.start));
                 t.insert("stop".into(), Value::Float(a.stop));
                 out.push_str(&format!("\n[[{name}]]\n"));
-                super::render_keys(&mut out, &t, WINDOW_KEYS);
+                render_keys(&mut out, &t, WINDOW_KEYS);
             }
         }
         out
@@ -423,7 +427,7 @@ fn apply_bit_set(
     key: &str,
     set: &str,
 ) -> Result<(), Error> {
-    let value = super::parse_set_value(
+    let value = parse_set_value(
         key,
         set.split_once('=').map(|(_, v)| v.trim()).unwrap_or(""),
     )?;
@@ -555,15 +559,16 @@ fn parse_windows(name: &str, list: &[Value], phase: f64) -> Result<Vec<Actuator>
             keys: WINDOW_KEYS,
             table: w.as_table(),
         };
-        let kind = match super::actuator::parse(&s)? {
+        let kind = match crate::input::forcing::parse_actuator(&s)? {
             None => ActuatorKind::Contact,
             Some(b) => ActuatorKind::Body(b),
         };
+        let [hx, hy] = retarding::parse(&s)?;
         let a = Actuator {
             kind,
-            hx: s.f64("hx", Some(0.0))?,
-            hy: s.f64("hy", Some(0.0))?,
-            hz: s.f64("hz", Some(0.0))?,
+            hx,
+            hy,
+            hz: vertical_load::parse(&s)?,
             start: s.f64("start", Some(0.0))?,
             stop: s.f64("stop", Some(phase))?,
         };

@@ -9,12 +9,12 @@ use std::sync::Arc;
 
 use toml::{Table, Value};
 
-use super::{Section, range_of};
+use crate::input::reader::{Section, range_of};
 use crate::input::solver::ModelKind;
 use crate::input::{Key, PluginTables};
 use crate::physics::forces::Plugin;
 use crate::physics::forces::{
-    ForceTerm, Forces, Kind, PLUGINS, actuators, retarding, vertical_load, wells,
+    ForceTerm, Forces, Kind, PLUGINS, Window, actuators, retarding, vertical_load, wells,
 };
 use crate::{Adhesion, Error, Scenario, Well};
 
@@ -221,13 +221,25 @@ impl Forces {
     /// The terms of `sc` (nothing latched: zero force): the scenario's own
     /// terms, then each plug-in's in the registry's order.
     pub fn of(sc: &Scenario) -> Self {
-        let mut terms: Vec<Arc<dyn ForceTerm>> =
-            vec![Arc::new(retarding::Retarding::of(&sc.forcing))];
+        let windows = &sc.forcing.windows;
+        let of = |w: &crate::ForceWindow| (w.start, w.stop);
+        let mut terms: Vec<Arc<dyn ForceTerm>> = vec![Arc::new(retarding::Retarding::new(
+            windows
+                .iter()
+                .map(|w| Window::at(of(w), [w.hx, w.hy]))
+                .collect(),
+        ))];
         if sc.forcing.has_load() {
-            terms.push(Arc::new(vertical_load::VerticalLoad::of(&sc.forcing)));
+            terms.push(Arc::new(vertical_load::VerticalLoad::new(
+                windows.iter().map(|w| Window::at(of(w), w.hz)).collect(),
+            )));
         }
         for kind in ["tip", "magnetic"] {
-            if let Some(term) = actuators::Actuators::of(&sc.actuators, kind) {
+            let body = sc
+                .actuators
+                .iter()
+                .map(|w| Window::at((w.start, w.stop), w.actuator));
+            if let Some(term) = actuators::Actuators::of(body, kind) {
                 terms.push(Arc::new(term));
             }
         }

@@ -26,9 +26,9 @@
 
 use toml::{Table, Value};
 
-use super::{Keys, check_keys, describe, parse_document, parse_set_value};
 use crate::Error;
 use crate::input::Key;
+use crate::input::reader::{Keys, check_keys, describe, parse_document, parse_set_value};
 
 /// Which phase's protocol is searched.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -8,11 +8,12 @@
 //! [`ForceTerm`]) plus one line in [`PLUGINS`] (docs/extending.md; the
 //! example is [`wind`]; [`adhesion`] and [`wells`] are too). The older terms (the
 //! `[[force]]` schedule's retarding force and vertical load and body
-//! actuators) are windows of that schedule: the retarding force's and the
-//! load's key definitions are in their files ([`retarding::KEYS`],
-//! [`vertical_load::KEY`]), the actuators' in input/scenario/actuator.rs;
-//! the windows are parsed and checked as a schedule (input/forcing.rs) and
-//! the terms built in `Forces::of` (input/scenario/plugins.rs). Each term states, in code ([`ForceTerm::properties`])
+//! actuators) are windows of that schedule, each in its file with its keys,
+//! their parse, checks and rendering ([`retarding::KEYS`],
+//! [`vertical_load::KEY`], [`actuators::KEYS`]) and its term, which keeps
+//! its values as [`Window`]s; the schedule (input/forcing.rs) reads a
+//! window's `kind`, `start`, `stop` and hands the rest to its term's file,
+//! and the terms are built in `Forces::of` (input/scenario/plugins.rs). Each term states, in code ([`ForceTerm::properties`])
 //! and in its doc, how it enters the normal-force closure `N D(σ) = Q`
 //! (docs/physics.md#normal-force), whether it conserves Jellett's J (§invariants) and whether
 //! it has a potential or its work is integrated (like `W_a`).
@@ -200,6 +201,33 @@ pub struct Applied {
     pub wells: Vec<wells::Well>,
     /// The body actuators in effect ([`Kind::BodyPoint`]), SI; zero without.
     pub body: actuators::BodyLoad,
+}
+
+/// A value in effect on `[start, stop)` \[s\]: one window of the
+/// `[[force]]` schedule (input/forcing.rs) as a windowed term keeps it
+/// ([`retarding::Retarding`], [`vertical_load::VerticalLoad`],
+/// [`actuators::Actuators`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Window<T> {
+    /// Switch-on time \[s\].
+    pub start: f64,
+    /// Switch-off time \[s\]; `f64::INFINITY` for never.
+    pub stop: f64,
+    /// What the window applies.
+    pub value: T,
+}
+
+impl<T> Window<T> {
+    /// `value` on `[start, stop)` \[s\].
+    pub fn at((start, stop): (f64, f64), value: T) -> Self {
+        Window { start, stop, value }
+    }
+
+    /// True if it acts at `t` \[s\]: `start <= t < stop`.
+    #[inline(always)]
+    pub fn active(&self, t: f64) -> bool {
+        self.start <= t && t < self.stop
+    }
 }
 
 /// A centre-vertical force: the pull-off force `F_a` and the binding

@@ -13,13 +13,16 @@
 //! - Energy: no potential. It does no work in contact (`v_Pz = 0`); in
 //!   flight (rigid model) its work `−h_z v_Pz` is integrated in `W_a`.
 
-use super::{Applied, Energy, ForceTerm, Kind, Properties};
-use crate::Forcing;
-use crate::input::Key;
+use toml::{Table, Value};
 
-/// Its key in a `[[force]]` window, `force.K.hz` (listed with the window's
-/// other keys in `input/scenario.rs`'s `FORCE_KEYS`; its value is checked
-/// with the window, `input/forcing.rs`).
+use super::{Applied, Energy, ForceTerm, Kind, Properties, Window};
+use crate::Error;
+use crate::input::Key;
+use crate::input::reader::Section;
+
+/// Its key in a `[[force]]` window of `kind = "contact"`, `force.K.hz`:
+/// read ([`parse`]), checked ([`check`]) and written ([`to_table`]) here;
+/// listed with the window's other keys in `input/forcing.rs`'s `KEYS`.
 pub const KEY: Key = Key::doc(
     "hz",
     "a finite force [N] (vertical load at the contact point, > 0 pushes onto the plane)",
@@ -27,18 +30,44 @@ pub const KEY: Key = Key::doc(
     "vertical load at the contact point (docs/physics.md#vertical-load)",
 );
 
+/// `h_z` \[N\] of a contact window (0 when absent): type only, [`check`]
+/// checks the value.
+pub(crate) fn parse(s: &Section) -> Result<f64, Error> {
+    s.f64(KEY.name, Some(0.0))
+}
+
+/// Check `h_z` \[N\] of the window at `prefix` (`force.K`): finite; the
+/// error names `{prefix}.hz` with the key's range.
+pub fn check(prefix: &str, hz: f64) -> Result<(), Error> {
+    if hz.is_finite() {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        &format!("{prefix}.{}", KEY.name),
+        format!("{} is not allowed", crate::human::exact(hz)),
+        KEY.range.into(),
+    ))
+}
+
+/// Write `hz` into a window's table, only when set: scenarios without a
+/// load keep their text (scenario.toml, summary.json) unchanged.
+pub(crate) fn to_table(hz: f64, t: &mut Table) {
+    if hz != 0.0 {
+        t.insert(KEY.name.into(), Value::Float(hz));
+    }
+}
+
 /// The vertical load from the force windows.
 #[derive(Debug, Clone)]
 pub struct VerticalLoad {
-    schedule: Forcing,
+    windows: Vec<Window<f64>>,
 }
 
 impl VerticalLoad {
-    /// The term of a schedule.
-    pub fn of(schedule: &Forcing) -> Self {
-        VerticalLoad {
-            schedule: schedule.clone(),
-        }
+    /// The term of the schedule's windows: `h_z` \[N\] on each window's
+    /// `[start, stop)`, in the schedule's order.
+    pub fn new(windows: Vec<Window<f64>>) -> Self {
+        VerticalLoad { windows }
     }
 }
 
@@ -57,6 +86,11 @@ impl ForceTerm for VerticalLoad {
         }
     }
     fn add_to(&self, t: f64, acc: &mut Applied) {
-        acc.contact_point[2] += self.schedule.load_at(t);
+        // Summed first, then added: `Forcing::load_at`'s arithmetic.
+        let mut hz = 0.0;
+        for w in self.windows.iter().filter(|w| w.active(t)) {
+            hz += w.value;
+        }
+        acc.contact_point[2] += hz;
     }
 }
