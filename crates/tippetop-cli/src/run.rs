@@ -128,11 +128,12 @@ pub struct RunArgs {
 
     /// Do not compute the pose: trajectory.csv without its columns x, y, z,
     /// qw, qx, qy, qz, xp, yp (the first 17 columns only). The vector model
-    /// (the default) then integrates 10 state components instead of 17 (not
-    /// the attitude and position, which nothing else reads): every other
-    /// column, summary.json and the plots are the same bits, in about 20 %
-    /// fewer instructions (docs/performance.md#pose). Other models compute
-    /// the pose anyway (only the columns are left out).
+    /// (the default) then integrates 10 state components instead of 17, the
+    /// reduced model 8 instead of 14 (not the attitude and position, which
+    /// nothing else reads): every other column, summary.json and the plots
+    /// are the same bits, in 14-20 % fewer instructions
+    /// (docs/performance.md#pose). The rigid model computes the pose anyway
+    /// (only the columns are left out).
     #[arg(long)]
     pub no_pose: bool,
 }

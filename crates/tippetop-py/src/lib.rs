@@ -568,8 +568,8 @@ impl Trajectory {
 /// partial trajectory with `error` set. `pose=False` (`tippetop run
 /// --no-pose`): the pose is not computed and its columns (x, y, z, qw, qx,
 /// qy, qz, xp, yp) are left out; the vector model then integrates 10 state
-/// components instead of 17, every other column and the summary the same
-/// bits.
+/// components instead of 17 (the reduced model 8 instead of 14), every
+/// other column and the summary the same bits.
 #[pyfunction]
 #[pyo3(signature = (scenario, pose = true))]
 fn run(py: Python<'_>, scenario: &Scenario, pose: bool) -> PyResult<Trajectory> {

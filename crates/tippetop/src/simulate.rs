@@ -20,7 +20,7 @@ use crate::{
     integrate::{self, AnyEngine, Engine, Event, IntegrateError, Stepped, Stepper, Stepping},
     model::{
         ContactModel, Flow, Model,
-        reduced::{DIM, Reduced},
+        reduced::{self, DIM, Reduced},
         rigid::{self, Rigid},
         vector::{self, Vector},
     },
@@ -122,6 +122,14 @@ pub fn simulate_watching_with_pose(
         sim.finish_watching()
     }
     Ok(match scenario.solver.model {
+        ModelKind::Reduced if !pose => go(
+            scenario,
+            <Reduced<{ reduced::CONTROLLED }> as ContactModel<{ reduced::CONTROLLED }>>::build(
+                scenario,
+            ),
+            watches,
+            progress,
+        ),
         ModelKind::Reduced => go(
             scenario,
             <Reduced as ContactModel<DIM>>::build(scenario),
@@ -174,11 +182,13 @@ pub fn simulate_with_progress(
 /// mass's position and the attitude: the columns [`crate::trajectory::POSE_COLUMNS`])
 /// only if `pose`. Without it the vector model integrates the motion's
 /// ten components alone (`k, w, v`, the works: not the attitude's
-/// quadratures and the position, which no other rate reads), so the
+/// quadratures and the position, which no other rate reads), the reduced
+/// model its eight (not `φ, ψ`, the position and `(c_φ, s_φ)`), so the
 /// steps, the events, the summary and every other column are the same
 /// bits as with the pose, at less cost (docs/performance.md#pose); the
-/// pose columns of its rows are NaN. The reduced and rigid models
-/// compute the pose either way (their rows are the same as with `pose`).
+/// pose columns of its rows are NaN. The rigid model computes the pose
+/// either way (its rows are the same as with `pose`: the pose is its
+/// state).
 pub fn simulate_with_pose(
     scenario: &Scenario,
     pose: bool,
@@ -186,6 +196,14 @@ pub fn simulate_with_pose(
 ) -> Result<Trajectory, Error> {
     scenario.validate()?;
     match scenario.solver.model {
+        ModelKind::Reduced if !pose => Ok(run(
+            scenario,
+            <Reduced<{ reduced::CONTROLLED }> as ContactModel<{ reduced::CONTROLLED }>>::build(
+                scenario,
+            ),
+            &mut |_, _, _| {},
+            progress,
+        )),
         ModelKind::Vector if !pose => Ok(run(
             scenario,
             <Vector<{ vector::CONTROLLED }> as ContactModel<{ vector::CONTROLLED }>>::build(
@@ -282,6 +300,8 @@ enum AnySim {
     Vector(Box<Sim<Vector, { vector::DIM }>>),
     /// The vector model without the pose ([`simulate_with_pose`]).
     Motion(Box<Sim<Vector<{ vector::CONTROLLED }>, { vector::CONTROLLED }>>),
+    /// The reduced model without the pose ([`simulate_with_pose`]).
+    ReducedMotion(Box<Sim<Reduced<{ reduced::CONTROLLED }>, { reduced::CONTROLLED }>>),
     Rigid(Box<Sim<Rigid, { rigid::DIM }>>),
 }
 
@@ -292,6 +312,7 @@ macro_rules! with_sim {
             AnySim::Reduced($s) => $body,
             AnySim::Vector($s) => $body,
             AnySim::Motion($s) => $body,
+            AnySim::ReducedMotion($s) => $body,
             AnySim::Rigid($s) => $body,
         }
     };
@@ -319,6 +340,12 @@ impl Simulation {
         scenario.validate()?;
         let sc = scenario;
         let inner = match sc.solver.model {
+            ModelKind::Reduced if !pose => AnySim::ReducedMotion(Box::new(Sim::new(
+                sc,
+                <Reduced<{ reduced::CONTROLLED }> as ContactModel<{ reduced::CONTROLLED }>>::build(
+                    sc,
+                ),
+            ))),
             ModelKind::Vector if !pose => AnySim::Motion(Box::new(Sim::new(
                 sc,
                 <Vector<{ vector::CONTROLLED }> as ContactModel<{ vector::CONTROLLED }>>::build(sc),

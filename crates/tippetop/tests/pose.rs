@@ -1,6 +1,6 @@
 //! The pose paid for only when read (issue #28 item 7): a run without the
 //! pose (`simulate_with_pose(.., false, ..)`, the vector model's motion
-//! alone, ten components) is the run with the pose less its pose columns,
+//! alone, ten components; the reduced model's, eight) is the run with the pose less its pose columns,
 //! bit for bit. The reason: the attitude's quadratures and the position are
 //! outside the error norm and no other rate reads them
 //! (`OdeSystem::CONTROLLED`'s contract), so the step sequence, the events
@@ -37,6 +37,27 @@ fn cases() -> Vec<(&'static str, Scenario)> {
             ),
         ),
         ("nano", toml("preset = \"nano\"\n[solver]\nt_end = 2e-5\n")),
+        (
+            "reduced classical coulomb (stick/slip)",
+            toml("preset = \"classical\"\n[solver]\nmodel = \"reduced\"\nt_end = 6.0\n"),
+        ),
+        (
+            "reduced nano",
+            toml("preset = \"nano\"\n[solver]\nmodel = \"reduced\"\nt_end = 2e-5\n"),
+        ),
+        (
+            "reduced classical regularized, stiff (Rodas4P)",
+            toml(
+                "preset = \"classical\"\n[surface]\nfriction_law = \"regularized\"\n\
+                 friction_eps = 1e-3\n[solver]\nmodel = \"reduced\"\nmethod = \"stiff\"\nt_end = 1.0\n",
+            ),
+        ),
+        (
+            "vector classical rk4",
+            toml(
+                "preset = \"classical\"\n[solver]\nmethod = \"rk4\"\nsteps = 10000\nt_end = 1.0\n",
+            ),
+        ),
         (
             "langevin",
             toml(&format!(
