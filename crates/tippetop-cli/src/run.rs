@@ -68,8 +68,9 @@ trajectory.csv columns (SI units; angles in rad; frames in docs/physics.md):
                  at t = 0) [1]
   xp, yp         contact point on the plane, lab frame [m]: the sphere's lowest point,
                  (x, y) + a (k_X, k_Y)
-  (--no-pose leaves out the pose's nine columns x .. yp, and the vector model then does not
-  integrate them: docs/performance.md#pose)
+
+--no-pose leaves out the pose's nine columns, x .. yp, and the vector and reduced models then do
+not integrate them (docs/performance.md#pose).
 
 The scenario is the preset (if given), then the scenario file over it, then each --set in
 order. Bad input exits with code 2 and touches nothing; a run that fails part-way writes what
