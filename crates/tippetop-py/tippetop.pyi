@@ -177,12 +177,16 @@ class Trajectory:
     def __len__(self) -> int:
         """The number of samples (rows)."""
 
-def run(scenario: Scenario) -> Trajectory:
+def run(scenario: Scenario, pose: bool = True) -> Trajectory:
     """Run ``scenario`` to ``solver.t_end`` (the CLI's ``tippetop run``),
     with the GIL released. Bit for bit the CLI's trajectory.csv and
     summary.json. Bad input raises ValueError; a run that fails part-way
     returns its partial trajectory with ``error`` set. Ctrl-C raises
-    KeyboardInterrupt within a second."""
+    KeyboardInterrupt within a second. ``pose=False`` (``tippetop run
+    --no-pose``): the pose is not computed and its columns (x, y, z, qw,
+    qx, qy, qz, xp, yp) are left out; the vector model then integrates 10
+    state components instead of 17 (the reduced model 8 instead of 14),
+    every other column and the summary the same bits."""
 
 _Grid = Union[Tuple[float, float, int], Tuple[float, float, int, Literal["log"]]]
 """``(lo, hi, n)``: n values from lo to hi, both included, evenly spaced;

@@ -109,9 +109,11 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     } else {
         let sc = bs.run_scenario(0);
         let mut progress = crate::progress::RunProgress::new(quiet, sc.solver.t_end);
-        let traj = tippetop::simulate_watching_with_progress(&sc, &bit::watches(&bs), &mut |p| {
-            progress.update(p)
-        });
+        // The result and the θ figure read no pose.
+        let traj =
+            tippetop::simulate_watching_with_pose(&sc, &bit::watches(&bs), false, &mut |p| {
+                progress.update(p)
+            });
         progress.finish();
         match traj {
             Ok((traj, stays)) => {
@@ -277,7 +279,8 @@ fn write_bit(
     let typical = typical_run(results);
     let traj = match kept {
         Some(t) => Ok(t),
-        None => tippetop::simulate(&bs.run_scenario(typical as u64)),
+        // θ's figure: no pose.
+        None => tippetop::simulate_with_pose(&bs.run_scenario(typical as u64), false, &mut |_| {}),
     };
     let figure = match traj
         .map_err(anyhow::Error::from)
@@ -640,7 +643,7 @@ fn failure_figures(
             }
             seen.push(mode);
             let file = format!("theta_{phase}_{mode}");
-            let made = tippetop::simulate(&bs.run_scenario(k as u64))
+            let made = tippetop::simulate_with_pose(&bs.run_scenario(k as u64), false, &mut |_| {})
                 .map_err(anyhow::Error::from)
                 .and_then(|t| {
                     theta_figure_named(dir, &file, &format!("{phase} {mode}: "), bs, r.run, &t)

@@ -159,16 +159,54 @@ pub fn trajectory_header() -> String {
     COLUMNS.join(",")
 }
 
+/// Which columns of `trajectory.csv` to write.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Columns {
+    /// All of [`COLUMNS`] (the default).
+    All,
+    /// [`COLUMNS`] less the pose's
+    /// ([`tippetop::trajectory::POSE_COLUMNS`], the last nine:
+    /// `run --no-pose`).
+    WithoutPose,
+}
+
+impl Columns {
+    /// How many of [`COLUMNS`], from the first.
+    fn count(self) -> usize {
+        match self {
+            Columns::All => COLUMNS.len(),
+            Columns::WithoutPose => COLUMNS.len() - tippetop::trajectory::POSE_COLUMNS.len(),
+        }
+    }
+}
+
 /// Write a trajectory as CSV: the [`COLUMNS`] header, then one row per
 /// sample, floats in shortest round-trip form, `rolling` as `0`/`1`.
 pub fn write_trajectory_csv(path: &Path, traj: &Trajectory) -> Result<()> {
+    write_trajectory_csv_columns(path, traj, Columns::All)
+}
+
+/// [`write_trajectory_csv`] with the first [`Columns::count`] columns.
+pub fn write_trajectory_csv_columns(
+    path: &Path,
+    traj: &Trajectory,
+    columns: Columns,
+) -> Result<()> {
+    let n = columns.count();
+    // The pose's columns are the last ones.
+    debug_assert!(
+        tippetop::trajectory::POSE_COLUMNS
+            .iter()
+            .zip(&COLUMNS[COLUMNS.len() - tippetop::trajectory::POSE_COLUMNS.len()..])
+            .all(|(a, b)| a == b)
+    );
     write_atomic(path, |w| {
-        writeln!(w, "{}", trajectory_header())?;
+        writeln!(w, "{}", COLUMNS[..n].join(","))?;
         let mut line = String::with_capacity(640);
         let rolling = COLUMNS.iter().position(|c| *c == "rolling").unwrap();
         for s in &traj.samples {
             line.clear();
-            for (i, v) in s.values().iter().enumerate() {
+            for (i, v) in s.values()[..n].iter().enumerate() {
                 if i > 0 {
                     line.push(',');
                 }

@@ -17,8 +17,8 @@ use tippetop::{Error, Scenario, Trajectory};
 
 use crate::common::time_unit;
 use crate::output::{
-    OutDir, SummaryDoc, summary_with_status, write_bytes_atomic, write_json_pretty,
-    write_trajectory_csv,
+    Columns, OutDir, SummaryDoc, summary_with_status, write_bytes_atomic, write_json_pretty,
+    write_trajectory_csv_columns,
 };
 use crate::plot::{self, Panel, PlotOpts, RefLine, Series, VLine};
 use crate::{progress, scenario_load};
@@ -68,6 +68,9 @@ trajectory.csv columns (SI units; angles in rad; frames in docs/physics.md):
                  at t = 0) [1]
   xp, yp         contact point on the plane, lab frame [m]: the sphere's lowest point,
                  (x, y) + a (k_X, k_Y)
+
+--no-pose leaves out the pose's nine columns, x .. yp, and the vector and reduced models then do
+not integrate them (docs/performance.md#pose).
 
 The scenario is the preset (if given), then the scenario file over it, then each --set in
 order. Bad input exits with code 2 and touches nothing; a run that fails part-way writes what
@@ -123,6 +126,17 @@ pub struct RunArgs {
     /// Do not write plots.
     #[arg(long, overrides_with = "plot")]
     pub no_plot: bool,
+
+    /// Do not compute the pose: trajectory.csv without its columns x, y, z,
+    /// qw, qx, qy, qz, xp, yp (the first 17 columns only). The vector model
+    /// (the default) then integrates 10 state components instead of 17, the
+    /// reduced model 8 instead of 14 (not the attitude and position, which
+    /// nothing else reads): every other column, summary.json and the plots
+    /// are the same bits, in 11-20 % fewer instructions
+    /// (docs/performance.md#pose). The rigid model computes the pose anyway
+    /// (only the columns are left out).
+    #[arg(long)]
+    pub no_pose: bool,
 }
 
 impl RunArgs {
@@ -159,7 +173,7 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     // 3. The run.
     let mut prog = progress::RunProgress::new(quiet, scenario.solver.t_end);
     let start = Instant::now();
-    let result = tippetop::simulate_with_progress(&scenario, &mut |p| prog.update(p));
+    let result = tippetop::simulate_with_pose(&scenario, !args.no_pose, &mut |p| prog.update(p));
     let wall_seconds = start.elapsed().as_secs_f64();
     prog.finish();
     let traj = match result {
@@ -175,7 +189,12 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     // committed: summary.json last, the previous run's other files removed.
     let toml = scenario_load::to_toml(&scenario);
     let stage = out.stage().to_path_buf();
-    let mut written = write_data(&stage, &scenario, &toml, &traj, wall_seconds)?;
+    let columns = if args.no_pose {
+        Columns::WithoutPose
+    } else {
+        Columns::All
+    };
+    let mut written = write_data_columns(&stage, &scenario, &toml, &traj, wall_seconds, columns)?;
     let mut plots = Vec::new();
     let mut plot_error = None;
     if args.plots() {
@@ -261,8 +280,27 @@ pub fn write_data(
     traj: &Trajectory,
     wall_seconds: f64,
 ) -> Result<Vec<PathBuf>> {
+    write_data_columns(
+        dir,
+        scenario,
+        scenario_toml,
+        traj,
+        wall_seconds,
+        Columns::All,
+    )
+}
+
+/// [`write_data`] with `trajectory.csv`'s `columns` (`run --no-pose`).
+pub fn write_data_columns(
+    dir: &Path,
+    scenario: &Scenario,
+    scenario_toml: &str,
+    traj: &Trajectory,
+    wall_seconds: f64,
+    columns: Columns,
+) -> Result<Vec<PathBuf>> {
     let csv = dir.join("trajectory.csv");
-    write_trajectory_csv(&csv, traj)?;
+    write_trajectory_csv_columns(&csv, traj, columns)?;
     let toml = dir.join("scenario.toml");
     write_bytes_atomic(&toml, scenario_toml.as_bytes())?;
     let summary = summary_with_status(traj);

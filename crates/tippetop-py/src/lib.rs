@@ -431,13 +431,17 @@ fn error_obj<'py>(py: Python<'py>, e: Option<&tippetop::Error>) -> PyResult<Boun
 /// Omega (precession) [rad/s], omega (spin) [rad/s], ux, uy, uz [m/s],
 /// N [N], slip [m/s], J [kg m^3/s], energy, work_friction, work_applied
 /// [J], hx, hy [N], rolling [0 or 1], x, y, z [m], qw, qx, qy, qz [1],
-/// xp, yp [m] (definitions: `tippetop run --help`).
+/// xp, yp [m] (definitions: `tippetop run --help`); a run with
+/// `pose=False` has the columns up to `rolling` only.
 #[pyclass(module = "tippetop", frozen)]
 struct Trajectory {
     arrays: Py<PyDict>,
     summary: Py<PyAny>,
     error: Py<PyAny>,
     len: usize,
+    /// The columns held: the first `ncols` of `COLUMNS` (all, or all but
+    /// the pose's with `pose=False`).
+    ncols: usize,
 }
 
 impl Trajectory {
@@ -447,13 +451,24 @@ impl Trajectory {
         traj: tippetop::Trajectory,
         wall_seconds: f64,
     ) -> PyResult<Self> {
+        Self::with_columns(py, sc, traj, wall_seconds, COLUMNS.len())
+    }
+
+    /// [`Trajectory::new`] with the first `ncols` columns of `COLUMNS`.
+    fn with_columns(
+        py: Python<'_>,
+        sc: &tippetop::Scenario,
+        traj: tippetop::Trajectory,
+        wall_seconds: f64,
+        ncols: usize,
+    ) -> PyResult<Self> {
         let n = traj.samples.len();
         // The rows as arrays in one pass, then each column gathered from
         // them into the Vec its numpy array takes over (no copy): a tight
         // loop per column instead of 26 pushes per row.
         let rows: Vec<[f64; COLUMNS.len()]> = traj.samples.iter().map(|s| s.values()).collect();
         let arrays = PyDict::new(py);
-        for (i, name) in COLUMNS.iter().enumerate() {
+        for (i, name) in COLUMNS[..ncols].iter().enumerate() {
             let c: Vec<f64> = rows.iter().map(|r| r[i]).collect();
             arrays.set_item(*name, PyArray1::from_vec(py, c))?;
         }
@@ -462,6 +477,7 @@ impl Trajectory {
             summary: summary_dict(py, sc, &traj, wall_seconds)?.unbind(),
             error: error_obj(py, traj.error.as_ref())?.unbind(),
             len: n,
+            ncols,
         })
     }
 }
@@ -471,7 +487,7 @@ impl Trajectory {
     /// The column names, in trajectory.csv order (`COLUMNS`).
     #[getter]
     fn columns(&self) -> Vec<&'static str> {
-        COLUMNS.to_vec()
+        COLUMNS[..self.ncols].to_vec()
     }
 
     /// summary.json of the CLI as a dict: `theta_final` [rad],
@@ -506,7 +522,7 @@ impl Trajectory {
         self.arrays.bind(py).get_item(name)?.ok_or_else(|| {
             PyKeyError::new_err(format!(
                 "{name:?}: not a column (columns: {})",
-                COLUMNS.join(", ")
+                COLUMNS[..self.ncols].join(", ")
             ))
         })
     }
@@ -516,14 +532,14 @@ impl Trajectory {
         self.arrays.bind(py).get_item(name)?.ok_or_else(|| {
             PyAttributeError::new_err(format!(
                 "'Trajectory' has no attribute {name:?} (columns: {})",
-                COLUMNS.join(", ")
+                COLUMNS[..self.ncols].join(", ")
             ))
         })
     }
 
     /// True if `name` is a column.
     fn __contains__(&self, name: &str) -> bool {
-        COLUMNS.contains(&name)
+        COLUMNS[..self.ncols].contains(&name)
     }
 
     /// The number of samples (rows).
@@ -541,7 +557,7 @@ impl Trajectory {
         Ok(format!(
             "tippetop.Trajectory({} samples, {} columns, status {status:?})",
             self.len,
-            COLUMNS.len()
+            self.ncols
         ))
     }
 }
@@ -549,9 +565,14 @@ impl Trajectory {
 /// Run `scenario` to `solver.t_end` [s] (the CLI's `tippetop run`), with
 /// the GIL released: bit for bit the CLI's trajectory.csv and summary.json.
 /// Bad input raises ValueError; a run that fails part-way returns its
-/// partial trajectory with `error` set.
+/// partial trajectory with `error` set. `pose=False` (`tippetop run
+/// --no-pose`): the pose is not computed and its columns (x, y, z, qw, qx,
+/// qy, qz, xp, yp) are left out; the vector model then integrates 10 state
+/// components instead of 17 (the reduced model 8 instead of 14), every
+/// other column and the summary the same bits.
 #[pyfunction]
-fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
+#[pyo3(signature = (scenario, pose = true))]
+fn run(py: Python<'_>, scenario: &Scenario, pose: bool) -> PyResult<Trajectory> {
     let sc = &scenario.sc;
     // The resumable driver to t_end (the same run as `simulate`, bit for
     // bit), asking about Ctrl-C every few thousand steps, and pausing every
@@ -562,7 +583,7 @@ fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
     let (traj, wall) = py.detach(|| {
         guarded(|| {
             let start = Instant::now();
-            let r = tippetop::Simulation::new(sc).and_then(|mut sim| {
+            let r = tippetop::Simulation::with_pose(sc, pose).and_then(|mut sim| {
                 let mut watch = tippetop::RunawayWatch::default();
                 // One clock for the signal checks across the pauses (a
                 // stretch between two pauses may be shorter than 0.1 s).
@@ -595,7 +616,12 @@ fn run(py: Python<'_>, scenario: &Scenario) -> PyResult<Trajectory> {
     let traj = traj
         .map_err(to_py_err)?
         .ok_or_else(|| PyRuntimeError::new_err("internal error: the run stopped early"))?;
-    Trajectory::new(py, sc, traj, wall)
+    let ncols = if pose {
+        COLUMNS.len()
+    } else {
+        COLUMNS.len() - tippetop::trajectory::POSE_COLUMNS.len()
+    };
+    Trajectory::with_columns(py, sc, traj, wall, ncols)
 }
 
 /// The axis of `vary[key]`: a tuple `(lo, hi, n)` or `(lo, hi, n, "log")`

@@ -99,6 +99,27 @@ def test_matches_the_cli_bit_for_bit(nano_run, tmp_path):
     assert cli["theta_final"] == mine["theta_final"] == nano_run.theta[-1]
 
 
+POSE = ["x", "y", "z", "qw", "qx", "qy", "qz", "xp", "yp"]
+
+
+def test_run_without_the_pose_is_the_run_less_its_columns(nano, nano_run):
+    """pose=False: the columns up to `rolling`, the same bits, the same
+    summary (the pose is outside the error norm and read by no other
+    rate, so no step can change)."""
+    lean = tt.run(nano, pose=False)
+    assert lean.columns == [c for c in tt.COLUMNS if c not in POSE]
+    assert lean.columns == list(tt.COLUMNS[: len(tt.COLUMNS) - len(POSE)])
+    assert len(lean) == len(nano_run)
+    for c in lean.columns:
+        assert np.array_equal(bits(lean[c]), bits(nano_run[c])), c
+    for c in POSE:
+        assert c not in lean
+        with pytest.raises(KeyError):
+            lean[c]
+    assert summary_without_wall(lean) == summary_without_wall(nano_run)
+    assert tt.run(nano, pose=True).columns == list(tt.COLUMNS)
+
+
 def test_simulation_in_pieces_equals_run(nano, nano_run):
     sim = tt.Simulation(nano)
     t_end = nano.get("solver.t_end")

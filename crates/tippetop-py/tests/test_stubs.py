@@ -62,7 +62,7 @@ def test_docstrings_give_units():
 
 def test_signatures_are_visible_to_help():
     assert str(inspect.signature(tt.sweep)) == "(scenario, vary, threads=None)"
-    assert str(inspect.signature(tt.run)) == "(scenario)"
+    assert str(inspect.signature(tt.run)) == "(scenario, pose=True)"
     assert str(inspect.signature(tt.Scenario.set)) == "(self, /, key, value)"
 
 

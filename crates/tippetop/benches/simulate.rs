@@ -139,6 +139,17 @@ fn bench_runs(c: &mut Criterion) {
         check(sc);
         g.bench_function(*name, |b| b.iter(|| simulate(black_box(sc))));
     }
+    // The same runs without the pose (`simulate_with_pose(.., false, ..)`:
+    // the on-plane models integrate the motion alone, the same bits in
+    // every other column; docs/performance.md#pose).
+    for (name, sc) in cases
+        .iter()
+        .filter(|(n, _)| !n.contains("rk4") && !n.contains("rigid"))
+    {
+        g.bench_function(format!("{name}_nopose"), |b| {
+            b.iter(|| tippetop::simulate_with_pose(black_box(sc), false, &mut |_| {}))
+        });
+    }
     let sc = classical(regularized());
     g.bench_function("classical_10s_regularized_rtol1e-8_bare_solve", |b| {
         b.iter(|| bare_solve(black_box(&sc)))

@@ -45,6 +45,7 @@ pub use physics::forces::adhesion::Adhesion;
 pub use physics::forces::wells::Well;
 pub use simulate::{
     Progress, RunawayWatch, Simulation, Snapshot, simulate, simulate_watching,
-    simulate_watching_with_progress, simulate_with_progress,
+    simulate_watching_with_pose, simulate_watching_with_progress, simulate_with_pose,
+    simulate_with_progress,
 };
 pub use trajectory::{EventRecord, NormalIntervals, Sample, StemSummary, Summary, Trajectory};

@@ -20,7 +20,7 @@ use crate::{
     integrate::{self, AnyEngine, Engine, Event, IntegrateError, Stepped, Stepper, Stepping},
     model::{
         ContactModel, Flow, Model,
-        reduced::{DIM, Reduced},
+        reduced::{self, DIM, Reduced},
         rigid::{self, Rigid},
         vector::{self, Vector},
     },
@@ -88,6 +88,17 @@ pub fn simulate_watching_with_progress(
     watches: &[ThetaWatch],
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<(Trajectory, Vec<WindowStay>), Error> {
+    simulate_watching_with_pose(scenario, watches, true, progress)
+}
+
+/// As [`simulate_watching_with_progress`], the pose computed or not
+/// ([`simulate_with_pose`]).
+pub fn simulate_watching_with_pose(
+    scenario: &Scenario,
+    watches: &[ThetaWatch],
+    pose: bool,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<(Trajectory, Vec<WindowStay>), Error> {
     scenario.validate()?;
     for w in watches {
         assert!(
@@ -111,9 +122,25 @@ pub fn simulate_watching_with_progress(
         sim.finish_watching()
     }
     Ok(match scenario.solver.model {
+        ModelKind::Reduced if !pose => go(
+            scenario,
+            <Reduced<{ reduced::CONTROLLED }> as ContactModel<{ reduced::CONTROLLED }>>::build(
+                scenario,
+            ),
+            watches,
+            progress,
+        ),
         ModelKind::Reduced => go(
             scenario,
             <Reduced as ContactModel<DIM>>::build(scenario),
+            watches,
+            progress,
+        ),
+        ModelKind::Vector if !pose => go(
+            scenario,
+            <Vector<{ vector::CONTROLLED }> as ContactModel<{ vector::CONTROLLED }>>::build(
+                scenario,
+            ),
             watches,
             progress,
         ),
@@ -148,8 +175,43 @@ pub fn simulate_with_progress(
     scenario: &Scenario,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Trajectory, Error> {
+    simulate_with_pose(scenario, true, progress)
+}
+
+/// As [`simulate_with_progress`], computing the pose (the centre of
+/// mass's position and the attitude: the columns [`crate::trajectory::POSE_COLUMNS`])
+/// only if `pose`. Without it the vector model integrates the motion's
+/// ten components alone (`k, w, v`, the works: not the attitude's
+/// quadratures and the position, which no other rate reads), the reduced
+/// model its eight (not `φ, ψ`, the position and `(c_φ, s_φ)`), so the
+/// steps, the events, the summary and every other column are the same
+/// bits as with the pose, at less cost (docs/performance.md#pose); the
+/// pose columns of its rows are NaN. The rigid model computes the pose
+/// either way (its rows are the same as with `pose`: the pose is its
+/// state).
+pub fn simulate_with_pose(
+    scenario: &Scenario,
+    pose: bool,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Trajectory, Error> {
     scenario.validate()?;
     match scenario.solver.model {
+        ModelKind::Reduced if !pose => Ok(run(
+            scenario,
+            <Reduced<{ reduced::CONTROLLED }> as ContactModel<{ reduced::CONTROLLED }>>::build(
+                scenario,
+            ),
+            &mut |_, _, _| {},
+            progress,
+        )),
+        ModelKind::Vector if !pose => Ok(run(
+            scenario,
+            <Vector<{ vector::CONTROLLED }> as ContactModel<{ vector::CONTROLLED }>>::build(
+                scenario,
+            ),
+            &mut |_, _, _| {},
+            progress,
+        )),
         ModelKind::Reduced => Ok(run(
             scenario,
             <Reduced as ContactModel<DIM>>::build(scenario),
@@ -236,6 +298,10 @@ pub struct Snapshot {
 enum AnySim {
     Reduced(Box<Sim<Reduced, DIM>>),
     Vector(Box<Sim<Vector, { vector::DIM }>>),
+    /// The vector model without the pose ([`simulate_with_pose`]).
+    Motion(Box<Sim<Vector<{ vector::CONTROLLED }>, { vector::CONTROLLED }>>),
+    /// The reduced model without the pose ([`simulate_with_pose`]).
+    ReducedMotion(Box<Sim<Reduced<{ reduced::CONTROLLED }>, { reduced::CONTROLLED }>>),
     Rigid(Box<Sim<Rigid, { rigid::DIM }>>),
 }
 
@@ -245,6 +311,8 @@ macro_rules! with_sim {
         match $inner {
             AnySim::Reduced($s) => $body,
             AnySim::Vector($s) => $body,
+            AnySim::Motion($s) => $body,
+            AnySim::ReducedMotion($s) => $body,
             AnySim::Rigid($s) => $body,
         }
     };
@@ -262,9 +330,26 @@ impl Simulation {
     /// Set up a run of `scenario` at `t = 0` (validated: `Err` for bad
     /// input, as [`simulate`]).
     pub fn new(scenario: &Scenario) -> Result<Self, Error> {
+        Self::with_pose(scenario, true)
+    }
+
+    /// As [`Simulation::new`], computing the pose only if `pose`
+    /// ([`simulate_with_pose`]: the same steps and the same bits in every
+    /// other column; the pose columns NaN without it).
+    pub fn with_pose(scenario: &Scenario, pose: bool) -> Result<Self, Error> {
         scenario.validate()?;
         let sc = scenario;
         let inner = match sc.solver.model {
+            ModelKind::Reduced if !pose => AnySim::ReducedMotion(Box::new(Sim::new(
+                sc,
+                <Reduced<{ reduced::CONTROLLED }> as ContactModel<{ reduced::CONTROLLED }>>::build(
+                    sc,
+                ),
+            ))),
+            ModelKind::Vector if !pose => AnySim::Motion(Box::new(Sim::new(
+                sc,
+                <Vector<{ vector::CONTROLLED }> as ContactModel<{ vector::CONTROLLED }>>::build(sc),
+            ))),
             ModelKind::Reduced => AnySim::Reduced(Box::new(Sim::new(
                 sc,
                 <Reduced as ContactModel<DIM>>::build(sc),
@@ -919,7 +1004,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let nonfinite_at = &mut self.nonfinite_at;
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
             let row = crate::testing::planted(s.row(t, y));
-            if nonfinite_at.is_none() && !row.is_finite() {
+            if nonfinite_at.is_none() && row.first_non_finite_of(M::HAS_POSE).is_some() {
                 *nonfinite_at = Some(t);
             }
             samples.push(row);
@@ -982,7 +1067,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let watcher = std::cell::RefCell::new(self.watcher.as_mut());
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
             let row = crate::testing::planted(s.row(t, y));
-            if nonfinite_at.is_none() && !row.is_finite() {
+            if nonfinite_at.is_none() && row.first_non_finite_of(M::HAS_POSE).is_some() {
                 *nonfinite_at = Some(t);
             }
             samples.push(row);
@@ -1133,10 +1218,10 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let first = self
             .samples
             .iter()
-            .position(|r| !r.is_finite())
+            .position(|r| r.first_non_finite_of(M::HAS_POSE).is_some())
             .expect("the non-finite row");
         let (column, value) = self.samples[first]
-            .first_non_finite()
+            .first_non_finite_of(M::HAS_POSE)
             .expect("a non-finite column");
         self.samples.truncate(first);
         // An RK4 run whose energy balance was lost: its fixed step is the

@@ -5,7 +5,8 @@
 //! row, keeping the rows before it. No input is known to break that
 //! promise today (the fuzz harnesses look for one), so the check is tested
 //! by planting a NaN: [`plant_nan_row`] makes the driver write NaN into the
-//! `qw` column of every output row at or after a time, in every run of the
+//! `qw` column (`J` in a run without the pose, whose `qw` is not computed:
+//! `simulate_with_pose`) of every output row at or after a time, in every run of the
 //! process from then on (sweeps, ensembles and bit runs included). The
 //! `tippetop` binary sets it from the environment variable
 //! `TIPPETOP_TEST_NAN_ROW_AT` (seconds) for its end-to-end tests.
@@ -30,7 +31,13 @@ pub fn plant_nan_row(at: Option<f64>) {
 pub(crate) fn planted(mut row: Sample) -> Sample {
     let at = f64::from_bits(NAN_ROW_AT.load(Ordering::Relaxed));
     if row.t >= at {
-        row.qw = f64::NAN;
+        // A row without the pose (its `qw` NaN already, not computed:
+        // `simulate::simulate_with_pose`) gets it in `J`.
+        if row.qw.is_nan() {
+            row.jellett = f64::NAN;
+        } else {
+            row.qw = f64::NAN;
+        }
     }
     row
 }

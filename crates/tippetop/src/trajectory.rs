@@ -97,6 +97,70 @@ impl Sample {
     }
 }
 
+impl Sample {
+    /// [`Sample::first_non_finite`] over the columns a run computes: all
+    /// of them with the pose (`pose`), else all but [`POSE_COLUMNS`] (NaN
+    /// in a run without the pose, `simulate::simulate_with_pose`).
+    pub fn first_non_finite_of(&self, pose: bool) -> Option<(&'static str, f64)> {
+        if pose {
+            return self.first_non_finite();
+        }
+        let values = self.values();
+        // The common case in one pass without the names.
+        if values
+            .iter()
+            .zip(POSE_MASK)
+            .all(|(v, pose)| pose || v.is_finite())
+        {
+            return None;
+        }
+        COLUMNS
+            .iter()
+            .zip(self.values())
+            .find(|(c, v)| !v.is_finite() && !POSE_COLUMNS.contains(c))
+            .map(|(c, v)| (*c, v))
+    }
+}
+
+/// The pose's columns, those after `rolling` in [`COLUMNS`]: the centre of
+/// mass's position, the attitude and the contact point. A run without the
+/// pose (`simulate::simulate_with_pose`) does not compute them (NaN there),
+/// and `tippetop run --no-pose` does not write them.
+pub const POSE_COLUMNS: [&str; 9] = ["x", "y", "z", "qw", "qx", "qy", "qz", "xp", "yp"];
+
+/// True at the index (in [`COLUMNS`] order) of each of [`POSE_COLUMNS`].
+const POSE_MASK: [bool; 26] = {
+    let mut m = [false; 26];
+    let mut i = 0;
+    while i < 26 {
+        let mut j = 0;
+        while j < POSE_COLUMNS.len() {
+            if eq(COLUMNS[i], POSE_COLUMNS[j]) {
+                m[i] = true;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    m
+};
+
+/// `a == b` in a const context.
+const fn eq(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
 /// The CSV column names, in order; the first twelve are fixed by the
 /// scenario-file contract, and new columns are appended after `rolling`.
 pub const COLUMNS: [&str; 26] = [

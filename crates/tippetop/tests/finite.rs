@@ -95,7 +95,8 @@ fn a_planted_nan_row_fails_every_kind_of_run() {
         assert!(tr.samples.is_empty());
         assert_eq!(tr.summary.failure, Some("non_finite"));
         testing::plant_nan_row(Some(at));
-        // Sweep rows: each case failed, its status the error.
+        // Sweep rows: each case failed, its status the error (a sweep's
+        // runs compute no pose: the NaN is planted in `J`).
         let sweep = Sweep {
             preset: Some("classical".into()),
             toml_text: None,
@@ -104,7 +105,7 @@ fn a_planted_nan_row_fails_every_kind_of_run() {
         };
         let rows = sweep.run(0..2, Some(2), &|| {}).unwrap();
         for r in &rows {
-            assert!(r.status.contains("became NaN in column qw"), "{}", r.status);
+            assert!(r.status.contains("became NaN in column J"), "{}", r.status);
             assert_eq!(r.summary.as_ref().unwrap().failure, Some("non_finite"));
         }
         // Ensemble rows (Langevin, t_end 1e-11 s): NaN from 5e-12 s.

@@ -287,6 +287,13 @@ fn parse_rows(path: &Path, text: &str) -> std::result::Result<Rows, String> {
         "t", "theta", "omega", "x", "y", "z", "qw", "qx", "qy", "qz", "xp", "yp",
     ];
     let mut idx = [0usize; 12];
+    // A run written with `--no-pose` has no pose to draw.
+    if header.contains(&"rolling") && !header.contains(&"qw") {
+        return Err(bad(
+            path,
+            "no pose columns (x, y, z, qw, ...): the run was written with --no-pose; run it again without --no-pose to animate it",
+        ));
+    }
     for (i, name) in names.iter().enumerate() {
         idx[i] = header.iter().position(|h| h == name).ok_or_else(|| {
             bad(

@@ -330,7 +330,8 @@ pub fn run_one(bs: &BitScenario, k: u64) -> RunResult {
     };
     let watched = watches(bs);
     match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        crate::simulate_watching(&sc, &watched)
+        // The result reads θ's windows, the work and the summary: no pose.
+        crate::simulate_watching_with_pose(&sc, &watched, false, &mut |_| {})
     })) {
         Ok(Ok((traj, stays))) => evaluate_run(bs, run, &traj, &stays),
         Ok(Err(e)) => failed(e.to_string()),

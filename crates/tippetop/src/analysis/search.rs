@@ -38,7 +38,7 @@ use crate::input::scenario::search::{
 };
 use crate::numeric::random::Stream;
 use crate::sim::watch::ThetaWatch;
-use crate::{Error, simulate_watching};
+use crate::{Error, simulate_watching_with_pose};
 
 /// The merit of a failed protocol before its distance is added.
 pub const FAIL: f64 = 1e3;
@@ -355,7 +355,10 @@ impl ProtocolSearch {
             to: t1,
             window: shrunk,
         };
-        let Ok((traj, stays)) = simulate_watching(&sc, &[w, e, margin_watch]) else {
+        // θ's windows and rows, the work and the summary: no pose.
+        let watched = [w, e, margin_watch];
+        let Ok((traj, stays)) = simulate_watching_with_pose(&sc, &watched, false, &mut |_| {})
+        else {
             return failed(pi + 1.0);
         };
         let r = bit::evaluate_run(&bs, sc.thermal.run, &traj, &stays);

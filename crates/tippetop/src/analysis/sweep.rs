@@ -53,7 +53,7 @@ use std::sync::{Condvar, Mutex, mpsc};
 
 use serde::{Deserialize, Serialize};
 
-use crate::{Error, Scenario, Summary, simulate};
+use crate::{Error, Scenario, Summary};
 
 /// The summary columns of `sweep.csv`, after the varied keys and before
 /// `status`. Units: angles \[rad\], rates \[rad/s\], times \[s\], energy \[J\];
@@ -649,7 +649,8 @@ impl Sweep {
         let case = self.case(index);
         let outcome = catch_unwind(AssertUnwindSafe(|| {
             let sc = self.load_case(&case)?;
-            simulate(&sc).map(|traj| traj.summary)
+            // The row reads the summary alone: no pose (the same bits).
+            crate::simulate_with_pose(&sc, false, &mut |_| {}).map(|traj| traj.summary)
         }));
         let (summary, status) = match outcome {
             Ok(Ok(summary)) => {

@@ -180,6 +180,11 @@ pub(crate) trait Model<const D: usize>: OdeSystem<D> + Sized {
     fn on_terminal(&mut self, what: Watch, t: f64, y: &mut [f64; D], log: &mut RunLog) -> Flow;
     /// Why the right-hand side failed: its kind and the error message.
     fn explain(&self, sc: &Scenario, err: Self::Error) -> (crate::Failure, String);
+    /// True if the output rows carry the pose (position and attitude);
+    /// false for the vector model's motion alone (`Vector<CONTROLLED>`),
+    /// whose pose columns are NaN and skipped by the finiteness check
+    /// ([`Sample::first_non_finite_of`]).
+    const HAS_POSE: bool = true;
     /// The output row at scaled time `t`.
     fn row(&self, t: f64, y: &[f64; D]) -> Sample;
     /// The state in SI units, for error messages.
@@ -273,6 +278,8 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     fn dop853_stability_cap(&self) -> bool {
         false
     }
+    /// See [`Model::HAS_POSE`].
+    const HAS_POSE: bool = true;
     /// The output row at scaled time `t`.
     fn sample(&self, t: f64, y: &[f64; D]) -> Sample;
     /// The state in SI units, for error messages.

@@ -51,6 +51,8 @@ fn settle_at_stick<M: ContactModel<D>, const D: usize>(
 }
 
 impl<M: ContactModel<D>, const D: usize> Model<D> for M {
+    const HAS_POSE: bool = <M as ContactModel<D>>::HAS_POSE;
+
     fn time_unit(&self) -> f64 {
         self.scales().time
     }

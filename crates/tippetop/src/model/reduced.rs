@@ -62,7 +62,7 @@ pub const DIR: usize = 12;
 /// value while rolling) and `c = cos θ`. Linear in the quadratures: the
 /// velocity is rotated by the carried `(c_φ, s_φ)`, not by `sin_cos(φ)`.
 #[inline(always)]
-fn quadratures(y: &[f64; DIM], c: f64, u: [f64; 2]) -> [f64; 6] {
+fn quadratures<const N: usize>(y: &[f64; N], c: f64, u: [f64; 2]) -> [f64; 6] {
     let (cp, sp) = (y[DIR], y[DIR + 1]);
     let om = y[OM];
     [
@@ -74,6 +74,13 @@ fn quadratures(y: &[f64; DIM], c: f64, u: [f64; 2]) -> [f64; 6] {
         cp * om,
     ]
 }
+
+/// [`OdeSystem::STAGE_READ`] with the pose: the controlled components and
+/// `(c_φ, s_φ)` (`φ, ψ` and the position are read by no derivative).
+const STAGE_POSE: &[std::ops::Range<usize>] = &[0..CONTROLLED, DIR..DIM];
+/// [`OdeSystem::STAGE_READ`] without the pose: the controlled components.
+#[allow(clippy::single_range_in_vec_init)]
+const STAGE_MOTION: &[std::ops::Range<usize>] = &[0..CONTROLLED];
 
 /// The chatter criterion, re-exported where it used to live.
 pub use super::contact::CHATTER_REVERSALS;
@@ -94,9 +101,9 @@ fn at_pole(theta: f64, s: f64) -> bool {
 
 /// Everything the right-hand side computes at one state (scaled units).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Eval {
+pub struct Eval<const N: usize = DIM> {
     /// State derivative.
-    pub dy: [f64; DIM],
+    pub dy: [f64; N],
     /// Normal force N.
     pub normal: f64,
     /// Friction force on the top (x, y), excluding the applied force.
@@ -119,9 +126,9 @@ pub struct Eval {
 /// key is compared bit for bit, so the result is the one a fresh evaluation
 /// would give.
 #[derive(Debug, Clone, Copy)]
-struct LastEval {
+struct LastEval<const N: usize> {
     /// The state, as bits.
-    y: [u64; DIM],
+    y: [u64; N],
     /// Mode, latched force, slip hint and slip reference at the evaluation.
     mode: Mode,
     /// Latched normal-force branch.
@@ -129,7 +136,7 @@ struct LastEval {
     key: [u64; 8],
     /// sin θ, cos θ.
     sc: (f64, f64),
-    eval: Eval,
+    eval: Eval<N>,
 }
 
 /// Everything besides the state that an evaluation depends on and that can
@@ -154,13 +161,13 @@ fn same_bits<const K: usize>(a: &[u64; K], b: &[u64; K]) -> bool {
     a.iter().zip(b).fold(0, |acc, (x, y)| acc | (x ^ y)) == 0
 }
 
-fn bits(y: &[f64; DIM]) -> [u64; DIM] {
+fn bits<const N: usize>(y: &[f64; N]) -> [u64; N] {
     y.map(f64::to_bits)
 }
 
 /// The reduced model as an ODE system in scaled units.
 #[derive(Debug, Clone)]
-pub struct Reduced {
+pub struct Reduced<const N: usize = DIM> {
     /// Unit system.
     pub scales: Scales,
     /// Offset a/R.
@@ -186,12 +193,30 @@ pub struct Reduced {
     /// The orientation wells in SI (for the energy column; §wells).
     wells_si: Vec<crate::physics::forces::wells::Well>,
     /// The last evaluation made by `eval` (see [`LastEval`]).
-    last: RefCell<Option<LastEval>>,
+    last: RefCell<Option<LastEval<N>>>,
 }
 
 impl Reduced {
-    /// Build the scaled model of a scenario.
+    /// Build the scaled model of a scenario (the pose carried: [`DIM`]).
     pub fn new(sc: &Scenario) -> Self {
+        Self::with_state(sc)
+    }
+}
+
+impl<const N: usize> Reduced<N> {
+    /// True if the state carries the pose (`N = DIM`): `φ, ψ`, the
+    /// position and `(c_φ, s_φ)`. Without it (`N = CONTROLLED`) the
+    /// motion's eight components alone, the same bits
+    /// (docs/performance.md#pose).
+    pub const POSE: bool = {
+        assert!(N == DIM || N == CONTROLLED);
+        N > CONTROLLED
+    };
+
+    /// Build the scaled model of a scenario with the state length `N`
+    /// ([`DIM`]: the pose carried; [`CONTROLLED`]: not).
+    pub fn with_state(sc: &Scenario) -> Self {
+        let _ = Self::POSE;
         let scales = Scales::of(sc);
         let ia = sc.top.inertia_transverse / scales.inertia();
         let ic = sc.top.inertia_axial / scales.inertia();
@@ -222,7 +247,13 @@ impl Reduced {
     }
 
     /// Scaled state from SI initial values.
-    pub fn scale_state(&self, i: &crate::Initial) -> [f64; DIM] {
+    pub fn scale_state(&self, i: &crate::Initial) -> [f64; N] {
+        let y = self.scale_pose_state(i);
+        std::array::from_fn(|j| y[j])
+    }
+
+    /// [`Reduced::scale_state`] with the pose ([`DIM`] components).
+    fn scale_pose_state(&self, i: &crate::Initial) -> [f64; DIM] {
         let t = self.scales.time;
         let v = self.scales.velocity();
         [
@@ -256,7 +287,7 @@ impl Reduced {
     }
 
     /// Slip velocity at a state (scaled), from the state's u (sliding).
-    pub fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
+    pub fn slip_of(&self, y: &[f64; N]) -> [f64; 2] {
         let (s, c) = self.sin_cos(y[TH]);
         let h = 1.0 - self.a * c;
         [
@@ -266,14 +297,14 @@ impl Reduced {
     }
 
     /// Centre-of-mass horizontal velocity that makes the slip zero (rolling constraint).
-    pub fn rolling_velocity(&self, y: &[f64; DIM]) -> [f64; 2] {
+    pub fn rolling_velocity(&self, y: &[f64; N]) -> [f64; 2] {
         let (s, c) = self.sin_cos(y[TH]);
         let h = 1.0 - self.a * c;
         [h * y[THD], -s * (y[W] - y[OM] * c + self.a * y[OM])]
     }
 
     /// Evaluate the model at a state in the current mode.
-    pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
+    pub fn eval(&self, y: &[f64; N]) -> Result<Eval<N>, ModelError> {
         let yb = bits(y);
         let p = &self.plane;
         let cp = p.contact_point();
@@ -308,7 +339,7 @@ impl Reduced {
     /// Keep `e`, the evaluation at `y` with `(s, c) = y[TH].sin_cos()`, in
     /// [`Reduced::eval`]'s cache.
     #[inline(always)]
-    fn remember(&mut self, y: &[f64; DIM], s: f64, c: f64, e: Eval) {
+    fn remember(&mut self, y: &[f64; N], s: f64, c: f64, e: Eval<N>) {
         let p = &self.plane;
         let cp = p.contact_point();
         let key = inputs_key(
@@ -329,7 +360,7 @@ impl Reduced {
 
     /// `eval` with `(s, c) = y[TH].sin_cos()` given.
     #[inline(always)]
-    fn eval_sc(&self, y: &[f64; DIM], s: f64, c: f64) -> Result<Eval, ModelError> {
+    fn eval_sc(&self, y: &[f64; N], s: f64, c: f64) -> Result<Eval<N>, ModelError> {
         match self.plane.mode {
             Mode::Sliding => self.eval_sliding(y, s, c),
             Mode::Rolling => Ok(self.eval_rolling(y, s, c)),
@@ -337,7 +368,7 @@ impl Reduced {
     }
 
     #[inline(always)]
-    fn eval_sliding(&self, y: &[f64; DIM], s: f64, c: f64) -> Result<Eval, ModelError> {
+    fn eval_sliding(&self, y: &[f64; N], s: f64, c: f64) -> Result<Eval<N>, ModelError> {
         let (th, thd, om, w, ux, uy) = (y[TH], y[THD], y[OM], y[W], y[UX], y[UY]);
         if at_pole(th, s) {
             return Err(ModelError::Singular { theta: th });
@@ -388,8 +419,8 @@ impl Reduced {
             wf += mz * nz;
             torque = mz;
         }
-        let [dphi, dpsi, dx, dy_, dcp, dsp] = quadratures(y, c, [ux, uy]);
-        let dy = [
+        let mut dy = [0.0; N];
+        dy[..CONTROLLED].copy_from_slice(&[
             thd,
             thdd,
             omd,
@@ -398,13 +429,10 @@ impl Reduced {
             -om * ux + fy,
             wf,
             -hx * v[0] - hy * v[1],
-            dphi,
-            dpsi,
-            dx,
-            dy_,
-            dcp,
-            dsp,
-        ];
+        ]);
+        if Self::POSE {
+            dy[CONTROLLED..].copy_from_slice(&quadratures(y, c, [ux, uy]));
+        }
         Ok(Eval {
             dy,
             normal,
@@ -419,7 +447,7 @@ impl Reduced {
     /// (docs/physics.md#normal-force). Regular at every θ except through the Ω
     /// equation's 1/sin θ, which the caller guards.
     #[inline(always)]
-    fn eval_rolling(&self, y: &[f64; DIM], s: f64, c: f64) -> Eval {
+    fn eval_rolling(&self, y: &[f64; N], s: f64, c: f64) -> Eval<N> {
         let (thd, om, w) = (y[THD], y[OM], y[W]);
         let (a, ia, ic) = (self.a, self.ia, self.ic);
         let (inv_ia, inv_ic) = (self.inv_ia, self.inv_ic);
@@ -462,8 +490,8 @@ impl Reduced {
         let ff = [fx + hx, fy + hy];
         let omd = (p + (a - c) * fy + torque * s) * inv_ias;
         let wd = (s * fy + torque * c) * inv_ic;
-        let [dphi, dpsi, dx, dy_, dcp, dsp] = quadratures(y, c, [ux, uy]);
-        let dy = [
+        let mut dy = [0.0; N];
+        dy[..CONTROLLED].copy_from_slice(&[
             thd,
             thdd,
             omd,
@@ -472,13 +500,10 @@ impl Reduced {
             -om * ux + fy,
             0.0,
             0.0,
-            dphi,
-            dpsi,
-            dx,
-            dy_,
-            dcp,
-            dsp,
-        ];
+        ]);
+        if Self::POSE {
+            dy[CONTROLLED..].copy_from_slice(&quadratures(y, c, [ux, uy]));
+        }
         Eval {
             dy,
             normal,
@@ -497,7 +522,7 @@ impl Reduced {
     /// by `I⁻¹ (r × Π + M Z)`; back to `θ̇ = w_y`, `ω = w·k`,
     /// `Ω = w_Z − w_x c/s`; `u` then the rolling velocity; the kinetic
     /// energy's change added to `W_f`.
-    pub fn stick_state(&self, y: &[f64; DIM]) -> [f64; DIM] {
+    pub fn stick_state(&self, y: &[f64; N]) -> [f64; N] {
         let (s, c) = y[TH].sin_cos();
         let k = [s, 0.0, c];
         let r = [self.a * s, 0.0, self.a * c - 1.0];
@@ -530,7 +555,7 @@ impl Reduced {
         let u = self.rolling_velocity(&ys);
         ys[UX] = u[0];
         ys[UY] = u[1];
-        let kinetic = |y: &[f64; DIM]| {
+        let kinetic = |y: &[f64; N]| {
             let uz = self.a * s * y[THD];
             0.5 * (y[UX] * y[UX] + y[UY] * y[UY] + uz * uz)
                 + 0.5 * self.ia * (y[THD] * y[THD] + y[OM] * y[OM] * s * s)
@@ -557,18 +582,18 @@ impl Reduced {
 
     /// Stick margin while rolling: `μ |N| − |F_f|` (scaled force); rolling
     /// ends when it falls through zero.
-    pub fn stick_margin(&self, e: &Eval) -> f64 {
+    pub fn stick_margin(&self, e: &Eval<N>) -> f64 {
         self.plane.stick_margin(e.normal, e.friction)
     }
 
     /// Jellett's J in scaled units (J / (m R³ / T)).
-    pub fn jellett_scaled(&self, y: &[f64; DIM]) -> f64 {
+    pub fn jellett_scaled(&self, y: &[f64; N]) -> f64 {
         let (s, c) = self.sin_cos(y[TH]);
         self.ia * y[OM] * s * s + self.ic * y[W] * (c - self.a)
     }
 
     /// Total energy in scaled units, using `u` from `e` (constraint values while rolling).
-    pub fn energy_scaled(&self, y: &[f64; DIM], e: &Eval) -> f64 {
+    pub fn energy_scaled(&self, y: &[f64; N], e: &Eval<N>) -> f64 {
         let (s, c) = self.sin_cos(y[TH]);
         let u = e.u;
         let e = 0.5 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
@@ -584,25 +609,27 @@ impl Reduced {
     }
 }
 
-impl OdeSystem<DIM> for Reduced {
+impl<const N: usize> OdeSystem<N> for Reduced<N> {
     type Error = ModelError;
     const CONTROLLED: usize = CONTROLLED;
     /// The controlled components and `(c_φ, s_φ)`: `φ, ψ` and the position
     /// are read by no derivative.
-    const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..CONTROLLED, DIR..DIM];
+    /// Without the pose: `..CONTROLLED`.
+    const STAGE_READ: &'static [std::ops::Range<usize>] = if N > CONTROLLED {
+        STAGE_POSE
+    } else {
+        STAGE_MOTION
+    };
 
     /// With `(c, s) = (c_φ, s_φ)`: `ẋ = c u_x − s u_y`, `ẏ = s u_x + c u_y`
     /// give `∂ẋ/∂c = u_x`, `∂ẋ/∂s = −u_y`, `∂ẏ/∂c = u_y`, `∂ẏ/∂s = u_x`;
     /// `ċ = −s Ω`, `ṡ = c Ω` give `∂ċ/∂s = −Ω`, `∂ṡ/∂c = Ω`. Nothing reads
     /// φ, ψ, x or y. (The dependence on the controlled Ω and u, the block
     /// below the controlled columns, is in Rodas4P's finite differences.)
-    fn quadrature_jacobian(
-        &self,
-        _t: f64,
-        y: &[f64; DIM],
-        f: &[f64; DIM],
-        jac: &mut [[f64; DIM]; DIM],
-    ) {
+    fn quadrature_jacobian(&self, _t: f64, y: &[f64; N], f: &[f64; N], jac: &mut [[f64; N]; N]) {
+        if !Self::POSE {
+            return;
+        }
         // u as the right-hand side used it (the constraint value while
         // rolling); Ω = φ̇.
         let u = match self.plane.mode {
@@ -618,11 +645,11 @@ impl OdeSystem<DIM> for Reduced {
         jac[DIR + 1][DIR] = om;
     }
 
-    fn begin_segment(&mut self, t: f64, _y: &[f64; DIM]) {
+    fn begin_segment(&mut self, t: f64, _y: &[f64; N]) {
         self.latch_force(t);
     }
 
-    fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {
+    fn rhs(&mut self, _t: f64, y: &[f64; N], dy: &mut [f64; N]) -> Result<(), ModelError> {
         self.plane.start_evaluation()?;
         // One sin_cos per evaluation (the guard shares it).
         let (s, c) = y[TH].sin_cos();
@@ -635,12 +662,7 @@ impl OdeSystem<DIM> for Reduced {
 
     /// `rhs`, the evaluation kept in [`Reduced::eval`]'s cache for the
     /// driver's events and observers, which read the accepted state next.
-    fn rhs_accepted(
-        &mut self,
-        _t: f64,
-        y: &[f64; DIM],
-        dy: &mut [f64; DIM],
-    ) -> Result<(), ModelError> {
+    fn rhs_accepted(&mut self, _t: f64, y: &[f64; N], dy: &mut [f64; N]) -> Result<(), ModelError> {
         self.plane.start_evaluation()?;
         let (s, c) = y[TH].sin_cos();
         if self.plane.mode == Mode::Rolling && at_pole(y[TH], s) {
@@ -653,14 +675,14 @@ impl OdeSystem<DIM> for Reduced {
     }
 }
 
-impl super::ContactModel<DIM> for Reduced {
+impl<const N: usize> super::ContactModel<N> for Reduced<N> {
     fn build(sc: &Scenario) -> Self {
-        Reduced::new(sc)
+        Reduced::with_state(sc)
     }
     fn scales(&self) -> Scales {
         self.scales
     }
-    fn initial_state(&self, i: &crate::Initial) -> [f64; DIM] {
+    fn initial_state(&self, i: &crate::Initial) -> [f64; N] {
         self.scale_state(i)
     }
     fn plane(&self) -> &ContactState {
@@ -669,53 +691,54 @@ impl super::ContactModel<DIM> for Reduced {
     fn plane_mut(&mut self) -> &mut ContactState {
         &mut self.plane
     }
-    fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
+    fn slip_of(&self, y: &[f64; N]) -> [f64; 2] {
         Reduced::slip_of(self, y)
     }
-    fn spin_z(&self, y: &[f64; DIM]) -> f64 {
+    fn spin_z(&self, y: &[f64; N]) -> f64 {
         let (s, c) = self.sin_cos(y[TH]);
         y[OM] * s * s + y[W] * c
     }
-    fn to_rolling(&self, y: &[f64; DIM]) -> [f64; DIM] {
+    fn to_rolling(&self, y: &[f64; N]) -> [f64; N] {
         let mut yr = *y;
         let u = self.rolling_velocity(y);
         yr[UX] = u[0];
         yr[UY] = u[1];
         yr
     }
-    fn contact_forces(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2]), ModelError> {
+    fn contact_forces(&self, y: &[f64; N]) -> Result<(f64, [f64; 2]), ModelError> {
         self.eval(y).map(|e| (e.normal, e.friction))
     }
-    fn contact_wrench(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2], f64), ModelError> {
+    fn contact_wrench(&self, y: &[f64; N]) -> Result<(f64, [f64; 2], f64), ModelError> {
         self.eval(y).map(|e| (e.normal, e.friction, e.torque))
     }
-    fn to_stick(&self, y: &[f64; DIM]) -> [f64; DIM] {
+    fn to_stick(&self, y: &[f64; N]) -> [f64; N] {
         self.stick_state(y)
     }
-    fn theta(&self, y: &[f64; DIM]) -> f64 {
+    fn theta(&self, y: &[f64; N]) -> f64 {
         y[TH]
     }
-    fn theta_rate(&self, y: &[f64; DIM]) -> f64 {
+    fn theta_rate(&self, y: &[f64; N]) -> f64 {
         y[THD]
     }
-    fn spin(&self, y: &[f64; DIM]) -> f64 {
+    fn spin(&self, y: &[f64; N]) -> f64 {
         y[W]
     }
-    fn jellett_scaled(&self, y: &[f64; DIM]) -> f64 {
+    fn jellett_scaled(&self, y: &[f64; N]) -> f64 {
         Reduced::jellett_scaled(self, y)
     }
-    fn energy_scaled(&self, y: &[f64; DIM]) -> Option<f64> {
+    fn energy_scaled(&self, y: &[f64; N]) -> Option<f64> {
         self.eval(y)
             .ok()
             .map(|e| Reduced::energy_scaled(self, y, &e))
     }
-    fn work_scaled(&self, y: &[f64; DIM]) -> f64 {
+    fn work_scaled(&self, y: &[f64; N]) -> f64 {
         y[WF] + y[WA]
     }
     fn axial(&self) -> f64 {
         self.ic()
     }
-    fn sample(&self, t: f64, y: &[f64; DIM]) -> crate::Sample {
+    const HAS_POSE: bool = N > CONTROLLED;
+    fn sample(&self, t: f64, y: &[f64; N]) -> crate::Sample {
         let m = self;
         let sc = m.scales;
         let (tu, vu) = (sc.time, sc.velocity());
@@ -737,11 +760,27 @@ impl super::ContactModel<DIM> for Reduced {
         // Position and attitude (docs/physics.md#position): the plane is z = 0,
         // the centre of mass at height R − a cos θ, the contact point below
         // the sphere's centre C = O + a k.
-        let (l, a) = (sc.length, m.a);
-        let (s, c) = theta.sin_cos();
-        let (sp, cp) = y[PHI].sin_cos();
-        let q = crate::observe::attitude_from_euler(y[PHI], theta, y[PSI]);
-        let (x, yy) = (y[POS] * l, y[POS + 1] * l);
+        // Without the pose (`N = CONTROLLED`): NaN, not computed (the
+        // driver's finiteness check skips them, `Sample::first_non_finite_of`).
+        let ([x, yy, z, xp, yp], q) = if Self::POSE {
+            let (l, a) = (sc.length, m.a);
+            let (s, c) = theta.sin_cos();
+            let (sp, cp) = y[PHI].sin_cos();
+            let q = crate::observe::attitude_from_euler(y[PHI], theta, y[PSI]);
+            let (x, yy) = (y[POS] * l, y[POS + 1] * l);
+            (
+                [
+                    x,
+                    yy,
+                    (1.0 - a * c) * l,
+                    x + a * s * cp * l,
+                    yy + a * s * sp * l,
+                ],
+                q,
+            )
+        } else {
+            ([f64::NAN; 5], [f64::NAN; 4])
+        };
         crate::Sample {
             t: t * tu,
             theta,
@@ -766,13 +805,13 @@ impl super::ContactModel<DIM> for Reduced {
             rolling: (m.plane.mode == Mode::Rolling) as u8,
             x,
             y: yy,
-            z: (1.0 - a * c) * l,
+            z,
             qw: q[0],
             qx: q[1],
             qy: q[2],
             qz: q[3],
-            xp: x + a * s * cp * l,
-            yp: yy + a * s * sp * l,
+            xp,
+            yp,
         }
     }
     fn describe_state(&self, y: &[f64]) -> String {

@@ -95,7 +95,13 @@ pub const POS: usize = 15;
 /// however fast, enters the scalar quadrature `χ` alone (docs/physics.md
 /// §position).
 #[inline(always)]
-fn attitude_rate(w: V3, k: V3, wk: f64, spin_ref: f64, y: &[f64; DIM]) -> ([f64; 4], f64) {
+fn attitude_rate<const N: usize>(
+    w: V3,
+    k: V3,
+    wk: f64,
+    spin_ref: f64,
+    y: &[f64; N],
+) -> ([f64; 4], f64) {
     let w = [w[0] - wk * k[0], w[1] - wk * k[1], w[2] - wk * k[2]];
     let q = [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]];
     (
@@ -108,6 +114,15 @@ fn attitude_rate(w: V3, k: V3, wk: f64, spin_ref: f64, y: &[f64; DIM]) -> ([f64;
         wk - spin_ref,
     )
 }
+/// [`OdeSystem::STAGE_READ`] with the pose: `k, w, v`, the works and `p`
+/// (`χ` and the position are read by no derivative).
+// A list of ranges (here one), not the range's elements.
+#[allow(clippy::single_range_in_vec_init)]
+const STAGE_POSE: &[std::ops::Range<usize>] = &[0..TWIST];
+/// [`OdeSystem::STAGE_READ`] without the pose: the controlled components.
+#[allow(clippy::single_range_in_vec_init)]
+const STAGE_MOTION: &[std::ops::Range<usize>] = &[0..CONTROLLED];
+
 /// DOP853's step-size control for this model
 /// ([`crate::integrate::Stepper::Dop853`]): `β` of the stabilised (PI)
 /// control and the cap of the step at the stability limit `6.1/ρ`. Without
@@ -122,9 +137,9 @@ pub const DOP853_STABILITY_CAP: bool = true;
 
 /// Everything the right-hand side computes at one state (scaled units).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Eval {
+pub struct Eval<const N: usize = DIM> {
     /// State derivative.
-    pub dy: [f64; DIM],
+    pub dy: [f64; N],
     /// Normal force N.
     pub normal: f64,
     /// Friction force on the top (space frame x, y), excluding the applied force.
@@ -142,13 +157,13 @@ pub struct Eval {
 /// mode and every input but the slip reference), the slip reference the
 /// evaluation saw, and the evaluation.
 #[derive(Debug, Clone, Copy)]
-struct CacheEntry {
+struct CacheEntry<const N: usize> {
     key: [u64; DIM + 9],
     slip_ref: [f64; 2],
-    eval: Eval,
+    eval: Eval<N>,
 }
 
-impl CacheEntry {
+impl<const N: usize> CacheEntry<N> {
     /// True if a fresh evaluation with `key` and the slip reference `d`
     /// gives this entry's bits. The slip reference enters the evaluation
     /// only through the exact law's continuation test `v·d < 0` at the
@@ -174,7 +189,7 @@ impl CacheEntry {
 
 /// The vector-form model as an ODE system in scaled units.
 #[derive(Debug, Clone)]
-pub struct Vector {
+pub struct Vector<const N: usize = DIM> {
     /// Unit system.
     pub scales: Scales,
     a: f64,
@@ -198,13 +213,13 @@ pub struct Vector {
     /// accepted step (N event, energy, samples) are computed once. The key
     /// is compared bit for bit: the result is what a fresh evaluation gives
     /// (the slip reference too, through [`CacheEntry::holds`]).
-    last: RefCell<Option<CacheEntry>>,
+    last: RefCell<Option<CacheEntry<N>>>,
     /// The evaluation at the last accepted step's end
     /// ([`OdeSystem::rhs_accepted`]) and its key, kept apart from `last`:
     /// the samples and event searches inside the step overwrite `last`, and
     /// the observers at the step's end then still find this one (the same
     /// key, so the same result as a fresh evaluation).
-    accepted: RefCell<Option<CacheEntry>>,
+    accepted: RefCell<Option<CacheEntry<N>>>,
     /// The Langevin thermostat (scaled), `None` unless `method = "langevin"`.
     thermal: Option<super::thermostat::Bath>,
     /// The Ornstein–Uhlenbeck step's coefficients from the last call
@@ -303,8 +318,26 @@ impl body::Friction for Regularized<'_> {
 }
 
 impl Vector {
-    /// Build the scaled model of a scenario.
+    /// Build the scaled model of a scenario (the pose carried: [`DIM`]).
     pub fn new(sc: &Scenario) -> Self {
+        Self::with_state(sc)
+    }
+}
+
+impl<const N: usize> Vector<N> {
+    /// True if the state carries the pose (`N = DIM`): the attitude
+    /// `p, χ` and the position `x, y`. Without it (`N = CONTROLLED`) the
+    /// motion's ten components alone, the same bits
+    /// (docs/performance.md#pose).
+    pub const POSE: bool = {
+        assert!(N == DIM || N == CONTROLLED);
+        N > CONTROLLED
+    };
+
+    /// Build the scaled model of a scenario with the state length `N`
+    /// ([`DIM`]: the pose carried; [`CONTROLLED`]: not).
+    pub fn with_state(sc: &Scenario) -> Self {
+        let _ = Self::POSE;
         let scales = Scales::of(sc);
         let ia = sc.top.inertia_transverse / scales.inertia();
         let ic = sc.top.inertia_axial / scales.inertia();
@@ -337,7 +370,7 @@ impl Vector {
 
     /// Kinetic energy (scaled) of the generalised velocities of a state:
     /// `½ (|v_h|² + v_Z²) + ½ w·I w` with `v_Z = −a (w × k)_Z`.
-    fn kinetic(&self, y: &[f64; DIM]) -> f64 {
+    fn kinetic(&self, y: &[f64; N]) -> f64 {
         let k = [y[K], y[K + 1], y[K + 2]];
         let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
         super::thermostat::kinetic_in_contact(
@@ -358,7 +391,7 @@ impl Vector {
     /// γ_r A + γ_t a² sin²θ, γ_r A)`; each mode relaxes at `λ = Γ_i/M_i`
     /// with the variance `kT (1 − e^{−2λh})/M_i` added. The change of the
     /// kinetic energy is added to the friction work `W_f` (the bath's work).
-    fn ou_step(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {
+    fn ou_step(&mut self, y: &mut [f64; N], h: f64, xi: &[f64]) {
         let Some(b) = self.thermal else { return };
         let body = super::thermostat::Body {
             a: self.a,
@@ -405,7 +438,7 @@ impl Vector {
     fn brownian_step(
         &mut self,
         t: f64,
-        y: &mut [f64; DIM],
+        y: &mut [f64; N],
         h: f64,
         xi: &[f64],
     ) -> Result<(), ModelError> {
@@ -416,8 +449,8 @@ impl Vector {
         let mut rest = *y;
         rest[OMEGA..OMEGA + 3].fill(0.0);
         rest[VEL..VEL + 2].fill(0.0);
-        let mut dy = [0.0; DIM];
-        <Self as OdeSystem<DIM>>::rhs(self, t, &rest, &mut dy)?;
+        let mut dy = [0.0; N];
+        <Self as OdeSystem<N>>::rhs(self, t, &rest, &mut dy)?;
         let ([kn, eh, fh], s2) = super::thermostat::modes_basis([y[K], y[K + 1], y[K + 2]]);
         let body = super::thermostat::Body {
             a: self.a,
@@ -430,16 +463,18 @@ impl Vector {
         let w = add(add(scale(p[2], kn), scale(p[3], eh)), scale(p[4], fh));
         let rv = scale(h, w);
         let k = super::vec3::rotate(rv, [y[K], y[K + 1], y[K + 2]]);
-        let (p_new, twist) = super::vec3::swing_twist_turn(
-            rv,
-            [y[K], y[K + 1], y[K + 2]],
-            [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]],
-        );
+        if Self::POSE {
+            let (p_new, twist) = super::vec3::swing_twist_turn(
+                rv,
+                [y[K], y[K + 1], y[K + 2]],
+                [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]],
+            );
+            y[QUAT..QUAT + 4].copy_from_slice(&p_new);
+            y[TWIST] += twist - self.spin_ref * h;
+            y[POS] += h * p[0];
+            y[POS + 1] += h * p[1];
+        }
         y[K..K + 3].copy_from_slice(&k);
-        y[QUAT..QUAT + 4].copy_from_slice(&p_new);
-        y[TWIST] += twist - self.spin_ref * h;
-        y[POS] += h * p[0];
-        y[POS + 1] += h * p[1];
         let wdrift = add(
             add(scale(drift[2], kn), scale(drift[3], eh)),
             scale(drift[4], fh),
@@ -466,7 +501,13 @@ impl Vector {
     /// space X: `k = (s, 0, c)`, `w = ((ω − Ω c) s, θ̇, Ω s² + ω c)`,
     /// `v = (u_x, u_y)`, `p = (cos θ/2, 0, sin θ/2, 0)` (a turn by θ about
     /// the lab Y), `χ = 0`, `x = y = 0`.
-    pub fn scale_state(&self, i: &Initial) -> [f64; DIM] {
+    pub fn scale_state(&self, i: &Initial) -> [f64; N] {
+        let y = self.scale_pose_state(i);
+        std::array::from_fn(|j| y[j])
+    }
+
+    /// [`Vector::scale_state`] with the pose ([`DIM`] components).
+    fn scale_pose_state(&self, i: &Initial) -> [f64; DIM] {
         let t = self.scales.time;
         let vu = self.scales.velocity();
         let (s, c) = axis(i.theta);
@@ -509,7 +550,7 @@ impl Vector {
     }
 
     #[inline(always)]
-    fn kin(&self, y: &[f64; DIM]) -> Kin {
+    fn kin(&self, y: &[f64; N]) -> Kin {
         let k = [y[K], y[K + 1], y[K + 2]];
         let w = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
         body::At::new(&body::Plane, self.a, 1.0, k, w)
@@ -534,13 +575,13 @@ impl Vector {
     }
 
     /// Horizontal slip velocity `v + w × r` (space frame) from the state's v.
-    pub fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
+    pub fn slip_of(&self, y: &[f64; N]) -> [f64; 2] {
         let kn = self.kin(y);
         [y[VEL] + kn.wr[0], y[VEL + 1] + kn.wr[1]]
     }
 
     /// Horizontal centre-of-mass velocity of zero slip, `−(w × r)_h`.
-    pub fn rolling_velocity(&self, y: &[f64; DIM]) -> [f64; 2] {
+    pub fn rolling_velocity(&self, y: &[f64; N]) -> [f64; 2] {
         let kn = self.kin(y);
         [-kn.wr[0], -kn.wr[1]]
     }
@@ -549,13 +590,13 @@ impl Vector {
     /// `hypot` (|k| ≈ 1: nothing to overflow; it underflows only for
     /// `|k_h| < 1e-154`, θ then reads 0): the driver calls this at every
     /// accepted step.
-    pub fn theta(y: &[f64; DIM]) -> f64 {
+    pub fn theta(y: &[f64; N]) -> f64 {
         (y[K] * y[K] + y[K + 1] * y[K + 1]).sqrt().atan2(y[K + 2])
     }
 
     /// Evaluate the model at a state in the current mode (cached: see
     /// the `last` field).
-    pub fn eval(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
+    pub fn eval(&self, y: &[f64; N]) -> Result<Eval<N>, ModelError> {
         self.with_eval(y, |e| *e)
     }
 
@@ -563,7 +604,11 @@ impl Vector {
     /// cached evaluation is not copied out: the driver's observers read
     /// one or two of its fields at every accepted step).
     #[inline(always)]
-    fn with_eval<R>(&self, y: &[f64; DIM], read: impl FnOnce(&Eval) -> R) -> Result<R, ModelError> {
+    fn with_eval<R>(
+        &self,
+        y: &[f64; N],
+        read: impl FnOnce(&Eval<N>) -> R,
+    ) -> Result<R, ModelError> {
         let key = self.cache_key(y);
         let d = self.plane.slip_ref.get();
         for slot in [&self.accepted, &self.last] {
@@ -587,7 +632,7 @@ impl Vector {
     /// every input the evaluation reads but the slip reference
     /// ([`CacheEntry::holds`]).
     #[inline(always)]
-    fn cache_key(&self, y: &[f64; DIM]) -> [u64; DIM + 9] {
+    fn cache_key(&self, y: &[f64; N]) -> [u64; DIM + 9] {
         let mut key = [0u64; DIM + 9];
         for (k, v) in key.iter_mut().zip(y) {
             *k = v.to_bits();
@@ -626,7 +671,7 @@ impl Vector {
     /// without the tests and loads that find each term absent at every
     /// evaluation.
     #[inline(always)]
-    fn eval_now(&self, y: &[f64; DIM]) -> Result<Eval, ModelError> {
+    fn eval_now(&self, y: &[f64; N]) -> Result<Eval<N>, ModelError> {
         let kn = self.kin(y);
         let f = self.plane.forces();
         let terms = if f.nothing_applied() {
@@ -707,9 +752,9 @@ impl Vector {
     fn eval_sliding<F: body::Friction, const T: u8>(
         &self,
         law: &F,
-        y: &[f64; DIM],
+        y: &[f64; N],
         kn: &Kin,
-    ) -> Result<Eval, ModelError> {
+    ) -> Result<Eval<N>, ModelError> {
         let Kin {
             k, w, kd, wk, wr, ..
         } = *kn;
@@ -724,11 +769,14 @@ impl Vector {
                 solutions,
             })?;
         let vo = [v[0], v[1], -self.a * kd[2]];
-        let (qd, chi) = attitude_rate(w, k, wk, self.spin_ref, y);
-        let mut dy = [
+        let mut dy = [0.0; N];
+        dy[..CONTROLLED].copy_from_slice(&[
             kd[0], kd[1], kd[2], c.wd[0], c.wd[1], c.wd[2], c.force[0], c.force[1], c.wf, c.wa,
-            qd[0], qd[1], qd[2], qd[3], chi, v[0], v[1],
-        ];
+        ]);
+        if Self::POSE {
+            let (qd, chi) = attitude_rate(w, k, wk, self.spin_ref, y);
+            dy[CONTROLLED..].copy_from_slice(&[qd[0], qd[1], qd[2], qd[3], chi, v[0], v[1]]);
+        }
         if let Some(wr) = free.wrench {
             // Its horizontal force and its power F·v_O + τ·w (§actuators).
             dy[VEL] += wr.0[0];
@@ -747,18 +795,21 @@ impl Vector {
 
     /// Rolling: [`body::Body::roll`], the slip held at zero.
     #[inline(always)]
-    fn eval_rolling<const T: u8>(&self, y: &[f64; DIM], kn: &Kin) -> Eval {
+    fn eval_rolling<const T: u8>(&self, y: &[f64; N], kn: &Kin) -> Eval<N> {
         let Kin {
             k, w, kd, wk, wr, ..
         } = *kn;
         let (free, hw, cp) = self.terms::<T>(kn);
         let c = self.body.roll(&self.plane, kn, &free, hw, &cp);
         let vo = [-wr[0], -wr[1], -self.a * kd[2]];
-        let (qd, chi) = attitude_rate(w, k, wk, self.spin_ref, y);
-        let mut dy = [
+        let mut dy = [0.0; N];
+        dy[..CONTROLLED].copy_from_slice(&[
             kd[0], kd[1], kd[2], c.wd[0], c.wd[1], c.wd[2], c.force[0], c.force[1], 0.0, 0.0,
-            qd[0], qd[1], qd[2], qd[3], chi, -wr[0], -wr[1],
-        ];
+        ]);
+        if Self::POSE {
+            let (qd, chi) = attitude_rate(w, k, wk, self.spin_ref, y);
+            dy[CONTROLLED..].copy_from_slice(&[qd[0], qd[1], qd[2], qd[3], chi, -wr[0], -wr[1]]);
+        }
         if let Some(wr) = free.wrench {
             // The centre of mass accelerates with F + the contact force;
             // the actuators' power F·v_O + τ·w (§actuators; the contact force does
@@ -781,7 +832,7 @@ impl Vector {
     /// ([`body::stick_solve`] with `b = −v_P`, `β = −w_Z`) that
     /// brings the slip and the spin about Z to zero; `v` then the rolling
     /// velocity, the kinetic energy's change added to `W_f` (§contensou).
-    pub fn stick_state(&self, y: &[f64; DIM]) -> [f64; DIM] {
+    pub fn stick_state(&self, y: &[f64; N]) -> [f64; N] {
         let kn = self.kin(y);
         let vp = [y[VEL] + kn.wr[0], y[VEL + 1] + kn.wr[1], 0.0];
         let (imp, m) = body::stick_solve(&self.body.inertia, kn.k, kn.r, scale(-1.0, vp), -kn.w[2]);
@@ -800,23 +851,23 @@ impl Vector {
     }
 
     /// Stick margin while rolling: `μ |N| − |F_f|` (scaled force).
-    pub fn stick_margin(&self, e: &Eval) -> f64 {
+    pub fn stick_margin(&self, e: &Eval<N>) -> f64 {
         self.plane.stick_margin(e.normal, e.friction)
     }
 
     /// Jellett's J = −L·r in scaled units (J / (m R³ / T)).
-    pub fn jellett_scaled(&self, y: &[f64; DIM]) -> f64 {
+    pub fn jellett_scaled(&self, y: &[f64; N]) -> f64 {
         let kn = self.kin(y);
         -dot(self.inertia(kn.k, kn.w), kn.r)
     }
 
     /// Total energy in scaled units, with the velocity `e.v`.
-    pub fn energy_scaled(&self, y: &[f64; DIM], e: &Eval) -> f64 {
+    pub fn energy_scaled(&self, y: &[f64; N], e: &Eval<N>) -> f64 {
         self.energy_with(y, e.v)
     }
 
     /// Total energy in scaled units with the centre-of-mass velocity `v`.
-    fn energy_with(&self, y: &[f64; DIM], v: V3) -> f64 {
+    fn energy_with(&self, y: &[f64; N], v: V3) -> f64 {
         let kn = self.kin(y);
         let en = 0.5 * dot(v, v)
             + 0.5 * dot(kn.w, self.inertia(kn.k, kn.w))
@@ -833,7 +884,7 @@ impl Vector {
     /// The Euler-angle quantities `(θ, θ̇, Ω, ω)` (scaled rates) and the
     /// precessing frame `(x̂, ŷ)` at a state. `Ω` is reported as 0 where
     /// `|k_h| < 1e-12` (the axis vertical: Ω undefined).
-    pub fn euler(&self, y: &[f64; DIM]) -> ((f64, f64, f64, f64), (V3, V3)) {
+    pub fn euler(&self, y: &[f64; N]) -> ((f64, f64, f64, f64), (V3, V3)) {
         let kn = self.kin(y);
         let (xh, yh) = Self::frame(kn.k);
         let kh2 = kn.k[0] * kn.k[0] + kn.k[1] * kn.k[1];
@@ -859,7 +910,10 @@ impl Vector {
     /// `q = p ⊗ (cos ψ/2, 0, 0, sin ψ/2)`. `ω₀ t` is one rounded product, so
     /// the angle keeps its precision at any number of turns (its absolute
     /// error is that of `t` itself times ω₀; docs/physics.md#position).
-    pub fn attitude(&self, t: f64, y: &[f64; DIM]) -> [f64; 4] {
+    /// Only for the state that carries the pose ([`Vector::POSE`]; it
+    /// panics on the motion's state alone).
+    pub fn attitude(&self, t: f64, y: &[f64; N]) -> [f64; 4] {
+        assert!(Self::POSE, "the attitude of a state without the pose");
         let p = crate::observe::attitude_with_axis(
             [y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3]],
             [y[K], y[K + 1], y[K + 2]],
@@ -870,7 +924,7 @@ impl Vector {
     }
 
     /// The output row at scaled time `t`.
-    pub fn sample_at(&self, t: f64, y: &[f64; DIM]) -> Sample {
+    pub fn sample_at(&self, t: f64, y: &[f64; N]) -> Sample {
         let sc = self.scales;
         let (tu, vu) = (sc.time, sc.velocity());
         let ((theta, thd, om, w), (xh, yh)) = self.euler(y);
@@ -885,14 +939,31 @@ impl Vector {
                 (v, f64::NAN, self.slip_of(y), self.energy_with(y, v))
             }
         };
-        // Position and attitude (docs/physics.md#position).
-        let (l, a) = (sc.length, self.a);
-        // The unit axis (|k| = 1 holds only to the integration error), as θ.
-        let k = [y[K], y[K + 1], y[K + 2]];
-        let nk = (k[0] * k[0] + k[1] * k[1] + k[2] * k[2]).sqrt();
-        let k = [k[0] / nk, k[1] / nk, k[2] / nk];
-        let q = self.attitude(t, y);
-        let (x, yy) = (y[POS] * l, y[POS + 1] * l);
+        // Position and attitude (docs/physics.md#position); without the
+        // pose (`N = CONTROLLED`) NaN, not computed (the driver's
+        // finiteness check skips them, `Sample::first_non_finite_of`).
+        let [x, yy, z, xp, yp] = if Self::POSE {
+            let (l, a) = (sc.length, self.a);
+            // The unit axis (|k| = 1 holds only to the integration error), as θ.
+            let k = [y[K], y[K + 1], y[K + 2]];
+            let nk = (k[0] * k[0] + k[1] * k[1] + k[2] * k[2]).sqrt();
+            let k = [k[0] / nk, k[1] / nk, k[2] / nk];
+            let (x, yy) = (y[POS] * l, y[POS + 1] * l);
+            [
+                x,
+                yy,
+                (1.0 - a * k[2]) * l,
+                x + a * k[0] * l,
+                yy + a * k[1] * l,
+            ]
+        } else {
+            [f64::NAN; 5]
+        };
+        let q = if Self::POSE {
+            self.attitude(t, y)
+        } else {
+            [f64::NAN; 4]
+        };
         Sample {
             t: t * tu,
             theta,
@@ -913,13 +984,13 @@ impl Vector {
             rolling: (self.plane.mode == Mode::Rolling) as u8,
             x,
             y: yy,
-            z: (1.0 - a * k[2]) * l,
+            z,
             qw: q[0],
             qx: q[1],
             qy: q[2],
             qz: q[3],
-            xp: x + a * k[0] * l,
-            yp: yy + a * k[1] * l,
+            xp,
+            yp,
         }
     }
 
@@ -942,27 +1013,27 @@ impl Vector {
     }
 }
 
-impl OdeSystem<DIM> for Vector {
+impl<const N: usize> OdeSystem<N> for Vector<N> {
     type Error = ModelError;
     const CONTROLLED: usize = CONTROLLED;
     /// `k, w, v` and the works (controlled), `p`: `χ` and the position are
     /// read by no derivative.
-    // A list of ranges (here one), not the range's elements.
-    #[allow(clippy::single_range_in_vec_init)]
-    const STAGE_READ: &'static [std::ops::Range<usize>] = &[0..TWIST];
+    /// Without the pose: `..CONTROLLED`.
+    const STAGE_READ: &'static [std::ops::Range<usize>] = if N > CONTROLLED {
+        STAGE_POSE
+    } else {
+        STAGE_MOTION
+    };
     /// The events (`model::on_plane`: θ, θ̇'s sign, the spin, N, the slip,
     /// the stick margin) read `k, w, v` only.
     const EVENT_READ: usize = CONTROLLED;
 
     /// `∂ṗ/∂p = ½ L(w_⊥)` (left multiplication by `(0, w − (w·k) k)`); `χ`
     /// and the position read no quadrature.
-    fn quadrature_jacobian(
-        &self,
-        _t: f64,
-        y: &[f64; DIM],
-        _f: &[f64; DIM],
-        jac: &mut [[f64; DIM]; DIM],
-    ) {
+    fn quadrature_jacobian(&self, _t: f64, y: &[f64; N], _f: &[f64; N], jac: &mut [[f64; N]; N]) {
+        if !Self::POSE {
+            return;
+        }
         let (w, k) = (
             [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]],
             [y[K], y[K + 1], y[K + 2]],
@@ -982,7 +1053,7 @@ impl OdeSystem<DIM> for Vector {
         }
     }
 
-    fn begin_segment(&mut self, t: f64, _y: &[f64; DIM]) {
+    fn begin_segment(&mut self, t: f64, _y: &[f64; N]) {
         self.latch_force(t);
     }
 
@@ -990,21 +1061,21 @@ impl OdeSystem<DIM> for Vector {
     /// modes (see `ou_step`).
     const NOISE: usize = 5;
 
-    fn thermostat(&mut self, y: &mut [f64; DIM], h: f64, xi: &[f64]) {
+    fn thermostat(&mut self, y: &mut [f64; N], h: f64, xi: &[f64]) {
         self.ou_step(y, h, xi);
     }
 
     fn overdamped_step(
         &mut self,
         t: f64,
-        y: &mut [f64; DIM],
+        y: &mut [f64; N],
         h: f64,
         xi: &[f64],
     ) -> Result<(), ModelError> {
         self.brownian_step(t, y, h, xi)
     }
 
-    fn rhs(&mut self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Result<(), ModelError> {
+    fn rhs(&mut self, _t: f64, y: &[f64; N], dy: &mut [f64; N]) -> Result<(), ModelError> {
         self.plane.start_evaluation()?;
         *dy = self.eval_now(y)?.dy;
         Ok(())
@@ -1013,12 +1084,7 @@ impl OdeSystem<DIM> for Vector {
     /// `rhs`, the evaluation kept in [`Vector::eval`]'s cache: the driver's
     /// events and observers read the accepted state next (the normal
     /// force, the energy), which then costs no second evaluation.
-    fn rhs_accepted(
-        &mut self,
-        _t: f64,
-        y: &[f64; DIM],
-        dy: &mut [f64; DIM],
-    ) -> Result<(), ModelError> {
+    fn rhs_accepted(&mut self, _t: f64, y: &[f64; N], dy: &mut [f64; N]) -> Result<(), ModelError> {
         self.plane.start_evaluation()?;
         let e = self.eval_now(y)?;
         *dy = e.dy;
@@ -1031,14 +1097,14 @@ impl OdeSystem<DIM> for Vector {
     }
 }
 
-impl super::ContactModel<DIM> for Vector {
+impl<const N: usize> super::ContactModel<N> for Vector<N> {
     fn build(sc: &Scenario) -> Self {
-        Vector::new(sc)
+        Vector::with_state(sc)
     }
     fn scales(&self) -> Scales {
         self.scales
     }
-    fn initial_state(&self, i: &Initial) -> [f64; DIM] {
+    fn initial_state(&self, i: &Initial) -> [f64; N] {
         self.scale_state(i)
     }
     fn plane(&self) -> &ContactState {
@@ -1047,56 +1113,56 @@ impl super::ContactModel<DIM> for Vector {
     fn plane_mut(&mut self) -> &mut ContactState {
         &mut self.plane
     }
-    fn slip_of(&self, y: &[f64; DIM]) -> [f64; 2] {
+    fn slip_of(&self, y: &[f64; N]) -> [f64; 2] {
         Vector::slip_of(self, y)
     }
-    fn spin_z(&self, y: &[f64; DIM]) -> f64 {
+    fn spin_z(&self, y: &[f64; N]) -> f64 {
         y[OMEGA + 2]
     }
-    fn to_rolling(&self, y: &[f64; DIM]) -> [f64; DIM] {
+    fn to_rolling(&self, y: &[f64; N]) -> [f64; N] {
         let mut yr = *y;
         let v = self.rolling_velocity(y);
         yr[VEL] = v[0];
         yr[VEL + 1] = v[1];
         yr
     }
-    fn contact_forces(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2]), ModelError> {
+    fn contact_forces(&self, y: &[f64; N]) -> Result<(f64, [f64; 2]), ModelError> {
         self.with_eval(y, |e| (e.normal, e.friction))
     }
-    fn contact_wrench(&self, y: &[f64; DIM]) -> Result<(f64, [f64; 2], f64), ModelError> {
+    fn contact_wrench(&self, y: &[f64; N]) -> Result<(f64, [f64; 2], f64), ModelError> {
         self.with_eval(y, |e| (e.normal, e.friction, e.torque))
     }
-    fn to_stick(&self, y: &[f64; DIM]) -> [f64; DIM] {
+    fn to_stick(&self, y: &[f64; N]) -> [f64; N] {
         self.stick_state(y)
     }
-    fn theta(&self, y: &[f64; DIM]) -> f64 {
+    fn theta(&self, y: &[f64; N]) -> f64 {
         Vector::theta(y)
     }
-    fn cos_theta(&self, y: &[f64; DIM]) -> f64 {
+    fn cos_theta(&self, y: &[f64; N]) -> f64 {
         // k_Z/|k|: a few ulps from the cosine of `theta`'s angle.
         let n2 = y[K] * y[K] + y[K + 1] * y[K + 1] + y[K + 2] * y[K + 2];
         y[K + 2] / n2.sqrt()
     }
-    fn above_half_pi(&self, y: &[f64; DIM]) -> f64 {
+    fn above_half_pi(&self, y: &[f64; N]) -> f64 {
         // θ − π/2 has the sign and the zero of −k_Z (no atan2 per step).
         -y[K + 2]
     }
-    fn theta_rate(&self, y: &[f64; DIM]) -> f64 {
+    fn theta_rate(&self, y: &[f64; N]) -> f64 {
         // θ̇ = −k̇_Z / sin θ: the same sign and zeros for 0 < θ < π.
         -(y[OMEGA] * y[K + 1] - y[OMEGA + 1] * y[K])
     }
-    fn spin(&self, y: &[f64; DIM]) -> f64 {
+    fn spin(&self, y: &[f64; N]) -> f64 {
         y[K] * y[OMEGA] + y[K + 1] * y[OMEGA + 1] + y[K + 2] * y[OMEGA + 2]
     }
-    fn jellett_scaled(&self, y: &[f64; DIM]) -> f64 {
+    fn jellett_scaled(&self, y: &[f64; N]) -> f64 {
         Vector::jellett_scaled(self, y)
     }
-    fn energy_scaled(&self, y: &[f64; DIM]) -> Option<f64> {
+    fn energy_scaled(&self, y: &[f64; N]) -> Option<f64> {
         self.with_eval(y, |e| e.v)
             .ok()
             .map(|v| self.energy_with(y, v))
     }
-    fn work_scaled(&self, y: &[f64; DIM]) -> f64 {
+    fn work_scaled(&self, y: &[f64; N]) -> f64 {
         y[WF] + y[WA]
     }
     fn axial(&self) -> f64 {
@@ -1108,7 +1174,8 @@ impl super::ContactModel<DIM> for Vector {
     fn dop853_stability_cap(&self) -> bool {
         DOP853_STABILITY_CAP
     }
-    fn sample(&self, t: f64, y: &[f64; DIM]) -> Sample {
+    const HAS_POSE: bool = N > CONTROLLED;
+    fn sample(&self, t: f64, y: &[f64; N]) -> Sample {
         self.sample_at(t, y)
     }
     fn describe_state(&self, y: &[f64]) -> String {

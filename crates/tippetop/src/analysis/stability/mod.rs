@@ -83,7 +83,7 @@ pub use linearisation::{
 };
 
 use crate::human::s4;
-use crate::{Error, Scenario, Top, simulate};
+use crate::{Error, Scenario, Top};
 
 /// Options of [`analyse`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -279,7 +279,8 @@ pub struct StabilityReport {
 }
 
 fn late_state(sc: &Scenario, frac: f64) -> Result<LateState, Error> {
-    let tr = simulate(sc)?;
+    // θ, the rates, the velocity and J of the late rows: no pose.
+    let tr = crate::simulate_with_pose(sc, false, &mut |_| {})?;
     let t_to = tr.samples.last().map(|s| s.t).unwrap_or(0.0);
     let t_from = t_to * (1.0 - frac);
     let w: Vec<&crate::Sample> = tr.samples.iter().filter(|s| s.t >= t_from).collect();
