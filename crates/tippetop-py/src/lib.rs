@@ -463,13 +463,23 @@ impl Trajectory {
         ncols: usize,
     ) -> PyResult<Self> {
         let n = traj.samples.len();
-        // The rows as arrays in one pass, then each column gathered from
-        // them into the Vec its numpy array takes over (no copy): a tight
-        // loop per column instead of 26 pushes per row.
-        let rows: Vec<[f64; COLUMNS.len()]> = traj.samples.iter().map(|s| s.values()).collect();
+        // The rows as arrays a block at a time, then each column of the
+        // block appended to the Vec its numpy array takes over (no copy): a
+        // tight loop per column instead of 26 pushes per row, with a
+        // bounded buffer (a copy of every row cost 1 GB at the 5e6-sample
+        // limit).
+        const BLOCK: usize = 512;
+        let mut cols: Vec<Vec<f64>> = (0..ncols).map(|_| Vec::with_capacity(n)).collect();
+        let mut rows: Vec<[f64; COLUMNS.len()]> = Vec::with_capacity(BLOCK.min(n));
+        for block in traj.samples.chunks(BLOCK) {
+            rows.clear();
+            rows.extend(block.iter().map(|s| s.values()));
+            for (i, c) in cols.iter_mut().enumerate() {
+                c.extend(rows.iter().map(|r| r[i]));
+            }
+        }
         let arrays = PyDict::new(py);
-        for (i, name) in COLUMNS[..ncols].iter().enumerate() {
-            let c: Vec<f64> = rows.iter().map(|r| r[i]).collect();
+        for (name, c) in COLUMNS[..ncols].iter().zip(cols) {
             arrays.set_item(*name, PyArray1::from_vec(py, c))?;
         }
         Ok(Trajectory {

@@ -11,7 +11,10 @@ use crate::{Error, Sample};
 /// The table's name.
 const TABLE: &str = "solver";
 
-/// Integration method.
+/// Integration method: what the user asks for (`solver.method`). Each
+/// runs one algorithm, an `integrate::Stepper` named after it: `adaptive`
+/// DOP853, `rk4` RK4, `stiff` Rodas4P, `langevin` and `brownian` the
+/// Langevin engine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Method {
     /// Adaptive Dormand–Prince 8(5,3) with 7th-order dense output.
@@ -25,7 +28,8 @@ pub enum Method {
     /// Langevin dynamics with the fixed step `solver.dt`: the exact
     /// Ornstein–Uhlenbeck step of the damping and its noise around an RK4
     /// step of the deterministic forces (a symmetric splitting, weak order
-    /// 2; docs/physics.md#langevin). Vector model, no Coulomb friction.
+    /// 2; docs/physics.md#langevin). Vector or rigid model, no Coulomb
+    /// friction.
     Langevin,
     /// The overdamped limit of the Langevin dynamics (Brownian motion of
     /// the axis and the centre with the same damping and forces), fixed step

@@ -91,7 +91,7 @@ pub(super) fn run<S: OdeSystem<N>, const N: usize>(
             beta,
             stability_cap,
         } => drive_with!(Dop853::new(rtol, atol, beta, stability_cap, opts.h0, h_max)),
-        Stepper::Rosenbrock { rtol, atol } => {
+        Stepper::Rodas4P { rtol, atol } => {
             drive_with!(Rodas4p::new(rtol, atol, opts.h0, h_max))
         }
         Stepper::Langevin {
@@ -225,7 +225,7 @@ impl<const N: usize> AnyEngine<N> {
                 beta,
                 stability_cap,
             } => AnyEngine::Dop853(Dop853::new(rtol, atol, beta, stability_cap, opts.h0, h_max)),
-            Stepper::Rosenbrock { rtol, atol } => {
+            Stepper::Rodas4P { rtol, atol } => {
                 AnyEngine::Rodas4p(Rodas4p::new(rtol, atol, opts.h0, h_max))
             }
             Stepper::Langevin {

@@ -55,7 +55,7 @@
 //!   coefficients were transcribed from SciPy's
 //!   `scipy/integrate/_ivp/dop853_coefficients.py`, itself from Hairer's
 //!   `dop853.f` (see `dop853_coefficients.rs`).
-//! - Rodas4P (`Stepper::Rosenbrock`): Steinebach's variant of Hairer &
+//! - Rodas4P (`Stepper::Rodas4P`): Steinebach's variant of Hairer &
 //!   Wanner's Rodas4, a stiffly accurate, L-stable Rosenbrock method of
 //!   order 4(3) with an order-3 continuous extension, Jacobian by central
 //!   and `∂f/∂t` by forward differences at every step, dense LU with partial pivoting on `[[f64; N]; N]`. For the
@@ -185,7 +185,8 @@ pub trait OdeSystem<const N: usize> {
     }
 }
 
-/// Which stepper, with its settings.
+/// Which stepper, with its settings: each variant is named after its
+/// algorithm (the user's `solver.method` picks one: `Method`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Stepper {
     /// Classical RK4 with fixed step `h` (shortened only to land on a tstop
@@ -227,8 +228,9 @@ pub enum Stepper {
     /// estimate and order-3 dense output) with error control
     /// `RMS(err_i / (atol + rtol * max(|y_i|, |y_new_i|))) <= 1`, for stiff
     /// problems. Numerical Jacobian (central differences over the controlled
-    /// components, `2 C + 1` evaluations per step with `∂f/∂t`).
-    Rosenbrock {
+    /// components, `2 C + 1` evaluations per step with `∂f/∂t`). What
+    /// `solver.method = "stiff"` runs.
+    Rodas4P {
         /// Relative tolerance.
         rtol: f64,
         /// Absolute tolerance.
@@ -428,7 +430,7 @@ impl Options {
     /// step limit other than the interval, `max_steps` 10 000 000.
     pub fn rosenbrock(rtol: f64, atol: f64) -> Self {
         Options {
-            stepper: Stepper::Rosenbrock { rtol, atol },
+            stepper: Stepper::Rodas4P { rtol, atol },
             max_steps: Self::DEFAULT_MAX_STEPS,
             h0: None,
             h_max: None,

@@ -738,7 +738,7 @@ impl<const N: usize> Vector<N> {
         // validation refuses them in this model.
         let wrench = body::wrench(self.plane.forces(), k, || {
             unreachable!(
-                "an off-axis actuator in model = \"vector\" (refused by scenario::actuator::check_model)"
+                "an off-axis actuator in model = \"vector\" (refused by physics::forces::actuators::check_model)"
             )
         });
         (

@@ -412,7 +412,7 @@ impl RunSetup {
                     beta: 0.0,
                     stability_cap: false,
                 },
-                Method::Stiff => Stepper::Rosenbrock {
+                Method::Stiff => Stepper::Rodas4P {
                     rtol: sc.solver.rtol,
                     atol: sc.solver.rtol,
                 },

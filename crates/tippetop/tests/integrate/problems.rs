@@ -10,7 +10,7 @@ pub fn name(opts: &Options) -> &'static str {
     match opts.stepper {
         Stepper::Rk4 { .. } => "RK4",
         Stepper::Dop853 { .. } => "DOP853",
-        Stepper::Rosenbrock { .. } => "Rodas4P",
+        Stepper::Rodas4P { .. } => "Rodas4P",
         Stepper::Langevin { .. } => "Langevin",
         Stepper::Brownian { .. } => "Brownian",
     }
