@@ -10,6 +10,9 @@
 //!
 //! Only the standard library: the repository's files are read as text.
 
+mod common;
+use common::slug;
+
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -17,20 +20,6 @@ use std::path::{Path, PathBuf};
 /// The repository's root.
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// The GitHub anchor of a heading: lower case, letters, digits, `_` and `-`
-/// kept, spaces as `-`, everything else dropped (as `readme.rs` computes it).
-fn slug(heading: &str) -> String {
-    heading
-        .chars()
-        .filter_map(|c| match c {
-            ' ' => Some('-'),
-            c if c.is_alphanumeric() || c == '_' || c == '-' => Some(c),
-            _ => None,
-        })
-        .flat_map(char::to_lowercase)
-        .collect()
 }
 
 /// The `<a id="...">` anchors of a Markdown text, in order, repeats kept.

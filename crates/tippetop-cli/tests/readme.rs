@@ -3,6 +3,9 @@
 //! the validator accepts, its `trajectory.csv` table must list every column,
 //! and the example commands of both must run.
 
+mod common;
+use common::slug;
+
 use std::collections::BTreeSet;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -270,21 +273,6 @@ fn readme_commands_run() {
         );
     }
     let _ = fs::remove_dir_all(&base);
-}
-
-/// The GitHub anchor of a heading: lower case, letters, digits, `_` and
-/// `-` kept, spaces as `-`, everything else dropped; a repeated heading
-/// gets `-1`, `-2`, ...
-fn slug(heading: &str) -> String {
-    heading
-        .chars()
-        .filter_map(|c| match c {
-            ' ' => Some('-'),
-            c if c.is_alphanumeric() || c == '_' || c == '-' => Some(c),
-            _ => None,
-        })
-        .flat_map(char::to_lowercase)
-        .collect()
 }
 
 /// The anchors of a Markdown text: its headings' slugs (outside code

@@ -154,3 +154,18 @@ pub fn sentinels(text: &str) -> Vec<String> {
     }
     found
 }
+
+/// The GitHub anchor of a heading: lower case, letters, digits, `_` and
+/// `-` kept, spaces as `-`, everything else dropped (readme.rs and
+/// doc_anchors.rs; a repeated heading's `-1`, `-2`, ... are the caller's).
+pub fn slug(heading: &str) -> String {
+    heading
+        .chars()
+        .filter_map(|c| match c {
+            ' ' => Some('-'),
+            c if c.is_alphanumeric() || c == '_' || c == '-' => Some(c),
+            _ => None,
+        })
+        .flat_map(char::to_lowercase)
+        .collect()
+}
