@@ -306,3 +306,33 @@ def test_to_pandas(nano_run):
     assert isinstance(df, pd.DataFrame)
     assert list(df.columns) == nano_run.columns
     assert np.array_equal(bits(df["omega"].to_numpy()), bits(nano_run.omega))
+
+
+_MEMORY_PROBE = """
+import resource, sys, tippetop as tt
+tt.run(tt.Scenario.preset("classical").set("solver.t_end", 0.01))
+before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+sc = tt.Scenario.preset("classical").set("solver.t_end", 1.0).set("solver.samples", 1000000)
+t = tt.run(sc)
+after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+assert len(t) == 1000000
+print((after - before) * 1024)
+"""
+
+
+def test_run_keeps_one_copy_of_the_rows_besides_its_arrays():
+    """tt.run of 1e6 samples grows the peak by the run's rows (224 bytes
+    each in Rust, docs/guide.md#limits) plus the 26 numpy columns (208
+    bytes per row): 432 MB. A whole extra copy of the rows while the
+    columns are gathered (33e32ba: +202 bytes per row, measured 2.06 ->
+    3.07 GB at 5e6 samples) would make it ~634 MB. Bound: 432 MB + 15 %.
+    In a fresh process, so that the peak is this run's (Linux maxrss in
+    KiB)."""
+    import sys
+
+    out = subprocess.run(
+        [sys.executable, "-c", _MEMORY_PROBE], capture_output=True, text=True, check=True
+    )
+    grown = int(out.stdout.strip())
+    expected = 1_000_000 * (224 + 26 * 8)
+    assert grown <= 1.15 * expected, f"peak grew by {grown / 1e6:.0f} MB, expected ≤ {1.15 * expected / 1e6:.0f}"
