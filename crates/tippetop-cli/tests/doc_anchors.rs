@@ -11,7 +11,7 @@
 //! Only the standard library: the repository's files are read as text.
 
 mod common;
-use common::slug;
+use common::anchors;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
@@ -31,33 +31,6 @@ fn ids(text: &str) -> Vec<String> {
             rest = &rest[i + 7..];
             if let Some(j) = rest.find('"') {
                 out.push(rest[..j].to_string());
-            }
-        }
-    }
-    out
-}
-
-/// Every anchor of a Markdown text: its `<a id>`s and its headings' slugs
-/// (outside code blocks; a repeated heading's later slugs get `-1`, `-2`).
-fn anchors(text: &str) -> BTreeSet<String> {
-    let mut out: BTreeSet<String> = ids(text).into_iter().collect();
-    let mut seen: BTreeMap<String, usize> = BTreeMap::new();
-    let mut fenced = false;
-    for line in text.lines() {
-        if line.trim_start().starts_with("```") {
-            fenced = !fenced;
-            continue;
-        }
-        if fenced {
-            continue;
-        }
-        if let Some(h) = line.strip_prefix('#') {
-            let h = h.trim_start_matches('#');
-            if h.starts_with(' ') {
-                let s = slug(h.trim());
-                let n = seen.entry(s.clone()).or_insert(0);
-                out.insert(if *n == 0 { s } else { format!("{s}-{n}") });
-                *n += 1;
             }
         }
     }

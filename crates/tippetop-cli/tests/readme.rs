@@ -4,7 +4,7 @@
 //! and the example commands of both must run.
 
 mod common;
-use common::slug;
+use common::anchors;
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -273,44 +273,6 @@ fn readme_commands_run() {
         );
     }
     let _ = fs::remove_dir_all(&base);
-}
-
-/// The anchors of a Markdown text: its headings' slugs (outside code
-/// blocks) and every `<a id="...">`.
-fn anchors(text: &str) -> BTreeSet<String> {
-    let mut out = BTreeSet::new();
-    let mut seen: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
-    let mut fenced = false;
-    for line in text.lines() {
-        if line.trim_start().starts_with("```") {
-            fenced = !fenced;
-            continue;
-        }
-        if fenced {
-            continue;
-        }
-        if let Some(h) = line.strip_prefix('#') {
-            let h = h.trim_start_matches('#');
-            if h.starts_with(' ') {
-                let s = slug(h.trim());
-                let n = seen.entry(s.clone()).or_insert(0);
-                out.insert(if *n == 0 {
-                    s.clone()
-                } else {
-                    format!("{s}-{n}")
-                });
-                *n += 1;
-            }
-        }
-        let mut rest = line;
-        while let Some(i) = rest.find("<a id=\"") {
-            rest = &rest[i + 7..];
-            if let Some(j) = rest.find('"') {
-                out.insert(rest[..j].to_string());
-            }
-        }
-    }
-    out
 }
 
 /// Every relative link of README.md and docs/*.md (`[text](target)`, outside

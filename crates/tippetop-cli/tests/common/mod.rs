@@ -169,3 +169,42 @@ pub fn slug(heading: &str) -> String {
         .flat_map(char::to_lowercase)
         .collect()
 }
+
+/// The anchors of a Markdown text: its headings' slugs (outside code
+/// blocks; a repeated heading's later slugs get `-1`, `-2`) and every
+/// `<a id="...">` (readme.rs's links, doc_anchors.rs's references).
+pub fn anchors(text: &str) -> std::collections::BTreeSet<String> {
+    let mut out = std::collections::BTreeSet::new();
+    let mut seen: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
+    let mut fenced = false;
+    for line in text.lines() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        if let Some(h) = line.strip_prefix('#') {
+            let h = h.trim_start_matches('#');
+            if h.starts_with(' ') {
+                let s = slug(h.trim());
+                let n = seen.entry(s.clone()).or_insert(0);
+                out.insert(if *n == 0 {
+                    s.clone()
+                } else {
+                    format!("{s}-{n}")
+                });
+                *n += 1;
+            }
+        }
+        let mut rest = line;
+        while let Some(i) = rest.find("<a id=\"") {
+            rest = &rest[i + 7..];
+            if let Some(j) = rest.find('"') {
+                out.insert(rest[..j].to_string());
+            }
+        }
+    }
+    out
+}
