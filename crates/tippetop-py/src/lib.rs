@@ -566,8 +566,7 @@ impl Trajectory {
             .unwrap_or_default();
         Ok(format!(
             "tippetop.Trajectory({} samples, {} columns, status {status:?})",
-            self.len,
-            self.ncols
+            self.len, self.ncols
         ))
     }
 }
