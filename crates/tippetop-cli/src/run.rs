@@ -132,7 +132,7 @@ pub struct RunArgs {
     /// (the default) then integrates 10 state components instead of 17, the
     /// reduced model 8 instead of 14 (not the attitude and position, which
     /// nothing else reads): every other column, summary.json and the plots
-    /// are the same bits, in 11-20 % fewer instructions
+    /// are the same bits, in 10-20 % fewer instructions
     /// (docs/performance.md#pose). The rigid model computes the pose anyway
     /// (only the columns are left out).
     #[arg(long)]
