@@ -676,10 +676,14 @@ struct Sim<M, const D: usize> {
     switches: usize,
     nonfinite_at: Option<f64>,
     logs_crossings: bool,
-    active: Option<Active<M, D>>,
-    /// The engine of the last ended segment, renewed for the next one
-    /// ([`AnyEngine::renew`]: no 3 kB cleared per segment).
-    spare: Option<AnyEngine<D>>,
+    /// The segment being integrated, boxed: a segment's start and end move
+    /// a pointer, not the engine's ~2 kB (a nano run has one segment per
+    /// ~7 steps).
+    active: Option<Box<Active<M, D>>>,
+    /// The last ended segment, reused for the next one: its engine renewed
+    /// ([`AnyEngine::renew`]: no 3 kB cleared per segment), its lists
+    /// refilled in place.
+    spare: Option<Box<Active<M, D>>>,
     done: bool,
     /// An ensemble's run ([`simulate_for_row`]): the per-step record keeps
     /// θ and the spin only (not J and the energy, which the row does not
@@ -736,13 +740,13 @@ impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
                     events.push(self.watch_event(w));
                 }
                 debug_assert_eq!(watches, a.watches);
-                Active {
+                Box::new(Active {
                     st: a.st.clone(),
                     watches,
                     events,
                     seg_end: a.seg_end,
                     ended: a.ended,
-                }
+                })
             }),
             spare: None,
             done: self.done,
@@ -838,7 +842,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
     /// How far the run has got (scaled): the end of the last accepted step,
     /// or the end of the run.
     fn reached(&self) -> f64 {
-        match &self.active {
+        match self.active.as_deref() {
             Some(Active {
                 ended: Some((_, t, _)),
                 ..
@@ -905,7 +909,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             if target < self.t_end && self.reached() >= target {
                 return true;
             }
-            match &self.active {
+            match self.active.as_deref() {
                 None => self.begin_segment(),
                 Some(a) if a.ended.is_some() => self.handle_end(),
                 Some(_) => self.step_once(observe, progress),
@@ -926,7 +930,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
     /// [`Sim::advance`] pauses), `false` if the run ended or failed first.
     fn advance_until(&mut self, stop: &mut dyn FnMut(&M, f64, &[f64; D]) -> bool) -> bool {
         while !self.done {
-            match &self.active {
+            match self.active.as_deref() {
                 None => self.begin_segment(),
                 Some(a) if a.ended.is_some() => self.handle_end(),
                 Some(_) => {
@@ -970,7 +974,24 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             .find(|&ts| ts > t)
             .unwrap_or(self.t_end);
         self.m.latch_branch(&self.y);
-        let (mut watches, mut events): (Vec<_>, Vec<_>) = self.m.events().into_iter().unzip();
+        // The last segment's box and lists, reused in place.
+        let mut spare = self.spare.take();
+        let (mut watches, mut events) = match spare.as_mut() {
+            Some(a) => {
+                let (mut w, mut e) = (
+                    std::mem::take(&mut a.watches),
+                    std::mem::take(&mut a.events),
+                );
+                w.clear();
+                e.clear();
+                (w, e)
+            }
+            None => (Vec::new(), Vec::new()),
+        };
+        for (w, e) in self.m.events() {
+            watches.push(w);
+            events.push(e);
+        }
         if let Some(w) = self.watcher.as_mut() {
             // Marks reached by the restart itself (a segment that starts on
             // one) are passed here; the later ones are events.
@@ -992,14 +1013,28 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         {
             *first_step = self.noise_base + self.steps_seen;
         }
-        let eng = match self.spare.take() {
-            Some(mut e) => {
-                e.renew(&self.opts, t, seg_end);
-                e
+        let mut a = match spare {
+            Some(mut a) => {
+                a.st.eng.renew(&self.opts, t, seg_end);
+                a.st.reset(events.len(), self.samples.len());
+                a
             }
-            None => AnyEngine::new(&self.opts, t, seg_end),
+            None => Box::new(Active {
+                st: Stepping::new(
+                    AnyEngine::new(&self.opts, t, seg_end),
+                    events.len(),
+                    self.samples.len(),
+                ),
+                watches: Vec::new(),
+                events: Vec::new(),
+                seg_end,
+                ended: None,
+            }),
         };
-        let mut st = Stepping::new(eng, events.len(), self.samples.len());
+        a.watches = watches;
+        a.events = events;
+        a.seg_end = seg_end;
+        a.ended = None;
         let samples = &mut self.samples;
         let nonfinite_at = &mut self.nonfinite_at;
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
@@ -1009,6 +1044,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             }
             samples.push(row);
         };
+        let Active { st, events, .. } = &mut *a;
         match st.begin(
             &mut self.m,
             t,
@@ -1016,18 +1052,13 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             seg_end,
             true,
             &self.sample_times,
-            &events,
+            events,
             &mut on_sample,
         ) {
             Ok(started) => {
-                self.active = Some(Active {
-                    st,
-                    watches,
-                    events,
-                    seg_end,
-                    // An empty segment (at the run's end) ends at once.
-                    ended: (!started).then_some((None, t, self.y)),
-                });
+                // An empty segment (at the run's end) ends at once.
+                a.ended = (!started).then_some((None, t, self.y));
+                self.active = Some(a);
                 if self.nonfinite_at.is_some() {
                     self.end_at_nonfinite_row();
                 }
@@ -1042,7 +1073,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         observe: &mut dyn FnMut(&M, f64, &[f64; D]),
         progress: &mut dyn FnMut(&Progress),
     ) {
-        let a = self.active.as_mut().expect("an active segment");
+        let a = &mut **self.active.as_mut().expect("an active segment");
         let Active {
             st,
             watches,
@@ -1252,14 +1283,15 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         self.stats.steps += a.st.stats.steps;
         debug_assert_eq!(self.stats.steps, self.steps_seen);
         self.stats.rejected += a.st.stats.rejected;
-        self.spare = Some(a.st.eng);
+        let seg_end = a.seg_end;
+        let what = index.map(|i| a.watches[i]);
+        self.spare = Some(a);
         self.t = t;
         self.y = y;
-        let flow = match index {
-            None if a.seg_end >= self.t_end => Flow::End,
+        let flow = match what {
+            None if seg_end >= self.t_end => Flow::End,
             None => self.m.on_force_switch(t, &mut self.y, &mut self.log),
-            Some(i) => {
-                let what = a.watches[i];
+            Some(what) => {
                 if matches!(what, Watch::SlipZero | Watch::StickLimit) {
                     self.switches += 1;
                     if self.switches > MAX_SWITCHES {

@@ -396,6 +396,19 @@ impl<E: Engine<N>, const N: usize> Stepping<E, N> {
         }
     }
 
+    /// Become [`Stepping::new`]`(eng, n_events, si)` with the engine it has
+    /// (renewed by the caller) and its lists' storage kept.
+    pub(crate) fn reset(&mut self, n_events: usize, si: usize) {
+        self.t_stop = 0.0;
+        self.stats = Stats::default();
+        self.g_prev.clear();
+        self.g_prev.resize(n_events, 0.0);
+        self.g_new.clear();
+        self.g_new.resize(n_events, 0.0);
+        self.crossings.clear();
+        self.si = si;
+    }
+
     /// Start a segment at `(t, y)` ending at `t_stop`: `sys.begin_segment`,
     /// then (for the `first` segment) the samples at exactly `t`, the event
     /// functions at the start and the engine's restart. `Ok(false)` if the

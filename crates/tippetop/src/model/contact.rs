@@ -375,9 +375,7 @@ impl ContactState {
     /// adds its phase's own load to `ContactState::forces`).
     #[inline(always)]
     pub fn contact_point(&self) -> ContactPointForce {
-        self.forces
-            .contact_point()
-            .with_load(self.forces.centre_vertical().in_contact())
+        self.forces.contact_point_in_contact()
     }
 
     /// The applied force terms with the latched contact-point force, no
@@ -555,6 +553,32 @@ impl crate::physics::body::Friction for ContactState {
     fn is_contensou(&self) -> bool {
         ContactState::is_contensou(self)
     }
+}
+
+/// `a == b`, as one OR of XORs (no early exit, no `memcmp` call: the
+/// models' evaluation caches are checked at every step end, and the
+/// arrays are short).
+#[inline(always)]
+pub(crate) fn same_bits<const K: usize>(a: &[u64; K], b: &[u64; K]) -> bool {
+    a.iter().zip(b).fold(0, |acc, (x, y)| acc | (x ^ y)) == 0
+}
+
+/// True if an evaluation made with the slip reference `r`, at the slip
+/// `v` (its `slip`), is the one a fresh evaluation with the reference `d`
+/// gives: the models' evaluation caches key on everything else. The slip
+/// reference enters an evaluation only through the exact law's
+/// continuation test `v·d < 0` ([`ContactState::coefficient`], read while
+/// sliding at `v ≠ 0`), so the reference the driver moves at every accepted
+/// step ([`ContactState::accepted`]) still finds the evaluation made before
+/// it where the test comes out the same. (While rolling, with the other
+/// laws or at zero slip, `d` is not read: the same test on the cached `v`
+/// then errs only towards a miss.)
+#[inline(always)]
+pub(crate) fn same_continuation(r: [f64; 2], v: [f64; 2], d: [f64; 2]) -> bool {
+    if r[0].to_bits() == d[0].to_bits() && r[1].to_bits() == d[1].to_bits() {
+        return true;
+    }
+    (v[0] * r[0] + v[1] * r[1] < 0.0) == (v[0] * d[0] + v[1] * d[1] < 0.0)
 }
 
 /// The normal force from the contact closure `N D(σ) = Q` (`dp = D(+)`,

@@ -20,6 +20,7 @@
 use std::cell::RefCell;
 
 use super::ContactState;
+use super::contact::same_bits;
 /// The shared types, re-exported where they used to live.
 pub use super::{Mode, ModelError};
 pub use crate::physics::units::Scales;
@@ -129,11 +130,15 @@ pub struct Eval<const N: usize = DIM> {
 struct LastEval<const N: usize> {
     /// The state, as bits.
     y: [u64; N],
-    /// Mode, latched force, slip hint and slip reference at the evaluation.
+    /// Mode at the evaluation.
     mode: Mode,
     /// Latched normal-force branch.
     branch: Option<bool>,
-    key: [u64; 8],
+    /// Latched force and slip hint ([`inputs_key`]).
+    key: [u64; 6],
+    /// The slip reference the evaluation saw
+    /// ([`super::contact::same_continuation`]).
+    slip_ref: [f64; 2],
     /// sin θ, cos θ.
     sc: (f64, f64),
     eval: Eval<N>,
@@ -141,24 +146,15 @@ struct LastEval<const N: usize> {
 
 /// Everything besides the state that an evaluation depends on and that can
 /// change between evaluations (the model constants cannot).
-fn inputs_key(h: [f64; 3], hint: [f64; 2], slip_ref: [f64; 2], generation: u64) -> [u64; 8] {
+fn inputs_key(h: [f64; 3], hint: [f64; 2], generation: u64) -> [u64; 6] {
     [
         h[0].to_bits(),
         h[1].to_bits(),
         h[2].to_bits(),
         hint[0].to_bits(),
         hint[1].to_bits(),
-        slip_ref[0].to_bits(),
-        slip_ref[1].to_bits(),
         generation,
     ]
-}
-
-/// `a == b`, as one OR of XORs (no early exit, no `memcmp` call: the
-/// cache is checked at every step end, and the arrays are short).
-#[inline(always)]
-fn same_bits<const K: usize>(a: &[u64; K], b: &[u64; K]) -> bool {
-    a.iter().zip(b).fold(0, |acc, (x, y)| acc | (x ^ y)) == 0
 }
 
 fn bits<const N: usize>(y: &[f64; N]) -> [u64; N] {
@@ -305,35 +301,46 @@ impl<const N: usize> Reduced<N> {
 
     /// Evaluate the model at a state in the current mode.
     pub fn eval(&self, y: &[f64; N]) -> Result<Eval<N>, ModelError> {
+        self.with_eval(y, |e| *e)
+    }
+
+    /// `read` of [`Reduced::eval`]'s evaluation at `y`, read in place (a
+    /// cached evaluation is not copied out: the driver's events and
+    /// observers read one or two of its fields at every accepted step).
+    #[inline(always)]
+    fn with_eval<R>(
+        &self,
+        y: &[f64; N],
+        read: impl FnOnce(&Eval<N>) -> R,
+    ) -> Result<R, ModelError> {
         let yb = bits(y);
         let p = &self.plane;
         let cp = p.contact_point();
-        let key = inputs_key(
-            [cp.h[0], cp.h[1], cp.hz],
-            p.slip_hint,
-            p.slip_ref.get(),
-            p.hint_generation(),
-        );
+        let key = inputs_key([cp.h[0], cp.h[1], cp.hz], p.slip_hint, p.hint_generation());
+        let d = p.slip_ref.get();
         if let Some(l) = &*self.last.borrow() {
             if same_bits(&l.y, &yb)
                 && l.mode == self.plane.mode
                 && l.branch == p.normal_branch
                 && same_bits(&l.key, &key)
+                && super::contact::same_continuation(l.slip_ref, l.eval.slip, d)
             {
-                return Ok(l.eval);
+                return Ok(read(&l.eval));
             }
         }
         let (s, c) = y[TH].sin_cos();
         let e = self.eval_sc(y, s, c)?;
+        let r = read(&e);
         *self.last.borrow_mut() = Some(LastEval {
             y: yb,
             mode: self.plane.mode,
             branch: p.normal_branch,
             key,
+            slip_ref: d,
             sc: (s, c),
             eval: e,
         });
-        Ok(e)
+        Ok(r)
     }
 
     /// Keep `e`, the evaluation at `y` with `(s, c) = y[TH].sin_cos()`, in
@@ -342,17 +349,13 @@ impl<const N: usize> Reduced<N> {
     fn remember(&mut self, y: &[f64; N], s: f64, c: f64, e: Eval<N>) {
         let p = &self.plane;
         let cp = p.contact_point();
-        let key = inputs_key(
-            [cp.h[0], cp.h[1], cp.hz],
-            p.slip_hint,
-            p.slip_ref.get(),
-            p.hint_generation(),
-        );
+        let key = inputs_key([cp.h[0], cp.h[1], cp.hz], p.slip_hint, p.hint_generation());
         *self.last.get_mut() = Some(LastEval {
             y: bits(y),
             mode: p.mode,
             branch: p.normal_branch,
             key,
+            slip_ref: p.slip_ref.get(),
             sc: (s, c),
             eval: e,
         });
@@ -706,10 +709,10 @@ impl<const N: usize> super::ContactModel<N> for Reduced<N> {
         yr
     }
     fn contact_forces(&self, y: &[f64; N]) -> Result<(f64, [f64; 2]), ModelError> {
-        self.eval(y).map(|e| (e.normal, e.friction))
+        self.with_eval(y, |e| (e.normal, e.friction))
     }
     fn contact_wrench(&self, y: &[f64; N]) -> Result<(f64, [f64; 2], f64), ModelError> {
-        self.eval(y).map(|e| (e.normal, e.friction, e.torque))
+        self.with_eval(y, |e| (e.normal, e.friction, e.torque))
     }
     fn to_stick(&self, y: &[f64; N]) -> [f64; N] {
         self.stick_state(y)
@@ -727,9 +730,8 @@ impl<const N: usize> super::ContactModel<N> for Reduced<N> {
         Reduced::jellett_scaled(self, y)
     }
     fn energy_scaled(&self, y: &[f64; N]) -> Option<f64> {
-        self.eval(y)
+        self.with_eval(y, |e| Reduced::energy_scaled(self, y, e))
             .ok()
-            .map(|e| Reduced::energy_scaled(self, y, &e))
     }
     fn work_scaled(&self, y: &[f64; N]) -> f64 {
         y[WF] + y[WA]

@@ -719,11 +719,7 @@ impl Rigid {
         // Adhesion in the tube (`[adhesion]` with shape = "tube"): the load
         // F_a along −n at P in contact (the tube's pull-off force,
         // docs/physics.md#tube-dynamics); flight is not modelled.
-        let cp = self
-            .contact
-            .forces()
-            .contact_point()
-            .with_load(self.contact.forces().centre_vertical().in_contact());
+        let cp = self.contact.forces().contact_point_in_contact();
         let cd = add(v3(y, VEL), scale(self.a, at.kd));
         let c = match self.contact.mode {
             Mode::Rolling => body.roll_tube(&at, &free, &tube, self.rho, hw, &cp),

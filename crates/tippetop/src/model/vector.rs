@@ -61,7 +61,7 @@ use super::ContactState;
 use super::reduced::{Mode, ModelError, Scales};
 use super::vec3::{V3, add, cross, dot, scale};
 use crate::physics::body;
-use crate::physics::forces::ContactPointForce;
+use crate::physics::forces::{AppliedClass, ContactPointForce};
 use crate::{Initial, Sample, Scenario, Top, integrate::OdeSystem};
 
 /// Number of state components.
@@ -153,37 +153,48 @@ pub struct Eval<const N: usize = DIM> {
     pub torque: f64,
 }
 
-/// One entry of [`Vector::eval`]'s cache: the key (the state's bits, the
-/// mode and every input but the slip reference), the slip reference the
-/// evaluation saw, and the evaluation.
+/// One entry of [`Vector::eval`]'s cache: the key (the state's bits, and
+/// the mode and every input but the slip reference, [`Vector::cache_inputs`]),
+/// the slip reference the evaluation saw, and the evaluation.
 #[derive(Debug, Clone, Copy)]
 struct CacheEntry<const N: usize> {
-    key: [u64; DIM + 9],
+    y: [u64; N],
+    inputs: [u64; INPUTS],
     slip_ref: [f64; 2],
     eval: Eval<N>,
 }
 
+/// The number of inputs besides the state in [`CacheEntry`]'s key.
+const INPUTS: usize = 9;
+
 impl<const N: usize> CacheEntry<N> {
-    /// True if a fresh evaluation with `key` and the slip reference `d`
-    /// gives this entry's bits. The slip reference enters the evaluation
-    /// only through the exact law's continuation test `v·d < 0` at the
-    /// slip `v` (`ContactState::coefficient`, read while sliding at
-    /// `v ≠ 0`; `eval.slip` is that `v`): the one the driver moves at every
-    /// accepted step (`ContactState::accepted`) still finds the evaluation
-    /// made before it where the test comes out the same. (While rolling,
-    /// with the other laws or at zero slip, `d` is not read: the same test
-    /// on the entry's `slip` then errs only towards a miss.)
+    /// An entry for the evaluation `eval` at `y`.
     #[inline(always)]
-    fn holds(&self, key: &[u64; DIM + 9], d: [f64; 2]) -> bool {
-        if self.key != *key {
+    fn new(y: &[f64; N], inputs: [u64; INPUTS], slip_ref: [f64; 2], eval: Eval<N>) -> Self {
+        CacheEntry {
+            y: y.map(f64::to_bits),
+            inputs,
+            slip_ref,
+            eval,
+        }
+    }
+
+    /// True if a fresh evaluation at `y` with `inputs` and the slip
+    /// reference `d` gives this entry's bits. The state is compared first,
+    /// component by component (a miss is nearly always a different state,
+    /// found at its first component); the slip reference `d` by
+    /// [`super::contact::same_continuation`].
+    #[inline(always)]
+    fn holds(&self, y: &[f64; N], inputs: &[u64; INPUTS], d: [f64; 2]) -> bool {
+        for (a, b) in self.y.iter().zip(y) {
+            if *a != b.to_bits() {
+                return false;
+            }
+        }
+        if !super::contact::same_bits(&self.inputs, inputs) {
             return false;
         }
-        let r = self.slip_ref;
-        if r[0].to_bits() == d[0].to_bits() && r[1].to_bits() == d[1].to_bits() {
-            return true;
-        }
-        let v = self.eval.slip;
-        (v[0] * r[0] + v[1] * r[1] < 0.0) == (v[0] * d[0] + v[1] * d[1] < 0.0)
+        super::contact::same_continuation(self.slip_ref, self.eval.slip, d)
     }
 }
 
@@ -609,37 +620,29 @@ impl<const N: usize> Vector<N> {
         y: &[f64; N],
         read: impl FnOnce(&Eval<N>) -> R,
     ) -> Result<R, ModelError> {
-        let key = self.cache_key(y);
+        let inputs = self.cache_inputs();
         let d = self.plane.slip_ref.get();
         for slot in [&self.accepted, &self.last] {
             if let Some(c) = &*slot.borrow() {
-                if c.holds(&key, d) {
+                if c.holds(y, &inputs, d) {
                     return Ok(read(&c.eval));
                 }
             }
         }
         let e = self.eval_now(y)?;
         let r = read(&e);
-        *self.last.borrow_mut() = Some(CacheEntry {
-            key,
-            slip_ref: d,
-            eval: e,
-        });
+        *self.last.borrow_mut() = Some(CacheEntry::new(y, inputs, d, e));
         Ok(r)
     }
 
-    /// The key of [`Vector::eval`]'s cache: the state's bits, the mode and
-    /// every input the evaluation reads but the slip reference
+    /// The inputs besides the state in [`Vector::eval`]'s cache key: the
+    /// mode and every input the evaluation reads but the slip reference
     /// ([`CacheEntry::holds`]).
     #[inline(always)]
-    fn cache_key(&self, y: &[f64; N]) -> [u64; DIM + 9] {
-        let mut key = [0u64; DIM + 9];
-        for (k, v) in key.iter_mut().zip(y) {
-            *k = v.to_bits();
-        }
+    fn cache_inputs(&self) -> [u64; INPUTS] {
         let p = &self.plane;
         let h = p.applied();
-        let inputs = [
+        [
             p.mode as u64,
             h[0].to_bits(),
             h[1].to_bits(),
@@ -655,9 +658,7 @@ impl<const N: usize> Vector<N> {
             p.forces().generation(),
             // The Coulomb–Contensou slip-off hint (§contensou).
             p.hint_generation(),
-        ];
-        key[DIM..].copy_from_slice(&inputs);
-        key
+        ]
     }
 
     /// Evaluate the model at a state in the current mode, uncached.
@@ -673,28 +674,28 @@ impl<const N: usize> Vector<N> {
     #[inline(always)]
     fn eval_now(&self, y: &[f64; N]) -> Result<Eval<N>, ModelError> {
         let kn = self.kin(y);
-        let f = self.plane.forces();
-        let terms = if f.nothing_applied() {
-            PLAIN
-        } else if f.only_horizontal() {
-            ONLY_H
-        } else {
-            GENERAL
-        };
-        match (self.plane.mode, terms, self.plane.regularized_eps()) {
-            (Mode::Sliding, PLAIN, Some(eps)) => {
-                let law = Regularized {
-                    plane: &self.plane,
-                    eps,
-                };
-                self.eval_sliding::<_, PLAIN>(&law, y, &kn)
+        match (self.plane.mode, self.plane.forces().applied()) {
+            (Mode::Sliding, AppliedClass::Nothing) => match self.plane.regularized_eps() {
+                Some(eps) => {
+                    let law = Regularized {
+                        plane: &self.plane,
+                        eps,
+                    };
+                    self.eval_sliding::<_, PLAIN>(&law, y, &kn)
+                }
+                None => self.eval_sliding::<_, PLAIN>(&self.plane, y, &kn),
+            },
+            (Mode::Sliding, AppliedClass::OnlyHorizontal) => {
+                self.eval_sliding::<_, ONLY_H>(&self.plane, y, &kn)
             }
-            (Mode::Sliding, PLAIN, None) => self.eval_sliding::<_, PLAIN>(&self.plane, y, &kn),
-            (Mode::Sliding, ONLY_H, _) => self.eval_sliding::<_, ONLY_H>(&self.plane, y, &kn),
-            (Mode::Sliding, _, _) => self.eval_sliding::<_, GENERAL>(&self.plane, y, &kn),
-            (Mode::Rolling, PLAIN, _) => Ok(self.eval_rolling::<PLAIN>(y, &kn)),
-            (Mode::Rolling, ONLY_H, _) => Ok(self.eval_rolling::<ONLY_H>(y, &kn)),
-            (Mode::Rolling, _, _) => Ok(self.eval_rolling::<GENERAL>(y, &kn)),
+            (Mode::Sliding, AppliedClass::General) => {
+                self.eval_sliding::<_, GENERAL>(&self.plane, y, &kn)
+            }
+            (Mode::Rolling, AppliedClass::Nothing) => Ok(self.eval_rolling::<PLAIN>(y, &kn)),
+            (Mode::Rolling, AppliedClass::OnlyHorizontal) => {
+                Ok(self.eval_rolling::<ONLY_H>(y, &kn))
+            }
+            (Mode::Rolling, AppliedClass::General) => Ok(self.eval_rolling::<GENERAL>(y, &kn)),
         }
     }
 
@@ -1088,11 +1089,12 @@ impl<const N: usize> OdeSystem<N> for Vector<N> {
         self.plane.start_evaluation()?;
         let e = self.eval_now(y)?;
         *dy = e.dy;
-        *self.accepted.get_mut() = Some(CacheEntry {
-            key: self.cache_key(y),
-            slip_ref: self.plane.slip_ref.get(),
-            eval: e,
-        });
+        *self.accepted.get_mut() = Some(CacheEntry::new(
+            y,
+            self.cache_inputs(),
+            self.plane.slip_ref.get(),
+            e,
+        ));
         Ok(())
     }
 }

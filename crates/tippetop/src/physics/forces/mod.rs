@@ -349,6 +349,10 @@ pub struct Forces {
     latched: ContactPointForce,
     /// The centre-vertical force, scaled ([`Forces::latch`]).
     centre: CentreVertical,
+    /// `latched` with the centre-vertical force in contact folded into its
+    /// vertical load ([`Forces::contact_point_in_contact`]), kept at the
+    /// latch: the models ask at every evaluation.
+    in_contact: ContactPointForce,
     /// The top's radius \[m\]: the length unit, for the energy unit.
     radius: f64,
     /// The orientation wells, depths scaled ([`Forces::scale_wells`]);
@@ -363,12 +367,22 @@ pub struct Forces {
     /// Latches so far: what the models' evaluation caches key on (the
     /// latched values change only at a latch).
     generation: u64,
-    /// Nothing applied in the latched segment ([`Forces::nothing_applied`]),
-    /// kept at the latch and when the wells are set.
-    nothing: bool,
-    /// At most the horizontal force `H` ([`Forces::only_horizontal`]),
-    /// kept with `nothing`.
-    only_h: bool,
+    /// What the latched segment applies ([`Forces::applied`]), kept at the
+    /// latch and when the wells are set.
+    applied: AppliedClass,
+}
+
+/// What a latched segment applies, in the classes the models' right-hand
+/// sides are specialised on ([`Forces::applied`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AppliedClass {
+    /// Anything: wells, body actuators, a vertical load, adhesion, `H`.
+    General,
+    /// At most the horizontal force `H` at the contact point
+    /// ([`Forces::only_horizontal`]).
+    OnlyHorizontal,
+    /// Nothing ([`Forces::nothing_applied`]).
+    Nothing,
 }
 
 impl Forces {
@@ -381,13 +395,13 @@ impl Forces {
             switch_times,
             latched: ContactPointForce::default(),
             centre: CentreVertical::default(),
+            in_contact: ContactPointForce::default(),
             radius,
             wells: Vec::new(),
             body: actuators::BodyLoad::default(),
             body_zero: true,
             generation: 0,
-            nothing: true,
-            only_h: true,
+            applied: AppliedClass::Nothing,
         }
     }
 
@@ -400,7 +414,7 @@ impl Forces {
     /// data should cost nothing when a term is absent").
     #[inline(always)]
     pub fn nothing_applied(&self) -> bool {
-        self.nothing
+        self.applied == AppliedClass::Nothing
     }
 
     /// True if the latched segment applies at most the horizontal force
@@ -409,18 +423,33 @@ impl Forces {
     /// with `H` allowed).
     #[inline(always)]
     pub fn only_horizontal(&self) -> bool {
-        self.only_h
+        self.applied != AppliedClass::General
     }
 
-    /// Recompute [`Forces::nothing_applied`] and [`Forces::only_horizontal`].
+    /// [`Forces::nothing_applied`] and [`Forces::only_horizontal`] as one
+    /// value, kept at the latch: the models' right-hand sides pick their
+    /// specialised path with one load.
+    #[inline(always)]
+    pub fn applied(&self) -> AppliedClass {
+        self.applied
+    }
+
+    /// Recompute [`Forces::applied`] and [`Forces::contact_point_in_contact`].
     fn update_nothing(&mut self) {
+        self.in_contact = self.latched.with_load(self.centre.in_contact());
         let zero = 0.0f64.to_bits();
         let ContactPointForce { h, hz } = self.latched;
-        self.only_h = self.wells.is_empty()
+        let only_h = self.wells.is_empty()
             && self.body_zero
             && hz.to_bits() == zero
             && self.centre.force.to_bits() == zero;
-        self.nothing = self.only_h && h[0].to_bits() == zero && h[1].to_bits() == zero;
+        self.applied = if only_h && h[0].to_bits() == zero && h[1].to_bits() == zero {
+            AppliedClass::Nothing
+        } else if only_h {
+            AppliedClass::OnlyHorizontal
+        } else {
+            AppliedClass::General
+        };
     }
 
     /// The terms.
@@ -524,5 +553,13 @@ impl Forces {
     #[inline(always)]
     pub fn contact_point(&self) -> ContactPointForce {
         self.latched
+    }
+
+    /// The latched contact-point force with the centre-vertical force in
+    /// contact added to its vertical load (scaled; kept at the latch, the
+    /// same bits as `contact_point().with_load(centre_vertical().in_contact())`).
+    #[inline(always)]
+    pub fn contact_point_in_contact(&self) -> ContactPointForce {
+        self.in_contact
     }
 }
