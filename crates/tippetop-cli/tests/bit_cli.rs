@@ -1137,6 +1137,15 @@ fn kill_part_way(
     if status.success() {
         return None;
     }
+    // Likewise a child the signal caught after it had moved its whole
+    // output in (the finished CSV is there, the partial gone) but before
+    // it exited.
+    let finished = partial
+        .strip_suffix(".partial")
+        .is_some_and(|f| out.join(f).exists());
+    if finished {
+        return None;
+    }
     Some(names(out))
 }
 
