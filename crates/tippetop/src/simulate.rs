@@ -684,6 +684,10 @@ struct Sim<M, const D: usize> {
     /// ([`AnyEngine::renew`]: no 3 kB cleared per segment), its lists
     /// refilled in place.
     spare: Option<Box<Active<M, D>>>,
+    /// The model's events of a segment as it lists them, before
+    /// `begin_segment` splits them into `Active`'s lists (kept: no
+    /// allocation per segment).
+    event_pairs: Vec<(Watch, Event<M, D>)>,
     done: bool,
     /// An ensemble's run ([`simulate_for_row`]): the per-step record keeps
     /// θ and the spin only (not J and the energy, which the row does not
@@ -733,8 +737,9 @@ impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
             nonfinite_at: self.nonfinite_at,
             logs_crossings: self.logs_crossings,
             active: self.active.as_ref().map(|a| {
-                let (mut watches, mut events): (Vec<_>, Vec<_>) =
-                    self.m.events().into_iter().unzip();
+                let mut pairs = Vec::new();
+                self.m.events(&mut pairs);
+                let (mut watches, mut events): (Vec<_>, Vec<_>) = pairs.into_iter().unzip();
                 for &w in &a.watches[watches.len()..] {
                     watches.push(w);
                     events.push(self.watch_event(w));
@@ -749,6 +754,7 @@ impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
                 })
             }),
             spare: None,
+            event_pairs: Vec::new(),
             done: self.done,
             light: self.light,
             normal_buckets: self.normal_buckets.clone(),
@@ -819,6 +825,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             logs_crossings: !m.flies(),
             active: None,
             spare: None,
+            event_pairs: Vec::new(),
             done: false,
             light: false,
             normal_buckets: sc
@@ -988,7 +995,8 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             }
             None => (Vec::new(), Vec::new()),
         };
-        for (w, e) in self.m.events() {
+        self.m.events(&mut self.event_pairs);
+        for (w, e) in self.event_pairs.drain(..) {
             watches.push(w);
             events.push(e);
         }

@@ -118,8 +118,9 @@ pub(crate) trait Model<const D: usize>: OdeSystem<D> + Sized {
     /// clear it elsewhere.
     fn latch_branch(&mut self, y: &[f64; D]);
     /// The events the model needs in its current discrete state, each with
-    /// what it watches for.
-    fn events(&self) -> Vec<(Watch, Event<Self, D>)>;
+    /// what it watches for, pushed onto `ev` (the driver's list, kept
+    /// between segments: no allocation per segment).
+    fn events(&self, ev: &mut Vec<(Watch, Event<Self, D>)>);
     /// After every accepted step: update the slip reference and the
     /// chatter detection.
     fn accepted(&self, y: &[f64; D]);

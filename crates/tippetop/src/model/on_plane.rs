@@ -130,8 +130,8 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
         }
     }
 
-    fn events(&self) -> Vec<(Watch, Event<Self, D>)> {
-        let mut ev: Vec<(Watch, Event<Self, D>)> = vec![
+    fn events(&self, ev: &mut Vec<(Watch, Event<Self, D>)>) {
+        ev.extend([
             (
                 Watch::ThetaAboveHalfPi,
                 Event {
@@ -175,7 +175,7 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                     step_to_event: terminal && plane.latches_normal(),
                 }
             }),
-        ];
+        ]);
         if self.plane().langevin {
             ev.retain(|(w, _)| *w != Watch::ThetaMax);
         }
@@ -240,7 +240,6 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
                 Mode::Rolling => ev.push(stick_limit()),
             }
         }
-        ev
     }
 
     fn accepted(&self, y: &[f64; D]) {

@@ -1336,13 +1336,13 @@ pub const PENETRATION_GUARD: f64 = 1e-10;
 /// The events of the current phase and mode, each with what it watches
 /// for (in flight: touchdown and its guard; in contact: N = 0 and, under
 /// the exact law, the stick/slip switch).
-fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
-    let mut ev: Vec<(Watch, Event<Rigid, DIM>)> = vec![
+fn events_for(m: &Rigid, ev: &mut Vec<(Watch, Event<Rigid, DIM>)>) {
+    ev.extend([
         // θ rises through π/2 ⇔ k_Z falls through 0.
         (
             Watch::ThetaAboveHalfPi,
             Event {
-                g: Box::new(|m, _, y| -m.kin(y).k[2]),
+                g: Box::new(|m: &Rigid, _, y| -m.kin(y).k[2]),
                 direction: Direction::Rising,
                 terminal: false,
                 step_to_event: false,
@@ -1352,7 +1352,7 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
         (
             Watch::ThetaMax,
             Event {
-                g: Box::new(|m, _, y| {
+                g: Box::new(|m: &Rigid, _, y| {
                     let kin = m.kin(y);
                     -cross(kin.n, kin.k)[2]
                 }),
@@ -1361,7 +1361,7 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
                 step_to_event: false,
             },
         ),
-    ];
+    ]);
     if m.contact.langevin {
         // θ's maxima are the step ends' (the noise reverses θ̇ at almost
         // every step).
@@ -1424,7 +1424,7 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
             ))
         }
     }
-    m.stem_events(&mut ev);
+    m.stem_events(ev);
     if m.phase == Phase::Contact && m.contact.is_contensou() && m.contact.mode == Mode::Sliding {
         ev.push((
             Watch::ContensouStick,
@@ -1470,7 +1470,6 @@ fn events_for(m: &Rigid) -> Vec<(Watch, Event<Rigid, DIM>)> {
             )),
         }
     }
-    ev
 }
 
 /// The horizontal components `(x, y)` of a world vector, for the contact
@@ -1739,8 +1738,8 @@ impl Model<DIM> for Rigid {
         }
     }
 
-    fn events(&self) -> Vec<(Watch, Event<Self, DIM>)> {
-        events_for(self)
+    fn events(&self, ev: &mut Vec<(Watch, Event<Self, DIM>)>) {
+        events_for(self, ev)
     }
 
     fn accepted(&self, y: &[f64; DIM]) {

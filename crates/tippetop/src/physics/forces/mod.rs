@@ -364,9 +364,13 @@ pub struct Forces {
     /// evaluation, and comparing the load's 24 numbers cost ~77
     /// instructions an evaluation (docs/performance.md#langevin-step).
     body_zero: bool,
-    /// Latches so far: what the models' evaluation caches key on (the
-    /// latched values change only at a latch).
+    /// Latches that changed the latched values so far: what the models'
+    /// evaluation caches key on (the latched values change only there).
     generation: u64,
+    /// Where the last latch read the schedule: the number of switch times
+    /// below the time it read, that time's bits if it was one of them, and
+    /// the force unit's bits ([`Forces::latch`]).
+    latched_at: Option<(usize, Option<u64>, u64)>,
     /// What the latched segment applies ([`Forces::applied`]), kept at the
     /// latch and when the wells are set.
     applied: AppliedClass,
@@ -401,6 +405,7 @@ impl Forces {
             body: actuators::BodyLoad::default(),
             body_zero: true,
             generation: 0,
+            latched_at: None,
             applied: AppliedClass::Nothing,
         }
     }
@@ -484,6 +489,17 @@ impl Forces {
             .filter_map(|j| self.switch_times.get(j).copied())
             .find(|&s| near(s))
             .unwrap_or(t);
+        // The terms are constant between switch times (`ForceTerm::add_to`):
+        // a latch inside the interval (or at the switch time) the last one
+        // read latches the same values, which are kept, generation and all
+        // (a nano run latches at every stick/slip and normal-force switch).
+        let k = self.switch_times.partition_point(|&s| s < t);
+        let exact = (self.switch_times.get(k) == Some(&t)).then_some(t.to_bits());
+        let at = (k, exact, force_unit.to_bits());
+        if self.latched_at == Some(at) {
+            return;
+        }
+        self.latched_at = Some(at);
         let applied = self.at(t);
         let [hx, hy, hz] = applied.contact_point;
         self.latched = ContactPointForce {
