@@ -510,6 +510,9 @@ fn killed_ensemble_resumes_byte_identical() {
             .arg(&scenario)
             .args(["--runs", "300", "--threads", "1", "--quiet", "--out"])
             .arg(&out)
+            // A checkpoint at every row: at the default of one a second, a
+            // fast machine finishes before the third checkpoint line.
+            .env("TIPPETOP_CHECKPOINT_SECONDS", "0")
             .spawn()
             .unwrap();
         let sum = out.join("ensemble.csv.partial.sum");

@@ -1005,6 +1005,9 @@ fn a_signal_removes_the_stage_and_the_lock() {
                 Ok(())
             });
         }
+        // A checkpoint at every row: at the default of one a second, a
+        // fast machine finishes before the third checkpoint line.
+        cmd.env("TIPPETOP_CHECKPOINT_SECONDS", "0");
         let mut child = cmd.spawn().unwrap();
         // Until rows are checkpointed.
         let sum = out.join("sweep.csv.partial.sum");
