@@ -22,6 +22,7 @@ import json
 import os
 import platform
 import re
+import shlex
 import statistics
 import subprocess
 import sys
@@ -52,8 +53,6 @@ def knows_no_pose(binary):
 
 
 def argv(binary, args, out, no_pose):
-    import shlex
-
     a = [binary, "-q"] + shlex.split(args) + ["--out", out]
     if no_pose:
         a.append("--no-pose")

@@ -20,7 +20,7 @@
 use std::cell::RefCell;
 
 use super::ContactState;
-use super::contact::same_bits;
+use super::contact::{same_bits, same_continuation};
 /// The shared types, re-exported where they used to live.
 pub use super::{Mode, ModelError};
 pub use crate::physics::units::Scales;
@@ -323,7 +323,7 @@ impl<const N: usize> Reduced<N> {
                 && l.mode == self.plane.mode
                 && l.branch == p.normal_branch
                 && same_bits(&l.key, &key)
-                && super::contact::same_continuation(l.slip_ref, l.eval.slip, d)
+                && same_continuation(l.slip_ref, l.eval.slip, d)
             {
                 return Ok(read(&l.eval));
             }
@@ -836,6 +836,68 @@ impl<const N: usize> super::ContactModel<N> for Reduced<N> {
 mod tests {
     use super::*;
     use crate::{ContactMode, FrictionLaw};
+
+    /// The cache's slip-reference rule (`contact::same_continuation`): an
+    /// evaluation cached under the reference `r` and read under another
+    /// `d` is, bit for bit, a fresh evaluation under `d`. Exact Coulomb law,
+    /// sliding, 300 states near the classical preset's start, each read
+    /// under `d = r`, `−r`, a perpendicular and a random direction; both the
+    /// relaxed hit (`d ≠ r`, the test unchanged) and the miss (the test
+    /// flipped) occur. Fails if the rule keeps an evaluation whose
+    /// continuation test flipped.
+    #[test]
+    fn cached_evaluation_is_a_fresh_one_under_a_moved_slip_reference() {
+        let sc = Scenario::classical();
+        assert!(matches!(sc.surface.law, FrictionLaw::Coulomb));
+        let m = Reduced::new(&sc);
+        assert_eq!(m.plane.mode, Mode::Sliding);
+        let y0 = m.scale_state(&sc.initial);
+        let bits = |e: &Eval| -> Vec<u64> {
+            let mut b: Vec<u64> = e.dy.iter().map(|x| x.to_bits()).collect();
+            b.extend(
+                [e.normal, e.friction[0], e.friction[1], e.slip[0], e.slip[1]].map(f64::to_bits),
+            );
+            b.extend(e.u.map(f64::to_bits));
+            b.push(e.torque.to_bits());
+            b
+        };
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut relaxed, mut flipped) = (0, 0);
+        for _ in 0..300 {
+            let mut y = y0;
+            y[TH] = 0.1 + 1.4 * (next() + 1.0);
+            for x in &mut y[THD..=UY] {
+                *x += 3.0 * next();
+            }
+            let a = std::f64::consts::PI * next();
+            let r = [a.cos(), a.sin()];
+            let b = std::f64::consts::PI * next();
+            for d in [r, [-r[0], -r[1]], [-r[1], r[0]], [b.cos(), b.sin()]] {
+                m.plane.slip_ref.set(r);
+                let Ok(first) = m.eval(&y) else { continue };
+                m.plane.slip_ref.set(d);
+                let cached = m.eval(&y).unwrap();
+                let (s, c) = y[TH].sin_cos();
+                let fresh = m.eval_sc(&y, s, c).unwrap();
+                assert_eq!(bits(&cached), bits(&fresh), "y {y:?} r {r:?} d {d:?}");
+                let v = first.slip;
+                if d != r {
+                    if (v[0] * r[0] + v[1] * r[1] < 0.0) == (v[0] * d[0] + v[1] * d[1] < 0.0) {
+                        relaxed += 1;
+                    } else {
+                        flipped += 1;
+                    }
+                }
+            }
+        }
+        assert!(relaxed > 100 && flipped > 100, "{relaxed} {flipped}");
+    }
 
     #[test]
     fn nan_state_is_no_solution_in_bilateral_contact() {

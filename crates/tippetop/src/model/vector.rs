@@ -1275,6 +1275,56 @@ mod tests {
         }
     }
 
+    /// The cache's slip-reference rule (`contact::same_continuation`): an
+    /// evaluation cached under the reference `r` and read under another
+    /// `d` is, bit for bit, a fresh evaluation under `d`: exact Coulomb
+    /// law, sliding, 300 states of the classical top, each read under
+    /// `d = r`, `−r`, a perpendicular and a random direction; both the
+    /// relaxed hit and the miss occur. Fails if the rule keeps an
+    /// evaluation whose continuation test flipped.
+    #[test]
+    fn cached_evaluation_is_a_fresh_one_under_a_moved_slip_reference() {
+        let sc = Scenario::classical();
+        let mut m = Vector::new(&sc);
+        m.latch_force(0.0);
+        assert_eq!(m.plane.mode, Mode::Sliding);
+        let y0 = m.scale_state(&sc.initial);
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut relaxed, mut flipped) = (0, 0);
+        for _ in 0..300 {
+            let mut y = y0;
+            for x in &mut y[OMEGA..WF] {
+                *x += 3.0 * next();
+            }
+            let a = std::f64::consts::PI * next();
+            let r = [a.cos(), a.sin()];
+            let b = std::f64::consts::PI * next();
+            for d in [r, [-r[0], -r[1]], [-r[1], r[0]], [b.cos(), b.sin()]] {
+                m.plane.slip_ref.set(r);
+                let Ok(first) = m.eval(&y) else { continue };
+                m.plane.slip_ref.set(d);
+                let cached = m.eval(&y).unwrap();
+                let fresh = m.eval_now(&y).unwrap();
+                assert_eq!(bits(&cached), bits(&fresh), "y {y:?} r {r:?} d {d:?}");
+                let v = first.slip;
+                if d != r {
+                    if (v[0] * r[0] + v[1] * r[1] < 0.0) == (v[0] * d[0] + v[1] * d[1] < 0.0) {
+                        relaxed += 1;
+                    } else {
+                        flipped += 1;
+                    }
+                }
+            }
+        }
+        assert!(relaxed > 100 && flipped > 100, "{relaxed} {flipped}");
+    }
+
     /// The initial axis reads back as the given θ, bit for bit, and is a
     /// unit vector to rounding, at 100 001 values over [0, π]. (Stepping
     /// `sin θ` alone missed 4 of them, near 0.07 rad.)

@@ -579,3 +579,53 @@ impl Forces {
         self.in_contact
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Scenario;
+
+    /// `Forces::latch` keeps its values and generation inside the open
+    /// interval, or at the switch time, the last latch read, and reads the
+    /// schedule again elsewhere: a schedule of H on [0, 1) and −H/2 from 1 s, latched
+    /// as a run's segments would (every value compared with a fresh
+    /// `Forces` latched once at the same time). Fails if the latch kept a
+    /// value across a switch, or bumped the generation without a change.
+    #[test]
+    fn latch_rereads_the_schedule_only_across_a_switch() {
+        let text = "preset = \"classical\"\n\
+            [[force]]\nhx = 2e-3\nhy = -1e-3\nstart = 0.0\nstop = 1.0\n\
+            [[force]]\nhx = -1e-3\nhy = 5e-4\nstart = 1.0\n";
+        let sc = Scenario::from_toml_str(text).unwrap();
+        let unit = 0.5;
+        let fresh = |t: f64| {
+            let mut f = Forces::of(&sc);
+            f.latch(t, unit);
+            f.contact_point()
+        };
+        let mut f = Forces::of(&sc);
+        // (time, whether the values must be re-read there)
+        let steps = [
+            (0.0, true),
+            (0.25, true), // a switch time and the interval after it: read apart
+            (0.999, false),
+            (1.0, true),
+            (1.0, false),
+            (1.0 - 1e-18, false), // snapped to the switch time 1.0
+            (1.5, true),
+            (2.0, false),
+            // Across a switch with no latch at it.
+            (0.5, true),
+            (1.5, true),
+        ];
+        let mut generation = f.generation();
+        for (t, rereads) in steps {
+            f.latch(t, unit);
+            assert_eq!(f.contact_point(), fresh(t), "t = {t}");
+            assert_eq!(f.generation() != generation, rereads, "t = {t}");
+            generation = f.generation();
+        }
+        assert_eq!(fresh(0.5).h, [2e-3 / unit, -1e-3 / unit]);
+        assert_eq!(fresh(1.0).h, [-1e-3 / unit, 5e-4 / unit]);
+    }
+}
