@@ -45,8 +45,9 @@ pub enum SubstrateArg {
     Nanotube,
 }
 
-/// Arguments of `tippetop adhesion`.
+/// Van der Waals adhesion of a fullerene on graphene or graphite (E_b, F_a).
 #[derive(Debug, Clone, clap::Args)]
+#[command(long_about = ADHESION_LONG_ABOUT)]
 #[command(after_help = "Examples:\n  \
                   tippetop adhesion\n  \
                   tippetop adhesion --substrate graphite\n  \

@@ -74,8 +74,9 @@ merge: the bytes of an unsharded run); --resume continues an interrupted map. Ke
 solver.samples at 1 + 10 x 2 phase / hold, the least the hold check takes: the rows also cap
 the step size. A key no point accepts, or a bad range: one line naming it, exit code 2.";
 
-/// `tippetop bit`.
+/// A memory bit: write and erase protocols, success probabilities, switching times.
 #[derive(Debug, Args)]
+#[command(long_about = BIT_LONG_ABOUT)]
 #[command(
     group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
     after_help = "Examples:\n  \

@@ -37,26 +37,21 @@ pub struct Cli {
     pub command: Command,
 }
 
-/// The subcommands.
+/// The subcommands. Their arguments are built only for the subcommand
+/// typed (`defer`): building all fifteen was more than half of a run's
+/// start-up in user space (docs/performance.md, "The speed gate"). A
+/// subcommand's description is set twice, here (read before it is built:
+/// `tippetop --help`'s list) and as its argument struct's doc comment and
+/// `long_about` (applied when it is built, over this one); the two are kept
+/// equal by a test.
 #[derive(Debug, Subcommand)]
+#[command(defer = true)]
 pub enum Command {
     /// Run one scenario and write its trajectory, summary and plots.
     #[command(long_about = crate::run::RUN_LONG_ABOUT)]
     Run(RunArgs),
     /// Reproduce the nano tippe-top paper's figures and numbers.
-    #[command(
-        long_about = "Reproduce the nano tippe-top paper's figures and numbers: runs \
-                            the paper's scenarios (scenarios/*.toml, embedded) three ways (accurate \
-                            with bilateral contact and exact Coulomb friction; the paper's literal \
-                            law solved accurately; the paper's RK4 on 500 steps) and writes into \
-                            --out: figNN.png/.svg/.csv for figures 02-15, report.md (every claim \
-                            of the paper beside what we measured, with a verdict and why) and \
-                            claims.json. --out is created, locked and checked before the runs \
-                            (another tippetop command writing into it exits with code 1); the \
-                            files are moved in together at the end, report.md last, and the \
-                            files of the previous command into it that this one did not write \
-                            (e.g. the ε-study figures of an earlier --extended) are removed."
-    )]
+    #[command(long_about = crate::reproduce::REPRODUCE_LONG_ABOUT)]
     Reproduce(ReproduceArgs),
     /// Run a parameter sweep (a grid of scenarios) on all cores.
     #[command(long_about = crate::sweep_cmd::SWEEP_LONG_ABOUT)]
@@ -65,7 +60,7 @@ pub enum Command {
     #[command(long_about = crate::ensemble_cmd::ENSEMBLE_LONG_ABOUT)]
     Ensemble(crate::ensemble_cmd::EnsembleArgs),
     /// Join the outputs of a sweep's (an ensemble's, a bit's, a splitting's) shards.
-    #[command(long_about = crate::merge_cmd::MERGE_LONG_ABOUT)]
+    #[command(long_about = crate::common::args::MERGE_LONG_ABOUT)]
     Merge(crate::common::args::MergeArgs),
     /// Stability of the steady motions (θ = 0, π/2, π) beside the paper's App. B.
     Stability(crate::stability_cmd::StabilityArgs),
@@ -151,6 +146,48 @@ mod tests {
     #[test]
     fn clap_definition_is_consistent() {
         Cli::command().debug_assert();
+    }
+
+    /// Each subcommand's description (short and long) is the same before
+    /// its deferred arguments are built (the variant's doc, what
+    /// `tippetop --help` lists) and after (its argument struct's doc
+    /// comment and `long_about`, what `tippetop SUB --help` prints).
+    #[test]
+    fn deferred_subcommands_keep_their_descriptions() {
+        let described = |c: &clap::Command| -> Vec<(String, String, String)> {
+            c.get_subcommands()
+                .map(|s| {
+                    let text = |t: Option<&clap::builder::StyledStr>| {
+                        t.map(|t| t.to_string()).unwrap_or_default()
+                    };
+                    (
+                        s.get_name().to_string(),
+                        text(s.get_about()),
+                        text(s.get_long_about()),
+                    )
+                })
+                .collect()
+        };
+        let before = Cli::command();
+        assert!(
+            before
+                .find_subcommand("run")
+                .is_some_and(|s| s.get_arguments().next().is_none()),
+            "the subcommands' arguments are not deferred"
+        );
+        let mut built = Cli::command();
+        built.build();
+        assert!(
+            built
+                .find_subcommand("run")
+                .is_some_and(|s| s.get_arguments().next().is_some())
+        );
+        let (before, after) = (described(&before), described(&built));
+        assert_eq!(before.len(), 15);
+        for (b, a) in before.iter().zip(&after) {
+            assert_eq!(b, a, "subcommand {}: description changed when built", b.0);
+            assert!(!b.1.is_empty(), "subcommand {} has no description", b.0);
+        }
     }
 
     #[test]

@@ -37,8 +37,9 @@ Writes device.json and device.md into --out. Takes minutes (2 min 42 s on 2 core
 line per stage); --quick cuts every ensemble, search and splitting (and leaves out the splitting
 at 77 K and at the design depths) for a first look (46 CPU-s, release build, 2026-11-28).";
 
-/// `tippetop device`.
+/// Can the nano tippe top be a memory bit? A report with numbers (minutes).
 #[derive(Debug, Args)]
+#[command(long_about = DEVICE_LONG_ABOUT)]
 #[command(
     after_help = "Examples:\n  tippetop device --out out/device\n  tippetop device --quick --out out/device-quick"
 )]

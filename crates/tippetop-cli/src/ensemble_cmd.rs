@@ -71,8 +71,9 @@ counts; summary.json's Kaplan-Meier estimate keeps 16 bytes per run); a killed e
 continues with the same command plus --resume and ends with the same bytes. The output
 directory is locked while the command runs.";
 
-/// `tippetop ensemble`.
+/// Run a Langevin scenario N times (an ensemble) and write statistics.
 #[derive(Debug, Args)]
+#[command(long_about = ENSEMBLE_LONG_ABOUT)]
 #[command(
     group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
     after_help = "Examples:\n  \

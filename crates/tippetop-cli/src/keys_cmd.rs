@@ -10,7 +10,7 @@ use crate::scenario_load::input_error;
 /// The command that regenerates docs/keys.md.
 pub const REGENERATE: &str = "tippetop keys --markdown > docs/keys.md";
 
-/// `tippetop keys`.
+/// Every scenario key: unit, default, range and what it is (docs/keys.md).
 #[derive(Debug, Clone, clap::Args)]
 #[command(after_help = "Examples:\n  \
                   tippetop keys surface\n  \

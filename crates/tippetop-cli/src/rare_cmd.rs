@@ -78,8 +78,9 @@ that holds at the start, --method exact where it is not exact, budgets out of ra
 code 2 and writes nothing; runs that fail part-way are counted, the files written, and the
 command exits with code 3.";
 
-/// `tippetop rare`.
+/// Rare events: P(target before reset) or a mean first-passage time (exact 1D, direct, splitting).
 #[derive(Debug, Args)]
+#[command(long_about = RARE_LONG_ABOUT)]
 #[command(
     group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
     after_help = "Examples:\n  \

@@ -20,8 +20,9 @@ pub const REGIME_LONG_ABOUT: &str = "The regime a scenario is in: dimensionless 
     constants and sources.\n\n\
     Exit codes: 0 ok, 2 bad input (one line naming the key and its range).";
 
-/// Arguments of `tippetop regime`.
+/// The regime a scenario is in: weight, adhesion, friction and thermal ratios.
 #[derive(Debug, Clone, clap::Args)]
+#[command(long_about = REGIME_LONG_ABOUT)]
 #[command(after_help = "Examples:\n  \
                   tippetop regime --preset nano --temperature 300\n  \
                   tippetop regime scenarios/nano.toml --temperature 4 --json\n  \

@@ -16,8 +16,22 @@ use crate::output::{OutDir, write_bytes_atomic, write_json_pretty, write_series_
 use crate::plot::{Panel, PlotOpts, RefLine, Series, VLine, line_plot, multi_panel};
 use crate::progress;
 
-/// `tippetop reproduce`.
+/// Long help of `tippetop reproduce`.
+pub const REPRODUCE_LONG_ABOUT: &str = "Reproduce the nano tippe-top paper's figures and numbers: runs \
+                            the paper's scenarios (scenarios/*.toml, embedded) three ways (accurate \
+                            with bilateral contact and exact Coulomb friction; the paper's literal \
+                            law solved accurately; the paper's RK4 on 500 steps) and writes into \
+                            --out: figNN.png/.svg/.csv for figures 02-15, report.md (every claim \
+                            of the paper beside what we measured, with a verdict and why) and \
+                            claims.json. --out is created, locked and checked before the runs \
+                            (another tippetop command writing into it exits with code 1); the \
+                            files are moved in together at the end, report.md last, and the \
+                            files of the previous command into it that this one did not write \
+                            (e.g. the ε-study figures of an earlier --extended) are removed.";
+
+/// Reproduce the nano tippe-top paper's figures and numbers.
 #[derive(Debug, Args)]
+#[command(long_about = REPRODUCE_LONG_ABOUT)]
 #[command(after_help = "Examples:\n  \
                         tippetop reproduce --out out\n  \
                         tippetop reproduce --extended --quiet --out out/full")]

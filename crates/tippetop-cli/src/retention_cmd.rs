@@ -29,8 +29,9 @@ pub const RETENTION_LONG_ABOUT: &str = "How long a state holds at a target tempe
     Exit codes: 0 ok, 2 bad input (one line naming the file and the field, or the option), 1 \
     I/O failures writing --out.";
 
-/// Arguments of `tippetop retention`.
+/// Retention time at a temperature, from ensembles' escape rates (Arrhenius).
 #[derive(Debug, Clone, clap::Args)]
+#[command(long_about = RETENTION_LONG_ABOUT)]
 #[command(
     after_help = "Example (escape from the lying well of nano-physical):\n  \
     for T in 2000 2500 3000; do\n    \

@@ -90,8 +90,9 @@ Files in DIR are never written through a symbolic link: a link where the lock or
 file goes is bad input (exit code 2), and a link where a result goes is replaced, its target
 left alone.";
 
-/// `tippetop run`.
+/// Run one scenario and write its trajectory, summary and plots.
 #[derive(Debug, Args)]
+#[command(long_about = RUN_LONG_ABOUT)]
 #[command(
     group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
     after_help = "Examples:\n  \

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use crate::scenario_load::input_error;
 
-/// `tippetop show`.
+/// Print a scenario resolved (preset, file, every --set) as TOML.
 #[derive(Debug, Clone, clap::Args)]
 #[command(after_help = "Examples:\n  \
                   tippetop show --preset classical\n  \

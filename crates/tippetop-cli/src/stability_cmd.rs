@@ -18,7 +18,7 @@ pub enum LawArg {
     Viscous,
 }
 
-/// Arguments of `tippetop stability`.
+/// Stability of the steady motions (θ = 0, π/2, π) beside the paper's App. B.
 #[derive(Debug, Clone, clap::Args)]
 #[command(after_help = "Examples:\n  \
     tippetop stability --preset classical\n  \

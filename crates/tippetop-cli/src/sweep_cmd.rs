@@ -96,8 +96,9 @@ Speed: the default model (vector) is 1.3-3.6x faster than the paper's Euler-angl
 (--set solver.model=reduced); fewer --set solver.samples (output rows per case, which also
 cap the step size) make each case cheaper (docs/performance.md).";
 
-/// `tippetop sweep`.
+/// Run a parameter sweep (a grid of scenarios) on all cores.
 #[derive(Debug, Args)]
+#[command(long_about = SWEEP_LONG_ABOUT)]
 #[command(
     group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
     after_help = "Examples:\n  \

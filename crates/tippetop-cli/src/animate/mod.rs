@@ -68,8 +68,9 @@ pub const MAX_TURN_PER_ROW: f64 = 0.2;
 /// Largest number of frames (`fps × duration`).
 pub const MAX_FRAMES: usize = 600;
 
-/// Arguments of `tippetop animate`.
+/// Animate a run: DIR/animation.gif and DIR/viewer.html (a 3D view in the browser).
 #[derive(Debug, Clone, clap::Args)]
+#[command(long_about = ANIMATE_LONG_ABOUT)]
 #[command(after_help = "Example:\n  \
     tippetop run --preset classical --set surface.friction_law=regularized \\\n      --set surface.friction_eps=0.01 --out out/classical\n  \
     tippetop animate out/classical\n  \
