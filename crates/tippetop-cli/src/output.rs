@@ -505,7 +505,9 @@ fn take_lock(dir: &Path, exclusive: bool) -> Result<Taken> {
             unsupported,
             id: next_id(),
         };
-        live().locks.push(lock.entry());
+        let mut live = live();
+        live.locks.push(lock.entry());
+        publish(&live);
         return Ok(Taken::Lock(lock));
     }
     bail!("cannot lock {}: it keeps being replaced", path.display())
@@ -561,6 +563,7 @@ impl Drop for DirLock {
     fn drop(&mut self) {
         let mut live = live();
         live.locks.retain(|l| l.id != self.id);
+        publish(&live);
         release_lock(&self.entry());
     }
 }
@@ -593,6 +596,9 @@ fn release_lock(l: &LockEntry) {
     }
 }
 
+#[cfg(unix)]
+mod signals;
+
 /// The stages and locks of this process, for the signal handler.
 struct Live {
     /// (id, output directory, staging directory).
@@ -606,22 +612,9 @@ static LIVE: std::sync::Mutex<Live> = std::sync::Mutex::new(Live {
 });
 
 /// The registry of live stages and locks (also held by [`OutDir::commit`]
-/// while it moves files, so that a signal waits for the commit to end).
+/// while it moves files).
 fn live() -> std::sync::MutexGuard<'static, Live> {
     LIVE.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// Remove this process's temporary files ([`tmp_path`]) in `dir`.
-fn remove_own_tmp_files(dir: &Path) {
-    let mark = format!(".{}-", process_tag());
-    if let Ok(entries) = fs::read_dir(dir) {
-        for e in entries.flatten() {
-            let name = e.file_name().to_string_lossy().into_owned();
-            if name.starts_with('.') && name.ends_with(".tmp") && name.contains(&mark) {
-                let _ = fs::remove_file(e.path());
-            }
-        }
-    }
 }
 
 /// Whether `name` is a temporary name of [`tmp_path`]:
@@ -643,107 +636,50 @@ fn is_tmp_name(name: &str) -> bool {
 /// On SIGINT, SIGTERM or SIGHUP (those not ignored when the process
 /// started, e.g. under `nohup`): remove this process's staging
 /// directories, temporary files and lock files, then die of the signal as
-/// before (partial files stay, for `--resume`). The handler only writes the
-/// signal's number into a pipe; a thread does the work, after any commit in
-/// progress. Installed once, by the first [`OutDir::open`] or
+/// before (partial files stay, for `--resume`). The handler does the work
+/// itself, on what [`publish`] last gave it, after any commit in progress
+/// (`output/signals.rs`). Installed once, by the first [`OutDir::open`] or
 /// [`read_lock`].
 pub fn install_signal_cleanup() {
     #[cfg(unix)]
     signals::install();
 }
 
-#[cfg(unix)]
-mod signals {
-    use std::sync::atomic::{AtomicI32, Ordering};
-
-    static PIPE_W: AtomicI32 = AtomicI32::new(-1);
-
-    extern "C" fn on_signal(sig: libc::c_int) {
-        let fd = PIPE_W.load(Ordering::Relaxed);
-        if fd >= 0 {
-            let b = sig as u8;
-            // SAFETY: write(2) is async-signal-safe; one byte from a local.
-            unsafe {
-                libc::write(fd, (&b as *const u8).cast(), 1);
-            }
-        }
-    }
-
-    pub(super) fn install() {
-        static ONCE: std::sync::Once = std::sync::Once::new();
-        ONCE.call_once(|| {
-            let mut fds = [0 as libc::c_int; 2];
-            // SAFETY: pipe(2) into a local array; fcntl on the new fds.
-            unsafe {
-                if libc::pipe(fds.as_mut_ptr()) != 0 {
-                    return;
-                }
-                for fd in fds {
-                    libc::fcntl(fd, libc::F_SETFD, libc::FD_CLOEXEC);
-                }
-            }
-            let read_end = fds[0];
-            let watcher = std::thread::Builder::new()
-                .name("tippetop-signals".into())
-                .spawn(move || watch(read_end));
-            if watcher.is_err() {
-                return;
-            }
-            PIPE_W.store(fds[1], Ordering::Relaxed);
-            for sig in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
-                // SAFETY: sigaction(2) with zeroed, then filled, structs.
-                unsafe {
-                    let mut old: libc::sigaction = std::mem::zeroed();
-                    if libc::sigaction(sig, std::ptr::null(), &mut old) != 0
-                        || old.sa_sigaction != libc::SIG_DFL
-                    {
-                        continue;
-                    }
-                    let mut act: libc::sigaction = std::mem::zeroed();
-                    act.sa_sigaction = on_signal as extern "C" fn(libc::c_int) as usize;
-                    act.sa_flags = libc::SA_RESTART;
-                    libc::sigemptyset(&mut act.sa_mask);
-                    libc::sigaction(sig, &act, std::ptr::null_mut());
-                }
-            }
-        });
-    }
-
-    fn watch(fd: libc::c_int) {
-        loop {
-            let mut b = 0u8;
-            // SAFETY: read(2) of one byte into a local.
-            let n = unsafe { libc::read(fd, (&mut b as *mut u8).cast(), 1) };
-            if n == 1 {
-                die(libc::c_int::from(b));
-            }
-            if n < 0 && std::io::Error::last_os_error().kind() == std::io::ErrorKind::Interrupted {
-                continue;
-            }
-            return;
-        }
-    }
-
-    /// Clean up, then die of `sig` as if no handler were installed.
-    fn die(sig: libc::c_int) -> ! {
-        // Held until the end: a commit in progress finishes first, and none
-        // starts after.
-        let live = super::live();
-        for (_, dir, stage) in &live.stages {
-            let _ = std::fs::remove_dir_all(stage);
-            super::remove_own_tmp_files(dir);
-        }
-        for l in &live.locks {
-            super::release_lock(l);
-        }
-        // SAFETY: back to the default action, then raise it in this thread
-        // (it is not blocked here): the process ends, killed by `sig`.
+/// Fault injection for the end-to-end test of a signal during a commit:
+/// with `TIPPETOP_TEST_SIGNAL_IN_COMMIT=SIGNUM`, the commit raises that
+/// signal after moving its first file.
+fn test_signal_in_commit() {
+    #[cfg(unix)]
+    if let Some(sig) = std::env::var("TIPPETOP_TEST_SIGNAL_IN_COMMIT")
+        .ok()
+        .and_then(|v| v.trim().parse::<libc::c_int>().ok())
+    {
+        // SAFETY: raise(3) of a signal number; the handler is ours.
         unsafe {
-            libc::signal(sig, libc::SIG_DFL);
             libc::raise(sig);
         }
-        std::process::exit(128 + sig)
     }
+}
+
+/// Give the signal handler the registry as it is now (call after each
+/// change, with the registry locked).
+fn publish(live: &Live) {
+    #[cfg(unix)]
+    signals::publish(
+        live.stages
+            .iter()
+            .map(|(_, d, s)| (d.as_path(), s.as_path())),
+        live.locks.iter().map(|l| signals::LockFile {
+            fd: l.fd,
+            path: &l.path,
+            held: l.held,
+            exclusive: l.exclusive,
+            created: l.created,
+        }),
+        &format!(".{}-", process_tag()),
+    );
+    #[cfg(not(unix))]
+    let _ = live;
 }
 
 /// `Ok` if `dir` can be an output directory (`--out`): a directory, or a
@@ -918,9 +854,12 @@ impl OutDir {
                 }
             }
         }
-        live()
-            .stages
-            .push((self.id, self.dir.clone(), self.stage.clone()));
+        {
+            let mut live = live();
+            live.stages
+                .push((self.id, self.dir.clone(), self.stage.clone()));
+            publish(&live);
+        }
         fs::create_dir(&self.stage).with_context(|| cannot("creating a staging directory"))?;
         let probe = self.stage.join(".probe");
         fs::write(&probe, b"probe").with_context(|| cannot("writing a probe file"))?;
@@ -1007,6 +946,9 @@ impl OutDir {
         }
         names.extend(self.adopted.iter().map(|(_, to)| to.clone()));
         let removed = {
+            // A signal from here on waits for the end of the block.
+            #[cfg(unix)]
+            let _committing = signals::Committing::begin();
             let _moving = live();
             let mut all = self.previous.clone();
             all.extend(names.iter().cloned());
@@ -1022,10 +964,13 @@ impl OutDir {
             };
             let (tail, head): (Vec<&String>, Vec<&String>) =
                 names.iter().partition(|n| last.contains(&n.as_str()));
-            for name in head.into_iter().chain(tail) {
+            for (k, name) in head.into_iter().chain(tail).enumerate() {
                 let to = self.dir.join(name);
                 fs::rename(source(name), &to)
                     .with_context(|| format!("writing {}", to.display()))?;
+                if k == 0 {
+                    test_signal_in_commit();
+                }
             }
             let mut removed = Vec::new();
             // The list written before the move stands unless some of the
@@ -1062,7 +1007,9 @@ impl OutDir {
     /// Remove the staging directory and forget it.
     fn cleanup_stage(&mut self) {
         let _ = fs::remove_dir_all(&self.stage);
-        live().stages.retain(|(id, _, _)| *id != self.id);
+        let mut live = live();
+        live.stages.retain(|(id, _, _)| *id != self.id);
+        publish(&live);
     }
 
     fn cleanup(&mut self) {

@@ -1049,6 +1049,46 @@ fn a_signal_removes_the_stage_and_the_lock() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+/// A signal during a commit waits for it: the files are all moved in and
+/// listed, then the stage and the lock are removed and the process dies
+/// of the signal. (The handler does the cleanup itself; without the wait
+/// it would remove the stage with the files not yet moved.)
+#[cfg(unix)]
+#[test]
+fn a_signal_during_the_commit_waits_for_its_end() {
+    use std::os::unix::process::ExitStatusExt;
+    let d = scratch("signal-commit");
+    for sig in [libc::SIGTERM, libc::SIGHUP] {
+        let out = d.join(format!("out{sig}"));
+        let status = bin()
+            .args(["run", "--preset", "classical", "--set", "solver.t_end=0.5"])
+            .args(["--no-plot", "--quiet", "--out"])
+            .arg(&out)
+            .env("TIPPETOP_TEST_SIGNAL_IN_COMMIT", sig.to_string())
+            .status()
+            .unwrap();
+        assert_eq!(status.signal(), Some(sig), "{status:?}");
+        assert_eq!(
+            names(&out),
+            [
+                ".tippetop-manifest",
+                "scenario.toml",
+                "summary.json",
+                "trajectory.csv"
+            ],
+            "signal {sig}"
+        );
+        let manifest = read(&out.join(".tippetop-manifest"));
+        for f in ["scenario.toml", "summary.json", "trajectory.csv"] {
+            assert!(manifest.lines().any(|l| l == f), "{manifest}");
+        }
+        let summary: serde_json::Value =
+            serde_json::from_str(&read(&out.join("summary.json"))).unwrap();
+        assert_eq!(summary["t_end"], 0.5);
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
 /// Issue 26 (D): an `--out` that is a file exited 2 for run and reproduce
 /// but 1 for sweep, ensemble and bit. Now bad input (exit code 2, one line
 /// naming it, nothing written) in every command, as is a path under a
