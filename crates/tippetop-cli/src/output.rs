@@ -739,6 +739,10 @@ pub struct OutDir {
     created_dir: bool,
     /// Files of the previous command (its manifest) and files claimed since.
     previous: BTreeSet<String>,
+    /// The manifest's bytes as this command last read or wrote them
+    /// (`None`: none), read once in [`OutDir::open`]: the lock keeps other
+    /// tippetop processes from writing it meanwhile.
+    manifest: Option<Vec<u8>>,
     /// Files already in `DIR` to move into place at the commit: (from, to).
     adopted: Vec<(String, String)>,
     /// Keep the previous command's files at the commit ([`OutDir::keep_previous`]).
@@ -763,17 +767,26 @@ impl OutDir {
     /// on stderr.
     pub fn open(dir: &Path) -> Result<OutDir> {
         install_signal_cleanup();
-        check_out_dir(dir)?;
-        let created_dir = !dir.exists();
-        if let Err(e) = fs::create_dir_all(dir) {
-            if e.kind() == io::ErrorKind::NotADirectory {
-                return Err(not_a_dir(
-                    dir,
-                    "a part of the path is a file, not a directory",
-                ));
+        // The usual cases in two calls: a directory that exists, or one
+        // to create under one that does.
+        let created_dir = match fs::create_dir(dir) {
+            Ok(()) => true,
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists && dir.is_dir() => false,
+            Err(_) => {
+                check_out_dir(dir)?;
+                let created = !dir.exists();
+                if let Err(e) = fs::create_dir_all(dir) {
+                    if e.kind() == io::ErrorKind::NotADirectory {
+                        return Err(not_a_dir(
+                            dir,
+                            "a part of the path is a file, not a directory",
+                        ));
+                    }
+                    return Err(e).with_context(|| format!("cannot create {}", dir.display()));
+                }
+                created
             }
-            return Err(e).with_context(|| format!("cannot create {}", dir.display()));
-        }
+        };
         let lock = match take_lock(dir, true) {
             Ok(Taken::Lock(l)) => l,
             Ok(Taken::Busy(pid)) => bail!(
@@ -806,6 +819,7 @@ impl OutDir {
             lock: Some(lock),
             created_dir,
             previous: BTreeSet::new(),
+            manifest: None,
             adopted: Vec::new(),
             keep: false,
             done: false,
@@ -837,7 +851,7 @@ impl OutDir {
             f.metadata()
                 .and_then(|m| if m.len() > 0 { f.set_len(0) } else { Ok(()) })
                 .and_then(|()| f.rewind())
-                .and_then(|()| writeln!(f, "{}", std::process::id()))
+                .and_then(|()| f.write_all(format!("{}\n", std::process::id()).as_bytes()))
                 .with_context(|| cannot(LOCK_NAME))?;
         }
         // Staging directories and temporary files of processes that died:
@@ -864,8 +878,10 @@ impl OutDir {
         let probe = self.stage.join(".probe");
         fs::write(&probe, b"probe").with_context(|| cannot("writing a probe file"))?;
         fs::remove_file(&probe).with_context(|| cannot("removing a probe file"))?;
-        self.previous = read_manifest(&self.dir);
-        if let (Some(&(now, force)), Some(before)) = (INVOCATION.get(), manifest_command(&self.dir))
+        self.manifest = read_plain(&self.dir.join(MANIFEST_NAME)).ok();
+        let text = self.manifest.as_deref().unwrap_or_default();
+        self.previous = manifest_names(text);
+        if let (Some(&(now, force)), Some(before)) = (INVOCATION.get(), manifest_owner(text))
             && !force
             && !ADDING.contains(&now)
             && !self.previous.is_empty()
@@ -886,6 +902,14 @@ impl OutDir {
         Ok(())
     }
 
+    /// Without the lock (a file system without locks) another process may
+    /// have written the manifest since it was read: read it again.
+    fn refresh_manifest(&mut self) {
+        if !self.locked() {
+            self.manifest = read_plain(&self.dir.join(MANIFEST_NAME)).ok();
+        }
+    }
+
     /// The output directory.
     pub fn dir(&self) -> &Path {
         &self.dir
@@ -902,7 +926,8 @@ impl OutDir {
     /// so that a later command removes them if this one is interrupted.
     pub fn claim(&mut self, names: &[&str]) -> Result<()> {
         self.previous.extend(names.iter().map(|n| n.to_string()));
-        write_manifest(&self.dir, &self.previous)
+        self.refresh_manifest();
+        write_manifest(&self.dir, &self.previous, &mut self.manifest)
     }
 
     /// Add to the directory rather than replace its contents: at the
@@ -952,7 +977,8 @@ impl OutDir {
             let _moving = live();
             let mut all = self.previous.clone();
             all.extend(names.iter().cloned());
-            write_manifest(&self.dir, &all)?;
+            self.refresh_manifest();
+            write_manifest(&self.dir, &all, &mut self.manifest)?;
             for l in last.iter().filter(|l| names.contains(**l)) {
                 remove_if_present(&self.dir.join(l))?;
             }
@@ -987,7 +1013,7 @@ impl OutDir {
                 }
             }
             if write_again {
-                write_manifest(&self.dir, &names)?;
+                write_manifest(&self.dir, &names, &mut self.manifest)?;
             }
             removed
         };
@@ -1006,7 +1032,10 @@ impl OutDir {
 
     /// Remove the staging directory and forget it.
     fn cleanup_stage(&mut self) {
-        let _ = fs::remove_dir_all(&self.stage);
+        // Empty after a commit: one call.
+        if fs::remove_dir(&self.stage).is_err() {
+            let _ = fs::remove_dir_all(&self.stage);
+        }
         let mut live = live();
         live.stages.retain(|(id, _, _)| *id != self.id);
         publish(&live);
@@ -1119,9 +1148,13 @@ fn remove_if_present(path: &Path) -> Result<()> {
 /// not `.` or `..`, not the tool's own hidden files, so a manifest can never
 /// make the tool remove anything outside the directory.
 pub fn read_manifest(dir: &Path) -> BTreeSet<String> {
-    let bytes = read_plain(&dir.join(MANIFEST_NAME)).unwrap_or_default();
-    let text = String::from_utf8_lossy(&bytes);
-    text.lines()
+    manifest_names(&read_plain(&dir.join(MANIFEST_NAME)).unwrap_or_default())
+}
+
+/// The file names a manifest's text lists (see [`read_manifest`]).
+fn manifest_names(bytes: &[u8]) -> BTreeSet<String> {
+    String::from_utf8_lossy(bytes)
+        .lines()
         .map(str::trim)
         .filter(|l| {
             !l.is_empty()
@@ -1138,8 +1171,12 @@ pub fn read_manifest(dir: &Path) -> BTreeSet<String> {
 /// The subcommand that wrote `DIR/`[`MANIFEST_NAME`] (its `# command:`
 /// line), if it says.
 pub fn manifest_command(dir: &Path) -> Option<String> {
-    let bytes = read_plain(&dir.join(MANIFEST_NAME)).ok()?;
-    String::from_utf8_lossy(&bytes)
+    manifest_owner(&read_plain(&dir.join(MANIFEST_NAME)).ok()?)
+}
+
+/// The `# command:` line of a manifest's text (see [`manifest_command`]).
+fn manifest_owner(bytes: &[u8]) -> Option<String> {
+    String::from_utf8_lossy(bytes)
         .lines()
         .find_map(|l| l.strip_prefix("# command: "))
         .map(|c| c.trim().to_string())
@@ -1148,15 +1185,21 @@ pub fn manifest_command(dir: &Path) -> Option<String> {
 
 /// Write `DIR/`[`MANIFEST_NAME`] listing `names`, atomically, with the
 /// subcommand that writes them (an adding one, `animate`, keeps the
-/// owner's name).
-fn write_manifest(dir: &Path, names: &BTreeSet<String>) -> Result<()> {
+/// owner's name). `current`: the manifest's bytes as this process last
+/// read or wrote them (`None`: there is none), updated here.
+fn write_manifest(
+    dir: &Path,
+    names: &BTreeSet<String>,
+    current: &mut Option<Vec<u8>>,
+) -> Result<()> {
+    let owner_before = || current.as_deref().and_then(manifest_owner);
     let mut text = String::from(
         "# tippetop: the files the last command wrote into this directory (the next one removes those it does not write)\n",
     );
     let owner = match INVOCATION.get() {
-        Some((now, _)) if ADDING.contains(now) => manifest_command(dir),
+        Some((now, _)) if ADDING.contains(now) => owner_before(),
         Some((now, _)) => Some(now.to_string()),
-        None => manifest_command(dir),
+        None => owner_before(),
     };
     if let Some(c) = owner {
         text.push_str(&format!("# command: {c}\n"));
@@ -1169,10 +1212,12 @@ fn write_manifest(dir: &Path, names: &BTreeSet<String>) -> Result<()> {
     // Already this text (the same command run again into the directory):
     // left as it is. Replacing a file by a rename costs a flush of the new
     // one on ext4 (`auto_da_alloc`), ~0.3 ms a run.
-    if read_plain(&path).is_ok_and(|b| b == text.as_bytes()) {
+    if current.as_deref() == Some(text.as_bytes()) {
         return Ok(());
     }
-    write_bytes_atomic(&path, text.as_bytes())
+    write_bytes_atomic(&path, text.as_bytes())?;
+    *current = Some(text.into_bytes());
+    Ok(())
 }
 
 /// Print `value` as pretty JSON on stdout (the `--json` output of the
