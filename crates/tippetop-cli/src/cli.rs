@@ -40,50 +40,39 @@ pub struct Cli {
 /// The subcommands. Their arguments are built only for the subcommand
 /// typed (`defer`): building all fifteen was more than half of a run's
 /// start-up in user space (docs/performance.md, "The speed gate"). A
-/// subcommand's description is set twice, here (read before it is built:
-/// `tippetop --help`'s list) and as its argument struct's doc comment and
-/// `long_about` (applied when it is built, over this one); the two are kept
-/// equal by a test.
+/// subcommand's one-line description is set twice, here (read before it
+/// is built: `tippetop --help`'s list) and as its argument struct's doc
+/// comment (applied when it is built, over this one), kept equal by a
+/// test; its long description (`long_about`) only on the struct, so that
+/// a run does not copy the other fourteen.
 #[derive(Debug, Subcommand)]
 #[command(defer = true)]
 pub enum Command {
     /// Run one scenario and write its trajectory, summary and plots.
-    #[command(long_about = crate::run::RUN_LONG_ABOUT)]
     Run(RunArgs),
     /// Reproduce the nano tippe-top paper's figures and numbers.
-    #[command(long_about = crate::reproduce::REPRODUCE_LONG_ABOUT)]
     Reproduce(ReproduceArgs),
     /// Run a parameter sweep (a grid of scenarios) on all cores.
-    #[command(long_about = crate::sweep_cmd::SWEEP_LONG_ABOUT)]
     Sweep(crate::sweep_cmd::SweepArgs),
     /// Run a Langevin scenario N times (an ensemble) and write statistics.
-    #[command(long_about = crate::ensemble_cmd::ENSEMBLE_LONG_ABOUT)]
     Ensemble(crate::ensemble_cmd::EnsembleArgs),
     /// Join the outputs of a sweep's (an ensemble's, a bit's, a splitting's) shards.
-    #[command(long_about = crate::common::args::MERGE_LONG_ABOUT)]
     Merge(crate::common::args::MergeArgs),
     /// Stability of the steady motions (θ = 0, π/2, π) beside the paper's App. B.
     Stability(crate::stability_cmd::StabilityArgs),
     /// Van der Waals adhesion of a fullerene on graphene or graphite (E_b, F_a).
-    #[command(long_about = crate::adhesion_cmd::ADHESION_LONG_ABOUT)]
     Adhesion(crate::adhesion_cmd::AdhesionArgs),
     /// The regime a scenario is in: weight, adhesion, friction and thermal ratios.
-    #[command(long_about = crate::regime_cmd::REGIME_LONG_ABOUT)]
     Regime(crate::regime_cmd::RegimeArgs),
     /// Retention time at a temperature, from ensembles' escape rates (Arrhenius).
-    #[command(long_about = crate::retention_cmd::RETENTION_LONG_ABOUT)]
     Retention(crate::retention_cmd::RetentionArgs),
     /// A memory bit: write and erase protocols, success probabilities, switching times.
-    #[command(long_about = crate::bit_args::BIT_LONG_ABOUT)]
     Bit(crate::bit_args::BitArgs),
     /// Can the nano tippe top be a memory bit? A report with numbers (minutes).
-    #[command(long_about = crate::device_cmd::DEVICE_LONG_ABOUT)]
     Device(crate::device_cmd::DeviceArgs),
     /// Rare events: P(target before reset) or a mean first-passage time (exact 1D, direct, splitting).
-    #[command(long_about = crate::rare_cmd::RARE_LONG_ABOUT)]
     Rare(Box<crate::rare_cmd::RareArgs>),
     /// Animate a run: DIR/animation.gif and DIR/viewer.html (a 3D view in the browser).
-    #[command(long_about = crate::animate::ANIMATE_LONG_ABOUT)]
     Animate(crate::animate::AnimateArgs),
     /// Print a scenario resolved (preset, file, every --set) as TOML.
     Show(crate::show_cmd::ShowArgs),
@@ -148,23 +137,18 @@ mod tests {
         Cli::command().debug_assert();
     }
 
-    /// Each subcommand's description (short and long) is the same before
-    /// its deferred arguments are built (the variant's doc, what
-    /// `tippetop --help` lists) and after (its argument struct's doc
-    /// comment and `long_about`, what `tippetop SUB --help` prints).
+    /// Each subcommand's one-line description is the same before its
+    /// deferred arguments are built (the variant's doc, what `tippetop
+    /// --help` lists) and after (its argument struct's doc comment, what
+    /// `tippetop SUB --help` prints); its long description is set only when
+    /// it is built.
     #[test]
     fn deferred_subcommands_keep_their_descriptions() {
-        let described = |c: &clap::Command| -> Vec<(String, String, String)> {
+        let described = |c: &clap::Command| -> Vec<(String, String)> {
             c.get_subcommands()
                 .map(|s| {
-                    let text = |t: Option<&clap::builder::StyledStr>| {
-                        t.map(|t| t.to_string()).unwrap_or_default()
-                    };
-                    (
-                        s.get_name().to_string(),
-                        text(s.get_about()),
-                        text(s.get_long_about()),
-                    )
+                    let about = s.get_about().map(|t| t.to_string()).unwrap_or_default();
+                    (s.get_name().to_string(), about)
                 })
                 .collect()
         };
@@ -181,6 +165,16 @@ mod tests {
             built
                 .find_subcommand("run")
                 .is_some_and(|s| s.get_arguments().next().is_some())
+        );
+        assert!(
+            before
+                .get_subcommands()
+                .all(|s| s.get_long_about().is_none())
+        );
+        assert!(
+            built
+                .find_subcommand("run")
+                .is_some_and(|s| s.get_long_about().is_some())
         );
         let (before, after) = (described(&before), described(&built));
         assert_eq!(before.len(), 15);

@@ -20,7 +20,7 @@ use tippetop::analysis::sweep::{self, Shard};
 use crate::output::{OutDir, check_plain, open_plain, read_plain, write_bytes_atomic};
 use crate::partial::{FNV_OFFSET, PartialWriter, check_checksum, checksum, checksum_text, fnv1a};
 
-/// Long help of `tippetop ensemble` (set on the subcommand in `cli.rs`).
+/// Long help of `tippetop ensemble`.
 pub const ENSEMBLE_LONG_ABOUT: &str =
     "Run a Langevin scenario N times with independent noise (run K is the scenario with
 thermal.run = r0 + K, r0 its own thermal.run, default 0) on all cores and write into --out:

@@ -41,7 +41,7 @@ use crate::partial::checksum_text;
 use clap::{ArgGroup, Args};
 use tippetop::analysis::sweep::{self, Shard, ShardInfo, Sweep, Table};
 
-/// Long help of `tippetop sweep` (set on the subcommand in `cli.rs`).
+/// Long help of `tippetop sweep`.
 pub const SWEEP_LONG_ABOUT: &str = "Run a grid of scenarios on all cores and write into --out:
   sweep.csv    one row per case: the varied keys, then theta_final, theta_max,
                omega_final, Omega_final, first_time_theta_above_half_pi,

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-/// Long help of `tippetop merge` (set on the subcommand in `cli.rs`).
+/// Long help of `tippetop merge`.
 pub const MERGE_LONG_ABOUT: &str = "Join the output directories of the shards of one sweep (tippetop sweep \
                   --shard K/N) into --out: sweep.csv, byte for byte the file a one-shot run \
                   of the sweep writes, and shard.json. The shards may come in any order and \
