@@ -68,7 +68,7 @@ pub fn run(args: &ReproduceArgs, quiet: bool) -> Result<()> {
         )
         .into());
     }
-    // Created, locked and probed before the (long) computation; the files
+    // Created, locked and checked before the (long) computation; the files
     // are staged and committed as a unit (report.md last), and figures of a
     // previous reproduce that this one does not write are removed.
     let out = OutDir::open(&args.out)?;

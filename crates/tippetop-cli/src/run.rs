@@ -2,7 +2,7 @@
 //!
 //! Order matters for the exit-code contract: everything that can be bad
 //! input is checked before `--out` is touched (exit code 2, nothing
-//! written); then the output directory is created, locked and probed
+//! written); then the output directory is created, locked and checked
 //! ([`OutDir::open`], exit code 1 if it cannot be written or is in use), so
 //! an unwritable `--out` is found before the simulation, not after it; the
 //! results are staged and committed as a unit.
@@ -168,7 +168,7 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     scenario.validate()?;
     check_out_dir(&args.out)?;
 
-    // 2. The output directory: created, locked and probed before computing.
+    // 2. The output directory: created, locked and checked before computing.
     let out = OutDir::open(&args.out)?;
 
     // 3. The run.

@@ -186,7 +186,7 @@ pub fn sweep(args: &SweepArgs, quiet: bool) -> Result<ExitCode> {
     let mut info_json = serde_json::to_string_pretty(&info)?;
     info_json.push('\n');
 
-    // Created, locked and probed before computing anything.
+    // Created, locked and checked before computing anything.
     let mut out = OutDir::open(&args.out)?;
     let dir = args.out.clone();
     let range = info.first_index..info.end_index;
