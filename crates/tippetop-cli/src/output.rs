@@ -618,9 +618,11 @@ impl Drop for DirLock {
     /// [`DirLock`]); the OS lock goes with the file, closed after this.
     fn drop(&mut self) {
         let mut live = live();
+        // Released before it leaves the signal handler's snapshot: a signal
+        // in between finds the file gone (or another's) and leaves it.
+        release_lock(&self.entry());
         live.locks.retain(|l| l.id != self.id);
         publish(&live);
-        release_lock(&self.entry());
     }
 }
 
