@@ -629,21 +629,15 @@ impl Drop for DirLock {
 /// Remove a lock file this process holds, if it may: a writer holding the
 /// lock always, a reader if it can upgrade to the exclusive lock (no other
 /// reader), without locks only the file it created; and only if the path
-/// still names the locked file.
+/// still names the locked file. On Unix the signal handler's own code does
+/// it ([`signals::release_lock`]), written once for both.
 fn release_lock(l: &LockEntry) {
     #[cfg(unix)]
     {
-        use std::os::fd::FromRawFd;
-        // SAFETY: the fd belongs to a live DirLock (the registry entry is
-        // removed before its File is closed); ManuallyDrop never closes it.
-        let file = std::mem::ManuallyDrop::new(unsafe { File::from_raw_fd(l.fd) });
-        let ours = if l.held {
-            l.exclusive || try_flock(&file, libc::LOCK_EX).unwrap_or(false)
-        } else {
-            l.created
-        };
-        if ours && same_file(&file, &l.path) {
-            let _ = fs::remove_file(&l.path);
+        use std::os::unix::ffi::OsStrExt;
+        if let Ok(path) = std::ffi::CString::new(l.path.as_os_str().as_bytes()) {
+            // The fd is the live DirLock's, open until after this.
+            signals::release_lock(l.fd, &path, l.held, l.exclusive, l.created);
         }
     }
     #[cfg(not(unix))]

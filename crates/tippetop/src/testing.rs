@@ -15,6 +15,18 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::Sample;
 
+/// A fixed sequence of numbers in [0, 1) for the tests (xorshift64, the
+/// top 53 bits): the same numbers on every machine, from `seed` (not 0).
+#[cfg(test)]
+pub(crate) fn uniform_sequence(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 /// The planted time's bits (seconds); NaN's bits: nothing planted.
 static NAN_ROW_AT: AtomicU64 = AtomicU64::new(f64::NAN.to_bits());
 

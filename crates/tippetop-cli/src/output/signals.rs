@@ -306,10 +306,17 @@ fn contains(hay: &[u8], needle: &[u8]) -> bool {
 }
 
 /// Remove a lock file this process holds, if it may (as the program does
-/// when it ends): a writer holding the lock always, a reader if it can
-/// upgrade to the exclusive lock, without locks only the file it created;
-/// and only if the path still names the locked file.
-fn release_lock(fd: libc::c_int, path: &CStr, held: bool, exclusive: bool, created: bool) {
+/// when it ends, through this function too): a writer holding the lock
+/// always, a reader if it can upgrade to the exclusive lock, without locks
+/// only the file it created; and only if the path still names the locked
+/// file (a regular file, not followed).
+pub(crate) fn release_lock(
+    fd: libc::c_int,
+    path: &CStr,
+    held: bool,
+    exclusive: bool,
+    created: bool,
+) {
     // SAFETY: flock/fstat/fstatat/unlink on an fd and a NUL-terminated path,
     // into zeroed locals.
     unsafe {

@@ -657,6 +657,36 @@ pub(crate) fn bilateral_normal(q: f64, dp: f64, dm: f64) -> Result<f64, usize> {
     }
 }
 
+/// For the models' cache tests of [`same_continuation`]: a slip reference
+/// `r` drawn from `next` (numbers in [−1, 1)) and the directions `d` it is
+/// read under, `r` itself, `−r`, a perpendicular and another drawn one.
+/// `read(r, d)` evaluates under `r`, reads again under `d` (checking the
+/// result against a fresh evaluation) and returns the first evaluation's
+/// slip, or `None` if there is no evaluation there. `counts` gathers, over
+/// the `d ≠ r`, the reads whose continuation test `v·d < 0` came out as
+/// under `r` (the cache may keep the evaluation) and those where it flipped
+/// (it must not).
+#[cfg(test)]
+pub(crate) fn read_under_moved_references(
+    next: &mut impl FnMut() -> f64,
+    mut read: impl FnMut([f64; 2], [f64; 2]) -> Option<[f64; 2]>,
+    counts: &mut (usize, usize),
+) {
+    let a = std::f64::consts::PI * next();
+    let r = [a.cos(), a.sin()];
+    let b = std::f64::consts::PI * next();
+    for d in [r, [-r[0], -r[1]], [-r[1], r[0]], [b.cos(), b.sin()]] {
+        let Some(v) = read(r, d) else { continue };
+        if d != r {
+            if (v[0] * r[0] + v[1] * r[1] < 0.0) == (v[0] * d[0] + v[1] * d[1] < 0.0) {
+                counts.0 += 1;
+            } else {
+                counts.1 += 1;
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -861,42 +861,28 @@ mod tests {
             b.push(e.torque.to_bits());
             b
         };
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
-        let (mut relaxed, mut flipped) = (0, 0);
+        let mut uniform = crate::testing::uniform_sequence(0x2545_f491_4f6c_dd1d);
+        let mut next = move || uniform() * 2.0 - 1.0;
+        let mut counts = (0, 0);
         for _ in 0..300 {
             let mut y = y0;
             y[TH] = 0.1 + 1.4 * (next() + 1.0);
             for x in &mut y[THD..=UY] {
                 *x += 3.0 * next();
             }
-            let a = std::f64::consts::PI * next();
-            let r = [a.cos(), a.sin()];
-            let b = std::f64::consts::PI * next();
-            for d in [r, [-r[0], -r[1]], [-r[1], r[0]], [b.cos(), b.sin()]] {
+            let read = |r, d| {
                 m.plane.slip_ref.set(r);
-                let Ok(first) = m.eval(&y) else { continue };
+                let first = m.eval(&y).ok()?;
                 m.plane.slip_ref.set(d);
                 let cached = m.eval(&y).unwrap();
                 let (s, c) = y[TH].sin_cos();
                 let fresh = m.eval_sc(&y, s, c).unwrap();
                 assert_eq!(bits(&cached), bits(&fresh), "y {y:?} r {r:?} d {d:?}");
-                let v = first.slip;
-                if d != r {
-                    if (v[0] * r[0] + v[1] * r[1] < 0.0) == (v[0] * d[0] + v[1] * d[1] < 0.0) {
-                        relaxed += 1;
-                    } else {
-                        flipped += 1;
-                    }
-                }
-            }
+                Some(first.slip)
+            };
+            super::super::contact::read_under_moved_references(&mut next, read, &mut counts);
         }
-        assert!(relaxed > 100 && flipped > 100, "{relaxed} {flipped}");
+        assert!(counts.0 > 100 && counts.1 > 100, "{counts:?}");
     }
 
     #[test]

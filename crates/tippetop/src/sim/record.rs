@@ -513,13 +513,7 @@ mod tests {
     /// only to the integration error); and it does skip most of them.
     #[test]
     fn guarded_theta_max_is_the_plain_maximum() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut uniform = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = crate::testing::uniform_sequence(0x2545_f491_4f6c_dd1d);
         let angles = |k: [f64; 3]| ((k[0] * k[0] + k[1] * k[1]).sqrt().atan2(k[2]), k[2]);
         let cos = |k: [f64; 3]| k[2] / (k[0] * k[0] + k[1] * k[1] + k[2] * k[2]).sqrt();
         for theta0 in [0.1, std::f64::consts::FRAC_PI_2, 3.0] {
