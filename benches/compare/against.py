@@ -2,7 +2,7 @@
 
 Usage (from the repository root, after `cargo build --release`):
 
-    python3 benches/compare/against.py OLD_BIN [NEW_BIN] [--reps 21] [--callgrind]
+    python3 benches/compare/against.py OLD_BIN [NEW_BIN] [--reps 21] [--callgrind] [--case N]
 
 OLD_BIN is e.g. 47b3e75's release binary (built from `git worktree add
 --detach /tmp/old 47b3e75`); NEW_BIN defaults to target/release/tippetop.
@@ -97,6 +97,12 @@ def main():
     ap.add_argument("new", nargs="?", default="target/release/tippetop")
     ap.add_argument("--reps", type=int, default=21)
     ap.add_argument("--callgrind", action="store_true")
+    ap.add_argument(
+        "--case",
+        type=int,
+        action="append",
+        help="run only this case (1-4, in the table's order; may be repeated)",
+    )
     a = ap.parse_args()
     old, new = os.path.abspath(a.old), os.path.abspath(a.new)
     pose_old, pose_new = knows_no_pose(old), knows_no_pose(new)
@@ -113,7 +119,9 @@ def main():
         else:
             new = dst
     rows = []
-    for name, args in CASES:
+    for i, (name, args) in enumerate(CASES, 1):
+        if a.case and i not in a.case:
+            continue
         o, n = os.path.join(tmp, "old"), os.path.join(tmp, "new")
         co, cn = argv(old, args, o, pose_old), argv(new, args, n, pose_new)
         timed(co), timed(cn)  # warm the page cache; also checks the runs

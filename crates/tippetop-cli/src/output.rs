@@ -114,13 +114,28 @@ where
 }
 
 /// Whether `path` is in a staging directory of this process: its parent is
-/// named with this process's tag ([`process_tag`]), as [`OutDir::open`]
-/// names its stage.
+/// named with this process's tag ([`process_tag`]), or it is the shared
+/// [`STAGE_NAME`] of a directory whose lock this process holds now
+/// ([`OWN_SHARED_STAGES`]).
 fn in_own_stage(path: &Path) -> bool {
-    path.parent()
-        .and_then(Path::file_name)
-        .and_then(|n| n.to_str())
-        .is_some_and(|n| n.strip_prefix(STAGE_PREFIX) == Some(process_tag()))
+    let Some(parent) = path.parent() else {
+        return false;
+    };
+    match parent.file_name().and_then(|n| n.to_str()) {
+        Some(STAGE_NAME) => own_shared_stages().iter().any(|s| s == parent),
+        Some(n) => n.strip_prefix(STAGE_PREFIX) == Some(process_tag()),
+        None => false,
+    }
+}
+
+/// The shared stages ([`STAGE_NAME`]) of the output directories this
+/// process holds the lock of, while it does ([`OutDir`] adds and removes
+/// them). Apart from the registry of [`live`] stages, which
+/// [`OutDir::commit`] holds while it writes the manifest.
+static OWN_SHARED_STAGES: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+fn own_shared_stages() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    OWN_SHARED_STAGES.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 /// [`write_atomic`] in this process's staging directory: `path` created
@@ -434,8 +449,18 @@ pub const LOCK_NAME: &str = ".tippetop.lock";
 /// it lists are ever removed by a later command.
 pub const MANIFEST_NAME: &str = ".tippetop-manifest";
 
-/// Prefix of the staging directory (`DIR/.tippetop-stage-PID-RANDOM`) where a
-/// command writes its files before [`OutDir::commit`] moves them into place.
+/// The staging directory (`DIR/.tippetop-stage`) where a command writes its
+/// files before [`OutDir::commit`] moves them into place. Used only by the
+/// holder of the directory's lock, so commands take turns in it: it is
+/// emptied when a command takes it, left empty after a commit (creating and
+/// removing a directory each time cost every command ~0.08 ms on ext4:
+/// docs/performance.md, "The speed gate"), and removed when a command
+/// fails or is interrupted by a signal.
+pub const STAGE_NAME: &str = ".tippetop-stage";
+
+/// Prefix of the staging directory of a command that could not lock the
+/// directory (a file system without locks): `DIR/.tippetop-stage-PID-RANDOM`,
+/// its own, removed at the end.
 const STAGE_PREFIX: &str = ".tippetop-stage-";
 
 /// A lock on a directory's [`LOCK_NAME`]: exclusive for the one command
@@ -802,6 +827,9 @@ pub struct OutDir {
     done: bool,
     /// Name of the stage in the registry of live stages.
     id: u64,
+    /// Whether the shared stage ([`STAGE_NAME`]) was there before this
+    /// command: it is then left (emptied) if the command fails.
+    stage_existed: bool,
 }
 
 impl OutDir {
@@ -867,7 +895,11 @@ impl OutDir {
         }
         let mut out = OutDir {
             dir: dir.to_path_buf(),
-            stage: dir.join(format!("{STAGE_PREFIX}{}", process_tag())),
+            stage: if lock.held {
+                dir.join(STAGE_NAME)
+            } else {
+                dir.join(format!("{STAGE_PREFIX}{}", process_tag()))
+            },
             lock: Some(lock),
             created_dir,
             previous: BTreeSet::new(),
@@ -876,6 +908,7 @@ impl OutDir {
             keep: false,
             done: false,
             id: next_id(),
+            stage_existed: false,
         };
         match out.prepare() {
             Ok(()) => Ok(out),
@@ -926,7 +959,11 @@ impl OutDir {
                 .push((self.id, self.dir.clone(), self.stage.clone()));
             publish(&live);
         }
-        create_stage(&self.stage).with_context(|| cannot("creating a staging directory"))?;
+        let shared = self.locked();
+        self.stage_existed = create_stage(&self.stage, shared)?;
+        if shared {
+            own_shared_stages().push(self.stage.clone());
+        }
         self.manifest = read_plain(&self.dir.join(MANIFEST_NAME)).ok();
         let text = self.manifest.as_deref().unwrap_or_default();
         self.previous = manifest_names(text);
@@ -1006,6 +1043,9 @@ impl OutDir {
     /// (its file removed) at the end.
     pub fn commit(mut self, last: &[&str]) -> Result<Vec<String>> {
         let mut names: BTreeSet<String> = BTreeSet::new();
+        // Entries not moved in (hidden names, directories): the stage is
+        // then removed rather than left empty.
+        let mut left = false;
         for e in fs::read_dir(&self.stage)
             .with_context(|| format!("reading {}", self.stage.display()))?
         {
@@ -1013,6 +1053,8 @@ impl OutDir {
             let name = e.file_name().to_string_lossy().into_owned();
             if !name.starts_with('.') && e.file_type().is_ok_and(|t| t.is_file()) {
                 names.insert(name);
+            } else {
+                left = true;
             }
         }
         for (from, _) in &self.adopted {
@@ -1066,7 +1108,7 @@ impl OutDir {
             }
             removed
         };
-        self.cleanup_stage();
+        self.cleanup_stage(true, !left);
         self.done = true;
         Ok(removed)
     }
@@ -1079,10 +1121,23 @@ impl OutDir {
         self.cleanup();
     }
 
-    /// Remove the staging directory and forget it.
-    fn cleanup_stage(&mut self) {
-        // Empty after a commit: one call.
-        if fs::remove_dir(&self.stage).is_err() {
+    /// Forget the staging directory, and remove it, unless it is the shared
+    /// one ([`STAGE_NAME`]) and the command `committed` or found it there:
+    /// then it is left, emptied unless it is known to be `empty`.
+    fn cleanup_stage(&mut self, committed: bool, empty: bool) {
+        let shared = self.stage.file_name().is_some_and(|n| n == STAGE_NAME);
+        if shared {
+            own_shared_stages().retain(|s| s != &self.stage);
+        }
+        if shared && (committed || self.stage_existed) {
+            if !empty {
+                let _ = empty_dir(&self.stage);
+            }
+        } else if fs::remove_dir(&self.stage).is_err()
+            // Never what is not a directory (a planted link or file that
+            // `create_stage` refused).
+            && fs::symlink_metadata(&self.stage).is_ok_and(|m| m.is_dir())
+        {
             let _ = fs::remove_dir_all(&self.stage);
         }
         let mut live = live();
@@ -1095,7 +1150,7 @@ impl OutDir {
             return;
         }
         self.done = true;
-        self.cleanup_stage();
+        self.cleanup_stage(false, false);
         self.lock = None;
         if self.created_dir {
             let _ = fs::remove_dir(&self.dir);
@@ -1109,28 +1164,79 @@ impl Drop for OutDir {
     /// released and its file removed.
     fn drop(&mut self) {
         if !self.done {
-            self.cleanup_stage();
+            self.cleanup_stage(false, false);
         }
     }
 }
 
 /// Create the staging directory `stage`, for this user alone: mode 0700
 /// whatever the umask (one that takes the owner's bits away, e.g. 0277, is
-/// undone), so that the files can then be written into it. (A probe file
-/// written and removed here until 2026-11 cost two journal updates a run;
-/// the lock file's write already fails on a full disk or quota.)
-fn create_stage(stage: &Path) -> io::Result<()> {
+/// undone), so that the files can then be written into it. The `shared`
+/// one ([`STAGE_NAME`], taken under the lock) may exist already: it is
+/// then emptied (of what a killed command left), and refused (exit code 2)
+/// if it is a symbolic link or not a directory. Returns whether it was
+/// there already. (A probe file written and removed here until 2026-11
+/// cost two journal updates a run; the lock file's write already fails on
+/// a full disk or quota.)
+fn create_stage(stage: &Path, shared: bool) -> Result<bool> {
+    let cannot = || {
+        let dir = stage.parent().unwrap_or(stage);
+        format!(
+            "cannot write in {}: creating a staging directory",
+            dir.display()
+        )
+    };
     #[cfg(unix)]
-    {
-        use std::os::unix::fs::{DirBuilderExt, PermissionsExt};
-        fs::DirBuilder::new().mode(0o700).create(stage)?;
-        if fs::symlink_metadata(stage)?.permissions().mode() & 0o700 != 0o700 {
-            fs::set_permissions(stage, fs::Permissions::from_mode(0o700))?;
+    use std::os::unix::fs::{DirBuilderExt, PermissionsExt};
+    let mut builder = fs::DirBuilder::new();
+    #[cfg(unix)]
+    builder.mode(0o700);
+    let existed = match builder.create(stage) {
+        Ok(()) => false,
+        Err(e) if shared && e.kind() == io::ErrorKind::AlreadyExists => {
+            let meta = fs::symlink_metadata(stage).with_context(cannot)?;
+            if !meta.is_dir() {
+                let what = if meta.file_type().is_symlink() {
+                    "is a symbolic link"
+                } else {
+                    "is not a directory"
+                };
+                return Err(tippetop::Error::invalid(
+                    &stage.display().to_string(),
+                    what.to_string(),
+                    "the staging directory tippetop makes there, or nothing; remove it".into(),
+                )
+                .into());
+            }
+            empty_dir(stage).with_context(cannot)?;
+            true
         }
-        Ok(())
+        Err(e) => return Err(e).with_context(cannot),
+    };
+    #[cfg(unix)]
+    if fs::symlink_metadata(stage)
+        .with_context(cannot)?
+        .permissions()
+        .mode()
+        & 0o700
+        != 0o700
+    {
+        fs::set_permissions(stage, fs::Permissions::from_mode(0o700)).with_context(cannot)?;
     }
-    #[cfg(not(unix))]
-    fs::create_dir(stage)
+    Ok(existed)
+}
+
+/// Remove everything in the directory `dir` (links not followed).
+fn empty_dir(dir: &Path) -> io::Result<()> {
+    for e in fs::read_dir(dir)? {
+        let e = e?;
+        if e.file_type()?.is_dir() {
+            fs::remove_dir_all(e.path())?;
+        } else {
+            fs::remove_file(e.path())?;
+        }
+    }
+    Ok(())
 }
 
 /// `flock(file, mode | LOCK_NB)`: `Ok(true)` taken, `Ok(false)` another
@@ -1617,6 +1723,7 @@ pub(crate) mod tests {
             listing(&dir),
             [
                 ".tippetop-manifest",
+                ".tippetop-stage",
                 "notes.txt",
                 "summary.json",
                 "trajectory.csv"
@@ -1697,7 +1804,78 @@ pub(crate) mod tests {
         // Only the finished file, and no temporary one.
         assert_eq!(listing(&stage), ["a.csv"]);
         out.commit(&[]).unwrap();
-        assert_eq!(listing(&dir), [MANIFEST_NAME, "a.csv"]);
+        assert_eq!(listing(&dir), [MANIFEST_NAME, STAGE_NAME, "a.csv"]);
+        // Left empty, and no longer this process's: written through a
+        // temporary file again.
+        assert!(listing(&stage).is_empty());
+        assert!(!in_own_stage(&stage.join("a.csv")));
+    }
+
+    /// The shared stage is created by the first command, left empty by each
+    /// commit, emptied of what a killed command left by the next one, left
+    /// (emptied) by a command that fails if it was there before and removed
+    /// if that command created it; a link or a file in its place is refused
+    /// (exit code 2) and left alone.
+    #[test]
+    fn the_shared_stage_is_reused_emptied_and_never_followed() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        let stage = dir.join(STAGE_NAME);
+        // A command that fails in a new directory leaves nothing.
+        fs::create_dir(&dir).unwrap();
+        let out = OutDir::open(&dir).unwrap();
+        write_bytes_atomic(&out.stage().join("a.csv"), b"a").unwrap();
+        drop(out);
+        assert!(listing(&dir).is_empty());
+        // Created, then left empty by the commit.
+        let out = OutDir::open(&dir).unwrap();
+        assert_eq!(out.stage(), stage);
+        write_bytes_atomic(&stage.join("a.csv"), b"a").unwrap();
+        out.commit(&[]).unwrap();
+        assert!(listing(&stage).is_empty());
+        // What a killed command left in it (a file, a directory of plots)
+        // is gone when the next command takes it.
+        fs::write(stage.join("trajectory.csv"), "half").unwrap();
+        fs::create_dir(stage.join("frames")).unwrap();
+        fs::write(stage.join("frames").join("0.png"), "x").unwrap();
+        let out = OutDir::open(&dir).unwrap();
+        assert!(listing(&stage).is_empty());
+        // A failed command leaves it as it found it: there, empty.
+        write_bytes_atomic(&stage.join("b.csv"), b"b").unwrap();
+        out.abandon();
+        assert_eq!(listing(&dir), [MANIFEST_NAME, STAGE_NAME, "a.csv"]);
+        assert!(listing(&stage).is_empty());
+        // What a commit does not move in is removed.
+        let out = OutDir::open(&dir).unwrap();
+        fs::create_dir(stage.join("sub")).unwrap();
+        fs::write(stage.join(".hidden"), "x").unwrap();
+        out.commit(&[]).unwrap();
+        assert!(listing(&stage).is_empty());
+        fs::remove_dir(&stage).unwrap();
+        // Something else in its place.
+        let elsewhere = tmp.path().join("elsewhere");
+        fs::create_dir(&elsewhere).unwrap();
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink(&elsewhere, &stage).unwrap();
+            let e = OutDir::open(&dir).unwrap_err();
+            let msg = format!("{e:#}");
+            assert!(e.downcast_ref::<tippetop::Error>().is_some(), "{msg}");
+            assert!(msg.contains("is a symbolic link"), "{msg}");
+            assert!(
+                fs::symlink_metadata(&stage)
+                    .unwrap()
+                    .file_type()
+                    .is_symlink()
+            );
+            assert!(listing(&elsewhere).is_empty());
+            fs::remove_file(&stage).unwrap();
+        }
+        fs::write(&stage, "mine").unwrap();
+        let e = OutDir::open(&dir).unwrap_err();
+        assert!(format!("{e:#}").contains("is not a directory"), "{e:#}");
+        assert_eq!(fs::read_to_string(&stage).unwrap(), "mine");
+        assert!(!dir.join(LOCK_NAME).exists());
     }
 
     /// Claimed files (streamed straight into the directory) are in the
@@ -1852,7 +2030,7 @@ pub(crate) mod tests {
         assert!(!stage.exists());
         assert!(!dir.join(".sweep.csv.999999999-0badf00d-3.tmp").exists());
         out.commit(&[]).unwrap();
-        assert_eq!(listing(&dir), [MANIFEST_NAME]);
+        assert_eq!(listing(&dir), [MANIFEST_NAME, STAGE_NAME]);
     }
 
     /// The re-check after locking: a file opened before the holder removed

@@ -365,6 +365,7 @@ fn second_process_on_the_same_out_exits_1() {
         listing(&out),
         [
             ".tippetop-manifest",
+            ".tippetop-stage",
             "shard.json",
             "sweep.csv",
             "sweep.png",
@@ -651,11 +652,7 @@ fn killed_sweep_streams_rows_and_resumes() {
     // kill -9 leaves the lock file and the staging directory: the next
     // command takes them over (issue 26: not a permanent block).
     assert!(out.join(".tippetop.lock").exists());
-    assert!(
-        names(&out)
-            .iter()
-            .any(|n| n.starts_with(".tippetop-stage-"))
-    );
+    assert!(names(&out).iter().any(|n| n == ".tippetop-stage"));
     let o = bin()
         .args(args)
         .args(["--resume", "--out"])
@@ -664,10 +661,14 @@ fn killed_sweep_streams_rows_and_resumes() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(read(&out.join("sweep.csv")), want);
+    // The staging directory is left, emptied of what the killed sweep had
+    // staged.
+    assert!(names(&out.join(".tippetop-stage")).is_empty());
     assert_eq!(
         names(&out),
         [
             ".tippetop-manifest",
+            ".tippetop-stage",
             "shard.json",
             "sweep.csv",
             "sweep.png",
@@ -1018,11 +1019,7 @@ fn a_signal_removes_the_stage_and_the_lock() {
             std::thread::sleep(std::time::Duration::from_millis(5));
         }
         assert!(out.join(".tippetop.lock").exists());
-        assert!(
-            names(&out)
-                .iter()
-                .any(|n| n.starts_with(".tippetop-stage-"))
-        );
+        assert!(names(&out).iter().any(|n| n == ".tippetop-stage"));
         // SAFETY: kill(2) of our own child.
         assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, sig) }, 0);
         let status = child.wait().unwrap();
@@ -1228,7 +1225,12 @@ fn merge_checks_what_it_joins() {
     );
     assert_eq!(
         names(&shards[0]),
-        [".tippetop-manifest", "shard.json", "sweep.csv"]
+        [
+            ".tippetop-manifest",
+            ".tippetop-stage",
+            "shard.json",
+            "sweep.csv"
+        ]
     );
     let _ = std::fs::remove_dir_all(&d);
 }
