@@ -2,7 +2,7 @@
 
 Usage (from the repository root, after `cargo build --release`):
 
-    python3 benches/compare/against.py OLD_BIN [NEW_BIN] [--reps 21] [--callgrind] [--case N]
+    python3 benches/compare/against.py OLD_BIN [NEW_BIN] [--reps 21] [--callgrind] [--case N] [--loops K]
 
 OLD_BIN is e.g. 47b3e75's release binary (built from `git worktree add
 --detach /tmp/old 47b3e75`); NEW_BIN defaults to target/release/tippetop.
@@ -98,6 +98,13 @@ def main():
     ap.add_argument("--reps", type=int, default=21)
     ap.add_argument("--callgrind", action="store_true")
     ap.add_argument(
+        "--loops",
+        type=int,
+        default=1,
+        help="repeat the timed runs this many times and print each loop's wall ratio "
+        "(the table shows the medians over all runs)",
+    )
+    ap.add_argument(
         "--case",
         type=int,
         action="append",
@@ -130,16 +137,21 @@ def main():
             sys.exit(f"{name}: not the same work (steps, rhs) {wo} against {wn}")
         ir = (instructions(co), instructions(cn)) if a.callgrind else (None, None)
         walls, cpus = ([], []), ([], [])
-        for r in range(a.reps):
-            # ABBA order: each binary follows itself as often as the other
-            # (a process right after one of the same binary starts faster,
-            # its code still in the CPU's caches: 3-5 % here).
-            for k in (0, 1) if r % 2 == 0 else (1, 0):
-                w, c = timed((co, cn)[k])
-                walls[k].append(w)
-                cpus[k].append(c)
+        per_loop = []
+        for _ in range(a.loops):
+            lw = ([], [])
+            for r in range(a.reps):
+                # ABBA order: each binary follows itself as often as the other
+                # (a process right after one of the same binary starts faster,
+                # its code still in the CPU's caches: 3-5 % here).
+                for k in (0, 1) if r % 2 == 0 else (1, 0):
+                    w, c = timed((co, cn)[k])
+                    walls[k].append(w)
+                    cpus[k].append(c)
+                    lw[k].append(w)
+            per_loop.append(statistics.median(lw[1]) / statistics.median(lw[0]))
         med = [statistics.median(x) for x in walls + cpus]
-        rows.append((name, wn, ir, med))
+        rows.append((name, wn, ir, med, per_loop))
         print(f"{name}: done", file=sys.stderr)
     print(
         f"{platform.node()}, {os.cpu_count()} CPUs, load {os.getloadavg()[0]:.2f}, "
@@ -148,7 +160,7 @@ def main():
     )
     print("| case | steps / RHS | Ir old | Ir new | ratio | wall old / new [ms] | ratio | CPU old / new [ms] | ratio |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for name, (steps, rhs), (io, inn), (wo, wn, co, cn) in rows:
+    for name, (steps, rhs), (io, inn), (wo, wn, co, cn), _ in rows:
         irs = (
             f"{io / 1e6:.2f} M | {inn / 1e6:.2f} M | **{inn / io:.3f}**"
             if io and inn
@@ -158,6 +170,13 @@ def main():
             f"| {name} | {steps} / {rhs} | {irs} | {wo * 1e3:.1f} / {wn * 1e3:.1f} | "
             f"**{wn / wo:.3f}** | {co * 1e3:.1f} / {cn * 1e3:.1f} | **{cn / co:.3f}** |"
         )
+    if a.loops > 1:
+        print(f"\nWall ratio (new / old) of each loop of {a.reps} runs of each:")
+        for name, _, _, _, per_loop in rows:
+            print(
+                f"- {name}: {', '.join(f'{x:.3f}' for x in per_loop)} "
+                f"(range {min(per_loop):.3f}-{max(per_loop):.3f})"
+            )
 
 
 if __name__ == "__main__":
