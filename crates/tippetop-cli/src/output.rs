@@ -451,7 +451,8 @@ pub const MANIFEST_NAME: &str = ".tippetop-manifest";
 
 /// The staging directory (`DIR/.tippetop-stage`) where a command writes its
 /// files before [`OutDir::commit`] moves them into place. Used only by the
-/// holder of the directory's lock, so commands take turns in it: it is
+/// holder of the directory's lock (and only if it is the user's own, not
+/// another user's), so commands take turns in it: it is
 /// emptied when a command takes it, left empty after a commit (creating and
 /// removing a directory each time cost every command ~0.08 ms on ext4:
 /// docs/performance.md, "The speed gate"), and removed when a command
@@ -459,8 +460,9 @@ pub const MANIFEST_NAME: &str = ".tippetop-manifest";
 pub const STAGE_NAME: &str = ".tippetop-stage";
 
 /// Prefix of the staging directory of a command that could not lock the
-/// directory (a file system without locks): `DIR/.tippetop-stage-PID-RANDOM`,
-/// its own, removed at the end.
+/// directory (a file system without locks), or that found [`STAGE_NAME`]
+/// to be another user's: `DIR/.tippetop-stage-PID-RANDOM`, its own,
+/// removed at the end.
 const STAGE_PREFIX: &str = ".tippetop-stage-";
 
 /// A lock on a directory's [`LOCK_NAME`]: exclusive for the one command
@@ -895,7 +897,7 @@ impl OutDir {
         }
         let mut out = OutDir {
             dir: dir.to_path_buf(),
-            stage: if lock.held {
+            stage: if lock.held && !foreign_stage(&dir.join(STAGE_NAME)) {
                 dir.join(STAGE_NAME)
             } else {
                 dir.join(format!("{STAGE_PREFIX}{}", process_tag()))
@@ -959,7 +961,7 @@ impl OutDir {
                 .push((self.id, self.dir.clone(), self.stage.clone()));
             publish(&live);
         }
-        let shared = self.locked();
+        let shared = self.stage.file_name().is_some_and(|n| n == STAGE_NAME);
         self.stage_existed = create_stage(&self.stage, shared)?;
         if shared {
             own_shared_stages().push(self.stage.clone());
@@ -1224,6 +1226,24 @@ fn create_stage(stage: &Path, shared: bool) -> Result<bool> {
         fs::set_permissions(stage, fs::Permissions::from_mode(0o700)).with_context(cannot)?;
     }
     Ok(existed)
+}
+
+/// Whether `stage` is a directory of another user (an output directory that
+/// several users write into, in turn): a command then stages its files in a
+/// directory of its own, as without the lock, and leaves that one alone.
+fn foreign_stage(stage: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        // SAFETY: geteuid(2) has no preconditions.
+        let me = unsafe { libc::geteuid() };
+        fs::symlink_metadata(stage).is_ok_and(|m| m.is_dir() && m.uid() != me)
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = stage;
+        false
+    }
 }
 
 /// Remove everything in the directory `dir` (links not followed).
@@ -1809,6 +1829,38 @@ pub(crate) mod tests {
         // temporary file again.
         assert!(listing(&stage).is_empty());
         assert!(!in_own_stage(&stage.join("a.csv")));
+    }
+
+    /// Another user's shared stage (a directory several users write into) is
+    /// left alone: the command stages in a directory of its own, removed at
+    /// the end. Needs root (to give the stage away); skipped otherwise.
+    #[cfg(unix)]
+    #[test]
+    fn another_users_shared_stage_is_left_alone() {
+        // SAFETY: geteuid(2) has no preconditions.
+        if unsafe { libc::geteuid() } != 0 {
+            eprintln!("skipped: needs root to give a directory to another user");
+            return;
+        }
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("out");
+        let stage = dir.join(STAGE_NAME);
+        fs::create_dir_all(&stage).unwrap();
+        fs::write(stage.join("theirs.csv"), "x").unwrap();
+        std::os::unix::fs::chown(&stage, Some(54_321), Some(54_321)).unwrap();
+        let out = OutDir::open(&dir).unwrap();
+        assert_ne!(out.stage(), stage);
+        assert!(
+            out.stage()
+                .file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with(STAGE_PREFIX)
+        );
+        write_bytes_atomic(&out.stage().join("a.csv"), b"a").unwrap();
+        out.commit(&[]).unwrap();
+        assert_eq!(listing(&dir), [MANIFEST_NAME, STAGE_NAME, "a.csv"]);
+        assert_eq!(listing(&stage), ["theirs.csv"]);
     }
 
     /// The shared stage is created by the first command, left empty by each
