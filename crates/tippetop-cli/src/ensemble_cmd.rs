@@ -200,7 +200,13 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
         }
     }
 
-    let mut w = PartialWriter::open(&dir, PARTIAL_CSV, &ensemble::csv_header(), &kept)?;
+    let mut w = PartialWriter::open(
+        &dir,
+        PARTIAL_CSV,
+        &ensemble::csv_header(),
+        &info.fingerprint,
+        &kept,
+    )?;
     if !quiet && kept.rows > 0 {
         eprintln!(
             "resuming: {} of {} runs kept from {} (verified against its checkpoints)",
@@ -357,6 +363,7 @@ fn kept_rows(
         keys: "--set, --runs and --shard",
         quiet,
         range_len: range.len(),
+        fingerprint: &info.fingerprint,
     };
     let described = |o: &EnsembleShard| {
         format!(
@@ -424,15 +431,21 @@ fn read_stats(csv_partial: &Path) -> Result<EnsembleStats> {
     Ok(acc.finish())
 }
 
+/// The ensemble's statistics for people: 4 significant figures with units
+/// (summary.json has them at full precision).
 fn print_stats(stats: &EnsembleStats) {
+    let g = |x: f64| tippetop::human::sig(x, 4);
     let show = |name: &str, m: &ensemble::MeanCi, unit: &str| match (m.mean, m.ci95) {
         (Some(mean), Some([lo, hi])) => {
             println!(
-                "{name:<14} {mean:.6e} {unit} (95 % CI {lo:.6e} .. {hi:.6e}, n = {})",
+                "{name:<14} {} {unit} (95 % CI {} .. {}, n = {})",
+                g(mean),
+                g(lo),
+                g(hi),
                 m.n
             )
         }
-        (Some(mean), None) => println!("{name:<14} {mean:.6e} {unit} (n = {})", m.n),
+        (Some(mean), None) => println!("{name:<14} {} {unit} (n = {})", g(mean), m.n),
         _ => {}
     };
     show("theta_final", &stats.theta_final, "rad");
@@ -442,8 +455,12 @@ fn print_stats(stats: &EnsembleStats) {
     let fp = &stats.first_passage;
     if let Some(r) = &fp.escape_rate {
         println!(
-            "passage rate   {:.6e} 1/s (95 % CI {:.6e} .. {:.6e}; {} passages in {:.6e} s at risk; an escape rate if passages are Poisson)",
-            r.rate, r.ci95[0], r.ci95[1], r.passages, r.exposure
+            "passage rate   {} 1/s (95 % CI {} .. {}; {} passages in {} s at risk; an escape rate if passages are Poisson)",
+            g(r.rate),
+            g(r.ci95[0]),
+            g(r.ci95[1]),
+            r.passages,
+            g(r.exposure)
         );
     }
     println!(
@@ -452,7 +469,7 @@ fn print_stats(stats: &EnsembleStats) {
         fp.censored,
         fp.kaplan_meier_median
             .map_or("not reached (over half censored)".to_string(), |t| {
-                format!("{t:.6e} s")
+                format!("{} s", g(t))
             })
     );
 }

@@ -8,7 +8,7 @@
 //! write leaves any previous version in place, and two writers never share a
 //! temporary file.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Read, Seek, Write};
 use std::path::{Path, PathBuf};
@@ -444,10 +444,51 @@ fn is_link_error(e: &io::Error) -> bool {
 /// ([`DirLock`]); one left by a killed process (`kill -9`) is taken over.
 pub const LOCK_NAME: &str = ".tippetop.lock";
 
-/// The manifest of an output directory: the names of the files the last
-/// command wrote into it, one per line after a `#` comment line. Only files
-/// it lists are ever removed by a later command.
+/// The manifest of an output directory: the files the last command wrote
+/// into it, one per line after `#` comment lines: `NAME<TAB>SIZE<TAB>HASH`,
+/// the file's size in bytes and the XXH3-64 hash of its bytes (16 hex
+/// digits) as the command wrote it ([`Record`]), or `NAME` alone for a
+/// partial file a command streams into the directory as it runs
+/// (`NAME.partial`, `NAME.partial.sum`, see [`OutDir::claim`]).
+///
+/// A manifest is a claim that anyone who can write the directory can make:
+/// a later command removes a listed file only when it is still what
+/// tippetop wrote, its size and hash those recorded, or, for a name
+/// without a record, when it is a partial file's name. Any other listed
+/// file (a forged line, an old manifest's name without a record, a file
+/// the user has since replaced) is left alone, with a note on stderr. The
+/// hash tells a file that changed or that tippetop did not write from its
+/// own; it is not a signature (someone who can read a file and write the
+/// manifest can record its hash).
 pub const MANIFEST_NAME: &str = ".tippetop-manifest";
+
+/// What the manifest records of a file tippetop wrote: its size and the
+/// XXH3-64 hash of its bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Record {
+    /// Size \[bytes\].
+    pub size: u64,
+    /// XXH3-64 of the bytes.
+    pub hash: u64,
+}
+
+impl Record {
+    /// The record of the file at `path` as it is now (read without
+    /// following a link), `None` if it cannot be read.
+    fn of(path: &Path) -> Option<Record> {
+        let bytes = read_plain(path).ok()?;
+        Some(Record {
+            size: bytes.len() as u64,
+            hash: xxhash_rust::xxh3::xxh3_64(&bytes),
+        })
+    }
+}
+
+/// Whether a name listed without a [`Record`] may be removed: the name of
+/// a partial file that a command streams as it runs and a kill leaves.
+fn is_partial_name(name: &str) -> bool {
+    name.ends_with(".partial") || name.ends_with(".partial.sum")
+}
 
 /// The staging directory (`DIR/.tippetop-stage`) where a command writes its
 /// files before [`OutDir::commit`] moves them into place. Used only by the
@@ -816,8 +857,9 @@ pub struct OutDir {
     /// The directory's lock (not held on a file system without locks).
     lock: Option<DirLock>,
     created_dir: bool,
-    /// Files of the previous command (its manifest) and files claimed since.
-    previous: BTreeSet<String>,
+    /// Files of the previous command (its manifest, with what it records
+    /// of each) and files claimed since.
+    previous: BTreeMap<String, Option<Record>>,
     /// The manifest's bytes as this command last read or wrote them
     /// (`None`: none), read once in [`OutDir::open`]: the lock keeps other
     /// tippetop processes from writing it meanwhile.
@@ -904,7 +946,7 @@ impl OutDir {
             },
             lock: Some(lock),
             created_dir,
-            previous: BTreeSet::new(),
+            previous: BTreeMap::new(),
             manifest: None,
             adopted: Vec::new(),
             keep: false,
@@ -1013,7 +1055,9 @@ impl OutDir {
     /// into the directory (e.g. a partial file streamed as it is computed),
     /// so that a later command removes them if this one is interrupted.
     pub fn claim(&mut self, names: &[&str]) -> Result<()> {
-        self.previous.extend(names.iter().map(|n| n.to_string()));
+        debug_assert!(names.iter().all(|n| is_partial_name(n)), "{names:?}");
+        self.previous
+            .extend(names.iter().map(|n| (n.to_string(), None)));
         self.refresh_manifest();
         write_manifest(&self.dir, &self.previous, &mut self.manifest)
     }
@@ -1063,24 +1107,33 @@ impl OutDir {
             check_plain(&self.dir.join(from))?;
         }
         names.extend(self.adopted.iter().map(|(_, to)| to.clone()));
+        let (adopted, dir, stage) = (self.adopted.clone(), self.dir.clone(), self.stage.clone());
+        let source = |name: &str| -> PathBuf {
+            match adopted.iter().find(|(_, to)| to == name) {
+                Some((from, _)) => dir.join(from),
+                None => stage.join(name),
+            }
+        };
+        // What the manifest records of each new file, from its bytes as
+        // written (the rename below moves them unchanged).
+        let mut written: BTreeMap<String, Option<Record>> = BTreeMap::new();
+        for name in &names {
+            let record = Record::of(&source(name))
+                .with_context(|| format!("reading {}", source(name).display()))?;
+            written.insert(name.clone(), Some(record));
+        }
         let removed = {
             // A signal from here on waits for the end of the block.
             #[cfg(unix)]
             let _committing = signals::Committing::begin();
             let _moving = live();
             let mut all = self.previous.clone();
-            all.extend(names.iter().cloned());
+            all.extend(written.iter().map(|(n, r)| (n.clone(), *r)));
             self.refresh_manifest();
             write_manifest(&self.dir, &all, &mut self.manifest)?;
             for l in last.iter().filter(|l| names.contains(**l)) {
                 remove_if_present(&self.dir.join(l))?;
             }
-            let source = |name: &str| -> PathBuf {
-                match self.adopted.iter().find(|(_, to)| to == name) {
-                    Some((from, _)) => self.dir.join(from),
-                    None => self.stage.join(name),
-                }
-            };
             let (tail, head): (Vec<&String>, Vec<&String>) =
                 names.iter().partition(|n| last.contains(&n.as_str()));
             for (k, name) in head.into_iter().chain(tail).enumerate() {
@@ -1094,19 +1147,38 @@ impl OutDir {
             let mut removed = Vec::new();
             // The list written before the move stands unless some of the
             // previous command's files are to go.
-            let write_again = !self.keep && names != all;
+            let write_again = !self.keep && written != all;
             if self.keep {
-                names = all;
+                written = all;
             }
-            for stale in self.previous.difference(&names) {
+            for (stale, record) in &self.previous {
+                if written.contains_key(stale) {
+                    continue;
+                }
                 let p = self.dir.join(stale);
-                if fs::symlink_metadata(&p).is_ok_and(|m| !m.is_dir()) {
-                    remove_if_present(&p)?;
-                    removed.push(stale.clone());
+                if !fs::symlink_metadata(&p).is_ok_and(|m| !m.is_dir()) {
+                    continue;
+                }
+                let why = match record {
+                    Some(r) if Record::of(&p) == Some(*r) => None,
+                    Some(_) => Some("its size or bytes are not those recorded"),
+                    None if is_partial_name(stale) => None,
+                    None => Some("no size and hash recorded for it"),
+                };
+                match why {
+                    None => {
+                        remove_if_present(&p)?;
+                        removed.push(stale.clone());
+                    }
+                    Some(why) => eprintln!(
+                        "note: {}: listed in {} but not as tippetop wrote it ({why}): left alone",
+                        p.display(),
+                        self.dir.join(MANIFEST_NAME).display()
+                    ),
                 }
             }
             if write_again {
-                write_manifest(&self.dir, &names, &mut self.manifest)?;
+                write_manifest(&self.dir, &written, &mut self.manifest)?;
             }
             removed
         };
@@ -1343,22 +1415,39 @@ fn remove_if_present(path: &Path) -> Result<()> {
 /// make the tool remove anything outside the directory.
 pub fn read_manifest(dir: &Path) -> BTreeSet<String> {
     manifest_names(&read_plain(&dir.join(MANIFEST_NAME)).unwrap_or_default())
+        .into_keys()
+        .collect()
 }
 
-/// The file names a manifest's text lists (see [`read_manifest`]).
-fn manifest_names(bytes: &[u8]) -> BTreeSet<String> {
+/// The file names a manifest's text lists, each with its [`Record`] if the
+/// line has one (see [`read_manifest`], [`MANIFEST_NAME`]).
+fn manifest_names(bytes: &[u8]) -> BTreeMap<String, Option<Record>> {
     String::from_utf8_lossy(bytes)
         .lines()
-        .map(str::trim)
-        .filter(|l| {
+        .map(|l| {
+            let f: Vec<&str> = l.split('\t').collect();
+            let record = match f.as_slice() {
+                [_, size, hash] => size.parse().ok().zip(
+                    (hash.len() == 16)
+                        .then(|| u64::from_str_radix(hash, 16).ok())
+                        .flatten(),
+                ),
+                _ => None,
+            };
+            match record {
+                Some((size, hash)) => (f[0].trim(), Some(Record { size, hash })),
+                None => (l.trim(), None),
+            }
+        })
+        .filter(|(l, _)| {
             !l.is_empty()
                 && !l.starts_with('#')
                 && !l.starts_with(".tippetop")
                 && *l != "."
                 && *l != ".."
-                && !l.contains(['/', '\\'])
+                && !l.contains(['/', '\\', '\t'])
         })
-        .map(str::to_string)
+        .map(|(l, r)| (l.to_string(), r))
         .collect()
 }
 
@@ -1383,7 +1472,7 @@ fn manifest_owner(bytes: &[u8]) -> Option<String> {
 /// read or wrote them (`None`: there is none), updated here.
 fn write_manifest(
     dir: &Path,
-    names: &BTreeSet<String>,
+    names: &BTreeMap<String, Option<Record>>,
     current: &mut Option<Vec<u8>>,
 ) -> Result<()> {
     let owner_before = || current.as_deref().and_then(manifest_owner);
@@ -1398,8 +1487,11 @@ fn write_manifest(
     if let Some(c) = owner {
         text.push_str(&format!("# command: {c}\n"));
     }
-    for n in names {
+    for (n, record) in names {
         text.push_str(n);
+        if let Some(r) = record {
+            text.push_str(&format!("\t{}\t{:016x}", r.size, r.hash));
+        }
         text.push('\n');
     }
     let path = dir.join(MANIFEST_NAME);

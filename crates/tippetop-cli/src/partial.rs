@@ -4,14 +4,20 @@
 //!
 //! Beside `DIR/NAME.partial` (header, then one row per case or run, in
 //! order) the command keeps `DIR/NAME.partial.sum`, its checkpoints: after
-//! a `#` comment line, one line per flush of the CSV,
+//! a `#` comment line, the line `fingerprint FP` (the fingerprint of the
+//! run the rows belong to: the scenario, its `--set`s, the grid or the
+//! number of runs), then one line per flush of the CSV,
 //! `ROWS BYTES HASH [EXTRA]`: the CSV's first `BYTES` bytes (the header and
 //! `ROWS` rows) have the FNV-1a 64-bit hash `HASH` (16 hex digits); `EXTRA`
 //! is the hash of a file written with them (the ensemble's histogram
 //! checkpoint). A checkpoint line is appended only once the bytes it covers
 //! are written, so a kill leaves checkpoints that hold.
 //!
-//! [`verify`] (for `--resume`) walks the checkpoints over the CSV: an
+//! [`verify`] (for `--resume`) first checks the fingerprint against the
+//! resuming run's: the partial files of another run (another scenario, or
+//! the same one with another `solver.samples`, say), copied in beside this
+//! run's description, are refused even though their rows and checkpoints
+//! agree with each other. It then walks the checkpoints over the CSV: an
 //! edited, removed or inserted byte before the last checkpoint makes a hash
 //! differ, and the partial is refused (one line naming the file and its
 //! lines; exit code 2). The verified rows are also checked one by one by
@@ -148,6 +154,10 @@ impl Checkpoint {
     }
 }
 
+/// The start of the line of a checkpoint file that names the run's
+/// fingerprint (after the comment, before the checkpoints).
+pub const FINGERPRINT_KEY: &str = "fingerprint ";
+
 /// The first line of a checkpoint file.
 const SUM_COMMENT: &str = "# tippetop checkpoints of the partial CSV beside this file: rows, bytes, FNV-1a 64 of those bytes [, of the checkpoint file written with them]\n";
 
@@ -175,6 +185,9 @@ pub struct Names<'a> {
     pub what: &'a str,
     /// What a row is, for messages: `case`, `run`, `point`.
     pub unit: &'a str,
+    /// The fingerprint of the run that resumes (its shard description's
+    /// `fingerprint`): the checkpoint file must name it.
+    pub fingerprint: &'a str,
 }
 
 /// Check the partial CSV `names.partial` and its checkpoints for
@@ -195,6 +208,7 @@ pub fn verify(
         partial,
         what,
         unit,
+        fingerprint,
     } = *names;
     let path = dir.join(partial);
     let sum_path = dir.join(sum_name(partial));
@@ -221,7 +235,7 @@ pub fn verify(
     }
     let sum = read_plain(&sum_path)?;
     let sum = String::from_utf8_lossy(&sum);
-    let cps = match read_checkpoints(&sum, &sum_path, what) {
+    let cps = match read_checkpoints(&sum, &sum_path, what, fingerprint) {
         Ok(c) => c,
         Err(msg) => return Ok(Err(msg)),
     };
@@ -319,15 +333,19 @@ fn refusal(at: String, what_is_wrong: String, what: &str) -> String {
 }
 
 /// The checkpoints of a `.sum` file (`sum`, read from `sum_path`) with
-/// their line numbers, up to a torn last line. `Err`: the message refusing
-/// a line that is not a checkpoint or goes backwards.
+/// their line numbers, up to a torn last line, once its `fingerprint` line
+/// has named `fingerprint`. `Err`: the message refusing a file without
+/// that line or with another run's fingerprint, or a line that is not a
+/// checkpoint or goes backwards.
 fn read_checkpoints(
     sum: &str,
     sum_path: &Path,
     what: &str,
+    fingerprint: &str,
 ) -> std::result::Result<Vec<(usize, Checkpoint)>, String> {
     let refuse = |at: String, what_is_wrong: String| Err(refusal(at, what_is_wrong, what));
     let mut cps: Vec<(usize, Checkpoint)> = Vec::new();
+    let mut named = false;
     for (i, line) in sum.split_inclusive('\n').enumerate() {
         let Some(body) = line.strip_suffix('\n') else {
             // A torn last line: the checkpoint was being written.
@@ -335,6 +353,34 @@ fn read_checkpoints(
         };
         if body.starts_with('#') {
             continue;
+        }
+        if !named {
+            let at = format!("{}:{}", sum_path.display(), i + 1);
+            match body.strip_prefix(FINGERPRINT_KEY) {
+                Some(fp) if fp == fingerprint => {
+                    named = true;
+                    continue;
+                }
+                Some(fp) => {
+                    return refuse(
+                        at,
+                        format!(
+                            "the checkpoints of another {what} (fingerprint {fp}), not of this \
+                             one ({fingerprint}): the rows beside them are not this {what}'s"
+                        ),
+                    );
+                }
+                None => {
+                    return refuse(
+                        at,
+                        format!(
+                            "no fingerprint line (`{FINGERPRINT_KEY}{fingerprint}` for this \
+                             {what}) before the checkpoints: the rows beside them cannot be \
+                             told to be this {what}'s"
+                        ),
+                    );
+                }
+            }
         }
         let Some(cp) = Checkpoint::parse(body) else {
             return refuse(
@@ -447,8 +493,14 @@ impl PartialWriter {
     /// Open `dir/partial` (never through a link) to continue after the
     /// rows `kept` (the file is cut there; the checkpoint file rewritten to
     /// the kept checkpoints), or, with nothing kept, from a fresh `header`
-    /// (with its `\n`).
-    pub fn open(dir: &Path, partial: &str, header: &str, kept: &Kept) -> Result<PartialWriter> {
+    /// (with its `\n`); the checkpoint file names the run's `fingerprint`.
+    pub fn open(
+        dir: &Path,
+        partial: &str,
+        header: &str,
+        fingerprint: &str,
+        kept: &Kept,
+    ) -> Result<PartialWriter> {
         let path = dir.join(partial);
         let sum_path = dir.join(sum_name(partial));
         let mut file = open_plain(
@@ -476,6 +528,7 @@ impl PartialWriter {
             file.write_all(header.as_bytes()).with_context(writing)?;
         }
         let mut text = String::from(SUM_COMMENT);
+        text.push_str(&format!("{FINGERPRINT_KEY}{fingerprint}\n"));
         for c in &cps {
             text.push_str(&c.line());
         }

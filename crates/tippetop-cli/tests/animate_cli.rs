@@ -181,7 +181,7 @@ fn classical_run_replayed_small_gif_and_viewer() {
         "summary.json",
     ] {
         assert!(
-            manifest.lines().any(|l| l == name),
+            manifest.lines().any(|l| l.split('\t').next() == Some(name)),
             "{name} not in {manifest}"
         );
     }

@@ -879,7 +879,7 @@ fn resume_ends_with_the_same_bytes() {
     std::fs::write(part.join("shard.json.partial"), &info).unwrap();
     std::fs::write(
         part.join("bitmap.csv.partial.sum"),
-        checkpoints(&full[..cut - 10]),
+        checkpoints(&info, &full[..cut - 10]),
     )
     .unwrap();
     let mut resumed = args.to_vec();
@@ -1057,7 +1057,7 @@ fn resumed_bit_ensemble_is_byte_identical() {
     std::fs::write(part.join("shard.json.partial"), &info).unwrap();
     std::fs::write(
         part.join("runs.csv.partial.sum"),
-        checkpoints(&full[..cut - 7]),
+        checkpoints(&info, &full[..cut - 7]),
     )
     .unwrap();
     let o = bin()
@@ -1124,7 +1124,8 @@ fn kill_part_way(
     let mut child = cmd.spawn().unwrap();
     let sum = out.join(format!("{partial}.sum"));
     let t0 = std::time::Instant::now();
-    while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 3 {
+    // The comment, the fingerprint and two checkpoints.
+    while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 4 {
         assert!(
             child.try_wait().unwrap().is_none(),
             "ended before a checkpoint"
@@ -1295,7 +1296,11 @@ fn bit_partials_refuse_links_and_corruption() {
                 serde_json::to_string_pretty(&info).unwrap() + "\n",
             )
             .unwrap();
-            std::fs::write(part.join(format!("{partial}.sum")), checkpoints(&kept)).unwrap();
+            std::fs::write(
+                part.join(format!("{partial}.sum")),
+                checkpoints(&info.to_string(), &kept),
+            )
+            .unwrap();
             let o = bit(&d, file, "part", &with_resume);
             refused(&o, &["error: --resume: ", &words]);
             assert_eq!(std::fs::read_to_string(part.join(&partial)).unwrap(), text);

@@ -176,7 +176,7 @@ fn resumed_ensemble_is_byte_identical() {
         std::fs::copy(d.join("whole/shard.json"), part.join("shard.json.partial")).unwrap();
         std::fs::write(
             part.join("ensemble.csv.partial.sum"),
-            checkpoints(&csv[..ends[kept]]),
+            checkpoints(&read(&d.join("whole/shard.json")), &csv[..ends[kept]]),
         )
         .unwrap();
         let name = format!("part{kept}");
@@ -517,7 +517,8 @@ fn killed_ensemble_resumes_byte_identical() {
             .unwrap();
         let sum = out.join("ensemble.csv.partial.sum");
         let t0 = std::time::Instant::now();
-        while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 3 {
+        // The comment, the fingerprint and two checkpoints.
+        while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 4 {
             assert!(
                 child.try_wait().unwrap().is_none(),
                 "the ensemble ended early"
@@ -575,7 +576,11 @@ fn resume_refuses_links_and_corrupted_partials() {
         std::fs::create_dir_all(&part).unwrap();
         std::fs::write(part.join("ensemble.csv.partial"), text).unwrap();
         std::fs::copy(d.join("whole/shard.json"), part.join("shard.json.partial")).unwrap();
-        std::fs::write(part.join("ensemble.csv.partial.sum"), checkpoints(kept)).unwrap();
+        std::fs::write(
+            part.join("ensemble.csv.partial.sum"),
+            checkpoints(&read(&d.join("whole/shard.json")), kept),
+        )
+        .unwrap();
     };
     let edit = |f: &dyn Fn(&str) -> String| -> String {
         let mut v: Vec<String> = lines[..5].iter().map(|l| l.to_string()).collect();

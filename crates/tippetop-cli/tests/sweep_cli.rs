@@ -561,7 +561,7 @@ fn resumed_sweep_is_byte_identical() {
             std::fs::write(part.join("shard.json.partial"), &json).unwrap();
             std::fs::write(
                 part.join("sweep.csv.partial.sum"),
-                checkpoints(&csv[..ends[rows_kept]]),
+                checkpoints(&json, &csv[..ends[rows_kept]]),
             )
             .unwrap();
             let mut args = extra.clone();
@@ -595,7 +595,11 @@ fn resumed_sweep_is_byte_identical() {
     assert_eq!(read(&part.join("sweep.csv")), want);
     std::fs::write(part.join("sweep.csv.partial"), &text).unwrap();
     std::fs::copy(part.join("shard.json"), part.join("shard.json.partial")).unwrap();
-    std::fs::write(part.join("sweep.csv.partial.sum"), checkpoints(&text)).unwrap();
+    std::fs::write(
+        part.join("sweep.csv.partial.sum"),
+        checkpoints(&read(&part.join("shard.json")), &text),
+    )
+    .unwrap();
     let o = sweep(&part, &["--shard", "2/3", "--resume"]);
     refused(&o, &["sweep.csv.partial: 6 rows, more than the 3 cases"]);
     let _ = std::fs::remove_dir_all(&d);
@@ -840,7 +844,7 @@ fn resume_refuses_corrupted_partials() {
     let ends: Vec<usize> = csv.match_indices('\n').map(|(i, _)| i + 1).collect();
     // An interrupted sweep: the header and 5 rows, all checkpointed.
     let kept = &csv[..ends[5]];
-    let sums = checkpoints(kept);
+    let sums = checkpoints(&json, kept);
     let part = d.join("part");
     let setup = |partial: &str, sum: &str| {
         let _ = std::fs::remove_dir_all(&part);
@@ -919,11 +923,14 @@ fn resume_refuses_corrupted_partials() {
         let other = if last == '0' { '1' } else { '0' };
         format!("{}{other}\n", &body[..body.len() - 1])
     };
+    // The comment and the fingerprint line, then a line that is not a
+    // checkpoint.
+    let not_one = sums.lines().take(2).collect::<Vec<_>>().join("\n") + "\n0 12 zz\n";
     for (sum, words) in [
         (bad_sum.as_str(), "does not match its checksum in "),
         (
-            "# x\n0 12 zz\n",
-            "sweep.csv.partial.sum:2: not a checkpoint",
+            not_one.as_str(),
+            "sweep.csv.partial.sum:3: not a checkpoint",
         ),
     ] {
         setup(kept, sum);
@@ -1013,7 +1020,8 @@ fn a_signal_removes_the_stage_and_the_lock() {
         // Until rows are checkpointed.
         let sum = out.join("sweep.csv.partial.sum");
         let t0 = std::time::Instant::now();
-        while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 3 {
+        // The comment, the fingerprint and two checkpoints.
+        while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 4 {
             assert!(child.try_wait().unwrap().is_none(), "the sweep ended early");
             assert!(t0.elapsed().as_secs() < 60, "no checkpoint after 60 s");
             std::thread::sleep(std::time::Duration::from_millis(5));
@@ -1077,7 +1085,10 @@ fn a_signal_during_the_commit_waits_for_its_end() {
         );
         let manifest = read(&out.join(".tippetop-manifest"));
         for f in ["scenario.toml", "summary.json", "trajectory.csv"] {
-            assert!(manifest.lines().any(|l| l == f), "{manifest}");
+            assert!(
+                manifest.lines().any(|l| l.split('\t').next() == Some(f)),
+                "{manifest}"
+            );
         }
         let summary: serde_json::Value =
             serde_json::from_str(&read(&out.join("summary.json"))).unwrap();

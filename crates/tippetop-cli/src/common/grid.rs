@@ -134,6 +134,7 @@ pub fn stream_rows(
         keys: "--set, --vary and --shard",
         quiet,
         range_len: range.len(),
+        fingerprint: &info.fingerprint,
     };
     let kept = if spec.resume {
         let described = |o: &ShardInfo| {
@@ -162,7 +163,13 @@ pub fn stream_rows(
     // it), beside the partial shard.json, which identifies the run.
     out.claim(&[spec.partial_csv, spec.partial_info, sum.as_str()])?;
     write_bytes_atomic(&info_partial, info_json.as_bytes())?;
-    let mut w = PartialWriter::open(&dir, spec.partial_csv, &spec.header, &kept)?;
+    let mut w = PartialWriter::open(
+        &dir,
+        spec.partial_csv,
+        &spec.header,
+        &info.fingerprint,
+        &kept,
+    )?;
     let todo = range.start + kept.rows..range.end;
     if !quiet && kept.rows > 0 {
         eprintln!(
@@ -268,6 +275,9 @@ pub struct Resume<'a> {
     pub quiet: bool,
     /// Rows this run (or shard) writes.
     pub range_len: usize,
+    /// The run's fingerprint, which the partial CSV's checkpoints must
+    /// name.
+    pub fingerprint: &'a str,
 }
 
 /// `--resume`: the rows an interrupted run left that this run keeps (none
@@ -324,6 +334,7 @@ pub fn resume_kept<I: serde::de::DeserializeOwned + PartialEq>(
         partial: r.partial_csv,
         what,
         unit,
+        fingerprint: r.fingerprint,
     };
     let kept = match crate::partial::verify(&names, prefix, r.quiet)? {
         Ok(k) => k,

@@ -1,6 +1,7 @@
 //! Helpers shared by the end-to-end tests: the `tippetop bit` family
 //! (bit_cli.rs, search_cli.rs, device_cli.rs) and the human-output scans
-//! (report_md.rs, human_numbers.rs: [`long_numbers`], [`sentinels`]).
+//! (report_md.rs, human_numbers.rs: [`long_numbers`], [`many_digits`],
+//! [`huge_times`], [`sentinels`]).
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -54,11 +55,15 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
 }
 
 /// The checkpoint file (`NAME.partial.sum`) of a partial CSV whose
-/// complete text is `csv` (header and rows, each line ending in `\n`): one
-/// checkpoint after the header and one after every row, as the format of
-/// `crates/tippetop-cli/src/partial.rs` says (`ROWS BYTES HASH`).
-pub fn checkpoints(csv: &str) -> String {
-    let mut s = String::from("# checkpoints\n");
+/// complete text is `csv` (header and rows, each line ending in `\n`),
+/// of the run that `shard_json` (its shard description's text) describes:
+/// its `fingerprint` line, then one checkpoint after the header and one
+/// after every row, as the format of `crates/tippetop-cli/src/partial.rs`
+/// says (`ROWS BYTES HASH`).
+pub fn checkpoints(shard_json: &str, csv: &str) -> String {
+    let info: serde_json::Value = serde_json::from_str(shard_json).unwrap();
+    let fp = info["fingerprint"].as_str().unwrap();
+    let mut s = format!("# checkpoints\nfingerprint {fp}\n");
     for (rows, (end, _)) in csv.match_indices('\n').enumerate() {
         let bytes = &csv.as_bytes()[..end + 1];
         s.push_str(&format!("{rows} {} {:016x}\n", bytes.len(), fnv1a64(bytes)));
@@ -135,7 +140,88 @@ pub fn long_numbers(text: &str, min: usize) -> Vec<String> {
     found
 }
 
-/// Sentinels a human output must not show (issue #29, 5): `1e300`-style
+/// Numbers in `text` with `min` or more significant digits, code spans
+/// included (a value a user copies is the one that was typed, never the
+/// digits of a product). A number is a run of digits and points not
+/// preceded by a letter, digit, `_` or point; its exponent (`e-7`) does
+/// not count; leading zeros never count, nor the trailing zeros of a
+/// number without a point (`1000000` is one figure: a round budget).
+pub fn many_digits(text: &str, min: usize) -> Vec<String> {
+    let b = text.as_bytes();
+    let mut found = Vec::new();
+    let mut k = 0;
+    while k < b.len() {
+        let starts = b[k].is_ascii_digit()
+            && (k == 0
+                || !(b[k - 1].is_ascii_alphanumeric() || b[k - 1] == b'_' || b[k - 1] == b'.'));
+        if !starts {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        while k < b.len() && (b[k].is_ascii_digit() || b[k] == b'.') {
+            k += 1;
+        }
+        let num = text[start..k].trim_end_matches('.');
+        let mut digits: String = num
+            .trim_start_matches(['0', '.'])
+            .chars()
+            .filter(|c| c.is_ascii_digit())
+            .collect();
+        if !num.contains('.') {
+            digits = digits.trim_end_matches('0').to_string();
+        }
+        if digits.len() >= min {
+            found.push(num.to_string());
+        }
+    }
+    found
+}
+
+/// Times written with a power of ten beyond 10^100 (`3.131 × 10^775
+/// years`, `4.137e+1035 s`): no time scale at all, which the words say.
+pub fn huge_times(text: &str) -> Vec<String> {
+    const UNITS: [&str; 13] = [
+        "s", "ms", "µs", "us", "ns", "ps", "min", "h", "hours", "day", "days", "year", "years",
+    ];
+    let b = text.as_bytes();
+    let mut found = Vec::new();
+    for k in 0..b.len() {
+        // An exponent starts after `10^`, or after the `e` of a number.
+        let exp_at = if b[k..].starts_with(b"10^") {
+            k + 3
+        } else if (b[k] == b'e' || b[k] == b'E') && k > 0 && b[k - 1].is_ascii_digit() {
+            k + 1
+        } else {
+            continue;
+        };
+        let mut j = exp_at;
+        if j < b.len() && b[j] == b'+' {
+            j += 1;
+        }
+        let d0 = j;
+        while j < b.len() && b[j].is_ascii_digit() {
+            j += 1;
+        }
+        let Ok(e) = text[d0..j].parse::<u64>() else {
+            continue;
+        };
+        if e <= 100 {
+            continue;
+        }
+        let rest = text[j..].trim_start_matches(' ');
+        let word: String = rest.chars().take_while(|c| c.is_alphabetic()).collect();
+        if UNITS.contains(&word.as_str()) {
+            let from = text[..k]
+                .rfind(|c: char| c.is_whitespace() || c == '(')
+                .map_or(0, |i| i + 1);
+            found.push(format!("{} {word}", &text[from..j]));
+        }
+    }
+    found
+}
+
+/// Sentinels a human output must not show: `1e300`-style
 /// stand-ins for infinity, `inf`, `NaN`. Outside code spans.
 pub fn sentinels(text: &str) -> Vec<String> {
     let mut found = Vec::new();
