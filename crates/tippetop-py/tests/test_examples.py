@@ -57,7 +57,6 @@ def test_notebook_is_a_valid_nbformat_4_document():
     for c in nb["cells"]:
         assert isinstance(c["source"], list) and "id" in c
         if c["cell_type"] == "code":
-            assert c["outputs"] == [] and c["execution_count"] is None
             compile("".join(c["source"]), "<cell>", "exec")
     text = json.dumps(nb)
     assert "tt.sweep(" in text and "Fig. 2" in text and "inversion" in text
@@ -65,13 +64,15 @@ def test_notebook_is_a_valid_nbformat_4_document():
 
 def test_notebook_runs_tiny(tmp_path):
     """The code cells in order, TINY = True, from examples/python (the
-    notebook's directory, as Jupyter runs it)."""
+    notebook's directory, as Jupyter runs it, with it on sys.path: the
+    notebook imports inversion_map.py)."""
     pytest.importorskip("matplotlib")
     cells = ["".join(c["source"]) for c in notebook()["cells"] if c["cell_type"] == "code"]
     src = "\n\n".join(cells)
     assert "TINY = False" in src
     script = tmp_path / "nb.py"
-    script.write_text(src.replace("TINY = False", "TINY = True", 1))
+    src = src.replace("TINY = False", "TINY = True", 1)
+    script.write_text(f"import sys\nsys.path.insert(0, {str(EXAMPLES)!r})\n{src}")
     p = run([str(script)], cwd=EXAMPLES)
     assert p.returncode == 0, p.stdout + p.stderr
     assert "g=9.8 bilateral" in p.stdout and "regularized: 20 tops" in p.stdout
