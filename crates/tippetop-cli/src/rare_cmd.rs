@@ -129,7 +129,7 @@ pub struct RareArgs {
     #[arg(long, value_name = "XI", allow_hyphen_values = true)]
     pub coordinate: Option<String>,
 
-    /// ams: particles per replica, 2 to 100000 (default 100).
+    /// ams: particles per replica, 2 to 30000 (default 100).
     #[arg(long, value_name = "N")]
     pub particles: Option<usize>,
 
@@ -901,6 +901,18 @@ fn run_ams(
             }
         },
     };
+    // The particles of the replicas running at once, and the records of
+    // all, within the memory bound: checked before anything is written.
+    let asked = match tippetop::analysis::sweep::threads(args.cores.threads) {
+        Ok(t) => t,
+        Err(e) => return Ok(input_error(e)),
+    };
+    match ams.threads_within_memory(asked) {
+        Ok(t) => {
+            crate::scenario_load::note_threads(quiet, asked.min(m), t);
+        }
+        Err(e) => return Ok(input_error(e)),
+    }
     let out = OutDir::open(&args.out)?;
     let pb = crate::progress::bar(quiet, range.len() as u64, "rare (ams) replicas");
     let len = range.len() as f64;

@@ -340,3 +340,75 @@ fn a_changed_output_is_left_and_an_unchanged_one_removed() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// The splitting's question for the budget tests: fast to set up (a
+/// probability from the Brownian lying state at 3000 K).
+const RARE: &[&str] = &[
+    "rare",
+    "--preset",
+    "nano-physical",
+    "--set",
+    "solver.method=\"brownian\"",
+    "--set",
+    "solver.dt=2e-16",
+    "--set",
+    "initial.theta=1.5707963267948966",
+    "--set",
+    "thermal.temperature=3000",
+    "--set",
+    "force.0.hx=1e-10",
+    "--target",
+    "theta>1.92",
+    "--reset",
+    "theta<1.22",
+    "--method",
+    "ams",
+    "--quiet",
+];
+
+/// Every budget of `rare --method ams` is checked before anything is
+/// allocated or written: a count past its bound, or sizes whose memory
+/// (the particles of the replicas running at once, the records of all)
+/// would pass the command's memory bound, exits 2 with one line naming
+/// the flag and its range, and `--out` is not created. (One billion
+/// replicas aborted with a failed 232 GB allocation, exit 134, a lock and
+/// a stage left behind.)
+#[test]
+fn rare_budgets_are_bounded_before_allocating() {
+    let d = scratch("rare-budgets");
+    for (k, (extra, words)) in [
+        (
+            &["--replicas", "1000000000"][..],
+            &["--replicas", "2 <= M <= 100000"][..],
+        ),
+        (
+            &["--replicas", "5000"],
+            &["--replicas", "of records", "at most 3.221 GB"],
+        ),
+        (
+            &["--max-trajectories", "16777200"],
+            &["--replicas", "--max-trajectories", "at most 3.221 GB"],
+        ),
+        (
+            &["--particles", "100000"],
+            &["--particles", "2 <= n <= 30000"],
+        ),
+        (&["--particles", "30000", "--kill", "30000"], &["--kill"]),
+        (&["--max-steps", "1000000000000"], &["--max-steps"]),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let out = d.join(format!("out{k}"));
+        let o = bin()
+            .args(RARE)
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        refused(&o, words);
+        assert!(!out.exists(), "{extra:?}: --out written");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}

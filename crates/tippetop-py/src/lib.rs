@@ -1072,7 +1072,7 @@ fn rare_ams(
     let d = Settings::default();
     let settings = Settings {
         replicas: replicas.map_or(d.replicas, |v| v as usize),
-        particles: count_of(particles, "--particles", "2 <= n <= 100000")?
+        particles: count_of(particles, "--particles", "2 <= n <= 30000")?
             .map_or(d.particles, |v| v as usize),
         kill: count_of(kill, "--kill", "1 <= k < n (--particles)")?.map_or(d.kill, |v| v as usize),
         max_trajectories: count_of(

@@ -134,8 +134,23 @@ const PILOT_BRANCH: u64 = (1 << 24) - 3;
 /// Most restarts of the pilot run after it met the target.
 const PILOT_RESTARTS: u64 = 8;
 
-/// Largest number of particles.
-pub const MAX_PARTICLES: usize = 100_000;
+/// Largest number of particles: a replica's particles ([`PARTICLE_BYTES`]
+/// each) fit in [`crate::limits::MEMORY_BUDGET`] beside the default
+/// records.
+pub const MAX_PARTICLES: usize = 30_000;
+
+/// Largest number of replicas (`--replicas`): their records are kept
+/// until the estimate is combined, and their memory must fit in
+/// [`crate::limits::MEMORY_BUDGET`] too ([`Ams::threads_within_memory`]).
+pub const MAX_REPLICAS: usize = 100_000;
+
+/// The memory one particle of a running replica holds, an estimate
+/// \[bytes\]: its path's checkpoints (at most about 18 snapshots of the
+/// simulation, some shared with the path it branched from) and its running
+/// maxima. Measured: 68 kB per particle (peak resident memory over 2000
+/// particles, the nano-physical preset in the Brownian mode at dt = 2e-16
+/// s); 96 KiB allows for the larger rigid model.
+pub const PARTICLE_BYTES: u64 = 96 << 10;
 
 /// What to estimate ([`Ams::new`] checks it).
 #[derive(Debug, Clone, PartialEq)]
@@ -190,9 +205,11 @@ pub enum Variant {
 /// checked by [`Ams::new`], the error naming the CLI option).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
-    /// Independent replicas `M` (`--replicas`, 2 ..; default 20).
+    /// Independent replicas `M` (`--replicas`, 2 ..= [`MAX_REPLICAS`],
+    /// their records within the memory bound; default 20).
     pub replicas: usize,
-    /// Particles per replica `n` (`--particles`, 2 ..= 100 000; default 100).
+    /// Particles per replica `n` (`--particles`, 2 ..= [`MAX_PARTICLES`];
+    /// default 100).
     pub particles: usize,
     /// Particles killed per iteration at least `k` (`--kill`, 1 ..= n − 1;
     /// default 1: the smallest variance).
@@ -375,6 +392,25 @@ impl Ams {
         &self.settings
     }
 
+    /// The memory the replicas' records may take once run, at most
+    /// \[bytes\]: each record and its levels (one per iteration, at most
+    /// one per path beyond the first `n`), twice (the records are copied
+    /// once to be combined).
+    pub fn records_bytes(&self) -> u64 {
+        records_bytes(&self.settings)
+    }
+
+    /// How many replicas may run at once within
+    /// [`crate::limits::MEMORY_BUDGET`]: at most `threads`, each holding
+    /// its `n` particles ([`PARTICLE_BYTES`] each) beside the replicas'
+    /// records ([`Ams::records_bytes`]). Err (naming `--particles`) if not
+    /// even one fits.
+    pub fn threads_within_memory(&self, threads: usize) -> Result<usize, Error> {
+        let per_replica = (self.settings.particles as u64).saturating_mul(PARTICLE_BYTES);
+        crate::limits::fit_threads("--particles", threads, per_replica, self.records_bytes())
+            .map(|t| t.min(self.settings.replicas.max(1)))
+    }
+
     /// What is estimated.
     pub fn quantity(&self) -> Quantity {
         if self.problem.reset.is_some() {
@@ -512,6 +548,8 @@ impl Ams {
                 format!("within 0..{m}"),
             ));
         }
+        // No more replicas at once than their particles fit in memory.
+        let threads = Some(self.threads_within_memory(crate::analysis::sweep::threads(threads)?)?);
         let total = range.len().max(1);
         let mut done = 0;
         let job = |i: usize| -> Option<Replica> {
@@ -1090,6 +1128,18 @@ impl Ams {
     }
 }
 
+/// What the records of the replicas of `s` may take at most \[bytes\]
+/// (see [`Ams::records_bytes`]).
+fn records_bytes(s: &Settings) -> u64 {
+    let levels = s
+        .max_trajectories
+        .saturating_sub(s.particles as u64)
+        .saturating_add(1);
+    let one = (std::mem::size_of::<Replica>() as u64)
+        .saturating_add(levels.saturating_mul(std::mem::size_of::<[f64; 2]>() as u64));
+    (s.replicas as u64).saturating_mul(one).saturating_mul(2)
+}
+
 /// Check the sizes and budgets (keys: the CLI options).
 fn check_settings(s: &Settings, first_run: u64) -> Result<(), Error> {
     let bad = |key: &str, what: String, range: String| Err(Error::invalid(key, what, range));
@@ -1098,6 +1148,13 @@ fn check_settings(s: &Settings, first_run: u64) -> Result<(), Error> {
             "--replicas",
             format!("{} replicas from thermal.run = {first_run}", s.replicas),
             "M >= 2, with the runs thermal.run .. thermal.run + M - 1 below 4294967296".into(),
+        );
+    }
+    if s.replicas > MAX_REPLICAS {
+        return bad(
+            "--replicas",
+            format!("{} replicas", s.replicas),
+            format!("2 <= M <= {MAX_REPLICAS}"),
         );
     }
     if !(2..=MAX_PARTICLES).contains(&s.particles) {
@@ -1147,6 +1204,22 @@ fn check_settings(s: &Settings, first_run: u64) -> Result<(), Error> {
             "--pilot-steps",
             format!("{}", s.pilot_steps),
             "1000 <= steps <= 10000000".into(),
+        );
+    }
+    let records = records_bytes(s);
+    if records > crate::limits::MEMORY_BUDGET {
+        return bad(
+            "--replicas",
+            format!(
+                "{} replicas of up to --max-trajectories {} paths could keep {} of records",
+                s.replicas,
+                s.max_trajectories,
+                crate::limits::fmt_bytes(records)
+            ),
+            format!(
+                "at most {} per command: fewer --replicas or a lower --max-trajectories",
+                crate::limits::fmt_bytes(crate::limits::MEMORY_BUDGET)
+            ),
         );
     }
     for (key, v) in [("--basin", s.basin), ("--interface", s.interface)] {
