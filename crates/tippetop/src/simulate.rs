@@ -15,6 +15,9 @@
 //! sliding and rolling, lift off, apply an impact; the driver restarts the
 //! integration from the state the handler leaves.
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use crate::{
     Error, Failure, ModelKind, Sample, Scenario, Trajectory,
     integrate::{self, AnyEngine, Engine, Event, IntegrateError, Stepped, Stepper, Stepping},
@@ -163,6 +166,53 @@ pub use crate::sim::runaway::RunawayWatch;
 /// [`Simulation::integrate_to_while`]: 1024 (a step takes 0.1 to 10 µs, so
 /// a few hundred times a second or more).
 pub const CHECK_EVERY: u64 = 1024;
+
+thread_local! {
+    /// The flag of the [`stoppable`] call this thread is inside, if any.
+    static STOP: std::cell::RefCell<Option<Arc<AtomicBool>>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// Run `f` so that once `stop` is set, every run made inside it (on this
+/// thread, or on the worker threads of a sweep, an ensemble or a direct
+/// rare-event ensemble it starts) ends within [`CHECK_EVERY`] accepted
+/// steps, failed ("interrupted"), and those analyses start no further run
+/// (their sink is still called with each result, in order, until it says
+/// stop). For a caller that runs a long analysis on one thread and watches
+/// for an interrupt (Python's Ctrl-C) on another: without it a run in
+/// progress could go on for minutes.
+pub fn stoppable<R>(stop: &Arc<AtomicBool>, f: impl FnOnce() -> R) -> R {
+    with_stop_flag(Some(stop.clone()), f)
+}
+
+/// The flag of the [`stoppable`] call this thread is inside (`None`:
+/// none), for a thread pool to hand to its workers ([`with_stop_flag`]).
+pub(crate) fn stop_flag() -> Option<Arc<AtomicBool>> {
+    STOP.with(|s| s.borrow().clone())
+}
+
+/// Run `f` with `flag` as this thread's stop flag (see [`stoppable`]),
+/// the previous one restored afterwards, also if `f` panics.
+pub(crate) fn with_stop_flag<R>(flag: Option<Arc<AtomicBool>>, f: impl FnOnce() -> R) -> R {
+    struct Restore(Option<Arc<AtomicBool>>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            let prev = self.0.take();
+            STOP.with(|s| *s.borrow_mut() = prev);
+        }
+    }
+    let _restore = Restore(STOP.with(|s| s.replace(flag)));
+    f()
+}
+
+/// True if this thread is inside a [`stoppable`] call whose flag is set.
+pub(crate) fn stop_requested() -> bool {
+    STOP.with(|s| {
+        s.borrow()
+            .as_ref()
+            .is_some_and(|f| f.load(Ordering::Relaxed))
+    })
+}
 
 /// As [`simulate`], calling `progress` with the fraction `t / t_end` of the
 /// run done (in `[0, 1]`), the time, the step count and the spin
@@ -923,12 +973,28 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             }
             if self.steps_seen >= checked + CHECK_EVERY {
                 checked = self.steps_seen;
+                if stop_requested() {
+                    self.interrupt();
+                    return true;
+                }
                 if !keep_going() {
                     return false;
                 }
             }
         }
         true
+    }
+
+    /// Stopped from outside ([`stoppable`]): the run ends at its last
+    /// accepted step, failed. The segment in progress stays, to be merged
+    /// as a pause's is ([`Sim::finish`]).
+    fn interrupt(&mut self) {
+        self.error = Some(Error::runtime(
+            self.last_accepted.0 * self.tu,
+            Failure::Numerics,
+            "interrupted (the call was stopped from outside the run)",
+        ));
+        self.done = true;
     }
 
     /// Integrate step by step until `stop(m, t, y)` (called after every

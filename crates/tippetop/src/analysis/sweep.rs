@@ -896,30 +896,35 @@ pub fn run_ordered<T: Send>(
     let moved = Condvar::new();
     let (tx, rx) = mpsc::channel::<(usize, T)>();
     let mut complete = true;
+    // The caller's stop flag (`simulate::stoppable`) holds in the workers.
+    let outer_stop = crate::simulate::stop_flag();
     pool.in_place_scope(|scope| {
         for _ in 0..t {
             let tx = tx.clone();
             let (next, stop, delivered, moved) = (&next, &stop, &delivered, &moved);
             let end = range.end;
+            let outer_stop = outer_stop.clone();
             scope.spawn(move |_| {
-                loop {
-                    if stop.load(Ordering::Relaxed) {
-                        break;
-                    }
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    if i >= end {
-                        break;
-                    }
-                    {
-                        let mut d = delivered.lock().unwrap_or_else(|e| e.into_inner());
-                        while i >= *d + window && !stop.load(Ordering::Relaxed) {
-                            d = moved.wait(d).unwrap_or_else(|e| e.into_inner());
+                crate::simulate::with_stop_flag(outer_stop, || {
+                    loop {
+                        if stop.load(Ordering::Relaxed) {
+                            break;
+                        }
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        if i >= end {
+                            break;
+                        }
+                        {
+                            let mut d = delivered.lock().unwrap_or_else(|e| e.into_inner());
+                            while i >= *d + window && !stop.load(Ordering::Relaxed) {
+                                d = moved.wait(d).unwrap_or_else(|e| e.into_inner());
+                            }
+                        }
+                        if stop.load(Ordering::Relaxed) || tx.send((i, job(i))).is_err() {
+                            break;
                         }
                     }
-                    if stop.load(Ordering::Relaxed) || tx.send((i, job(i))).is_err() {
-                        break;
-                    }
-                }
+                })
             });
         }
         drop(tx);
