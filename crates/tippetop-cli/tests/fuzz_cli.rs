@@ -933,3 +933,266 @@ fn fuzz_cli_full() {
         .unwrap_or(10_000);
     fuzz(cases);
 }
+
+/// The attacks on the output directory and the budgets, seeded: each case
+/// is one of
+///
+/// - a `rare` budget (`--replicas`, `--particles`, `--max-trajectories`,
+///   `--max-steps`, `--kill`) at an extreme value: refused in one line with
+///   `--out` not created, or running with its resident memory within the
+///   documented 3 GiB bound (plus the process's own ~0.5 GB) for its first
+///   seconds, then stopped; never an abort;
+/// - a forged `.tippetop-manifest` listing the user's files (names alone,
+///   or with a size and hash that are not theirs): a run into the directory
+///   leaves every one of them as it was;
+/// - another sweep's partial CSV and checkpoints (the same grid, another
+///   `solver.samples`) copied in beside a killed sweep's: `--resume`
+///   refuses them.
+fn fuzz_attacks(cases: u64) {
+    let bin = PathBuf::from(env!("CARGO_BIN_EXE_tippetop"));
+    let scratch = tempfile::tempdir().unwrap();
+    let mut violations: Vec<String> = Vec::new();
+    let mut counts = BTreeMap::<&str, usize>::new();
+    const RARE: &[&str] = &[
+        "rare",
+        "--preset",
+        "nano-physical",
+        "--set",
+        "solver.method=\"brownian\"",
+        "--set",
+        "solver.dt=2e-16",
+        "--set",
+        "initial.theta=1.5707963267948966",
+        "--set",
+        "thermal.temperature=3000",
+        "--set",
+        "force.0.hx=1e-10",
+        "--target",
+        "theta>1.92",
+        "--reset",
+        "theta<1.22",
+        "--quiet",
+    ];
+    const VALUES: &[&str] = &[
+        "0",
+        "1",
+        "2",
+        "29999",
+        "30000",
+        "30001",
+        "100000",
+        "100001",
+        "1000000000",
+        "4294967295",
+        "4294967296",
+        "16777200",
+        "18446744073709551615",
+        "-1",
+    ];
+    for i in 0..cases {
+        let mut rng = Rng(0xA77A_C4 ^ i.wrapping_mul(0x9E37_79B9));
+        let out = scratch.path().join(format!("a{i}"));
+        match rng.below(3) {
+            0 => {
+                *counts.entry("rare budget").or_default() += 1;
+                let method = rng.pick(&["ams", "direct"]);
+                let flag = rng.pick(&[
+                    "--replicas",
+                    "--particles",
+                    "--max-trajectories",
+                    "--max-steps",
+                    "--kill",
+                ]);
+                let value = rng.pick(VALUES);
+                let mut child = Command::new(&bin)
+                    .args(RARE)
+                    .args(["--method", method, flag, value, "--out"])
+                    .arg(&out)
+                    .stdout(Stdio::null())
+                    .stderr(Stdio::piped())
+                    .spawn()
+                    .unwrap();
+                let what = format!("rare --method {method} {flag} {value}");
+                let t0 = Instant::now();
+                let mut peak_kb = 0u64;
+                let status = loop {
+                    if let Some(s) = child.try_wait().unwrap() {
+                        break Some(s);
+                    }
+                    let rss = std::fs::read_to_string(format!("/proc/{}/status", child.id()))
+                        .ok()
+                        .and_then(|t| {
+                            t.lines()
+                                .find_map(|l| l.strip_prefix("VmRSS:"))
+                                .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+                        })
+                        .unwrap_or(0);
+                    peak_kb = peak_kb.max(rss);
+                    if t0.elapsed() > Duration::from_secs(3) {
+                        let _ = child.kill();
+                        let _ = child.wait();
+                        break None;
+                    }
+                    std::thread::sleep(Duration::from_millis(20));
+                };
+                if peak_kb > 3_800_000 {
+                    violations.push(format!("{what}: resident memory {peak_kb} kB"));
+                }
+                let mut err = String::new();
+                use std::io::Read;
+                let _ = child.stderr.take().unwrap().read_to_string(&mut err);
+                match status.and_then(|s| s.code()) {
+                    Some(2) => {
+                        if err.lines().count() != 1 || !err.starts_with("error: ") {
+                            violations.push(format!("{what}: exit 2 with {err:?}"));
+                        }
+                        if out.exists() {
+                            violations.push(format!("{what}: exit 2 and --out created"));
+                        }
+                    }
+                    Some(0 | 3) => {}
+                    None if status.is_none() => {}
+                    _ => violations.push(format!("{what}: ended with {status:?}: {err}")),
+                }
+            }
+            1 => {
+                *counts.entry("forged manifest").or_default() += 1;
+                std::fs::create_dir_all(&out).unwrap();
+                let mut listed = String::from("# tippetop: forged\n# command: run\n");
+                let mut mine = Vec::new();
+                for k in 0..1 + rng.below(4) {
+                    let name = rng
+                        .pick(&[
+                            "notes.md",
+                            "data.csv",
+                            "trajectory.csv",
+                            "x.png",
+                            "user_file.txt",
+                        ])
+                        .to_string();
+                    let name = format!("{k}{name}");
+                    let text = format!("mine {i} {k}\n");
+                    std::fs::write(out.join(&name), &text).unwrap();
+                    match rng.below(3) {
+                        0 => listed.push_str(&format!("{name}\n")),
+                        1 => {
+                            listed.push_str(&format!("{name}\t{}\t0123456789abcdef\n", text.len()))
+                        }
+                        _ => listed
+                            .push_str(&format!("{name}\t{}\tfedcba9876543210\n", text.len() + 1)),
+                    }
+                    mine.push((name, text));
+                }
+                std::fs::write(out.join(".tippetop-manifest"), listed).unwrap();
+                let o = Command::new(&bin)
+                    .args([
+                        "run",
+                        "--preset",
+                        "nano",
+                        "--set",
+                        "solver.t_end=1e-8",
+                        "--no-plot",
+                    ])
+                    .arg("--out")
+                    .arg(&out)
+                    .output()
+                    .unwrap();
+                if !o.status.success() {
+                    violations.push(format!("forged manifest case {i}: run failed: {o:?}"));
+                }
+                for (name, text) in mine {
+                    if std::fs::read_to_string(out.join(&name)).ok().as_deref() != Some(&text) {
+                        violations.push(format!(
+                            "forged manifest case {i}: {name} removed or changed"
+                        ));
+                    }
+                }
+            }
+            _ => {
+                *counts.entry("foreign partial").or_default() += 1;
+                let samples = 11 + rng.below(40);
+                let sweep = |samples: usize, dir: &Path, resume: bool| {
+                    let mut c = Command::new(&bin);
+                    c.args([
+                        "sweep",
+                        "--preset",
+                        "classical",
+                        "--set",
+                        "solver.t_end=0.2",
+                        "--set",
+                        &format!("solver.samples={samples}"),
+                        "--vary",
+                        "top.offset=0.001:0.004:1000",
+                        "--threads",
+                        "1",
+                        "--quiet",
+                        "--out",
+                    ])
+                    .arg(dir)
+                    .env("TIPPETOP_CHECKPOINT_SECONDS", "0");
+                    if resume {
+                        c.arg("--resume");
+                    }
+                    c
+                };
+                let killed = |samples: usize, dir: &Path| {
+                    let mut child = sweep(samples, dir, false)
+                        .stdout(Stdio::null())
+                        .stderr(Stdio::null())
+                        .spawn()
+                        .unwrap();
+                    let sum = dir.join("sweep.csv.partial.sum");
+                    let t0 = Instant::now();
+                    while std::fs::read_to_string(&sum).map_or(0, |t| t.lines().count()) < 5
+                        && t0.elapsed() < TIMEOUT
+                        && child.try_wait().unwrap().is_none()
+                    {
+                        std::thread::sleep(Duration::from_millis(2));
+                    }
+                    let _ = child.kill();
+                    let _ = child.wait();
+                };
+                let other = scratch.path().join(format!("b{i}"));
+                killed(samples, &out);
+                killed(samples + 1 + rng.below(3), &other);
+                for n in ["sweep.csv.partial", "sweep.csv.partial.sum"] {
+                    if std::fs::copy(other.join(n), out.join(n)).is_err() {
+                        violations.push(format!("foreign partial case {i}: no {n} after the kill"));
+                    }
+                }
+                let o = sweep(samples, &out, true).output().unwrap();
+                let err = String::from_utf8_lossy(&o.stderr);
+                if o.status.code() != Some(2) || !err.contains("the checkpoints of another sweep") {
+                    violations.push(format!(
+                        "foreign partial case {i}: --resume ended with {:?}: {err}",
+                        o.status.code()
+                    ));
+                }
+            }
+        }
+    }
+    println!(
+        "fuzz_attacks: {cases} cases {counts:?}; {} violations",
+        violations.len()
+    );
+    assert!(violations.is_empty(), "{}", violations.join("\n"));
+}
+
+/// 12 cases of the attacks (about half a minute): part of `cargo test`.
+#[test]
+fn fuzz_attacks_smoke() {
+    fuzz_attacks(12);
+}
+
+/// The attacks, 300 cases (`TIPPETOP_FUZZ_CASES` to change), a few
+/// minutes: `cargo test --release -p tippetop-cli --test fuzz_cli --
+/// --ignored --nocapture fuzz_attacks_full`.
+#[test]
+#[ignore]
+fn fuzz_attacks_full() {
+    let cases = std::env::var("TIPPETOP_FUZZ_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(300);
+    fuzz_attacks(cases);
+}
