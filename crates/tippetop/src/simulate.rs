@@ -961,6 +961,12 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         progress: &mut dyn FnMut(&Progress),
         keep_going: &mut dyn FnMut() -> bool,
     ) -> bool {
+        // Also here: a caller integrating in pieces shorter than
+        // CHECK_EVERY steps never reaches the check in the loop.
+        if !self.done && stop_requested() {
+            self.interrupt();
+            return true;
+        }
         let mut checked = self.steps_seen;
         while !self.done {
             if target < self.t_end && self.reached() >= target {

@@ -76,3 +76,28 @@ fn outside_stoppable_and_with_the_flag_down_a_run_is_the_same_bits() {
     assert_eq!(inside.samples, outside.samples);
     assert_eq!(inside.summary, outside.summary);
 }
+
+#[test]
+fn a_run_integrated_in_pieces_shorter_than_a_check_ends_interrupted_too() {
+    // The direct rare-event runs integrate 512 steps at a time: fewer
+    // than the CHECK_EVERY steps between two looks inside a call.
+    let sets = vec!["solver.t_end=10".to_string()];
+    let sc = tippetop::Scenario::load(Some("classical"), None, &sets).unwrap();
+    let flag = Arc::new(AtomicBool::new(false));
+    let mut sim = tippetop::Simulation::new(&sc).unwrap();
+    let step = 1e-4;
+    let (mut t, mut pieces) = (0.0_f64, 0);
+    stoppable(&flag, || {
+        while !sim.is_finished() && t < 10.0 {
+            pieces += 1;
+            if pieces == 10 {
+                flag.store(true, Ordering::Relaxed);
+            }
+            t = (t + step).min(10.0);
+            sim.integrate_to(t).unwrap();
+        }
+    });
+    assert_eq!(pieces, 10, "the run went on after the flag");
+    let err = sim.error().expect("the run ends failed").to_string();
+    assert!(err.contains("interrupted"), "{err}");
+}
