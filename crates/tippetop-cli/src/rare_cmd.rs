@@ -917,14 +917,35 @@ fn run_ams(
     let pb = crate::progress::bar(quiet, range.len() as u64, "rare (ams) replicas");
     let len = range.len() as f64;
     let progress = |f: f64| pb.set_position((f * len).round() as u64);
+    // A replica of many particles runs for minutes: the bar says how many
+    // steps have run meanwhile.
+    let steps = std::sync::atomic::AtomicU64::new(0);
+    let ticking = std::sync::atomic::AtomicBool::new(true);
     let hooks = Hooks {
         progress: Some(&progress),
         cancel: None,
+        steps: Some(&steps),
     };
     let mut replicas = Vec::with_capacity(range.len());
-    let ran = ams.run(range.clone(), args.cores.threads, hooks, &mut |r| {
-        replicas.push(storable(r));
-        true
+    let ran = std::thread::scope(|sc| {
+        if crate::progress::visible(quiet) {
+            sc.spawn(|| {
+                while ticking.load(std::sync::atomic::Ordering::Relaxed) {
+                    let n = steps.load(std::sync::atomic::Ordering::Relaxed);
+                    pb.set_message(format!(
+                        "rare (ams) replicas, {} steps",
+                        tippetop::human::sig(n as f64, 3)
+                    ));
+                    std::thread::sleep(std::time::Duration::from_millis(250));
+                }
+            });
+        }
+        let ran = ams.run(range.clone(), args.cores.threads, hooks, &mut |r| {
+            replicas.push(storable(r));
+            true
+        });
+        ticking.store(false, std::sync::atomic::Ordering::Relaxed);
+        ran
     });
     pb.finish_and_clear();
     if let Err(e) = ran {

@@ -1109,6 +1109,7 @@ fn rare_ams(
     let hooks = Hooks {
         progress: Some(&progress),
         cancel: Some(&cancel),
+        steps: None,
     };
     let mut reps = Vec::with_capacity(m);
     let ran = py.detach(|| {

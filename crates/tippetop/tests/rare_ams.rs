@@ -728,6 +728,7 @@ fn progress_and_cancel() {
     let hooks = Hooks {
         progress: Some(&progress),
         cancel: None,
+        steps: None,
     };
     assert!(ams.estimate(Some(2), hooks).unwrap().is_some());
     assert_eq!(*seen.lock().unwrap(), vec![0.25, 0.5, 0.75, 1.0]);
@@ -735,6 +736,7 @@ fn progress_and_cancel() {
     let hooks = Hooks {
         progress: None,
         cancel: Some(&cancel),
+        steps: None,
     };
     assert!(ams.estimate(Some(2), hooks).unwrap().is_none());
     assert!(ams.direct(100, Some(2), hooks).unwrap().is_none());

@@ -139,6 +139,10 @@ const PILOT_RESTARTS: u64 = 8;
 /// records.
 pub const MAX_PARTICLES: usize = 30_000;
 
+/// Most levels a replica's record keeps ([`Replica::levels`]): beyond it
+/// every other one is dropped, so that a record stays within about 64 kB.
+pub const MAX_STORED_LEVELS: usize = 4096;
+
 /// Largest number of replicas (`--replicas`): their records are kept
 /// until the estimate is combined, and their memory must fit in
 /// [`crate::limits::MEMORY_BUDGET`] too ([`Ams::threads_within_memory`]).
@@ -271,6 +275,9 @@ pub struct Hooks<'a> {
     /// stop within a few thousand steps and are dropped; the call returns
     /// what was complete (`Ok(false)` / `Ok(None)`).
     pub cancel: Option<&'a AtomicBool>,
+    /// Steps run so far over all replicas (added to as paths run, every
+    /// few hundred steps), to show progress within long replicas.
+    pub steps: Option<&'a std::sync::atomic::AtomicU64>,
 }
 
 /// A checked problem, ready to run ([`Ams::new`]).
@@ -394,7 +401,8 @@ impl Ams {
 
     /// The memory the replicas' records may take once run, at most
     /// \[bytes\]: each record and its levels (one per iteration, at most
-    /// one per path beyond the first `n`), twice (the records are copied
+    /// one per path beyond the first `n`, and at most
+    /// [`MAX_STORED_LEVELS`] + 1), twice (the records are copied
     /// once to be combined).
     pub fn records_bytes(&self) -> u64 {
         records_bytes(&self.settings)
@@ -553,7 +561,7 @@ impl Ams {
         let total = range.len().max(1);
         let mut done = 0;
         let job = |i: usize| -> Option<Replica> {
-            match catch_unwind(AssertUnwindSafe(|| self.replica(i, hooks.cancel))) {
+            match catch_unwind(AssertUnwindSafe(|| self.replica(i, hooks))) {
                 Ok(Ok(r)) => Some(r),
                 Ok(Err(Cancelled)) => None,
                 Err(panic) => {
@@ -621,7 +629,8 @@ impl Ams {
     }
 
     /// Replica `index` (see the module doc). `Err` only when cancelled.
-    fn replica(&self, index: usize, cancel: Option<&AtomicBool>) -> Result<Replica, Cancelled> {
+    fn replica(&self, index: usize, hooks: Hooks<'_>) -> Result<Replica, Cancelled> {
+        let cancel = hooks.cancel;
         let s = &self.settings;
         let n = s.particles;
         let mut rep = self.empty_replica(index);
@@ -635,6 +644,7 @@ impl Ams {
             horizon: self.problem.horizon.is_some(),
             cancel,
             steps: 0,
+            all_steps: hooks.steps,
             failed: 0,
             first_failure: None,
         };
@@ -718,6 +728,17 @@ impl Ams {
             ln_weight += (1.0 - kill_frac).ln();
             iteration += 1;
             rep.levels.push([z, ln_weight / std::f64::consts::LN_10]);
+            if rep.levels.len() > MAX_STORED_LEVELS {
+                let last = rep.levels[rep.levels.len() - 1];
+                let mut k = 0;
+                rep.levels.retain(|_| {
+                    k += 1;
+                    k % 2 == 1
+                });
+                if rep.levels.last() != Some(&last) {
+                    rep.levels.push(last);
+                }
+            }
             let draw = noise_counter(SELECT_BRANCH, iteration);
             let mut fresh = Vec::with_capacity(big_k);
             for (m, _) in killed.iter().enumerate() {
@@ -857,7 +878,7 @@ impl Ams {
                 break;
             }
         }
-        runner.steps += used;
+        runner.count(used);
         d.steps = used;
         d.crossings = crossings.len() as u64;
         Ok((d, crossings))
@@ -1044,6 +1065,7 @@ impl Ams {
                 horizon: self.problem.horizon.is_some(),
                 cancel: hooks.cancel,
                 steps: 0,
+                all_steps: hooks.steps,
                 failed: 0,
                 first_failure: None,
             };
@@ -1134,7 +1156,8 @@ fn records_bytes(s: &Settings) -> u64 {
     let levels = s
         .max_trajectories
         .saturating_sub(s.particles as u64)
-        .saturating_add(1);
+        .saturating_add(1)
+        .min(MAX_STORED_LEVELS as u64 + 1);
     let one = (std::mem::size_of::<Replica>() as u64)
         .saturating_add(levels.saturating_mul(std::mem::size_of::<[f64; 2]>() as u64));
     (s.replicas as u64).saturating_mul(one).saturating_mul(2)

@@ -176,12 +176,22 @@ pub(super) struct Runner<'a> {
     pub(super) cancel: Option<&'a AtomicBool>,
     /// Steps integrated so far, replays included.
     pub(super) steps: u64,
+    /// The steps of every replica so far, for progress ([`super::Hooks`]).
+    pub(super) all_steps: Option<&'a std::sync::atomic::AtomicU64>,
     /// Paths ended by a failure, and the first failure's message.
     pub(super) failed: u64,
     pub(super) first_failure: Option<String>,
 }
 
 impl Runner<'_> {
+    /// Count `steps` more steps, here and in the progress counter.
+    pub(super) fn count(&mut self, steps: u64) {
+        self.steps += steps;
+        if let Some(all) = self.all_steps {
+            all.fetch_add(steps, Ordering::Relaxed);
+        }
+    }
+
     fn cancelled(&self) -> bool {
         self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
     }
@@ -243,7 +253,7 @@ impl Runner<'_> {
                 steps += 1;
                 steps >= at
             });
-            self.steps += steps - from;
+            self.count(steps - from);
             assert!(
                 reached && steps == at,
                 "a replayed path ended before its step {at} (at {steps}): not the same steps"
@@ -321,7 +331,7 @@ impl Runner<'_> {
                 }
                 false
             });
-            self.steps += steps - from;
+            self.count(steps - from);
             path.end_time = self.sim.time();
             path.end = match (stopped, pause) {
                 (true, Pause::Checkpoint) => {

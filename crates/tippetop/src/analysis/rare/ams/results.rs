@@ -72,7 +72,10 @@ pub struct Replica {
     pub failed: u64,
     /// The first failure's message.
     pub first_failure: Option<String>,
-    /// The levels ([`Level`]).
+    /// The levels ([`Level`]), for the picture of the staircase: every
+    /// level of the replica while they are at most
+    /// [`super::MAX_STORED_LEVELS`], else every 2nd (4th, ...) one and the
+    /// last (the estimate does not use them).
     pub levels: Vec<Level>,
     /// The direct run (mean first-passage time).
     pub direct: Option<DirectPhase>,
