@@ -527,18 +527,41 @@ fn opt_unit(v: Option<f64>, unit: &str) -> String {
         .unwrap_or_else(|| "–".into())
 }
 
-/// A block in one line: `P = 1 [1, 1] (1 of 1 runs), time median 4.1e-5 s`.
+/// A block in one line: `P = 0.96 [0.90, 0.98] (96 of 100 runs), time
+/// median 4.1e-5 s`; a single deterministic run has no interval and no
+/// median: `P = 1 (one deterministic run), time 4.062e-5 s`.
 fn one_line(b: &Block) -> String {
-    let ci = b
-        .ci95
-        .map(|[lo, hi]| format!(" [{}, {}]", prob(lo), prob(hi)))
-        .unwrap_or_default();
     let fails: Vec<String> = b
         .failures
         .iter()
         .filter(|(_, n)| **n > 0)
         .map(|(m, n)| format!("{m} {n}"))
         .collect();
+    if b.deterministic && b.runs == 1 {
+        let modes: Vec<&str> = b
+            .failures
+            .iter()
+            .filter(|(_, n)| **n > 0)
+            .map(|(m, _)| *m)
+            .collect();
+        return format!(
+            "P = {} (one deterministic run){}, energy {}{}",
+            b.probability.map_or_else(|| "-".into(), prob),
+            b.time_median
+                .map(|t| format!(", time {} s", human(t)))
+                .unwrap_or_default(),
+            opt_unit(b.energy_median, "J"),
+            if modes.is_empty() {
+                String::new()
+            } else {
+                format!("; failure: {}", modes.join(", "))
+            }
+        );
+    }
+    let ci = b
+        .ci95
+        .map(|[lo, hi]| format!(" [{}, {}]", prob(lo), prob(hi)))
+        .unwrap_or_default();
     format!(
         "P = {}{ci} ({} of {} runs){}, time median {}, energy median {}{}",
         b.probability.map_or_else(|| "-".into(), prob),
@@ -794,13 +817,16 @@ fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
     ] {
         let _ = writeln!(s, "## {name}: {what}\n");
         let _ = writeln!(s, "- {}", one_line(blk));
-        let _ = writeln!(
-            s,
-            "- switching time quartiles: {}, {}, {}",
-            opt_unit(blk.time_q25, "s"),
-            opt_unit(blk.time_median, "s"),
-            opt_unit(blk.time_q75, "s")
-        );
+        // One run has a switching time, not quartiles.
+        if blk.runs > 1 {
+            let _ = writeln!(
+                s,
+                "- switching time quartiles: {}, {}, {}",
+                opt_unit(blk.time_q25, "s"),
+                opt_unit(blk.time_median, "s"),
+                opt_unit(blk.time_q75, "s")
+            );
+        }
         let _ = writeln!(
             s,
             "- largest total applied force: {} N\n",

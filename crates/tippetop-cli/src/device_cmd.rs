@@ -11,6 +11,7 @@ use clap::Args;
 use tippetop::analysis::device::{self, DeviceOptions, DeviceReport, Found, Tally};
 use tippetop::analysis::device_rare::{self as dr, BigTime, LyingRetention, Measured, Sizes};
 use tippetop::analysis::retention::Extrapolation;
+use tippetop::human::{BEYOND_ANY_TIME_SCALE, YEAR, beyond_any_time_scale};
 
 use crate::output::{OutDir, write_bytes_atomic};
 use crate::scenario_load::input_error;
@@ -70,10 +71,9 @@ fn g(v: f64) -> String {
     tippetop::human::sig(v, 4)
 }
 
-const YEAR: f64 = 365.25 * 86400.0;
-
 /// A duration in readable units: ps … s, hours, days, years (beyond
-/// 10⁴ years as `1.234 × 10^32 years`, as [`big`] writes times beyond f64).
+/// 10⁴ years as `1.234 × 10^32 years`, as [`big`] writes times beyond f64;
+/// beyond 10^100 years in words, [`BEYOND_ANY_TIME_SCALE`]).
 fn dur(s: f64) -> String {
     if !s.is_finite() {
         // Not reached: the report's times are finite or come through
@@ -102,8 +102,12 @@ fn dur(s: f64) -> String {
     format!("{} {u}", g(x))
 }
 
-/// `10^log10_seconds` seconds as `1.234 × 10^664 years`.
+/// `10^log10_seconds` seconds as `1.234 × 10^32 years`, or
+/// [`BEYOND_ANY_TIME_SCALE`] past 10^100 years.
 fn years_pow10(log10_seconds: f64) -> String {
+    if beyond_any_time_scale(log10_seconds) {
+        return BEYOND_ANY_TIME_SCALE.into();
+    }
     let y = log10_seconds - YEAR.log10();
     let mut e = y.floor();
     let mut m = 10f64.powf(y - e);
@@ -121,11 +125,33 @@ fn big(t: &BigTime) -> String {
     }
 }
 
-/// An extrapolated mean retention `1/k` and its 95 % interval, from
-/// `ln k` (finite however far the extrapolation reaches).
-fn extrapolated(e: &Extrapolation) -> (String, String, String) {
-    let at = |z: f64| big(&BigTime::from_ln(-(e.ln_rate + z * e.ln_rate_se)));
-    (at(0.0), at(1.96), at(-1.96))
+/// An extrapolated mean retention `1/k` (finite text however far the
+/// extrapolation reaches) and the same with its 95 % interval: the ends
+/// beyond any time scale said once, in words.
+fn extrapolated(e: &Extrapolation) -> (String, String) {
+    let at = |z: f64| BigTime::from_ln(-(e.ln_rate + z * e.ln_rate_se));
+    let (mid, lo, hi) = (at(0.0), at(1.96), at(-1.96));
+    let far = |t: &BigTime| beyond_any_time_scale(t.log10_seconds);
+    let with_interval = match (far(&lo), far(&mid), far(&hi)) {
+        (true, _, _) => format!("{BEYOND_ANY_TIME_SCALE}, all of its 95 % interval"),
+        (false, true, _) => format!("{BEYOND_ANY_TIME_SCALE}; 95 % from {}", big(&lo)),
+        (false, false, true) => {
+            format!("{} (95 %: {} – beyond any time scale)", big(&mid), big(&lo))
+        }
+        _ => format!("{} (95 %: {} – {})", big(&mid), big(&lo), big(&hi)),
+    };
+    (big(&mid), with_interval)
+}
+
+/// A transition-state bound in words: `at least 8.447 × 10^15 years`, or
+/// past 10^100 years that the state lasts beyond any time scale.
+fn at_least(tst: &BigTime) -> String {
+    if beyond_any_time_scale(tst.log10_seconds) {
+        "no escape: it lasts beyond any time scale (its transition-state bound, a lower one, is over 10^100 years)"
+            .into()
+    } else {
+        format!("at least {} (transition-state bound)", big(tst))
+    }
 }
 
 /// A splitting estimate of a time, with its interval.
@@ -174,15 +200,15 @@ fn lying_words(l: &LyingRetention) -> String {
             g(l.barrier_kt)
         ),
         None if l.not_measured == Some("beyond_reach") => format!(
-            "at {} K the barrier is {} kT, beyond any sampler's reach: at least {} (transition-state bound)",
+            "at {} K the barrier is {} kT, beyond any sampler's reach; {}",
             l.temperature,
             g(l.barrier_kt),
-            big(&l.tst)
+            at_least(&l.tst)
         ),
         None => format!(
-            "at {} K (not measured by this run) at least {} (transition-state bound)",
+            "at {} K (not measured by this run) {}",
             l.temperature,
-            big(&l.tst)
+            at_least(&l.tst)
         ),
     }
 }
@@ -515,10 +541,7 @@ fn thermal_section(s: &mut String, r: &DeviceReport) {
         };
         let ret = t
             .one_retention
-            .map(|e| {
-                let (m, lo, hi) = extrapolated(&e);
-                format!("{m} (95 %: {lo} – {hi})")
-            })
+            .map(|e| extrapolated(&e).1)
             .unwrap_or_else(|| "no fit".into());
         let _ = writeln!(
             s,
@@ -812,35 +835,72 @@ mod tests {
         assert_eq!(dur(9999.0 * YEAR), "9999 years");
         // A mantissa that rounds to 10 carries into the exponent.
         assert_eq!(years_pow10((9.9996e5 * YEAR).log10()), "1.000 × 10^6 years");
-        // Beyond f64: from the logarithm.
+        assert_eq!(dur(3.3e-3), "3.300 ms");
+        assert_eq!(dur(8.447e15 * YEAR), "8.447 × 10^15 years");
+        // Past 10^100 years, within f64 or beyond it (from the
+        // logarithm): words, no digits.
+        assert_eq!(dur(1e102 * YEAR), BEYOND_ANY_TIME_SCALE);
         let t =
             BigTime::from_ln((3.74f64.log10() + 664.0 + YEAR.log10()) * std::f64::consts::LN_10);
         assert!(t.seconds.is_none());
-        assert_eq!(big(&t), "3.740 × 10^664 years");
-        assert_eq!(dur(3.3e-3), "3.300 ms");
+        assert_eq!(big(&t), BEYOND_ANY_TIME_SCALE);
+        assert!(at_least(&t).starts_with("no escape: it lasts beyond any time scale"));
+        let t = BigTime::from_ln((8.447e15 * YEAR).ln());
+        assert_eq!(
+            at_least(&t),
+            "at least 8.447 × 10^15 years (transition-state bound)"
+        );
+    }
+
+    fn extrapolation(ln_rate: f64, ln_rate_se: f64) -> Extrapolation {
+        Extrapolation {
+            temperature: 4.0,
+            rate: 0.0,
+            ln_rate,
+            rate_ci95: [0.0, 0.0],
+            ln_rate_se,
+            mean_time: f64::INFINITY,
+            time_ci95: [f64::INFINITY; 2],
+        }
     }
 
     #[test]
     fn extrapolations_beyond_f64_are_finite_text() {
-        // ln k = −2000: 1/k = e^2000 s = 10^868.6 s, beyond f64; the
-        // interval e^(2000 ∓ 1.96·10).
-        let e = Extrapolation {
-            temperature: 4.0,
-            rate: 0.0,
-            ln_rate: -2000.0,
-            rate_ci95: [0.0, 0.0],
-            ln_rate_se: 10.0,
-            mean_time: f64::INFINITY,
-            time_ci95: [f64::INFINITY; 2],
-        };
-        let (m, lo, hi) = extrapolated(&e);
-        let log10_years = |ln_s: f64| ln_s / std::f64::consts::LN_10 - YEAR.log10();
-        let want = |ln_s: f64| {
-            let y = log10_years(ln_s);
+        let years = |ln_s: f64| {
+            let y = ln_s / std::f64::consts::LN_10 - YEAR.log10();
             format!("{:.3} × 10^{} years", 10f64.powf(y - y.floor()), y.floor())
         };
-        assert_eq!(m, want(2000.0));
-        assert_eq!(lo, want(2000.0 - 19.6));
-        assert_eq!(hi, want(2000.0 + 19.6));
+        // ln k = −100 ± 10: 1/k = e^100 s = 8.5 × 10^35 years, and its
+        // interval e^(100 ∓ 19.6): powers of ten.
+        let (m, both) = extrapolated(&extrapolation(-100.0, 10.0));
+        assert_eq!(m, years(100.0));
+        assert_eq!(
+            both,
+            format!(
+                "{} (95 %: {} – {})",
+                years(100.0),
+                years(80.4),
+                years(119.6)
+            )
+        );
+        // ln k = −2000: 1/k = e^2000 s = 10^868.6 s, beyond f64 and beyond
+        // any time scale, its whole interval too.
+        let (m, both) = extrapolated(&extrapolation(-2000.0, 10.0));
+        assert_eq!(m, BEYOND_ANY_TIME_SCALE);
+        assert_eq!(
+            both,
+            format!("{BEYOND_ANY_TIME_SCALE}, all of its 95 % interval")
+        );
+        // Only the upper end past 10^100 years (e^258.8 s = 10^104.9
+        // years; e^200 s = 10^79.4 years).
+        let (_, both) = extrapolated(&extrapolation(-200.0, 30.0));
+        assert_eq!(
+            both,
+            format!(
+                "{} (95 %: {} – beyond any time scale)",
+                years(200.0),
+                years(141.2)
+            )
+        );
     }
 }

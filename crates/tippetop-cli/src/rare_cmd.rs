@@ -269,18 +269,32 @@ fn interval(ci: [f64; 2], q: Quantity) -> String {
     format!("{} .. {hi}", with_unit(ci[0], q))
 }
 
+/// An exact answer for people: a probability, or a time in seconds (one
+/// beyond any time scale in words: rare.json has its logarithm).
+fn exact_value(p: Positive, q: Quantity) -> String {
+    match q {
+        Quantity::Probability => fmt_positive(p),
+        Quantity::MeanFirstPassageTime
+            if tippetop::human::beyond_any_time_scale(p.ln / std::f64::consts::LN_10) =>
+        {
+            tippetop::human::BEYOND_ANY_TIME_SCALE.into()
+        }
+        Quantity::MeanFirstPassageTime => format!("{} s", fmt_positive(p)),
+    }
+}
+
 fn exact_words(e: &Exact, q: Quantity) -> String {
-    let unit = if q == Quantity::MeanFirstPassageTime {
-        " s"
-    } else {
-        ""
-    };
-    let mut s = format!("{}{unit}", fmt_positive(e.value));
-    if let Some(w) = e.watched {
+    let mut s = exact_value(e.value, q);
+    // Two times beyond any time scale are one answer.
+    let beyond = |t: &str| t == tippetop::human::BEYOND_ANY_TIME_SCALE;
+    if let Some(w) = e
+        .watched
+        .filter(|w| !(beyond(&s) && beyond(&exact_value(*w, q))))
+    {
         let _ = write!(
             s,
-            " (watched at every step of solver.dt: {}{unit})",
-            fmt_positive(w)
+            " (watched at every step of solver.dt: {})",
+            exact_value(w, q)
         );
     }
     s

@@ -464,6 +464,22 @@ pub fn flies(sc: &tippetop::Scenario) -> bool {
         && sc.surface.contact == tippetop::ContactMode::Unilateral
 }
 
+/// `fraction` of a run of `span` seconds for people: `97.6% of the time`;
+/// a share that rounds to 100 % but is not all of it is given by the time
+/// left over instead (`all but 47.1 ms of the 200 s`).
+fn share(fraction: f64, span: f64) -> String {
+    let pct = crate::plot::format_value(100.0 * fraction);
+    if pct == "100" && fraction < 1.0 {
+        format!(
+            "all but {} of the {} s",
+            tippetop::human::si((1.0 - fraction) * span, "s", 3),
+            crate::plot::format_value(span)
+        )
+    } else {
+        format!("{pct}% of the time")
+    }
+}
+
 /// The short human summary printed at the end of a run (without `--quiet`);
 /// `flies` as [`flies`] says.
 pub fn human_summary(
@@ -506,8 +522,8 @@ pub fn human_summary(
     if s.rolling_fraction > 0.0 {
         let stuck = traj.events.iter().find(|e| e.kind == "stick").map(|e| e.t);
         o.push_str(&format!(
-            "friction:    rolls without slipping {}% of the time{}\n",
-            v(100.0 * s.rolling_fraction),
+            "friction:    rolls without slipping {}{}\n",
+            share(s.rolling_fraction, s.t_end),
             stuck.map_or(String::new(), |t| format!(
                 " (sticks first at t = {} s)",
                 v(t)
@@ -544,24 +560,24 @@ pub fn human_summary(
     if let Some(t) = s.contact_lost_at {
         o.push_str(&if flies {
             format!(
-                "contact:     lifts off first at t = {} s, in flight {}% of the time\n",
+                "contact:     lifts off first at t = {} s, in flight {}\n",
                 v(t),
-                v(100.0 * s.negative_normal_fraction)
+                share(s.negative_normal_fraction, s.t_end)
             )
         } else {
             format!(
-                "contact:     N < 0 first at t = {} s ({}% of the time)\n",
+                "contact:     N < 0 first at t = {} s ({})\n",
                 v(t),
-                v(100.0 * s.negative_normal_fraction)
+                share(s.negative_normal_fraction, s.t_end)
             )
         });
     }
     if let Some(st) = &s.stem {
         match st.first_stem_contact_at {
             Some(t) => o.push_str(&format!(
-                "stem:        lands first at t = {} s, on the plane {}% of the time\n",
+                "stem:        lands first at t = {} s, on the plane {}\n",
                 v(t),
-                v(100.0 * st.stem_contact_fraction)
+                share(st.stem_contact_fraction, s.t_end)
             )),
             None => o.push_str("stem:        never touches the plane\n"),
         }

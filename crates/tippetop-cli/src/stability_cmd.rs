@@ -247,8 +247,8 @@ pub fn table(r: &StabilityReport, sc: Option<&Scenario>) -> String {
         );
     }
     s += &format!(
-        "  least energy at this scenario's J: θ = {:.6} rad\n",
-        inv.final_theta
+        "  least energy at this scenario's J: θ = {} rad\n",
+        h(inv.final_theta)
     );
     if let Some(l) = &r.late {
         s += &format!(

@@ -23,9 +23,9 @@ fn device_report_is_consistent() {
     let r = json(&d.join("dev/device.json"));
     let md = std::fs::read_to_string(d.join("dev/device.md")).unwrap();
     assert!(md.contains("## Answer"), "{md}");
-    // One number format for people (issue #29, 5): no machine-precision
-    // numbers, no `1e300`/`inf` stand-ins (a 4 K retention beyond f64 reads
-    // `3.740 × 10^664 years`), in the report and on the console.
+    // One number format for people: no machine-precision numbers, no
+    // `1e300`/`inf` stand-ins (a 4 K retention beyond f64 reads "beyond any
+    // time scale"), in the report and on the console.
     let console = format!(
         "{}{}",
         String::from_utf8_lossy(&o.stdout),

@@ -616,8 +616,10 @@ pub fn app_b(runs: &Runs) -> Result<Vec<Claim>, Error> {
                 measured: c.full.clone(),
                 summary: app_b_summary(&c.full),
                 settings: format!(
-                    "{}; linearised with the {:?} law, eps = {:e} m/s (tippetop stability)",
-                    r.settings, st.law, st.eps
+                    "{}; linearised with the {:?} law, eps = {} m/s (tippetop stability)",
+                    r.settings,
+                    st.law,
+                    s4(st.eps)
                 ),
                 verdict,
                 why: format!("What App. B dropped: {}", c.dropped),

@@ -132,6 +132,29 @@ fn push_figures(s: &mut String, rep: &Reproduction) {
     }
 }
 
+/// A run's settings for the runs list: its command line as a code span;
+/// for the C/A study, whose C is the product ratio × A (17 digits on a
+/// command line), the nano file's command with C in words.
+fn shown_settings(r: &crate::Run) -> String {
+    use crate::runs::{C_OVER_A, c_over_a_name};
+    match C_OVER_A.iter().find(|&&k| c_over_a_name(k) == r.name) {
+        Some(ratio) => {
+            let base: Vec<&str> = r
+                .settings
+                .split(" --set ")
+                .filter(|p| !p.starts_with("top.inertia_axial="))
+                .collect();
+            let base = base.join(" --set ");
+            format!(
+                "`{base}` with C = {ratio} A = {} kg m² (`top.inertia_axial` set to {ratio} × \
+                 `top.inertia_transverse`, in double precision)",
+                tippetop::human::s4(r.scenario.top.inertia_axial)
+            )
+        }
+        None => format!("`{}`", r.settings),
+    }
+}
+
 fn push_runs(s: &mut String, rep: &Reproduction) {
     s.push_str("## Runs\n\n| run | status | steps | RHS evaluations | J drift | first N < 0 |\n|---|---|---|---|---|---|\n");
     let mut notes = Vec::new();
@@ -163,7 +186,7 @@ fn push_runs(s: &mut String, rep: &Reproduction) {
     }
     s.push_str("\nEach run's settings (the scenario and its overrides):\n\n");
     for r in &rep.runs {
-        s.push_str(&format!("- {}: `{}`\n", r.name, r.settings));
+        s.push_str(&format!("- {}: {}\n", r.name, shown_settings(r)));
     }
     if !notes.is_empty() {
         s.push('\n');

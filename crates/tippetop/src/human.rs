@@ -45,6 +45,21 @@ pub fn exact(x: f64) -> String {
     }
 }
 
+/// A year \[s\] (365.25 days).
+pub const YEAR: f64 = 365.25 * 86400.0;
+
+/// What a text for people says of a time beyond any time scale (see
+/// [`beyond_any_time_scale`]) instead of its power of ten.
+pub const BEYOND_ANY_TIME_SCALE: &str = "beyond any time scale (over 10^100 years)";
+
+/// Whether `10^log10_seconds` seconds is beyond any time scale: over
+/// 10^100 years, which no process, measurement or design comes near (the
+/// universe is about 1.4 × 10^10 years old), so its digits mean nothing
+/// to a reader.
+pub fn beyond_any_time_scale(log10_seconds: f64) -> bool {
+    log10_seconds > 100.0 + YEAR.log10()
+}
+
 /// [`sig`] with 4 significant figures.
 pub fn s4(x: f64) -> String {
     sig(x, 4)
@@ -170,6 +185,16 @@ mod tests {
         assert_eq!(sig(1.2207963267948965, 3), "1.22");
         assert_eq!(complex(0.34360, -107.32), "0.3436-107.3i");
         assert_eq!(complex(-2.6681e-4, 0.503), "-2.668e-4+0.5030i");
+    }
+
+    #[test]
+    fn times_beyond_any_time_scale() {
+        let log10_years = |y: f64| y + YEAR.log10();
+        assert!(!beyond_any_time_scale(log10_years(100.0)));
+        assert!(beyond_any_time_scale(log10_years(100.01)));
+        assert!(beyond_any_time_scale(log10_years(664.0)));
+        assert!(!beyond_any_time_scale(log10_years(15.0)));
+        assert!(!beyond_any_time_scale(f64::NAN));
     }
 
     #[test]

@@ -504,18 +504,18 @@ pub fn load_movie(dir: &Path, settings: &Settings) -> std::result::Result<Movie,
         (
             replay(&scenario, &times).map_err(LoadError::Input)?,
             format!(
-                "replayed scenario.toml: states at the frame times from the dense output ({} rows were too coarse for a frame every {:.4e} s)",
+                "replayed scenario.toml: states at the frame times from the dense output ({} rows were too coarse for a frame every {})",
                 rows.len(),
-                frame_dt
+                tippetop::human::si(frame_dt, "s", 3)
             ),
         )
     } else {
         (
             times.iter().map(|&t| interpolate(&rows, t)).collect(),
             format!(
-                "interpolated between the {} rows of trajectory.csv (fine enough for a frame every {:.4e} s)",
+                "interpolated between the {} rows of trajectory.csv (fine enough for a frame every {})",
                 rows.len(),
-                frame_dt
+                tippetop::human::si(frame_dt, "s", 3)
             ),
         )
     };
