@@ -5,7 +5,7 @@
 //! line naming the key, nothing written).
 
 mod common;
-use common::{bin, checkpoints, json, names, ok, refused, repo, with_checksum};
+use common::{HOT, NANO20, bin, checkpoints, json, names, ok, refused, repo, with_checksum};
 
 fn scratch(name: &str) -> std::path::PathBuf {
     common::scratch("bit-cli", name)
@@ -235,30 +235,6 @@ fn adhesion_keeps_the_bit_at_zero() {
 }
 
 /// A Langevin bit of 2000 steps per run (milliseconds).
-const HOT: &str = r#"preset = "nano"
-[surface]
-friction = 0.0
-[solver]
-method = "langevin"
-dt = 1e-14
-samples = 201
-[thermal]
-temperature = 300.0
-damping_translational = 1e11
-damping_rotational = 1e11
-seed = 7
-[bit]
-hold = 2e-12
-phase = 1e-11
-[[write]]
-hx = 3e-11
-hy = 3e-11
-stop = 5e-12
-[[erase]]
-hx = -3e-11
-hy = -3e-11
-stop = 5e-12
-"#;
 
 fn hot(d: &Path, out: &str, extra: &[&str]) -> Output {
     bin()
@@ -643,19 +619,6 @@ fn bit_at_300k_is_decided_by_the_well() {
 
 /// The nano top's bit with 20 µs phases (the issue's map preset): the
 /// paper's force, its reversal as the erase.
-const NANO20: &str = r#"preset = "nano"
-[solver]
-samples = 81
-[bit]
-hold = 5e-6
-phase = 2e-5
-[[write]]
-hx = 1e-22
-hy = 1e-22
-[[erase]]
-hx = -1e-22
-hy = -1e-22
-"#;
 
 fn bit(d: &Path, file: &str, out: &str, extra: &[&str]) -> Output {
     bin()

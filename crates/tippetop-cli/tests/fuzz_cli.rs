@@ -31,6 +31,8 @@
 //! Both print their counts (cases per command and exit code, failed rows).
 //! `TIPPETOP_FUZZ_CASES=N` changes the full harness's count.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -953,26 +955,6 @@ fn fuzz_attacks(cases: u64) {
     let scratch = tempfile::tempdir().unwrap();
     let mut violations: Vec<String> = Vec::new();
     let mut counts = BTreeMap::<&str, usize>::new();
-    const RARE: &[&str] = &[
-        "rare",
-        "--preset",
-        "nano-physical",
-        "--set",
-        "solver.method=\"brownian\"",
-        "--set",
-        "solver.dt=2e-16",
-        "--set",
-        "initial.theta=1.5707963267948966",
-        "--set",
-        "thermal.temperature=3000",
-        "--set",
-        "force.0.hx=1e-10",
-        "--target",
-        "theta>1.92",
-        "--reset",
-        "theta<1.22",
-        "--quiet",
-    ];
     const VALUES: &[&str] = &[
         "0",
         "1",
@@ -1005,7 +987,7 @@ fn fuzz_attacks(cases: u64) {
                 ]);
                 let value = rng.pick(VALUES);
                 let mut child = Command::new(&bin)
-                    .args(RARE)
+                    .args(common::RARE)
                     .args(["--method", method, flag, value, "--out"])
                     .arg(&out)
                     .stdout(Stdio::null())

@@ -16,7 +16,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 mod common;
-use common::{ok, refused};
+use common::{HOT, NANO20, RARE, ok, refused};
 
 /// The binary under test, or the one `TIPPETOP_TEST_BIN` names (to see
 /// these tests fail on a build from before the fixes).
@@ -136,42 +136,6 @@ fn another_sweeps_partial_rows_are_refused() {
         "sweep.csv.partial",
     );
 }
-
-const NANO20: &str = r#"preset = "nano"
-[bit]
-hold = 5e-6
-phase = 2e-5
-[[write]]
-hx = 1e-22
-hy = 1e-22
-[[erase]]
-hx = -1e-22
-hy = -1e-22
-"#;
-
-const HOT: &str = r#"preset = "nano"
-[surface]
-friction = 0.0
-[solver]
-method = "langevin"
-dt = 1e-14
-[thermal]
-temperature = 300.0
-damping_translational = 1e11
-damping_rotational = 1e11
-seed = 7
-[bit]
-hold = 2e-12
-phase = 1e-11
-[[write]]
-hx = 3e-11
-hy = 3e-11
-stop = 5e-12
-[[erase]]
-hx = -3e-11
-hy = -3e-11
-stop = 5e-12
-"#;
 
 #[test]
 fn another_maps_partial_rows_are_refused() {
@@ -341,31 +305,6 @@ fn a_changed_output_is_left_and_an_unchanged_one_removed() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
-/// The splitting's question for the budget tests: fast to set up (a
-/// probability from the Brownian lying state at 3000 K).
-const RARE: &[&str] = &[
-    "rare",
-    "--preset",
-    "nano-physical",
-    "--set",
-    "solver.method=\"brownian\"",
-    "--set",
-    "solver.dt=2e-16",
-    "--set",
-    "initial.theta=1.5707963267948966",
-    "--set",
-    "thermal.temperature=3000",
-    "--set",
-    "force.0.hx=1e-10",
-    "--target",
-    "theta>1.92",
-    "--reset",
-    "theta<1.22",
-    "--method",
-    "ams",
-    "--quiet",
-];
-
 /// Every budget of `rare --method ams` is checked before anything is
 /// allocated or written: a count past its bound, or sizes whose memory
 /// (the particles of the replicas running at once, the records of all)
@@ -399,6 +338,7 @@ fn rare_budgets_are_bounded_before_allocating() {
         let out = d.join(format!("out{k}"));
         let o = bin()
             .args(RARE)
+            .args(["--method", "ams"])
             .args(extra)
             .arg("--out")
             .arg(&out)

@@ -294,3 +294,69 @@ pub fn anchors(text: &str) -> std::collections::BTreeSet<String> {
     }
     out
 }
+
+/// A bit at 300 K in the Langevin mode, a few ps long (bit_cli.rs,
+/// trust3_cli.rs).
+pub const HOT: &str = r#"preset = "nano"
+[surface]
+friction = 0.0
+[solver]
+method = "langevin"
+dt = 1e-14
+samples = 201
+[thermal]
+temperature = 300.0
+damping_translational = 1e11
+damping_rotational = 1e11
+seed = 7
+[bit]
+hold = 2e-12
+phase = 1e-11
+[[write]]
+hx = 3e-11
+hy = 3e-11
+stop = 5e-12
+[[erase]]
+hx = -3e-11
+hy = -3e-11
+stop = 5e-12
+"#;
+
+/// The paper's nano bit at T = 0, 20 us (bit_cli.rs, trust3_cli.rs).
+pub const NANO20: &str = r#"preset = "nano"
+[solver]
+samples = 81
+[bit]
+hold = 5e-6
+phase = 2e-5
+[[write]]
+hx = 1e-22
+hy = 1e-22
+[[erase]]
+hx = -1e-22
+hy = -1e-22
+"#;
+
+/// A rare-event question that is fast to set up (a probability from the
+/// Brownian lying state at 3000 K; trust3_cli.rs, fuzz_cli.rs): add
+/// `--method`.
+pub const RARE: &[&str] = &[
+    "rare",
+    "--preset",
+    "nano-physical",
+    "--set",
+    "solver.method=\"brownian\"",
+    "--set",
+    "solver.dt=2e-16",
+    "--set",
+    "initial.theta=1.5707963267948966",
+    "--set",
+    "thermal.temperature=3000",
+    "--set",
+    "force.0.hx=1e-10",
+    "--target",
+    "theta>1.92",
+    "--reset",
+    "theta<1.22",
+    "--quiet",
+];
