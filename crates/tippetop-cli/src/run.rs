@@ -231,14 +231,7 @@ pub fn run(args: &RunArgs, quiet: bool) -> Result<()> {
     if !quiet {
         print!(
             "{}",
-            human_summary(
-                &traj,
-                flies(&scenario),
-                wall_seconds,
-                &args.out,
-                &written,
-                &plots
-            )
+            human_summary(&traj, &scenario, wall_seconds, &args.out, &written, &plots)
         );
     }
     match &traj.error {
@@ -480,11 +473,46 @@ fn share(fraction: f64, span: f64) -> String {
     }
 }
 
-/// The short human summary printed at the end of a run (without `--quiet`);
-/// `flies` as [`flies`] says.
+/// A top of a toy's size (radius 1 mm or more) on the plane: the scale at
+/// which a top that rolls under exact Coulomb friction inverts once the
+/// friction acts over its contact patch (Coulomb-Contensou,
+/// docs/physics.md#contensou), as real tops do.
+pub fn toy_on_plane(sc: &Scenario) -> bool {
+    sc.surface.shape == tippetop::input::surface::Shape::Plane && sc.top.radius >= 1e-3
+}
+
+/// The contact radius the hint for a rolling toy suggests [m]: 0.3 mm (the
+/// classical top's patch, R / 50 for R = 15 mm, that inverts it), R / 50
+/// for a smaller top (the largest patch allowed is R / 10).
+pub fn suggested_contact_radius(sc: &Scenario) -> f64 {
+    (sc.top.radius / 50.0).min(3e-4)
+}
+
+/// Why a top that rolled (exact Coulomb friction) and never rose above
+/// π/2 did not, and what makes it rise: for a toy on the plane its contact
+/// patch (Coulomb-Contensou friction), else the paper's slip law.
+fn no_rise_hint(sc: &Scenario) -> String {
+    let why = "             a rolling contact does no work, so friction cannot raise the top \
+               (docs/physics.md#coulomb)";
+    if toy_on_plane(sc) && sc.surface.law == tippetop::FrictionLaw::Coulomb {
+        let rc = suggested_contact_radius(sc);
+        format!(
+            "{why};\n             a real top slides on its contact patch and inverts: \
+             --set surface.friction_law=contensou --set surface.contact_radius={} \
+             (a patch of radius {}, docs/physics.md#contensou)\n",
+            tippetop::human::exact(rc),
+            tippetop::human::si(rc, "m", 3)
+        )
+    } else {
+        format!("{why}; the paper's slip law: surface.friction_law = \"regularized\"\n")
+    }
+}
+
+/// The short human summary printed at the end of a run of `scenario`
+/// (without `--quiet`).
 pub fn human_summary(
     traj: &Trajectory,
-    flies: bool,
+    scenario: &Scenario,
     wall_seconds: f64,
     out: &Path,
     written: &[PathBuf],
@@ -493,6 +521,7 @@ pub fn human_summary(
     use crate::plot::format_value as v;
     let s = summary_with_status(traj);
     let mut o = String::new();
+    let flies = flies(scenario);
     let status = if traj.error.is_some() {
         format!("FAILED: {}", s.status)
     } else {
@@ -530,10 +559,7 @@ pub fn human_summary(
             )),
         ));
         if s.first_time_theta_above_half_pi.is_none() && s.rolling_fraction >= 0.5 {
-            o.push_str(
-                "             a rolling contact does no work, so friction cannot raise the top \
-                 (docs/physics.md#coulomb); the paper's slip law: surface.friction_law = \"regularized\"\n",
-            );
+            o.push_str(&no_rise_hint(scenario));
         }
     }
     // A stochastic run (it has interval-averaged N): the bath's torques
@@ -691,7 +717,7 @@ mod tests {
             } else {
                 assert_eq!(json["status"], "ok");
             }
-            let text = human_summary(&traj, false, 0.5, dir.path(), &written, &plots);
+            let text = human_summary(&traj, &sc, 0.5, dir.path(), &written, &plots);
             assert!(text.contains("theta:") && text.contains("wall time:"));
             assert!(text.contains("theta.{png,svg}"));
             assert_eq!(text.contains("FAILED"), failed);
