@@ -48,7 +48,9 @@ trajectory.csv columns (SI units; angles in rad; frames in docs/physics.md):
   J              Jellett's quantity J = A Ω R sin²θ + C ω (R cos θ − a) [kg m³/s], with
                  A, C the moments of inertia (transverse, axial), R the radius, a the
                  offset of the centre of mass (conserved for any force at the
-                 contact point: its drift measures the integration error)
+                 contact point: its drift measures the integration error; not
+                 conserved by the physics under friction_law = \"contensou\", whose
+                 contact patch's drilling torque changes J, nor in a heat bath)
   energy         total energy: translational + rotational kinetic + m g h, h the height
                  of the centre of mass above the plane [J]
   work_friction  work done by friction since t = 0 [J] (<= 0)
@@ -519,9 +521,9 @@ pub fn human_summary(
     plots: &[PathBuf],
 ) -> String {
     use crate::plot::format_value as v;
+    let flies = flies(scenario);
     let s = summary_with_status(traj);
     let mut o = String::new();
-    let flies = flies(scenario);
     let status = if traj.error.is_some() {
         format!("FAILED: {}", s.status)
     } else {
@@ -563,9 +565,16 @@ pub fn human_summary(
         }
     }
     // A stochastic run (it has interval-averaged N): the bath's torques
-    // change J, so its drift is not an accuracy figure.
+    // change J, so its drift is not an accuracy figure; nor under
+    // Coulomb-Contensou friction, whose drilling torque changes J.
     let j_note = if s.normal_intervals.is_some() {
         " (not conserved: the heat bath's torques)"
+    } else if matches!(
+        scenario.surface.law,
+        tippetop::FrictionLaw::Contensou { .. }
+    ) {
+        " (not conserved: the contact patch's drilling torque, docs/physics.md#contensou; \
+         not an integration error)"
     } else if s.stem.is_some_and(|st| st.first_stem_contact_at.is_some()) {
         " (the touching sphere's -L·r: it jumps where the stem and the main sphere take over from each other)"
     } else {

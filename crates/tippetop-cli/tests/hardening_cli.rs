@@ -142,7 +142,7 @@ fn step_limit_is_exit_3_with_results() {
         .code(3);
     let stderr = String::from_utf8_lossy(&a.get_output().stderr).to_string();
     assert!(
-        stderr.contains("step limit 200 reached (the run cannot make progress"),
+        stderr.contains("step limit 200 reached (solver.max_steps"),
         "{stderr}"
     );
     assert!(out.join("summary.json").exists());
@@ -183,6 +183,13 @@ fn a_runaway_is_announced_before_the_failure() {
     assert!(lines[warn].contains("has grown 10x since t = "), "{stderr}");
     assert!(
         lines[fail].contains("step limit 1500000 reached") && lines[fail].contains("= 666.7 ns;"),
+        "{stderr}"
+    );
+    // The spin ran away: the step limit is not the cause, and the message
+    // does not suggest raising it.
+    assert!(
+        lines[fail].contains("cannot make progress")
+            && lines[fail].contains("the spin has grown to"),
         "{stderr}"
     );
 }

@@ -34,6 +34,10 @@ fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
 /// The `--set KEY=VALUE` arguments a line names, in order.
 fn sets_in(line: &str) -> Vec<String> {
     let words: Vec<&str> = line.split_whitespace().collect();
@@ -96,5 +100,85 @@ fn a_rolling_toy_is_pointed_to_its_contact_patch_and_the_fix_inverts_it() {
     let text = stdout(&o);
     assert!(text.contains("a rolling contact does no work"), "{text}");
     assert!(!text.contains("contensou"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Under Contensou friction the patch's drilling torque changes Jellett's
+/// J: its drift is said to be physics, not integration error; under
+/// Coulomb friction it is a plain accuracy figure.
+#[test]
+fn jellett_drift_under_contensou_is_said_to_be_physics() {
+    let dir = scratch("newcomer", "jellett");
+    let jellett = |o: &Output| {
+        ok(o);
+        let text = stdout(o);
+        text.lines()
+            .find(|l| l.starts_with("Jellett J:"))
+            .unwrap_or_else(|| panic!("{text}"))
+            .to_string()
+    };
+    let patch = [
+        "surface.friction_law=contensou",
+        "surface.contact_radius=3e-4",
+        "solver.t_end=3",
+    ];
+    let line = jellett(&run_toy(&patch, &dir.join("c")));
+    assert!(
+        line.contains("not conserved") && line.contains("drilling torque"),
+        "{line}"
+    );
+    assert!(line.contains("not an integration error"), "{line}");
+    let line = jellett(&run_toy(&["solver.t_end=1"], &dir.join("r")));
+    assert!(!line.contains('('), "{line}");
+    let help = stdout(&bin().args(["run", "--help"]).output().unwrap());
+    let help = help.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(
+        help.contains("not conserved by the physics under friction_law = \"contensou\""),
+        "{help}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A run that advances steadily but needs more steps than its limit is
+/// told that the step limit (`solver.max_steps`) stopped it, not that it
+/// cannot make progress, with the value that lets it finish; that value
+/// does. The limit can be raised above its default, up to 1e9.
+#[test]
+fn the_step_limit_is_named_with_the_key_that_raises_it() {
+    let dir = scratch("newcomer", "steps");
+    let o = run_toy(&["solver.max_steps=500"], &dir.join("a"));
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let err = stderr(&o);
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("error: "))
+        .unwrap_or_else(|| panic!("{err}"));
+    assert!(
+        line.contains("step limit 500 reached (solver.max_steps): the run was advancing"),
+        "{line}"
+    );
+    assert!(!line.contains("cannot make progress"), "{line}");
+    let raise = sets_in(line);
+    assert_eq!(raise.len(), 1, "{line}");
+    assert!(raise[0].starts_with("solver.max_steps="), "{line}");
+    let o = run_toy(&[raise[0].as_str()], &dir.join("b"));
+    ok(&o);
+
+    for (v, code) in [("30000000", 0), ("1000000000", 0), ("1000000001", 2)] {
+        let o = bin()
+            .args(["show", "--preset", "classical", "--set"])
+            .arg(format!("solver.max_steps={v}"))
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(code), "{v}: {}", stderr(&o));
+        if code == 2 {
+            let e = stderr(&o);
+            assert_eq!(e.lines().count(), 1, "{e}");
+            assert!(
+                e.starts_with("error: solver.max_steps: ") && e.contains("<= 1000000000"),
+                "{e}"
+            );
+        }
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

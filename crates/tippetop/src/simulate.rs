@@ -591,7 +591,8 @@ impl Simulation {
 }
 
 /// Bits of a random stream's step counter below a branch's index
-/// ([`noise_counter`]): a run takes at most [`MAX_STEPS`] < 2⁴⁰ steps.
+/// ([`noise_counter`]): a run takes at most
+/// [`crate::limits::STEP_LIMIT_MAX`] < 2⁴⁰ steps.
 pub(crate) const BRANCH_SHIFT: u32 = 40;
 
 /// The random stream's counter of step `step` of branch `branch`
@@ -1290,7 +1291,10 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             ),
             IntegrateError::TooManySteps { t, .. } => (
                 t,
-                (Failure::StepLimit, step_limit_why(&self.sc, self.step_cap)),
+                (
+                    Failure::StepLimit,
+                    step_limit_why(&self.sc, &self.track, self.step_cap, t * tu),
+                ),
                 self.last_accepted.1.to_vec(),
             ),
         };

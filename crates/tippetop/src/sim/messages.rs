@@ -2,10 +2,42 @@
 
 use crate::{Failure, Method, Scenario, sim::record::Track};
 
-/// Why a run of `sc` stopped at its step limit `cap`, with a hint at why it
-/// cannot make progress.
-pub(crate) fn step_limit_why(sc: &Scenario, cap: u64) -> String {
-    let mean = sc.solver.t_end / cap as f64;
+/// How many times the fastest initial rate (`1 / T_ref`) a run's spin may
+/// reach for its steps to count as steady: beyond it the steps shrink with
+/// the spin, and the mean step so far says nothing of the steps left.
+const SPEEDUP_STEADY: f64 = 10.0;
+
+/// Why a run of `sc` stopped at its step limit `cap` at time `reached`
+/// \[s\], `track` its record so far. A run whose spin stayed within
+/// [`SPEEDUP_STEADY`] times its fastest initial rate and that needs, at
+/// its mean step so far, no more than [`crate::limits::STEP_LIMIT_MAX`]
+/// steps for all of `t_end` is advancing: the message names the limit as
+/// the cause and the value of `solver.max_steps` that lets it finish. Any
+/// other cannot make progress: the message says why it may not.
+pub(crate) fn step_limit_why(sc: &Scenario, track: &Track, cap: u64, reached: f64) -> String {
+    let t_end = sc.solver.t_end;
+    let needed = cap as f64 * t_end / reached;
+    let which = if sc.solver.max_steps.is_some() {
+        "solver.max_steps"
+    } else {
+        "solver.max_steps, the default"
+    };
+    // The track holds scaled rates: |spin| in units of 1 / T_ref.
+    let speedup = track.spin_abs_max();
+    let spin = speedup / crate::limits::time_unit(sc);
+    if needed <= crate::limits::STEP_LIMIT_MAX as f64 && speedup <= SPEEDUP_STEADY {
+        // A tenth more than the mean step needs, up to two figures.
+        let ask = round_up_2(needed * 1.1).min(crate::limits::STEP_LIMIT_MAX);
+        return format!(
+            "step limit {cap} reached ({which}): the run was advancing, {} per step on average over {} s of t_end = {} s, and needs about {} steps in all; raise the limit, e.g. --set solver.max_steps={ask} (at most {}), or shorten solver.t_end",
+            crate::human::si(reached / cap as f64, "s", 4),
+            crate::human::sig(reached, 4),
+            crate::human::exact(t_end),
+            crate::human::sig(needed, 3),
+            crate::limits::STEP_LIMIT_MAX
+        );
+    }
+    let mean = t_end / cap as f64;
     let hint = match (sc.surface.law, sc.solver.method) {
         (crate::FrictionLaw::Coulomb, _) => {
             "stick/slip switches or N = 0 crossings that follow each other ever faster, or a rate far faster than t_end"
@@ -17,12 +49,32 @@ pub(crate) fn step_limit_why(sc: &Scenario, cap: u64) -> String {
         _ => "a stiff friction law near rolling: try method = \"stiff\" or a larger friction_eps",
     };
     let periods = sc.solver.t_end / crate::limits::time_unit(sc);
+    let so_far = if speedup > SPEEDUP_STEADY {
+        format!(
+            "; the spin has grown to {} rad/s, {} times the fastest initial rate, and the steps shrink with it",
+            crate::human::sig(spin, 4),
+            crate::human::sig(speedup, 3)
+        )
+    } else if needed.is_finite() {
+        format!(
+            "; about {} steps at its mean step so far",
+            crate::human::sig(needed, 3)
+        )
+    } else {
+        String::new()
+    };
     format!(
-        "step limit {cap} reached (the run cannot make progress: the motion needs steps far shorter than t_end / {cap} = {}; {hint}; t_end is {} time units T_ref of the fastest initial rate; solver.max_steps sets the limit, at most {})",
+        "step limit {cap} reached ({which}; the run cannot make progress: the motion needs steps far shorter than t_end / {cap} = {}{so_far}; {hint}; t_end is {} time units T_ref of the fastest initial rate; solver.max_steps sets the limit, at most {})",
         crate::human::si(mean, "s", 4),
         crate::human::sig(periods, 4),
-        crate::limits::MAX_STEPS
+        crate::limits::STEP_LIMIT_MAX
     )
+}
+
+/// `x` > 0 rounded up to two significant figures, as an integer.
+fn round_up_2(x: f64) -> u64 {
+    let p = 10f64.powi(x.log10().floor() as i32 - 1).max(1.0);
+    ((x / p).ceil() * p) as u64
 }
 
 /// Why a run whose output row has `value` in `column`, not a finite

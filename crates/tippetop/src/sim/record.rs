@@ -118,6 +118,12 @@ impl Track {
         }
     }
 
+    /// The largest |spin| recorded so far, scaled: in units of the run's
+    /// fastest initial rate `1 / T_ref` (the models' time unit).
+    pub(crate) fn spin_abs_max(&self) -> f64 {
+        self.omega_abs_max
+    }
+
     /// The largest energy-balance error so far relative to max |E| (NaN-safe:
     /// infinite if the balance is not finite).
     pub(crate) fn balance_rel(&self) -> f64 {

@@ -53,7 +53,9 @@ pub fn read_file(path: &Path) -> Result<String, Error> {
 }
 
 /// The bounds of the solver settings live with them (`state`).
-pub use crate::input::solver::{BYTES_PER_SAMPLE, MAX_SAMPLES, MAX_STEPS, max_steps_for};
+pub use crate::input::solver::{
+    BYTES_PER_SAMPLE, MAX_SAMPLES, MAX_STEPS, STEP_LIMIT_MAX, max_steps_for,
+};
 
 /// Largest `t_end / T_ref`, the run's length in its own time unit `T_ref`
 /// (the inverse of the fastest initial rate: spin, precession, nutation
@@ -63,7 +65,7 @@ pub use crate::input::solver::{BYTES_PER_SAMPLE, MAX_SAMPLES, MAX_STEPS, max_ste
 /// apart, so the phase of the fastest motion can no longer be resolved to
 /// the tolerances the solver offers (`rtol >= 1e-14`); and the fastest motion
 /// turns `1e9 / (2 pi) = 1.6e8` times, which at several steps per turn is
-/// beyond the step limit [`MAX_STEPS`] anyway.
+/// beyond the largest step limit [`STEP_LIMIT_MAX`] anyway.
 pub const MAX_SCALED_T_END: f64 = 1e9;
 
 /// Largest number of events a run records (`Trajectory::events`); further
