@@ -28,7 +28,8 @@ pub struct Cli {
 
     /// Let this command replace the output another subcommand wrote into
     /// --out (its files are removed). Without it, that is refused (exit 2)
-    /// and nothing is touched.
+    /// and nothing is touched. Refused by the commands that write no files
+    /// (stability, adhesion, regime, show, keys).
     #[arg(long, global = true)]
     pub force: bool,
 
@@ -104,6 +105,30 @@ pub fn command() -> clap::Command {
 }
 
 impl Command {
+    /// Whether the subcommand writes files (it has an output directory):
+    /// `--force` means something only for these.
+    pub fn writes_files(&self) -> bool {
+        !matches!(
+            self,
+            Command::Stability(_)
+                | Command::Adhesion(_)
+                | Command::Regime(_)
+                | Command::Show(_)
+                | Command::Keys(_)
+        )
+    }
+
+    /// `--force` given to a subcommand that writes no files: the one-line
+    /// message of the refusal (exit 2), else `None`.
+    pub fn force_refused(&self, force: bool) -> Option<String> {
+        (force && !self.writes_files()).then(|| {
+            format!(
+                "--force: `tippetop {}` writes no files, so there is no output for --force to replace (leave it out)",
+                self.name()
+            )
+        })
+    }
+
     /// The subcommand's name, as typed (`run`, `sweep`, ...).
     pub fn name(&self) -> &'static str {
         match self {

@@ -19,7 +19,7 @@ use crate::scenario_load::input_error;
 /// Long help of `tippetop device`.
 pub const DEVICE_LONG_ABOUT: &str =
     "Answer, with numbers, whether the nano tippe top can be a memory bit
-(issue #16; docs/physics.md#device). Computes, each by this run:
+(docs/physics.md#device). Computes, each by this run:
   - the paper's model (preset nano, T = 0) and the same top with adhesion (nano-adhesive):
     the paper's write and its reversal as the erase (100 us phases), the smallest |H| along the
     paper's direction that writes, the best write and erase found by a protocol search;
@@ -29,7 +29,7 @@ pub const DEVICE_LONG_ABOUT: &str =
     state lasts (first passage out of zero); the lying state's retention from the Arrhenius fit
     of escape rates at three raised temperatures (extrapolated, and labelled so); the highest
     temperature with 10 years of retention (the cross-check);
-  - computed directly (issue 27, docs/physics.md#device-rare): the lying state's retention at 4, 77
+  - computed directly (docs/physics.md#device-rare): the lying state's retention at 4, 77
     and 300 K by splitting, beside transition-state theory's lower bound and the overdamped
     twin's exact answer (4 K: beyond any sampler, said so); the write error rates at 300 K of
     the paper's write and the search's best; the smallest well depth for 10 years at 300 K and
@@ -603,7 +603,7 @@ fn retention_section(s: &mut String, r: &DeviceReport) {
     }
 }
 
-/// The rare events, computed directly (issue 27).
+/// The rare events, computed directly.
 fn rare_section(s: &mut String, r: &DeviceReport) {
     let rare = &r.rare;
     let _ = writeln!(s, "\n## The lying state's retention, computed directly\n");

@@ -45,6 +45,10 @@ fn main() -> ExitCode {
     {
         tippetop::testing::plant_nan_row(Some(at));
     }
+    if let Some(msg) = cli.command.force_refused(cli.force) {
+        eprintln!("error: {msg}");
+        return ExitCode::from(2);
+    }
     tippetop_cli::output::set_invocation(cli.command.name(), cli.force);
     let result = match &cli.command {
         Command::Run(args) => run::run(args, cli.quiet).map(|()| ExitCode::SUCCESS),

@@ -5,7 +5,7 @@
 //! written, help pages, and the docs' `--set` spelling.
 
 mod common;
-use common::{bin, json, ok, scratch};
+use common::{bin, json, ok, repo, scratch};
 
 use std::process::Output;
 
@@ -181,4 +181,216 @@ fn the_step_limit_is_named_with_the_key_that_raises_it() {
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `show` writes each key with its unit and meaning as a TOML comment; the
+/// text is still the scenario (the library reads it back to the same
+/// scenario), and `show` of the saved text prints the same text.
+#[test]
+fn show_comments_its_keys_and_round_trips() {
+    let dir = scratch("newcomer", "show");
+    for preset in ["classical", "nano-physical"] {
+        let o = bin().args(["show", "--preset", preset]).output().unwrap();
+        ok(&o);
+        let text = stdout(&o);
+        for line in text.lines() {
+            if line.contains(" = ") {
+                assert!(line.contains("  # "), "{preset}: no comment: {line}");
+            }
+            if line.starts_with('[') {
+                assert!(line.contains("]  # "), "{preset}: no comment: {line}");
+            }
+        }
+        let has = |start: &str, comment: &str| {
+            text.lines()
+                .any(|l| l.starts_with(start) && l.contains(comment))
+        };
+        assert!(has("radius = ", "# m, "), "{text}");
+        assert!(has("mass = ", "# kg, "), "{text}");
+        assert!(has("spin = ", "# rad/s, "), "{text}");
+        assert!(has("friction_law = ", "\"contensou\""), "{text}");
+
+        // The library reads the text to the scenario the preset is.
+        let read = tippetop::Scenario::load(None, Some(&text), &[]).unwrap();
+        let own = tippetop::Scenario::load(Some(preset), None, &[]).unwrap();
+        assert_eq!(read.to_toml_string(), own.to_toml_string(), "{preset}");
+
+        let file = dir.join(format!("{preset}.toml"));
+        std::fs::write(&file, &text).unwrap();
+        let again = bin().arg("show").arg(&file).output().unwrap();
+        ok(&again);
+        assert_eq!(stdout(&again), text, "{preset}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `--force` lets a command replace another's output in --out; a command
+/// that writes no files refuses it (one line naming it, exit 2).
+#[test]
+fn force_is_refused_where_nothing_is_written() {
+    for args in [
+        &["show", "--preset", "classical", "--force"][..],
+        &["--force", "keys"],
+        &["keys", "solver", "--force"],
+        &["regime", "--preset", "nano", "--force"],
+        &["adhesion", "--force"],
+        &["stability", "--preset", "classical", "--force"],
+    ] {
+        let o = bin().args(args).output().unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert_eq!(e.lines().count(), 1, "{args:?}: {e}");
+        assert!(
+            e.starts_with("error: --force: ") && e.contains("writes no files"),
+            "{args:?}: {e}"
+        );
+        assert!(o.stdout.is_empty(), "{args:?}");
+    }
+}
+
+/// Help pages are for users: no issue numbers.
+#[test]
+fn help_pages_cite_no_issue_numbers() {
+    let top = stdout(&bin().arg("--help").output().unwrap());
+    let mut pages = vec![("tippetop".to_string(), top)];
+    for sub in [
+        "run",
+        "reproduce",
+        "sweep",
+        "ensemble",
+        "merge",
+        "stability",
+        "adhesion",
+        "regime",
+        "retention",
+        "bit",
+        "device",
+        "rare",
+        "animate",
+        "show",
+        "keys",
+    ] {
+        let o = bin().args([sub, "--help"]).output().unwrap();
+        ok(&o);
+        pages.push((sub.to_string(), stdout(&o)));
+    }
+    for (name, page) in pages {
+        let lower = page.to_lowercase();
+        for (i, _) in lower.match_indices("issue") {
+            let after = lower[i + 5..].trim_start_matches([' ', '#']);
+            assert!(
+                !after.starts_with(|c: char| c.is_ascii_digit()),
+                "{name} --help cites an issue: {}",
+                &page[i..(i + 20).min(page.len())]
+            );
+        }
+    }
+}
+
+/// The `--set KEY=VALUE` values of `text` that are quoted (`="x"`, `='"x"'`,
+/// `=\"x\"`), with their line numbers.
+fn quoted_sets(text: &str) -> Vec<(usize, String)> {
+    let mut found = Vec::new();
+    for (at, _) in text.match_indices("--set") {
+        let arg: String = text[at + "--set".len()..]
+            .trim_start_matches([' ', '\n', '='])
+            .chars()
+            .take_while(|c| !c.is_whitespace() && *c != '`')
+            .collect();
+        if let Some((key, value)) = arg.split_once('=')
+            && key.contains('.')
+            && value.starts_with(['"', '\'', '\\'])
+        {
+            found.push((text[..at].lines().count(), arg));
+        }
+    }
+    found
+}
+
+/// The docs spell a `--set` of a name one way, bare
+/// (`--set surface.friction_law=contensou`), and the CLI takes a bare word
+/// for every key whose value is a name.
+#[test]
+fn docs_spell_set_values_bare_and_bare_words_are_read() {
+    let mut files = vec![repo("README.md"), repo("benches/compare/README.md")];
+    let mut docs: Vec<_> = std::fs::read_dir(repo("docs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "md"))
+        .collect();
+    docs.sort();
+    files.extend(docs);
+    let mut bad = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        for (line, arg) in quoted_sets(&text) {
+            bad.push(format!("{}:{line}: --set {arg}", f.display()));
+        }
+    }
+    assert!(bad.is_empty(), "quoted --set values:\n{}", bad.join("\n"));
+
+    for (sets, expect) in [
+        (
+            &[
+                "surface.friction_law=contensou",
+                "surface.contact_radius=3e-4",
+            ][..],
+            "friction_law = \"contensou\"",
+        ),
+        (
+            &["solver.model=rigid", "surface.contact=unilateral"],
+            "contact = \"unilateral\"",
+        ),
+        (&["solver.method=stiff"], "method = \"stiff\""),
+        (
+            &[
+                "surface.contact_pressure=uniform",
+                "surface.friction_law=contensou",
+                "surface.contact_radius=1e-4",
+            ],
+            "contact_pressure = \"uniform\"",
+        ),
+    ] {
+        let mut c = bin();
+        c.args(["show", "--preset", "classical"]);
+        for s in sets {
+            c.args(["--set", s]);
+        }
+        let o = c.output().unwrap();
+        ok(&o);
+        assert!(stdout(&o).contains(expect), "{sets:?}");
+    }
+}
+
+/// The README's "the same top" commands differ from each other in the
+/// friction law alone (the law and its own parameters).
+#[test]
+fn the_readmes_same_top_changes_only_the_friction_law() {
+    let readme = std::fs::read_to_string(repo("README.md")).unwrap();
+    let at = readme
+        .find("the same top under exact Coulomb friction")
+        .expect("the README's same-top example");
+    let block = &readme[at..];
+    let block = &block[block.find("```\n").unwrap() + 4..];
+    let block = &block[..block.find("```").unwrap()];
+    let law_keys = [
+        "surface.friction_law",
+        "surface.friction_eps",
+        "surface.contact_radius",
+        "surface.contact_pressure",
+    ];
+    let mut others = Vec::new();
+    for line in block.lines().filter(|l| l.contains(" run ")) {
+        assert!(line.contains("--preset classical"), "{line}");
+        let rest: Vec<String> = sets_in(line)
+            .into_iter()
+            .filter(|s| !law_keys.iter().any(|k| s.starts_with(&format!("{k}="))))
+            .collect();
+        others.push(rest);
+    }
+    assert!(others.len() >= 2, "{block}");
+    assert!(
+        others.iter().all(|o| o.is_empty()),
+        "the same top's commands change more than the law: {others:?}"
+    );
 }

@@ -60,7 +60,8 @@ pub struct ScenarioArgs {
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
 
-    /// Override one scenario value, e.g. `--set top.offset=0.002`; repeatable,
+    /// Override one scenario value, e.g. `--set top.offset=0.002` or `--set
+    /// surface.friction_law=contensou` (a name needs no quotes); repeatable,
     /// applied in order after the file.
     #[arg(long = "set", value_name = "TABLE.KEY=VALUE")]
     pub sets: Vec<String>,
