@@ -31,9 +31,11 @@ linearisation with the smooth friction law and with mu = 0, and a verdict (stabl
 marginal); without --no-run the late-time state of the scenario's run; with an applied force the\n\
 frozen-spin analysis; and the paper's App. B (B1-B4) against the full analysis. Progress and\n\
 errors go to stderr; nothing is written to disk.\n\n\
-Exit codes: 0 done; 2 bad input (scenario key, --spin, --eps or --tol out of range; one line\n\
-`error: KEY: what (valid range)`, nothing computed); 3 the analysis or the run failed part-way\n\
-(e.g. an eigenvalue iteration did not converge); 1 other errors.")]
+Exit codes: 0 done; 2 bad input (scenario key, --spin, --eps or --tol out of range, a friction\n\
+law the linearisation does not have (Coulomb-Contensou over a disc), --law the other smooth law\n\
+than the scenario's without --eps; one line `error: KEY: what (valid range)`, nothing computed);\n\
+3 the analysis or the run failed part-way (e.g. an eigenvalue iteration did not converge);\n\
+1 other errors.")]
 #[command(
     mut_arg("scenario", |a| a.help("Scenario file (TOML); or give --preset")),
     mut_arg("preset", |a| a.help("Start from a preset: \"nano\", \"nano-physical\" (C60 on graphene at 300 K), \"nano-adhesive\" (the same, deterministic) or \"classical\"")),
@@ -47,9 +49,11 @@ pub struct StabilityArgs {
     #[arg(long)]
     pub json: bool,
     /// Smooth friction law used for the linearisation (Coulomb is not
-    /// differentiable at zero slip).
-    #[arg(long, value_enum, default_value = "regularized")]
-    pub law: LawArg,
+    /// differentiable at zero slip); default: the scenario's law if it is
+    /// regularized or viscous, else regularized. The other smooth law than
+    /// the scenario's needs --eps (the scenario's ε is its own law's).
+    #[arg(long, value_enum)]
+    pub law: Option<LawArg>,
     /// Regularisation speed ε [m/s], 1e-100 <= eps <= 1e100; default: the
     /// scenario's, else 1e-3 R max(|ω0|, √(g/R)).
     #[arg(long, allow_negative_numbers = true)]
@@ -78,10 +82,10 @@ fn load(args: &StabilityArgs) -> Result<Scenario, tippetop::Error> {
 /// while computing.
 pub fn run(args: &StabilityArgs, quiet: bool) -> anyhow::Result<ExitCode> {
     let opts = Options {
-        law: match args.law {
+        law: args.law.map(|l| match l {
             LawArg::Regularized => SmoothLaw::Regularized,
             LawArg::Viscous => SmoothLaw::Viscous,
-        },
+        }),
         eps: args.eps,
         spin: args.spin,
         tol_rel: args.tol,
@@ -93,6 +97,7 @@ pub fn run(args: &StabilityArgs, quiet: bool) -> anyhow::Result<ExitCode> {
         .validate()
         .and_then(|()| load(args))
         .and_then(|sc| stability::supports(&sc).map(|()| sc))
+        .and_then(|sc| stability::law_and_eps(&sc, &opts).map(|_| sc))
     {
         Ok(sc) => sc,
         Err(e) => {

@@ -1,7 +1,9 @@
-//! Trust, round 3, end to end: a Wilson bound of 0 successes is 0.
+//! Trust, round 3, end to end: a Wilson bound of 0 successes is 0;
+//! `tippetop stability` refuses a friction law it does not linearise and
+//! names the plug-in key that was set.
 
 mod common;
-use common::{bin, json, ok, repo};
+use common::{bin, json, ok, refused, repo};
 
 use std::path::Path;
 
@@ -73,5 +75,128 @@ fn the_wilson_bound_of_no_success_is_zero() {
         assert_eq!(r[col("erase_successes")], "0");
         assert_eq!(r[col("erase_ci_lo")], "0.0", "{r:?}");
         assert_eq!(r[col("write_ci_hi")], "1.0", "{r:?}");
+    }
+}
+
+/// A scenario under Coulomb–Contensou friction over a disc (a drilling
+/// torque the linearised model does not have): refused naming the law,
+/// exit 2, one line, nothing printed on stdout.
+#[test]
+fn stability_refuses_a_law_it_does_not_linearise() {
+    for args in [
+        vec![
+            "--preset",
+            "classical",
+            "--set",
+            "surface.friction_law=\"contensou\"",
+            "--set",
+            "surface.contact_radius=1e-4",
+        ],
+        vec![
+            "--preset",
+            "classical",
+            "--set",
+            "surface.friction_law=\"contensou_pade\"",
+            "--set",
+            "surface.contact_radius=1e-4",
+        ],
+    ] {
+        let o = bin()
+            .arg("stability")
+            .args(&args)
+            .arg("--no-run")
+            .output()
+            .unwrap();
+        refused(&o, &["surface.friction_law", "contensou", "drilling"]);
+        assert!(o.stdout.is_empty(), "{args:?}");
+    }
+    let o = bin()
+        .arg("stability")
+        .arg(repo("scenarios/toy_with_stem.toml"))
+        .arg("--no-run")
+        .output()
+        .unwrap();
+    refused(&o, &["surface.friction_law", "\"contensou\""]);
+    // The disc of radius 0 is the point law, exact Coulomb bit for bit:
+    // analysed as Coulomb is.
+    let o = bin()
+        .args(["stability", "--preset", "classical", "--no-run", "--set"])
+        .arg("surface.friction_law=\"contensou\"")
+        .args(["--set", "surface.contact_radius=0"])
+        .output()
+        .unwrap();
+    ok(&o);
+}
+
+/// A scenario under the viscous law: analysed with that law and its ε,
+/// never the regularised law with the viscous law's ε; asking for the
+/// other smooth law without an ε of its own is refused naming both.
+#[test]
+fn stability_never_takes_one_laws_eps_for_another() {
+    let viscous = [
+        "--preset",
+        "classical",
+        "--no-run",
+        "--set",
+        "surface.friction_law=\"viscous\"",
+        "--set",
+        "surface.friction_eps=1e-2",
+    ];
+    let o = bin().arg("stability").args(viscous).output().unwrap();
+    ok(&o);
+    let out = String::from_utf8_lossy(&o.stdout);
+    let first = out.lines().next().unwrap();
+    assert!(
+        first.contains("linearised with the viscous friction law (ε = 0.01000 m/s"),
+        "{first}"
+    );
+    let o = bin()
+        .arg("stability")
+        .args(viscous)
+        .args(["--law", "regularized"])
+        .output()
+        .unwrap();
+    refused(&o, &["law: regularized", "\"viscous\"", "--eps"]);
+    // With an ε of its own, the other law is what was asked.
+    let o = bin()
+        .arg("stability")
+        .args(viscous)
+        .args(["--law", "regularized", "--eps", "2e-3"])
+        .output()
+        .unwrap();
+    ok(&o);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.lines()
+            .next()
+            .unwrap()
+            .contains("linearised with the regularized friction law (ε = 0.002000 m/s"),
+        "{out}"
+    );
+}
+
+/// A plug-in table the analysis does not model is refused naming the key
+/// that was set, not the table's first key.
+#[test]
+fn stability_names_the_plugin_key_that_was_set() {
+    for (set, named, not) in [
+        ("wind.fy=1", "wind.fy", "wind.fx"),
+        ("wind.fx=1", "wind.fx", "wind.fy"),
+    ] {
+        let o = bin()
+            .args([
+                "stability",
+                "--preset",
+                "classical",
+                "--no-run",
+                "--set",
+                set,
+            ])
+            .output()
+            .unwrap();
+        refused(&o, &[named]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!err.contains(not), "{err}");
+        assert!(o.stdout.is_empty());
     }
 }

@@ -88,10 +88,12 @@ use crate::{Error, Scenario, Top};
 /// Options of [`analyse`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Options {
-    /// Smooth friction law for the linearisation.
-    pub law: SmoothLaw,
+    /// Smooth friction law for the linearisation. `None`: the scenario's
+    /// law if it is regularised or viscous, else the regularised law
+    /// ([`law_and_eps`]).
+    pub law: Option<SmoothLaw>,
     /// ε \[m/s\]. `None`: the scenario's ε if its law is regularised or
-    /// viscous, else `1e-3 R max(|ω0|, √(g/R))`.
+    /// viscous (and the one linearised), else `1e-3 R max(|ω0|, √(g/R))`.
     pub eps: Option<f64>,
     /// Spin about the vertical at the poles \[rad/s\]. `None`: the spin that
     /// has the scenario's initial Jellett J (upright `J/(C(R − a))`,
@@ -165,12 +167,17 @@ impl Options {
         }
         Ok(())
     }
+
+    /// The law linearised, once [`analyse`] has resolved it.
+    fn smooth(&self) -> SmoothLaw {
+        self.law.unwrap_or(SmoothLaw::Regularized)
+    }
 }
 
 impl Default for Options {
     fn default() -> Self {
         Options {
-            law: SmoothLaw::Regularized,
+            law: None,
             eps: None,
             spin: None,
             tol_rel: 1e-10,
@@ -327,11 +334,26 @@ fn eig_list(e: &[Eig]) -> String {
         .join(", ")
 }
 
-/// Whether the analysis covers `sc`: the linearised model has no vertical
-/// load (`force.K.hz`, docs/physics.md#vertical-load), no adhesion (§adhesion) and no body
-/// actuator (§actuators), so a
-/// scenario with one is bad input naming the key.
+/// Whether the analysis covers `sc`: the linearised model has no drilling
+/// torque (Coulomb–Contensou friction over a disc, docs/physics.md#contensou),
+/// no vertical load (`force.K.hz`, docs/physics.md#vertical-load), no
+/// adhesion (§adhesion) and no body actuator (§actuators), so a scenario
+/// with one is bad input naming the key.
 pub fn supports(sc: &Scenario) -> Result<(), Error> {
+    if let crate::FrictionLaw::Contensou { radius, .. } = sc.surface.law {
+        // A disc of radius 0 is the point law, exact Coulomb bit for bit,
+        // which the smooth law stands in for as it does for "coulomb".
+        if radius > 0.0 {
+            return Err(Error::invalid(
+                "surface.friction_law",
+                format!(
+                    "the stability analysis does not linearise {}: its model has no drilling torque",
+                    crate::sim::messages::law_phrase(sc.surface.law)
+                ),
+                "\"coulomb\", \"coulomb_sliding\", \"regularized\" or \"viscous\", or contact_radius = 0; use `tippetop run` for the contact disc".into(),
+            ));
+        }
+    }
     if sc.adhesion().is_on() {
         return Err(Error::invalid(
             "adhesion.force",
@@ -375,12 +397,16 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
     let top = sc.top;
     let g = sc.surface.gravity;
     let mu = sc.surface.friction;
-    let eps = resolved_eps(sc, opts)?;
+    let (law, eps) = law_and_eps(sc, opts)?;
+    let opts = &Options {
+        law: Some(law),
+        ..*opts
+    };
     let ph = Physics {
         top,
         gravity: g,
         mu,
-        law: opts.law,
+        law,
         eps,
     };
     let ph0 = Physics { mu: 0.0, ..ph };
@@ -433,7 +459,7 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
     ];
 
     Ok(StabilityReport {
-        law: opts.law,
+        law,
         eps,
         tol_rel: tol,
         mu,
@@ -449,17 +475,48 @@ pub fn analyse(sc: &Scenario, opts: &Options) -> Result<StabilityReport, Error> 
     })
 }
 
-/// ε [m/s] of the smooth law: `--eps`, else the scenario's, else
-/// 1e-3 R max(|ω0|, √(g/R)).
-fn resolved_eps(sc: &Scenario, opts: &Options) -> Result<f64, Error> {
+/// The smooth law [`analyse`] linearises and its ε \[m/s\]: the law
+/// `opts.law`, else the scenario's if it is regularised or viscous, else
+/// the regularised law; ε `opts.eps`, else the scenario's, else
+/// `1e-3 R max(|ω0|, √(g/R))`. The scenario's ε belongs to its own law:
+/// asking for the other smooth law without an ε of its own is bad input
+/// (key `law`), not that law analysed with the scenario's ε.
+pub fn law_and_eps(sc: &Scenario, opts: &Options) -> Result<(SmoothLaw, f64), Error> {
+    use crate::FrictionLaw;
+    let own = match sc.surface.law {
+        FrictionLaw::Regularized { eps } => Some((SmoothLaw::Regularized, eps)),
+        FrictionLaw::Viscous { eps } => Some((SmoothLaw::Viscous, eps)),
+        _ => None,
+    };
+    let law = opts
+        .law
+        .or(own.map(|(l, _)| l))
+        .unwrap_or(SmoothLaw::Regularized);
+    if let (Some((own_law, own_eps)), None) = (own, opts.eps) {
+        if own_law != law {
+            return Err(Error::invalid(
+                "law",
+                format!(
+                    "{} with the scenario's friction_eps = {} m/s, the ε of its {} law (surface.friction_law = \"{}\")",
+                    law.name(),
+                    num(own_eps),
+                    own_law.name(),
+                    own_law.name()
+                ),
+                format!(
+                    "the scenario's law, --law {}; or the {} law with an ε of its own, --eps",
+                    own_law.name(),
+                    law.name()
+                ),
+            ));
+        }
+    }
     let (r, g) = (sc.top.radius, sc.surface.gravity);
-    let eps =
-        match opts.eps {
-            Some(e) => e,
-            None => sc.surface.law.eps().unwrap_or_else(|| {
-                1e-3 * r * sc.initial.spin.abs().max((g / r).sqrt()).max(1e-300)
-            }),
-        };
+    let eps = match (opts.eps, own) {
+        (Some(e), _) => e,
+        (None, Some((_, e))) => e,
+        (None, None) => 1e-3 * r * sc.initial.spin.abs().max((g / r).sqrt()).max(1e-300),
+    };
     if !(eps > 0.0 && eps.is_finite()) {
         return Err(Error::invalid(
             "eps",
@@ -467,7 +524,7 @@ fn resolved_eps(sc: &Scenario, opts: &Options) -> Result<f64, Error> {
             "a finite speed > 0 [m/s]".into(),
         ));
     }
-    Ok(eps)
+    Ok((law, eps))
 }
 
 /// Linearises a steady motion with friction and without.
@@ -638,7 +695,7 @@ fn frozen_cases(
             ] {
                 frozen.push(FrozenCase {
                     name: name.to_string(),
-                    result: frozen_spin(sc, opts.law, eps, &inp, v, tol),
+                    result: frozen_spin(sc, opts.smooth(), eps, &inp, v, tol),
                 });
             }
         };
@@ -710,7 +767,7 @@ fn paper_b1(top: &Top, n0: f64, eps: f64, opts: &Options, up: &SteadyMotion) -> 
             s4(nu_p),
             s4(nu_m),
             up.frictionless.verdict.as_str(),
-            opts.law.name(),
+            opts.smooth().name(),
             s4(eps),
             v.as_str(),
             s4(up.with_friction.max_re),
@@ -791,7 +848,7 @@ fn paper_b3(
             s4(wc),
             w.abs() / wc,
             inv.frictionless.verdict.as_str(),
-            opts.law.name(),
+            opts.smooth().name(),
             s4(eps),
             v.as_str(),
             s4(inv.with_friction.max_re),

@@ -171,17 +171,37 @@ pub(super) fn validate(sc: &Scenario, follows: impl Fn(&str) -> bool) -> Result<
 
 /// The first plug-in table a scenario gives that the analyses do not
 /// handle by name ([`crate::physics::forces::Plugin::handled_by_name`]), as
-/// `table.key` of its first key (for the analyses that do not model the
-/// plug-ins), or `None`.
+/// `table.key` (`table.K.key` for an array of tables) of the first key
+/// that was given a value (a required key, or one off its default; the
+/// table's first key if none is), for the analyses that do not model the
+/// plug-ins; or `None`.
 pub fn first_key(sc: &Scenario) -> Option<String> {
-    sc.plugins.iter().find_map(|(name, _)| {
+    sc.plugins.iter().find_map(|(name, values)| {
         let p = crate::physics::forces::plugin(name)?;
         if p.handled_by_name() {
             return None;
         }
         let spec = p.table();
-        let entry = if spec.array { ".0" } else { "" };
-        Some(format!("{name}{entry}.{}", spec.keys.first()?.name))
+        let given = values
+            .chunks(spec.keys.len().max(1))
+            .enumerate()
+            .find_map(|(entry, chunk)| {
+                spec.keys
+                    .iter()
+                    .zip(chunk)
+                    .find(|&(k, &v)| default_of(k) != Some(v))
+                    .map(|(k, _)| (entry, k.name))
+            });
+        let (entry, key) = match given {
+            Some(g) => g,
+            None => (0, spec.keys.first()?.name),
+        };
+        let entry = if spec.array {
+            format!(".{entry}")
+        } else {
+            String::new()
+        };
+        Some(format!("{name}{entry}.{key}"))
     })
 }
 
