@@ -18,7 +18,8 @@ pub const BIT_LONG_ABOUT: &str = "Run a memory bit: write (phase 1, target bit.o
                  [s], energy_median (net work of the applied force on the top over the phase)
                  [J], max_applied_force (largest total of the windows acting at once) [N],
                  failures per mode (never_entered, left, too_late, run_failed, lifted_off);
-                 pull_off_margin_min over the runs [N] (with adhesion); the bit and protocols
+                 pull_off_margin_min over the runs that completed [N] (with adhesion; null
+                 if none did); the bit and protocols
   bit.md         the same in words, with theta.png
   theta.png, theta.svg   theta(t) of a typical run (the first with the most frequent outcome)
   theta_PHASE_MODE.png, .svg   ensembles: theta(t) of the first run whose write or erase
@@ -59,7 +60,8 @@ the bit at every point of the grid and writes into --out:
                _probability, _ci_lo, _ci_hi, _time_median, _time_q25, _time_q75 [s],
                _energy_median [J], _max_applied_force [N], _never_entered, _left, _too_late,
                _run_failed, _lifted_off; then runs, deterministic, pull_off_margin_min [N],
-               status (ok, or why the point's scenario is invalid: empty figures)
+               status (ok; or how many runs failed and the first one's error, the figures
+               kept; or why the point's scenario is invalid: empty figures)
   shard.json   what the CSV covers, for tippetop merge
   bitmap.png, bitmap.svg   one --vary: write probability (with its 95 % interval) and median
                write time against the key

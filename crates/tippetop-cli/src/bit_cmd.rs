@@ -844,9 +844,17 @@ fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
             outcome(&t.erase)
         );
     }
+    // A minimum over the runs that completed: none if every run failed
+    // (as bit.json's null says).
     match r.pull_off_margin_min {
         Some(m) => {
             let _ = writeln!(s, "Smallest pull-off margin over the runs: {} N.", human(m));
+        }
+        None if bs.scenario.adhesion().is_on() => {
+            let _ = writeln!(
+                s,
+                "Smallest pull-off margin over the runs: none (no run completed)."
+            );
         }
         None => {
             let _ = writeln!(s, "No adhesion: no pull-off margin.");

@@ -122,7 +122,7 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
             )
         };
         println!(
-            "{what} ({} ok, {failed} invalid) in {} -> {}",
+            "{what} ({} ok, {failed} invalid or with failed runs) in {} -> {}",
             n - failed,
             crate::output::fmt_duration(start.elapsed().as_secs_f64()),
             args.out.join(bitmap::CSV_NAME).display()

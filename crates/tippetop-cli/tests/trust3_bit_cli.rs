@@ -1,6 +1,8 @@
-//! Trust, round 3, end to end: a Wilson bound of 0 successes is 0;
-//! `tippetop stability` refuses a friction law it does not linearise and
-//! names the plug-in key that was set.
+//! Trust, round 3, end to end: a bit whose runs blew up is reported as a
+//! blow-up, with no minimum over its failed runs and no `ok` row
+//! (bitmap.csv, bit.json and bit.md alike); a Wilson bound of 0 successes
+//! is 0; `tippetop stability` refuses a friction law it does not linearise
+//! and names the plug-in key that was set.
 
 mod common;
 use common::{bin, json, ok, refused, repo};
@@ -10,6 +12,12 @@ use std::path::Path;
 fn scratch(name: &str) -> std::path::PathBuf {
     common::scratch("trust3-bit", name)
 }
+
+/// The room-temperature bit under a write force 1e16 times the paper's:
+/// every run's state blows up within 60 ps (the unit axis reached
+/// |k| = 1.3e45, the spin 5.8e118 rad/s, where the run used to end as a
+/// "Painleve paradox").
+const BLOWN: [&str; 4] = ["--set", "thermal.seed=0", "--set", "write.0.hx=1e-6"];
 
 /// The fields of a CSV line (a quoted field may hold commas and `""`).
 fn fields(line: &str) -> Vec<String> {
@@ -38,6 +46,95 @@ fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let mut lines = text.lines();
     let header = fields(lines.next().unwrap());
     (header, lines.map(fields).collect())
+}
+
+/// A field that is a number but not a finite one, or spelled like one.
+fn non_finite(f: &str) -> bool {
+    f.parse::<f64>().is_ok_and(|v| !v.is_finite())
+        || ["inf", "-inf", "nan", "infinity"].contains(&f.to_ascii_lowercase().as_str())
+}
+
+/// The design map of the audit: both points' runs blew up. No row is
+/// `ok`, no field is a non-finite number, the smallest pull-off margin (a
+/// minimum over failed runs) is empty, and the status says what happened:
+/// the state blew up, when, and not a Painlevé case.
+#[test]
+fn a_blown_up_map_has_no_ok_row_and_no_minimum() {
+    let d = scratch("map");
+    let o = bin()
+        .arg("bit")
+        .arg(repo("scenarios/bit/nano_300K.toml"))
+        .args(&BLOWN[..2])
+        .args(["--vary", "write.0.hx=1e-6:2e-5:2", "--out"])
+        .arg(d.join("o"))
+        .output()
+        .unwrap();
+    ok(&o);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("2 points (0 ok"), "{stdout}");
+    let (header, rows) = csv(&d.join("o/bitmap.csv"));
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    assert_eq!(rows.len(), 2);
+    for r in &rows {
+        assert_eq!(r.len(), header.len());
+        for (h, v) in header.iter().zip(r) {
+            assert!(!non_finite(v), "{h} = {v}");
+        }
+        assert_eq!(r[col("pull_off_margin_min")], "", "{r:?}");
+        assert_eq!(r[col("write_run_failed")], "100", "{r:?}");
+        let status = &r[col("status")];
+        assert_ne!(status, "ok");
+        assert!(
+            status.starts_with("100 of 100 runs failed") && status.contains("blew up"),
+            "{status}"
+        );
+        assert!(!status.contains("Painleve"), "{status}");
+        assert!(!status.contains('\n'), "{status}");
+    }
+}
+
+/// The single bit of the map's first point: every run's status in runs.csv
+/// names the blow-up (the unit axis's |k|, the time), none a Painlevé
+/// case; bit.json's margin is null and bit.md says the same in words (no
+/// `-inf N`); runs.csv holds no non-finite number.
+#[test]
+fn a_blown_up_bit_says_so_alike_in_every_output() {
+    let d = scratch("one");
+    let o = bin()
+        .arg("bit")
+        .arg(repo("scenarios/bit/nano_300K.toml"))
+        .args(BLOWN)
+        .arg("--out")
+        .arg(d.join("o"))
+        .output()
+        .unwrap();
+    ok(&o);
+    let j = json(&d.join("o/bit.json"));
+    assert!(
+        j["pull_off_margin_min"].is_null(),
+        "{}",
+        j["pull_off_margin_min"]
+    );
+    assert_eq!(j["write"]["failures"]["run_failed"], 100);
+    let md = std::fs::read_to_string(d.join("o/bit.md")).unwrap();
+    assert!(!md.contains("inf"), "{md}");
+    assert!(
+        md.contains("Smallest pull-off margin over the runs: none (no run completed)."),
+        "{md}"
+    );
+    let (header, rows) = csv(&d.join("o/runs.csv"));
+    let status = header.iter().position(|h| h == "status").unwrap();
+    assert_eq!(rows.len(), 100);
+    for r in &rows {
+        for (h, v) in header.iter().zip(r) {
+            assert!(!non_finite(v), "run {}: {h} = {v}", r[0]);
+        }
+        let s = &r[status];
+        assert!(s.starts_with("at t = "), "{s}");
+        assert!(s.contains("the state blew up: the symmetry axis k"), "{s}");
+        assert!(s.contains("|k| = "), "{s}");
+        assert!(!s.contains("Painleve"), "{s}");
+    }
 }
 
 /// 0 successes of 7 runs (nothing erases at 300 K; 7 is a count where

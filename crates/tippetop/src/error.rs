@@ -43,6 +43,10 @@ pub enum Failure {
     Unstable,
     /// The state became NaN or infinite.
     NonFinite,
+    /// The state blew up: the symmetry axis, a unit vector up to the
+    /// integration error, drifted far off unit length (or became NaN), so
+    /// the integration diverged and the state is no motion of the top.
+    BlowUp,
     /// A value of the output overflows f64 in SI units.
     OutputOverflow,
     /// The step limit (`solver.max_steps`) was reached.
@@ -71,6 +75,7 @@ impl Failure {
             Failure::Chattering => "chattering",
             Failure::Unstable => "unstable",
             Failure::NonFinite => "non_finite",
+            Failure::BlowUp => "blow_up",
             Failure::OutputOverflow => "output_overflow",
             Failure::StepLimit => "step_limit",
             Failure::StepUnderflow => "step_underflow",

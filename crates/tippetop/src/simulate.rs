@@ -30,6 +30,7 @@ use crate::{
     sim::events::{Happened, Watch},
     sim::messages::{nonfinite_output_why, step_limit_why, unstable_rk4},
     sim::record::{RunEnd, RunLog, RunSetup, Track, summarize},
+    sim::runaway::{axis_blown, blow_up_why},
     sim::watch::{ThetaWatch, Watcher, WindowStay},
 };
 
@@ -726,6 +727,9 @@ struct Sim<M, const D: usize> {
     first_above: Option<f64>,
     switches: usize,
     nonfinite_at: Option<f64>,
+    /// The first output row whose state has blown up ([`axis_blown`]): its
+    /// index in `samples` and `|k|²` there (`nonfinite_at` is its time).
+    blown_row: Option<(usize, f64)>,
     logs_crossings: bool,
     /// The segment being integrated, boxed: a segment's start and end move
     /// a pointer, not the engine's ~2 kB (a nano run has one segment per
@@ -786,6 +790,7 @@ impl<M: Model<D> + Clone, const D: usize> Clone for Sim<M, D> {
             first_above: self.first_above,
             switches: self.switches,
             nonfinite_at: self.nonfinite_at,
+            blown_row: self.blown_row,
             logs_crossings: self.logs_crossings,
             active: self.active.as_ref().map(|a| {
                 let mut pairs = Vec::new();
@@ -873,6 +878,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
             first_above: (theta > std::f64::consts::FRAC_PI_2).then_some(0.0),
             switches: 0,
             nonfinite_at: None,
+            blown_row: None,
             logs_crossings: !m.flies(),
             active: None,
             spare: None,
@@ -1118,10 +1124,16 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         a.ended = None;
         let samples = &mut self.samples;
         let nonfinite_at = &mut self.nonfinite_at;
+        let blown_row = &mut self.blown_row;
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
             let row = crate::testing::planted(s.row(t, y));
-            if nonfinite_at.is_none() && row.first_non_finite_of(M::HAS_POSE).is_some() {
-                *nonfinite_at = Some(t);
+            if nonfinite_at.is_none() {
+                if let Some(k2) = s.axis_norm_sq(y).filter(|&k2| axis_blown(k2)) {
+                    *blown_row = Some((samples.len(), k2));
+                    *nonfinite_at = Some(t);
+                } else if row.first_non_finite_of(M::HAS_POSE).is_some() {
+                    *nonfinite_at = Some(t);
+                }
             }
             samples.push(row);
         };
@@ -1165,6 +1177,7 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let t_end = self.t_end;
         let samples = &mut self.samples;
         let nonfinite_at = &mut self.nonfinite_at;
+        let blown_row = &mut self.blown_row;
         let last_accepted = &mut self.last_accepted;
         let steps_seen = &mut self.steps_seen;
         let track = &mut self.track;
@@ -1179,8 +1192,13 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         let watcher = std::cell::RefCell::new(self.watcher.as_mut());
         let mut on_sample = |s: &M, t: f64, y: &[f64; D]| {
             let row = crate::testing::planted(s.row(t, y));
-            if nonfinite_at.is_none() && row.first_non_finite_of(M::HAS_POSE).is_some() {
-                *nonfinite_at = Some(t);
+            if nonfinite_at.is_none() {
+                if let Some(k2) = s.axis_norm_sq(y).filter(|&k2| axis_blown(k2)) {
+                    *blown_row = Some((samples.len(), k2));
+                    *nonfinite_at = Some(t);
+                } else if row.first_non_finite_of(M::HAS_POSE).is_some() {
+                    *nonfinite_at = Some(t);
+                }
             }
             samples.push(row);
         };
@@ -1268,7 +1286,9 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         self.track.merge(&self.event_track);
         let (te, why, ylast) = match e {
             IntegrateError::Rhs { t, y_last, err } => {
-                let (kind, why) = self.m.explain(&self.sc, err);
+                let (kind, why) = self
+                    .blown_up(&y_last)
+                    .unwrap_or_else(|| self.m.explain(&self.sc, err));
                 (t, unstable_rk4(&self.sc, &self.track, kind, why), y_last)
             }
             IntegrateError::StepUnderflow { t, h, y_last } => (
@@ -1279,16 +1299,15 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
                 ),
                 y_last,
             ),
-            IntegrateError::NonFinite { t, y_last } => (
-                t,
-                unstable_rk4(
-                    &self.sc,
-                    &self.track,
-                    Failure::NonFinite,
-                    "the solution became NaN or infinite".to_string(),
-                ),
-                y_last,
-            ),
+            IntegrateError::NonFinite { t, y_last } => {
+                let (kind, why) = self.blown_up(&y_last).unwrap_or_else(|| {
+                    (
+                        Failure::NonFinite,
+                        "the solution became NaN or infinite".to_string(),
+                    )
+                });
+                (t, unstable_rk4(&self.sc, &self.track, kind, why), y_last)
+            }
             IntegrateError::TooManySteps { t, .. } => (
                 t,
                 (
@@ -1314,6 +1333,39 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
         self.done = true;
     }
 
+    /// The failure of a run whose state `y` has blown up ([`axis_blown`]):
+    /// named as the blow-up, not as what the blown-up state made fail
+    /// next (a Painlevé case, a NaN); `None` for a state that has not.
+    fn blown_up(&self, y: &[f64]) -> Option<(Failure, String)> {
+        let k2 = self.m.axis_norm_sq(y).filter(|&k2| axis_blown(k2))?;
+        Some((Failure::BlowUp, blow_up_why(&self.sc, k2.sqrt())))
+    }
+
+    /// An output row's state has blown up ([`axis_blown`]), at scaled time
+    /// `ts`: the run ends there, as at a non-finite row, with the rows
+    /// before that one (`first` of them) and the state there as its final
+    /// state; the error (`blow_up`, `unstable` for an RK4 run that lost
+    /// its energy balance) says so and shows that state.
+    fn end_at_blown_row(&mut self, ts: f64, first: usize, k2: f64) {
+        let y = self.state_at(ts);
+        if let Some(a) = self.active.take() {
+            self.stats.rejected += a.st.stats.rejected;
+        }
+        self.track.merge(&self.event_track);
+        self.samples.truncate(first);
+        let why = blow_up_why(&self.sc, k2.sqrt());
+        let (kind, why) = unstable_rk4(&self.sc, &self.track, Failure::BlowUp, why);
+        self.error = Some(Error::runtime(
+            ts * self.tu,
+            kind,
+            format!("{why}; {}", self.m.describe(&y)),
+        ));
+        (self.t, self.y) = (ts, y);
+        self.stats.steps = self.steps_seen;
+        self.stats.rhs_evals = self.m.evaluations();
+        self.done = true;
+    }
+
     /// An output row came out with a value that is not a finite number (at
     /// scaled time `nonfinite_at`, in the step just taken, or at the
     /// segment's start) although the integrated state is finite: a run is
@@ -1324,6 +1376,9 @@ impl<M: Model<D> + Clone, const D: usize> Sim<M, D> {
     /// output) is the run's final state.
     fn end_at_nonfinite_row(&mut self) {
         let ts = self.nonfinite_at.expect("a non-finite row");
+        if let Some((first, k2)) = self.blown_row {
+            return self.end_at_blown_row(ts, first, k2);
+        }
         let y = self.state_at(ts);
         if let Some(a) = self.active.take() {
             self.stats.rejected += a.st.stats.rejected;

@@ -146,7 +146,9 @@ pub struct RunResult {
     pub write: PhaseResult,
     /// The erase phase.
     pub erase: PhaseResult,
-    /// Smallest pull-off margin of the run \[N\] (with adhesion).
+    /// Smallest pull-off margin of the run \[N\] (with adhesion; `None`
+    /// for a failed run: its rows up to the failure are no margin of the
+    /// bit, and the state it failed in may be blown up).
     pub pull_off_margin_min: Option<f64>,
 }
 
@@ -288,7 +290,10 @@ pub fn evaluate_run(
         status: traj.summary.status.clone(),
         write,
         erase,
-        pull_off_margin_min: traj.summary.pull_off_margin_min,
+        pull_off_margin_min: traj
+            .summary
+            .pull_off_margin_min
+            .filter(|m| traj.error.is_none() && m.is_finite()),
     }
 }
 
@@ -426,7 +431,8 @@ pub struct Report {
     pub erase_given_write: Block,
     /// Write and erase both succeeded.
     pub cycle: Block,
-    /// Smallest pull-off margin over the runs \[N\] (`None` without adhesion).
+    /// Smallest pull-off margin over the runs that completed \[N\] (`None`
+    /// without adhesion, or when no run completed).
     pub pull_off_margin_min: Option<f64>,
 }
 
@@ -585,7 +591,9 @@ pub fn report_of(p: &Protocol, results: &[RunResult], deterministic: bool) -> Re
         cycle: block(&cycles, deterministic, fw.max(fe)),
         pull_off_margin_min: results
             .iter()
+            .filter(|r| r.status == "ok")
             .filter_map(|r| r.pull_off_margin_min)
+            .filter(|m| m.is_finite())
             .reduce(f64::min),
     }
 }

@@ -8,7 +8,10 @@
 //! list for every axis, so any key `--set` reaches can vary: scenario keys
 //! (`top.offset`, `thermal.temperature`) and the bit's (`bit.hold`,
 //! `write.0.hy`, `erase.1.stop`). A point whose scenario is invalid gets
-//! the error in `status` and empty figures; the map goes on.
+//! the error in `status` and empty figures; one with runs that failed gets
+//! their count and the first failure in `status` and keeps its figures (a
+//! minimum over runs, the pull-off margin's, over those that completed);
+//! the map goes on.
 //!
 //! At a point at T = 0 (or with a deterministic method) the bit is one run;
 //! at T > 0 it is an ensemble of `runs` runs, run `k` with
@@ -98,7 +101,9 @@ pub struct MapRow {
     pub values: Vec<f64>,
     /// The point's `bit.json` statistics; `None` if its scenario is invalid.
     pub report: Option<Report>,
-    /// `"ok"`, or why the point's scenario is invalid.
+    /// `"ok"` if every run of the point completed; else how many failed
+    /// and the first failure (`3 of 100 runs failed; the first, run 7: at
+    /// t = ...`), the figures kept; or why the point's scenario is invalid.
     pub status: String,
 }
 
@@ -150,12 +155,12 @@ impl BitMap {
     /// Run grid point `index`: load its bit scenario, run it (once at
     /// T = 0, `runs` times at T > 0) and gather the statistics. Never
     /// fails: an invalid scenario goes into `status`, a failed run is a
-    /// result ([`bit::run_one`]).
+    /// result ([`bit::run_one`]) that the status counts.
     pub fn run_point(&self, index: usize) -> MapRow {
         let case = self.grid.case(index);
         let (report, status) = match self.load_case(&case) {
             Ok(bs) => match self.point(&bs) {
-                Ok(r) => (Some(r), "ok".to_string()),
+                Ok((r, status)) => (Some(r), status),
                 Err(e) => (None, e.to_string()),
             },
             Err(e) => (None, e.to_string()),
@@ -168,7 +173,8 @@ impl BitMap {
         }
     }
 
-    fn point(&self, bs: &BitScenario) -> Result<Report, Error> {
+    /// The statistics of the point `bs` and its status ([`MapRow::status`]).
+    fn point(&self, bs: &BitScenario) -> Result<(Report, String), Error> {
         let stochastic = bit::is_stochastic(bs);
         let runs = if stochastic { self.runs } else { 1 };
         let r0 = bs.scenario.thermal.run;
@@ -180,7 +186,20 @@ impl BitMap {
             ));
         }
         let results: Vec<RunResult> = (0..runs).map(|k| bit::run_one(bs, k as u64)).collect();
-        Ok(bit::report_of(&Protocol::of(bs), &results, !stochastic))
+        let mut failed = results.iter().filter(|r| r.status != "ok");
+        let status = match failed.next() {
+            None => "ok".to_string(),
+            Some(first) => format!(
+                "{} of {runs} runs failed; the first, run {}: {}",
+                1 + failed.count(),
+                first.run,
+                first.status
+            ),
+        };
+        Ok((
+            bit::report_of(&Protocol::of(bs), &results, !stochastic),
+            status,
+        ))
     }
 
     /// How many points the map may run at once within

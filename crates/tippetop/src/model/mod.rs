@@ -190,6 +190,13 @@ pub(crate) trait Model<const D: usize>: OdeSystem<D> + Sized {
     fn row(&self, t: f64, y: &[f64; D]) -> Sample;
     /// The state in SI units, for error messages.
     fn describe(&self, y: &[f64]) -> String;
+    /// `|k|²` of a state that carries the symmetry axis `k` as a vector
+    /// (the vector and rigid models: 1 up to the integration error), for
+    /// the driver's blow-up check ([`crate::sim::runaway::axis_blown`]);
+    /// `None` where the state has no such vector (the Euler angles).
+    fn axis_norm_sq(&self, _y: &[f64]) -> Option<f64> {
+        None
+    }
 }
 
 /// What a model whose sphere stays on the plane provides: the reduced
@@ -285,6 +292,10 @@ pub(crate) trait ContactModel<const D: usize>: OdeSystem<D, Error = ModelError> 
     fn sample(&self, t: f64, y: &[f64; D]) -> Sample;
     /// The state in SI units, for error messages.
     fn describe_state(&self, y: &[f64]) -> String;
+    /// See [`Model::axis_norm_sq`].
+    fn axis_norm_sq(&self, _y: &[f64]) -> Option<f64> {
+        None
+    }
 }
 
 #[cfg(test)]

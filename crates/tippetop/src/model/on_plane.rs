@@ -408,4 +408,8 @@ impl<M: ContactModel<D>, const D: usize> Model<D> for M {
     fn describe(&self, y: &[f64]) -> String {
         ContactModel::describe_state(self, y)
     }
+
+    fn axis_norm_sq(&self, y: &[f64]) -> Option<f64> {
+        ContactModel::axis_norm_sq(self, y)
+    }
 }

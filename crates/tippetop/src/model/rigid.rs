@@ -1946,6 +1946,11 @@ impl Model<DIM> for Rigid {
     fn describe(&self, y: &[f64]) -> String {
         describe_state(self, y)
     }
+
+    fn axis_norm_sq(&self, y: &[f64]) -> Option<f64> {
+        let k = y.get(AXIS..AXIS + 3)?;
+        Some(k[0] * k[0] + k[1] * k[1] + k[2] * k[2])
+    }
 }
 
 impl Rigid {

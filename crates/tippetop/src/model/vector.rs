@@ -1183,6 +1183,10 @@ impl<const N: usize> super::ContactModel<N> for Vector<N> {
     fn describe_state(&self, y: &[f64]) -> String {
         self.describe(y)
     }
+    fn axis_norm_sq(&self, y: &[f64]) -> Option<f64> {
+        let k = y.get(K..K + 3)?;
+        Some(k[0] * k[0] + k[1] * k[1] + k[2] * k[2])
+    }
 }
 
 #[cfg(test)]

@@ -5,7 +5,10 @@
 //! has fallen, since the first report. Such a run ends in a failure (a
 //! Painlevé paradox, `solver.max_steps`) unless it recovers; the warning
 //! says so before it happens. The CLI's progress display and Python's
-//! `tippetop.run` both use it (docs/guide.md#errors).
+//! `tippetop.run` both use it (docs/guide.md#errors). And the state that
+//! has run away for good: [`axis_blown`], the blow-up the driver ends a run
+//! with (`failure = "blow_up"`), named as such rather than by whatever the
+//! blown-up state made fail next (a Painlevé case, a NaN).
 
 use super::record::Progress;
 use crate::human;
@@ -100,9 +103,60 @@ fn runaway_warning(
     ))
 }
 
+/// Largest drift of the symmetry axis's length from 1, `| |k| − 1 |`, a
+/// state may have. `k̇ = w × k` keeps `|k|` constant, so it drifts only by
+/// the integration error, orders of magnitude below this at any tolerance
+/// a run meets; a tenth is no integration error but a diverged solution
+/// (the room-temperature bit under a 1 µN write reached |k| = 1.3e45).
+pub(crate) const AXIS_DRIFT_MAX: f64 = 0.1;
+
+/// True if `norm_sq = |k|²` of a unit axis shows a blow-up: `|k|` off 1 by
+/// more than [`AXIS_DRIFT_MAX`], or not a number.
+#[inline]
+pub(crate) fn axis_blown(norm_sq: f64) -> bool {
+    const LO: f64 = (1.0 - AXIS_DRIFT_MAX) * (1.0 - AXIS_DRIFT_MAX);
+    const HI: f64 = (1.0 + AXIS_DRIFT_MAX) * (1.0 + AXIS_DRIFT_MAX);
+    !(LO..=HI).contains(&norm_sq)
+}
+
+/// Why a run of `sc` whose unit axis reached `|k|` = `norm` ended: the
+/// state blew up, with what sets the step of its method.
+pub(crate) fn blow_up_why(sc: &crate::Scenario, norm: f64) -> String {
+    use crate::Method;
+    let hint = match sc.solver.method {
+        Method::Langevin | Method::Brownian => format!(
+            "the fixed step solver.dt = {} is too long for the forces and rates of this motion",
+            human::si(sc.solver.dt.unwrap_or(f64::NAN), "s", 3)
+        ),
+        Method::Rk4 => "the fixed step t_end / steps is too long for this motion".into(),
+        Method::Adaptive | Method::Stiff => {
+            "the step control lost the solution: lower solver.rtol, or check forces far beyond the top's weight".into()
+        }
+    };
+    format!(
+        "the state blew up: the symmetry axis k, a unit vector to the integration error, has |k| = {} \
+         (more than {} % off): the integration diverged and the state is no motion of the top; {hint}",
+        human::s4(norm),
+        AXIS_DRIFT_MAX * 100.0
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::runaway_warning;
+
+    /// The blow-up check: a unit axis within a tenth of unit length is
+    /// not blown up, one beyond, or NaN, is.
+    #[test]
+    fn axis_blown_beyond_a_tenth_of_unit_length() {
+        use super::axis_blown;
+        for n in [1.0, 1.0 + 1e-6, 0.95, 1.0999, 0.9001] {
+            assert!(!axis_blown(n * n), "{n}");
+        }
+        for n in [1.1001, 0.8999, 0.0, 1.3e45, f64::INFINITY, f64::NAN] {
+            assert!(axis_blown(n * n), "{n}");
+        }
+    }
 
     /// The state's warning: once per new decade of spin growth or step
     /// fall since the first report, saying which; a state that stays
