@@ -10,8 +10,8 @@
 //! PNG the y-axis label is written unrotated in a line above the axis; the
 //! SVG has the usual rotated label beside the axis.
 //!
-//! Axis ticks use scientific notation when |v| < 1e-3 or |v| >= 1e4
-//! (see [`format_tick`]), so 1e-24 N and 3e7 rad/s stay legible.
+//! Axis ticks use powers of ten when |v| < 1e-3 or |v| >= 1e4 (see
+//! [`format_tick`]: `1.2×10⁻²⁴`, `3×10⁷`, as a reader writes them).
 
 use std::io::Write;
 use std::ops::Range;
@@ -162,7 +162,7 @@ impl Series {
 pub struct RefLine {
     /// Where \[y units\].
     pub y: f64,
-    /// Text written just above the line at the left, e.g. `"π/2"`.
+    /// Text written right of the plot, level with the line, e.g. `"π/2"`.
     pub label: Option<String>,
 }
 
@@ -608,11 +608,11 @@ fn draw_panel<DB: DrawingBackend>(
         area.clone()
     };
     // Equal scales: the plotting area is the panel minus the margins and
-    // label areas of `draw_panel_in` (8 + 24 px across plus the y label
+    // label areas of `draw_panel_in` (8 px and the right margin across plus the y label
     // area; 8 px above plus the x label area).
     let (y0, y1) = if o.equal_aspect && !o.log_y {
         let (w, h) = area.dim_in_pixel();
-        let plot_w = w as f64 - 8.0 - 24.0 - if bitmap { 90.0 } else { 115.0 };
+        let plot_w = w as f64 - 8.0 - right_margin(o) as f64 - if bitmap { 90.0 } else { 115.0 };
         let plot_h = h as f64 - 8.0 - if x_label.is_some() { 50.0 } else { 24.0 };
         (y0, y0 + (x_range.1 - x_range.0) * plot_h / plot_w)
     } else {
@@ -736,6 +736,24 @@ fn draw_legend_strip<DB: DrawingBackend>(
     Ok(rest)
 }
 
+/// The width [px] of a vertical mark's label box: about 7 px a character
+/// at 13 px, and a margin.
+fn vline_label_width(label: &str) -> i32 {
+    8 + 7 * label.chars().count() as i32
+}
+
+/// The plot's right margin [px]: room for the reference lines' labels
+/// (about 8 px a character at 14 px), which stand right of the plot.
+fn right_margin(o: &PlotOpts) -> u32 {
+    let widest = o
+        .hlines
+        .iter()
+        .filter_map(|h| h.label.as_ref())
+        .map(|l| l.chars().count() as u32)
+        .max();
+    widest.map_or(24, |n| 24u32.max(14 + 8 * n))
+}
+
 /// Shaded windows, vertical marks and horizontal reference lines of `o`
 /// (under the curves), on a chart whose axes are scaled by `(kx, ky)`,
 /// over the drawn range `(xa, xb)`, `(ya, yb)` (scaled coordinates).
@@ -805,13 +823,16 @@ where
                 grey.stroke_width(1),
             ))
             .map_err(err)?;
+        // The label right of the plot, level with its line: clear of the
+        // curves and of the marks' labels at the top (the right margin is
+        // made wide enough, see `right_margin`).
         if let Some(label) = &h.label {
-            let x_text = xa;
             chart
-                .draw_series(std::iter::once(
-                    EmptyElement::at((x_text, hy))
-                        + Text::new(label.clone(), (4, -18), font(14.0).color(&grey)),
-                ))
+                .plotting_area()
+                .draw(
+                    &(EmptyElement::at((xb, hy))
+                        + Text::new(label.clone(), (6, -8), font(14.0).color(&grey))),
+                )
                 .map_err(err)?;
         }
     }
@@ -823,8 +844,7 @@ where
         if v.label.is_empty() || !vx.is_finite() || vx < xa || vx > xb {
             continue;
         }
-        // About 7 px a character at 13 px.
-        let w = 8 + 7 * v.label.chars().count() as i32;
+        let w = vline_label_width(&v.label);
         chart
             .draw_series(std::iter::once(
                 EmptyElement::at((vx, yb))
@@ -903,7 +923,7 @@ where
     let (xa, xb) = (x.start, x.end);
     let mut chart = ChartBuilder::on(area)
         .margin_top(8)
-        .margin_right(24)
+        .margin_right(right_margin(o))
         .margin_left(8)
         .x_label_area_size(if x_label.is_some() { 50 } else { 24 })
         .y_label_area_size(if bitmap { 90 } else { 115 })
@@ -957,7 +977,8 @@ where
             draw_band(&mut chart, &s.xs, band, rgb, log_y, (kx, ky))?;
         }
         let mut labelled = false;
-        for seg in segments(&s.xs, &s.ys, log_y, (kx, ky)) {
+        let clip = Some([(xa, xb), (y0 * ky, y1 * ky)]);
+        for seg in segments(&s.xs, &s.ys, log_y, (kx, ky), clip) {
             let anno = if s.style.dashed {
                 chart
                     .draw_series(DashedLineSeries::new(seg, 10, 6, style))
@@ -1217,9 +1238,6 @@ pub fn colormap(t: f64) -> RGBColor {
     RGBColor(lerp(a.0, b.0), lerp(a.1, b.1), lerp(a.2, b.2))
 }
 
-/// Split a curve into drawable runs (gaps at non-finite points, and at
-/// y <= 0 on a log axis).
-/// Coordinates are multiplied by `(kx, ky)`.
 /// `(x, mean, min, max)` of `ys` over a window of width `window` sliding
 /// across `points` equally spaced x values of the data's extent (see
 /// [`Series::envelope`]). `xs` must be sorted.
@@ -1267,20 +1285,119 @@ pub fn running_envelope(
     (gx, mean, lo, hi)
 }
 
-fn segments(xs: &[f64], ys: &[f64], log_y: bool, (kx, ky): (f64, f64)) -> Vec<Vec<(f64, f64)>> {
+/// Split a curve into drawable runs: gaps at non-finite points and at
+/// y <= 0 on a log axis, and, with `clip` (the plot's x and y ranges, in
+/// drawn coordinates), cut where it leaves the plot. Coordinates are
+/// multiplied by `(kx, ky)`.
+fn segments(
+    xs: &[f64],
+    ys: &[f64],
+    log_y: bool,
+    (kx, ky): (f64, f64),
+    clip: Option<[(f64, f64); 2]>,
+) -> Vec<Vec<(f64, f64)>> {
     let mut out = Vec::new();
-    let mut cur = Vec::new();
+    let mut cur: Vec<(f64, f64)> = Vec::new();
+    let flush = |cur: &mut Vec<(f64, f64)>, out: &mut Vec<Vec<(f64, f64)>>| {
+        if cur.len() > 1 {
+            out.push(std::mem::take(cur));
+        } else {
+            cur.clear();
+        }
+    };
+    let point = |x: f64, y: f64| {
+        (x.is_finite() && y.is_finite() && !(log_y && y <= 0.0)).then_some((x * kx, y * ky))
+    };
+    let Some(rect) = clip else {
+        // No fixed range: the curve as it is, broken at gaps (a lone point
+        // between gaps is kept: a one-point run draws nothing).
+        for (&x, &y) in xs.iter().zip(ys) {
+            match point(x, y) {
+                Some(p) => cur.push(p),
+                None if !cur.is_empty() => out.push(std::mem::take(&mut cur)),
+                None => {}
+            }
+        }
+        if !cur.is_empty() {
+            out.push(cur);
+        }
+        return out;
+    };
+    // Each step between two points, cut to the plot's rectangle (in log10 y
+    // on a log axis): a run ends where a step leaves it and starts again
+    // where one comes back in.
+    let ly = |y: f64| if log_y { y.log10() } else { y };
+    let unly = |y: f64| if log_y { 10f64.powf(y) } else { y };
+    let [(xa, xb), (ya, yb)] = rect;
+    let (ya, yb) = (ly(ya), ly(yb));
+    let mut prev: Option<(f64, f64)> = None;
     for (&x, &y) in xs.iter().zip(ys) {
-        if x.is_finite() && y.is_finite() && !(log_y && y <= 0.0) {
-            cur.push((x * kx, y * ky));
-        } else if !cur.is_empty() {
-            out.push(std::mem::take(&mut cur));
+        let Some(q) = point(x, y) else {
+            flush(&mut cur, &mut out);
+            prev = None;
+            continue;
+        };
+        let Some(p) = prev.replace(q) else {
+            continue;
+        };
+        let (p1, q1) = ((p.0, ly(p.1)), (q.0, ly(q.1)));
+        let Some((t0, t1)) = clip_step(p1, q1, (xa, xb), (ya, yb)) else {
+            flush(&mut cur, &mut out);
+            continue;
+        };
+        // The ends kept exactly where they are the points themselves.
+        let at = |t: f64| {
+            if t == 0.0 {
+                p
+            } else if t == 1.0 {
+                q
+            } else {
+                (p1.0 + t * (q1.0 - p1.0), unly(p1.1 + t * (q1.1 - p1.1)))
+            }
+        };
+        let (a, b) = (at(t0), at(t1));
+        if cur.last() != Some(&a) {
+            flush(&mut cur, &mut out);
+            cur.push(a);
+        }
+        cur.push(b);
+        if t1 < 1.0 {
+            flush(&mut cur, &mut out);
         }
     }
-    if !cur.is_empty() {
-        out.push(cur);
-    }
+    flush(&mut cur, &mut out);
     out
+}
+
+/// The part `[t0, t1]` of the step from `p` to `q` inside the rectangle
+/// `x` × `y` (Liang–Barsky), `None` if none of it is inside.
+fn clip_step(
+    p: (f64, f64),
+    q: (f64, f64),
+    (xa, xb): (f64, f64),
+    (ya, yb): (f64, f64),
+) -> Option<(f64, f64)> {
+    let (dx, dy) = (q.0 - p.0, q.1 - p.1);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (d, lo, hi, v) in [
+        (dx, xa.min(xb), xa.max(xb), p.0),
+        (dy, ya.min(yb), ya.max(yb), p.1),
+    ] {
+        if d == 0.0 {
+            if v < lo || v > hi {
+                return None;
+            }
+            continue;
+        }
+        let (a, b) = ((lo - v) / d, (hi - v) / d);
+        let (enter, leave) = if a < b { (a, b) } else { (b, a) };
+        t0 = t0.max(enter);
+        t1 = t1.min(leave);
+        if t0 > t1 {
+            return None;
+        }
+    }
+    (t0 < t1).then_some((t0, t1))
 }
 
 /// The extent of the finite values (positive ones if `log`), widened by
@@ -1354,7 +1471,7 @@ fn trim_zeros(s: &str) -> String {
 }
 
 /// An axis tick label for `v` on an axis with tick spacing about `step`:
-/// scientific (`1.2e-24`, `-3e7`) when |v| < 1e-3 or |v| >= 1e4, otherwise
+/// a power of ten (`1.2×10⁻²⁴`, `-3×10⁷`) when |v| < 1e-3 or |v| >= 1e4, otherwise
 /// fixed with just enough decimals; values within `step`·1e-6 of zero are
 /// `0`.
 pub fn format_tick(v: f64, step: f64) -> String {
@@ -1374,7 +1491,7 @@ pub fn format_tick(v: f64, step: f64) -> String {
         } else {
             2
         };
-        trim_zeros(&format!("{v:.digits$e}"))
+        times_pow10(&trim_zeros(&format!("{v:.digits$e}")))
     } else {
         let dec = if step > 0.0 {
             ((-step.log10()).ceil() + 1.0).clamp(0.0, 10.0) as usize
@@ -1385,9 +1502,32 @@ pub fn format_tick(v: f64, step: f64) -> String {
     }
 }
 
-/// A tick label on a log axis (three significant digits at most).
+/// `1.2e-24` (Rust's exponent form) as a reader writes it: `1.2×10⁻²⁴`;
+/// anything else unchanged.
+fn times_pow10(s: &str) -> String {
+    let Some((m, e)) = s.split_once('e') else {
+        return s.to_string();
+    };
+    const SUP: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+    let exp: String = e
+        .trim_start_matches('+')
+        .chars()
+        .map(|c| match c {
+            '-' => '⁻',
+            d => d.to_digit(10).map_or(d, |i| SUP[i as usize]),
+        })
+        .collect();
+    format!("{m}×10{exp}")
+}
+
+/// A tick label on a log axis (three significant digits at most; a power
+/// of ten as `10⁻⁴`, others as `2×10⁵`).
 pub fn format_log_tick(v: f64) -> String {
-    format_value(v)
+    let s = times_pow10(&format_value(v));
+    match s.strip_prefix("1×") {
+        Some(pow) => pow.to_string(),
+        None => s,
+    }
 }
 
 /// A stand-alone value for a label: three significant digits, scientific
@@ -1415,10 +1555,16 @@ mod tests {
 
     #[test]
     fn ticks_are_legible() {
-        assert_eq!(format_tick(1.2e-24, 0.2e-24), "1.2e-24");
-        assert_eq!(format_tick(1e-10, 1e-11), "1e-10");
-        assert_eq!(format_tick(3e7, 5e6), "3e7");
-        assert_eq!(format_tick(-3.5e7, 5e6), "-3.5e7");
+        // Powers of ten as a reader writes them, never `5e6`.
+        assert_eq!(format_tick(1.2e-24, 0.2e-24), "1.2×10⁻²⁴");
+        assert_eq!(format_tick(1e-10, 1e-11), "1×10⁻¹⁰");
+        assert_eq!(format_tick(3e7, 5e6), "3×10⁷");
+        assert_eq!(format_tick(-3.5e7, 5e6), "-3.5×10⁷");
+        assert_eq!(format_tick(5e6, 1e6), "5×10⁶");
+        assert_eq!(format_log_tick(1e-4), "10⁻⁴");
+        assert_eq!(format_log_tick(1e-3), "0.001");
+        assert_eq!(format_log_tick(2e5), "2×10⁵");
+        assert_eq!(format_log_tick(0.5), "0.5");
         assert_eq!(format_tick(0.5, 0.5), "0.5");
         assert_eq!(format_tick(2.0, 0.5), "2");
         assert_eq!(format_tick(1.25, 0.25), "1.25");
@@ -1428,6 +1574,109 @@ mod tests {
         assert_eq!(format_value(PI), "3.14");
         assert_eq!(format_value(100.0), "100");
         assert_eq!(format_value(0.0123), "0.0123");
+    }
+
+    /// A curve leaving a fixed range is cut at the edge, where it crosses
+    /// it, and resumes where it comes back: never drawn along the edge.
+    #[test]
+    fn segments_are_clipped_to_the_plot() {
+        let xs = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0];
+        let ys = [1.0, 0.5, -2.0, -3.0, 0.5, 1.0];
+        let clip = Some([(0.0, 5.0), (0.0, 2.0)]);
+        let same = |got: Vec<Vec<(f64, f64)>>, want: Vec<Vec<(f64, f64)>>| {
+            assert_eq!(got.len(), want.len(), "{got:?}");
+            for (g, w) in got.iter().zip(&want) {
+                assert_eq!(g.len(), w.len(), "{got:?}");
+                for (a, b) in g.iter().zip(w) {
+                    assert!(
+                        (a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() < 1e-12,
+                        "{got:?}"
+                    );
+                }
+            }
+        };
+        same(
+            segments(&xs, &ys, false, (1.0, 1.0), clip),
+            vec![
+                vec![(0.0, 1.0), (1.0, 0.5), (1.2, 0.0)],
+                vec![(3.0 + 3.0 / 3.5, 0.0), (4.0, 0.5), (5.0, 1.0)],
+            ],
+        );
+        // Wholly outside: nothing drawn; through the range: its part.
+        assert!(segments(&xs, &[-1.0; 6], false, (1.0, 1.0), clip).is_empty());
+        same(
+            segments(&[0.0, 1.0], &[-1.0, 3.0], false, (1.0, 1.0), clip),
+            vec![vec![(0.25, 0.0), (0.75, 2.0)]],
+        );
+        // A log axis cuts in log10 y: from 1 to 1e4, the edge 100 is
+        // crossed half way.
+        let c = segments(
+            &[0.0, 1.0],
+            &[1.0, 1e4],
+            true,
+            (1.0, 1.0),
+            Some([(0.0, 1.0), (0.1, 100.0)]),
+        );
+        assert_eq!(c.len(), 1);
+        assert_eq!(c[0][0], (0.0, 1.0));
+        assert!((c[0][1].0 - 0.5).abs() < 1e-12 && (c[0][1].1 - 100.0).abs() < 1e-9);
+    }
+
+    /// The x and y of every SVG `<text>` whose content is `what`.
+    fn svg_texts(svg: &str, what: &str) -> Vec<(f64, f64)> {
+        let attr = |tag: &str, name: &str| -> f64 {
+            let k = tag.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+            tag[k..].split('"').next().unwrap().parse().unwrap()
+        };
+        svg.split("<text")
+            .skip(1)
+            .filter_map(|t| {
+                let (tag, rest) = t.split_once('>')?;
+                (rest.split("</text>").next()?.trim() == what)
+                    .then(|| (attr(tag, "x"), attr(tag, "y")))
+            })
+            .collect()
+    }
+
+    /// A reference line's label stands right of the plot, beside its line:
+    /// clear of the curves and of a vertical mark's label at the top (fig14:
+    /// "π" and "force off" collided at the top left).
+    #[test]
+    fn reference_labels_stand_clear_of_data_and_marks() {
+        let dir = tempfile::tempdir().unwrap();
+        let stem = dir.path().join("marks");
+        let t: Vec<f64> = (0..=100).map(f64::from).collect();
+        let th: Vec<f64> = t.iter().map(|x| 1.5 + 1.5 * (x / 5.0).sin()).collect();
+        let opts = PlotOpts {
+            hlines: vec![RefLine::new(PI / 2.0, "π/2"), RefLine::new(PI, "π")],
+            vlines: vec![VLine::new(1.0, "force off")],
+            ..PlotOpts::default()
+        };
+        line_plot(
+            &stem,
+            "marks",
+            "t [µs]",
+            "θ [rad]",
+            &[Series::new("θ", t, th)],
+            &opts,
+        )
+        .unwrap();
+        let svg = std::fs::read_to_string(dir.path().join("marks.svg")).unwrap();
+        // The x axis's last tick, 100, is centred on the plot's right edge.
+        let right = svg_texts(&svg, "100")[0].0;
+        let off = svg_texts(&svg, "force off")[0];
+        for label in ["π", "π/2"] {
+            let at = svg_texts(&svg, label);
+            assert_eq!(at.len(), 1, "{label}: {at:?}");
+            assert!(
+                at[0].0 > right + 4.0,
+                "{label} at {at:?}, the plot ends at {right}"
+            );
+            assert!(
+                at[0].0 > off.0 + 80.0 || (at[0].1 - off.1).abs() > 16.0,
+                "{label} {at:?} on {off:?}"
+            );
+        }
     }
 
     #[test]
@@ -1446,10 +1695,10 @@ mod tests {
     fn segments_break_at_gaps() {
         let xs = [0.0, 1.0, 2.0, 3.0, 4.0];
         let ys = [1.0, f64::NAN, 2.0, 3.0, -1.0];
-        assert_eq!(segments(&xs, &ys, false, (1.0, 1.0)).len(), 2);
-        assert_eq!(segments(&xs, &ys, true, (1.0, 1.0)).len(), 2);
+        assert_eq!(segments(&xs, &ys, false, (1.0, 1.0), None).len(), 2);
+        assert_eq!(segments(&xs, &ys, true, (1.0, 1.0), None).len(), 2);
         assert_eq!(
-            segments(&xs, &ys, true, (1.0, 10.0))[1],
+            segments(&xs, &ys, true, (1.0, 10.0), None)[1],
             vec![(2.0, 20.0), (3.0, 30.0)]
         );
         assert_eq!(axis_scale(0.0, 5.0), 1.0);

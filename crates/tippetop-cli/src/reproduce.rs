@@ -232,7 +232,9 @@ fn vlines(f: &Figure) -> Vec<VLine> {
 
 /// Fig. 2, readable: five oscillating θ(t) overlap, so `fig02.png` draws
 /// each curve's running mean and min–max band over a sliding window of
-/// 1/40 of the run (the curves themselves are in fig02.csv), and
+/// 1/40 of the run (the curves themselves are in fig02.csv), one curve a
+/// panel on the same axes (five translucent bands on one panel blend into
+/// one colour), each beside the g = 9.8 bilateral mean in grey; and
 /// `fig02_zoom.png` the curves themselves over the first 10 µs, where they
 /// part.
 fn write_fig02(dir: &Path, f: &Figure) -> Result<()> {
@@ -261,17 +263,47 @@ fn write_fig02(dir: &Path, f: &Figure) -> Result<()> {
         .iter()
         .map(|(y, l)| RefLine::new(*y, l.clone()))
         .collect();
-    let opts = PlotOpts {
-        hlines: hlines.clone(),
-        ..Default::default()
-    };
-    line_plot(
+    // The reference every panel shows: the g = 9.8 bilateral run's mean.
+    let reference = f
+        .curves
+        .iter()
+        .position(|c| c.name.starts_with("g=9.8") && c.name.contains("bilateral"));
+    let y_range = Some((0.0, 1.05 * std::f64::consts::PI));
+    let panels: Vec<Panel> = series
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let mut curves = Vec::new();
+            let mut label = format!("θ [rad], {}", s.name);
+            if let Some(r) = reference.filter(|&r| r != i) {
+                let mut mean = Series::new("", series[r].xs.clone(), series[r].ys.clone())
+                    .color((90, 90, 90))
+                    .width(1);
+                mean.band = None;
+                curves.push(mean);
+                label.push_str(&format!(" (grey: the mean of {})", series[r].name));
+            }
+            curves.push(s.clone());
+            Panel {
+                y_label: label,
+                series: curves,
+                opts: PlotOpts {
+                    hlines: hlines.clone(),
+                    y_range,
+                    ..Default::default()
+                },
+            }
+        })
+        .collect();
+    multi_panel(
         &dir.join("fig02"),
         "Fig. 2: θ, running mean and min–max band over 2.5 µs, g = 0, 9.8, 100 m/s²",
         &f.x_label,
-        &f.y_label,
-        &series,
-        &opts,
+        &panels,
+        &PlotOpts {
+            size: (1000, 1250),
+            ..Default::default()
+        },
     )?;
     let zoom_end = 10e-6;
     let zoom: Vec<Series> = f

@@ -124,7 +124,7 @@ fn push_figures(s: &mut String, rep: &Reproduction) {
             f.id, f.title, f.id, f.id, f.note
         ));
         if f.id == "02" {
-            s.push_str("The five curves overlap, so `fig02.png` draws each one's running mean with its running min–max band over 2.5 µs (the curves themselves are in `fig02.csv`), and `fig02_zoom.png` the curves over the first 10 µs:\n\n![fig02_zoom](fig02_zoom.png)\n\n");
+            s.push_str("The five curves overlap, so `fig02.png` draws each one's running mean with its running min–max band over 2.5 µs, one curve a panel on the same axes, each beside the g = 9.8 bilateral run's mean in grey (the curves themselves are in `fig02.csv`), and `fig02_zoom.png` the curves over the first 10 µs:\n\n![fig02_zoom](fig02_zoom.png)\n\n");
         }
         if f.id == "04" {
             s.push_str("### fig05: Fig. 5: precession of the nano tippe top\n\n![fig05](fig05.png)\n\nThe top drawn at several instants of the accurate (bilateral) run.\n\n");
