@@ -13,11 +13,14 @@ in radians), parameter sweeps, and a steppable ``Simulation``.
 
 Bad input raises ``ValueError`` with the CLI's one-line message without its
 ``error: `` prefix: ``<key>: <what is wrong> (<valid range>)``; an argument
-of the wrong type raises ``TypeError``, a number out of its range
-``ValueError`` (never ``AttributeError`` or ``OverflowError``). An internal
-error (a bug) raises ``RuntimeError``. The long calls (``run``, ``sweep``,
-``ensemble``, ``Simulation.integrate_to``) release the GIL and stop within a
-second on Ctrl-C (``KeyboardInterrupt``).
+of the wrong type raises ``TypeError`` (a bool is not a number; numpy's
+integers are ints), a number out of its range ``ValueError`` (never
+``AttributeError``, ``OverflowError`` or ``RecursionError``); a size past its
+bound is refused before anything is allocated, naming the key and the bound.
+An internal error (a bug) raises ``RuntimeError``. The long calls (``run``,
+``sweep``, ``ensemble``, ``rare``, ``Simulation.integrate_to``) release the
+GIL and stop within a second on Ctrl-C (``KeyboardInterrupt``), the runs in
+progress with them.
 """
 
 from os import PathLike
@@ -44,7 +47,9 @@ class Scenario:
     """A tippe-top scenario: the top, the surface, forces, initial state and
     solver settings (SI units; ``to_toml()`` lists every key). Immutable:
     ``set`` returns a new scenario. Made with ``Scenario.preset``,
-    ``Scenario.from_file`` or ``Scenario.from_toml`` (no constructor)."""
+    ``Scenario.from_file`` or ``Scenario.from_toml`` (no constructor);
+    ``repr()`` is a Python expression that makes it again, e.g.
+    ``tippetop.Scenario.preset('nano').set_many({'surface.friction': '0.2'})``."""
 
     @staticmethod
     def preset(name: str) -> "Scenario":
@@ -195,7 +200,7 @@ _Grid = Union[Tuple[float, float, int], Tuple[float, float, int, Literal["log"]]
 
 def sweep(
     scenario: Scenario,
-    vary: Dict[str, Union[_Grid, Sequence[float], NDArray[Any]]],
+    vary: Mapping[str, Union[_Grid, Sequence[float], NDArray[Any]]],
     threads: Optional[int] = None,
 ) -> Dict[str, NDArray[Any]]:
     """Run a grid of scenarios (the CLI's ``tippetop sweep``) on ``threads``
@@ -328,7 +333,8 @@ class Simulation:
     def integrate_to(self, t: float) -> None:
         """Integrate until the run has passed ``t`` [s] (or ended, or failed:
         see ``error``), with the GIL released. ValueError (key ``t``) if ``t``
-        is before the last time integrated to or after ``solver.t_end``.
+        is before the last time integrated to or after ``solver.t_end``,
+        TypeError if it is not a number.
         Ctrl-C raises KeyboardInterrupt within a second; the run then stands
         at its last step (``time``) and goes on from there, bit for bit,
         with the next call."""
@@ -353,7 +359,7 @@ class Simulation:
         """Go back to ``snapshot`` (it replaces the run entirely).
         ValueError if the snapshot was taken from a simulation of another
         scenario (snapshots carry a fingerprint of their resolved
-        scenario)."""
+        scenario), naming the first key whose value differs."""
     def into_trajectory(self) -> Trajectory:
         """The run so far as a ``Trajectory``; after ``integrate_to(t_end)``
         it equals ``run(scenario)``. The simulation is left as it is (it is

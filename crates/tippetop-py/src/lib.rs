@@ -9,8 +9,9 @@
 //! misses).
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::{Mutex, MutexGuard, TryLockError};
-use std::time::Instant;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, TryLockError};
+use std::time::{Duration, Instant};
 
 use numpy::PyArray1;
 use pyo3::exceptions::{PyAttributeError, PyKeyError, PyRuntimeError, PyTypeError, PyValueError};
@@ -47,6 +48,15 @@ fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
+/// A user's text (a key) as a message quotes it: each control character
+/// (a line break, a tab, NUL) a space, nothing trimmed, so the message
+/// stays on one line and still shows the key's spaces.
+fn flat(s: &str) -> String {
+    s.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect()
+}
+
 /// Run `f`, turning a panic into a `RuntimeError`.
 fn guarded<T>(f: impl FnOnce() -> T) -> PyResult<T> {
     catch_unwind(AssertUnwindSafe(f)).map_err(|p| {
@@ -72,11 +82,49 @@ fn toml_float(x: f64) -> String {
     }
 }
 
+/// `repr(v)` for a message: at most 60 characters, on one line; the type's
+/// name where repr fails (a list a million levels deep has none).
+fn short_repr(v: &Bound<'_, PyAny>) -> String {
+    match v.repr() {
+        Ok(r) => {
+            let r = one_line(&r.to_string());
+            match r.char_indices().nth(60) {
+                Some((i, _)) => format!("{}...", &r[..i]),
+                None => r,
+            }
+        }
+        Err(_) => format!(
+            "a {}",
+            v.get_type()
+                .name()
+                .map(|n| n.to_string())
+                .unwrap_or_default()
+        ),
+    }
+}
+
+/// Most values in a list given for a scenario key: each takes at least
+/// two bytes of TOML, and a scenario's text is at most
+/// `tippetop::limits::MAX_FILE_BYTES` (16 MiB). Checked before the list is
+/// read (a numpy array's `tolist()` would cost ~30 bytes a value).
+const MAX_LIST_VALUES: usize = (tippetop::limits::MAX_FILE_BYTES / 2) as usize;
+
 /// A Python value as the text after `=` of a `--set KEY=VALUE`: bool →
 /// `true`/`false`, int → its digits, float (and numpy scalars) → exact
 /// shortest digits, str → as given (as on the command line: TOML if it
 /// parses as TOML, else the string), list/tuple/array → `[a, b, c]`.
-fn set_value_text(v: &Bound<'_, PyAny>) -> PyResult<String> {
+/// Errors name `key`.
+fn set_value_text(key: &str, v: &Bound<'_, PyAny>) -> PyResult<String> {
+    set_value_text_at(key, v, 0)
+}
+
+/// Deepest nesting of lists in a value: a scenario's arrays are flat or
+/// hold tables; a list that holds itself (or a million levels of lists)
+/// must not exhaust the stack.
+const MAX_VALUE_DEPTH: usize = 32;
+
+/// [`set_value_text`] of a value `depth` lists deep.
+fn set_value_text_at(key: &str, v: &Bound<'_, PyAny>, depth: usize) -> PyResult<String> {
     if v.is_instance_of::<PyBool>() {
         return Ok(if v.extract::<bool>()? {
             "true"
@@ -98,6 +146,22 @@ fn set_value_text(v: &Bound<'_, PyAny>) -> PyResult<String> {
         return Ok(toml_float(x));
     }
     if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() || v.hasattr("tolist")? {
+        if depth >= MAX_VALUE_DEPTH {
+            return Err(PyValueError::new_err(format!(
+                "{}: lists nested more than {MAX_VALUE_DEPTH} deep (a number, bool, str or list \
+                 of numbers)",
+                flat(key)
+            )));
+        }
+        if let Ok(n) = v.len() {
+            if n > MAX_LIST_VALUES {
+                return Err(PyValueError::new_err(format!(
+                    "{}: a list of {n} values (at most {MAX_LIST_VALUES}: a scenario's text is \
+                     at most 16 MiB)",
+                    flat(key)
+                )));
+            }
+        }
         let items = if v.hasattr("tolist")? {
             v.call_method0("tolist")?
         } else {
@@ -105,32 +169,85 @@ fn set_value_text(v: &Bound<'_, PyAny>) -> PyResult<String> {
         };
         let mut parts = Vec::new();
         for item in items.try_iter()? {
-            parts.push(set_value_text(&item?)?);
+            parts.push(set_value_text_at(key, &item?, depth + 1)?);
         }
         return Ok(format!("[{}]", parts.join(", ")));
     }
     Err(PyTypeError::new_err(format!(
-        "cannot use a value of type {} in a scenario (a number, bool, str or list of numbers)",
+        "{}: cannot use a value of type {} in a scenario (a number, bool, str or list of \
+         numbers)",
+        flat(key),
         v.get_type().name()?
     )))
 }
 
-/// An integer argument `name` of a function: TypeError if `v` is not an
-/// int (a bool is not one), ValueError (with `range`) if it is out of
+/// An integer argument `name` of a function: an int or an integer that
+/// says so (`__index__`: numpy's integers). TypeError for anything else (a
+/// bool, a float, a str, None), ValueError (with `range`) if it is out of
 /// `i64` (Python's own OverflowError would be neither).
 fn int_arg(v: &Bound<'_, PyAny>, name: &str, range: &str) -> PyResult<i64> {
-    if !v.is_instance_of::<PyInt>() || v.is_instance_of::<PyBool>() {
-        return Err(PyTypeError::new_err(format!(
+    let not_int = || -> PyResult<PyErr> {
+        Ok(PyTypeError::new_err(format!(
             "{name}: expected an int, got {} ({range})",
             v.get_type().name()?
-        )));
+        )))
+    };
+    if v.is_instance_of::<PyBool>() {
+        return Err(not_int()?);
     }
+    let v = if v.is_instance_of::<PyInt>() {
+        v.clone()
+    } else {
+        // numpy's bool refuses `__index__` itself.
+        match v.py().import("operator")?.call_method1("index", (v,)) {
+            Ok(i) if !i.is_instance_of::<PyBool>() => i,
+            _ => return Err(not_int()?),
+        }
+    };
     v.extract::<i64>().map_err(|_| {
         PyValueError::new_err(format!(
             "{name}: {} is out of range ({range})",
             v.repr().map(|r| r.to_string()).unwrap_or_default()
         ))
     })
+}
+
+/// An optional integer argument (`None`: not given) that is a count from
+/// 0 up, as [`int_arg`]; a negative one is refused with `range`.
+fn count_arg(v: Option<&Bound<'_, PyAny>>, name: &str, range: &str) -> PyResult<Option<u64>> {
+    let Some(v) = v.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    let n = int_arg(v, name, range)?;
+    u64::try_from(n)
+        .map(Some)
+        .map_err(|_| PyValueError::new_err(format!("{name}: {n} is not allowed ({range})")))
+}
+
+/// A float argument `name`: a number (int, float, numpy scalar; not a
+/// bool, a str or an array), TypeError naming it and `what` it is
+/// otherwise. NaN and infinities pass: the library refuses them by name.
+fn float_arg(v: &Bound<'_, PyAny>, name: &str, what: &str) -> PyResult<f64> {
+    let type_name = v.get_type().name()?.to_string();
+    let array = v.hasattr("ndim")? && v.getattr("ndim")?.extract::<i64>().is_ok_and(|d| d != 0);
+    let boolean = v.is_instance_of::<PyBool>() || type_name == "bool_" || type_name == "bool";
+    if array || boolean || v.is_instance_of::<PyString>() {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: expected a number, got {type_name} ({what})"
+        )));
+    }
+    v.extract::<f64>().map_err(|_| {
+        PyTypeError::new_err(format!(
+            "{name}: expected a number, got {type_name} ({what})"
+        ))
+    })
+}
+
+/// An optional float argument (`None`: not given), as [`float_arg`].
+fn opt_float_arg(v: Option<&Bound<'_, PyAny>>, name: &str, what: &str) -> PyResult<Option<f64>> {
+    v.filter(|v| !v.is_none())
+        .map(|v| float_arg(v, name, what))
+        .transpose()
 }
 
 /// The `threads` argument: `None` (one per core) or an int from 1 to
@@ -176,6 +293,51 @@ fn signals_ok(last: &mut Instant, interrupted: &mut Option<PyErr>) -> bool {
             *interrupted = Some(e);
             false
         }
+    }
+}
+
+/// Run `work` on a thread of its own, inside
+/// `tippetop::simulate::stoppable(stop)` and with the GIL released, while
+/// this thread asks Python every 50 ms whether a signal came in (Ctrl-C;
+/// Python runs its handlers on the main thread only, and `work` may wait
+/// seconds between two results of an analysis): then `stop` is set, which
+/// ends the runs in progress within a few thousand steps and the analysis
+/// at its next result (`work`'s sinks and hooks look at `stop` too), and
+/// the signal's exception (KeyboardInterrupt) is returned once `work` has
+/// returned. A panic in `work` is a RuntimeError.
+fn interruptible<R: Send>(
+    py: Python<'_>,
+    stop: &Arc<AtomicBool>,
+    work: impl FnOnce() -> R + Send,
+) -> PyResult<R> {
+    let mut interrupted: Option<PyErr> = None;
+    let out = py.detach(|| {
+        std::thread::scope(|scope| {
+            let waiter = std::thread::current();
+            let worker = scope.spawn(move || {
+                let r = guarded(|| tippetop::simulate::stoppable(stop, work));
+                waiter.unpark();
+                r
+            });
+            while !worker.is_finished() {
+                std::thread::park_timeout(Duration::from_millis(50));
+                if interrupted.is_none() && !worker.is_finished() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        interrupted = Some(e);
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                }
+            }
+            worker.join().unwrap_or_else(|_| {
+                Err(PyRuntimeError::new_err(
+                    "internal error in tippetop (a bug): a worker thread panicked",
+                ))
+            })
+        })
+    });
+    match interrupted {
+        Some(e) => Err(e),
+        None => out,
     }
 }
 
@@ -274,7 +436,7 @@ impl Scenario {
     /// the digits that give back exactly the same float.
     fn set(&self, key: &str, value: &Bound<'_, PyAny>) -> PyResult<Self> {
         let mut sets = self.sets.clone();
-        sets.push(format!("{key}={}", set_value_text(value)?));
+        sets.push(format!("{key}={}", set_value_text(key, value)?));
         Scenario::load(self.preset.clone(), self.toml.clone(), sets)
     }
 
@@ -300,7 +462,7 @@ impl Scenario {
                     key.get_type().name()?
                 )));
             };
-            sets.push(format!("{key}={}", set_value_text(&value)?));
+            sets.push(format!("{key}={}", set_value_text(&key, &value)?));
         }
         Scenario::load(self.preset.clone(), self.toml.clone(), sets)
     }
@@ -325,7 +487,8 @@ impl Scenario {
         match v {
             Some(v) => toml_to_py(py, v),
             None => Err(PyValueError::new_err(format!(
-                "{key}: not a key of this scenario (the keys of Scenario.to_toml(), as table.key)"
+                "{}: not a key of this scenario (the keys of Scenario.to_toml(), as table.key)",
+                flat(key)
             ))),
         }
     }
@@ -344,21 +507,42 @@ impl Scenario {
             .unwrap_or(false)
     }
 
-    fn __repr__(&self) -> String {
-        let mut s = String::from("tippetop.Scenario(");
-        let mut parts = Vec::new();
-        if let Some(p) = &self.preset {
-            parts.push(format!("preset={p:?}"));
+    /// A Python expression that makes this scenario again:
+    /// `tippetop.Scenario.preset('nano').set_many({'surface.friction':
+    /// '0.2'})` (each value as the text it was set with, which `set_many`
+    /// takes back unchanged), `tippetop.Scenario.from_toml('...')` for one
+    /// read from TOML (a file's text inlined); a key set twice: the
+    /// complete TOML.
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let lit = |s: &str| -> PyResult<String> { Ok(PyString::new(py, s).repr()?.to_string()) };
+        let pairs: Vec<(&str, &str)> = self
+            .sets
+            .iter()
+            .map(|set| set.split_once('=').unwrap_or((set.as_str(), "")))
+            .collect();
+        let mut keys: Vec<&str> = pairs.iter().map(|p| p.0).collect();
+        keys.sort_unstable();
+        keys.dedup();
+        if keys.len() < pairs.len() {
+            let toml = guarded(|| self.sc.to_toml_string())?;
+            return Ok(format!("tippetop.Scenario.from_toml({})", lit(&toml)?));
         }
-        if self.toml.is_some() {
-            parts.push("toml=...".into());
+        let mut out = match (&self.preset, &self.toml) {
+            (_, Some(t)) => format!("tippetop.Scenario.from_toml({})", lit(t)?),
+            (Some(p), None) => format!("tippetop.Scenario.preset({})", lit(p)?),
+            (None, None) => {
+                let toml = guarded(|| self.sc.to_toml_string())?;
+                format!("tippetop.Scenario.from_toml({})", lit(&toml)?)
+            }
+        };
+        if !pairs.is_empty() {
+            let items = pairs
+                .iter()
+                .map(|(k, v)| Ok(format!("{}: {}", lit(k)?, lit(v)?)))
+                .collect::<PyResult<Vec<_>>>()?;
+            out.push_str(&format!(".set_many({{{}}})", items.join(", ")));
         }
-        for set in &self.sets {
-            parts.push(format!("{set:?}"));
-        }
-        s.push_str(&parts.join(", "));
-        s.push(')');
-        s
+        Ok(out)
     }
 }
 
@@ -640,19 +824,23 @@ fn run(py: Python<'_>, scenario: &Scenario, pose: bool) -> PyResult<Trajectory> 
 fn vary_axis(key: &str, spec: &Bound<'_, PyAny>) -> PyResult<Axis> {
     if key.contains('=') || key.trim().is_empty() {
         return Err(PyValueError::new_err(format!(
-            "{key}: not a scenario key (table.key as in Scenario.set, e.g. top.offset)"
+            "{}: not a scenario key (table.key as in Scenario.set, e.g. top.offset)",
+            flat(key)
         )));
     }
+    // The key as messages show it (on one line); the library gets it as
+    // given.
+    let shown = flat(key);
     if spec.is_instance_of::<PyTuple>() {
         let mut parts = Vec::new();
         for item in spec.try_iter()? {
             let item = item?;
-            let text = set_value_text(&item)?;
+            let text = set_value_text(key, &item)?;
             if text.contains(':') {
                 // One element must not pass for several of FROM:TO:N.
                 return Err(PyValueError::new_err(format!(
-                    "{key}: {} in (lo, hi, n) is not a number ((lo, hi, n) or (lo, hi, n, \"log\"))",
-                    item.repr()?
+                    "{shown}: {} in (lo, hi, n) is not a number ((lo, hi, n) or (lo, hi, n, \"log\"))",
+                    short_repr(&item)
                 )));
             }
             parts.push(text);
@@ -661,10 +849,21 @@ fn vary_axis(key: &str, spec: &Bound<'_, PyAny>) -> PyResult<Axis> {
     }
     if spec.is_instance_of::<PyString>() {
         return Err(PyValueError::new_err(format!(
-            "{key}: {:?} is not a grid or values (a tuple (lo, hi, n) or (lo, hi, n, \"log\"), \
+            "{shown}: {} is not a grid or values (a tuple (lo, hi, n) or (lo, hi, n, \"log\"), \
              or a list or array of numbers)",
-            spec.extract::<String>()?
+            short_repr(spec)
         )));
+    }
+    let too_many = |n: String| {
+        PyValueError::new_err(format!(
+            "{shown}: {n} values (at most {MAX_SWEEP_CASES} cases in Python, whose result is kept \
+             in memory)"
+        ))
+    };
+    if let Ok(n) = spec.len() {
+        if n > MAX_SWEEP_CASES {
+            return Err(too_many(n.to_string()));
+        }
     }
     let items = if spec.hasattr("tolist")? {
         spec.call_method0("tolist")?
@@ -673,20 +872,23 @@ fn vary_axis(key: &str, spec: &Bound<'_, PyAny>) -> PyResult<Axis> {
     };
     let Ok(iter) = items.try_iter() else {
         return Err(PyValueError::new_err(format!(
-            "{key}: a value of type {} is not a grid or values (a tuple (lo, hi, n) or \
+            "{shown}: a value of type {} is not a grid or values (a tuple (lo, hi, n) or \
              (lo, hi, n, \"log\"), or a list or array of numbers)",
             spec.get_type().name()?
         )));
     };
     let mut values = Vec::new();
     for (i, item) in iter.enumerate() {
+        if i == MAX_SWEEP_CASES {
+            return Err(too_many(format!("more than {MAX_SWEEP_CASES}")));
+        }
         let item = item?;
         match item.extract::<f64>() {
             Ok(v) if !item.is_instance_of::<PyString>() => values.push(v),
             _ => {
                 return Err(PyValueError::new_err(format!(
-                    "{key}: value {i} ({}) is not a number (finite numbers)",
-                    item.repr()?
+                    "{shown}: value {i} ({}) is not a number (finite numbers)",
+                    short_repr(&item)
                 )));
             }
         }
@@ -718,11 +920,18 @@ fn vary_axis(key: &str, spec: &Bound<'_, PyAny>) -> PyResult<Axis> {
 fn sweep<'py>(
     py: Python<'py>,
     scenario: &Scenario,
-    vary: &Bound<'py, PyDict>,
+    vary: &Bound<'py, PyAny>,
     threads: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let Ok(vary) = vary.cast::<PyMapping>() else {
+        return Err(PyTypeError::new_err(format!(
+            "vary: expected a dict of key: grid or values (a mapping), got {}",
+            vary.get_type().name()?
+        )));
+    };
     let mut axes = Vec::new();
-    for (k, v) in vary.iter() {
+    for item in vary.items()?.try_iter()? {
+        let (k, v): (Bound<'_, PyAny>, Bound<'_, PyAny>) = item?.extract()?;
         let key: String = k.extract().map_err(|_| {
             PyTypeError::new_err("the keys of vary are scenario keys (str, e.g. \"top.offset\")")
         })?;
@@ -733,6 +942,16 @@ fn sweep<'py>(
             "vary: no keys given (one or more, e.g. {\"top.offset\": (3e-4, 6e-3, 20)})",
         ));
     }
+    // The Python bound first (the library's is the CLI's, 1e9 cases).
+    let total = axes.iter().try_fold(1usize, |a, x| a.checked_mul(x.n));
+    if total.is_none_or(|t| t > MAX_SWEEP_CASES) {
+        let sizes: Vec<String> = axes.iter().map(|a| a.n.to_string()).collect();
+        return Err(PyValueError::new_err(format!(
+            "vary: {} cases (at most {MAX_SWEEP_CASES} in Python, whose result is kept in \
+             memory; the CLI's tippetop sweep streams up to 1000000000)",
+            sizes.join(" x ")
+        )));
+    }
     let threads = threads_arg(threads.as_ref())?;
     let sw = Sweep {
         preset: scenario.preset.clone(),
@@ -741,34 +960,24 @@ fn sweep<'py>(
         axes,
     };
     guarded(|| sw.validate())?.map_err(to_py_err)?;
-    if sw.total() > MAX_SWEEP_CASES {
-        return Err(PyValueError::new_err(format!(
-            "vary: {} cases (at most {MAX_SWEEP_CASES} in Python, whose result is kept in \
-             memory; the CLI's tippetop sweep streams up to 1000000000)",
-            sw.total()
-        )));
-    }
     let threads = guarded(|| sw.threads_within_memory(threads))?.map_err(to_py_err)?;
 
     // The rows, with the GIL released, kept as the table's columns (not
-    // the rows themselves); Ctrl-C (checked about every 0.1 s, with the
-    // GIL taken for a moment) stops the sweep.
+    // the rows themselves); Ctrl-C stops the sweep (`interruptible`).
     let mut table = Table::from_rows(&sw.axes, &[]);
-    let mut interrupted: Option<PyErr> = None;
-    let run = py.detach(|| {
-        let mut keep_going = signals_checker(&mut interrupted);
+    let stop = Arc::new(AtomicBool::new(false));
+    let run = interruptible(py, &stop, || {
         sw.run_streaming(0..sw.total(), Some(threads), &mut |row| {
             let one = Table::from_rows(&sw.axes, std::slice::from_ref(&row));
             table.values.extend(one.values);
             table.fields.extend(one.fields);
             table.status.extend(one.status);
-            keep_going()
+            !stop.load(Ordering::Relaxed)
         })
-    });
-    if let Some(e) = interrupted {
-        return Err(e);
+    })?;
+    if !run.map_err(|e| PyRuntimeError::new_err(one_line(&e.to_string())))? {
+        return Err(PyRuntimeError::new_err("sweep: stopped before its end"));
     }
-    run.map_err(|e| PyRuntimeError::new_err(one_line(&e.to_string())))?;
 
     let out = PyDict::new(py);
     for key in &table.keys {
@@ -849,9 +1058,8 @@ fn ensemble<'py>(
     let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(runs); names.len()];
     let mut status = Vec::with_capacity(runs);
     let mut bad_row: Option<PyErr> = None;
-    let mut interrupted: Option<PyErr> = None;
-    let done = py.detach(|| {
-        let mut keep_going = signals_checker(&mut interrupted);
+    let stop = Arc::new(AtomicBool::new(false));
+    let done = interruptible(py, &stop, || {
         e.run_streaming(0..runs, Some(threads), &mut |row| {
             let line = ens::csv_row(&row);
             let line = line.trim_end();
@@ -871,13 +1079,15 @@ fn ensemble<'py>(
                 });
             }
             status.push(r.status);
-            keep_going()
+            !stop.load(Ordering::Relaxed)
         })
-    });
-    if let Some(err) = interrupted.or(bad_row) {
+    })?;
+    if let Some(err) = bad_row {
         return Err(err);
     }
-    done.map_err(|err| PyRuntimeError::new_err(one_line(&err.to_string())))?;
+    if !done.map_err(|err| PyRuntimeError::new_err(one_line(&err.to_string())))? {
+        return Err(PyRuntimeError::new_err("ensemble: stopped before its end"));
+    }
 
     let out = PyDict::new(py);
     for (c, name) in cols.into_iter().zip(&names) {
@@ -933,44 +1143,82 @@ fn rare<'py>(
     target: &str,
     reset: Option<&str>,
     method: &str,
-    replicas: Option<i64>,
-    horizon: Option<f64>,
-    max_steps: Option<i64>,
-    threads: Option<i64>,
+    replicas: Option<Bound<'py, PyAny>>,
+    horizon: Option<Bound<'py, PyAny>>,
+    max_steps: Option<Bound<'py, PyAny>>,
+    threads: Option<Bound<'py, PyAny>>,
     coordinate: Option<&str>,
-    particles: Option<i64>,
-    kill: Option<i64>,
-    max_trajectories: Option<i64>,
-    crossings: Option<i64>,
-    direct_steps: Option<i64>,
-    pilot_steps: Option<i64>,
-    basin: Option<f64>,
-    interface: Option<f64>,
+    particles: Option<Bound<'py, PyAny>>,
+    kill: Option<Bound<'py, PyAny>>,
+    max_trajectories: Option<Bound<'py, PyAny>>,
+    crossings: Option<Bound<'py, PyAny>>,
+    direct_steps: Option<Bound<'py, PyAny>>,
+    pilot_steps: Option<Bound<'py, PyAny>>,
+    basin: Option<Bound<'py, PyAny>>,
+    interface: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    use tippetop::analysis::rare::ams::{MAX_PARTICLES, MAX_REPLICAS};
     use tippetop::analysis::rare::problem::{self, DEFAULT_REPLICAS, Problem, RareMethod};
     let started = Instant::now();
     let method = RareMethod::parse(method).map_err(to_py_err)?;
-    let replicas = count_of(replicas, "--replicas", "N >= 1")?;
-    let max_steps = count_of(
-        max_steps,
+    let replicas_range = match method {
+        RareMethod::Ams => format!("2 <= M <= {MAX_REPLICAS}"),
+        _ => "N >= 1, with the run indices below 4294967296".to_string(),
+    };
+    let replicas = count_arg(replicas.as_ref(), "--replicas", &replicas_range)?;
+    let max_steps = count_arg(
+        max_steps.as_ref(),
         "--max-steps",
         "1 to 20000000 steps per trajectory",
     )?;
-    let threads = count_of(threads, "--threads", "1 to 1024")?.map(|t| t as usize);
-    let threads = analysis::sweep::threads(threads).map_err(to_py_err)?;
+    let horizon = opt_float_arg(horizon.as_ref(), "--horizon", "a finite time > 0 [s]")?;
+    let threads = threads_arg(threads.as_ref())?;
     let sc = scenario.sc.clone();
     let (target, reset) = (target.to_string(), reset.map(str::to_string));
+    let level = "a finite level of the coordinate";
+    let o = AmsOptions {
+        replicas,
+        particles: count_arg(
+            particles.as_ref(),
+            "--particles",
+            &format!("2 <= n <= {MAX_PARTICLES}"),
+        )?,
+        kill: count_arg(kill.as_ref(), "--kill", "1 <= k < n (--particles)")?,
+        max_trajectories: count_arg(
+            max_trajectories.as_ref(),
+            "--max-trajectories",
+            "n (--particles) <= N <= 16777200 per replica",
+        )?,
+        crossings: count_arg(
+            crossings.as_ref(),
+            "--crossings",
+            "1 <= crossings <= 100000",
+        )?,
+        direct_steps: count_arg(
+            direct_steps.as_ref(),
+            "--direct-steps",
+            "1 <= steps <= 10000000",
+        )?,
+        pilot_steps: count_arg(
+            pilot_steps.as_ref(),
+            "--pilot-steps",
+            "1000 <= steps <= 10000000",
+        )?,
+        basin: opt_float_arg(basin.as_ref(), "--basin", level)?,
+        interface: opt_float_arg(interface.as_ref(), "--interface", level)?,
+        coordinate,
+    };
     if method != RareMethod::Ams {
         let given = [
-            (coordinate.is_some(), "--coordinate"),
-            (particles.is_some(), "--particles"),
-            (kill.is_some(), "--kill"),
-            (max_trajectories.is_some(), "--max-trajectories"),
-            (crossings.is_some(), "--crossings"),
-            (direct_steps.is_some(), "--direct-steps"),
-            (pilot_steps.is_some(), "--pilot-steps"),
-            (basin.is_some(), "--basin"),
-            (interface.is_some(), "--interface"),
+            (o.coordinate.is_some(), "--coordinate"),
+            (o.particles.is_some(), "--particles"),
+            (o.kill.is_some(), "--kill"),
+            (o.max_trajectories.is_some(), "--max-trajectories"),
+            (o.crossings.is_some(), "--crossings"),
+            (o.direct_steps.is_some(), "--direct-steps"),
+            (o.pilot_steps.is_some(), "--pilot-steps"),
+            (o.basin.is_some(), "--basin"),
+            (o.interface.is_some(), "--interface"),
         ];
         if let Some((_, key)) = given.iter().find(|g| g.0) {
             return Err(PyValueError::new_err(format!(
@@ -985,23 +1233,7 @@ fn rare<'py>(
     })?
     .map_err(to_py_err)?;
     let report = match method {
-        RareMethod::Ams => rare_ams(
-            py,
-            &prob,
-            AmsOptions {
-                replicas,
-                particles,
-                kill,
-                max_trajectories,
-                crossings,
-                direct_steps,
-                pilot_steps,
-                basin,
-                interface,
-                coordinate,
-            },
-            threads,
-        )?,
+        RareMethod::Ams => rare_ams(py, &prob, o, threads)?,
         RareMethod::Exact => {
             if replicas.is_some() {
                 return Err(PyValueError::new_err(
@@ -1011,44 +1243,45 @@ fn rare<'py>(
             py.detach(|| guarded(|| problem::by_exact(&prob)))?
                 .map_err(to_py_err)?
         }
-        RareMethod::Direct => rare_direct(
-            py,
-            &prob,
-            replicas.map_or(DEFAULT_REPLICAS, |r| r as usize),
-            threads,
-        )?,
+        RareMethod::Direct => {
+            // Past usize only where usize is 32 bits; by_direct names the
+            // bound.
+            let n = replicas.map_or(Ok(DEFAULT_REPLICAS), |r| {
+                usize::try_from(r).map_err(|_| {
+                    PyValueError::new_err(format!("--replicas: {r} ({replicas_range})"))
+                })
+            })?;
+            rare_direct(py, &prob, n, threads)?
+        }
     };
     let doc = report.document(&prob, started.elapsed().as_secs_f64());
     let text = serde_json::to_string(&doc).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     py.import("json")?.call_method1("loads", (text,))
 }
 
-/// A count option `key` of `rare` (None: not given), refused below 0 with
-/// its `range`.
-fn count_of(v: Option<i64>, key: &str, range: &str) -> PyResult<Option<u64>> {
-    v.map(|v| {
-        u64::try_from(v)
-            .map_err(|_| PyValueError::new_err(format!("{key}: {v} is not allowed ({range})")))
-    })
-    .transpose()
-}
-
 /// The options of `rare(method="ams")` as given (None: the default).
 struct AmsOptions<'a> {
     replicas: Option<u64>,
-    particles: Option<i64>,
-    kill: Option<i64>,
-    max_trajectories: Option<i64>,
-    crossings: Option<i64>,
-    direct_steps: Option<i64>,
-    pilot_steps: Option<i64>,
+    particles: Option<u64>,
+    kill: Option<u64>,
+    max_trajectories: Option<u64>,
+    crossings: Option<u64>,
+    direct_steps: Option<u64>,
+    pilot_steps: Option<u64>,
     basin: Option<f64>,
     interface: Option<f64>,
     coordinate: Option<&'a str>,
 }
 
-/// `rare(method="ams")`: the splitting's replicas on `threads` threads,
-/// the GIL released, Ctrl-C polled through the progress hook.
+/// A count as a `usize` setting: saturated where `usize` is narrower (the
+/// settings' checks then refuse it by name).
+fn size(v: u64) -> usize {
+    usize::try_from(v).unwrap_or(usize::MAX)
+}
+
+/// `rare(method="ams")`: the splitting (its pilot run included) and its
+/// replicas on `threads` threads, the GIL released; Ctrl-C sets the
+/// splitting's cancel flag (`interruptible`).
 fn rare_ams(
     py: Python<'_>,
     prob: &tippetop::analysis::rare::problem::Problem,
@@ -1057,82 +1290,51 @@ fn rare_ams(
 ) -> PyResult<tippetop::analysis::rare::problem::Report> {
     use tippetop::analysis::rare::ams::{Hooks, Settings};
     use tippetop::analysis::rare::problem;
-    let AmsOptions {
-        replicas,
-        particles,
-        kill,
-        max_trajectories,
-        crossings,
-        direct_steps,
-        pilot_steps,
-        basin,
-        interface,
-        coordinate,
-    } = o;
     let d = Settings::default();
     let settings = Settings {
-        replicas: replicas.map_or(d.replicas, |v| v as usize),
-        particles: count_of(particles, "--particles", "2 <= n <= 30000")?
-            .map_or(d.particles, |v| v as usize),
-        kill: count_of(kill, "--kill", "1 <= k < n (--particles)")?.map_or(d.kill, |v| v as usize),
-        max_trajectories: count_of(
-            max_trajectories,
-            "--max-trajectories",
-            "n (--particles) <= N <= 16777200 per replica",
-        )?
-        .unwrap_or(d.max_trajectories),
-        crossings: count_of(crossings, "--crossings", "1 <= crossings <= 100000")?
-            .map_or(d.crossings, |v| v as usize),
-        direct_steps: count_of(direct_steps, "--direct-steps", "1 <= steps <= 10000000")?
-            .unwrap_or(d.direct_steps),
-        pilot_steps: count_of(pilot_steps, "--pilot-steps", "1000 <= steps <= 10000000")?
-            .unwrap_or(d.pilot_steps),
-        basin,
-        interface,
+        replicas: o.replicas.map_or(d.replicas, size),
+        particles: o.particles.map_or(d.particles, size),
+        kill: o.kill.map_or(d.kill, size),
+        max_trajectories: o.max_trajectories.unwrap_or(d.max_trajectories),
+        crossings: o.crossings.map_or(d.crossings, size),
+        direct_steps: o.direct_steps.unwrap_or(d.direct_steps),
+        pilot_steps: o.pilot_steps.unwrap_or(d.pilot_steps),
+        basin: o.basin,
+        interface: o.interface,
         ..d
     };
-    let coordinate = coordinate.map(str::to_string);
-    let ams = py
-        .detach(|| guarded(|| problem::ams_for(prob, coordinate.as_deref(), settings)))?
-        .map_err(to_py_err)?;
+    let coordinate = o.coordinate.map(str::to_string);
+    let stop = Arc::new(AtomicBool::new(false));
+    let ams = interruptible(py, &stop, || {
+        problem::ams_for(prob, coordinate.as_deref(), settings)
+    })?
+    .map_err(to_py_err)?;
+    // The particles of the replicas running at once within the memory
+    // bound (the splitting runs fewer at once, as the CLI does): refused
+    // here, before anything runs, when not even one fits.
+    ams.threads_within_memory(threads).map_err(to_py_err)?;
     let m = ams.settings().replicas;
-    let cancel = std::sync::atomic::AtomicBool::new(false);
-    let interrupted: Mutex<Option<PyErr>> = Mutex::new(None);
-    let progress = |_: f64| {
-        if let Err(err) = Python::attach(|py| py.check_signals()) {
-            if let Ok(mut slot) = interrupted.lock() {
-                *slot = Some(err);
-            }
-            cancel.store(true, std::sync::atomic::Ordering::Relaxed);
-        }
-    };
-    let hooks = Hooks {
-        progress: Some(&progress),
-        cancel: Some(&cancel),
-        steps: None,
-    };
-    let mut reps = Vec::with_capacity(m);
-    let ran = py.detach(|| {
-        guarded(|| {
-            ams.run(0..m, Some(threads), hooks, &mut |r| {
-                reps.push(r);
-                true
-            })
+    let mut reps = Vec::new();
+    let ran = interruptible(py, &stop, || {
+        let hooks = Hooks {
+            progress: None,
+            cancel: Some(&*stop),
+            steps: None,
+        };
+        ams.run(0..m, Some(threads), hooks, &mut |r| {
+            reps.push(r);
+            !stop.load(Ordering::Relaxed)
         })
     })?;
-    if let Some(err) = interrupted.lock().ok().and_then(|mut e| e.take()) {
-        return Err(err);
-    }
-    match ran.map_err(to_py_err)? {
-        true => {}
-        false => return Err(PyRuntimeError::new_err("rare: interrupted")),
+    if !ran.map_err(to_py_err)? {
+        return Err(PyRuntimeError::new_err("rare: stopped before its end"));
     }
     py.detach(|| guarded(|| problem::by_ams(prob, &ams, reps)))?
         .map_err(to_py_err)
 }
 
 /// `rare(method="direct")`: `n` runs on `threads` threads, the GIL
-/// released, Ctrl-C polled every 0.1 s.
+/// released; Ctrl-C stops them (`interruptible`).
 fn rare_direct(
     py: Python<'_>,
     prob: &tippetop::analysis::rare::problem::Problem,
@@ -1140,26 +1342,13 @@ fn rare_direct(
     threads: usize,
 ) -> PyResult<tippetop::analysis::rare::problem::Report> {
     use tippetop::analysis::rare::problem;
-    let mut interrupted: Option<PyErr> = None;
-    let r = py.detach(|| {
-        guarded(|| {
-            let mut last = Instant::now();
-            problem::by_direct(prob, n, Some(threads), &mut |_| {
-                if last.elapsed().as_secs_f64() >= 0.1 {
-                    last = Instant::now();
-                    if let Err(err) = Python::attach(|py| py.check_signals()) {
-                        interrupted = Some(err);
-                        return false;
-                    }
-                }
-                true
-            })
+    let stop = Arc::new(AtomicBool::new(false));
+    interruptible(py, &stop, || {
+        problem::by_direct(prob, n, Some(threads), &mut |_| {
+            !stop.load(Ordering::Relaxed)
         })
-    })?;
-    if let Some(err) = interrupted {
-        return Err(err);
-    }
-    r.map_err(to_py_err)
+    })?
+    .map_err(to_py_err)
 }
 
 /// A copy of a `Simulation` at one instant (`Simulation.snapshot()`),
@@ -1173,6 +1362,56 @@ struct Snapshot {
     /// [`fingerprint`] of the scenario of the simulation it was taken
     /// from: `restore` refuses it in a simulation of another scenario.
     fingerprint: String,
+    /// That scenario, to name what differs when it is refused.
+    scenario: Arc<tippetop::Scenario>,
+}
+
+/// The first key (`table.key`, in `to_toml()`'s order) whose value
+/// differs between scenarios `a` and `b`, with both values as TOML text
+/// (`absent` where one has no such key).
+fn first_difference(
+    a: &tippetop::Scenario,
+    b: &tippetop::Scenario,
+) -> Option<(String, String, String)> {
+    fn parse(sc: &tippetop::Scenario) -> toml::Value {
+        toml::from_str::<toml::Table>(&sc.to_toml_string())
+            .map(toml::Value::Table)
+            .unwrap_or_else(|e| toml::Value::String(e.to_string()))
+    }
+    fn text(v: Option<&toml::Value>) -> String {
+        match v {
+            None => "absent".into(),
+            Some(toml::Value::Float(x)) => toml_float(*x),
+            Some(v) => one_line(&v.to_string()),
+        }
+    }
+    fn walk(
+        key: &str,
+        a: Option<&toml::Value>,
+        b: Option<&toml::Value>,
+    ) -> Option<(String, String, String)> {
+        use toml::Value::{Array, Table};
+        let join = |k: &str| {
+            if key.is_empty() {
+                k.to_string()
+            } else {
+                format!("{key}.{k}")
+            }
+        };
+        match (a, b) {
+            (Some(Table(x)), Some(Table(y))) => {
+                let mut keys: Vec<&String> = x.keys().collect();
+                keys.extend(y.keys().filter(|k| !x.contains_key(*k)));
+                keys.into_iter()
+                    .find_map(|k| walk(&join(k), x.get(k), y.get(k)))
+            }
+            (Some(Array(x)), Some(Array(y))) => (0..x.len().max(y.len()))
+                .find_map(|i| walk(&join(&i.to_string()), x.get(i), y.get(i))),
+            (x, y) if x == y => None,
+            (x, y) => Some((key.to_string(), text(x), text(y))),
+        }
+    }
+    walk("", Some(&parse(a)), Some(&parse(b)))
 }
 
 /// A 16-hex-digit hash (FNV-1a) of the resolved scenario (its complete
@@ -1200,7 +1439,7 @@ struct SimState {
 /// for bit, as `run`; `state` is the state at `time`.
 #[pyclass(module = "tippetop", frozen)]
 struct Simulation {
-    sc: tippetop::Scenario,
+    sc: Arc<tippetop::Scenario>,
     /// [`fingerprint`] of `sc`.
     fingerprint: String,
     /// Taken with `try_lock` only: a thread that waited for it while
@@ -1239,7 +1478,7 @@ impl Simulation {
     fn new(scenario: &Scenario) -> PyResult<Self> {
         let sim = guarded(|| tippetop::Simulation::new(&scenario.sc))?.map_err(to_py_err)?;
         Ok(Simulation {
-            sc: scenario.sc.clone(),
+            sc: Arc::new(scenario.sc.clone()),
             fingerprint: fingerprint(&scenario.sc),
             state: Mutex::new(SimState {
                 sim: Some(sim),
@@ -1253,7 +1492,12 @@ impl Simulation {
     /// time integrated to or after `solver.t_end`. Ctrl-C raises
     /// KeyboardInterrupt within a second; the run then stands at its last
     /// step (`time`) and goes on from there, bit for bit, with the next call.
-    fn integrate_to(&self, py: Python<'_>, t: f64) -> PyResult<()> {
+    fn integrate_to(&self, py: Python<'_>, t: &Bound<'_, PyAny>) -> PyResult<()> {
+        let t = float_arg(
+            t,
+            "t",
+            "a time [s], from the last time integrated to up to solver.t_end",
+        )?;
         let mut g = self.lock()?;
         let st = &mut *g;
         let Some(sim) = st.sim.as_mut() else {
@@ -1318,18 +1562,28 @@ impl Simulation {
             inner: Mutex::new(sim.snapshot()),
             wall: g.wall,
             fingerprint: self.fingerprint.clone(),
+            scenario: self.sc.clone(),
         })
     }
 
     /// Go back to `snapshot` (it replaces the run entirely). ValueError if
     /// the snapshot was taken from a simulation of another scenario (its
-    /// fingerprint, a hash of the resolved scenario, differs).
+    /// fingerprint, a hash of the resolved scenario, differs), naming the
+    /// first key that differs and both values.
     fn restore(&self, snapshot: &Snapshot) -> PyResult<()> {
         if snapshot.fingerprint != self.fingerprint {
+            let what = match first_difference(&snapshot.scenario, &self.sc) {
+                Some((key, theirs, ours)) => {
+                    format!("{key} is {theirs} there, {ours} in this simulation's")
+                }
+                None => format!(
+                    "fingerprint {}, this simulation's {}",
+                    snapshot.fingerprint, self.fingerprint
+                ),
+            };
             return Err(PyValueError::new_err(format!(
-                "snapshot: taken from a simulation of another scenario (fingerprint {}, \
-                 this simulation's {}) (a snapshot of this scenario)",
-                snapshot.fingerprint, self.fingerprint
+                "snapshot: taken from a simulation of another scenario ({what}) (a snapshot of \
+                 a simulation of this scenario)"
             )));
         }
         let snap = snapshot
