@@ -234,8 +234,7 @@ fn adhesion_keeps_the_bit_at_zero() {
     assert!(m > fa && m / fa - 1.0 < 1e-12, "{m}");
 }
 
-/// A Langevin bit of 2000 steps per run (milliseconds).
-
+/// A Langevin bit of 2000 steps per run (milliseconds), [`HOT`].
 fn hot(d: &Path, out: &str, extra: &[&str]) -> Output {
     bin()
         .arg("bit")
@@ -617,9 +616,8 @@ fn bit_at_300k_is_decided_by_the_well() {
 // `--resume` ends with the bytes of an uninterrupted run, and bad `--vary`
 // input exits with code 2, one line naming the key, nothing written.
 
-/// The nano top's bit with 20 µs phases (the map preset): the
-/// paper's force, its reversal as the erase.
-
+/// `tippetop bit` of a scenario file in `d` ([`NANO20`]: the nano top's
+/// bit with 20 µs phases, the paper's force and its reversal as the erase).
 fn bit(d: &Path, file: &str, out: &str, extra: &[&str]) -> Output {
     bin()
         .arg("bit")

@@ -1021,7 +1021,7 @@ fn fuzz_attacks(cases: u64) {
         "-1",
     ];
     for i in 0..cases {
-        let mut rng = Rng(0xA77A_C4 ^ i.wrapping_mul(0x9E37_79B9));
+        let mut rng = Rng(0x00A7_7AC4 ^ i.wrapping_mul(0x9E37_79B9));
         let out = scratch.path().join(format!("a{i}"));
         match rng.below(3) {
             0 => {
