@@ -307,9 +307,12 @@ fn ten_years_words(r: &DeviceReport) -> String {
         .unwrap_or_else(|| "no temperature (no fit)".into())
 }
 
-/// The report's answer, sentence by sentence from the numbers below it.
-fn answer_sentences(r: &DeviceReport) -> Vec<String> {
+/// The report's answer in words, paragraph by paragraph (the paper's
+/// model; the standing state; the lying state and the writes; the
+/// design), each sentence from the numbers below it.
+fn answer_paragraphs(r: &DeviceReport) -> Vec<String> {
     let ten = ten_years_words(r);
+    let mut paragraphs: Vec<String> = Vec::new();
     let mut ans: Vec<String> = Vec::new();
     let det = |name: &str| r.deterministic.iter().find(|d| d.preset == name);
     let mut tip_sentence: Option<String> = None;
@@ -371,6 +374,7 @@ fn answer_sentences(r: &DeviceReport) -> Vec<String> {
             )
         })
         .collect();
+    paragraphs.push(std::mem::take(&mut ans).join(" "));
     ans.push(format!("C60 on graphene: {}.", held.join("; ")));
     let free: Vec<String> = r
         .thermal
@@ -386,6 +390,7 @@ fn answer_sentences(r: &DeviceReport) -> Vec<String> {
         "With no force at all the top \"writes\" (falls into the lying well) in {} runs.",
         free.join(", ")
     ));
+    paragraphs.push(std::mem::take(&mut ans).join(" "));
     let rare = &r.rare;
     let lying: Vec<String> = rare.lying.iter().rev().map(lying_words).collect();
     ans.push(format!(
@@ -395,17 +400,14 @@ fn answer_sentences(r: &DeviceReport) -> Vec<String> {
     for w in &rare.writes {
         ans.push(format!(
             "At 300 K {} fails with probability {} (95 %: {} – {}), {}.",
-            w.label,
+            write_name(w),
             g(w.rate),
             g(w.ci95[0]),
             g(w.ci95[1]),
-            if w.hold_escape > w.late.ci95[1] {
-                "set by the lying state's own escape during the hold"
-            } else {
-                "set by the fall arriving late"
-            }
+            write_limit(w)
         ));
     }
+    paragraphs.push(std::mem::take(&mut ans).join(" "));
     for d in &rare.designs {
         if let Some(depth) = d.depth {
             ans.push(format!(
@@ -438,24 +440,163 @@ fn answer_sentences(r: &DeviceReport) -> Vec<String> {
     ans.push(format!(
         "(Cross-check, extrapolated: the Arrhenius fit gives 10 years up to {ten}.)"
     ));
-    ans
+    paragraphs.push(ans.join(" "));
+    paragraphs.retain(|p| !p.is_empty());
+    paragraphs
 }
 
-/// "## Answer": the sentences of [`answer_sentences`] under a one-word verdict.
+/// A write of the report in a sentence: the search's best write with
+/// where it comes from.
+fn write_name(w: &dr::WriteError) -> String {
+    if w.label == "the search's best write" {
+        format!(
+            "the search's best write (found on the paper's model at T = 0; its force held over the whole {} phase)",
+            dur(w.phase)
+        )
+    } else {
+        w.label.clone()
+    }
+}
+
+/// What sets a write's error rate, in words.
+fn write_limit(w: &dr::WriteError) -> &'static str {
+    if w.hold_escape > w.late.ci95[1] {
+        "set by the lying state's own escape during the hold"
+    } else {
+        "set by the fall arriving late"
+    }
+}
+
+/// A rate with its 95 % interval: `3.008e-8 (6.415e-9 – 1.411e-7)`.
+fn rate_ci(rate: f64, ci: [f64; 2]) -> String {
+    format!("{} ({} – {})", g(rate), g(ci[0]), g(ci[1]))
+}
+
+/// The answer's table: each state's retention (95 %) and what limits it,
+/// each write's error rate at 300 K, and the design.
+fn answer_table(r: &DeviceReport) -> String {
+    let mut t =
+        String::from("| | retention or error rate (95 %) | what limits it |\n|---|---|---|\n");
+    let mut row = |what: String, value: String, limit: String| {
+        let _ = writeln!(t, "| {what} | {value} | {limit} |");
+    };
+    for th in &r.thermal {
+        let (left, runs) = th.zero_left;
+        let value = match &th.zero_escape {
+            Some(e) => format!(
+                "{} (95 %: {} – {}); {left} of {runs} runs left it within 1 ns",
+                dur(e.mean_time),
+                dur(1.0 / e.ci95[1]),
+                dur(1.0 / e.ci95[0])
+            ),
+            None => format!("{left} of {runs} runs left it within 1 ns"),
+        };
+        row(
+            format!("state 0 (standing), {} K", th.temperature),
+            value,
+            format!(
+                "no barrier: with no force the top falls to lying in {}/{} runs",
+                th.write_without_force.successes, th.write_without_force.runs
+            ),
+        );
+    }
+    for l in r.rare.lying.iter().rev() {
+        let value = match &l.ams {
+            Some(m) => format!("{} by splitting", ams_time(m)),
+            None if beyond_any_time_scale(l.tst.log10_seconds) => {
+                "beyond any time scale (its transition-state lower bound: over 10^100 years)".into()
+            }
+            None => format!("at least {} (transition-state bound)", big(&l.tst)),
+        };
+        let limit = format!(
+            "escape over the stem's well: {} = {} kT{}",
+            ev(l.barrier),
+            g(l.barrier_kt),
+            match l.not_measured {
+                Some("beyond_reach") => ", beyond any sampler's reach",
+                Some(_) => " (not measured by this run)",
+                None => "",
+            }
+        );
+        row(
+            format!("state 1 (lying), {} K", l.temperature),
+            value,
+            limit,
+        );
+    }
+    for w in &r.rare.writes {
+        row(
+            format!("{}, 300 K, {} phase", w.label, dur(w.phase)),
+            format!("write error rate {}", rate_ci(w.rate, w.ci95)),
+            write_limit(w).trim_start_matches("set by ").to_string(),
+        );
+    }
+    for d in &r.rare.designs {
+        let Some(depth) = d.depth else {
+            row(
+                format!("the design at {} K", d.temperature),
+                "no well up to 100 eV keeps 10 years".into(),
+                "–".into(),
+            );
+            continue;
+        };
+        let check = d
+            .check
+            .as_ref()
+            .and_then(|c| c.ams.as_ref())
+            .map(|m| format!("; splitting there: {}", ams_time(m)))
+            .unwrap_or_default();
+        row(
+            format!("the design at {} K: a {} well", d.temperature, ev(depth)),
+            format!("10 years (transition-state bound, a lower one){check}"),
+            d.check.as_ref().map_or_else(
+                || "escape over the deeper well".into(),
+                |c| format!("escape over the deeper well: {} kT", g(c.barrier_kt)),
+            ),
+        );
+    }
+    if let Some(w) = &r.rare.design_write {
+        let (value, limit) = match (w.write_time, &w.check) {
+            (Some(t), Some(c)) => (
+                format!(
+                    "write error rate {} in {} with no force",
+                    rate_ci(c.rate, c.ci95),
+                    dur(t + c.hold)
+                ),
+                write_limit(c).trim_start_matches("set by ").to_string(),
+            ),
+            _ => (
+                format!(
+                    "no write time within {} reaches an error rate of {}",
+                    dur(w.horizon),
+                    g(dr::ERROR_TARGET)
+                ),
+                "the fall arriving late".into(),
+            ),
+        };
+        row("the design's write, 300 K".into(), value, limit);
+    }
+    t
+}
+
+/// "## Answer": the verdict, the table of [`answer_table`], then the words
+/// of [`answer_paragraphs`].
 fn answer_section(s: &mut String, r: &DeviceReport) {
     let _ = writeln!(s, "## Answer\n");
-    let ans = answer_sentences(r);
     let zero_holds = r.thermal.iter().any(|t| t.zero_left.0 * 2 < t.zero_left.1);
     let _ = writeln!(
         s,
-        "**{}** {}\n",
+        "**{}**\n",
         if zero_holds {
             "Partly."
         } else {
             "Not as the paper proposes: state 0 does not hold."
-        },
-        ans.join(" ")
+        }
     );
+    let _ = writeln!(s, "{}", answer_table(r));
+    for p in answer_paragraphs(r) {
+        let _ = writeln!(s, "{p}\n");
+    }
     if !zero_holds {
         let _ = writeln!(
             s,
@@ -812,14 +953,16 @@ pub fn run(args: &DeviceArgs, quiet: bool) -> Result<ExitCode> {
     write_bytes_atomic(&stage_dir.join("device.md"), md.as_bytes())?;
     out.commit(&["device.json"])?;
     if !quiet {
-        if let Some(answer) = md
-            .split("## Answer\n\n")
-            .nth(1)
-            .and_then(|s| s.split("\n\n").next())
-        {
-            println!("{answer}");
+        // The verdict and the answer's table; the words are in device.md.
+        if let Some(answer) = md.split("## Answer\n\n").nth(1) {
+            for block in answer.split("\n\n").take(2) {
+                println!("{}\n", block.trim_end());
+            }
         }
-        println!("wrote {}", args.out.display());
+        println!(
+            "the answer in words: {}",
+            args.out.join("device.md").display()
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

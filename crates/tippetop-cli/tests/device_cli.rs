@@ -37,6 +37,32 @@ fn device_report_is_consistent() {
         let sent = common::sentinels(text);
         assert!(sent.is_empty(), "sentinels in {name}: {sent:?}");
     }
+    // The answer leads with a table (each state's retention with its
+    // interval and what limits it, the writes' error rates, the design),
+    // then words in short paragraphs.
+    let answer = md.split("## Answer\n\n").nth(1).unwrap();
+    let answer = answer.split("\n## ").next().unwrap();
+    let blocks: Vec<&str> = answer.split("\n\n").collect();
+    assert!(blocks[0].starts_with("**"), "{answer}");
+    assert!(
+        blocks[1].starts_with("| | retention or error rate (95 %) | what limits it |"),
+        "no table after the verdict:\n{answer}"
+    );
+    for row in [
+        "| state 0 (standing), 300 K | ",
+        "| state 1 (lying), 300 K | ",
+        "| state 1 (lying), 4 K | beyond any time scale",
+        "| the paper's write, 300 K, 500.0 ps phase | write error rate ",
+        "| the design at 300 K: a ",
+        "| the design's write, 300 K | ",
+    ] {
+        assert!(blocks[1].contains(row), "no row {row:?}:\n{}", blocks[1]);
+    }
+    for words in &blocks[2..] {
+        let n = words.split_whitespace().count();
+        assert!(n <= 150, "a paragraph of {n} words: {words}");
+    }
+    assert!(!md.contains("(the paper's model), over the phase"), "{md}");
     // The paper's write on the paper's model: the same bit as
     // scenarios/bit/nano.toml, so the same switching time, bit for bit.
     let o = bin()

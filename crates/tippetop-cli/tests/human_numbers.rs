@@ -278,7 +278,17 @@ fn device_reads_as_numbers_for_people() {
         ],
     );
     check("device", &c);
-    check("device.md", &read(&dev.join("device.md")));
+    let md = read(&dev.join("device.md"));
+    check("device.md", &md);
+    // The console gives the answer's verdict and table, as device.md.
+    let table = md
+        .split("## Answer\n\n")
+        .nth(1)
+        .unwrap()
+        .split("\n\n")
+        .nth(1)
+        .unwrap();
+    assert!(table.starts_with("| |") && c.contains(table), "{c}");
 }
 
 /// A top that slipped for the first 47 ms of 200 s does not roll "100 %"

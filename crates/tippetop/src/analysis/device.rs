@@ -260,8 +260,10 @@ pub struct Rare {
     /// The lying state's retention at each temperature (the stem's
     /// 1.1 eV well).
     pub lying: Vec<LyingRetention>,
-    /// Write error rates at 300 K: the paper's write, and the best write
-    /// of the protocol search (the paper's model) applied over the phase.
+    /// Write error rates at 300 K: the paper's write ("the paper's
+    /// write"), and the best write of the protocol search on the paper's
+    /// model at T = 0, its force held over the whole phase ("the search's
+    /// best write").
     pub writes: Vec<WriteError>,
     /// The smallest well depth for 10 years at 300 K and at 77 K.
     pub designs: Vec<Design>,
@@ -549,7 +551,7 @@ fn rare(
     {
         let w = f.windows[0];
         protocols.push((
-            "the search's best write (the paper's model), over the phase".into(),
+            "the search's best write".into(),
             [w[0] * w[1].cos(), w[0] * w[1].sin()],
         ));
     }
