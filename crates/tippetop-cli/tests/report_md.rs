@@ -1,8 +1,10 @@
-//! report.md is for a referee (issue #29, 5): it opens with an abstract of
-//! the decisive findings, its table cells hold at most 80 characters, and
-//! its prose holds no machine-precision numbers (10 or more significant
-//! digits) and no `1e300`-style sentinels. Failure messages are footnotes.
-//! Checked on `reproduce --quick --extended` (the adhesion study included).
+//! report.md is for a referee: it opens with an abstract of the decisive
+//! findings, defines its verdicts' words once, its table cells hold at most
+//! 80 characters, each row's numbers are those of the runs its verdict
+//! rests on, and its prose holds no machine-precision numbers (10 or more
+//! significant digits) and no `1e300`-style sentinels. Failure messages are
+//! footnotes. Checked on `reproduce --quick --extended` (the adhesion study
+//! included) and, for the verdicts, on the full reproduction.
 
 use std::fs;
 
@@ -103,4 +105,57 @@ fn sentinels_finds_what_it_should() {
     );
     assert_eq!(sentinels("= inf yr, ratio NaN"), vec!["inf", "NaN"]);
     assert!(sentinels("infinite, 1e30 s, `x = 1e300`, 3.740 × 10^664 years").is_empty());
+}
+
+/// Every verdict's word is defined once, at the top; a claim called
+/// "partly" says why: its criterion's weaker level ("partly if ..."), or
+/// the computations disagree and its table line gives each one's own
+/// verdict and numbers (c1_fit: the paper-contact run reproduces the fit,
+/// the bilateral run does not; the line showed the bilateral numbers
+/// alone). On the full reproduction: these are its verdicts.
+#[test]
+fn verdict_words_are_defined_and_rows_show_the_runs_they_judge() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("rep");
+    Command::cargo_bin("tippetop")
+        .unwrap()
+        .args(["reproduce", "--quiet", "--out", out.to_str().unwrap()])
+        .assert()
+        .success();
+    let report = fs::read_to_string(out.join("report.md")).unwrap();
+    let claims_at = report.find("## The claims").unwrap();
+    for word in ["reproduced", "partly", "not reproduced"] {
+        let def = format!("- **{word}**: ");
+        assert_eq!(report.matches(&def).count(), 1, "{def:?} defined once");
+        assert!(
+            report.find(&def).unwrap() < claims_at,
+            "{def:?} after the table"
+        );
+    }
+    let claims: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join("claims.json")).unwrap()).unwrap();
+    for c in claims.as_array().unwrap() {
+        let (id, why, summary) = (
+            &c["id"],
+            c["why"].as_str().unwrap(),
+            c["summary"].as_str().unwrap(),
+        );
+        if c["verdict"] == "partly" {
+            assert!(
+                why.contains("partly if")
+                    || why.contains("else partly")
+                    || summary.starts_with("bilateral "),
+                "{id}: partly without a definition: {why} | {summary}"
+            );
+        }
+    }
+    let row = report
+        .lines()
+        .find(|l| l.starts_with("| [c1_fit]"))
+        .unwrap();
+    assert!(row.contains("**partly**"), "{row}");
+    assert!(
+        row.contains("bilateral no (") && row.contains("paper contact yes ("),
+        "{row}"
+    );
 }

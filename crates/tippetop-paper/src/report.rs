@@ -20,6 +20,16 @@ const ABSTRACT: &[(&str, &str)] = &[
     ("jellett_zero", "Jellett's integral"),
 ];
 
+/// The verdicts' words, each defined once, at the top of the report.
+const VERDICT_LEGEND: &str = "**The verdicts' words.** Each claim is judged by the criterion given with it in detail, \
+     at two levels:\n\n\
+     - **reproduced**: the criterion holds, in every computation the claim is judged on (for most nano claims \
+     both accurate ones, bilateral and paper contact);\n\
+     - **partly**: only the criterion's weaker level holds (its \"partly if ...\"), or the computations disagree; \
+     the table's line then gives each computation's own verdict, **yes** (reproduced), **in part** or **no** \
+     (not reproduced), with its numbers;\n\
+     - **not reproduced**: not even the weaker level holds.\n\n";
+
 /// `s` cut to at most `n` characters at a word boundary, with "…" when cut.
 pub(crate) fn clip(s: &str, n: usize) -> String {
     if s.chars().count() <= n {
@@ -207,6 +217,7 @@ pub fn report_markdown(rep: &Reproduction) -> String {
         s.push_str("**Quick mode: every window shortened 10x. The verdicts below are NOT meaningful.**\n\n");
     }
     push_abstract(&mut s, rep);
+    s.push_str(VERDICT_LEGEND);
     s.push_str("Each claim of the paper beside what tippetop measured. Three computations of each nano result:\n\n");
     s.push_str("- **bilateral (accurate)**: exact Coulomb friction (`coulomb`), contact held with friction μ|N|, adaptive DOP853 at rtol 1e-10. The physically consistent reading of the paper's model.\n");
     s.push_str("- **paper contact (accurate)**: the paper's literal law `−μ N v/|v|` with N's sign (`contact = \"paper\"`, `friction_law = \"coulomb_sliding\"`), solved accurately: what the paper's equations give.\n");
