@@ -14,4 +14,5 @@ pub mod regime;
 pub mod retention;
 pub mod search;
 pub mod stability;
+pub mod step_check;
 pub mod sweep;
