@@ -447,6 +447,8 @@ pub(crate) use langevin::nearest_grid;
 mod rk4;
 mod roots;
 mod rosenbrock;
+#[cfg(test)]
+mod weak_order;
 
 /// One counted right-hand-side evaluation (every stepper counts through here).
 /// [`eval`] through [`OdeSystem::rhs_accepted`].
