@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 use tippetop::analysis::ensemble::{
     self, BINS, Ensemble, EnsembleShard, EnsembleStats, Histograms, QUANTILES, SPREAD, StatsAcc,
 };
+use tippetop::analysis::step_check::{self, AtStep, Scale, StepCheck};
 use tippetop::analysis::sweep::{self, Shard};
 
 use crate::output::{OutDir, check_plain, open_plain, read_plain, write_bytes_atomic};
@@ -49,7 +50,8 @@ thermal.run = r0 + K, r0 its own thermal.run, default 0) on all cores and write 
                   interval (mean +- 1.96 s/sqrt(n), over the ok runs) of the final theta,
                   omega, Omega and energy; first passages (theta > pi/2 or --first-passage):
                   observed, censored, censored fraction, Kaplan-Meier median, the escape
-                  rate (passages / time at risk, 95 % CI); temperature; the histogram ranges
+                  rate (passages / time at risk, 95 % CI); temperature; the histogram ranges;
+                  dt_converged, step_check, step_unchecked: the step check (below)
   fan.png, fan.svg   theta(t): median and the 25-75 % and 5-95 % quantile bands
   shard.json      which runs the files hold, for tippetop merge
 
@@ -61,7 +63,8 @@ run indices below 2^32; solver.samples at most 100000 (the histograms keep 1624 
 sample). Runs run at once on --threads threads, fewer (with a note) if more would need more
 than the memory bound of 3 GiB. The files are byte for byte the same whatever --threads and however the
 runs are cut with --shard K/N (the K-th of N contiguous blocks of runs; join the shards'
-directories with tippetop merge: counts add, rows concatenate). A run that fails part-way is a
+directories with tippetop merge: counts add, rows concatenate; summary.json's step-check keys
+aside, below). A run that fails part-way is a
 row with its error in status; the ensemble goes on. Bad input exits with code 2 and writes
 nothing.
 
@@ -69,7 +72,30 @@ Streaming and --resume as for tippetop sweep: rows are written in run order into
 DIR/ensemble.csv.partial as the runs finish, memory stays flat in N (the histograms are
 counts; summary.json's Kaplan-Meier estimate keeps 16 bytes per run); a killed ensemble
 continues with the same command plus --resume and ends with the same bytes. The output
-directory is locked while the command runs.";
+directory is locked while the command runs.
+
+The step check (on by default; --no-step-check skips it): after the ensemble, the same N runs
+again on the scenario at solver.dt/2 (the step limit doubled, an independent seed:
+thermal.seed + 0x9E3779B97F4A7C15, wrapping), whose files are not written. Each statistic with
+a 95 % interval is compared with its value at dt/2: the means of the final theta, omega, Omega
+and energy and of the observed passage times (by their difference), the censored fraction (its
+Wilson 95 % interval) and the escape rate (by the ratio, on a log scale). A statistic is
+converged in the step when its change is below the 95 % half-width of its value at dt.
+summary.json gains \"dt_converged\" (true: every checked statistic converged; false: one or
+more did not, and the console warns \"NOT converged in the step\": use a smaller solver.dt) and
+\"step_check\" (per statistic: both estimates with their intervals and steps, the change, the
+half-width); the answer written stays the one at dt. The second pass has twice the steps: it
+costs about twice the ensemble, so the command takes about three times as long. The two
+answers' noise alone makes a statistic without step error look unconverged about 17 % of the
+time, so dt_converged is false for about half of converged ensembles (21 of 40 seeds of
+scenarios/thermal.toml at 200 runs): a step error shows again at a smaller solver.dt, noise
+does not. No check (\"dt_converged\": null, \"step_check\": null and
+\"step_unchecked\" saying why): with --no-step-check; with --shard (the check compares the
+whole ensemble's statistics: run the ensemble without --shard, or at --set solver.dt=DT/2 and
+compare), and so in tippetop merge's summary.json, which therefore differs from a one-shot
+run's in these keys only; with --runs 1 (no interval). --resume resumes the ensemble; the
+check's pass keeps no partial file and runs again whole (the same bytes). A scenario whose
+dt/2 version is invalid (e.g. beyond the step limit) exits with code 2 naming the key.";
 
 /// Run a Langevin scenario N times (an ensemble) and write statistics.
 #[derive(Debug, Args)]
@@ -125,6 +151,12 @@ pub struct EnsembleArgs {
     /// `tippetop retention`). Default: theta > pi/2, runs to t_end.
     #[arg(long, value_name = "SPEC")]
     pub first_passage: Option<String>,
+
+    /// Skip the step check (the N runs again at solver.dt/2, about twice
+    /// the ensemble's cost): summary.json's dt_converged and step_check are
+    /// then null and the console says the step is unchecked.
+    #[arg(long)]
+    pub no_step_check: bool,
 }
 
 /// The file the rows stream into while the ensemble runs.
@@ -159,7 +191,7 @@ use crate::scenario_load::input_error;
 /// Run `tippetop ensemble`. Bad input: one line on stderr and exit code 2
 /// (returned as `Ok`), nothing written; `Err` for I/O failures.
 pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
-    let (ens, shard, threads, info, info_json) = match inputs(args, quiet)? {
+    let (ens, shard, threads, info, info_json, plan) = match inputs(args, quiet)? {
         Ok(i) => i,
         Err(code) => return Ok(code),
     };
@@ -249,8 +281,24 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
     let hash = w.finish()?;
 
     let stats = read_stats(&csv_partial)?;
+    // The step check runs after the ensemble's rows are all on disk: a
+    // kill during it leaves a complete partial file, and --resume goes
+    // straight to the check again.
+    let step = match &plan {
+        StepPlan::Off(why) => StepOutcome::Off(why.clone()),
+        StepPlan::Run(fine) => {
+            let begun = std::time::Instant::now();
+            let fine_stats = refined_stats(fine, threads, quiet)?;
+            StepOutcome::Done(Refined {
+                checks: step_checks(&ens, &stats, fine, &fine_stats),
+                runs: fine_stats.runs,
+                failed: fine_stats.failed,
+                seconds: begun.elapsed().as_secs_f64(),
+            })
+        }
+    };
     out.adopt(PARTIAL_CSV, "ensemble.csv");
-    write_results(out.stage(), &info, &hist, &stats)?;
+    write_results(out.stage(), &info, &hist, &stats, &step)?;
     write_info(out.stage(), &info, checksum_text(hash), &hist)?;
     out.commit(&["summary.json"])?;
     if !quiet {
@@ -262,26 +310,314 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
                 shard.k, shard.n, range.start, range.end, info.total_runs
             )
         };
+        let check_seconds = match &step {
+            StepOutcome::Done(r) => r.seconds,
+            StepOutcome::Off(_) => 0.0,
+        };
         println!(
             "{what} ({} ok, {} failed) in {} -> {}",
             stats.ok,
             stats.failed,
-            crate::output::fmt_duration(start.elapsed().as_secs_f64()),
+            crate::output::fmt_duration(start.elapsed().as_secs_f64() - check_seconds),
             dir.join("ensemble.csv").display()
         );
         print_stats(&stats);
+        print_step(&step);
     }
     Ok(ExitCode::SUCCESS)
 }
 
-/// The ensemble, its shard, the threads and the shard's description (and
-/// its JSON) from the arguments. Bad input: one line on stderr, `Ok(Err(exit
-/// code 2))`.
+/// What the step check of one command does.
+enum StepPlan {
+    /// Run the ensemble again as this one: the scenario at `solver.dt / 2`
+    /// ([`step_check::refined`]), the same runs and first-passage criterion.
+    Run(Box<Ensemble>),
+    /// No check, and why (summary.json's `step_unchecked`).
+    Off(String),
+}
+
+/// The step check's result.
+enum StepOutcome {
+    /// The refined ensemble ran.
+    Done(Refined),
+    /// No check, and why.
+    Off(String),
+}
+
+/// The refined ensemble's comparison with the ensemble.
+struct Refined {
+    /// Each checked statistic: its name in summary.json (a path through
+    /// its objects), the unit of its values, the comparison; in the order
+    /// of the console.
+    checks: Vec<(&'static str, &'static str, StepCheck)>,
+    /// Its runs, and how many failed.
+    runs: u64,
+    failed: u64,
+    /// Its wall time \[s\].
+    seconds: f64,
+}
+
+impl StepOutcome {
+    /// `dt_converged`: whether every checked statistic converged; `None`
+    /// without a check (or with no statistic to check).
+    fn converged(&self) -> Option<bool> {
+        match self {
+            StepOutcome::Done(r) if !r.checks.is_empty() => {
+                Some(r.checks.iter().all(|c| c.2.converged))
+            }
+            _ => None,
+        }
+    }
+
+    /// Why the step is unchecked (`None`: checked).
+    fn unchecked(&self) -> Option<&str> {
+        match self {
+            StepOutcome::Off(why) => Some(why),
+            StepOutcome::Done(r) if r.checks.is_empty() => {
+                Some("no statistic has a 95 % interval (fewer than 2 ok runs)")
+            }
+            StepOutcome::Done(_) => None,
+        }
+    }
+}
+
+/// The step check's plan: off with `--no-step-check`, with `--shard` (it
+/// compares the whole ensemble's statistics) and for one run (no
+/// interval); else the refined ensemble. Error: the refined scenario is
+/// invalid (the key named, the check said).
+fn step_plan(no_check: bool, ens: &Ensemble, shard: Shard) -> Result<StepPlan, tippetop::Error> {
+    if no_check {
+        return Ok(StepPlan::Off("--no-step-check".into()));
+    }
+    if shard != Shard::ALL {
+        return Ok(StepPlan::Off(format!(
+            "sharded (--shard {}/{}): the check compares the whole ensemble's statistics; run the \
+             ensemble without --shard, or at --set solver.dt=DT/2 and compare",
+            shard.k, shard.n
+        )));
+    }
+    if ens.runs < 2 {
+        return Ok(StepPlan::Off(
+            "one run: no statistic has a 95 % interval".into(),
+        ));
+    }
+    let scenario = step_check::refined(&ens.scenario).map_err(|e| match e {
+        tippetop::Error::Invalid { key, what, range } => tippetop::Error::Invalid {
+            key,
+            what: format!("{what} in the step check's scenario at solver.dt/2"),
+            range: format!("{range}; --no-step-check skips the check"),
+        },
+        other => other,
+    })?;
+    Ok(StepPlan::Run(Box::new(Ensemble {
+        scenario,
+        ..ens.clone()
+    })))
+}
+
+/// The statistics of the refined ensemble `fine`, all its runs on
+/// `threads` threads (a progress bar "step check (dt/2)"); its rows go
+/// through the CSV form, as the ensemble's own statistics do, and nothing
+/// is written.
+fn refined_stats(fine: &Ensemble, threads: usize, quiet: bool) -> Result<EnsembleStats> {
+    let pb = crate::progress::bar(quiet, fine.runs as u64, "step check (dt/2)");
+    let mut acc = StatsAcc::default();
+    let mut bad: Option<tippetop::Error> = None;
+    let run = fine.run_streaming(0..fine.runs, Some(threads), &mut |row| {
+        let line = ensemble::csv_row(&row);
+        if let Err(e) = acc.push_line(row.index + 2, line.trim_end_matches('\n')) {
+            bad = Some(e);
+            return false;
+        }
+        pb.inc(1);
+        true
+    });
+    pb.finish_and_clear();
+    if let Err(e) = run {
+        anyhow::bail!("{e}");
+    }
+    if let Some(e) = bad {
+        anyhow::bail!("step check: {e}");
+    }
+    Ok(acc.finish())
+}
+
+/// The answer of a mean at step `dt` (`None` without its interval).
+fn mean_at(m: &ensemble::MeanCi, dt: f64) -> Option<AtStep> {
+    m.mean
+        .zip(m.ci95)
+        .map(|(estimate, ci95)| AtStep { dt, estimate, ci95 })
+}
+
+/// An answer that the refined ensemble did not give (no value, or no
+/// interval): NaN where missing (`null` in summary.json), so its check is
+/// not converged.
+fn missing_at(dt: f64, estimate: Option<f64>) -> AtStep {
+    AtStep {
+        dt,
+        estimate: estimate.unwrap_or(f64::NAN),
+        ci95: [f64::NAN; 2],
+    }
+}
+
+/// The censored fraction at step `dt` with its Wilson 95 % score interval
+/// (a binomial proportion's interval that stays within [0, 1] and is not
+/// empty at 0 or 1 passages); `None` without runs.
+fn censored_at(fp: &ensemble::FirstPassage, dt: f64) -> Option<AtStep> {
+    let estimate = fp.censored_fraction?;
+    let n = (fp.observed + fp.censored) as f64;
+    let z2 = ensemble::Z95 * ensemble::Z95;
+    let d = 1.0 + z2 / n;
+    let centre = (estimate + z2 / (2.0 * n)) / d;
+    let half = ensemble::Z95 / d * (estimate * (1.0 - estimate) / n + z2 / (4.0 * n * n)).sqrt();
+    Some(AtStep {
+        dt,
+        estimate,
+        ci95: [(centre - half).max(0.0), (centre + half).min(1.0)],
+    })
+}
+
+/// The step checks of the ensemble's statistics `a` (of `ens`, at its
+/// step) against `b` (of `fine`, at half of it): every statistic with a 95
+/// % interval at dt, means and the censored fraction on a linear scale,
+/// the escape rate on a log scale (a rate's interval is log-normal; the
+/// mean residence time 1/rate has the same check).
+fn step_checks(
+    ens: &Ensemble,
+    a: &EnsembleStats,
+    fine: &Ensemble,
+    b: &EnsembleStats,
+) -> Vec<(&'static str, &'static str, StepCheck)> {
+    let dt = ens.scenario.solver.dt.unwrap_or(f64::NAN);
+    let dt2 = fine.scenario.solver.dt.unwrap_or(f64::NAN);
+    let mut out = Vec::new();
+    let means = [
+        ("theta_final", "rad", &a.theta_final, &b.theta_final),
+        ("omega_final", "rad/s", &a.omega_final, &b.omega_final),
+        (
+            "Omega_final",
+            "rad/s",
+            &a.precession_final,
+            &b.precession_final,
+        ),
+        ("energy_final", "J", &a.energy_final, &b.energy_final),
+        (
+            "first_passage.mean_observed",
+            "s",
+            &a.first_passage.mean_observed,
+            &b.first_passage.mean_observed,
+        ),
+    ];
+    for (name, unit, x, y) in means {
+        if let Some(at) = mean_at(x, dt) {
+            let half = mean_at(y, dt2).unwrap_or_else(|| missing_at(dt2, y.mean));
+            out.push((name, unit, StepCheck::new(at, half, Scale::Linear)));
+        }
+    }
+    let (fa, fb) = (&a.first_passage, &b.first_passage);
+    if let Some(at) = censored_at(fa, dt) {
+        let half = censored_at(fb, dt2).unwrap_or_else(|| missing_at(dt2, None));
+        out.push((
+            "first_passage.censored_fraction",
+            "",
+            StepCheck::new(at, half, Scale::Linear),
+        ));
+    }
+    if let Some(r) = &fa.escape_rate {
+        let at = AtStep {
+            dt,
+            estimate: r.rate,
+            ci95: r.ci95,
+        };
+        // No passage at dt/2: the rate's estimate is 0 (passages over the
+        // time at risk), without an interval; its log is undefined, so the
+        // check is not converged.
+        let half = fb.escape_rate.as_ref().map_or_else(
+            || missing_at(dt2, Some(0.0)),
+            |r| AtStep {
+                dt: dt2,
+                estimate: r.rate,
+                ci95: r.ci95,
+            },
+        );
+        out.push((
+            "first_passage.escape_rate",
+            "1/s",
+            StepCheck::new(at, half, Scale::Log),
+        ));
+    }
+    out
+}
+
+/// The step check for people: the refined ensemble's runs, a line per
+/// statistic, then whether the ensemble is converged in the step (a
+/// warning on stderr if not).
+fn print_step(step: &StepOutcome) {
+    let (StepOutcome::Done(r), Some(converged)) = (step, step.converged()) else {
+        if let Some(why) = step.unchecked() {
+            println!("step unchecked ({why})");
+        }
+        return;
+    };
+    let g = |x: f64| tippetop::human::sig(x, 4);
+    let (dt, dt2) = (r.checks[0].2.at_dt.dt, r.checks[0].2.at_half_dt.dt);
+    println!(
+        "step check: the {} runs again at dt/2 = {} s (independent noise; {} failed) in {}",
+        r.runs,
+        g(dt2),
+        r.failed,
+        crate::output::fmt_duration(r.seconds)
+    );
+    for (name, unit, c) in &r.checks {
+        let fmt = |x: f64| {
+            if unit.is_empty() {
+                g(x)
+            } else {
+                format!("{} {unit}", g(x))
+            }
+        };
+        let words = c.words(&fmt);
+        let words = words.strip_prefix("step check: ").unwrap_or(&words);
+        println!("step check {name}: {words}");
+    }
+    if converged {
+        println!(
+            "step check: converged in the step: each of the {} statistics changed by less than its \
+             95 % half-width from dt = {} s to dt/2 = {} s (dt_converged: true)",
+            r.checks.len(),
+            g(dt),
+            g(dt2)
+        );
+    } else {
+        let off: Vec<&str> = r
+            .checks
+            .iter()
+            .filter(|c| !c.2.converged)
+            .map(|c| c.0)
+            .collect();
+        eprintln!(
+            "warning: NOT converged in the step: {} of {} statistics ({}) changed by more than \
+             their 95 % half-width from dt = {} s to dt/2 = {} s: a step error in the answer at \
+             dt, or noise (a statistic without step error changes this much 17 % of the time); a \
+             smaller solver.dt tells them apart (dt_converged: false)",
+            off.len(),
+            r.checks.len(),
+            off.join(", "),
+            g(dt),
+            g(dt2)
+        );
+    }
+}
+
+/// The ensemble, its shard, the threads, the shard's description (and
+/// its JSON) and the step check's plan from the arguments. Bad input: one
+/// line on stderr, `Ok(Err(exit code 2))`.
 #[allow(clippy::type_complexity)]
 fn inputs(
     args: &EnsembleArgs,
     quiet: bool,
-) -> Result<std::result::Result<(Ensemble, Shard, usize, EnsembleShard, String), ExitCode>> {
+) -> Result<std::result::Result<(Ensemble, Shard, usize, EnsembleShard, String, StepPlan), ExitCode>>
+{
     let toml_text = match crate::scenario_load::read_text(args.source.scenario.as_deref()) {
         Ok(t) => t,
         Err(code) => return Ok(Err(code)),
@@ -320,9 +656,13 @@ fn inputs(
         Ok(i) => i,
         Err(e) => return Ok(Err(input_error(e))),
     };
+    let plan = match step_plan(args.no_step_check, &ens, shard) {
+        Ok(p) => p,
+        Err(e) => return Ok(Err(input_error(e))),
+    };
     let mut info_json = serde_json::to_string_pretty(&info)?;
     info_json.push('\n');
-    Ok(Ok((ens, shard, threads, info, info_json)))
+    Ok(Ok((ens, shard, threads, info, info_json, plan)))
 }
 
 /// What an interrupted run of this ensemble left in `--out` that
@@ -474,13 +814,14 @@ fn print_stats(stats: &EnsembleStats) {
     );
 }
 
-/// Write `histograms.csv`, `quantiles.csv`, `summary.json` and the fan
-/// chart into `dir`.
+/// Write `histograms.csv`, `quantiles.csv`, `summary.json` (with the step
+/// check's keys) and the fan chart into `dir`.
 fn write_results(
     dir: &Path,
     info: &EnsembleShard,
     hist: &Histograms,
     stats: &EnsembleStats,
+    step: &StepOutcome,
 ) -> Result<()> {
     write_bytes_atomic(&dir.join("histograms.csv"), hist.csv().as_bytes())?;
     write_bytes_atomic(&dir.join("quantiles.csv"), hist.quantiles_csv().as_bytes())?;
@@ -521,6 +862,22 @@ fn write_results(
                 "quantiles": QUANTILES,
             }),
         );
+        m.insert("dt_converged".into(), step.converged().into());
+        let checks = match step {
+            StepOutcome::Done(r) if !r.checks.is_empty() => {
+                let map: serde_json::Map<String, serde_json::Value> = r
+                    .checks
+                    .iter()
+                    .map(|(name, _, c)| Ok((name.to_string(), serde_json::to_value(c)?)))
+                    .collect::<Result<_>>()?;
+                map.into()
+            }
+            _ => serde_json::Value::Null,
+        };
+        m.insert("step_check".into(), checks);
+        if let Some(why) = step.unchecked() {
+            m.insert("step_unchecked".into(), why.into());
+        }
     }
     let mut json = serde_json::to_string_pretty(&summary)?;
     json.push('\n');
@@ -637,10 +994,15 @@ pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitC
         checksums: Default::default(),
         ..first.clone()
     };
+    let step = StepOutcome::Off(
+        "a merge of shards: the check compares the whole ensemble's statistics; run the \
+         ensemble without --shard, or at --set solver.dt=DT/2 and compare"
+            .into(),
+    );
     let out = OutDir::open(&args.out)?;
     write_bytes_atomic(&out.stage().join("ensemble.csv"), csv.as_bytes())?;
     write_info(out.stage(), &info, checksum(csv.as_bytes()), &hist)?;
-    write_results(out.stage(), &info, &hist, &stats)?;
+    write_results(out.stage(), &info, &hist, &stats, &step)?;
     out.commit(&["summary.json"])?;
     if !quiet {
         println!(
@@ -652,6 +1014,7 @@ pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitC
             args.out.join("ensemble.csv").display()
         );
         print_stats(&stats);
+        print_step(&step);
     }
     Ok(ExitCode::SUCCESS)
 }
