@@ -15,6 +15,7 @@ use tippetop::analysis::rare::exact::{Edge, Exact, Positive, Quantity};
 use tippetop::analysis::rare::problem::{
     self, AmsPart, DEFAULT_REPLICAS, Problem, RareMethod, Report,
 };
+use tippetop::analysis::step_check::{self, AtStep, Scale, StepCheck};
 use tippetop::analysis::sweep::ShardInfo;
 
 use crate::output::{OutDir, write_bytes_atomic};
@@ -60,6 +61,16 @@ Methods:
           --shard K/N runs the K-th of N blocks of the replicas (replicas.json, rare_shard.json,
           shard.json); tippetop merge DIR... joins them into the files of the unsharded run.
 
+Step check (direct and ams; on by default, --no-step-check turns it off): the same question is
+answered again at solver.dt/2 (an independent seed: thermal.seed + 0x9E3779B97F4A7C15, wrapping;
+every budget counted in steps doubled, within its range), at about twice the first answer's cost.
+The step error is the change of the answer when the step is halved (ams mean time: the relative
+change |ln tau(dt/2) - ln tau(dt)|), against the 95 % half-width of the answer at solver.dt (on
+the same scale): below it the answer is converged in the step (dt_converged: true); else the
+console and rare.md say NOT converged, and the answer is not to be quoted without a smaller
+solver.dt. The answer written is the one at solver.dt; the one at dt/2 is beside it. Sharded
+splittings (--shard, merge) run no check. docs/physics.md#step-check.
+
 Writes into --out:
   rare.json  quantity (\"probability\" or \"mean_first_passage_time\"), estimate, ci95 [lo, hi]
              (null where unknown or past f64), ln_estimate, method, replicas, trajectories, steps,
@@ -67,7 +78,10 @@ Writes into --out:
              continuous path, watched: the same for a path watched every solver.dt, the theta
              window; else exact_unavailable, the reason), the conditions, the budgets, the
              tallies of a direct ensemble, the scenario
-  rare.md    the answer in words, 4 significant figures
+             dt_converged (true/false; null unchecked) and step_check (scale, at_dt and
+             at_half_dt: dt, estimate, ci95; step_error, statistical, converged; the refined
+             run's trajectories and steps), or step_unchecked (why)
+  rare.md    the answer in words, 4 significant figures, and the step check
   levels.png, levels.svg  (ams) each replica's levels against the estimated probability of
              passing them, with the estimate and the exact value
   rare.json with ams: an \"ams\" object (coordinate, particles, kill, standard_error, interval,
@@ -181,6 +195,12 @@ pub struct RareArgs {
     /// of one path counted from its root, 1 to 10000000 (default 10000000).
     #[arg(long, value_name = "N")]
     pub max_steps: Option<u64>,
+
+    /// Skip the step check (the answer again at solver.dt/2 with an
+    /// independent seed, about twice the main run's cost): the outputs then
+    /// say the step is unchecked.
+    #[arg(long)]
+    pub no_step_check: bool,
 
     /// Output directory (created if missing).
     #[arg(long, value_name = "DIR")]
@@ -699,18 +719,39 @@ impl AmsInputs {
     /// [`problem::ams_for`]; runs the pilot run of a mean first-passage
     /// time).
     fn setup(&self) -> Result<(Problem, Ams), tippetop::Error> {
-        let scenario = tippetop::Scenario::load(
+        self.setup_at(false)
+    }
+
+    /// [`AmsInputs::setup`], or with `refine` the step check's splitting:
+    /// the scenario at `solver.dt / 2` ([`step_check::refined`]) and every
+    /// budget counted in steps doubled (within its range), so the paths
+    /// cover the same times.
+    fn setup_at(&self, refine: bool) -> Result<(Problem, Ams), tippetop::Error> {
+        let mut scenario = tippetop::Scenario::load(
             self.preset.as_deref(),
             self.toml_text.as_deref(),
             &self.sets,
         )?;
         let d = Settings::default();
+        let steps = |n: u64, cap: u64| {
+            if refine {
+                n.saturating_mul(2).min(cap)
+            } else {
+                n
+            }
+        };
+        let path_cap = tippetop::analysis::rare::ams::MAX_PATH_STEPS;
+        let mut max_steps = self.max_steps;
+        if refine {
+            scenario = step_check::refined(&scenario)?;
+            max_steps = Some(steps(max_steps.unwrap_or(d.max_steps), path_cap));
+        }
         let prob = Problem::for_ams(
             scenario,
             &self.target,
             self.reset.as_deref(),
             self.horizon,
-            self.max_steps,
+            max_steps,
         )?;
         let settings = Settings {
             replicas: self.replicas.unwrap_or(d.replicas),
@@ -718,8 +759,8 @@ impl AmsInputs {
             kill: self.kill.unwrap_or(d.kill),
             max_trajectories: self.max_trajectories.unwrap_or(d.max_trajectories),
             crossings: self.crossings.unwrap_or(d.crossings),
-            direct_steps: self.direct_steps.unwrap_or(d.direct_steps),
-            pilot_steps: self.pilot_steps.unwrap_or(d.pilot_steps),
+            direct_steps: steps(self.direct_steps.unwrap_or(d.direct_steps), path_cap),
+            pilot_steps: steps(self.pilot_steps.unwrap_or(d.pilot_steps), 10_000_000),
             basin: self.basin,
             interface: self.interface,
             ..d
@@ -738,6 +779,88 @@ impl AmsInputs {
         };
         let options = serde_json::to_string(self).unwrap_or_default();
         grid.fingerprint_of("tippetop rare 1", &[("options", options)])
+    }
+}
+
+/// The step check of an answer (docs/physics.md#step-check): done, with
+/// the refined run's work, or the reason it was not run.
+#[derive(Debug, Clone)]
+pub enum Checked {
+    /// The answer again at `solver.dt / 2`.
+    Done {
+        /// The comparison.
+        check: StepCheck,
+        /// Trajectories of the refined run.
+        trajectories: u64,
+        /// Steps of the refined run.
+        steps: u64,
+    },
+    /// Why the step is unchecked.
+    Off(String),
+}
+
+/// rare.json's step-check fields, after the report's.
+#[derive(serde::Serialize)]
+struct CheckedJson<'a, D: serde::Serialize> {
+    #[serde(flatten)]
+    doc: D,
+    /// Whether the step error is below the statistical one (`null`:
+    /// unchecked).
+    dt_converged: Option<bool>,
+    /// The two answers and their comparison.
+    step_check: Option<StepCheckDoc<'a>>,
+    /// Why the step is unchecked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    step_unchecked: Option<&'a str>,
+}
+
+#[derive(serde::Serialize)]
+struct StepCheckDoc<'a> {
+    #[serde(flatten)]
+    check: &'a StepCheck,
+    refined_trajectories: u64,
+    refined_steps: u64,
+    refined_seed_offset: u64,
+}
+
+impl Checked {
+    /// The check of `coarse` against `refined` (the same question at
+    /// `solver.dt / 2`): a mean first-passage time of the splitting on the
+    /// log scale (its interval is log-normal), everything else linear.
+    fn of(coarse: &Report, refined: &Report, dt: f64) -> Checked {
+        let scale = if coarse.method == RareMethod::Ams
+            && coarse.quantity == Quantity::MeanFirstPassageTime
+        {
+            Scale::Log
+        } else {
+            Scale::Linear
+        };
+        let at = |r: &Report, dt: f64| AtStep {
+            dt,
+            estimate: r.estimate,
+            ci95: r.ci95,
+        };
+        Checked::Done {
+            check: StepCheck::new(at(coarse, dt), at(refined, 0.5 * dt), scale),
+            trajectories: refined.trajectories,
+            steps: refined.steps,
+        }
+    }
+
+    /// `dt_converged`.
+    fn converged(&self) -> Option<bool> {
+        match self {
+            Checked::Done { check, .. } => Some(check.converged),
+            Checked::Off(_) => None,
+        }
+    }
+
+    /// The console's and rare.md's line.
+    fn line(&self, q: Quantity) -> String {
+        match self {
+            Checked::Done { check, .. } => check.words(&|v| with_unit(v, q)),
+            Checked::Off(why) => format!("step unchecked ({why})"),
+        }
     }
 }
 
@@ -831,8 +954,38 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
                 true
             });
             pb.finish_and_clear();
+            let r = r.and_then(|r| {
+                if args.no_step_check {
+                    return Ok((r, Checked::Off("--no-step-check".into())));
+                }
+                let dt = prob.scenario.solver.dt.unwrap_or(f64::NAN);
+                let fine = Problem::new(
+                    step_check::refined(&prob.scenario)?,
+                    &args.target,
+                    args.reset.as_deref(),
+                    args.horizon,
+                    Some(
+                        prob.max_steps
+                            .saturating_mul(2)
+                            .min(tippetop::limits::MAX_STEPS),
+                    ),
+                )?;
+                let pb = crate::progress::bar(
+                    quiet,
+                    replicas as u64,
+                    "rare (direct) step check at dt/2",
+                );
+                let f = problem::by_direct(&fine, replicas, args.cores.threads, &mut |done| {
+                    pb.set_position(done as u64);
+                    true
+                });
+                pb.finish_and_clear();
+                let f = f?;
+                let c = Checked::of(&r, &f, dt);
+                Ok((r, c))
+            });
             match r {
-                Ok(r) => return finish(&args.out, &prob, &r, out, started, quiet),
+                Ok((r, c)) => return finish(&args.out, &prob, &r, &c, out, started, quiet),
                 Err(e) => {
                     out.abandon();
                     if e.is_input() {
@@ -844,7 +997,11 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
         }
     };
     let out = OutDir::open(&args.out)?;
-    finish(&args.out, &prob, &report, out, started, quiet)
+    let checked = Checked::Off(
+        "the exact answer has no step: the continuous path's, and the path watched every solver.dt"
+            .into(),
+    );
+    finish(&args.out, &prob, &report, &checked, out, started, quiet)
 }
 
 /// File of a shard's replicas.
@@ -928,7 +1085,98 @@ fn run_ams(
         Err(e) => return Ok(input_error(e)),
     }
     let out = OutDir::open(&args.out)?;
-    let pb = crate::progress::bar(quiet, range.len() as u64, "rare (ams) replicas");
+    let replicas = match replicas_of(
+        &ams,
+        range.clone(),
+        args.cores.threads,
+        quiet,
+        "rare (ams) replicas",
+    ) {
+        Ok(r) => r,
+        Err(e) => {
+            out.abandon();
+            return Ok(input_error(e));
+        }
+    };
+    if let Some(sh) = shard {
+        return write_shard(out, &args.out, &inputs, sh, m, range, &replicas, quiet);
+    }
+    let report = match problem::by_ams(&prob, &ams, replicas.clone()) {
+        Ok(r) => r,
+        Err(e) if e.is_input() => {
+            out.abandon();
+            return Ok(input_error(e));
+        }
+        Err(e) => return partial_replicas(out, &args.out, &replicas, &e),
+    };
+    let checked = if args.no_step_check {
+        Checked::Off("--no-step-check".into())
+    } else {
+        match refined_ams(
+            &inputs,
+            &report,
+            prob.scenario.solver.dt,
+            args.cores.threads,
+            quiet,
+        ) {
+            Ok(c) => c,
+            Err(e) => {
+                out.abandon();
+                return Ok(input_error(e));
+            }
+        }
+    };
+    finish(&args.out, &prob, &report, &checked, out, started, quiet)
+}
+
+/// The step check of a splitting: the same splitting at `solver.dt / 2`
+/// ([`AmsInputs::setup_at`]), all its replicas, compared with `report`.
+/// A refined replica that fails or runs out of budget makes the check
+/// say so instead of failing the answer at `dt`.
+fn refined_ams(
+    inputs: &AmsInputs,
+    report: &Report,
+    dt: Option<f64>,
+    threads: Option<usize>,
+    quiet: bool,
+) -> Result<Checked, tippetop::Error> {
+    let (fine_prob, fine_ams) = inputs.setup_at(true)?;
+    let m = fine_ams.settings().replicas;
+    let reps = replicas_of(
+        &fine_ams,
+        0..m,
+        threads,
+        quiet,
+        "rare (ams) step check at dt/2",
+    )?;
+    let fine = match problem::by_ams(&fine_prob, &fine_ams, reps) {
+        Ok(f) => f,
+        Err(e) if e.is_input() => return Err(e),
+        Err(e) => {
+            return Ok(Checked::Off(format!(
+                "the splitting at solver.dt/2 gave no answer: {e}"
+            )));
+        }
+    };
+    let failed = fine.ams.as_ref().map_or(0, |a| a.estimate.failed);
+    if failed > 0 {
+        return Ok(Checked::Off(format!(
+            "{failed} paths of the splitting at solver.dt/2 failed"
+        )));
+    }
+    Ok(Checked::of(report, &fine, dt.unwrap_or(f64::NAN)))
+}
+
+/// Run the replicas `range` of `ams` with a progress bar labelled `label`
+/// (on a terminal it counts the steps run meanwhile).
+fn replicas_of(
+    ams: &Ams,
+    range: std::ops::Range<usize>,
+    threads: Option<usize>,
+    quiet: bool,
+    label: &str,
+) -> Result<Vec<Replica>, tippetop::Error> {
+    let pb = crate::progress::bar(quiet, range.len() as u64, label);
     let len = range.len() as f64;
     let progress = |f: f64| pb.set_position((f * len).round() as u64);
     // A replica of many particles runs for minutes: the bar says how many
@@ -947,14 +1195,14 @@ fn run_ams(
                 while ticking.load(std::sync::atomic::Ordering::Relaxed) {
                     let n = steps.load(std::sync::atomic::Ordering::Relaxed);
                     pb.set_message(format!(
-                        "rare (ams) replicas, {} steps",
+                        "{label}, {} steps",
                         tippetop::human::sig(n as f64, 3)
                     ));
                     std::thread::sleep(std::time::Duration::from_millis(250));
                 }
             });
         }
-        let ran = ams.run(range.clone(), args.cores.threads, hooks, &mut |r| {
+        let ran = ams.run(range.clone(), threads, hooks, &mut |r| {
             replicas.push(storable(r));
             true
         });
@@ -962,21 +1210,7 @@ fn run_ams(
         ran
     });
     pb.finish_and_clear();
-    if let Err(e) = ran {
-        out.abandon();
-        return Ok(input_error(e));
-    }
-    if let Some(sh) = shard {
-        return write_shard(out, &args.out, &inputs, sh, m, range, &replicas, quiet);
-    }
-    match problem::by_ams(&prob, &ams, replicas.clone()) {
-        Ok(r) => finish(&args.out, &prob, &r, out, started, quiet),
-        Err(e) if e.is_input() => {
-            out.abandon();
-            Ok(input_error(e))
-        }
-        Err(e) => partial_replicas(out, &args.out, &replicas, &e),
-    }
+    ran.map(|_| replicas)
 }
 
 /// A splitting that did not finish (a replica out of budget): the
@@ -1152,8 +1386,11 @@ pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitC
         )));
     }
     let out = OutDir::open(&args.out)?;
+    let checked = Checked::Off(
+        "a merge of shards: run the splitting with --set solver.dt=DT/2 and compare".into(),
+    );
     match problem::by_ams(&prob, &ams, replicas.clone()) {
-        Ok(r) => finish(&args.out, &prob, &r, out, started, quiet),
+        Ok(r) => finish(&args.out, &prob, &r, &checked, out, started, quiet),
         Err(e) if e.is_input() => {
             out.abandon();
             Ok(input_error(e))
@@ -1168,19 +1405,40 @@ fn finish(
     dir: &Path,
     prob: &Problem,
     report: &Report,
+    checked: &Checked,
     out: OutDir,
     started: std::time::Instant,
     quiet: bool,
 ) -> Result<ExitCode> {
     let wall = started.elapsed().as_secs_f64();
     let stage = out.stage().to_path_buf();
-    let mut text = serde_json::to_string_pretty(&report.document(prob, wall))?;
+    let doc = CheckedJson {
+        doc: report.document(prob, wall),
+        dt_converged: checked.converged(),
+        step_check: match checked {
+            Checked::Done {
+                check,
+                trajectories,
+                steps,
+            } => Some(StepCheckDoc {
+                check,
+                refined_trajectories: *trajectories,
+                refined_steps: *steps,
+                refined_seed_offset: step_check::REFINED_SEED_OFFSET,
+            }),
+            Checked::Off(_) => None,
+        },
+        step_unchecked: match checked {
+            Checked::Off(why) => Some(why.as_str()),
+            Checked::Done { .. } => None,
+        },
+    };
+    let mut text = serde_json::to_string_pretty(&doc)?;
     text.push('\n');
     write_bytes_atomic(&stage.join("rare.json"), text.as_bytes())?;
-    write_bytes_atomic(
-        &stage.join("rare.md"),
-        markdown(prob, report, wall).as_bytes(),
-    )?;
+    let mut md = markdown(prob, report, wall);
+    let _ = writeln!(md, "\n{}.", checked.line(report.quantity));
+    write_bytes_atomic(&stage.join("rare.md"), md.as_bytes())?;
     if let Some(a) = &report.ams {
         levels_figure(&stage, report, a)?;
     }
@@ -1189,6 +1447,7 @@ fn finish(
         for l in summary_lines(prob, report, wall) {
             println!("{l}");
         }
+        println!("{}", checked.line(report.quantity));
         println!("wrote {}", dir.display());
     }
     if let Some(t) = &report.tally {

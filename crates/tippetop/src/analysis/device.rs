@@ -72,6 +72,9 @@ pub struct DeviceOptions {
     pub rare_deep: Option<Sizes>,
     /// Splitting sizes of the writes' error rates.
     pub rare_write: Sizes,
+    /// The step check of the 300 K lying residence (the splitting again at
+    /// dt/2; docs/physics.md#step-check).
+    pub step_check: bool,
 }
 
 impl Default for DeviceOptions {
@@ -94,6 +97,7 @@ impl Default for DeviceOptions {
                 replicas: 10,
                 particles: 30,
             },
+            step_check: true,
         }
     }
 }
@@ -523,7 +527,14 @@ fn rare(
         } else {
             opts.rare_deep
         };
-        lying.push(dr::lying_retention(t, depth, sizes, opts.threads)?);
+        let check = opts.step_check && t >= 300.0;
+        lying.push(dr::lying_retention_checked(
+            t,
+            depth,
+            sizes,
+            opts.threads,
+            check,
+        )?);
     }
     // The lying state's residence at 300 K: measured, else the TST bound.
     let tau = |l: &LyingRetention| -> (f64, [f64; 2]) {
