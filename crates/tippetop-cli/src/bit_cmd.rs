@@ -11,6 +11,7 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 use tippetop::analysis::bit::{self, Block, Mode, Report, RunResult};
+use tippetop::analysis::step_check::{self, AtStep, Scale, StepCheck};
 use tippetop::analysis::sweep::{self, Shard, ShardInfo, Sweep};
 use tippetop::input::scenario::bit::BitScenario;
 use tippetop::input::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
@@ -29,7 +30,17 @@ use crate::scenario_load::input_error;
 /// (returned as `Ok`), nothing written; `Err` for I/O failures.
 pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     if !args.vary.is_empty() {
-        return crate::bitmap_cmd::run(args, quiet);
+        let code = crate::bitmap_cmd::run(args, quiet)?;
+        // A map runs no step check: each point's check would double its
+        // cost, and the point worth checking is the one the map picks.
+        if code == ExitCode::SUCCESS && !quiet {
+            if args.no_step_check {
+                println!("step unchecked (--no-step-check)");
+            } else {
+                println!("{MAP_UNCHECKED}");
+            }
+        }
+        return Ok(code);
     }
     let toml_text = match crate::scenario_load::read_text(args.source.scenario.as_deref()) {
         Ok(t) => t,
@@ -55,7 +66,16 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         Ok(n) => n,
         Err(code) => return Ok(code),
     };
-    let threads = match bit::threads_within_memory(&bs, runs, threads) {
+    let plan = match step_plan(args.no_step_check, &bs, stochastic, runs) {
+        Ok(p) => p,
+        Err(e) => return Ok(input_error(e)),
+    };
+    // With the check the command keeps the results of both passes.
+    let kept_runs = match plan {
+        StepPlan::Run(_) => 2 * runs,
+        StepPlan::Off(_) => runs,
+    };
+    let threads = match bit::threads_within_memory(&bs, kept_runs, threads) {
         Ok(t) => crate::scenario_load::note_threads(quiet, threads, t),
         Err(e) => return Ok(input_error(e)),
     };
@@ -89,23 +109,38 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     // The deterministic run is kept for the figure; an ensemble's typical
     // run is run again.
     let mut kept: Option<tippetop::Trajectory> = None;
+    // The step check's runs: the second pass, after the first is on disk
+    // whole, so that a kill during it leaves the first complete and
+    // --resume goes on with the second.
+    let mut fine_results: Vec<RunResult> = Vec::new();
     if stochastic {
-        results = match stream_ensemble(
-            &mut out,
-            args,
-            &bs,
-            toml_text.clone(),
-            runs,
-            (shard, range.clone()),
-            threads,
-            quiet,
-        )? {
-            Ok(r) => r,
-            Err(code) => {
-                out.abandon();
-                return Ok(code);
+        let mut passes = vec![(Pass::MAIN, &bs)];
+        if let StepPlan::Run(fine) = &plan {
+            passes.push((Pass::HALF_DT, fine.as_ref()));
+        }
+        for (k, (pass, pass_bs)) in passes.into_iter().enumerate() {
+            let got = match stream_ensemble(
+                &mut out,
+                args,
+                (pass, pass_bs),
+                toml_text.clone(),
+                runs,
+                (shard, range.clone()),
+                threads,
+                quiet,
+            )? {
+                Ok(r) => r,
+                Err(code) => {
+                    out.abandon();
+                    return Ok(code);
+                }
+            };
+            if k == 0 {
+                results = got;
+            } else {
+                fine_results = got;
             }
-        };
+        }
     } else {
         let sc = bs.run_scenario(0);
         let mut progress = crate::progress::RunProgress::new(quiet, sc.solver.t_end);
@@ -126,6 +161,10 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
             }
         }
     }
+    let step = match &plan {
+        StepPlan::Run(fine) => StepRuns::Done(fine, &fine_results),
+        StepPlan::Off(why) => StepRuns::Off(why.clone()),
+    };
     if let Some(sh) = shard {
         let fingerprint = ensemble_grid(args, toml_text)
             .fingerprint_of("tippetop bit 1", &[("runs", runs.to_string())]);
@@ -136,11 +175,252 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
             (sh, fingerprint),
             runs,
             range,
-            &results,
+            (&results, &step),
             quiet,
         );
     }
-    write_bit(out, &args.out, &bs, &results, !stochastic, kept, quiet)
+    write_bit(
+        out,
+        &args.out,
+        &bs,
+        &results,
+        !stochastic,
+        kept,
+        &step,
+        quiet,
+    )
+}
+
+/// What `tippetop bit --vary` prints: a map runs no step check.
+const MAP_UNCHECKED: &str = "step unchecked: a map (each point's check would double its cost); \
+                             check the chosen point with tippetop bit --set KEY=VALUE, without --vary";
+
+/// The CSV of the step check's runs at `solver.dt / 2` (the columns of
+/// runs.csv), beside runs.csv in a bit's and a shard's output.
+const HALF_DT_CSV: &str = "runs_half_dt.csv";
+
+/// What the step check of a bit does.
+enum StepPlan {
+    /// Run the ensemble again on this bit scenario: the scenario at
+    /// `solver.dt / 2` ([`step_check::refined`]), the same runs.
+    Run(Box<BitScenario>),
+    /// No check, and why (bit.json's `step_unchecked`).
+    Off(String),
+}
+
+/// Why a bit has no step check (`None`: it has one): `--no-step-check`;
+/// one deterministic run (no interval); a single run (an interval that
+/// spans most of [0, 1] and a probability of 0 or 1: nothing to compare).
+fn unchecked_reason(no_check: bool, stochastic: bool, runs: usize) -> Option<String> {
+    if no_check {
+        return Some("--no-step-check".into());
+    }
+    if !stochastic {
+        return Some(
+            "one deterministic run (T = 0 or a deterministic solver.method): no 95 % interval \
+             to compare a change of the step with"
+                .into(),
+        );
+    }
+    if runs < 2 {
+        return Some(
+            "one run (--runs 1): its probabilities are 0 or 1, with no interval worth \
+             comparing; --runs 2 or more"
+                .into(),
+        );
+    }
+    None
+}
+
+/// The step check's plan ([`unchecked_reason`]; else the bit at dt/2).
+/// Error: the refined scenario is invalid (the key named, the check said).
+fn step_plan(
+    no_check: bool,
+    bs: &BitScenario,
+    stochastic: bool,
+    runs: usize,
+) -> std::result::Result<StepPlan, tippetop::Error> {
+    if let Some(why) = unchecked_reason(no_check, stochastic, runs) {
+        return Ok(StepPlan::Off(why));
+    }
+    Ok(StepPlan::Run(Box::new(refined_bit(bs)?)))
+}
+
+/// The bit scenario of the step check: the run's scenario at `solver.dt /
+/// 2` ([`step_check::refined`]), the states and protocols unchanged.
+/// Error: the refined scenario is invalid (the message says it is the
+/// check's, and how to skip it).
+fn refined_bit(bs: &BitScenario) -> std::result::Result<BitScenario, tippetop::Error> {
+    let scenario = step_check::refined(&bs.scenario).map_err(|e| match e {
+        tippetop::Error::Invalid { key, what, range } => tippetop::Error::Invalid {
+            key,
+            what: format!("{what} in the step check's scenario at solver.dt/2"),
+            range: format!("{range}; --no-step-check skips the check"),
+        },
+        other => other,
+    })?;
+    Ok(BitScenario {
+        scenario,
+        ..bs.clone()
+    })
+}
+
+/// The step check's runs, for the outputs.
+enum StepRuns<'a> {
+    /// The runs at dt/2 of this bit scenario, in run order (those of the
+    /// shard, in a shard).
+    Done(&'a BitScenario, &'a [RunResult]),
+    /// No check, and why.
+    Off(String),
+}
+
+/// The step check's result: each checked probability, or why none is.
+enum StepOutcome {
+    /// The runs at dt/2 ran.
+    Done {
+        /// Each probability with a 95 % interval at dt: its block's name
+        /// in bit.json and the comparison, in bit.json's order.
+        checks: Vec<(&'static str, StepCheck)>,
+        /// The runs at dt/2, and how many failed.
+        runs: usize,
+        failed: usize,
+    },
+    /// No check, and why.
+    Off(String),
+}
+
+impl StepOutcome {
+    /// Compare the report at dt (`a`, of `bs`) with the runs at dt/2.
+    fn of(bs: &BitScenario, a: &Report, step: &StepRuns) -> StepOutcome {
+        let (fine, fine_results) = match step {
+            StepRuns::Done(f, r) => (f, r),
+            StepRuns::Off(why) => return StepOutcome::Off(why.clone()),
+        };
+        let b = bit::report(fine, fine_results, false);
+        let dt = bs.scenario.solver.dt.unwrap_or(f64::NAN);
+        let dt2 = fine.scenario.solver.dt.unwrap_or(f64::NAN);
+        let mut checks = Vec::new();
+        for (name, x, y) in [
+            ("write", &a.write, &b.write),
+            ("erase", &a.erase, &b.erase),
+            (
+                "erase_given_write",
+                &a.erase_given_write,
+                &b.erase_given_write,
+            ),
+            ("cycle", &a.cycle, &b.cycle),
+        ] {
+            let Some((estimate, ci95)) = x.probability.zip(x.ci95) else {
+                continue;
+            };
+            let at = AtStep { dt, estimate, ci95 };
+            // Without its runs at dt/2 (no write succeeded there, for
+            // erase_given_write) the answer is NaN (null in bit.json), and
+            // the check is not converged.
+            let half = y.probability.zip(y.ci95).map_or(
+                AtStep {
+                    dt: dt2,
+                    estimate: f64::NAN,
+                    ci95: [f64::NAN; 2],
+                },
+                |(estimate, ci95)| AtStep {
+                    dt: dt2,
+                    estimate,
+                    ci95,
+                },
+            );
+            checks.push((name, at, half));
+        }
+        // Judged together: each half-width gets the family's Bonferroni
+        // factor, so a bit with no step error is flagged about 5 % of the
+        // time in all.
+        let m = checks.len();
+        let checks = checks
+            .into_iter()
+            .map(|(name, at, half)| (name, StepCheck::in_family(at, half, Scale::Linear, m)))
+            .collect();
+        StepOutcome::Done {
+            checks,
+            runs: fine_results.len(),
+            failed: fine_results.iter().filter(|r| r.status != "ok").count(),
+        }
+    }
+
+    /// `dt_converged`: whether every checked probability converged; `None`
+    /// without a check.
+    fn converged(&self) -> Option<bool> {
+        match self {
+            StepOutcome::Done { checks, .. } if !checks.is_empty() => {
+                Some(checks.iter().all(|c| c.1.converged))
+            }
+            _ => None,
+        }
+    }
+
+    /// Why the step is unchecked (`None`: checked).
+    fn unchecked(&self) -> Option<&str> {
+        match self {
+            StepOutcome::Off(why) => Some(why),
+            StepOutcome::Done { checks, .. } if checks.is_empty() => {
+                Some("no probability has a 95 % interval")
+            }
+            StepOutcome::Done { .. } => None,
+        }
+    }
+
+    /// The checked probabilities that did not converge.
+    fn unconverged(&self) -> Vec<&'static str> {
+        match self {
+            StepOutcome::Done { checks, .. } => checks
+                .iter()
+                .filter(|c| !c.1.converged)
+                .map(|c| c.0)
+                .collect(),
+            StepOutcome::Off(_) => Vec::new(),
+        }
+    }
+
+    /// The steps compared: (dt, dt/2) \[s\].
+    fn steps(&self) -> Option<(f64, f64)> {
+        match self {
+            StepOutcome::Done { checks, .. } => {
+                checks.first().map(|c| (c.1.at_dt.dt, c.1.at_half_dt.dt))
+            }
+            StepOutcome::Off(_) => None,
+        }
+    }
+}
+
+/// One probability's check in words, without the leading "step check: ".
+fn check_words(c: &StepCheck) -> String {
+    let w = c.words(&prob);
+    w.strip_prefix("step check: ").unwrap_or(&w).to_string()
+}
+
+/// The verdict line of a check that did not converge (`off`: the
+/// probabilities that did not), for the console's warning and bit.md.
+fn unconverged_words(off: &[&str], of: usize, (dt, dt2): (f64, f64)) -> String {
+    format!(
+        "NOT converged in the step: {} ({} of {of} probabilities) changed by more than the 95 % \
+         half-width of the change from dt = {} s to dt/2 = {} s: a step error in the answer at \
+         dt, or noise (a bit without step error is flagged at most about 5 % of the time); a \
+         smaller \
+         solver.dt tells them apart (dt_converged: false)",
+        off.join(", "),
+        off.len(),
+        human(dt),
+        human(dt2)
+    )
+}
+
+/// The verdict line of a converged check.
+fn converged_words(of: usize, (dt, dt2): (f64, f64)) -> String {
+    format!(
+        "converged in the step: each of the {of} probabilities changed by less than the 95 % \
+         half-width of its change from dt = {} s to dt/2 = {} s (dt_converged: true)",
+        human(dt),
+        human(dt2)
+    )
 }
 
 /// The number of runs: 1 at T = 0, `--runs` (default [`DEFAULT_RUNS`]) at
@@ -172,17 +452,50 @@ fn run_count(
     }
 }
 
-/// The runs `range` of a bit ensemble of `runs` (its shard `shard`),
-/// streamed into runs.csv.partial in run order (beside the
-/// shard.json.partial that identifies the ensemble), so --resume can keep
-/// them; then read back for the statistics (the rows round-trip exactly).
-/// Bad input: one line on stderr, `Ok(Err(exit code 2))` (the caller
-/// abandons `out`).
+/// One pass of a bit ensemble's runs: the ensemble at the scenario's
+/// step, or the step check's at half of it. Each streams into its own
+/// partial files, so --resume keeps either.
+#[derive(Debug, Clone, Copy)]
+struct Pass {
+    /// The partial CSV it streams into.
+    partial_csv: &'static str,
+    /// The partial description beside it.
+    partial_info: &'static str,
+    /// Its noun in the progress bar and the notes.
+    what: &'static str,
+    /// What its fingerprint adds to the ensemble's (the scenario, --set,
+    /// --runs): nothing for the ensemble itself.
+    extra: Option<(&'static str, &'static str)>,
+}
+
+impl Pass {
+    /// The ensemble at the scenario's step.
+    const MAIN: Pass = Pass {
+        partial_csv: PARTIAL_RUNS,
+        partial_info: crate::common::grid::PARTIAL_INFO,
+        what: "bit ensemble",
+        extra: None,
+    };
+    /// The step check's runs at `solver.dt / 2`.
+    const HALF_DT: Pass = Pass {
+        partial_csv: "runs_half_dt.csv.partial",
+        partial_info: "shard_half_dt.json.partial",
+        what: "step check (dt/2)",
+        extra: Some(("step check", "solver.dt/2")),
+    };
+}
+
+/// The runs `range` of a bit ensemble of `runs` (its shard `shard`) on
+/// the bit scenario `bs` of the pass `pass`, streamed into the pass's
+/// partial CSV in run order (beside the partial description that
+/// identifies the ensemble), so --resume can keep them; then read back
+/// for the statistics (the rows round-trip exactly). Bad input: one line
+/// on stderr, `Ok(Err(exit code 2))` (the caller abandons `out`).
 #[allow(clippy::too_many_arguments)]
 fn stream_ensemble(
     out: &mut OutDir,
     args: &BitArgs,
-    bs: &BitScenario,
+    (pass, bs): (Pass, &BitScenario),
     toml_text: Option<String>,
     runs: usize,
     (shard, range): (Option<Shard>, std::ops::Range<usize>),
@@ -191,9 +504,10 @@ fn stream_ensemble(
 ) -> Result<std::result::Result<Vec<RunResult>, ExitCode>> {
     let sc = &bs.scenario;
     let sh = shard.unwrap_or(Shard::ALL);
+    let mut extra = vec![("runs", runs.to_string())];
+    extra.extend(pass.extra.map(|(k, v)| (k, v.to_string())));
     let info = ShardInfo {
-        fingerprint: ensemble_grid(args, toml_text)
-            .fingerprint_of("tippetop bit 1", &[("runs", runs.to_string())]),
+        fingerprint: ensemble_grid(args, toml_text).fingerprint_of("tippetop bit 1", &extra),
         k: sh.k,
         n: sh.n,
         total_cases: runs,
@@ -204,13 +518,17 @@ fn stream_ensemble(
     };
     let mut info_json = serde_json::to_string_pretty(&info)?;
     info_json.push('\n');
+    // The check's pass resumes only what an interrupted check left: after
+    // a kill during the ensemble's own pass there is none, and no note.
+    let resume =
+        args.resume && (pass.extra.is_none() || out.dir().join(pass.partial_info).exists());
     let spec = crate::common::grid::Streamed {
-        partial_csv: PARTIAL_RUNS,
-        partial_info: crate::common::grid::PARTIAL_INFO,
+        partial_csv: pass.partial_csv,
+        partial_info: pass.partial_info,
         header: format!("{}\n", bit::CSV_HEADER),
-        what: "bit ensemble",
+        what: pass.what,
         unit: "run",
-        resume: args.resume,
+        resume,
         quiet,
     };
     let r0 = sc.thermal.run;
@@ -232,18 +550,18 @@ fn stream_ensemble(
     if let Err(code) = streamed {
         return Ok(Err(code));
     }
-    let text = String::from_utf8(crate::output::read_plain(&args.out.join(PARTIAL_RUNS))?)?;
+    let name = pass.partial_csv;
+    let text = String::from_utf8(crate::output::read_plain(&args.out.join(name))?)?;
     let results: Vec<RunResult> = text
         .lines()
         .skip(1)
         .map(|l| {
-            bit::parse_csv_row(l)
-                .ok_or_else(|| anyhow::anyhow!("{PARTIAL_RUNS}: unreadable row {l:?}"))
+            bit::parse_csv_row(l).ok_or_else(|| anyhow::anyhow!("{name}: unreadable row {l:?}"))
         })
         .collect::<Result<_>>()?;
     anyhow::ensure!(
         results.len() == range.len(),
-        "{PARTIAL_RUNS}: {} rows for {} runs",
+        "{name}: {} rows for {} runs",
         results.len(),
         range.len()
     );
@@ -251,8 +569,9 @@ fn stream_ensemble(
 }
 
 /// Write the outputs of a whole bit (`results` of every run, in run
-/// order; `kept`: the deterministic run's trajectory, for the figure)
-/// into `out` and commit it.
+/// order; `kept`: the deterministic run's trajectory, for the figure;
+/// `step`: the step check's runs) into `out` and commit it.
+#[allow(clippy::too_many_arguments)]
 fn write_bit(
     out: OutDir,
     dir: &Path,
@@ -260,17 +579,22 @@ fn write_bit(
     results: &[RunResult],
     deterministic: bool,
     kept: Option<tippetop::Trajectory>,
+    step: &StepRuns,
     quiet: bool,
 ) -> Result<ExitCode> {
     let bs = bs.clone();
     let report = bit::report(&bs, results, deterministic);
+    let check = StepOutcome::of(&bs, &report, step);
 
     let stage = out.stage().to_path_buf();
-    let json = bit_json(&bs, &report);
+    let json = bit_json(&bs, &report, &check);
     let mut text = serde_json::to_string_pretty(&json)?;
     text.push('\n');
     write_bytes_atomic(&stage.join("bit.json"), text.as_bytes())?;
     write_bytes_atomic(&stage.join("runs.csv"), runs_csv(results).as_bytes())?;
+    if let StepRuns::Done(_, fine) = step {
+        write_bytes_atomic(&stage.join(HALF_DT_CSV), runs_csv(fine).as_bytes())?;
+    }
     write_bytes_atomic(&stage.join("bit.toml"), bs.to_toml_string().as_bytes())?;
     write_bytes_atomic(
         &stage.join("scenario.toml"),
@@ -295,7 +619,7 @@ fn write_bit(
         }
     };
     let modes = failure_figures(&stage, &bs, results, quiet);
-    let mut md = bit_md(&bs, &report, figure.map(|k| &results[k]));
+    let mut md = bit_md(&bs, &report, &check, figure.map(|k| &results[k]));
     if !modes.is_empty() {
         let _ = writeln!(md, "## Failure modes\n");
         for (file, phase, mode, run) in &modes {
@@ -317,9 +641,47 @@ fn write_bit(
         ] {
             println!("{name}: {}", one_line(b));
         }
+        print_step(&check);
         println!("wrote {}", dir.display());
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The step check for people: a line per probability, then whether the
+/// bit is converged in the step (a warning on stderr if not), or why the
+/// step is unchecked.
+fn print_step(check: &StepOutcome) {
+    let (
+        StepOutcome::Done {
+            checks,
+            runs,
+            failed,
+        },
+        Some(converged),
+        Some(steps),
+    ) = (check, check.converged(), check.steps())
+    else {
+        if let Some(why) = check.unchecked() {
+            println!("step unchecked ({why})");
+        }
+        return;
+    };
+    println!(
+        "step check: the {runs} runs again at dt/2 = {} s (independent noise; {failed} failed), \
+         each probability's change against its own 95 % half-width",
+        human(steps.1)
+    );
+    for (name, c) in checks {
+        println!("step check {name}: {}", check_words(c));
+    }
+    if converged {
+        println!("step check: {}", converged_words(checks.len(), steps));
+    } else {
+        eprintln!(
+            "warning: {}",
+            unconverged_words(&check.unconverged(), checks.len(), steps)
+        );
+    }
 }
 
 /// The CSV a bit ensemble's shard writes (one row per run of the shard).
@@ -390,7 +752,9 @@ fn ensemble_grid(args: &BitArgs, toml_text: Option<String>) -> Sweep {
 
 /// A shard of a bit ensemble: `runs.csv` of its runs, `shard.json`
 /// (`total_cases` = the runs of the whole ensemble; the fingerprint of
-/// [`ensemble_grid`] and the runs), `bit.toml`.
+/// [`ensemble_grid`] and the runs), `bit.toml`; with the step check,
+/// `runs_half_dt.csv`, the check's runs of the same block (its checksum in
+/// shard.json says the shard has it).
 #[allow(clippy::too_many_arguments)]
 fn write_shard(
     out: OutDir,
@@ -399,7 +763,7 @@ fn write_shard(
     (shard, fingerprint): (Shard, String),
     runs: usize,
     range: std::ops::Range<usize>,
-    results: &[RunResult],
+    (results, step): (&[RunResult], &StepRuns),
     quiet: bool,
 ) -> Result<ExitCode> {
     let info = ShardInfo {
@@ -416,24 +780,30 @@ fn write_shard(
     let (csv, toml) = (runs_csv(results), bs.to_toml_string());
     write_bytes_atomic(&stage.join(RUNS_CSV), csv.as_bytes())?;
     write_bytes_atomic(&stage.join("bit.toml"), toml.as_bytes())?;
-    crate::common::grid::write_info(
-        &stage,
-        &info,
-        &[
-            (RUNS_CSV, checksum(csv.as_bytes())),
-            ("bit.toml", checksum(toml.as_bytes())),
-        ],
-    )?;
+    let mut sums = vec![
+        (RUNS_CSV, checksum(csv.as_bytes())),
+        ("bit.toml", checksum(toml.as_bytes())),
+    ];
+    if let StepRuns::Done(_, fine) = step {
+        let fine = runs_csv(fine);
+        write_bytes_atomic(&stage.join(HALF_DT_CSV), fine.as_bytes())?;
+        sums.push((HALF_DT_CSV, checksum(fine.as_bytes())));
+    }
+    crate::common::grid::write_info(&stage, &info, &sums)?;
     out.commit(&["shard.json"])?;
     if !quiet {
         println!(
-            "shard {}/{}: runs {}..{} of {} -> {}",
+            "shard {}/{}: runs {}..{} of {} -> {}{}",
             shard.k,
             shard.n,
             range.start,
             range.end,
             runs,
-            args.out.join(RUNS_CSV).display()
+            args.out.join(RUNS_CSV).display(),
+            match step {
+                StepRuns::Done(..) => format!(" (the step check's at dt/2: {HALF_DT_CSV})"),
+                StepRuns::Off(why) => format!(" (step unchecked: {why})"),
+            }
         );
     }
     Ok(ExitCode::SUCCESS)
@@ -450,6 +820,9 @@ pub fn is_bit_shard_dir(dir: &Path) -> bool {
 /// figure), byte for byte.
 pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitCode> {
     let mut shards: Vec<(ShardInfo, String)> = Vec::new();
+    // The step check's runs of each shard (`None`: run with
+    // --no-step-check, or a check that does not apply).
+    let mut halves: Vec<Option<String>> = Vec::new();
     let mut tomls: Vec<String> = Vec::new();
     let what = "a directory written by tippetop bit --shard, with shard.json, runs.csv, bit.toml";
     for dir in &args.dirs {
@@ -466,15 +839,37 @@ pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitC
             let (csv, toml) = (read(RUNS_CSV)?, small("bit.toml")?);
             check_checksum(&info.checksums, dir, RUNS_CSV, csv.as_bytes())?;
             check_checksum(&info.checksums, dir, "bit.toml", toml.as_bytes())?;
-            Ok::<_, String>((info, csv, toml))
+            // A shard has the check's runs iff its shard.json has their
+            // checksum.
+            let half = if info.checksums.contains_key(HALF_DT_CSV) {
+                let h = read(HALF_DT_CSV)?;
+                check_checksum(&info.checksums, dir, HALF_DT_CSV, h.as_bytes())?;
+                Some(h)
+            } else {
+                None
+            };
+            Ok::<_, String>((info, csv, toml, half))
         })();
         match got {
-            Ok((info, csv, toml)) => {
+            Ok((info, csv, toml, half)) => {
                 shards.push((info, csv));
                 tomls.push(toml);
+                halves.push(half);
             }
             Err(msg) => return Ok(input_error(msg)),
         }
+    }
+    if let Some(i) = halves
+        .iter()
+        .position(|h| h.is_some() != halves[0].is_some())
+    {
+        let (with, without) = if halves[0].is_some() { (0, i) } else { (i, 0) };
+        return Ok(input_error(format!(
+            "merge: {} has the step check's runs ({HALF_DT_CSV}) and {} has not (all shards \
+             with the step check, or all with --no-step-check)",
+            args.dirs[with].display(),
+            args.dirs[without].display()
+        )));
     }
     if let Some(i) = tomls.iter().position(|t| *t != tomls[0]) {
         return Ok(input_error(format!(
@@ -501,8 +896,101 @@ pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitC
             "merge: a line of {RUNS_CSV} is not a run's row ({what})"
         )));
     };
+    // The step check's runs, joined as the ensemble's are.
+    let mut fine_results: Vec<RunResult> = Vec::new();
+    let fine = if halves[0].is_some() {
+        let fine = match refined_bit(&bs) {
+            Ok(f) => f,
+            Err(e) => return Ok(input_error(e)),
+        };
+        let half_shards: Vec<(ShardInfo, String)> = shards
+            .iter()
+            .zip(halves)
+            .map(|((info, _), h)| (info.clone(), h.unwrap_or_default()))
+            .collect();
+        let csv = match sweep::merge_rows(
+            &half_shards,
+            &header,
+            HALF_DT_CSV,
+            "bit",
+            &|_, index, line| check_run_line(line, r0 + index as u64).map(|_| ()),
+        ) {
+            Ok(c) => c,
+            Err(e) => return Ok(input_error(e)),
+        };
+        let got: Option<Vec<RunResult>> = csv.lines().skip(1).map(bit::parse_csv_row).collect();
+        let Some(got) = got else {
+            return Ok(input_error(format!(
+                "merge: a line of {HALF_DT_CSV} is not a run's row ({what})"
+            )));
+        };
+        fine_results = got;
+        Some(fine)
+    } else {
+        None
+    };
+    let step = match &fine {
+        Some(f) => StepRuns::Done(f, &fine_results),
+        // Shards without the check's runs: what the unsharded ensemble
+        // would say (shards exist only at T > 0).
+        None => StepRuns::Off(
+            unchecked_reason(results.len() >= 2, true, results.len())
+                .unwrap_or_else(|| "--no-step-check".into()),
+        ),
+    };
     let out = OutDir::open(&args.out)?;
-    write_bit(out, &args.out, &bs, &results, false, None, quiet)
+    write_bit(out, &args.out, &bs, &results, false, None, &step, quiet)
+}
+
+/// bit.md's step-check section: what was compared, a line per
+/// probability and the verdict (a warning when not converged), or why the
+/// step is unchecked.
+fn step_md(s: &mut String, check: &StepOutcome) {
+    let _ = writeln!(s, "## Step check\n");
+    let (
+        StepOutcome::Done {
+            checks,
+            runs,
+            failed,
+        },
+        Some(converged),
+        Some(steps),
+    ) = (check, check.converged(), check.steps())
+    else {
+        if let Some(why) = check.unchecked() {
+            let _ = writeln!(s, "Step unchecked ({why}).\n");
+        }
+        return;
+    };
+    let _ = writeln!(
+        s,
+        "The {runs} runs again at dt/2 = {} s (solver.dt = {} s halved, the step limit doubled, \
+         an independent seed; {failed} failed; their rows: `{HALF_DT_CSV}`). Each probability \
+         with a 95 % interval is compared with its value at dt/2: converged in the step when \
+         the change is below its own 95 % half-width (the two answers' half-widths in \
+         quadrature, widened for the {} probabilities judged together). The figures above are \
+         those at dt.\n",
+        human(steps.1),
+        human(steps.0),
+        checks.len(),
+    );
+    for (name, c) in checks {
+        let _ = writeln!(s, "- {name}: {}", check_words(c));
+    }
+    if converged {
+        let _ = writeln!(s, "\nConverged in the step: {}.\n", {
+            let w = converged_words(checks.len(), steps);
+            w.strip_prefix("converged in the step: ")
+                .unwrap_or(&w)
+                .to_string()
+        });
+    } else {
+        let _ = writeln!(
+            s,
+            "\n**Warning: {}.**\n",
+            unconverged_words(&check.unconverged(), checks.len(), steps)
+        );
+    }
 }
 
 /// A number in bit.md and on the console: 4 significant figures
@@ -582,7 +1070,10 @@ fn one_line(b: &Block) -> String {
     )
 }
 
-fn bit_json(bs: &BitScenario, report: &Report) -> serde_json::Value {
+/// bit.json: the report, the bit and its protocols, and the step check
+/// (`dt_converged`, `step_check`: each checked probability's comparison,
+/// `step_unchecked`: why there is none; null where they do not apply).
+fn bit_json(bs: &BitScenario, report: &Report, check: &StepOutcome) -> serde_json::Value {
     let windows = |list: &[tippetop::input::scenario::bit::Actuator]| -> serde_json::Value {
         list.iter()
             .map(|a| match a.kind {
@@ -624,6 +1115,29 @@ fn bit_json(bs: &BitScenario, report: &Report) -> serde_json::Value {
         );
         m.insert("write_protocol".into(), windows(&bs.write));
         m.insert("erase_protocol".into(), windows(&bs.erase));
+        m.insert(
+            "dt_converged".into(),
+            check
+                .converged()
+                .map_or(serde_json::Value::Null, Into::into),
+        );
+        let checks = match check {
+            StepOutcome::Done { checks, .. } if check.unchecked().is_none() => {
+                let mut o = serde_json::Map::new();
+                for (name, c) in checks {
+                    o.insert((*name).into(), serde_json::to_value(c).unwrap_or_default());
+                }
+                serde_json::Value::Object(o)
+            }
+            _ => serde_json::Value::Null,
+        };
+        m.insert("step_check".into(), checks);
+        m.insert(
+            "step_unchecked".into(),
+            check
+                .unchecked()
+                .map_or(serde_json::Value::Null, Into::into),
+        );
     }
     v
 }
@@ -767,7 +1281,12 @@ fn theta_figure_named(
     )
 }
 
-fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
+fn bit_md(
+    bs: &BitScenario,
+    r: &Report,
+    check: &StepOutcome,
+    typical: Option<&RunResult>,
+) -> String {
     let b = &bs.bit;
     let mut s = String::from("# Memory bit\n\n");
     let _ = writeln!(
@@ -833,6 +1352,7 @@ fn bit_md(bs: &BitScenario, r: &Report, typical: Option<&RunResult>) -> String {
             human(blk.max_applied_force)
         );
     }
+    step_md(&mut s, check);
     if let Some(t) = typical {
         let _ = writeln!(
             s,

@@ -9,7 +9,7 @@
 //! are not scanned.
 
 mod common;
-use common::{bin, huge_times, many_digits, ok, repo, sentinels};
+use common::{HOT, bin, huge_times, many_digits, ok, repo, sentinels};
 use std::path::Path;
 
 /// The eccentric nano top in the Brownian mode at 300 K with a 2 kT well
@@ -188,6 +188,24 @@ fn consoles_and_reports_read_as_numbers_for_people() {
         &console(&d, &["bit", nano.to_str().unwrap(), "--out", &out("bit")]),
     );
     check("bit.md", &read(&d.join("bit/bit.md")));
+    // A bit ensemble with its step check (the check's lines and bit.md
+    // section, a warning when not converged).
+    let hot = d.join("hot.toml");
+    std::fs::write(&hot, HOT).unwrap();
+    let c = console(
+        &d,
+        &[
+            "bit",
+            hot.to_str().unwrap(),
+            "--runs",
+            "12",
+            "--out",
+            &out("bit_hot"),
+        ],
+    );
+    assert!(c.contains("step check write: "), "{c}");
+    check("bit_hot", &c);
+    check("bit_hot/bit.md", &read(&d.join("bit_hot/bit.md")));
     let b = d.join("b.toml");
     std::fs::write(&b, BROWNIAN).unwrap();
     let b = b.to_str().unwrap();
