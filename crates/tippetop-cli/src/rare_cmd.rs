@@ -98,12 +98,16 @@ command exits with code 3.";
 #[command(
     group(ArgGroup::new("source").required(true).multiple(true).args(["scenario", "preset"])),
     after_help = "Examples:\n  \
-                  tippetop rare --preset nano-physical --set solver.method=brownian --set solver.dt=2e-15 \\\n    \
-                  --target 'theta<1.22,theta>1.92' --method exact --out out/rare\n  \
-                  tippetop rare scenarios/thermal.toml --target 'theta>1.9' --reset 'theta<1.2' \\\n    \
+                  tippetop rare --preset nano-physical --set solver.method=brownian --set solver.dt=2e-16 \\\n    \
+                  --set initial.theta=1.5707963267948966 --target 'theta<1.22,theta>1.92' \\\n    \
+                  --method exact --out out/rare\n  \
+                  tippetop rare scenarios/thermal.toml --target 'theta>1.2' --reset 'theta<0.05' \\\n    \
                   --method direct --replicas 2000 --out out/rare\n  \
-                  tippetop rare scenarios/thermal.toml --target 'theta>2.5' --reset 'theta<1.565' \\\n    \
-                  --method ams --coordinate theta --replicas 20 --out out/rare-ams"
+                  tippetop rare scenarios/thermal.toml --target 'theta>2.5' --reset 'theta<0.05' \\\n    \
+                  --method ams --coordinate theta --replicas 20 --out out/rare-ams\n  \
+                  tippetop rare --preset nano-physical --set solver.dt=2e-15 \\\n    \
+                  --set initial.theta=1.5707963267948966 --target 'theta<1.2208,theta>1.9208' \\\n    \
+                  --method ams --out out/lying"
 )]
 #[command(
     mut_arg("scenario", |a| a.help("Scenario file (TOML): a Langevin or Brownian run at temperature > 0")),

@@ -444,12 +444,14 @@ fn check_step(sc: &Scenario, dt: f64, brownian: bool, wall: bool) -> Result<(), 
         return Err(Error::invalid(
             "solver.dt",
             format!(
-                "{dt} s is too long: {what} = {rate:e} 1/s (from {key}) gives dt * rate = {:.3}",
+                "{} s is too long: {what} = {} 1/s (from {key}) gives dt * rate = {:.3}",
+                crate::human::exact(dt),
+                crate::human::sig(rate, 4),
                 dt * rate
             ),
             format!(
-                "dt * rate <= {limit} with method = \"{method}\": dt <= {:e} s",
-                limit / rate
+                "dt * rate <= {limit} with method = \"{method}\": dt <= {} s",
+                crate::human::sig(limit / rate, 4)
             ),
         ));
     }
@@ -458,7 +460,8 @@ fn check_step(sc: &Scenario, dt: f64, brownian: bool, wall: bool) -> Result<(), 
         return Err(Error::invalid(
             "solver.dt",
             format!(
-                "{dt} s needs {n} steps over t_end, beyond the step limit {}",
+                "{} s needs {n} steps over t_end, beyond the step limit {}",
+                crate::human::exact(dt),
                 so.step_limit()
             ),
             "t_end / dt <= solver.max_steps (default 20000000): a shorter t_end or an ensemble of shorter runs".into(),
