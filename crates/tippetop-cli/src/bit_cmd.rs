@@ -30,17 +30,7 @@ use crate::scenario_load::input_error;
 /// (returned as `Ok`), nothing written; `Err` for I/O failures.
 pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
     if !args.vary.is_empty() {
-        let code = crate::bitmap_cmd::run(args, quiet)?;
-        // A map runs no step check: each point's check would double its
-        // cost, and the point worth checking is the one the map picks.
-        if code == ExitCode::SUCCESS && !quiet {
-            if args.no_step_check {
-                println!("step unchecked (--no-step-check)");
-            } else {
-                println!("{MAP_UNCHECKED}");
-            }
-        }
-        return Ok(code);
+        return run_map(args, quiet);
     }
     let toml_text = match crate::scenario_load::read_text(args.source.scenario.as_deref()) {
         Ok(t) => t,
@@ -142,17 +132,9 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
             }
         }
     } else {
-        let sc = bs.run_scenario(0);
-        let mut progress = crate::progress::RunProgress::new(quiet, sc.solver.t_end);
-        // The result and the θ figure read no pose.
-        let traj =
-            tippetop::simulate_watching_with_pose(&sc, &bit::watches(&bs), false, &mut |p| {
-                progress.update(p)
-            });
-        progress.finish();
-        match traj {
-            Ok((traj, stays)) => {
-                results.push(bit::evaluate_run(&bs, sc.thermal.run, &traj, &stays));
+        match deterministic_run(&bs, quiet) {
+            Ok((result, traj)) => {
+                results.push(result);
                 kept = Some(traj);
             }
             Err(e) => {
@@ -189,6 +171,37 @@ pub fn run(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
         &step,
         quiet,
     )
+}
+
+/// `tippetop bit --vary`: the design map, which runs no step check (each
+/// point's check would double its cost, and the point worth checking is
+/// the one the map picks).
+fn run_map(args: &BitArgs, quiet: bool) -> Result<ExitCode> {
+    let code = crate::bitmap_cmd::run(args, quiet)?;
+    if code == ExitCode::SUCCESS && !quiet {
+        if args.no_step_check {
+            println!("step unchecked (--no-step-check)");
+        } else {
+            println!("{MAP_UNCHECKED}");
+        }
+    }
+    Ok(code)
+}
+
+/// The one run of a bit at T = 0, with a progress bar: its result and
+/// its trajectory (the θ figure; neither reads the pose).
+fn deterministic_run(
+    bs: &BitScenario,
+    quiet: bool,
+) -> std::result::Result<(RunResult, tippetop::Trajectory), tippetop::Error> {
+    let sc = bs.run_scenario(0);
+    let mut progress = crate::progress::RunProgress::new(quiet, sc.solver.t_end);
+    let traj = tippetop::simulate_watching_with_pose(&sc, &bit::watches(bs), false, &mut |p| {
+        progress.update(p)
+    });
+    progress.finish();
+    let (traj, stays) = traj?;
+    Ok((bit::evaluate_run(bs, sc.thermal.run, &traj, &stays), traj))
 }
 
 /// What `tippetop bit --vary` prints: a map runs no step check.

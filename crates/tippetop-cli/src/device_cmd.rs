@@ -34,7 +34,11 @@ pub const DEVICE_LONG_ABOUT: &str =
     twin's exact answer (4 K: beyond any sampler, said so); the write error rates at 300 K of
     the paper's write and the search's best; the smallest well depth for 10 years at 300 K and
     77 K, and that design's write (force, shortest time with an error rate <= 1e-9).
-Writes device.json and device.md into --out. Takes minutes (2 min 42 s on 2 cores, 287 CPU-s, at the default sizes; a progress
+    The rare events step at dt * rate <= 0.009 (at most 2 fs), and the 300 K residence is
+    checked in the step: the same splitting at dt/2, converged when the change is below its
+    95 % half-width (device.json dt_converged and step_check; --no-step-check skips it;
+    docs/physics.md#step-check).
+Writes device.json and device.md into --out. Takes minutes (4 min 31 s on 2 cores, 490 CPU-s, at the default sizes, 2026-12-07; a progress
 line per stage); --quick cuts every ensemble, search and splitting (and leaves out the splitting
 at 77 K and at the design depths) for a first look (46 CPU-s, release build, 2026-11-28).";
 
@@ -216,7 +220,7 @@ fn step_words(l: &LyingRetention) -> String {
         })
     };
     format!(
-        "{} in the step: at dt = {} s, and at dt/2 {} (a change of {} against the 95 % half-width {})",
+        "{} in the step: at dt = {} s, and at dt/2 {} (a change of {} against its 95 % half-width {})",
         if c.converged {
             "converged"
         } else {
