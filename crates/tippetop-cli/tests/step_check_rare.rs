@@ -48,9 +48,9 @@ fn a_narrow_window_at_a_coarse_step_is_not_converged() {
     // θ within ±0.03 rad of π/2: a path takes ~17 steps, and the exact
     // mean exit time watched every step is 3.298e-14 s at dt and
     // 3.033e-14 s at dt/2 (continuous path: 2.439e-14 s), a change of
-    // 2.65e-15 s = 8.7 %. 4000 runs give a 95 % half-width near 2.5 %
-    // (8e-16 s), and the change's noise has a standard deviation near
-    // 0.6e-15 s: the check must find the change far above the half-width.
+    // 2.65e-15 s = 8.7 %. 4000 runs give each answer a 95 % half-width
+    // near 2.5 % (8e-16 s), so the change's is near 1.1e-15 s: the change
+    // is 2.3 times its half-width, more than 4 of its standard errors.
     let d = scratch("step_rare", "narrow");
     let target = "theta<1.5408,theta>1.6008";
     let j = rare(&d, target, &["--method", "direct", "--replicas", "4000"]);
@@ -78,10 +78,10 @@ fn a_narrow_window_at_a_coarse_step_is_not_converged() {
 #[test]
 fn a_wide_window_is_converged_and_the_flag_turns_the_check_off() {
     // ±0.2 rad: the exact watched answers are 1.165e-12 s at dt and
-    // 1.148e-12 s at dt/2, a change of 1.5 %, against a 95 % half-width
-    // near 5 % from 1000 runs (the change's noise: 3.6 %). Converged;
-    // a fixed seed makes the outcome reproducible, and about one seed in
-    // six would raise a false alarm (docs/physics.md#step-check).
+    // 1.148e-12 s at dt/2, a change of 1.5 %, against the change's 95 %
+    // half-width near 7 % from 1000 runs at each step. Converged; with no
+    // step error at all one seed in twenty would raise a false alarm
+    // (docs/physics.md#step-check), and seed 1 does not.
     let d = scratch("step_rare", "wide");
     let target = "theta<1.3708,theta>1.7708";
     let j = rare(&d, target, &["--method", "direct", "--replicas", "1000"]);

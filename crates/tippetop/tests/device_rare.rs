@@ -11,10 +11,11 @@ use tippetop::analysis::rare::exact;
 use tippetop::input::thermal::BOLTZMANN;
 use tippetop::{ContactMode, Method};
 
-/// ln of the TST residence by Laplace's method: the window's population
-/// `π(π/2) sqrt(2π kT/U″)` over the flux `2 sqrt(kT/(2π I(b))) π(b)`
-/// through its two (symmetric) edges, every factor in closed form.
-fn ln_tst_laplace(t: f64, depth: f64) -> f64 {
+/// The θ law of the lying top at `t` K with well depth `depth` J, every
+/// factor written here: `kT`, the well's width, the tilt's inertia `I(θ) =
+/// A + m a² sin²θ` and `ln π(θ)`, `π = sin θ sqrt(I(θ)/A) e^{−U/kT}`
+/// relative to the well's bottom (so nothing overflows).
+fn theta_law(t: f64, depth: f64) -> (f64, f64, impl Fn(f64) -> f64, impl Fn(f64) -> f64) {
     let sc = dr::lying_scenario(t, depth).unwrap();
     let kt = BOLTZMANN * t;
     let (m, a, big_a, g) = (
@@ -24,9 +25,21 @@ fn ln_tst_laplace(t: f64, depth: f64) -> f64 {
         sc.surface.gravity,
     );
     let w = sc.wells()[0].width;
-    let u = |th: f64| -m * g * a * th.cos() - depth * (-0.5 * ((th - FRAC_PI_2) / w).powi(2)).exp();
-    let inertia = |th: f64| big_a + m * a * a * th.sin().powi(2);
-    let ln_pi = |th: f64| th.sin().ln() + 0.5 * (inertia(th) / big_a).ln() - u(th) / kt;
+    let u = move |th: f64| {
+        -m * g * a * th.cos() - depth * (-0.5 * ((th - FRAC_PI_2) / w).powi(2)).exp()
+    };
+    let inertia = move |th: f64| big_a + m * a * a * th.sin().powi(2);
+    let ln_pi = move |th: f64| {
+        th.sin().ln() + 0.5 * (inertia(th) / big_a).ln() - (u(th) - u(FRAC_PI_2)) / kt
+    };
+    (kt, w, inertia, ln_pi)
+}
+
+/// ln of the TST residence by Laplace's method: the window's population
+/// `π(π/2) sqrt(2π kT/U″)` over the flux `2 sqrt(kT/(2π I(b))) π(b)`
+/// through its two (symmetric) edges, every factor in closed form.
+fn ln_tst_laplace(t: f64, depth: f64) -> f64 {
+    let (kt, w, inertia, ln_pi) = theta_law(t, depth);
     // U″(π/2) = depth/w² + m g a cos(π/2).
     let u2 = depth / (w * w);
     let ln_pop = ln_pi(FRAC_PI_2) + 0.5 * (2.0 * PI * kt / u2).ln();
@@ -235,24 +248,10 @@ fn write_error_is_the_holds_escape_at_the_presets_well() {
 }
 
 /// ln of the TST mean residence in the window `ONE` by Simpson's rule on
-/// 40 000 panels, every factor written here: the population
-/// `∫ π(θ) dθ`, `π = sin θ sqrt(I(θ)/A) e^{−U/kT}`, over the one-way flux
-/// `Σ_b sqrt(kT/(2π I(b))) π(b)` through both edges.
+/// 40 000 panels ([`theta_law`]): the population `∫ π(θ) dθ` over the
+/// one-way flux `Σ_b sqrt(kT/(2π I(b))) π(b)` through both edges.
 fn ln_tst_quadrature(t: f64, depth: f64) -> f64 {
-    let sc = dr::lying_scenario(t, depth).unwrap();
-    let kt = BOLTZMANN * t;
-    let (m, a, big_a, g) = (
-        sc.top.mass,
-        sc.top.offset,
-        sc.top.inertia_transverse,
-        sc.surface.gravity,
-    );
-    let w = sc.wells()[0].width;
-    let u = |th: f64| -m * g * a * th.cos() - depth * (-0.5 * ((th - FRAC_PI_2) / w).powi(2)).exp();
-    let inertia = |th: f64| big_a + m * a * a * th.sin().powi(2);
-    // Relative to the bottom's value, so nothing overflows.
-    let ln_pi =
-        |th: f64| th.sin().ln() + 0.5 * (inertia(th) / big_a).ln() - (u(th) - u(FRAC_PI_2)) / kt;
+    let (kt, _, inertia, ln_pi) = theta_law(t, depth);
     let n = 40_000;
     let (lo, hi) = (ONE[0], ONE[1]);
     let h = (hi - lo) / n as f64;

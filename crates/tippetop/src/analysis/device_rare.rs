@@ -163,12 +163,13 @@ pub struct LyingRetention {
 }
 
 /// The step rule of the device's rare events, `dt · max rate <=
-/// STEP_RATE`, from an error target rather than stability (which allows
-/// 0.02): the 300 K lying residence's change when the step is halved below
-/// half its 95 % half-width (20 replicas: ×1.45, 0.37 in ln). Measured on
-/// that residence (docs/physics.md#step-check): at 0.018 (4 fs) halving the
-/// step raised it by 27 % over six seeds each (0.848 → 1.075 ms, 3.1
-/// standard errors), at 0.009 (2 fs) it moved by 7 % (seed 1), within noise.
+/// STEP_RATE`, half what stability allows (0.02), set by the step's
+/// measured effect on the 300 K lying residence (docs/physics.md#step-check):
+/// at 0.018 (4 fs) halving the step raised it by 27 % over six seeds each
+/// (0.848 → 1.075 ms, 3.1 standard errors); at 0.009 (2 fs) the six-seed
+/// means at 2 and 1 fs differ within their noise (1.075 ± 0.058 and 0.974
+/// ± 0.078 ms). The device's own check of that residence is not converged
+/// at 2 fs (1.222 ms against 0.745 ms at 1 fs).
 pub const STEP_RATE: f64 = 0.009;
 /// The largest step of the device's rare events \[s\].
 pub const MAX_DT: f64 = 2e-15;

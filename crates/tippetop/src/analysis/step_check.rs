@@ -162,9 +162,10 @@ impl StepCheck {
         }
     }
 
-    /// The check in words, the numbers in `fmt` (a value with its unit):
-    /// "at dt/2 = 2e-15 s: X (95 %: lo .. hi); the step error |Δ| = E
-    /// (12.3 %) against the 95 % half-width S (37.1 %): converged".
+    /// The check in words, the numbers in `fmt` (a value with its unit;
+    /// a log-scale change as a percentage): "step check: at dt/2 = 2.000e-15
+    /// s X (95 %: lo .. hi); the change 58.02 % against its 95 % half-width
+    /// 65.26 %: converged in the step".
     pub fn words(&self, fmt: &dyn Fn(f64) -> String) -> String {
         let h = &self.at_half_dt;
         let sig = |x: f64| crate::human::sig(x, 4);
