@@ -278,11 +278,11 @@ fn ln_tst_quadrature(t: f64, depth: f64) -> f64 {
 /// sizes and step rule, with its step check. Converged in the step, its
 /// interval no wider than ×2.11 (the 4-fs answer's, 0.560 … 1.181 ms),
 /// and at or above transition-state theory's lower bound minus its 95 %
-/// half-width. About two minutes on 2 cores (docs/performance.md):
+/// half-width. About three minutes on 2 cores (docs/performance.md):
 /// `cargo test --release -p tippetop --test device_rare -- --ignored
 /// --nocapture headline`.
 #[test]
-#[ignore = "slow validation (two minutes); fails today: 1.222 ms at 2 fs against 0.745 ms at 1 fs"]
+#[ignore = "slow validation (about three minutes on 2 cores)"]
 fn headline_300k_residence_is_converged_in_the_step() {
     let sizes = tippetop::analysis::device::DeviceOptions::default().rare_retention;
     let started = std::time::Instant::now();

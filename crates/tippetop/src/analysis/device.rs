@@ -85,10 +85,11 @@ impl Default for DeviceOptions {
             retention_runs: 16,
             temperatures: [4.0, 77.0, 300.0],
             threads: None,
-            // 30 replicas: the 300 K residence's 95 % interval within a
-            // factor 2.1 at the 2-fs step (20 gave ×2.13).
+            // 50 replicas: the 300 K residence's 95 % interval within a
+            // factor 2.1 at the 2-fs step with margin (30 replicas gave
+            // ×2.00 on average over 8 seeds, one of them above ×2.11).
             rare_retention: Sizes {
-                replicas: 30,
+                replicas: 50,
                 particles: 100,
             },
             rare_deep: Some(Sizes {

@@ -166,10 +166,10 @@ pub struct LyingRetention {
 /// STEP_RATE`, half what stability allows (0.02), set by the step's
 /// measured effect on the 300 K lying residence (docs/physics.md#step-check):
 /// at 0.018 (4 fs) halving the step raised it by 27 % over six seeds each
-/// (0.848 → 1.075 ms, 3.1 standard errors); at 0.009 (2 fs) the six-seed
-/// means at 2 and 1 fs differ within their noise (1.075 ± 0.058 and 0.974
-/// ± 0.078 ms). The device's own check of that residence is not converged
-/// at 2 fs (1.222 ms against 0.745 ms at 1 fs).
+/// (0.848 → 1.075 ms, 3.1 standard errors); at 0.009 (2 fs) thirteen seeds
+/// at 2 fs and fourteen at 1 fs differ within their noise (1.073 ± 0.031
+/// and 1.000 ± 0.050 ms, standard errors over the seeds), both at the
+/// transition-state bound (1.020 ms).
 pub const STEP_RATE: f64 = 0.009;
 /// The largest step of the device's rare events \[s\].
 pub const MAX_DT: f64 = 2e-15;
