@@ -38,7 +38,7 @@ pub const DEVICE_LONG_ABOUT: &str =
     checked in the step: the same splitting at dt/2, converged when the change is below its
     95 % half-width (device.json dt_converged and step_check; --no-step-check skips it;
     docs/physics.md#step-check).
-Writes device.json and device.md into --out. Takes minutes (4 min 31 s on 2 cores, 490 CPU-s, at the default sizes, 2026-12-07; a progress
+Writes device.json and device.md into --out. Takes minutes (5 min 37 s on 2 cores, 647 CPU-s, at the default sizes, 2026-12-07; a progress
 line per stage); --quick cuts every ensemble, search and splitting (and leaves out the splitting
 at 77 K and at the design depths) for a first look (46 CPU-s, release build, 2026-11-28).";
 
