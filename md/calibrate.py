@@ -810,7 +810,8 @@ velocity substrate create {2 * cfg.temperature} {cfg.seed} mom yes rot no dist g
         rst = os.path.join(d, "restart.0")
         lmp.command(f"write_restart {rst}.tmp")
         os.replace(rst + ".tmp", rst)
-        state = {"segments": 0, "restart": "restart.0", "starts": [], "seconds": time.time() - t_start,
+        state = {"segments": 0, "restart": "restart.0", "starts": [], "seconds": 0.0,
+                 "setup_seconds": time.time() - t_start,
                  "equil_ps": cfg.equil_ps, "created": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")}
         _atomic_json(state_path, state)
         lmp.close()
@@ -853,7 +854,8 @@ velocity substrate create {2 * cfg.temperature} {cfg.seed} mom yes rot no dist g
         os.replace(os.path.join(d, rst + ".tmp"), os.path.join(d, rst))
         old = state["restart"]
         state.update({"segments": seg, "restart": rst, "step": s_end,
-                      "seconds": state["seconds"] + time.time() - t0})
+                      "seconds": state["seconds"] + time.time() - t0,
+                      "segment_seconds": state.get("segment_seconds", []) + [time.time() - t0]})
         _atomic_json(state_path, state)
         if old != "restart.0" and old != rst:
             try:
@@ -1032,47 +1034,63 @@ def acf_blocks(v: np.ndarray, nblocks: int, nlag: int) -> np.ndarray:
     return np.array(out)
 
 
-def friction_from_acf(comps: list[np.ndarray], dt_ps: float, nblocks: int, kt_over_m: float) -> dict:
-    """gamma [1/s] from velocity-like components: Green-Kubo 1/int C/C(0)
-    up to the plateau time t_c, and an exponential fit; 95 % interval from
-    the blocks' spread of tau = int C/C(0)."""
+def friction_from_acf(comps: list[np.ndarray], dt_ps: float, nblocks: int, kt_over_m: float,
+                      max_lag_ps: float = 300.0) -> dict:
+    """gamma [1/s] from velocity-like components by Green-Kubo:
+    tau = int_0^t_c C(t)/C(0) dt, gamma = 1/tau, C averaged over the
+    components and over time origins. t_c: the first lag at which the
+    normalised ACF falls below 0.05 (three e-folds of an exponential), at most
+    a fifth of the run and max_lag_ps; when the ACF has not fallen that far,
+    `resolved` is false and gamma is an upper bound (tau a lower bound).
+    95 % interval: blocks of time origins (lags reach past each block's end),
+    tau per block, Student t over the blocks, gamma = 1/tau mapped."""
     n = len(comps[0])
-    # lag range: up to a quarter of the run, at most 200 ps
-    nlag = max(8, min(n // 4, int(200.0 / dt_ps)))
+    nlag = max(8, min(n // 5, int(max_lag_ps / dt_ps)))
     blocks = np.mean([acf_blocks(c, nblocks, nlag) for c in comps], axis=0)  # (nb, nlag)
     full = blocks.mean(axis=0)
     c0 = full[0]
     norm = full / c0
-    # t_c: the first zero crossing of the mean normalised ACF (the
-    # integral's plateau for an exponential-like decay), else the lag range
-    neg = np.nonzero(norm <= 0)[0]
-    kc = int(neg[0]) if len(neg) else nlag
+    below = np.nonzero(norm < 0.05)[0]
+    resolved = bool(len(below))
+    kc = int(below[0]) if resolved else nlag
     t = np.arange(nlag) * dt_ps
     integ = np.concatenate([[0.0], np.cumsum(0.5 * (norm[1:] + norm[:-1])) * dt_ps])
-    tau = integ[kc - 1]
+    tau = float(integ[kc - 1])
     tau_b = []
     for bl in blocks:
         nb = bl / bl[0]
         tau_b.append(float(np.sum(0.5 * (nb[1:kc] + nb[:kc - 1])) * dt_ps))
     tau_mean, tau_h = mean_ci(tau_b)
-    # exponential fit of the normalised ACF where it exceeds 0.2
-    kf = np.nonzero(norm < 0.2)[0]
+    # exponential fit of the normalised ACF where it exceeds 1/e (record only)
+    kf = np.nonzero(norm < math.exp(-1.0))[0]
     kf = int(kf[0]) if len(kf) else nlag
     fit_g = float("nan")
     if kf > 3:
-        sl = np.polyfit(t[:kf], np.log(norm[:kf]), 1)[0]
+        sl = np.polyfit(t[:kf], np.log(np.clip(norm[:kf], 1e-12, None)), 1)[0]
         fit_g = -sl * 1e12
     g = 1e12 / tau if tau > 0 else float("inf")
-    lo = 1e12 / (tau_mean + tau_h) if math.isfinite(tau_h) else 0.0
-    hi = 1e12 / (tau_mean - tau_h) if math.isfinite(tau_h) and tau_mean > tau_h else float("inf")
+    lo = 1e12 / (tau + tau_h) if math.isfinite(tau_h) else 0.0
+    hi = 1e12 / (tau - tau_h) if math.isfinite(tau_h) and tau > tau_h else float("inf")
+    step = max(1, kc // 150)
+    keep = min(nlag, 2 * kc)
     return {
-        "gamma_per_s": g, "ci95_per_s": [lo, hi],
-        "tau_ps": float(tau), "tau_blocks_mean_ps": tau_mean, "tau_ci95_ps": tau_h,
-        "t_c_ps": float(kc * dt_ps), "gamma_exp_fit_per_s": fit_g,
+        "gamma_per_s": g, "ci95_per_s": [lo, hi], "resolved": resolved,
+        "tau_ps": tau, "tau_ci95_ps": tau_h, "tau_blocks_ps": tau_b,
+        "t_c_ps": float(kc * dt_ps), "lag_range_ps": float(nlag * dt_ps),
+        "gamma_exp_fit_per_s": fit_g,
         "c0": float(c0), "c0_equipartition": kt_over_m, "blocks": len(blocks),
-        "acf_ps": t[: min(nlag, 4 * kc)].tolist()[::max(1, min(nlag, 4 * kc) // 200)],
-        "acf": norm[: min(nlag, 4 * kc)].tolist()[::max(1, min(nlag, 4 * kc) // 200)],
+        "running_integral_ps": {f"{tt:g}": float(integ[min(nlag - 1, int(tt / dt_ps))])
+                                for tt in (1, 2, 5, 10, 20, 50, 100, 200, 300) if tt / dt_ps < nlag},
+        "acf_ps": t[:keep:step].tolist(), "acf": norm[:keep:step].tolist(),
     }
+
+
+def acf_integral(comps: list[np.ndarray], dt_ps: float, t_c: float) -> float:
+    """int_0^t_c C(t)/C(0) dt [ps] of the components' mean ACF, all origins."""
+    k = int(round(t_c / dt_ps)) + 1
+    c = np.mean([_block_ccf(x, x, 0, len(x) - k + 1, k) for x in comps], axis=0)
+    c = c / c[0]
+    return float(np.sum(0.5 * (c[1:] + c[:-1])) * dt_ps)
 
 
 def msd_slope(disp: np.ndarray, dt_ps: float, t_lo: float, t_hi: float, nblocks: int) -> dict:
@@ -1136,7 +1154,7 @@ def analyse_temperature(d: str, nblocks: int | None = None) -> dict:
     a = cfg.lattice
     lx, ly = cfg.nx * a, cfg.ny * a * math.sqrt(3.0)
     if nblocks is None:
-        nblocks = int(min(20, max(4, run_ps // 50)))
+        nblocks = int(min(10, max(4, run_ps // 100)))
     L = np.column_stack([s["L_x"], s["L_y"], s["L_z"]])
     omega = L / inertia  # rad/ps
     v = np.column_stack([s["vcm_x"], s["vcm_y"], s["vcm_z"]])
@@ -1166,6 +1184,8 @@ def analyse_temperature(d: str, nblocks: int | None = None) -> dict:
                                          "method": "kT / var(z_cm - ...) (equipartition of the height; the sheet's own motion included)"}
     # rotational friction: Green-Kubo on omega (rad/ps)
     gr = friction_from_acf([omega[:, i] for i in range(3)], dt_ps, nblocks, kt / (inertia * MVV2E))
+    gr["tau_at_ps"] = {f"{tc:g}": acf_integral([omega[:, i] for i in range(3)], dt_ps, tc)
+                       for tc in (1.0, 2.0, 5.0) if tc < run_ps / 4}
     gr["method"] = "Green-Kubo: gamma_r = 1/int_0^t_c <w(0).w(t)>/<w.w> dt, 3 components, t_c = first zero of the ACF; interval from blocks of time origins (tau per block, Student t)"
     out["gamma_r"] = gr
     # cross-check: rotational diffusion of the orientation (from positions)
@@ -1201,7 +1221,9 @@ def analyse_temperature(d: str, nblocks: int | None = None) -> dict:
     td["D_m2_per_s"] = D * 1e-8
     td["method"] = "D = slope/2 of the in-plane COM mean-square displacement per axis; gamma_t = kT/(m D)"
     out["translational_diffusion"] = td
-    out["cost_s_per_ps"] = state["seconds"] / max(run_ps, 1e-9)
+    seg_s = state.get("segment_seconds")
+    out["cost_s_per_ps"] = (float(np.median(seg_s)) / cfg.segment_ps if seg_s
+                            else state["seconds"] / max(run_ps, 1e-9))
     out["seeds"] = {"velocities": [cfg.seed, cfg.seed + 1], "equil_langevin": cfg.seed + 2,
                     "starts": state["starts"]}
     out["config"] = cfg.key()
