@@ -15,7 +15,7 @@ use tippetop::analysis::rare::exact::{Edge, Exact, Positive, Quantity};
 use tippetop::analysis::rare::problem::{
     self, AmsPart, DEFAULT_REPLICAS, Problem, RareMethod, Report,
 };
-use tippetop::analysis::step_check::{self, AtStep, Scale, StepCheck};
+use tippetop::analysis::rare::step_check::{self as rare_step, Checked};
 use tippetop::analysis::sweep::ShardInfo;
 
 use crate::output::{OutDir, write_bytes_atomic};
@@ -723,54 +723,38 @@ impl AmsInputs {
     /// [`problem::ams_for`]; runs the pilot run of a mean first-passage
     /// time).
     fn setup(&self) -> Result<(Problem, Ams), tippetop::Error> {
-        self.setup_at(false)
-    }
-
-    /// [`AmsInputs::setup`], or with `refine` the step check's splitting:
-    /// the scenario at `solver.dt / 2` ([`step_check::refined`]) and every
-    /// budget counted in steps doubled (within its range), so the paths
-    /// cover the same times.
-    fn setup_at(&self, refine: bool) -> Result<(Problem, Ams), tippetop::Error> {
-        let mut scenario = tippetop::Scenario::load(
+        let scenario = tippetop::Scenario::load(
             self.preset.as_deref(),
             self.toml_text.as_deref(),
             &self.sets,
         )?;
-        let d = Settings::default();
-        let steps = |n: u64, cap: u64| {
-            if refine {
-                n.saturating_mul(2).min(cap)
-            } else {
-                n
-            }
-        };
-        let path_cap = tippetop::analysis::rare::ams::MAX_PATH_STEPS;
-        let mut max_steps = self.max_steps;
-        if refine {
-            scenario = step_check::refined(&scenario)?;
-            max_steps = Some(steps(max_steps.unwrap_or(d.max_steps), path_cap));
-        }
         let prob = Problem::for_ams(
             scenario,
             &self.target,
             self.reset.as_deref(),
             self.horizon,
-            max_steps,
+            self.max_steps,
         )?;
-        let settings = Settings {
+        let ams = problem::ams_for(&prob, self.coordinate.as_deref(), self.settings())?;
+        Ok((prob, ams))
+    }
+
+    /// The splitting's settings: the options given, the defaults for the
+    /// rest (the question's step budget is [`problem::ams_for`]'s).
+    fn settings(&self) -> Settings {
+        let d = Settings::default();
+        Settings {
             replicas: self.replicas.unwrap_or(d.replicas),
             particles: self.particles.unwrap_or(d.particles),
             kill: self.kill.unwrap_or(d.kill),
             max_trajectories: self.max_trajectories.unwrap_or(d.max_trajectories),
             crossings: self.crossings.unwrap_or(d.crossings),
-            direct_steps: steps(self.direct_steps.unwrap_or(d.direct_steps), path_cap),
-            pilot_steps: steps(self.pilot_steps.unwrap_or(d.pilot_steps), 10_000_000),
+            direct_steps: self.direct_steps.unwrap_or(d.direct_steps),
+            pilot_steps: self.pilot_steps.unwrap_or(d.pilot_steps),
             basin: self.basin,
             interface: self.interface,
             ..d
-        };
-        let ams = problem::ams_for(&prob, self.coordinate.as_deref(), settings)?;
-        Ok((prob, ams))
+        }
     }
 
     /// The fingerprint of the splitting, for its shards.
@@ -786,85 +770,11 @@ impl AmsInputs {
     }
 }
 
-/// The step check of an answer (docs/physics.md#step-check): done, with
-/// the refined run's work, or the reason it was not run.
-#[derive(Debug, Clone)]
-pub enum Checked {
-    /// The answer again at `solver.dt / 2`.
-    Done {
-        /// The comparison.
-        check: StepCheck,
-        /// Trajectories of the refined run.
-        trajectories: u64,
-        /// Steps of the refined run.
-        steps: u64,
-    },
-    /// Why the step is unchecked.
-    Off(String),
-}
-
-/// rare.json's step-check fields, after the report's.
-#[derive(serde::Serialize)]
-struct CheckedJson<'a, D: serde::Serialize> {
-    #[serde(flatten)]
-    doc: D,
-    /// Whether the step error is below the statistical one (`null`:
-    /// unchecked).
-    dt_converged: Option<bool>,
-    /// The two answers and their comparison.
-    step_check: Option<StepCheckDoc<'a>>,
-    /// Why the step is unchecked.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    step_unchecked: Option<&'a str>,
-}
-
-#[derive(serde::Serialize)]
-struct StepCheckDoc<'a> {
-    #[serde(flatten)]
-    check: &'a StepCheck,
-    refined_trajectories: u64,
-    refined_steps: u64,
-    refined_seed_offset: u64,
-}
-
-impl Checked {
-    /// The check of `coarse` against `refined` (the same question at
-    /// `solver.dt / 2`): a mean first-passage time of the splitting on the
-    /// log scale (its interval is log-normal), everything else linear.
-    fn of(coarse: &Report, refined: &Report, dt: f64) -> Checked {
-        let scale = if coarse.method == RareMethod::Ams
-            && coarse.quantity == Quantity::MeanFirstPassageTime
-        {
-            Scale::Log
-        } else {
-            Scale::Linear
-        };
-        let at = |r: &Report, dt: f64| AtStep {
-            dt,
-            estimate: r.estimate,
-            ci95: r.ci95,
-        };
-        Checked::Done {
-            check: StepCheck::new(at(coarse, dt), at(refined, 0.5 * dt), scale),
-            trajectories: refined.trajectories,
-            steps: refined.steps,
-        }
-    }
-
-    /// `dt_converged`.
-    fn converged(&self) -> Option<bool> {
-        match self {
-            Checked::Done { check, .. } => Some(check.converged),
-            Checked::Off(_) => None,
-        }
-    }
-
-    /// The console's and rare.md's line.
-    fn line(&self, q: Quantity) -> String {
-        match self {
-            Checked::Done { check, .. } => check.words(&|v| with_unit(v, q)),
-            Checked::Off(why) => format!("step unchecked ({why})"),
-        }
+/// The step check's line of the console and rare.md.
+fn check_line(checked: &Checked, q: Quantity) -> String {
+    match checked {
+        Checked::Done { check, .. } => check.words(&|v| with_unit(v, q)),
+        Checked::Off(why) => format!("step unchecked ({why})"),
     }
 }
 
@@ -962,18 +872,7 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
                 if args.no_step_check {
                     return Ok((r, Checked::Off("--no-step-check".into())));
                 }
-                let dt = prob.scenario.solver.dt.unwrap_or(f64::NAN);
-                let fine = Problem::new(
-                    step_check::refined(&prob.scenario)?,
-                    &args.target,
-                    args.reset.as_deref(),
-                    args.horizon,
-                    Some(
-                        prob.max_steps
-                            .saturating_mul(2)
-                            .min(tippetop::limits::MAX_STEPS),
-                    ),
-                )?;
+                let fine = rare_step::refined_problem(&prob, RareMethod::Direct)?;
                 let pb = crate::progress::bar(
                     quiet,
                     replicas as u64,
@@ -984,8 +883,7 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
                     true
                 });
                 pb.finish_and_clear();
-                let f = f?;
-                let c = Checked::of(&r, &f, dt);
+                let c = Checked::of(&prob, &r, &f?);
                 Ok((r, c))
             });
             match r {
@@ -1001,10 +899,7 @@ pub fn run(args: &RareArgs, quiet: bool) -> Result<ExitCode> {
         }
     };
     let out = OutDir::open(&args.out)?;
-    let checked = Checked::Off(
-        "the exact answer has no step: the continuous path's, and the path watched every solver.dt"
-            .into(),
-    );
+    let checked = Checked::Off(rare_step::EXACT_UNCHECKED.into());
     finish(&args.out, &prob, &report, &checked, out, started, quiet)
 }
 
@@ -1116,13 +1011,7 @@ fn run_ams(
     let checked = if args.no_step_check {
         Checked::Off("--no-step-check".into())
     } else {
-        match refined_ams(
-            &inputs,
-            &report,
-            prob.scenario.solver.dt,
-            args.cores.threads,
-            quiet,
-        ) {
+        match refined_ams(&inputs, &prob, &report, args.cores.threads, quiet) {
             Ok(c) => c,
             Err(e) => {
                 out.abandon();
@@ -1134,41 +1023,25 @@ fn run_ams(
 }
 
 /// The step check of a splitting: the same splitting at `solver.dt / 2`
-/// ([`AmsInputs::setup_at`]), all its replicas, compared with `report`.
-/// A refined replica that fails or runs out of budget makes the check
-/// say so instead of failing the answer at `dt`.
+/// ([`rare_step::refined_ams`]), all its replicas, compared with `report`
+/// (the answer to `prob`).
 fn refined_ams(
     inputs: &AmsInputs,
+    prob: &Problem,
     report: &Report,
-    dt: Option<f64>,
     threads: Option<usize>,
     quiet: bool,
 ) -> Result<Checked, tippetop::Error> {
-    let (fine_prob, fine_ams) = inputs.setup_at(true)?;
-    let m = fine_ams.settings().replicas;
+    let fine = rare_step::refined_ams(prob, inputs.coordinate.as_deref(), &inputs.settings())?;
+    let m = fine.1.settings().replicas;
     let reps = replicas_of(
-        &fine_ams,
+        &fine.1,
         0..m,
         threads,
         quiet,
         "rare (ams) step check at dt/2",
     )?;
-    let fine = match problem::by_ams(&fine_prob, &fine_ams, reps) {
-        Ok(f) => f,
-        Err(e) if e.is_input() => return Err(e),
-        Err(e) => {
-            return Ok(Checked::Off(format!(
-                "the splitting at solver.dt/2 gave no answer: {e}"
-            )));
-        }
-    };
-    let failed = fine.ams.as_ref().map_or(0, |a| a.estimate.failed);
-    if failed > 0 {
-        return Ok(Checked::Off(format!(
-            "{failed} paths of the splitting at solver.dt/2 failed"
-        )));
-    }
-    Ok(Checked::of(report, &fine, dt.unwrap_or(f64::NAN)))
+    Checked::of_ams(prob, report, &fine, reps)
 }
 
 /// Run the replicas `range` of `ams` with a progress bar labelled `label`
@@ -1416,32 +1289,12 @@ fn finish(
 ) -> Result<ExitCode> {
     let wall = started.elapsed().as_secs_f64();
     let stage = out.stage().to_path_buf();
-    let doc = CheckedJson {
-        doc: report.document(prob, wall),
-        dt_converged: checked.converged(),
-        step_check: match checked {
-            Checked::Done {
-                check,
-                trajectories,
-                steps,
-            } => Some(StepCheckDoc {
-                check,
-                refined_trajectories: *trajectories,
-                refined_steps: *steps,
-                refined_seed_offset: step_check::REFINED_SEED_OFFSET,
-            }),
-            Checked::Off(_) => None,
-        },
-        step_unchecked: match checked {
-            Checked::Off(why) => Some(why.as_str()),
-            Checked::Done { .. } => None,
-        },
-    };
+    let doc = checked.document(report.document(prob, wall));
     let mut text = serde_json::to_string_pretty(&doc)?;
     text.push('\n');
     write_bytes_atomic(&stage.join("rare.json"), text.as_bytes())?;
     let mut md = markdown(prob, report, wall);
-    let _ = writeln!(md, "\n{}.", checked.line(report.quantity));
+    let _ = writeln!(md, "\n{}.", check_line(checked, report.quantity));
     write_bytes_atomic(&stage.join("rare.md"), md.as_bytes())?;
     if let Some(a) = &report.ams {
         levels_figure(&stage, report, a)?;
@@ -1451,7 +1304,7 @@ fn finish(
         for l in summary_lines(prob, report, wall) {
             println!("{l}");
         }
-        println!("{}", checked.line(report.quantity));
+        println!("{}", check_line(checked, report.quantity));
         println!("wrote {}", dir.display());
     }
     if let Some(t) = &report.tally {

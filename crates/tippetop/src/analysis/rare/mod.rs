@@ -11,8 +11,11 @@
 //!   report of each method (`tippetop rare`, Python's `tt.rare`).
 //! - [`ams`]: adaptive multilevel splitting on the full stochastic
 //!   dynamics (Langevin and Brownian, every model and force).
+//! - [`step_check`]: the same question at `solver.dt / 2` and the
+//!   comparison (what `tippetop rare` and `tt.rare` share).
 
 pub mod ams;
 pub mod direct;
 pub mod exact;
 pub mod problem;
+pub mod step_check;
