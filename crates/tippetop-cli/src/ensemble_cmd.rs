@@ -12,10 +12,10 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use clap::{ArgGroup, Args};
 use serde::{Deserialize, Serialize};
+use tippetop::analysis::ensemble::step_check::{self as ens_step, Outcome, Plan, Refined};
 use tippetop::analysis::ensemble::{
     self, BINS, Ensemble, EnsembleShard, EnsembleStats, Histograms, QUANTILES, SPREAD, StatsAcc,
 };
-use tippetop::analysis::step_check::{self, AtStep, Scale, StepCheck};
 use tippetop::analysis::sweep::{self, Shard};
 
 use crate::output::{OutDir, check_plain, open_plain, read_plain, write_bytes_atomic};
@@ -284,19 +284,15 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
     // The step check runs after the ensemble's rows are all on disk: a
     // kill during it leaves a complete partial file, and --resume goes
     // straight to the check again.
+    let begun = std::time::Instant::now();
     let step = match &plan {
-        StepPlan::Off(why) => StepOutcome::Off(why.clone()),
-        StepPlan::Run(fine) => {
-            let begun = std::time::Instant::now();
+        Plan::Off(why) => Outcome::Off(why.clone()),
+        Plan::Run(fine) => {
             let fine_stats = refined_stats(fine, threads, quiet)?;
-            StepOutcome::Done(Refined {
-                checks: step_checks(&ens, &stats, fine, &fine_stats),
-                runs: fine_stats.runs,
-                failed: fine_stats.failed,
-                seconds: begun.elapsed().as_secs_f64(),
-            })
+            Outcome::Done(Refined::new(&ens, &stats, fine, &fine_stats))
         }
     };
+    let check_seconds = begun.elapsed().as_secs_f64();
     out.adopt(PARTIAL_CSV, "ensemble.csv");
     write_results(out.stage(), &info, &hist, &stats, &step)?;
     write_info(out.stage(), &info, checksum_text(hash), &hist)?;
@@ -310,10 +306,6 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
                 shard.k, shard.n, range.start, range.end, info.total_runs
             )
         };
-        let check_seconds = match &step {
-            StepOutcome::Done(r) => r.seconds,
-            StepOutcome::Off(_) => 0.0,
-        };
         println!(
             "{what} ({} ok, {} failed) in {} -> {}",
             stats.ok,
@@ -322,250 +314,43 @@ pub fn ensemble(args: &EnsembleArgs, quiet: bool) -> Result<ExitCode> {
             dir.join("ensemble.csv").display()
         );
         print_stats(&stats);
-        print_step(&step);
+        print_step(&step, check_seconds);
     }
     Ok(ExitCode::SUCCESS)
 }
 
-/// What the step check of one command does.
-enum StepPlan {
-    /// Run the ensemble again as this one: the scenario at `solver.dt / 2`
-    /// ([`step_check::refined`]), the same runs and first-passage criterion.
-    Run(Box<Ensemble>),
-    /// No check, and why (summary.json's `step_unchecked`).
-    Off(String),
-}
-
-/// The step check's result.
-enum StepOutcome {
-    /// The refined ensemble ran.
-    Done(Refined),
-    /// No check, and why.
-    Off(String),
-}
-
-/// The refined ensemble's comparison with the ensemble.
-struct Refined {
-    /// Each checked statistic: its name in summary.json (a path through
-    /// its objects), the unit of its values, the comparison; in the order
-    /// of the console.
-    checks: Vec<(&'static str, &'static str, StepCheck)>,
-    /// Its runs, and how many failed.
-    runs: u64,
-    failed: u64,
-    /// Its wall time \[s\].
-    seconds: f64,
-}
-
-impl StepOutcome {
-    /// `dt_converged`: whether every checked statistic converged; `None`
-    /// without a check (or with no statistic to check).
-    fn converged(&self) -> Option<bool> {
-        match self {
-            StepOutcome::Done(r) if !r.checks.is_empty() => {
-                Some(r.checks.iter().all(|c| c.2.converged))
-            }
-            _ => None,
-        }
-    }
-
-    /// Why the step is unchecked (`None`: checked).
-    fn unchecked(&self) -> Option<&str> {
-        match self {
-            StepOutcome::Off(why) => Some(why),
-            StepOutcome::Done(r) if r.checks.is_empty() => {
-                Some("no statistic has a 95 % interval (fewer than 2 ok runs)")
-            }
-            StepOutcome::Done(_) => None,
-        }
-    }
-}
-
-/// The step check's plan: off with `--no-step-check`, with `--shard` (it
-/// compares the whole ensemble's statistics) and for one run (no
-/// interval); else the refined ensemble. Error: the refined scenario is
-/// invalid (the key named, the check said).
-fn step_plan(no_check: bool, ens: &Ensemble, shard: Shard) -> Result<StepPlan, tippetop::Error> {
+/// The step check's plan: off with `--no-step-check`, else
+/// [`ens_step::plan`]. Error: the refined scenario is invalid (the key
+/// named, the check said).
+fn step_plan(no_check: bool, ens: &Ensemble, shard: Shard) -> Result<Plan, tippetop::Error> {
     if no_check {
-        return Ok(StepPlan::Off("--no-step-check".into()));
+        return Ok(Plan::Off("--no-step-check".into()));
     }
-    if shard != Shard::ALL {
-        return Ok(StepPlan::Off(format!(
-            "sharded (--shard {}/{}): the check compares the whole ensemble's statistics; run the \
-             ensemble without --shard, or at --set solver.dt=DT/2 and compare",
-            shard.k, shard.n
-        )));
-    }
-    if ens.runs < 2 {
-        return Ok(StepPlan::Off(
-            "one run: no statistic has a 95 % interval".into(),
-        ));
-    }
-    let scenario = step_check::refined(&ens.scenario).map_err(|e| match e {
-        tippetop::Error::Invalid { key, what, range } => tippetop::Error::Invalid {
-            key,
-            what: format!("{what} in the step check's scenario at solver.dt/2"),
-            range: format!("{range}; --no-step-check skips the check"),
-        },
-        other => other,
-    })?;
-    Ok(StepPlan::Run(Box::new(Ensemble {
-        scenario,
-        ..ens.clone()
-    })))
+    ens_step::plan(ens, shard, "--no-step-check")
 }
 
 /// The statistics of the refined ensemble `fine`, all its runs on
-/// `threads` threads (a progress bar "step check (dt/2)"); its rows go
-/// through the CSV form, as the ensemble's own statistics do, and nothing
-/// is written.
+/// `threads` threads (a progress bar "step check (dt/2)"; nothing is
+/// written).
 fn refined_stats(fine: &Ensemble, threads: usize, quiet: bool) -> Result<EnsembleStats> {
     let pb = crate::progress::bar(quiet, fine.runs as u64, "step check (dt/2)");
-    let mut acc = StatsAcc::default();
-    let mut bad: Option<tippetop::Error> = None;
-    let run = fine.run_streaming(0..fine.runs, Some(threads), &mut |row| {
-        let line = ensemble::csv_row(&row);
-        if let Err(e) = acc.push_line(row.index + 2, line.trim_end_matches('\n')) {
-            bad = Some(e);
-            return false;
-        }
+    let stats = ens_step::refined_stats(fine, Some(threads), &mut || {
         pb.inc(1);
         true
     });
     pb.finish_and_clear();
-    if let Err(e) = run {
-        anyhow::bail!("{e}");
+    match stats {
+        Ok(Some(s)) => Ok(s),
+        Ok(None) => anyhow::bail!("step check: stopped before its end"),
+        Err(e) => anyhow::bail!("step check: {e}"),
     }
-    if let Some(e) = bad {
-        anyhow::bail!("step check: {e}");
-    }
-    Ok(acc.finish())
-}
-
-/// The answer of a mean at step `dt` (`None` without its interval).
-fn mean_at(m: &ensemble::MeanCi, dt: f64) -> Option<AtStep> {
-    m.mean
-        .zip(m.ci95)
-        .map(|(estimate, ci95)| AtStep { dt, estimate, ci95 })
-}
-
-/// An answer that the refined ensemble did not give (no value, or no
-/// interval): NaN where missing (`null` in summary.json), so its check is
-/// not converged.
-fn missing_at(dt: f64, estimate: Option<f64>) -> AtStep {
-    AtStep {
-        dt,
-        estimate: estimate.unwrap_or(f64::NAN),
-        ci95: [f64::NAN; 2],
-    }
-}
-
-/// The censored fraction at step `dt` with its Wilson 95 % score interval
-/// (a binomial proportion's interval that stays within [0, 1] and is not
-/// empty at 0 or 1 passages); `None` without runs.
-fn censored_at(fp: &ensemble::FirstPassage, dt: f64) -> Option<AtStep> {
-    let estimate = fp.censored_fraction?;
-    let n = (fp.observed + fp.censored) as f64;
-    let z2 = ensemble::Z95 * ensemble::Z95;
-    let d = 1.0 + z2 / n;
-    let centre = (estimate + z2 / (2.0 * n)) / d;
-    let half = ensemble::Z95 / d * (estimate * (1.0 - estimate) / n + z2 / (4.0 * n * n)).sqrt();
-    Some(AtStep {
-        dt,
-        estimate,
-        ci95: [(centre - half).max(0.0), (centre + half).min(1.0)],
-    })
-}
-
-/// The step checks of the ensemble's statistics `a` (of `ens`, at its
-/// step) against `b` (of `fine`, at half of it): every statistic with a 95
-/// % interval at dt, means and the censored fraction on a linear scale,
-/// the escape rate on a log scale (a rate's interval is log-normal; the
-/// mean residence time 1/rate has the same check).
-fn step_checks(
-    ens: &Ensemble,
-    a: &EnsembleStats,
-    fine: &Ensemble,
-    b: &EnsembleStats,
-) -> Vec<(&'static str, &'static str, StepCheck)> {
-    let dt = ens.scenario.solver.dt.unwrap_or(f64::NAN);
-    let dt2 = fine.scenario.solver.dt.unwrap_or(f64::NAN);
-    let mut out = Vec::new();
-    let means = [
-        ("theta_final", "rad", &a.theta_final, &b.theta_final),
-        ("omega_final", "rad/s", &a.omega_final, &b.omega_final),
-        (
-            "Omega_final",
-            "rad/s",
-            &a.precession_final,
-            &b.precession_final,
-        ),
-        ("energy_final", "J", &a.energy_final, &b.energy_final),
-        (
-            "first_passage.mean_observed",
-            "s",
-            &a.first_passage.mean_observed,
-            &b.first_passage.mean_observed,
-        ),
-    ];
-    for (name, unit, x, y) in means {
-        if let Some(at) = mean_at(x, dt) {
-            let half = mean_at(y, dt2).unwrap_or_else(|| missing_at(dt2, y.mean));
-            out.push((name, unit, StepCheck::new(at, half, Scale::Linear)));
-        }
-    }
-    let (fa, fb) = (&a.first_passage, &b.first_passage);
-    if let Some(at) = censored_at(fa, dt) {
-        let half = censored_at(fb, dt2).unwrap_or_else(|| missing_at(dt2, None));
-        out.push((
-            "first_passage.censored_fraction",
-            "",
-            StepCheck::new(at, half, Scale::Linear),
-        ));
-    }
-    if let Some(r) = &fa.escape_rate {
-        let at = AtStep {
-            dt,
-            estimate: r.rate,
-            ci95: r.ci95,
-        };
-        // No passage at dt/2: the rate's estimate is 0 (passages over the
-        // time at risk), without an interval; its log is undefined, so the
-        // check is not converged.
-        let half = fb.escape_rate.as_ref().map_or_else(
-            || missing_at(dt2, Some(0.0)),
-            |r| AtStep {
-                dt: dt2,
-                estimate: r.rate,
-                ci95: r.ci95,
-            },
-        );
-        out.push((
-            "first_passage.escape_rate",
-            "1/s",
-            StepCheck::new(at, half, Scale::Log),
-        ));
-    }
-    // Judged together: each half-width gets the family's Bonferroni
-    // factor, so an ensemble with no step error is flagged about 5 % of
-    // the time in all.
-    let m = out.len();
-    out.into_iter()
-        .map(|(n, u, c)| {
-            (
-                n,
-                u,
-                StepCheck::in_family(c.at_dt, c.at_half_dt, c.scale, m),
-            )
-        })
-        .collect()
 }
 
 /// The step check for people: the refined ensemble's runs, a line per
 /// statistic, then whether the ensemble is converged in the step (a
 /// warning on stderr if not).
-fn print_step(step: &StepOutcome) {
-    let (StepOutcome::Done(r), Some(converged)) = (step, step.converged()) else {
+fn print_step(step: &Outcome, seconds: f64) {
+    let (Outcome::Done(r), Some(converged)) = (step, step.converged()) else {
         if let Some(why) = step.unchecked() {
             println!("step unchecked ({why})");
         }
@@ -578,7 +363,7 @@ fn print_step(step: &StepOutcome) {
         r.runs,
         g(dt2),
         r.failed,
-        crate::output::fmt_duration(r.seconds)
+        crate::output::fmt_duration(seconds)
     );
     for (name, unit, c) in &r.checks {
         let fmt = |x: f64| {
@@ -628,8 +413,7 @@ fn print_step(step: &StepOutcome) {
 fn inputs(
     args: &EnsembleArgs,
     quiet: bool,
-) -> Result<std::result::Result<(Ensemble, Shard, usize, EnsembleShard, String, StepPlan), ExitCode>>
-{
+) -> Result<std::result::Result<(Ensemble, Shard, usize, EnsembleShard, String, Plan), ExitCode>> {
     let toml_text = match crate::scenario_load::read_text(args.source.scenario.as_deref()) {
         Ok(t) => t,
         Err(code) => return Ok(Err(code)),
@@ -833,7 +617,7 @@ fn write_results(
     info: &EnsembleShard,
     hist: &Histograms,
     stats: &EnsembleStats,
-    step: &StepOutcome,
+    step: &Outcome,
 ) -> Result<()> {
     write_bytes_atomic(&dir.join("histograms.csv"), hist.csv().as_bytes())?;
     write_bytes_atomic(&dir.join("quantiles.csv"), hist.quantiles_csv().as_bytes())?;
@@ -874,21 +658,8 @@ fn write_results(
                 "quantiles": QUANTILES,
             }),
         );
-        m.insert("dt_converged".into(), step.converged().into());
-        let checks = match step {
-            StepOutcome::Done(r) if !r.checks.is_empty() => {
-                let map: serde_json::Map<String, serde_json::Value> = r
-                    .checks
-                    .iter()
-                    .map(|(name, _, c)| Ok((name.to_string(), serde_json::to_value(c)?)))
-                    .collect::<Result<_>>()?;
-                map.into()
-            }
-            _ => serde_json::Value::Null,
-        };
-        m.insert("step_check".into(), checks);
-        if let Some(why) = step.unchecked() {
-            m.insert("step_unchecked".into(), why.into());
+        if let serde_json::Value::Object(fields) = serde_json::to_value(step.fields())? {
+            m.extend(fields);
         }
     }
     let mut json = serde_json::to_string_pretty(&summary)?;
@@ -1006,7 +777,7 @@ pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitC
         checksums: Default::default(),
         ..first.clone()
     };
-    let step = StepOutcome::Off(
+    let step = Outcome::Off(
         "a merge of shards: the check compares the whole ensemble's statistics; run the \
          ensemble without --shard, or at --set solver.dt=DT/2 and compare"
             .into(),
@@ -1026,7 +797,7 @@ pub fn merge(args: &crate::common::args::MergeArgs, quiet: bool) -> Result<ExitC
             args.out.join("ensemble.csv").display()
         );
         print_stats(&stats);
-        print_step(&step);
+        print_step(&step, 0.0);
     }
     Ok(ExitCode::SUCCESS)
 }

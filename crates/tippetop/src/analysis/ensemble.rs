@@ -60,6 +60,8 @@ use crate::input::thermal::{MAX_ENSEMBLE_RUNS, MAX_RUNS};
 use crate::trajectory::COLUMNS;
 use crate::{Error, Method, Scenario};
 
+pub mod step_check;
+
 /// Number of equal bins of each histogram (plus underflow, overflow and
 /// missing).
 pub const BINS: usize = 64;
