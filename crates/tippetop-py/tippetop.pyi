@@ -232,6 +232,7 @@ def ensemble(
     runs: int,
     threads: Optional[int] = None,
     first_passage: Optional[str] = None,
+    step_check: bool = True,
 ) -> Dict[str, Any]:
     """Run a Langevin (or Brownian) scenario ``runs`` times with independent
     noise (the CLI's ``tippetop ensemble``) on ``threads`` threads (1 to
@@ -253,7 +254,22 @@ def ensemble(
     with 95 % intervals of the final theta, omega, Omega, energy; first
     passages with the Kaplan-Meier median and the escape rate [1/s]). Bit
     for bit the CLI's ensemble.csv, whatever ``threads``. Bad input raises
-    ValueError naming the key; Ctrl-C (KeyboardInterrupt) stops it."""
+    ValueError naming the key; Ctrl-C (KeyboardInterrupt) stops it.
+
+    ``step_check`` (default True) is the CLI's step check: the same runs
+    again at ``solver.dt / 2`` (the step limit doubled, an independent
+    seed ``thermal.seed + 0x9E3779B97F4A7C15``), about twice the
+    ensemble's cost again. ``summary`` then carries summary.json's
+    ``dt_converged`` (True: every statistic's change below its 95 %
+    half-width; False: a step error resolved, use a smaller ``solver.dt``;
+    None: unchecked), ``step_check`` (by statistic, ``theta_final`` ...
+    ``first_passage.escape_rate``: ``scale``, ``at_dt`` and ``at_half_dt``
+    each ``{dt [s], estimate, ci95}`` in the statistic's unit,
+    ``step_error`` the change and ``statistical`` its 95 % half-width (that
+    unit; ``|ln ratio|`` [1] on the log scale), ``family``, ``converged``;
+    None unchecked) and ``step_unchecked`` (why not, absent when checked:
+    ``"step_check=False"``, one run, fewer than 2 ok runs): the CLI's
+    figures for the same inputs."""
 
 def rare(
     scenario: Scenario,
@@ -273,6 +289,7 @@ def rare(
     pilot_steps: Optional[int] = None,
     basin: Optional[float] = None,
     interface: Optional[float] = None,
+    step_check: bool = True,
 ) -> Dict[str, Any]:
     """A rare-event question about a stochastic scenario (the CLI's
     ``tippetop rare``), from its initial state: with ``reset`` (or
@@ -312,7 +329,23 @@ def rare(
     (direct: runs ending at the target, reset, horizon, budget, failed),
     ``seed``, ``first_run``, ``temperature``, ``scenario`` (TOML). Numbers
     past f64 or unknown are None. Bad input raises ValueError naming the
-    option."""
+    option.
+
+    ``step_check`` (default True; methods direct and ams) is the CLI's step
+    check: the same question at ``solver.dt / 2`` (an independent seed,
+    ``thermal.seed + 0x9E3779B97F4A7C15``; budgets in steps doubled),
+    about twice the cost, compared with the answer returned (at
+    ``solver.dt``). The dict then carries rare.json's ``dt_converged``
+    (True: the change below its 95 % half-width; False: a step error
+    resolved, use a smaller ``solver.dt``; None: unchecked),
+    ``step_check`` (``scale``, ``at_dt`` and ``at_half_dt`` each ``{dt
+    [s], estimate, ci95}``, ``step_error`` the change and ``statistical``
+    its 95 % half-width in the answer's unit (``|ln ratio|`` [1] on the
+    log scale), ``family``, ``converged``, ``refined_trajectories``,
+    ``refined_steps``, ``refined_seed_offset``; None unchecked) and
+    ``step_unchecked`` (why not, absent when checked:
+    ``"step_check=False"``; the exact method, which has no step): the
+    CLI's figures for the same inputs."""
 
 @final
 class Snapshot:

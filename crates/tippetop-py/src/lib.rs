@@ -29,6 +29,11 @@ use tippetop::{EventRecord, Summary};
 /// `tippetop sweep` streams its rows to disk and takes 1e9.
 const MAX_SWEEP_CASES: usize = 1_000_000;
 
+/// Why the step is unchecked when the caller turned the check off
+/// (`step_unchecked` of `ensemble` and `rare`), as the CLI's
+/// `--no-step-check` says `"--no-step-check"`.
+const STEP_CHECK_OFF: &str = "step_check=False";
+
 /// A library error as a Python exception: bad input is `ValueError`
 /// (`"<key>: <what> (<range>)"`), a run-time failure `RuntimeError`.
 /// The message is on one line, as the CLI prints it (line breaks, e.g. in
@@ -1015,16 +1020,38 @@ fn sweep<'py>(
 /// the key; `runs` (1 to 1 000 000) and `threads` (1 to 1024) are ints:
 /// TypeError for another type, ValueError out of range. Fewer runs run at
 /// once than `threads` when more would need more than 3 GiB.
+///
+/// `step_check` (default True) is the CLI's step check
+/// (docs/physics.md#step-check): the same runs again on the scenario at
+/// `solver.dt / 2` (the step limit doubled, an independent seed:
+/// `thermal.seed + 0x9E3779B97F4A7C15`), about twice the ensemble's cost
+/// again, and every statistic with a 95 % interval compared. `summary`
+/// then carries summary.json's step-check keys, the same figures as the
+/// CLI's for the same inputs: `dt_converged` (True: every statistic's
+/// change is below its 95 % half-width; False: one or more is not, a step
+/// error resolved: use a smaller `solver.dt`; None: unchecked),
+/// `step_check` (by statistic, `theta_final`, `omega_final`,
+/// `Omega_final`, `energy_final`, `first_passage.mean_observed`,
+/// `first_passage.censored_fraction`, `first_passage.escape_rate`: `scale`
+/// `"linear"` or `"log"`, `at_dt` and `at_half_dt` each `{dt [s],
+/// estimate, ci95}` in the statistic's unit, `step_error` the change
+/// (that unit; on the log scale `|ln ratio|` [1]), `statistical` its 95 %
+/// half-width (the same), `family`, `converged`; None unchecked) and
+/// `step_unchecked` (why not, absent when checked: `"step_check=False"`,
+/// one run, fewer than 2 ok runs). A scenario whose `solver.dt / 2`
+/// version is invalid raises ValueError naming the key.
 #[pyfunction]
-#[pyo3(signature = (scenario, runs, threads = None, first_passage = None))]
+#[pyo3(signature = (scenario, runs, threads = None, first_passage = None, step_check = true))]
 fn ensemble<'py>(
     py: Python<'py>,
     scenario: &Scenario,
     runs: Bound<'py, PyAny>,
     threads: Option<Bound<'py, PyAny>>,
     first_passage: Option<String>,
+    step_check: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     use tippetop::analysis::ensemble as ens;
+    use tippetop::analysis::ensemble::step_check::{self as ens_step, Plan};
     let range = format!(
         "1 <= runs <= {}, with the run indices below 4294967296",
         tippetop::input::thermal::MAX_ENSEMBLE_RUNS
@@ -1049,6 +1076,13 @@ fn ensemble<'py>(
     .map_err(to_py_err)?
     .with_exit(exit);
     let threads = e.threads_within_memory(threads).map_err(to_py_err)?;
+    // Planned before anything runs, as the CLI does: a refined scenario
+    // that is invalid is refused at once.
+    let plan = if step_check {
+        ens_step::plan(&e, analysis::sweep::Shard::ALL, STEP_CHECK_OFF).map_err(to_py_err)?
+    } else {
+        Plan::Off(STEP_CHECK_OFF.into())
+    };
 
     // Each row goes into the columns and the statistics as it comes (no
     // row is kept).
@@ -1098,13 +1132,50 @@ fn ensemble<'py>(
             out.set_item(*name, PyArray1::from_vec(py, c))?;
         }
     }
-    let stats = serde_json::to_string(&acc.finish())
-        .map_err(|err| PyRuntimeError::new_err(err.to_string()))?;
+    let stats = acc.finish();
+    let step = ensemble_step(py, &stop, &e, &stats, &plan, threads)?;
+    // summary.json's statistics, then its step-check fields.
+    #[derive(Serialize)]
+    struct EnsembleSummary<'a> {
+        #[serde(flatten)]
+        stats: &'a ens::EnsembleStats,
+        #[serde(flatten)]
+        step: ens_step::Fields<'a>,
+    }
+    let summary = serde_json::to_string(&EnsembleSummary {
+        stats: &stats,
+        step: step.fields(),
+    })
+    .map_err(|err| PyRuntimeError::new_err(err.to_string()))?;
     out.set_item(
         "summary",
-        py.import("json")?.call_method1("loads", (stats,))?,
+        py.import("json")?.call_method1("loads", (summary,))?,
     )?;
     Ok(out)
+}
+
+/// The step check of `ensemble` (`e`, its statistics `stats`) by `plan`:
+/// the refined ensemble's runs on `threads` threads, the GIL released,
+/// Ctrl-C stopping them (`interruptible`), compared with `stats`.
+fn ensemble_step(
+    py: Python<'_>,
+    stop: &Arc<AtomicBool>,
+    e: &tippetop::analysis::ensemble::Ensemble,
+    stats: &tippetop::analysis::ensemble::EnsembleStats,
+    plan: &tippetop::analysis::ensemble::step_check::Plan,
+    threads: usize,
+) -> PyResult<tippetop::analysis::ensemble::step_check::Outcome> {
+    use tippetop::analysis::ensemble::step_check::{self as ens_step, Outcome, Plan, Refined};
+    let fine = match plan {
+        Plan::Off(why) => return Ok(Outcome::Off(why.clone())),
+        Plan::Run(fine) => fine,
+    };
+    let fine_stats = interruptible(py, stop, || {
+        ens_step::refined_stats(fine, Some(threads), &mut || !stop.load(Ordering::Relaxed))
+    })?
+    .map_err(|err| PyRuntimeError::new_err(one_line(&format!("step check: {err}"))))?
+    .ok_or_else(|| PyRuntimeError::new_err("ensemble: stopped before its end"))?;
+    Ok(Outcome::Done(Refined::new(e, stats, fine, &fine_stats)))
 }
 
 /// A rare-event question about a stochastic scenario (the CLI's `tippetop
@@ -1134,8 +1205,26 @@ fn ensemble<'py>(
 /// sizes, `standard_error`, `interval`, `extinct`, `replica_estimates`,
 /// `flux`), `seed`, `first_run`, `temperature`, `scenario`. Numbers past f64 or unknown (an interval open above) are
 /// None. Bad input raises ValueError naming the option.
+///
+/// `step_check` (default True, methods `"direct"` and `"ams"`) is the
+/// CLI's step check (docs/physics.md#step-check): the same question at
+/// `solver.dt / 2` (an independent seed, `thermal.seed +
+/// 0x9E3779B97F4A7C15`; every budget counted in steps doubled), about
+/// twice the cost, compared with the answer at `solver.dt` (the one
+/// returned). The dict then carries rare.json's step-check keys, the same
+/// figures as the CLI's for the same inputs: `dt_converged` (True: the
+/// change is below its 95 % half-width; False: it is not, a step error
+/// resolved: use a smaller `solver.dt`; None: unchecked), `step_check`
+/// (`scale` `"linear"`, or `"log"` for the splitting's mean time;
+/// `at_dt` and `at_half_dt` each `{dt [s], estimate, ci95}` in the
+/// answer's unit; `step_error` the change (that unit; on the log scale
+/// `|ln ratio|` [1]); `statistical` its 95 % half-width (the same);
+/// `family`; `converged`; `refined_trajectories`, `refined_steps`,
+/// `refined_seed_offset`; None unchecked) and `step_unchecked` (why not,
+/// absent when checked: `"step_check=False"`; the exact method, which has
+/// no step, whatever `step_check`; a refined splitting without an answer).
 #[pyfunction]
-#[pyo3(signature = (scenario, target, reset = None, method = "direct", replicas = None, horizon = None, max_steps = None, threads = None, coordinate = None, particles = None, kill = None, max_trajectories = None, crossings = None, direct_steps = None, pilot_steps = None, basin = None, interface = None))]
+#[pyo3(signature = (scenario, target, reset = None, method = "direct", replicas = None, horizon = None, max_steps = None, threads = None, coordinate = None, particles = None, kill = None, max_trajectories = None, crossings = None, direct_steps = None, pilot_steps = None, basin = None, interface = None, step_check = true))]
 #[allow(clippy::too_many_arguments)]
 fn rare<'py>(
     py: Python<'py>,
@@ -1156,9 +1245,11 @@ fn rare<'py>(
     pilot_steps: Option<Bound<'py, PyAny>>,
     basin: Option<Bound<'py, PyAny>>,
     interface: Option<Bound<'py, PyAny>>,
+    step_check: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     use tippetop::analysis::rare::ams::{MAX_PARTICLES, MAX_REPLICAS};
     use tippetop::analysis::rare::problem::{self, DEFAULT_REPLICAS, Problem, RareMethod};
+    use tippetop::analysis::rare::step_check::{Checked, EXACT_UNCHECKED};
     let started = Instant::now();
     let method = RareMethod::parse(method).map_err(to_py_err)?;
     let replicas_range = match method {
@@ -1232,16 +1323,18 @@ fn rare<'py>(
         _ => Problem::new(sc, &target, reset.as_deref(), horizon, max_steps),
     })?
     .map_err(to_py_err)?;
-    let report = match method {
-        RareMethod::Ams => rare_ams(py, &prob, o, threads)?,
+    let (report, checked) = match method {
+        RareMethod::Ams => rare_ams(py, &prob, o, threads, step_check)?,
         RareMethod::Exact => {
             if replicas.is_some() {
                 return Err(PyValueError::new_err(
                     "--replicas: given with --method exact (which runs no trajectory)",
                 ));
             }
-            py.detach(|| guarded(|| problem::by_exact(&prob)))?
-                .map_err(to_py_err)?
+            let report = py
+                .detach(|| guarded(|| problem::by_exact(&prob)))?
+                .map_err(to_py_err)?;
+            (report, Checked::Off(EXACT_UNCHECKED.into()))
         }
         RareMethod::Direct => {
             // Past usize only where usize is 32 bits; by_direct names the
@@ -1251,10 +1344,10 @@ fn rare<'py>(
                     PyValueError::new_err(format!("--replicas: {r} ({replicas_range})"))
                 })
             })?;
-            rare_direct(py, &prob, n, threads)?
+            rare_direct(py, &prob, n, threads, step_check)?
         }
     };
-    let doc = report.document(&prob, started.elapsed().as_secs_f64());
+    let doc = checked.document(report.document(&prob, started.elapsed().as_secs_f64()));
     let text = serde_json::to_string(&doc).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     py.import("json")?.call_method1("loads", (text,))
 }
@@ -1281,15 +1374,21 @@ fn size(v: u64) -> usize {
 
 /// `rare(method="ams")`: the splitting (its pilot run included) and its
 /// replicas on `threads` threads, the GIL released; Ctrl-C sets the
-/// splitting's cancel flag (`interruptible`).
+/// splitting's cancel flag (`interruptible`). With `step_check`, the same
+/// splitting at `solver.dt / 2` too, and the comparison.
 fn rare_ams(
     py: Python<'_>,
     prob: &tippetop::analysis::rare::problem::Problem,
     o: AmsOptions<'_>,
     threads: usize,
-) -> PyResult<tippetop::analysis::rare::problem::Report> {
-    use tippetop::analysis::rare::ams::{Hooks, Settings};
+    step_check: bool,
+) -> PyResult<(
+    tippetop::analysis::rare::problem::Report,
+    tippetop::analysis::rare::step_check::Checked,
+)> {
+    use tippetop::analysis::rare::ams::Settings;
     use tippetop::analysis::rare::problem;
+    use tippetop::analysis::rare::step_check::{self as rare_step, Checked};
     let d = Settings::default();
     let settings = Settings {
         replicas: o.replicas.map_or(d.replicas, size),
@@ -1306,19 +1405,46 @@ fn rare_ams(
     let coordinate = o.coordinate.map(str::to_string);
     let stop = Arc::new(AtomicBool::new(false));
     let ams = interruptible(py, &stop, || {
-        problem::ams_for(prob, coordinate.as_deref(), settings)
+        problem::ams_for(prob, coordinate.as_deref(), settings.clone())
     })?
     .map_err(to_py_err)?;
     // The particles of the replicas running at once within the memory
     // bound (the splitting runs fewer at once, as the CLI does): refused
     // here, before anything runs, when not even one fits.
     ams.threads_within_memory(threads).map_err(to_py_err)?;
+    let reps = ams_replicas(py, &stop, &ams, threads)?;
+    let report = py
+        .detach(|| guarded(|| problem::by_ams(prob, &ams, reps)))?
+        .map_err(to_py_err)?;
+    if !step_check {
+        return Ok((report, Checked::Off(STEP_CHECK_OFF.into())));
+    }
+    let fine = interruptible(py, &stop, || {
+        rare_step::refined_ams(prob, coordinate.as_deref(), &settings)
+    })?
+    .map_err(to_py_err)?;
+    let reps = ams_replicas(py, &stop, &fine.1, threads)?;
+    let checked = py
+        .detach(|| guarded(|| Checked::of_ams(prob, &report, &fine, reps)))?
+        .map_err(to_py_err)?;
+    Ok((report, checked))
+}
+
+/// All the replicas of `ams` on `threads` threads, in replica order, the
+/// GIL released; Ctrl-C (`stop`) cancels them.
+fn ams_replicas(
+    py: Python<'_>,
+    stop: &Arc<AtomicBool>,
+    ams: &tippetop::analysis::rare::ams::Ams,
+    threads: usize,
+) -> PyResult<Vec<tippetop::analysis::rare::ams::Replica>> {
+    use tippetop::analysis::rare::ams::Hooks;
     let m = ams.settings().replicas;
     let mut reps = Vec::new();
-    let ran = interruptible(py, &stop, || {
+    let ran = interruptible(py, stop, || {
         let hooks = Hooks {
             progress: None,
-            cancel: Some(&*stop),
+            cancel: Some(&**stop),
             steps: None,
         };
         ams.run(0..m, Some(threads), hooks, &mut |r| {
@@ -1329,26 +1455,39 @@ fn rare_ams(
     if !ran.map_err(to_py_err)? {
         return Err(PyRuntimeError::new_err("rare: stopped before its end"));
     }
-    py.detach(|| guarded(|| problem::by_ams(prob, &ams, reps)))?
-        .map_err(to_py_err)
+    Ok(reps)
 }
 
 /// `rare(method="direct")`: `n` runs on `threads` threads, the GIL
-/// released; Ctrl-C stops them (`interruptible`).
+/// released; Ctrl-C stops them (`interruptible`). With `step_check`, the
+/// same runs of the question at `solver.dt / 2` too, and the comparison.
 fn rare_direct(
     py: Python<'_>,
     prob: &tippetop::analysis::rare::problem::Problem,
     n: usize,
     threads: usize,
-) -> PyResult<tippetop::analysis::rare::problem::Report> {
-    use tippetop::analysis::rare::problem;
+    step_check: bool,
+) -> PyResult<(
+    tippetop::analysis::rare::problem::Report,
+    tippetop::analysis::rare::step_check::Checked,
+)> {
+    use tippetop::analysis::rare::problem::{self, Problem, RareMethod};
+    use tippetop::analysis::rare::step_check::{self as rare_step, Checked};
     let stop = Arc::new(AtomicBool::new(false));
-    interruptible(py, &stop, || {
-        problem::by_direct(prob, n, Some(threads), &mut |_| {
-            !stop.load(Ordering::Relaxed)
-        })
-    })?
-    .map_err(to_py_err)
+    let run = |p: &Problem| {
+        interruptible(py, &stop, || {
+            problem::by_direct(p, n, Some(threads), &mut |_| !stop.load(Ordering::Relaxed))
+        })?
+        .map_err(to_py_err)
+    };
+    let report = run(prob)?;
+    if !step_check {
+        return Ok((report, Checked::Off(STEP_CHECK_OFF.into())));
+    }
+    let fine =
+        guarded(|| rare_step::refined_problem(prob, RareMethod::Direct))?.map_err(to_py_err)?;
+    let checked = Checked::of(prob, &report, &run(&fine)?);
+    Ok((report, checked))
 }
 
 /// A copy of a `Simulation` at one instant (`Simulation.snapshot()`),

@@ -55,6 +55,9 @@ SNAP = tt.Simulation(NANO).snapshot()
 OTHER_SNAP = tt.Simulation(NANO.set("surface.friction", 0.25)).snapshot()
 TRAJ = tt.run(NANO)
 
+# Values of a bool argument (pose, step_check), good and bad.
+SWITCHES = [True, False, None, 1, "yes", np.bool_(False)]
+
 # Values of every kind; the good ones are few and cheap.
 ANY = [
     NAN, INF, -INF, -1, 0, 1, 2, -1.5, 1e300, -1e300, 2**64, -(2**64), 2**63, 10**12,
@@ -150,7 +153,7 @@ def case(rng):
         key = pick(rng, KEYS + ["top.radius", "force.0", "force.0.hx.y"])
         return f"Scenario.get({r(key)})", lambda: NANO.get(key)
     if k == 6:
-        sc, pose = pick(rng, SCENARIOS), pick(rng, [True, False, None, 1, "yes", np.bool_(False)])
+        sc, pose = pick(rng, SCENARIOS), pick(rng, SWITCHES)
         return f"run({r(sc, 30)}, pose={r(pose)})", lambda: tt.run(sc, pose=pose)
     if k == 7:
         sc = pick(rng, SCENARIOS)
@@ -169,14 +172,16 @@ def case(rng):
         return f"sweep(vary={r(vary, 60)}, {r(kw, 40)})", lambda: tt.sweep(NANO, vary, **kw)
     if k == 11:
         runs = pick(rng, COUNTS[1:])
-        kw = kwargs(rng, [("threads", COUNTS), ("first_passage", CONDITIONS)])
+        kw = kwargs(rng, [("threads", COUNTS), ("first_passage", CONDITIONS),
+                          ("step_check", SWITCHES)])
         sc = ENS if rng.random() < 0.9 else pick(rng, SCENARIOS)
         return f"ensemble({r(sc, 20)}, {r(runs)}, {r(kw, 60)})", lambda: tt.ensemble(sc, runs, **kw)
     if k in (12, 13):
         target = pick(rng, CONDITIONS[1:])
         method = pick(rng, ["direct", "direct", "ams", "exact", "x", None, 1])
         kw = kwargs(rng, [("reset", CONDITIONS), ("replicas", COUNTS), ("horizon", FLOATS),
-                          ("max_steps", COUNTS), ("threads", COUNTS)])
+                          ("max_steps", COUNTS), ("threads", COUNTS),
+                          ("step_check", SWITCHES)])
         if method == "ams":
             kw.update(kwargs(rng, [
                 ("coordinate", ["theta", "-theta", "|theta-1|", "tilt_energy", "", "x", None, 1]),

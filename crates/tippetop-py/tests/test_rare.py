@@ -1,6 +1,7 @@
 """tt.rare: the CLI's `tippetop rare` from Python (issue 27): the exact
 one-dimensional answer against symmetry and the direct ensemble, the same
-figures as the CLI's rare.json, and bad input."""
+figures as the CLI's rare.json with and without the step check (issue
+42), and bad input."""
 
 import json
 import math
@@ -66,7 +67,8 @@ def test_direct_covers_the_exact_value(sc):
     # One fixed-seed draw: a correct estimator's Wilson interval covers the
     # exact value 95 % of the time; 1 - p (target and reset swapped) is
     # outside it.
-    r = tt.rare(sc, target=UP, reset=DOWN, method="direct", replicas=300, threads=2)
+    r = tt.rare(sc, target=UP, reset=DOWN, method="direct", replicas=300, threads=2,
+                step_check=False)
     exact = r["exact"]["watched"]
     lo, hi = r["ci95"]
     assert lo <= exact <= hi
@@ -88,32 +90,103 @@ def test_mean_time_and_its_log(sc):
     assert r["ln_estimate"] > 709
 
 
-def without_step_check(cli):
-    """rare.json without the CLI's step-check keys: `tt.rare` answers at
-    the scenario's step only (the CLI's check runs the question again at
-    dt/2; here it is off and says so)."""
-    assert cli.pop("dt_converged") is None
-    assert cli.pop("step_check") is None
-    assert cli.pop("step_unchecked") == "--no-step-check"
-    return cli
-
-
-def test_same_figures_as_the_cli(sc, tmp_path):
+def run_cli(tmp_path, args, name="o"):
+    """rare.json of `tippetop rare` on SCENARIO with `args`, without its
+    wall_seconds (the test skips without a binary)."""
     exe = cli_binary()
     if exe is None:
         pytest.skip("no tippetop binary (cargo build first, or set TIPPETOP_BIN)")
     (tmp_path / "b.toml").write_text(SCENARIO)
-    args = ["--target", UP, "--reset", DOWN, "--replicas", "40"]
     subprocess.run(
-        [str(exe), "rare", str(tmp_path / "b.toml"), *args, "--no-step-check", "--quiet", "--out",
-         str(tmp_path / "o")],
+        [str(exe), "rare", str(tmp_path / "b.toml"), *args, "--quiet", "--out",
+         str(tmp_path / name)],
         check=True,
     )
-    cli = json.loads((tmp_path / "o" / "rare.json").read_text())
-    py = tt.rare(sc, target=UP, reset=DOWN, replicas=40)
-    for d in (cli, py):
-        d.pop("wall_seconds")
+    cli = json.loads((tmp_path / name / "rare.json").read_text())
+    cli.pop("wall_seconds")
+    return cli
+
+
+def without_step_check(cli):
+    """rare.json of `--no-step-check` as `tt.rare(..., step_check=False)`
+    says it: the same keys and figures, the reason naming Python's switch."""
+    assert cli["dt_converged"] is None and cli["step_check"] is None
+    assert cli["step_unchecked"] == "--no-step-check"
+    return {**cli, "step_unchecked": "step_check=False"}
+
+
+def test_same_figures_as_the_cli(sc, tmp_path):
+    args = ["--target", UP, "--reset", DOWN, "--replicas", "40"]
+    cli = run_cli(tmp_path, [*args, "--no-step-check"])
+    py = tt.rare(sc, target=UP, reset=DOWN, replicas=40, step_check=False)
+    py.pop("wall_seconds")
     assert py == without_step_check(cli)
+    assert py["dt_converged"] is None and py["step_check"] is None
+
+
+# The CLI's default (the step check at dt/2) against tt.rare's default:
+# the same dict, the check's figures included. A probability by direct
+# runs and by the splitting (linear scale), the splitting's mean time
+# (log scale) and the exact answer (no step: unchecked, with the reason).
+WITH_CHECK = {
+    "direct": (["--target", UP, "--reset", DOWN, "--replicas", "40"],
+               dict(target=UP, reset=DOWN, replicas=40)),
+    "ams": (["--target", UP, "--reset", DOWN, "--method", "ams", "--replicas", "5",
+             "--particles", "20"],
+            dict(target=UP, reset=DOWN, method="ams", replicas=5, particles=20)),
+    "ams_mean_time": (["--target", "theta>1.75,theta<1.39", "--method", "ams", "--replicas", "3",
+                       "--particles", "10", "--pilot-steps", "2000", "--crossings", "5"],
+                      dict(target="theta>1.75,theta<1.39", method="ams", replicas=3,
+                           particles=10, pilot_steps=2000, crossings=5)),
+    "exact": (["--target", UP, "--reset", DOWN, "--method", "exact"],
+              dict(target=UP, reset=DOWN, method="exact")),
+}
+
+
+@pytest.mark.parametrize("case", sorted(WITH_CHECK))
+def test_the_step_check_has_the_cli_figures(sc, tmp_path, case):
+    args, kwargs = WITH_CHECK[case]
+    cli = run_cli(tmp_path, args)
+    py = tt.rare(sc, **kwargs)
+    py.pop("wall_seconds")
+    assert py == cli
+    if case == "exact":
+        assert py["dt_converged"] is None and py["step_check"] is None
+        assert py["step_unchecked"].startswith("the exact answer has no step")
+        return
+    c = py["step_check"]
+    assert "step_unchecked" not in py
+    assert py["dt_converged"] is c["converged"] is True
+    assert c["scale"] == ("log" if case == "ams_mean_time" else "linear")
+    # The answer returned is the one at dt, the check's second answer at
+    # dt/2; the change and its half-width are those of the two intervals.
+    assert c["at_dt"] == {"dt": 2e-15, "estimate": py["estimate"], "ci95": py["ci95"]}
+    assert c["at_half_dt"]["dt"] == 1e-15
+    assert c["refined_seed_offset"] == 0x9E3779B97F4A7C15
+    assert c["refined_trajectories"] > 0 and c["refined_steps"] > py["steps"]
+    lo, hi = c["at_dt"]["ci95"], c["at_half_dt"]["ci95"]
+    if c["scale"] == "linear":
+        change = abs(c["at_half_dt"]["estimate"] - py["estimate"])
+        width = math.hypot((lo[1] - lo[0]) / 2, (hi[1] - hi[0]) / 2)
+    else:
+        change = abs(math.log(c["at_half_dt"]["estimate"] / py["estimate"]))
+        width = math.hypot(math.log(lo[1] / lo[0]) / 2, math.log(hi[1] / hi[0]) / 2)
+    assert math.isclose(c["step_error"], change, rel_tol=1e-12)
+    assert math.isclose(c["statistical"], width, rel_tol=1e-12)
+    assert change < width
+
+
+def test_step_check_false_says_unchecked(sc):
+    on = tt.rare(sc, target=UP, reset=DOWN, replicas=40)
+    off = tt.rare(sc, target=UP, reset=DOWN, replicas=40, step_check=False)
+    assert off["dt_converged"] is None and off["step_check"] is None
+    assert off["step_unchecked"] == "step_check=False"
+    # The answer at dt is the same with or without the check.
+    for key in ("estimate", "ci95", "trajectories", "steps", "tally"):
+        assert on[key] == off[key], key
+    assert on["dt_converged"] is True and on["step_check"]["converged"] is True
+    with pytest.raises(TypeError, match="step_check"):
+        tt.rare(sc, target=UP, reset=DOWN, replicas=40, step_check=None)
 
 
 @pytest.mark.parametrize(
@@ -152,7 +225,7 @@ def test_ams_agrees_with_exact(sc):
     # estimate (the test can fail).
     r = tt.rare(
         sc, target="theta>2.5", reset="theta<1.565", method="ams",
-        replicas=20, particles=20, threads=2,
+        replicas=20, particles=20, threads=2, step_check=False,
     )
     assert r["method"] == "ams" and r["quantity"] == "probability"
     assert r["replicas"] == 20 and r["trajectories"] >= 400
@@ -176,19 +249,10 @@ def test_ams_extinction_is_zero_with_a_bound(sc):
 
 
 def test_ams_same_figures_as_the_cli(sc, tmp_path):
-    exe = cli_binary()
-    if exe is None:
-        pytest.skip("no tippetop binary (cargo build first, or set TIPPETOP_BIN)")
-    (tmp_path / "b.toml").write_text(SCENARIO)
     args = ["--target", UP, "--reset", DOWN, "--method", "ams", "--replicas", "5",
             "--particles", "20"]
-    subprocess.run(
-        [str(exe), "rare", str(tmp_path / "b.toml"), *args, "--no-step-check", "--quiet", "--out",
-         str(tmp_path / "o")],
-        check=True,
-    )
-    cli = json.loads((tmp_path / "o" / "rare.json").read_text())
-    py = tt.rare(sc, target=UP, reset=DOWN, method="ams", replicas=5, particles=20)
-    for d in (cli, py):
-        d.pop("wall_seconds")
+    cli = run_cli(tmp_path, [*args, "--no-step-check"])
+    py = tt.rare(sc, target=UP, reset=DOWN, method="ams", replicas=5, particles=20,
+                 step_check=False)
+    py.pop("wall_seconds")
     assert py == without_step_check(cli)

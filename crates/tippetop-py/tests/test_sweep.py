@@ -3,6 +3,7 @@ one row per case), checked against the CLI's own sweep.csv bit for bit."""
 
 import _thread
 import csv
+import json
 import subprocess
 import threading
 import time
@@ -264,8 +265,9 @@ seed = 1
 
 def test_ensemble_equals_the_cli(tmp_path):
     """tt.ensemble's arrays are the CLI's ensemble.csv, bit for bit (floats
-    parsed from their shortest round-trip text), whatever the threads; run K
-    replays alone with tt.run."""
+    parsed from their shortest round-trip text), whatever the threads, and
+    its summary's step check is summary.json's; run K replays alone with
+    tt.run."""
     import subprocess, csv, math
     f = tmp_path / "lang.toml"
     f.write_text(ENSEMBLE_TOML)
@@ -289,11 +291,53 @@ def test_ensemble_equals_the_cli(tmp_path):
             assert (x == w or (math.isnan(x) and math.isnan(w))), (name, x, w)
             assert (x == y or (math.isnan(x) and math.isnan(y))), name
     assert a["summary"]["runs"] == 6
+    # The step check (the CLI's default and tt.ensemble's): summary.json's
+    # keys, the same figures.
+    cli = json.loads((out / "summary.json").read_text())
+    for key in ("dt_converged", "step_check"):
+        assert a["summary"][key] == b["summary"][key] == cli[key], key
+    assert "step_unchecked" not in a["summary"] and "step_unchecked" not in cli
+    checks = a["summary"]["step_check"]
+    assert a["summary"]["dt_converged"] is True
+    assert {c["converged"] for c in checks.values()} == {True}
+    theta = checks["theta_final"]
+    assert theta["at_dt"]["estimate"] == a["summary"]["theta_final"]["mean"]
+    assert theta["at_dt"]["dt"] == 1e-14 and theta["at_half_dt"]["dt"] == 5e-15
+    assert theta["family"] == len(checks) >= 5
     # Run 2 replayed alone.
     tr = tt.run(sc.set("thermal.run", 2))
     stop = a["t_reached"][2]
     i = list(tr.t).index(stop)
     assert tr["omega"][i] == a["omega_final"][2]
+
+
+def test_ensemble_step_check_false_and_one_run(tmp_path):
+    """step_check=False: the statistics unchanged, the step unchecked with
+    the reason (as the CLI's --no-step-check); one run has no interval to
+    check, and says so as the CLI does."""
+    f = tmp_path / "lang.toml"
+    f.write_text(ENSEMBLE_TOML)
+    sc = tt.Scenario.from_file(str(f))
+    on = tt.ensemble(sc, runs=4)["summary"]
+    off = tt.ensemble(sc, runs=4, step_check=False)["summary"]
+    assert off["dt_converged"] is None and off["step_check"] is None
+    assert off["step_unchecked"] == "step_check=False"
+    assert on["dt_converged"] is not None and on["step_check"]
+    for key in ("theta_final", "omega_final", "first_passage"):
+        assert on[key] == off[key], key
+    one = tt.ensemble(sc, runs=1)["summary"]
+    out = tmp_path / "one"
+    subprocess.run([str(cli_binary()), "ensemble", str(f), "--runs", "1", "--quiet", "--out",
+                    str(out)], check=True)
+    cli = json.loads((out / "summary.json").read_text())
+    assert one["step_unchecked"] == cli["step_unchecked"] == (
+        "one run: no statistic has a 95 % interval")
+    assert one["dt_converged"] is None and cli["dt_converged"] is None
+    # A run of 6e8 steps within a step limit of 1e9 needs 1.2e9 at dt/2:
+    # refused before anything runs, naming the key and the switch.
+    big = sc.set_many({"solver.t_end": 6e-6, "solver.max_steps": 1_000_000_000})
+    with pytest.raises(ValueError, match="^solver.dt: .* at solver.dt/2 .*step_check=False skips"):
+        tt.ensemble(big, runs=2)
 
 
 def test_ensemble_bad_input():
