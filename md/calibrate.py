@@ -1039,9 +1039,10 @@ def friction_from_acf(comps: list[np.ndarray], dt_ps: float, nblocks: int, kt_ov
     """gamma [1/s] from velocity-like components by Green-Kubo:
     tau = int_0^t_c C(t)/C(0) dt, gamma = 1/tau, C averaged over the
     components and over time origins. t_c: the first lag at which the
-    normalised ACF falls below 0.05 (three e-folds of an exponential), at most
-    a fifth of the run and max_lag_ps; when the ACF has not fallen that far,
-    `resolved` is false and gamma is an upper bound (tau a lower bound).
+    normalised ACF falls below 0.05 for good (three e-folds of an
+    exponential) within the lag range (a fifth of the run, at most
+    max_lag_ps); when it has not, `resolved` is false and the value is the
+    integral over the whole lag range (noise there decides it).
     95 % interval: blocks of time origins (lags reach past each block's end),
     tau per block, Student t over the blocks, gamma = 1/tau mapped."""
     n = len(comps[0])
@@ -1050,9 +1051,12 @@ def friction_from_acf(comps: list[np.ndarray], dt_ps: float, nblocks: int, kt_ov
     full = blocks.mean(axis=0)
     c0 = full[0]
     norm = full / c0
-    below = np.nonzero(norm < 0.05)[0]
-    resolved = bool(len(below))
-    kc = int(below[0]) if resolved else nlag
+    # t_c: the last lag at which |C/C(0)| >= 0.05 (past it the ACF stays
+    # within 0.05 of zero up to the lag range), plus one sample; resolved
+    # when that is within the first 80 % of the lag range.
+    above = np.nonzero(np.abs(norm) >= 0.05)[0]
+    kc = min(nlag, int(above[-1]) + 2)
+    resolved = kc < 0.8 * nlag
     t = np.arange(nlag) * dt_ps
     integ = np.concatenate([[0.0], np.cumsum(0.5 * (norm[1:] + norm[:-1])) * dt_ps])
     tau = float(integ[kc - 1])
@@ -1083,6 +1087,10 @@ def friction_from_acf(comps: list[np.ndarray], dt_ps: float, nblocks: int, kt_ov
                                 for tt in (1, 2, 5, 10, 20, 50, 100, 200, 300) if tt / dt_ps < nlag},
         "acf_ps": t[:keep:step].tolist(), "acf": norm[:keep:step].tolist(),
     }
+
+
+def _strip(d: dict) -> dict:
+    return {k: v for k, v in d.items() if k not in ("acf", "acf_ps")}
 
 
 def acf_integral(comps: list[np.ndarray], dt_ps: float, t_c: float) -> float:
@@ -1154,7 +1162,7 @@ def analyse_temperature(d: str, nblocks: int | None = None) -> dict:
     a = cfg.lattice
     lx, ly = cfg.nx * a, cfg.ny * a * math.sqrt(3.0)
     if nblocks is None:
-        nblocks = int(min(10, max(4, run_ps // 100)))
+        nblocks = int(min(10, max(4, run_ps // 200)))
     L = np.column_stack([s["L_x"], s["L_y"], s["L_z"]])
     omega = L / inertia  # rad/ps
     v = np.column_stack([s["vcm_x"], s["vcm_y"], s["vcm_z"]])
@@ -1168,6 +1176,12 @@ def analyse_temperature(d: str, nblocks: int | None = None) -> dict:
     tsu = [np.mean(s["t_support"][a_:b_]) for a_, b_ in zip(edges[:-1], edges[1:])]
     eint = [np.mean(s["e_int"][a_:b_]) for a_, b_ in zip(edges[:-1], edges[1:])]
     zc = [np.mean(s["xcm_z"][a_:b_]) for a_, b_ in zip(edges[:-1], edges[1:])]
+    tax = [[inertia * MVV2E * np.mean(omega[a_:b_, i] ** 2) / KB for i in range(3)] +
+           [m * MVV2E * np.mean(v[a_:b_, i] ** 2) / KB for i in range(3)]
+           for a_, b_ in zip(edges[:-1], edges[1:])]
+    tax = np.array(tax)
+    out["T_axes"] = {nm: dict(zip(("value", "ci95"), mean_ci(tax[:, i])))
+                     for i, nm in enumerate(("rot_x", "rot_y", "rot_z", "trans_x", "trans_y", "trans_z"))}
     for name, vals, unit in (("T_rot", trot, "K"), ("T_trans", ttr, "K"), ("T_sheet", tsh, "K"),
                              ("T_support", tsu, "K"), ("E_int", eint, "eV"), ("z_cm", zc, "A")):
         mm, hh = mean_ci(vals)
@@ -1184,6 +1198,11 @@ def analyse_temperature(d: str, nblocks: int | None = None) -> dict:
                                          "method": "kT / var(z_cm - ...) (equipartition of the height; the sheet's own motion included)"}
     # rotational friction: Green-Kubo on omega (rad/ps)
     gr = friction_from_acf([omega[:, i] for i in range(3)], dt_ps, nblocks, kt / (inertia * MVV2E))
+    # per axis: the spin about the surface normal (z) and the rocking or
+    # rolling about the in-plane axes (x, y) differ by orders of magnitude
+    gr["normal_axis"] = _strip(friction_from_acf([omega[:, 2]], dt_ps, nblocks, kt / (inertia * MVV2E)))
+    gr["in_plane_axes"] = _strip(friction_from_acf([omega[:, 0], omega[:, 1]], dt_ps, nblocks,
+                                                   kt / (inertia * MVV2E)))
     gr["tau_at_ps"] = {f"{tc:g}": acf_integral([omega[:, i] for i in range(3)], dt_ps, tc)
                        for tc in (1.0, 2.0, 5.0) if tc < run_ps / 4}
     gr["method"] = "Green-Kubo: gamma_r = 1/int_0^t_c <w(0).w(t)>/<w.w> dt, 3 components, t_c = first zero of the ACF; interval from blocks of time origins (tau per block, Student t)"
@@ -1299,6 +1318,10 @@ def summary_lines(res: dict) -> list[str]:
         out.append(f"T = {T} K, {r['run_ps']:.0f} ps ({r['blocks']} blocks): gamma_r = {g['gamma_per_s']:.3e} 1/s "
                    f"[{g['ci95_per_s'][0]:.3e}, {g['ci95_per_s'][1]:.3e}] (Green-Kubo; exp fit {g['gamma_exp_fit_per_s']:.3e}); "
                    f"from D_r: {rd['gamma_r_per_s']:.3e} [{rd['ci95_per_s'][0]:.3e}, {rd['ci95_per_s'][1]:.3e}]")
+        gn, gp = g["normal_axis"], g["in_plane_axes"]
+        out.append(f"  gamma_r by axis: normal {gn['gamma_per_s']:.3e} [{gn['ci95_per_s'][0]:.3e}, {gn['ci95_per_s'][1]:.3e}]"
+                   f"{'' if gn['resolved'] else ' (unresolved)'}; in-plane {gp['gamma_per_s']:.3e} "
+                   f"[{gp['ci95_per_s'][0]:.3e}, {gp['ci95_per_s'][1]:.3e}]{'' if gp['resolved'] else ' (unresolved)'}")
         out.append(f"  gamma_t = {gt['gamma_per_s']:.3e} 1/s [{gt['ci95_per_s'][0]:.3e}, {gt['ci95_per_s'][1]:.3e}]; "
                    f"from D: {td['gamma_t_per_s']:.3e} [{td['ci95_per_s'][0]:.3e}, {td['ci95_per_s'][1]:.3e}]")
         out.append(f"  T_rot {r['T_rot']['value']:.1f} ± {r['T_rot']['ci95']:.1f} K, T_trans {r['T_trans']['value']:.1f} ± "
@@ -1309,31 +1332,46 @@ def summary_lines(res: dict) -> list[str]:
 
 
 def fragment(res: dict, temperature: float) -> str:
+    """tippetop [thermal] fragment: damping_rotational from the spin about
+    the surface normal (the axis whose corrugation is weak, so that its ACF
+    measures the friction rather than the orientation wells), damping_
+    translational from the in-plane centre of mass; the other estimates in
+    comments."""
     key = f"{temperature:g}"
     r = res["temperatures"][key]
     g, gt = r["gamma_r"], r["gamma_t"]
+    gn, gp = g["normal_axis"], g["in_plane_axes"]
     prov = res["provenance"]
+
+    def iv(d):
+        lo, hi = d["ci95_per_s"]
+        return f"[{lo:.3e}, {hi:.3e}] 1/s" + ("" if d.get("resolved", True) else " (ACF not decayed within the lag range)")
+
     lines = [
         f"# tippetop scenario fragment: C60 on supported graphene at {key} K, from LAMMPS",
-        f"# ({prov['engine']} {prov['version']}, md/calibrate.py; {r['run_ps']:.0f} ps of production, "
-        f"{r['blocks']} blocks; {prov['date']}).",
-        "# Merge into a scenario (tippetop run --scenario ...); the nano-physical preset keeps",
-        f"# the NMR damping {NMR_DAMPING:.2e} 1/s for comparison.",
+        f"# ({prov['engine']} {prov['version']}, md/calibrate.py; {r['run_ps']:.0f} ps of production,",
+        f"# {r['blocks']} blocks; analysed {prov['date']}). Intervals: 95 %, blocks of time origins.",
+        f"# The nano-physical preset keeps the NMR damping {NMR_DAMPING:.2e} 1/s for comparison.",
         "[thermal]",
-        f"# Green-Kubo, 95 % interval [{gt['ci95_per_s'][0]:.3e}, {gt['ci95_per_s'][1]:.3e}] 1/s",
+        f"# in-plane centre of mass, Green-Kubo: {iv(gt)};",
+        f"# from the in-plane diffusion: {r['translational_diffusion']['gamma_t_per_s']:.3e} 1/s",
         f"damping_translational = {gt['gamma_per_s']:.4g}",
-        f"# Green-Kubo, 95 % interval [{g['ci95_per_s'][0]:.3e}, {g['ci95_per_s'][1]:.3e}] 1/s",
-        f"damping_rotational = {g['gamma_per_s']:.4g}",
+        f"# spin about the surface normal, Green-Kubo: {iv(gn)};",
+        f"# in-plane axes (rocking, inside the orientation wells): {gp['gamma_per_s']:.3e} 1/s {iv(gp)};",
+        f"# all three axes: {g['gamma_per_s']:.3e} 1/s {iv(g)}",
+        f"damping_rotational = {gn['gamma_per_s']:.4g}",
         "",
-        "# [adhesion]: for comparison only (keys force [N] and energy [J] are tippetop's",
-        "# continuum values, 5.92e-10 N and 0.730 eV = 1.170e-19 J); measured here:",
+        "# [adhesion]: for comparison only (tippetop's keys are force [N] and energy [J],",
+        "# its continuum values 5.92e-10 N and 0.730 eV = 1.170e-19 J); measured here:",
     ]
     st = res.get("static")
     if st:
         eb = st["md_substrate_relaxed"]["binding_eV"]
         lines.append(f"#   static binding, relaxed Tersoff sheet: {eb:.4f} eV = {eb * EV:.4e} J")
+        lines.append(f"#   corrugation (orientations and sites, rigid sheet): "
+                     f"{st['md_geometry_rigid']['corrugation_eV'] * 1e3:.1f} meV")
     a = r["adhesion_at_T_eV"]
-    lines.append(f"#   binding at {key} K (mean interaction): {a['value']:.4f} ± {a['ci95']:.4f} eV")
+    lines.append(f"#   binding at {key} K (mean interaction): {a['value']:.4f} +- {a['ci95']:.4f} eV")
     return "\n".join(lines) + "\n"
 
 
