@@ -331,6 +331,7 @@ class Config:
     equil_ps: float = 20.0  # ps, whole substrate thermostatted, discarded
     damp_support: float = 0.1  # ps, Langevin damping time of the support
     damp_equil: float = 0.1  # ps, of the sheet during equilibration only
+    damp_equil_c60: float = 0.5  # ps, of the C60 (rigid-body Langevin), equilibration only
     tether: float = 2.0  # eV/Å², support atoms to their sites
     seed: int = 4301
     lattice: float = 0.0  # Å, graphene a (0: relaxed Tersoff value)
@@ -758,6 +759,96 @@ def run_dir(root: str, temperature: float) -> str:
     return os.path.join(root, f"T{temperature:g}")
 
 
+def _equilibrate(lmp, cfg: Config, d: str) -> None:
+    """Build, minimise (C60 frozen), give velocities, and equilibrate for
+    cfg.equil_ps with sheet, support and C60 (rigid-body Langevin) all
+    thermostatted; leaves the fixes of the equilibration defined."""
+    path, _ = build_system(cfg, d)
+    lmp.command(f"read_data {path}")
+    define_interactions(lmp, cfg)
+    define_groups(lmp)
+    lmp.commands_string(f"""
+timestep {cfg.dt}
+fix tether support spring/self {cfg.tether}
+fix_modify tether energy yes
+fix freeze c60 setforce 0.0 0.0 0.0
+min_modify line quadratic
+minimize 0.0 1e-6 2000 20000
+unfix freeze
+velocity substrate create {2 * cfg.temperature} {cfg.seed} mom yes rot no dist gaussian
+""")
+    _c60_velocities(lmp, cfg, cfg.seed + 1)
+    _md_fixes(lmp, cfg, seed=cfg.seed + 2, equil=True)
+    lmp.command(f"run {int(round(cfg.equil_ps / cfg.dt))}")
+
+
+def spindown(root: str, temperature: float, runs: int = 3, ps: float = 100.0, factor: float = 5.0,
+             progress=print) -> dict:
+    """Spin-down of the spin about the surface normal: after the usual
+    equilibration (C60 thermostatted), the C60's thermostat is removed and
+    factor * sqrt(kT/I) is added to omega_z; L_z(t) = L0 exp(-gamma t) is
+    fitted (least squares over the run). One gamma per independent run
+    (seeds differ); 95 % interval: Student t over the runs. A run is
+    redone whole if killed (it is short); finished runs are kept."""
+    from scipy.optimize import curve_fit
+
+    base = os.path.join(root, f"spin_T{temperature:g}")
+    os.makedirs(base, exist_ok=True)
+    gammas, rows = [], []
+    for k in range(runs):
+        d = os.path.join(base, f"r{k}")
+        os.makedirs(d, exist_ok=True)
+        rp = os.path.join(d, "spin.json")
+        if os.path.exists(rp):
+            with open(rp) as f:
+                row = json.load(f)
+        else:
+            t0 = time.time()
+            cfg = Config(temperature=temperature, seed=7700 + 31 * k)
+            cfg.lattice = tersoff_lattice()
+            lmp = new_lammps(log=os.path.join(d, "log.lammps"))
+            lmp.commands_string("units metal\natom_style atomic\natom_modify map array\nboundary p p p\n")
+            _equilibrate(lmp, cfg, d)
+            lmp.command("unfix langsheet")
+            lmp.command("unfix rig")
+            lmp.command("fix rig c60 rigid/nve single")
+            m, inertia, _ = c60_mass_inertia(cfg)
+            w0 = factor * math.sqrt(KB * temperature / (inertia * MVV2E))  # rad/ps
+            x = lmp.numpy.extract_atom("x")[: lmp.extract_global("nlocal")]
+            v = lmp.numpy.extract_atom("v")[: lmp.extract_global("nlocal")]
+            ids = lmp.numpy.extract_atom("id")[: lmp.extract_global("nlocal")]
+            mask = ids <= 60
+            com = x[mask].mean(axis=0)
+            v[mask] = v[mask] + np.cross(np.array([0, 0, w0]), x[mask] - com)
+            lmp.command("reset_timestep 0")
+            _define_series(lmp, cfg)
+            lmp.command(f"fix series all vector {cfg.nevery} v_step v_L_x v_L_y v_L_z")
+            lmp.command(f"run {int(round(ps / cfg.dt))}")
+            arr = _fix_array(lmp, "series")
+            lmp.close()
+            t = arr[:, 0] * cfg.dt
+            wz = arr[:, 3] / inertia
+            np.savez_compressed(os.path.join(d, "spin.npz"), t=t, L=arr[:, 1:4])
+            (l0, g), cov = curve_fit(lambda tt, a_, b_: a_ * np.exp(-b_ * tt), t, wz, p0=(w0, 0.01))
+            row = {"gamma_per_s": float(g * 1e12), "fit_se_per_s": float(math.sqrt(cov[1, 1]) * 1e12),
+                   "omega0_rad_per_ps": float(l0), "omega_added_rad_per_ps": w0,
+                   "omega_thermal_rad_per_ps": w0 / factor, "ps": ps, "seed": cfg.seed,
+                   "omega_z_end_rad_per_ps": float(wz[-len(wz) // 10:].mean()),
+                   "seconds": time.time() - t0}
+            _atomic_json(rp, row)
+        rows.append(row)
+        gammas.append(row["gamma_per_s"])
+        progress(f"spin-down T = {temperature:g} K run {k}: gamma = {row['gamma_per_s']:.3e} 1/s "
+                 f"(fit s.e. {row['fit_se_per_s']:.2e})")
+    mean, half = mean_ci(gammas)
+    out = {"temperature_K": temperature, "gamma_per_s": mean, "ci95_per_s": half, "runs": rows,
+           "factor": factor, "ps": ps,
+           "method": f"omega_z raised by {factor:g} sqrt(kT/I) after equilibration, C60 unthermostatted; "
+                     "fit omega_z(t) = w0 exp(-gamma t) per run; Student t over independent runs"}
+    _atomic_json(os.path.join(base, "spindown.json"), out)
+    return out
+
+
 def md_run(root: str, cfg: Config, total_ps: float, max_seconds: float | None = None,
            progress=print) -> dict:
     """Run (or continue) the MD at cfg.temperature until total_ps of
@@ -787,25 +878,10 @@ def md_run(root: str, cfg: Config, total_ps: float, max_seconds: float | None = 
     if state is None:
         cfg.lattice = cfg.lattice or tersoff_lattice()
         _atomic_json(cfg_path, cfg.key())
-        path, (lx, ly, a) = build_system(cfg, d)
-        lmp.command(f"read_data {path}")
-        define_interactions(lmp, cfg)
-        define_groups(lmp)
-        lmp.commands_string(f"""
-timestep {cfg.dt}
-fix tether support spring/self {cfg.tether}
-fix_modify tether energy yes
-fix freeze c60 setforce 0.0 0.0 0.0
-min_modify line quadratic
-minimize 0.0 1e-6 2000 20000
-unfix freeze
-velocity substrate create {2 * cfg.temperature} {cfg.seed} mom yes rot no dist gaussian
-""")
-        _c60_velocities(lmp, cfg, cfg.seed + 1)
-        _md_fixes(lmp, cfg, seed=cfg.seed + 2, equil=True)
-        eq_steps = int(round(cfg.equil_ps / cfg.dt))
-        lmp.command(f"run {eq_steps}")
+        _equilibrate(lmp, cfg, d)
         lmp.command("unfix langsheet")
+        # the C60 leaves the equilibration thermostatted: its rigid fix is
+        # redefined without thermostat from the restart on
         lmp.command("reset_timestep 0")
         rst = os.path.join(d, "restart.0")
         lmp.command(f"write_restart {rst}.tmp")
@@ -911,7 +987,7 @@ group support type 2
 group substrate type 1 2
 fix nvesub substrate nve
 fix langsup support langevin {T} {T} {cfg.damp_support} {seed}
-fix rig c60 rigid/nve single
+fix rig c60 rigid/nve single{f" langevin {T} {T} {cfg.damp_equil_c60} {seed + 2}" if equil else ""}
 """)
     if equil:
         lmp.command(f"fix langsheet sheet langevin {T} {T} {cfg.damp_equil} {seed + 1}")
@@ -1290,6 +1366,12 @@ def analyse(root: str) -> dict:
         if static is not None:
             r["desorption"] = desorption_estimate(static, r, cfg.temperature, cfg)
         res["temperatures"][f"{cfg.temperature:g}"] = r
+    for sp_ in sorted(glob.glob(os.path.join(root, "spin_T*", "spindown.json"))):
+        with open(sp_) as f:
+            sd = json.load(f)
+        key = f"{sd['temperature_K']:g}"
+        if key in res["temperatures"]:
+            res["temperatures"][key]["spindown"] = sd
     with open(os.path.join(root, "results.json"), "w") as f:
         json.dump(res, f, indent=1)
     return res
@@ -1398,6 +1480,12 @@ def main(argv=None) -> int:
     pr.add_argument("--nx", type=int, default=16)
     pr.add_argument("--ny", type=int, default=10)
     pr.add_argument("--seed", type=int, default=4301)
+    pd = sub.add_parser("spindown", help="spin-down of the spin about the normal: gamma_r by relaxation (DIR/spin_T<T>/)")
+    pd.add_argument("dir")
+    pd.add_argument("-T", "--temperature", type=float, required=True)
+    pd.add_argument("--runs", type=int, default=3)
+    pd.add_argument("--ps", type=float, default=100.0)
+    pd.add_argument("--factor", type=float, default=5.0, help="added omega_z in units of sqrt(kT/I)")
     pa = sub.add_parser("analyse", help="results JSON with 95 %% intervals (DIR/results.json)")
     pa.add_argument("dir")
     pf = sub.add_parser("fragment", help="tippetop scenario TOML fragment ([thermal] damping) to stdout or -o")
@@ -1426,6 +1514,11 @@ def main(argv=None) -> int:
             max_s = args.max_hours * 3600 if args.max_hours else None
             md_run(args.dir, cfg, args.ps, max_seconds=max_s,
                    progress=lambda s: print(s, flush=True))
+        elif args.cmd == "spindown":
+            r = spindown(args.dir, args.temperature, runs=args.runs, ps=args.ps, factor=args.factor,
+                         progress=lambda x: print(x, flush=True))
+            print(f"spin-down at {args.temperature:g} K: gamma_r(normal) = {r['gamma_per_s']:.3e} "
+                  f"+- {r['ci95_per_s']:.2e} 1/s ({args.runs} runs of {args.ps:g} ps)")
         elif args.cmd == "analyse":
             res = analyse(args.dir)
             for line in summary_lines(res):
