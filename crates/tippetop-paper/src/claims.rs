@@ -704,9 +704,9 @@ pub fn app_b(runs: &Runs) -> Result<Vec<Claim>, Error> {
                 measured: c.full.clone(),
                 summary: app_b_row(c),
                 settings: format!(
-                    "{}; linearised with the {:?} law, eps = {} m/s (tippetop stability)",
+                    "{}; linearised with the {} friction law, eps = {} m/s (tippetop stability)",
                     r.settings,
-                    st.law,
+                    st.law.name(),
                     s4(st.eps)
                 ),
                 verdict,
