@@ -814,7 +814,7 @@ def cycle_samples(cfg: Config, cycles: int, therm_ps: float = 1.5, nve_ps: float
 
 
 def spindown(root: str, temperature: float, runs: int = 3, ps: float = 100.0, factor: float = 5.0,
-             progress=print) -> dict:
+             progress=print, mode: str = "spin") -> dict:
     """Spin-down of the spin about the surface normal: after the usual
     equilibration (C60 thermostatted), the C60's thermostat is removed and
     factor * sqrt(kT/I) is added to omega_z; L_z(t) = L0 exp(-gamma t) is
@@ -823,7 +823,9 @@ def spindown(root: str, temperature: float, runs: int = 3, ps: float = 100.0, fa
     redone whole if killed (it is short); finished runs are kept."""
     from scipy.optimize import curve_fit
 
-    base = os.path.join(root, f"spin_T{temperature:g}")
+    if mode not in ("spin", "slide"):
+        raise ValueError(f"spin-down mode must be spin or slide, not {mode}")
+    base = os.path.join(root, f"{mode}_T{temperature:g}")
     os.makedirs(base, exist_ok=True)
     gammas, rows = [], []
     for k in range(runs):
@@ -844,22 +846,26 @@ def spindown(root: str, temperature: float, runs: int = 3, ps: float = 100.0, fa
             lmp.command("unfix rig")
             lmp.command("fix rig c60 rigid/nve single")
             m, inertia, _ = c60_mass_inertia(cfg)
-            w0 = factor * math.sqrt(KB * temperature / (inertia * MVV2E))  # rad/ps
             x = lmp.numpy.extract_atom("x")[: lmp.extract_global("nlocal")]
             v = lmp.numpy.extract_atom("v")[: lmp.extract_global("nlocal")]
             ids = lmp.numpy.extract_atom("id")[: lmp.extract_global("nlocal")]
             mask = ids <= 60
             com = x[mask].mean(axis=0)
-            v[mask] = v[mask] + np.cross(np.array([0, 0, w0]), x[mask] - com)
+            if mode == "spin":
+                w0 = factor * math.sqrt(KB * temperature / (inertia * MVV2E))  # rad/ps
+                v[mask] = v[mask] + np.cross(np.array([0, 0, w0]), x[mask] - com)
+            else:  # a push along x: w0 is then a velocity [Å/ps]
+                w0 = factor * math.sqrt(KB * temperature / (m * MVV2E))
+                v[mask] = v[mask] + np.array([w0, 0.0, 0.0])
             lmp.command("reset_timestep 0")
             _define_series(lmp, cfg)
-            lmp.command(f"fix series all vector {cfg.nevery} v_step v_L_x v_L_y v_L_z")
+            lmp.command(f"fix series all vector {cfg.nevery} v_step v_L_x v_L_y v_L_z v_vcm_x")
             lmp.command(f"run {int(round(ps / cfg.dt))}")
             arr = _fix_array(lmp, "series")
             lmp.close()
             t = arr[:, 0] * cfg.dt
-            wz = arr[:, 3] / inertia
-            np.savez_compressed(os.path.join(d, "spin.npz"), t=t, L=arr[:, 1:4])
+            wz = arr[:, 3] / inertia if mode == "spin" else arr[:, 4]
+            np.savez_compressed(os.path.join(d, "spin.npz"), t=t, L=arr[:, 1:4], vx=arr[:, 4])
             (l0, g), cov = curve_fit(lambda tt, a_, b_: a_ * np.exp(-b_ * tt), t, wz, p0=(w0, 0.01))
             row = {"gamma_per_s": float(g * 1e12), "fit_se_per_s": float(math.sqrt(cov[1, 1]) * 1e12),
                    "omega0_rad_per_ps": float(l0), "omega_added_rad_per_ps": w0,
@@ -869,13 +875,14 @@ def spindown(root: str, temperature: float, runs: int = 3, ps: float = 100.0, fa
             _atomic_json(rp, row)
         rows.append(row)
         gammas.append(row["gamma_per_s"])
-        progress(f"spin-down T = {temperature:g} K run {k}: gamma = {row['gamma_per_s']:.3e} 1/s "
+        progress(f"{mode}-down T = {temperature:g} K run {k}: gamma = {row['gamma_per_s']:.3e} 1/s "
                  f"(fit s.e. {row['fit_se_per_s']:.2e})")
     mean, half = mean_ci(gammas)
-    out = {"temperature_K": temperature, "gamma_per_s": mean, "ci95_per_s": half, "runs": rows,
+    what = ("omega_z raised by {f:g} sqrt(kT/I)" if mode == "spin" else "v_x raised by {f:g} sqrt(kT/m)").format(f=factor)
+    out = {"temperature_K": temperature, "mode": mode, "gamma_per_s": mean, "ci95_per_s": half, "runs": rows,
            "factor": factor, "ps": ps,
-           "method": f"omega_z raised by {factor:g} sqrt(kT/I) after equilibration, C60 unthermostatted; "
-                     "fit omega_z(t) = w0 exp(-gamma t) per run; Student t over independent runs"}
+           "method": f"{what} after equilibration, C60 unthermostatted; fit x(t) = x0 exp(-gamma t) "
+                     "per run (least squares); Student t over independent runs"}
     _atomic_json(os.path.join(base, "spindown.json"), out)
     return out
 
@@ -1397,12 +1404,12 @@ def analyse(root: str) -> dict:
         if static is not None:
             r["desorption"] = desorption_estimate(static, r, cfg.temperature, cfg)
         res["temperatures"][f"{cfg.temperature:g}"] = r
-    for sp_ in sorted(glob.glob(os.path.join(root, "spin_T*", "spindown.json"))):
+    for sp_ in sorted(glob.glob(os.path.join(root, "*_T*", "spindown.json"))):
         with open(sp_) as f:
             sd = json.load(f)
         key = f"{sd['temperature_K']:g}"
         if key in res["temperatures"]:
-            res["temperatures"][key]["spindown"] = sd
+            res["temperatures"][key]["spindown" if sd.get("mode", "spin") == "spin" else "slidedown"] = sd
     with open(os.path.join(root, "results.json"), "w") as f:
         json.dump(res, f, indent=1)
     return res
@@ -1445,11 +1452,10 @@ def summary_lines(res: dict) -> list[str]:
 
 
 def fragment(res: dict, temperature: float) -> str:
-    """tippetop [thermal] fragment: damping_rotational from the spin about
-    the surface normal (the axis whose corrugation is weak, so that its ACF
-    measures the friction rather than the orientation wells), damping_
-    translational from the in-plane centre of mass; the other estimates in
-    comments."""
+    """tippetop [thermal] fragment: damping_rotational from the spin-down
+    about the surface normal (the dissipative rate; else the Green-Kubo
+    value of that axis), damping_translational from the slide-down (else
+    the in-plane Green-Kubo value); the other estimates in comments."""
     key = f"{temperature:g}"
     r = res["temperatures"][key]
     g, gt = r["gamma_r"], r["gamma_t"]
@@ -1466,13 +1472,24 @@ def fragment(res: dict, temperature: float) -> str:
         f"# {r['blocks']} blocks; analysed {prov['date']}). Intervals: 95 %, blocks of time origins.",
         f"# The nano-physical preset keeps the NMR damping {NMR_DAMPING:.2e} 1/s for comparison.",
         "[thermal]",
-        f"# in-plane centre of mass, Green-Kubo: {iv(gt)};",
+    ]
+    sl, sp = r.get("slidedown"), r.get("spindown")
+    if sl:
+        lines.append(f"# slide-down (push of {sl['factor']:g} v_th along x, {len(sl['runs'])} runs of {sl['ps']:g} ps): "
+                     f"{sl['gamma_per_s']:.3e} +- {sl['ci95_per_s']:.2e} 1/s (95 %, runs)")
+    lines += [
+        f"# in-plane centre of mass, Green-Kubo: {gt['gamma_per_s']:.3e} 1/s {iv(gt)};",
         f"# from the in-plane diffusion: {r['translational_diffusion']['gamma_t_per_s']:.3e} 1/s",
-        f"damping_translational = {gt['gamma_per_s']:.4g}",
-        f"# spin about the surface normal, Green-Kubo: {iv(gn)};",
+        f"damping_translational = {(sl['gamma_per_s'] if sl else gt['gamma_per_s']):.4g}",
+    ]
+    if sp:
+        lines.append(f"# spin-down about the surface normal ({sp['factor']:g} omega_th, {len(sp['runs'])} runs of "
+                     f"{sp['ps']:g} ps): {sp['gamma_per_s']:.3e} +- {sp['ci95_per_s']:.2e} 1/s (95 %, runs)")
+    lines += [
+        f"# spin about the surface normal, Green-Kubo: {gn['gamma_per_s']:.3e} 1/s {iv(gn)};",
         f"# in-plane axes (rocking, inside the orientation wells): {gp['gamma_per_s']:.3e} 1/s {iv(gp)};",
         f"# all three axes: {g['gamma_per_s']:.3e} 1/s {iv(g)}",
-        f"damping_rotational = {gn['gamma_per_s']:.4g}",
+        f"damping_rotational = {(sp['gamma_per_s'] if sp else gn['gamma_per_s']):.4g}",
         "",
         "# [adhesion]: for comparison only (tippetop's keys are force [N] and energy [J],",
         "# its continuum values 5.92e-10 N and 0.730 eV = 1.170e-19 J); measured here:",
@@ -1516,7 +1533,9 @@ def main(argv=None) -> int:
     pd.add_argument("-T", "--temperature", type=float, required=True)
     pd.add_argument("--runs", type=int, default=3)
     pd.add_argument("--ps", type=float, default=100.0)
-    pd.add_argument("--factor", type=float, default=5.0, help="added omega_z in units of sqrt(kT/I)")
+    pd.add_argument("--factor", type=float, default=5.0, help="added omega_z in units of sqrt(kT/I) (or v_x in sqrt(kT/m))")
+    pd.add_argument("--mode", choices=("spin", "slide"), default="spin",
+                    help="spin: about the surface normal (gamma_r); slide: a push along x (gamma_t)")
     pa = sub.add_parser("analyse", help="results JSON with 95 %% intervals (DIR/results.json)")
     pa.add_argument("dir")
     pf = sub.add_parser("fragment", help="tippetop scenario TOML fragment ([thermal] damping) to stdout or -o")
@@ -1547,8 +1566,8 @@ def main(argv=None) -> int:
                    progress=lambda s: print(s, flush=True))
         elif args.cmd == "spindown":
             r = spindown(args.dir, args.temperature, runs=args.runs, ps=args.ps, factor=args.factor,
-                         progress=lambda x: print(x, flush=True))
-            print(f"spin-down at {args.temperature:g} K: gamma_r(normal) = {r['gamma_per_s']:.3e} "
+                         progress=lambda x: print(x, flush=True), mode=args.mode)
+            print(f"{args.mode}-down at {args.temperature:g} K: gamma = {r['gamma_per_s']:.3e} "
                   f"+- {r['ci95_per_s']:.2e} 1/s ({args.runs} runs of {args.ps:g} ps)")
         elif args.cmd == "analyse":
             res = analyse(args.dir)
