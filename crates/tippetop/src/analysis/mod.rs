@@ -5,6 +5,7 @@
 pub mod asymptotics;
 pub mod bit;
 pub mod bitmap;
+pub mod desorption;
 pub mod device;
 pub mod device_rare;
 pub mod ensemble;
