@@ -8,6 +8,7 @@ use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::Args;
+use tippetop::analysis::desorption::DesorptionRate;
 use tippetop::analysis::device::{self, DeviceOptions, DeviceReport, Found, Tally};
 use tippetop::analysis::device_rare::{self as dr, BigTime, LyingRetention, Measured, Sizes};
 use tippetop::analysis::retention::Extrapolation;
@@ -445,6 +446,28 @@ fn answer_paragraphs(r: &DeviceReport) -> Vec<String> {
         "The lying state (the stem's 1.1 eV well), computed directly: {}.",
         lying.join("; ")
     ));
+    paragraphs.push(std::mem::take(&mut ans).join(" "));
+    let losses: Vec<String> = rare
+        .losses
+        .iter()
+        .rev()
+        .map(|l| {
+            format!(
+                "at {} K the molecule stays {} before it desorbs, and the bit lasts {}, limited by {}",
+                l.temperature,
+                residence_ci(&l.desorption),
+                big(&l.lifetime),
+                loss_name(l.limited_by)
+            )
+        })
+        .collect();
+    if !losses.is_empty() {
+        paragraphs.push(format!(
+            "Every way the bit is lost, counted together (the molecule's {} binding to graphene): {}.",
+            ev(rare.losses[0].desorption.well.binding),
+            losses.join("; ")
+        ));
+    }
     for w in &rare.writes {
         ans.push(format!(
             "At 300 K {} fails with probability {} (95 %: {} – {}), {}.",
@@ -459,14 +482,15 @@ fn answer_paragraphs(r: &DeviceReport) -> Vec<String> {
     for d in &rare.designs {
         if let Some(depth) = d.depth {
             ans.push(format!(
-                "For 10 years at {} K the well must be {} deep{}.",
+                "For 10 years at {} K the well must be {} deep{}, and the molecule must be bound to its substrate by {}.",
                 d.temperature,
                 ev(depth),
                 d.check
                     .as_ref()
                     .and_then(|c| c.ams.as_ref())
                     .map(|m| format!(" (splitting at that depth: {})", ams_time(m)))
-                    .unwrap_or_default()
+                    .unwrap_or_default(),
+                binding_words(d.binding)
             ));
         }
     }
@@ -516,6 +540,43 @@ fn write_limit(w: &dr::WriteError) -> &'static str {
 }
 
 /// A rate with its 95 % interval: `3.008e-8 (6.415e-9 – 1.411e-7)`.
+/// A desorption residence `1/k` with its 95 % interval `[1/hi, 1/lo]`, or
+/// its power of ten beyond f64.
+fn residence_ci(d: &DesorptionRate) -> String {
+    match d.residence {
+        Some(t) if d.ci95[0] > 0.0 => format!(
+            "{} (95 %: {} – {})",
+            dur(t),
+            dur(1.0 / d.ci95[1]),
+            dur(1.0 / d.ci95[0])
+        ),
+        _ => big(&BigTime::from_ln(-d.ln_rate)),
+    }
+}
+
+/// The design's binding for the molecule, in words.
+fn binding_words(b: Option<f64>) -> String {
+    match b {
+        Some(e) => format!(
+            "at least {} (C60 on one graphene sheet: {}; TST bound)",
+            ev(e),
+            ev(tippetop::physics::adhesion::Adhesion::c60_on_graphene()
+                .binding()
+                .map_or(f64::NAN, |b| b.energy))
+        ),
+        None => "more than 100 eV".into(),
+    }
+}
+
+/// What limits the bit, in words.
+fn loss_name(limited_by: &str) -> &'static str {
+    if limited_by == "desorption" {
+        "the molecule's desorption"
+    } else {
+        "the lying state's escape over the stem's well"
+    }
+}
+
 fn rate_ci(rate: f64, ci: [f64; 2]) -> String {
     format!("{} ({} – {})", g(rate), g(ci[0]), g(ci[1]))
 }
@@ -573,6 +634,23 @@ fn answer_table(r: &DeviceReport) -> String {
             format!("state 1 (lying), {} K", l.temperature),
             value,
             limit,
+        );
+    }
+    for l in r.rare.losses.iter().rev() {
+        let d = &l.desorption;
+        row(
+            format!("the molecule on graphene, {} K", l.temperature),
+            format!("{} before it desorbs", residence_ci(d)),
+            format!(
+                "desorption: binding {} = {} kT",
+                ev(d.well.binding),
+                g(d.well.binding_kt)
+            ),
+        );
+        row(
+            format!("the bit, {} K", l.temperature),
+            format!("lifetime {}", big(&l.lifetime)),
+            format!("limited by {}", loss_name(l.limited_by)),
         );
     }
     for w in &r.rare.writes {
@@ -795,6 +873,86 @@ fn retention_section(s: &mut String, r: &DeviceReport) {
     }
 }
 
+/// "## Every way the bit is lost": desorption beside the lying state's
+/// escape, and the bit's lifetime.
+fn losses_section(s: &mut String, r: &DeviceReport) {
+    let _ = writeln!(s, "\n## Every way the bit is lost\n");
+    let _ = writeln!(
+        s,
+        "The bit is lost when the lying state escapes over the stem's well (above) or when the molecule leaves the \
+         surface. Desorption is computed on the height coordinate (docs/physics.md#desorption): the C60's centre in \
+         the continuum Lennard-Jones well of one graphene sheet, Langevin with the preset's translational damping; it \
+         has desorbed where the binding has fallen to kT. Its rate is κ k_TST: k_TST the flux out of the well by \
+         quadrature (an upper bound), κ the fraction of those crossings that are not recrossings, counted over paths \
+         (Wilson 95 %). Beside it the two limits it tends to: strong damping (the Smoluchowski equation, exact) and \
+         weak damping (Mel'nikov–Meshkov); in between (here) the rate lies below both. The lifetime is 1/(escape rate + desorption rate), the escape from the \
+         splitting where it measured, else from TST's bound.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| T [K] | binding | desorption rate (95 %) | residence | TST | κ (95 %) | strong / weak damping limits | step check | bit lifetime | limited by |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|");
+    for l in r.rare.losses.iter().rev() {
+        let d = &l.desorption;
+        let c = &d.count;
+        let step = match &d.step_check {
+            Some(k) => format!(
+                "{} at dt/2 = {} s: {}",
+                rate_s(k.at_half_dt.estimate),
+                g(k.at_half_dt.dt),
+                if k.converged {
+                    "converged"
+                } else {
+                    "NOT converged"
+                }
+            ),
+            None => "unchecked".into(),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} = {} kT | {} ({} – {}) | {} | {} | {} ({} – {}), {} of {} paths | {} / {} | {} | {} | {} |",
+            l.temperature,
+            ev(d.well.binding),
+            g(d.well.binding_kt),
+            rate_s(d.rate),
+            rate_s(d.ci95[0]),
+            rate_s(d.ci95[1]),
+            residence_ci(d),
+            rate_s(d.tst_rate),
+            g(c.transmission),
+            g(c.transmission_ci95[0]),
+            g(c.transmission_ci95[1]),
+            c.captured,
+            c.paths,
+            rate_s(d.overdamped_rate),
+            rate_s(d.underdamped_rate),
+            step,
+            big(&l.lifetime),
+            loss_name(l.limited_by)
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nThe damping of the height is the preset's γ_t = {} 1/s (γ/ω₀ = {} at 300 K, ω₀ the well's frequency); \
+         the molecule's stay is set by the binding, and by the damping through κ only.",
+        r.rare
+            .losses
+            .first()
+            .map_or_else(|| "-".into(), |l| g(l.desorption.damping)),
+        r.rare
+            .losses
+            .iter()
+            .find(|l| l.temperature == 300.0)
+            .map_or_else(|| "-".into(), |l| g(l.desorption.damping_over_frequency))
+    );
+}
+
+/// A rate \[1/s\] with its unit.
+fn rate_s(k: f64) -> String {
+    format!("{} 1/s", g(k))
+}
+
 /// The rare events, computed directly.
 fn rare_section(s: &mut String, r: &DeviceReport) {
     let rare = &r.rare;
@@ -844,6 +1002,7 @@ fn rare_section(s: &mut String, r: &DeviceReport) {
             arr
         );
     }
+    losses_section(s, r);
     let _ = writeln!(s, "\n## Write error rates at 300 K\n");
     let _ = writeln!(
         s,
@@ -888,14 +1047,14 @@ fn rare_section(s: &mut String, r: &DeviceReport) {
     );
     let _ = writeln!(
         s,
-        "| T [K] | depth (TST bound) | depth (overdamped twin) | barrier at that depth | splitting there |"
+        "| T [K] | depth (TST bound) | depth (overdamped twin) | barrier at that depth | splitting there | binding that keeps the molecule (TST bound) |"
     );
-    let _ = writeln!(s, "|---|---|---|---|---|");
+    let _ = writeln!(s, "|---|---|---|---|---|---|");
     for d in &rare.designs {
         let check = d.check.as_ref();
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} |",
             d.temperature,
             d.depth
                 .map(ev)
@@ -909,7 +1068,10 @@ fn rare_section(s: &mut String, r: &DeviceReport) {
             check
                 .and_then(|c| c.ams.as_ref())
                 .map(ams_time)
-                .unwrap_or_else(|| check.map(not_measured).unwrap_or_else(|| "-".into()))
+                .unwrap_or_else(|| check.map(not_measured).unwrap_or_else(|| "-".into())),
+            d.binding
+                .map(ev)
+                .unwrap_or_else(|| "none up to 100 eV".into())
         );
     }
     if let Some(w) = &rare.design_write {
@@ -959,6 +1121,11 @@ pub fn run(args: &DeviceArgs, quiet: bool) -> Result<ExitCode> {
         rare_retention: if args.quick { small } else { d.rare_retention },
         step_check: !args.no_step_check,
         rare_deep: if args.quick { None } else { d.rare_deep },
+        desorption_paths: if args.quick {
+            2_000
+        } else {
+            d.desorption_paths
+        },
         rare_write: if args.quick {
             Sizes {
                 replicas: 3,

@@ -199,6 +199,46 @@ fn device_report_is_consistent() {
     assert!(d300 / d77 > 3.5 && d300 / d77 < 4.3, "{d300} / {d77}");
     let dw = &rare["design_write"];
     assert_eq!(dw["force"], 0.0);
+    // Every way the bit is lost: desorption at 77 K and 300 K, its rate
+    // within its interval and below TST (an upper bound), the lifetime
+    // 1/(k_escape + k_desorption), below both residences.
+    let losses = rare["losses"].as_array().unwrap();
+    assert_eq!(losses.len(), 2);
+    for (l, t) in losses.iter().zip([77.0, 300.0]) {
+        assert_eq!(l["temperature"], t);
+        let k = l["desorption_rate"].as_f64().unwrap();
+        let ci = &l["desorption_ci95"];
+        let (lo, hi) = (ci[0].as_f64().unwrap(), ci[1].as_f64().unwrap());
+        assert!(0.0 < lo && lo <= k && k <= hi, "{l}");
+        let d = &l["desorption"];
+        let tst = d["tst_rate"].as_f64().unwrap();
+        assert!(hi <= tst, "{l}");
+        assert_eq!(d["dt_converged"], true, "{l}");
+        let ln_life = l["lifetime"]["log10_seconds"].as_f64().unwrap() * std::f64::consts::LN_10;
+        let (a, b) = (
+            l["ln_escape_rate"].as_f64().unwrap(),
+            d["ln_rate"].as_f64().unwrap(),
+        );
+        let sum = a.max(b) + (-(a - b).abs()).exp().ln_1p();
+        assert!((ln_life + sum).abs() < 1e-9, "{l}");
+        assert!(-ln_life < a.max(b) + std::f64::consts::LN_2);
+        assert_eq!(
+            l["limited_by"],
+            if a >= b { "orientation" } else { "desorption" }
+        );
+    }
+    // The 300 K desorption's residence (seconds: a 0.73 eV binding) is far
+    // longer than the lying state's (milliseconds): the orientation limits.
+    assert_eq!(losses[1]["limited_by"], "orientation");
+    assert!(md.contains("## Every way the bit is lost"), "{md}");
+    // The design's binding for the molecule: above today's 0.73 eV at 300 K
+    // (a 10-year stay needs ~kT ln(ν τ) ≈ 1.2 eV), below it at 77 K.
+    let ev = 1.602176634e-19;
+    let (b300, b77) = (
+        d[0]["binding"].as_f64().unwrap() / ev,
+        d[1]["binding"].as_f64().unwrap() / ev,
+    );
+    assert!(b300 > 1.1 && b300 < 1.4 && b77 < 0.73, "{b300} {b77}");
 }
 
 #[test]

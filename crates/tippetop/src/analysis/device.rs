@@ -34,7 +34,8 @@
 use serde::Serialize;
 
 use super::bit::{self, PhaseResult, Z95, wilson};
-use super::device_rare::{self as dr, DesignWrite, LyingRetention, Sizes, WriteError};
+use super::desorption::{self, Desorption, DesorptionRate};
+use super::device_rare::{self as dr, BigTime, DesignWrite, LyingRetention, Sizes, WriteError};
 use super::ensemble::{EscapeRate, Exit, escape_rate};
 use super::retention::{ArrheniusFit, Extrapolation, RatePoint, fit_arrhenius};
 use super::search::{ProtocolSearch, SearchResult};
@@ -73,8 +74,11 @@ pub struct DeviceOptions {
     /// Splitting sizes of the writes' error rates.
     pub rare_write: Sizes,
     /// The step check of the 300 K lying residence (the splitting again at
-    /// dt/2; docs/physics.md#step-check).
+    /// dt/2; docs/physics.md#step-check) and of the desorption rates.
     pub step_check: bool,
+    /// Paths of each desorption rate's transmission count
+    /// ([`desorption::Sizes::paths`]).
+    pub desorption_paths: usize,
 }
 
 impl Default for DeviceOptions {
@@ -101,6 +105,7 @@ impl Default for DeviceOptions {
                 particles: 30,
             },
             step_check: true,
+            desorption_paths: 20_000,
         }
     }
 }
@@ -276,6 +281,36 @@ pub struct Rare {
     pub designs: Vec<Design>,
     /// The design's write at 300 K (the 300 K depth).
     pub design_write: Option<DesignWrite>,
+    /// Every way the bit is lost, at 300 K and 77 K: the lying state's
+    /// escape and the molecule's desorption.
+    pub losses: Vec<Losses>,
+}
+
+/// The ways the bit is lost at one temperature, as competing rates: the
+/// lying state's escape over the stem's well and the molecule's desorption
+/// from graphene ([`desorption`], on the height coordinate).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Losses {
+    /// Temperature \[K\].
+    pub temperature: f64,
+    /// The desorption rate \[1/s\].
+    pub desorption_rate: f64,
+    /// Its 95 % interval \[1/s\].
+    pub desorption_ci95: [f64; 2],
+    /// The desorption's computation (the well, TST, the transmission, the
+    /// limits, the step check).
+    pub desorption: DesorptionRate,
+    /// `ln` of the lying state's escape rate \[ln(1/s)\]: `1/τ` of the
+    /// splitting where it measured, else of TST's residence (an upper
+    /// bound on the rate).
+    pub ln_escape_rate: f64,
+    /// How the escape rate was obtained: "splitting" or "tst".
+    pub escape_method: &'static str,
+    /// The bit's lifetime `1/(k_escape + k_desorption)` \[s\].
+    pub lifetime: BigTime,
+    /// What limits it: "orientation" (the lying state's escape) or
+    /// "desorption".
+    pub limited_by: &'static str,
 }
 
 /// The smallest well depth (the stem's binding) that keeps the lying state
@@ -292,6 +327,10 @@ pub struct Design {
     pub depth_overdamped: Option<f64>,
     /// The splitting's check at `depth` (`ams: None` beyond its reach).
     pub check: Option<LyingRetention>,
+    /// Smallest C60–substrate binding \[J\] whose desorption residence by
+    /// TST (a lower bound) is 10 years: what keeps the molecule, beside
+    /// `depth` that keeps the state (`None`: not within 100 eV).
+    pub binding: Option<f64>,
 }
 
 fn det_text(preset: &str, h: f64) -> String {
@@ -599,11 +638,13 @@ fn rare(
             Some(d) => Some(dr::lying_retention(t, d, opts.rare_deep, opts.threads)?),
             None => None,
         };
+        let binding = desorption_of(t)?.binding_for(TEN_YEARS)?;
         designs.push(Design {
             temperature: t,
             depth: d,
             depth_overdamped,
             check,
+            binding,
         });
     }
     stage("300 K: the design's write (no force; the shortest write time)");
@@ -619,12 +660,51 @@ fn rare(
         )?),
         None => None,
     };
+    let mut losses = Vec::new();
+    for l in lying.iter().filter(|l| l.temperature >= 77.0) {
+        let t = l.temperature;
+        stage(&format!("{t} K: desorption from graphene"));
+        let sizes = desorption::Sizes {
+            paths: opts.desorption_paths,
+            step_check: opts.step_check,
+            ..desorption::Sizes::default()
+        };
+        let d = desorption_of(t)?.rate(sizes, opts.threads)?;
+        let (ln_escape_rate, escape_method) = match &l.ams {
+            Some(m) if m.estimate > 0.0 => (-m.estimate.ln(), "splitting"),
+            _ => (-l.tst.log10_seconds * std::f64::consts::LN_10, "tst"),
+        };
+        let (a, b) = (ln_escape_rate, d.ln_rate);
+        let ln_total = a.max(b) + (-(a - b).abs()).exp().ln_1p();
+        losses.push(Losses {
+            temperature: t,
+            desorption_rate: d.rate,
+            desorption_ci95: d.ci95,
+            ln_escape_rate,
+            escape_method,
+            lifetime: BigTime::from_ln(-ln_total),
+            limited_by: if a >= b { "orientation" } else { "desorption" },
+            desorption: d,
+        });
+    }
     Ok(Rare {
         lying,
         writes,
         designs,
         design_write,
+        losses,
     })
+}
+
+/// C60 on graphene at `t` K with `nano-physical`'s mass and translational
+/// damping.
+fn desorption_of(t: f64) -> Result<Desorption, Error> {
+    let sc = Scenario::nano_physical();
+    Ok(Desorption::c60_on_graphene(
+        sc.top.mass,
+        t,
+        sc.thermal.damping_translational,
+    ))
 }
 
 /// The ensemble `sc` run `runs` times to its first row past `exit`:
