@@ -819,13 +819,18 @@ def spindown(root: str, temperature: float, runs: int = 3, ps: float = 100.0, fa
     equilibration (C60 thermostatted), the C60's thermostat is removed and
     factor * sqrt(kT/I) is added to omega_z; L_z(t) = L0 exp(-gamma t) is
     fitted (least squares over the run). One gamma per independent run
-    (seeds differ); 95 % interval: Student t over the runs. A run is
-    redone whole if killed (it is short); finished runs are kept."""
+    (seeds differ); 95 % interval: Student t over the runs. Each run has its
+    own directory (DIR/<mode>_T<T>_<ps>ps/r<k>/) and writes its result
+    (spin.json) atomically at its end: a kill loses only the run in
+    progress, which is redone whole; finished runs are kept. A finished run
+    made with another length, push or seed is refused (ValueError)."""
     from scipy.optimize import curve_fit
 
     if mode not in ("spin", "slide"):
         raise ValueError(f"spin-down mode must be spin or slide, not {mode}")
-    base = os.path.join(root, f"{mode}_T{temperature:g}")
+    if not ps > 0:
+        raise ValueError(f"spin-down run length must be positive, not {ps} ps")
+    base = os.path.join(root, f"{mode}_T{temperature:g}_{ps:g}ps")
     os.makedirs(base, exist_ok=True)
     gammas, rows = [], []
     for k in range(runs):
@@ -835,6 +840,10 @@ def spindown(root: str, temperature: float, runs: int = 3, ps: float = 100.0, fa
         if os.path.exists(rp):
             with open(rp) as f:
                 row = json.load(f)
+            want = {"ps": ps, "seed": 7700 + 31 * k, "factor": factor}
+            have = {"ps": row.get("ps"), "seed": row.get("seed"), "factor": row.get("factor", factor)}
+            if have != want:
+                raise ValueError(f"{d} holds a run made with {have}, not {want}")
         else:
             t0 = time.time()
             cfg = Config(temperature=temperature, seed=7700 + 31 * k)
@@ -850,41 +859,94 @@ def spindown(root: str, temperature: float, runs: int = 3, ps: float = 100.0, fa
             v = lmp.numpy.extract_atom("v")[: lmp.extract_global("nlocal")]
             ids = lmp.numpy.extract_atom("id")[: lmp.extract_global("nlocal")]
             mask = ids <= 60
-            com = x[mask].mean(axis=0)
+            # the cage's atoms unwrapped by the minimum image about its first
+            # atom (x holds wrapped positions; the box is periodic in x and y)
+            lo, hi = lmp.extract_box()[:2]
+            box = np.array(hi) - np.array(lo)
+            xc = x[mask] - x[mask][0]
+            xc[:, :2] -= box[:2] * np.round(xc[:, :2] / box[:2])
+            xc -= xc.mean(axis=0)
             if mode == "spin":
                 w0 = factor * math.sqrt(KB * temperature / (inertia * MVV2E))  # rad/ps
-                v[mask] = v[mask] + np.cross(np.array([0, 0, w0]), x[mask] - com)
+                v[mask] = v[mask] + np.cross(np.array([0, 0, w0]), xc)
             else:  # a push along x: w0 is then a velocity [Å/ps]
                 w0 = factor * math.sqrt(KB * temperature / (m * MVV2E))
                 v[mask] = v[mask] + np.array([w0, 0.0, 0.0])
             lmp.command("reset_timestep 0")
             _define_series(lmp, cfg)
-            lmp.command(f"fix series all vector {cfg.nevery} v_step v_L_x v_L_y v_L_z v_vcm_x")
+            lmp.command(f"fix series all vector {cfg.nevery} v_step v_L_x v_L_y v_L_z v_vcm_x v_vcm_y")
+            t1 = time.time()
             lmp.command(f"run {int(round(ps / cfg.dt))}")
+            t_prod = time.time() - t1
             arr = _fix_array(lmp, "series")
             lmp.close()
             t = arr[:, 0] * cfg.dt
             wz = arr[:, 3] / inertia if mode == "spin" else arr[:, 4]
-            np.savez_compressed(os.path.join(d, "spin.npz"), t=t, L=arr[:, 1:4], vx=arr[:, 4])
+            npz = os.path.join(d, "spin.npz")
+            np.savez_compressed(npz + ".tmp.npz", t=t, L=arr[:, 1:4], vx=arr[:, 4], vy=arr[:, 5])
+            os.replace(npz + ".tmp.npz", npz)
             (l0, g), cov = curve_fit(lambda tt, a_, b_: a_ * np.exp(-b_ * tt), t, wz, p0=(w0, 0.01))
+            # omega_* hold the fitted coordinate: omega_z [rad/ps] (spin) or v_x [Å/ps] (slide)
             row = {"gamma_per_s": float(g * 1e12), "fit_se_per_s": float(math.sqrt(cov[1, 1]) * 1e12),
                    "omega0_rad_per_ps": float(l0), "omega_added_rad_per_ps": w0,
-                   "omega_thermal_rad_per_ps": w0 / factor, "ps": ps, "seed": cfg.seed,
+                   "omega_thermal_rad_per_ps": w0 / factor, "ps": ps, "seed": cfg.seed, "factor": factor,
                    "omega_z_end_rad_per_ps": float(wz[-len(wz) // 10:].mean()),
-                   "seconds": time.time() - t0}
+                   "decay_fraction": float(1.0 - math.exp(-g * ps)),
+                   "seconds": time.time() - t0, "production_s_per_ps": t_prod / ps,
+                   "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")}
             _atomic_json(rp, row)
         rows.append(row)
         gammas.append(row["gamma_per_s"])
         progress(f"{mode}-down T = {temperature:g} K run {k}: gamma = {row['gamma_per_s']:.3e} 1/s "
                  f"(fit s.e. {row['fit_se_per_s']:.2e})")
     mean, half = mean_ci(gammas)
+    # cross-check: the decay of the kinetic energy's excess, which the
+    # deflection of the velocity (or of the spin axis) by the corrugation,
+    # being conservative, does not change
+    ge = [energy_relaxation_rate(os.path.join(base, f"r{k}"), mode, temperature) for k in range(runs)]
+    ge = [x for x in ge if x is not None]
+    decay = [r["decay_fraction"] for r in rows if "decay_fraction" in r]
+    cost = [r["production_s_per_ps"] for r in rows if "production_s_per_ps" in r]
     what = ("omega_z raised by {f:g} sqrt(kT/I)" if mode == "spin" else "v_x raised by {f:g} sqrt(kT/m)").format(f=factor)
     out = {"temperature_K": temperature, "mode": mode, "gamma_per_s": mean, "ci95_per_s": half, "runs": rows,
            "factor": factor, "ps": ps,
+           "decay_fraction_min": min(decay) if decay else None,
+           "energy_rate": ({"gamma_per_s": mean_ci(ge)[0], "ci95_per_s": mean_ci(ge)[1], "runs": ge,
+                            "method": "gamma = half the decay rate of the kinetic energy's excess over its "
+                                      "equipartition value (rotation: I w^2/2 - 3kT/2; in-plane: m (vx^2 + vy^2)/2 - kT), "
+                                      "fit E0 exp(-2 gamma t) per run; Student t over runs"}
+                           if len(ge) >= 2 else None),
+           "cost_s_per_ps": float(np.median(cost)) if cost else None,
            "method": f"{what} after equilibration, C60 unthermostatted; fit x(t) = x0 exp(-gamma t) "
                      "per run (least squares); Student t over independent runs"}
     _atomic_json(os.path.join(base, "spindown.json"), out)
     return out
+
+
+def energy_relaxation_rate(d: str, mode: str, temperature: float) -> float | None:
+    """gamma [1/s] from one relaxation run's kinetic energy: its excess over
+    equipartition, E(t) - n kT/2 (n = 3 rotational dof for the spin, 2
+    in-plane dof for the slide), fitted by E0 exp(-2 gamma t) (least
+    squares), the decay a linear friction -gamma I w (or -gamma m v) gives.
+    None when the run's series lacks what is needed (v_y: older slides)."""
+    from scipy.optimize import curve_fit
+
+    path = os.path.join(d, "spin.npz")
+    if not os.path.exists(path):
+        return None
+    z = np.load(path)
+    cfg = Config(temperature=temperature)
+    m, inertia, _ = c60_mass_inertia(cfg)
+    kt = KB * temperature
+    if mode == "spin":
+        e = 0.5 * MVV2E * np.sum(z["L"] ** 2, axis=1) / inertia - 1.5 * kt
+    else:
+        if "vy" not in z.files:
+            return None
+        e = 0.5 * MVV2E * m * (z["vx"] ** 2 + z["vy"] ** 2) - kt
+    t = z["t"]
+    (_, g), _ = curve_fit(lambda tt, a_, b_: a_ * np.exp(-2.0 * b_ * tt), t, e, p0=(e[0], 0.01))
+    return float(g * 1e12)
 
 
 def md_run(root: str, cfg: Config, total_ps: float, max_seconds: float | None = None,
@@ -1404,12 +1466,21 @@ def analyse(root: str) -> dict:
         if static is not None:
             r["desorption"] = desorption_estimate(static, r, cfg.temperature, cfg)
         res["temperatures"][f"{cfg.temperature:g}"] = r
+    # relaxation runs: per temperature and mode, the longest runs are the
+    # estimate ("spindown", "slidedown"); every set is listed in "<name>_all"
     for sp_ in sorted(glob.glob(os.path.join(root, "*_T*", "spindown.json"))):
         with open(sp_) as f:
             sd = json.load(f)
         key = f"{sd['temperature_K']:g}"
-        if key in res["temperatures"]:
-            res["temperatures"][key]["spindown" if sd.get("mode", "spin") == "spin" else "slidedown"] = sd
+        if key not in res["temperatures"]:
+            continue
+        r = res["temperatures"][key]
+        name = "spindown" if sd.get("mode", "spin") == "spin" else "slidedown"
+        sd["dir"] = os.path.basename(os.path.dirname(sp_))
+        r.setdefault(name + "_all", []).append(
+            {k: sd[k] for k in ("dir", "ps", "gamma_per_s", "ci95_per_s") if k in sd} | {"runs": len(sd["runs"])})
+        if name not in r or (sd["ps"], len(sd["runs"])) > (r[name]["ps"], len(r[name]["runs"])):
+            r[name] = sd
     with open(os.path.join(root, "results.json"), "w") as f:
         json.dump(res, f, indent=1)
     return res
@@ -1451,11 +1522,25 @@ def summary_lines(res: dict) -> list[str]:
     return out
 
 
+def relaxation_value(sd: dict) -> tuple[float, bool]:
+    """The damping rate [1/s] a spin-down or slide-down set supports, and
+    whether it is resolved. Resolved: the 95 % interval (Student t over the
+    runs) excludes zero, and the value is the mean. Otherwise the runs only
+    bound the rate from above, and the value is the interval's upper end
+    (mean + half-width): a damping no larger than the measurement allows."""
+    mean, half = sd["gamma_per_s"], sd["ci95_per_s"]
+    if mean - half > 0:
+        return mean, True
+    return mean + half, False
+
+
 def fragment(res: dict, temperature: float) -> str:
     """tippetop [thermal] fragment: damping_rotational from the spin-down
     about the surface normal (the dissipative rate; else the Green-Kubo
     value of that axis), damping_translational from the slide-down (else
-    the in-plane Green-Kubo value); the other estimates in comments."""
+    the in-plane Green-Kubo value), each by relaxation_value (the mean if
+    resolved, else the upper end of its interval); the other estimates in
+    comments."""
     key = f"{temperature:g}"
     r = res["temperatures"][key]
     g, gt = r["gamma_r"], r["gamma_t"]
@@ -1474,22 +1559,33 @@ def fragment(res: dict, temperature: float) -> str:
         "[thermal]",
     ]
     sl, sp = r.get("slidedown"), r.get("spindown")
+
+    def relax_lines(sd, what):
+        v, ok = relaxation_value(sd)
+        dec = sd.get("decay_fraction_min")
+        out = [f"# {what} ({sd['factor']:g} x thermal, {len(sd['runs'])} runs of {sd['ps']:g} ps"
+               + (f", each decayed by >= {100 * dec:.0f} %" if dec is not None and dec > 0 else "") + "): "
+               f"{sd['gamma_per_s']:.3e} +- {sd['ci95_per_s']:.2e} 1/s (95 %, Student t over runs)"]
+        if not ok:
+            out.append("# not resolved (the interval includes 0): the value below is its upper end, an upper bound")
+        return out, v
+
     if sl:
-        lines.append(f"# slide-down (push of {sl['factor']:g} v_th along x, {len(sl['runs'])} runs of {sl['ps']:g} ps): "
-                     f"{sl['gamma_per_s']:.3e} +- {sl['ci95_per_s']:.2e} 1/s (95 %, runs)")
+        more, v_t = relax_lines(sl, "slide-down, a push along x")
+        lines += more
     lines += [
         f"# in-plane centre of mass, Green-Kubo: {gt['gamma_per_s']:.3e} 1/s {iv(gt)};",
         f"# from the in-plane diffusion: {r['translational_diffusion']['gamma_t_per_s']:.3e} 1/s",
-        f"damping_translational = {(sl['gamma_per_s'] if sl else gt['gamma_per_s']):.4g}",
+        f"damping_translational = {(v_t if sl else gt['gamma_per_s']):.4g}",
     ]
     if sp:
-        lines.append(f"# spin-down about the surface normal ({sp['factor']:g} omega_th, {len(sp['runs'])} runs of "
-                     f"{sp['ps']:g} ps): {sp['gamma_per_s']:.3e} +- {sp['ci95_per_s']:.2e} 1/s (95 %, runs)")
+        more, v_r = relax_lines(sp, "spin-down about the surface normal")
+        lines += more
     lines += [
         f"# spin about the surface normal, Green-Kubo: {gn['gamma_per_s']:.3e} 1/s {iv(gn)};",
         f"# in-plane axes (rocking, inside the orientation wells): {gp['gamma_per_s']:.3e} 1/s {iv(gp)};",
         f"# all three axes: {g['gamma_per_s']:.3e} 1/s {iv(g)}",
-        f"damping_rotational = {(sp['gamma_per_s'] if sp else gn['gamma_per_s']):.4g}",
+        f"damping_rotational = {(v_r if sp else gn['gamma_per_s']):.4g}",
         "",
         "# [adhesion]: for comparison only (tippetop's keys are force [N] and energy [J],",
         "# its continuum values 5.92e-10 N and 0.730 eV = 1.170e-19 J); measured here:",
@@ -1528,11 +1624,12 @@ def main(argv=None) -> int:
     pr.add_argument("--nx", type=int, default=16)
     pr.add_argument("--ny", type=int, default=10)
     pr.add_argument("--seed", type=int, default=4301)
-    pd = sub.add_parser("spindown", help="spin-down of the spin about the normal: gamma_r by relaxation (DIR/spin_T<T>/)")
+    pd = sub.add_parser("spindown", help="spin-down of the spin about the normal (gamma_r) or slide-down (gamma_t) by relaxation (DIR/<mode>_T<T>_<ps>ps/)")
     pd.add_argument("dir")
     pd.add_argument("-T", "--temperature", type=float, required=True)
     pd.add_argument("--runs", type=int, default=3)
-    pd.add_argument("--ps", type=float, default=100.0)
+    pd.add_argument("--ps", type=float, default=100.0,
+                    help="length of each run after the kick [ps] (default 100); runs go to DIR/<mode>_T<T>_<ps>ps/")
     pd.add_argument("--factor", type=float, default=5.0, help="added omega_z in units of sqrt(kT/I) (or v_x in sqrt(kT/m))")
     pd.add_argument("--mode", choices=("spin", "slide"), default="spin",
                     help="spin: about the surface normal (gamma_r); slide: a push along x (gamma_t)")

@@ -57,7 +57,13 @@ fn resolved_presets_show_their_given_digits() {
         "theta",
         "depth",
     ];
-    for name in ["classical", "nano", "nano-physical", "nano-adhesive"] {
+    for name in [
+        "classical",
+        "nano",
+        "nano-physical",
+        "nano-md",
+        "nano-adhesive",
+    ] {
         let text = Scenario::preset(name).unwrap().to_toml_string();
         let bad: Vec<_> = machine_numbers(&text)
             .into_iter()

@@ -587,7 +587,7 @@ fn theta_outside_reduced_range() {
 fn unknown_preset() {
     let e = expect_err(Some("mega"), None, &[], "preset");
     assert!(
-        e.contains("\"nano\", \"nano-physical\", \"nano-adhesive\" or \"classical\""),
+        e.contains("\"nano\", \"nano-physical\", \"nano-md\", \"nano-adhesive\" or \"classical\""),
         "{e}"
     );
     expect_err(None, Some("preset = \"mega\""), &[], "preset");
@@ -781,6 +781,36 @@ fn nano_physical_preset() {
         Scenario::from_toml_str("preset = \"nano-physical\"").unwrap(),
         p
     );
+}
+
+/// The LAMMPS calibration's scenario fragment (md/README.md), as committed.
+const MD_FRAGMENT: &str = include_str!("../../../md/results/nano-md-300K.toml");
+
+/// The `nano-md` preset (docs/physics.md#md-calibration): `nano-physical`
+/// with the damping rates of the committed calibration. `nano-physical`
+/// loaded with the fragment over it is `nano-md`, key for key, so the
+/// preset's two rates [1/s] are the fragment's digits; `nano-physical`
+/// keeps the NMR value 2.2e12 1/s for comparison. Valid (within the step
+/// rule), round trip, loaded by name.
+#[test]
+fn nano_md_preset_is_the_committed_calibration() {
+    let p = Scenario::nano_md();
+    let from_fragment = Scenario::load(Some("nano-physical"), Some(MD_FRAGMENT), &[]).unwrap();
+    assert_eq!(from_fragment, p);
+    let n = Scenario::nano_physical();
+    assert_eq!(n.thermal.damping_rotational, 2.2e12);
+    assert_eq!(n.thermal.damping_translational, 2.2e12);
+    assert_ne!(p.thermal.damping_rotational, n.thermal.damping_rotational);
+    let mut back = p.clone();
+    back.thermal.damping_rotational = n.thermal.damping_rotational;
+    back.thermal.damping_translational = n.thermal.damping_translational;
+    assert_eq!(
+        back, n,
+        "nano-md differs from nano-physical only in the damping"
+    );
+    p.validate().unwrap();
+    assert_eq!(Scenario::from_toml_str(&p.to_toml_string()).unwrap(), p);
+    assert_eq!(Scenario::from_toml_str("preset = \"nano-md\"").unwrap(), p);
 }
 
 /// The `[thermal]` table and `solver.method = "langevin"` (issue #15): a
