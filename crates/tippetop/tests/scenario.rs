@@ -786,7 +786,7 @@ fn nano_physical_preset() {
 /// The LAMMPS calibration's scenario fragment (md/README.md), as committed.
 const MD_FRAGMENT: &str = include_str!("../../../md/results/nano-md-300K.toml");
 
-/// The `nano-md` preset (docs/physics.md#md-calibration): `nano-physical`
+/// The `nano-md` preset (md/README.md): `nano-physical`
 /// with the damping rates of the committed calibration. `nano-physical`
 /// loaded with the fragment over it is `nano-md`, key for key, so the
 /// preset's two rates [1/s] are the fragment's digits; `nano-physical`

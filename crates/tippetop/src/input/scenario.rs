@@ -176,7 +176,7 @@ impl Scenario {
     }
 
     /// C60 on supported graphene at 300 K with the damping of the LAMMPS
-    /// calibration (issue #43, docs/physics.md#md-calibration, md/README.md):
+    /// calibration (md/README.md):
     /// [`Scenario::nano_physical`] with `[thermal]`'s two damping rates
     /// replaced by those of the committed fragment
     /// `md/results/nano-md-300K.toml` (tests/scenario.rs checks that they
