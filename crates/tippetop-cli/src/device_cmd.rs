@@ -447,6 +447,32 @@ fn answer_paragraphs(r: &DeviceReport) -> Vec<String> {
         lying.join("; ")
     ));
     paragraphs.push(std::mem::take(&mut ans).join(" "));
+    if let Some(p) = losses_paragraph(rare) {
+        paragraphs.push(p);
+    }
+    for w in &rare.writes {
+        ans.push(format!(
+            "At 300 K {} fails with probability {} (95 %: {} – {}), {}.",
+            write_name(w),
+            g(w.rate),
+            g(w.ci95[0]),
+            g(w.ci95[1]),
+            write_limit(w)
+        ));
+    }
+    paragraphs.push(std::mem::take(&mut ans).join(" "));
+    ans.extend(design_sentences(rare));
+    ans.push(format!(
+        "(Cross-check, extrapolated: the Arrhenius fit gives 10 years up to {ten}.)"
+    ));
+    paragraphs.push(ans.join(" "));
+    paragraphs.retain(|p| !p.is_empty());
+    paragraphs
+}
+
+/// The paragraph that counts every way the bit is lost (orientation and
+/// desorption), or `None` where the report has no loss figures.
+fn losses_paragraph(rare: &device::Rare) -> Option<String> {
     let losses: Vec<String> = rare
         .losses
         .iter()
@@ -461,24 +487,19 @@ fn answer_paragraphs(r: &DeviceReport) -> Vec<String> {
             )
         })
         .collect();
-    if !losses.is_empty() {
-        paragraphs.push(format!(
+    (!losses.is_empty()).then(|| {
+        format!(
             "Every way the bit is lost, counted together (the molecule's {} binding to graphene): {}.",
             ev(rare.losses[0].desorption.well.binding),
             losses.join("; ")
-        ));
-    }
-    for w in &rare.writes {
-        ans.push(format!(
-            "At 300 K {} fails with probability {} (95 %: {} – {}), {}.",
-            write_name(w),
-            g(w.rate),
-            g(w.ci95[0]),
-            g(w.ci95[1]),
-            write_limit(w)
-        ));
-    }
-    paragraphs.push(std::mem::take(&mut ans).join(" "));
+        )
+    })
+}
+
+/// The design sentences: the well depth and binding for 10 years, and the
+/// 300 K design's write without a force.
+fn design_sentences(rare: &device::Rare) -> Vec<String> {
+    let mut ans = Vec::new();
     for d in &rare.designs {
         if let Some(depth) = d.depth {
             ans.push(format!(
@@ -509,12 +530,7 @@ fn answer_paragraphs(r: &DeviceReport) -> Vec<String> {
             ),
         });
     }
-    ans.push(format!(
-        "(Cross-check, extrapolated: the Arrhenius fit gives 10 years up to {ten}.)"
-    ));
-    paragraphs.push(ans.join(" "));
-    paragraphs.retain(|p| !p.is_empty());
-    paragraphs
+    ans
 }
 
 /// A write of the report in a sentence: the search's best write with
