@@ -110,7 +110,6 @@ dt/2 version is invalid (e.g. beyond the step limit) exits with code 2 naming th
 )]
 #[command(
     mut_arg("scenario", |a| a.help("Scenario file (TOML): a Langevin run at temperature > 0")),
-    mut_arg("preset", |a| a.help("Start from a built-in scenario (\"nano\", \"nano-physical\", \"classical\")")),
     mut_arg("sets", |a| a.help("Override one scenario value for every run, e.g. `--set thermal.temperature=77`; repeatable, applied in order after the file")),
 )]
 pub struct EnsembleArgs {

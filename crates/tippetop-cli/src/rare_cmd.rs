@@ -111,7 +111,6 @@ command exits with code 3.";
 )]
 #[command(
     mut_arg("scenario", |a| a.help("Scenario file (TOML): a Langevin or Brownian run at temperature > 0")),
-    mut_arg("preset", |a| a.help("Start from a built-in scenario (\"nano\", \"nano-physical\", \"classical\")")),
     mut_arg("sets", |a| a.help("Override one scenario value, e.g. `--set thermal.temperature=77`; repeatable, applied in order after the file")),
 )]
 pub struct RareArgs {

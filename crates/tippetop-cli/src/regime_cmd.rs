@@ -29,7 +29,6 @@ pub const REGIME_LONG_ABOUT: &str = "The regime a scenario is in: dimensionless 
                   tippetop regime --preset classical")]
 #[command(
     mut_arg("scenario", |a| a.help("Scenario file (TOML); or give --preset")),
-    mut_arg("preset", |a| a.help("Start from a preset: \"nano\", \"nano-physical\" (C60 on graphene at 300 K), \"nano-adhesive\" (the same, deterministic) or \"classical\"")),
     mut_arg("sets", |a| a.help("Override a scenario key, e.g. --set initial.spin=3e7 (repeatable)")),
 )]
 pub struct RegimeArgs {

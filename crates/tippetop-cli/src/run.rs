@@ -107,9 +107,7 @@ left alone.";
                   paper's Euler-angle equations themselves (what reproduce runs; theta must stay in (0, pi));\n\
                   \"rigid\" full 3D body with flight and impacts (contact = \"unilateral\")."
 )]
-#[command(
-    mut_arg("preset", |a| a.help("Start from a built-in scenario: \"nano\" (C60, the paper's Sec. 3), \"nano-physical\" (the same C60 on graphene at 300 K: van der Waals adhesion, a stem's lying well, Langevin damping and noise, 1 ns, docs/physics.md#langevin), \"nano-adhesive\" (the same without temperature: adhesion and superlubric Coulomb friction, docs/physics.md#adhesion) or \"classical\" (the 15 g toy of the paper's App. A)")),
-)]
+#[command()]
 pub struct RunArgs {
     /// The scenario: file, preset, overrides.
     #[command(flatten)]

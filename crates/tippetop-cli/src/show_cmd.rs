@@ -22,7 +22,6 @@ use crate::scenario_load::input_error;
 )]
 #[command(
     mut_arg("scenario", |a| a.help("Scenario file (TOML); or give --preset")),
-    mut_arg("preset", |a| a.help("Start from a preset: \"nano\", \"nano-physical\" (C60 on graphene at 300 K), \"nano-adhesive\" (the same, deterministic) or \"classical\"")),
     mut_arg("sets", |a| a.help("Override a scenario key, e.g. --set initial.spin=3e7 or --set surface.friction_law=contensou (a word needs no quotes; repeatable)")),
 )]
 pub struct ShowArgs {

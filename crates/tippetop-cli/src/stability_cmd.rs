@@ -38,7 +38,6 @@ than the scenario's without --eps; one line `error: KEY: what (valid range)`, no
 1 other errors.")]
 #[command(
     mut_arg("scenario", |a| a.help("Scenario file (TOML); or give --preset")),
-    mut_arg("preset", |a| a.help("Start from a preset: \"nano\", \"nano-physical\" (C60 on graphene at 300 K), \"nano-adhesive\" (the same, deterministic) or \"classical\"")),
     mut_arg("sets", |a| a.help("Override a scenario key, e.g. --set surface.friction=0 (repeatable)")),
 )]
 pub struct StabilityArgs {

@@ -112,7 +112,6 @@ cap the step size) make each case cheaper (docs/performance.md).";
 )]
 #[command(
     mut_arg("scenario", |a| a.help("Scenario file (TOML); optional with --preset")),
-    mut_arg("preset", |a| a.help("Start from a built-in scenario: \"nano\", \"nano-physical\" (C60 on graphene at 300 K), \"nano-adhesive\" (the same, deterministic) or \"classical\"")),
     mut_arg("sets", |a| a.help("Override one scenario value for every case, e.g. `--set solver.t_end=2`; repeatable, applied in order after the file (a --vary of the same key wins)")),
 )]
 pub struct SweepArgs {

@@ -4,6 +4,7 @@
 //! precision number except where the value is itself computed (an inertia
 //! of (2/3) m R², the adhesion constants, π/2, a well's depth).
 
+use tippetop::input::scenario::PRESETS;
 use tippetop::{Scenario, Top};
 
 /// `x` and `y` differ by at most one unit in the last place.
@@ -57,13 +58,7 @@ fn resolved_presets_show_their_given_digits() {
         "theta",
         "depth",
     ];
-    for name in [
-        "classical",
-        "nano",
-        "nano-physical",
-        "nano-md",
-        "nano-adhesive",
-    ] {
+    for name in PRESETS.iter().map(|p| p.name) {
         let text = Scenario::preset(name).unwrap().to_toml_string();
         let bad: Vec<_> = machine_numbers(&text)
             .into_iter()

@@ -1234,3 +1234,21 @@ fn every_number_key_is_listed_written_read_and_checked_from_its_definition() {
     assert!(Bounds::AtLeast(0.0).admits(0.0) && !Bounds::Above(0.0).admits(0.0));
     assert!(!Bounds::Finite.admits(f64::NEG_INFINITY));
 }
+
+/// Every preset in the registry builds a valid scenario under its own name,
+/// names are unique, and `--preset`'s help lists each one.
+#[test]
+fn every_preset_validates_and_is_in_the_help() {
+    use tippetop::input::scenario::{PRESETS, preset_help};
+    let help = preset_help();
+    for (i, p) in PRESETS.iter().enumerate() {
+        let sc = Scenario::preset(p.name).unwrap();
+        sc.validate().unwrap_or_else(|e| panic!("{}: {e}", p.name));
+        assert!(help.contains(&format!("  {}: ", p.name)), "{help}");
+        assert!(
+            PRESETS[..i].iter().all(|q| q.name != p.name),
+            "{} twice",
+            p.name
+        );
+    }
+}

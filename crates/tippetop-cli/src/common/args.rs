@@ -56,8 +56,8 @@ pub struct ScenarioArgs {
     #[arg(value_name = "SCENARIO.toml")]
     pub scenario: Option<PathBuf>,
 
-    /// Start from a built-in scenario ("nano", "nano-physical", "nano-adhesive", "classical").
-    #[arg(long, value_name = "NAME")]
+    /// A built-in scenario to start from (help: every preset).
+    #[arg(long, value_name = "NAME", help = tippetop::input::scenario::preset_help())]
     pub preset: Option<String>,
 
     /// Override one scenario value, e.g. `--set top.offset=0.002` or `--set

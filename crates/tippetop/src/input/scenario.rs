@@ -203,19 +203,14 @@ impl Scenario {
     /// retention. `nano-physical` keeps the NMR 2.2e12 1/s.
     pub const MD_GAMMA_R: f64 = 6.572e8;
 
-    /// A preset by name (`"nano"`, `"nano-physical"`, `"nano-md"`,
-    /// `"nano-adhesive"` or `"classical"`).
+    /// A preset by name, one of [`PRESETS`].
     pub fn preset(name: &str) -> Result<Self, Error> {
-        match name {
-            "nano" => Ok(Self::nano()),
-            "nano-physical" => Ok(Self::nano_physical()),
-            "nano-md" => Ok(Self::nano_md()),
-            "nano-adhesive" => Ok(Self::nano_adhesive()),
-            "classical" => Ok(Self::classical()),
-            other => Err(Error::invalid(
+        match PRESETS.iter().find(|p| p.name == name) {
+            Some(p) => Ok((p.build)()),
+            None => Err(Error::invalid(
                 "preset",
-                format!("unknown preset \"{other}\""),
-                PRESET_RANGE.into(),
+                format!("unknown preset \"{name}\""),
+                preset_range(),
             )),
         }
     }
@@ -408,7 +403,7 @@ impl Scenario {
                 return Err(Error::invalid(
                     "preset",
                     format!("expected a string, found {}", describe(other)),
-                    PRESET_RANGE.into(),
+                    preset_range(),
                 ));
             }
         };
@@ -518,8 +513,64 @@ impl Scenario {
 // ---------------------------------------------------------------------------
 // Key specification: every table, its keys and each key's valid range.
 
-const PRESET_RANGE: &str =
-    "\"nano\", \"nano-physical\", \"nano-md\", \"nano-adhesive\" or \"classical\"";
+/// A built-in scenario: its name, what it is in a phrase (for `--help`),
+/// and its constructor.
+pub struct Preset {
+    /// The name `--preset` and a file's `preset = "..."` take.
+    pub name: &'static str,
+    /// What the preset is, in a phrase with where it is documented.
+    pub about: &'static str,
+    /// The scenario.
+    pub build: fn() -> Scenario,
+}
+
+/// Every preset, in the order `--help` lists them.
+pub const PRESETS: [Preset; 5] = [
+    Preset {
+        name: "nano",
+        about: "C60, the paper's Sec. 3",
+        build: Scenario::nano,
+    },
+    Preset {
+        name: "nano-physical",
+        about: "the same C60 on graphene at 300 K: van der Waals adhesion, a stem's lying well, \
+                Langevin damping from NMR, 2.2e12 1/s, and noise, 1 ns, docs/physics.md#langevin",
+        build: Scenario::nano_physical,
+    },
+    Preset {
+        name: "nano-md",
+        about: "nano-physical with the damping measured by molecular dynamics of C60 on graphene \
+                with LAMMPS, upper bounds, md/README.md",
+        build: Scenario::nano_md,
+    },
+    Preset {
+        name: "nano-adhesive",
+        about: "the same C60 without temperature: adhesion and superlubric Coulomb friction, \
+                docs/physics.md#adhesion",
+        build: Scenario::nano_adhesive,
+    },
+    Preset {
+        name: "classical",
+        about: "the 15 g toy of the paper's App. A",
+        build: Scenario::classical,
+    },
+];
+
+/// The valid preset names in words: `"nano", ... or "classical"`.
+pub fn preset_range() -> String {
+    let names: Vec<String> = PRESETS.iter().map(|p| format!("\"{}\"", p.name)).collect();
+    let (last, rest) = names.split_last().expect("presets exist");
+    format!("{} or {last}", rest.join(", "))
+}
+
+/// `--preset`'s help: every preset with what it is.
+pub fn preset_help() -> String {
+    let list: Vec<String> = PRESETS
+        .iter()
+        .map(|p| format!("  {}: {}", p.name, p.about))
+        .collect();
+    format!("Start from a built-in scenario:\n{}", list.join("\n"))
+}
 
 /// The `[initial]` keys of the lab-frame form (the Euler-angle form's:
 /// `initial::NUMS`).
