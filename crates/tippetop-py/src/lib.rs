@@ -413,6 +413,7 @@ impl Scenario {
 impl Scenario {
     /// A built-in scenario: `"nano"` (the C60 nano tippe top of the paper),
     /// `"nano-physical"` (C60 on graphene at 300 K, a Langevin run),
+    /// `"nano-md"` (the same with the damping from molecular dynamics),
     /// `"nano-adhesive"` (the same without temperature) or `"classical"`
     /// (the 15 g toy).
     #[staticmethod]
